@@ -1,0 +1,43 @@
+# The two commands of the README, and a few more for developers.
+#   make demo   install what is missing, build, run the main job end to end
+#   make test   install what is missing, build, run the whole test suite (Release, then ASan+UBSan)
+JOBS ?= $(shell nproc)
+DEMO_OUT ?= demo_output
+
+.PHONY: all demo test deps configure build test-release test-asan bench format clean
+
+all: build
+
+deps:
+	@bash toolchain/install-deps.sh
+	@bash toolchain/setup-multicast.sh
+
+configure: deps
+	@cmake --preset release >/dev/null
+
+build: configure
+	@cmake --build --preset release -j $(JOBS)
+
+demo: build
+	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
+
+test: test-release test-asan
+
+test-release: build
+	@ctest --preset release -j $(JOBS)
+
+# The unit tests again, built with AddressSanitizer and UndefinedBehaviorSanitizer.
+test-asan: deps
+	@cmake --preset asan >/dev/null
+	@cmake --build --preset asan -j $(JOBS) --target unit_tests
+	@ctest --preset asan -j $(JOBS)
+
+bench: build
+	@cmake --build --preset release -j $(JOBS) --target benchmarks
+	@for b in build/release/bin/*_benchmark; do echo "== $$b"; $$b; done
+
+format:
+	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+
+clean:
+	@rm -rf build

@@ -1,0 +1,25 @@
+// Whole-file reads, atomic writes and exact number formatting shared by every reader and writer.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace bimslam::io {
+
+// The whole file as bytes. Throws common::FileError naming the file when it is missing (kNotFound)
+// or unreadable (kIoError).
+std::string ReadFileToString(const std::filesystem::path& path);
+
+// Writes bytes so that `path` is either its old self or complete, never half-written
+// (specs/session-data.md, "Rules"): a temporary file in the same folder, fsync, rename over the
+// target, fsync of the folder. Throws common::FileError (kIoError) naming the file on failure,
+// and leaves no temporary file behind.
+void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes);
+
+// Shortest decimal text that reads back to the same value (std::to_chars), so text round trips
+// are bit-exact. Non-finite values print as nan, inf, -inf.
+std::string FormatDouble(double v);
+std::string FormatFloat(float v);
+
+}  // namespace bimslam::io

@@ -1,0 +1,79 @@
+#include "tests/support/test_support.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+
+namespace bimslam::test {
+
+TempDir::TempDir() {
+    const char* base = std::getenv("TMPDIR");
+    std::string templ = std::string(base && *base ? base : "/tmp") + "/bimslam-test-XXXXXX";
+    if (::mkdtemp(templ.data()) == nullptr) {
+        throw std::runtime_error("cannot create a temporary folder from " + templ);
+    }
+    path_ = templ;
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+}
+
+std::optional<std::filesystem::path> SharedDataDir() {
+    const char* src = std::getenv("BIMSLAM_SOURCE_DIR");
+    const std::filesystem::path root = src && *src ? src : std::filesystem::current_path();
+    const std::filesystem::path data = root / ".." / "shared" / "data";
+    if (std::filesystem::is_directory(data)) return std::filesystem::canonical(data);
+    return std::nullopt;
+}
+
+void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed) {
+    // Ray-box intersection from a sensor at (0.7, -0.4, 1.0) inside an 8 x 5 x 3 m room; a few
+    // pillars break the symmetry so that rotated scans stay distinguishable.
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> noise(0.0f, 0.005f);
+    const Eigen::Vector3d lo(-4.0, -2.5, 0.0), hi(4.0, 2.5, 3.0), origin(0.7, -0.4, 1.0);
+    common::PointCloud cloud;
+    cloud.Reserve(static_cast<size_t>(rings) * static_cast<size_t>(columns));
+    for (int c = 0; c < columns; ++c) {
+        const double az = 2.0 * M_PI * c / columns;
+        const uint32_t t_ns = static_cast<uint32_t>(100'000'000.0 * c / columns);
+        for (int r = 0; r < rings; ++r) {
+            const double el = (22.5 - 45.0 * r / std::max(1, rings - 1)) * M_PI / 180.0;
+            const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                    std::sin(el));
+            double best = 1e9;
+            for (int k = 0; k < 3; ++k) {
+                if (std::abs(d[k]) < 1e-12) continue;
+                const double s = ((d[k] > 0 ? hi[k] : lo[k]) - origin[k]) / d[k];
+                best = std::min(best, s);
+            }
+            // Pillar: a vertical cylinder of radius 0.3 m at (2.5, 1.2).
+            const Eigen::Vector2d pc(2.5, 1.2), o2 = origin.head<2>(), d2 = d.head<2>();
+            const double a = d2.squaredNorm(), b = 2.0 * d2.dot(o2 - pc);
+            const double cc = (o2 - pc).squaredNorm() - 0.09, disc = b * b - 4 * a * cc;
+            if (a > 1e-12 && disc > 0) {
+                const double s = (-b - std::sqrt(disc)) / (2 * a);
+                if (s > 0 && s < best) best = s;
+            }
+            const Eigen::Vector3d p = origin + best * d - origin;
+            cloud.PushBack(p.cast<float>() + Eigen::Vector3f(noise(rng), noise(rng), noise(rng)),
+                           static_cast<float>(50 + (r * 7 + c) % 200), static_cast<uint16_t>(r),
+                           t_ns);
+        }
+    }
+    return cloud;
+}
+
+}  // namespace bimslam::test

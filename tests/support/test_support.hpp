@@ -1,0 +1,58 @@
+// Helpers for tests and benchmarks.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "algorithms/common/point_cloud.hpp"
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::test {
+
+// A fresh folder under $TMPDIR (or /tmp), removed with its contents on destruction.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
+
+// ../shared/data next to the project root (BIMSLAM_SOURCE_DIR, set by ctest), or nullopt.
+std::optional<std::filesystem::path> SharedDataDir();
+
+// Skips the current test, saying why, when ../shared/data (or a file in it) is missing.
+#define BIMSLAM_REQUIRE_SHARED_DATA(var, relative)                                          \
+    const auto var##_root = ::bimslam::test::SharedDataDir();                               \
+    if (!var##_root || !std::filesystem::exists(*var##_root / (relative))) {                \
+        GTEST_SKIP() << "../shared/data/" << (relative)                                     \
+                     << " is absent: this test needs the shared real-data folder beside the " \
+                        "project (see ../shared/data/README.md)";                             \
+    }                                                                                       \
+    const std::filesystem::path var = *var##_root / (relative)
+
+// Expects `statement` to throw common::FileError naming the file and line (0: no line).
+#define EXPECT_FILE_ERROR(statement, expected_file, expected_line)                                  \
+    try {                                                                         \
+        statement;                                                                \
+        ADD_FAILURE() << "no error from " #statement;                             \
+    } catch (const ::bimslam::common::FileError& e) {                             \
+        EXPECT_EQ(e.path(), std::string(expected_file)) << e.what();                \
+        EXPECT_EQ(e.line(), static_cast<size_t>(expected_line)) << e.what();        \
+    }
+
+// Writes bytes to a file as they are (no atomic rename): for feeding damaged input to readers.
+void WriteBytes(const std::filesystem::path& path, const std::string& bytes);
+
+// An Ouster-like scan: `rings` x `columns` points on the walls, floor and ceiling of a box room
+// seen from its centre, with intensity, ring and per-column time offsets. Deterministic in seed.
+common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed);
+
+}  // namespace bimslam::test

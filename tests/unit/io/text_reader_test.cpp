@@ -1,0 +1,97 @@
+#include "algorithms/io/text_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include "algorithms/io/file_util.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::io {
+namespace {
+using common::FileError;
+
+TEST(LineReader, LinesNumbersAndCrlf) {
+    LineReader r("f.txt", "a b\r\n\nc\n  d  ");
+    std::string_view line;
+    ASSERT_TRUE(r.Next(line));
+    EXPECT_EQ(line, "a b");
+    EXPECT_EQ(r.line_number(), 1u);
+    ASSERT_TRUE(r.Next(line));
+    EXPECT_EQ(line, "");
+    ASSERT_TRUE(r.Next(line));
+    EXPECT_EQ(line, "c");
+    ASSERT_TRUE(r.Next(line));
+    EXPECT_EQ(r.line_number(), 4u);
+    std::vector<std::string_view> tok;
+    LineReader::Split(line, tok);
+    ASSERT_EQ(tok.size(), 1u);
+    EXPECT_EQ(tok[0], "d");
+    EXPECT_FALSE(r.Next(line));
+}
+
+TEST(LineReader, NumbersAreCheckedAndErrorsNameFileAndLine) {
+    LineReader r("poses.txt", "x\ny\n");
+    std::string_view line;
+    r.Next(line);
+    r.Next(line);
+    EXPECT_DOUBLE_EQ(r.ParseDouble("+1.5e3", "x"), 1500.0);
+    EXPECT_EQ(r.ParseInt("-42", "n"), -42);
+    for (const char* bad : {"abc", "1.5x", "", "nan", "inf", "-inf", "1e999"}) {
+        try {
+            r.ParseDouble(bad, "qx");
+            ADD_FAILURE() << "accepted '" << bad << "'";
+        } catch (const FileError& e) {
+            EXPECT_EQ(e.path(), "poses.txt");
+            EXPECT_EQ(e.line(), 2u);
+            EXPECT_NE(std::string(e.what()).find("qx"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_THROW(r.ParseInt("1.5", "n"), FileError);
+    EXPECT_THROW(r.ParseInt("99999999999999999999", "n"), FileError);
+}
+
+TEST(LineReader, SecondsParseExactlyToNanoseconds) {
+    LineReader r("t", "");
+    EXPECT_EQ(r.ParseSecondsToNs("1699999999.123456789", "t"), 1'699'999'999'123'456'789);
+    EXPECT_EQ(r.ParseSecondsToNs("1305031102.175304", "t"), 1'305'031'102'175'304'000);
+    EXPECT_EQ(r.ParseSecondsToNs("12", "t"), 12'000'000'000);
+    EXPECT_EQ(r.ParseSecondsToNs("0.0000000015", "t"), 2);  // rounded on the tenth digit
+    EXPECT_EQ(r.ParseSecondsToNs("-1.5", "t"), -1'500'000'000);
+    EXPECT_EQ(r.ParseSecondsToNs("1.5e9", "t"), 1'500'000'000'000'000'000);
+    EXPECT_THROW(r.ParseSecondsToNs("1.2.3", "t"), FileError);
+    EXPECT_THROW(r.ParseSecondsToNs("99999999999", "t"), FileError);
+    for (int64_t ns : {int64_t{0}, int64_t{1}, int64_t{-1}, int64_t{1'699'999'999'000'000'001},
+                       int64_t{-1'500'000'000}}) {
+        EXPECT_EQ(r.ParseSecondsToNs(FormatNsAsSeconds(ns), "t"), ns) << ns;
+    }
+}
+
+TEST(FileUtil, AtomicWriteReplacesAndLeavesNoTemporary) {
+    test::TempDir dir;
+    const auto path = dir / "a.txt";
+    WriteFileAtomic(path, "one");
+    WriteFileAtomic(path, "two");
+    EXPECT_EQ(ReadFileToString(path), "two");
+    size_t files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+    EXPECT_EQ(files, 1u);
+    try {
+        ReadFileToString(dir / "missing.txt");
+        ADD_FAILURE();
+    } catch (const FileError& e) {
+        EXPECT_EQ(e.code(), common::StatusCode::kNotFound);
+        EXPECT_NE(std::string(e.what()).find("missing.txt"), std::string::npos);
+    }
+    EXPECT_THROW(WriteFileAtomic(dir / "no" / "such" / "dir.txt", "x"), FileError);
+}
+
+TEST(FileUtil, FormatIsShortestExact) {
+    for (double v : {0.1, 1.0 / 3.0, -2.5e-300, 1e21, 123456789.125}) {
+        EXPECT_EQ(std::stod(FormatDouble(v)), v);
+    }
+    EXPECT_EQ(FormatDouble(0.1), "0.1");
+    EXPECT_EQ(FormatFloat(0.1f), "0.1");
+    EXPECT_EQ(std::stof(FormatFloat(1.0f / 3.0f)), 1.0f / 3.0f);
+}
+
+}  // namespace
+}  // namespace bimslam::io

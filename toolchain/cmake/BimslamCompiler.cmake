@@ -1,0 +1,32 @@
+# Compiler settings shared by every target of the project.
+include_guard(GLOBAL)
+
+set(CMAKE_CXX_STANDARD 20)
+set(CMAKE_CXX_STANDARD_REQUIRED ON)
+set(CMAKE_CXX_EXTENSIONS OFF)
+set(CMAKE_POSITION_INDEPENDENT_CODE ON)
+
+option(BIMSLAM_WERROR "Treat warnings as errors" ON)
+set(BIMSLAM_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,undefined")
+
+if(BIMSLAM_SANITIZE)
+    # Everything, dependencies' inline code included, is built with the sanitizers; a report stops
+    # the test instead of scrolling past.
+    add_compile_options(-fsanitize=${BIMSLAM_SANITIZE} -fno-omit-frame-pointer
+                        -fno-sanitize-recover=all)
+    add_link_options(-fsanitize=${BIMSLAM_SANITIZE})
+endif()
+
+# Applied to the project's own targets only (not to generated or third-party code).
+function(bimslam_apply_warnings target)
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
+                           -Wnon-virtual-dtor -Wcast-align -Wunused -Woverloaded-virtual
+                           -Wnull-dereference -Wimplicit-fallthrough)
+    # GCC 12 reports false -Wrestrict on std::string concatenation at -O2/-O3 (GCC bug 105651).
+    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+        target_compile_options(${target} PRIVATE -Wno-restrict)
+    endif()
+    if(BIMSLAM_WERROR)
+        target_compile_options(${target} PRIVATE -Werror)
+    endif()
+endfunction()

@@ -1,0 +1,35 @@
+# Test helpers: one GoogleTest executable per library folder, each test case a ctest entry with
+# a label (unit, integration, data, fuzz) so `ctest -L` picks the sets that `make test` runs.
+include_guard(GLOBAL)
+
+set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
+
+# bimslam_test(<name> LABEL <label> SOURCES ... DEPS ... [TIMEOUT s])
+function(bimslam_test name)
+    cmake_parse_arguments(ARG "" "LABEL;TIMEOUT" "SOURCES;DEPS" ${ARGN})
+    if(NOT ARG_TIMEOUT)
+        set(ARG_TIMEOUT 300)
+    endif()
+    add_executable(${name} ${ARG_SOURCES})
+    target_link_libraries(${name} PRIVATE ${ARG_DEPS} bimslam::test_support GTest::gtest_main)
+    bimslam_apply_warnings(${name})
+    # The project root lets data tests find ../shared/data from any build folder.
+    gtest_discover_tests(${name}
+        DISCOVERY_MODE PRE_TEST
+        PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT}
+                   ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+    if(ARG_LABEL STREQUAL "unit")
+        set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
+    endif()
+endfunction()
+
+# bimslam_benchmark(<name> SOURCES ... DEPS ...): Google Benchmark executable, label benchmark.
+function(bimslam_benchmark name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+    add_executable(${name} ${ARG_SOURCES})
+    target_link_libraries(${name} PRIVATE ${ARG_DEPS} bimslam::test_support benchmark::benchmark)
+    bimslam_apply_warnings(${name})
+    add_test(NAME ${name} COMMAND ${name} --benchmark_min_time=0.2)
+    set_tests_properties(${name} PROPERTIES LABELS benchmark)
+    set_property(GLOBAL APPEND PROPERTY BIMSLAM_BENCHMARKS ${name})
+endfunction()

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages bimslam needs to build, test and run; nothing else.
+# Idempotent: when everything is present it only asks dpkg (about a second) and changes nothing.
+# Usage: sudo toolchain/install-deps.sh   (`make demo` and `make test` call it)
+set -euo pipefail
+
+packages=(
+    # build
+    cmake ninja-build g++ make pkg-config
+    # algorithms: Eigen (common), FLANN and its lz4 headers (scancontext), JSON (io)
+    libeigen3-dev libflann-dev liblz4-dev nlohmann-json3-dev
+    # LCM messages: library, lcm-gen, and glib for lcm.pc
+    liblcm-dev liblcm-bin libglib2.0-dev
+    # command-line tools
+    libcli11-dev
+    # tests and benchmarks
+    libgtest-dev libgmock-dev libbenchmark-dev
+    # `ip`, for the loopback multicast route the LCM tests need (toolchain/setup-multicast.sh)
+    iproute2
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    # "ii " = installed; anything else (absent, half-installed, removed) gets installed.
+    [[ "$(dpkg-query -W -f='${db:Status-Abbrev}' "$p" 2>/dev/null)" == "ii "* ]] || missing+=("$p")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+    echo "install-deps: all ${#packages[@]} Debian packages are present"
+    exit 0
+fi
+
+echo "install-deps: missing: ${missing[*]}"
+if [[ $EUID -ne 0 ]]; then
+    echo "install-deps: installing packages needs root. Run:" >&2
+    echo "    sudo $0" >&2
+    echo "then run your make command again." >&2
+    exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: installed ${#missing[@]} packages"
