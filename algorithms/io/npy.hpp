@@ -21,21 +21,31 @@ struct NpyArray {
     size_t ItemSize() const;
     size_t ElementCount() const;
 
-    // Typed views; throw common::Error (kInvalidArgument) when T does not match dtype.
+    // Typed views; throw common::Error (kInvalidArgument) when T does not match dtype or data
+    // does not hold ElementCount() values. T is one of float, double, uint8_t, int8_t, uint16_t,
+    // int16_t, uint32_t, int32_t, uint64_t, int64_t, bool (instantiated in npy.cpp).
     template <typename T>
     const T* As() const;
+    // Copies product(shape) values (1 for an empty shape, numpy's 0-d array).
     template <typename T>
     static NpyArray From(const T* values, std::vector<size_t> shape);
 };
 
+// Writes format 1.0, or 2.0 when the header does not fit 1.0's 16-bit length, with the header
+// numpy writes: the dict with sorted keys, numpy's spare room for growing the first axis, spaces
+// to a 64-byte boundary and '\n'. Throws common::FileError naming the file on an unknown dtype or
+// a data size that does not match the shape.
 void WriteNpy(const std::filesystem::path& path, const NpyArray& array);
 
-// Reads .npy files; rejects (common::FileError naming the file) a wrong magic, an unsupported
-// version, a malformed header dict, fortran_order True, a big-endian or object dtype, a shape
-// whose size overflows, and data shorter or longer than the shape says.
+// Reads .npy files of format 1.0, 2.0 and 3.0; rejects (common::FileError naming the file, no
+// line) a wrong magic, an unsupported version, a malformed header dict, fortran_order True, a
+// big-endian, structured, object or other unsupported dtype, a shape whose size overflows, data
+// shorter or longer than the shape says, and bool bytes other than 0 and 1. The 1-byte dtypes
+// are accepted with '|' or '<' and returned in the canonical form above.
 NpyArray ReadNpy(const std::filesystem::path& path);
 
 NpyArray ParseNpy(const std::string& name, std::string_view bytes);
+// Throws common::Error (kInvalidArgument) where WriteNpy throws FileError.
 std::string SerializeNpy(const NpyArray& array);
 
 }  // namespace bimslam::io
