@@ -1,0 +1,171 @@
+// Session data: the on-disk contract between the rig, the BIM generator and the host tools
+// (specs/session-data.md). A session is a pose graph plus, per keyframe, its cloud and its Scan
+// Context descriptor; the file names are those SC-A-LOAM writes and LT-mapper reads.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/point_cloud.hpp"
+#include "algorithms/common/se3.hpp"
+#include "algorithms/io/trajectory.hpp"
+
+namespace bimslam::io {
+
+// rings x sectors, the layout of algorithms/scancontext's Descriptor.
+using DescriptorMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+inline constexpr int kSessionFormatVersion = 1;
+
+// session.json. Written last: its presence marks a complete session.
+struct SessionManifest {
+    std::string source = "rig";  // "rig" | "bim" | "simulation"
+    std::string created;         // ISO 8601 UTC; the writer fills it when empty
+    struct Sensor {
+        std::string model = "OS-1-32";
+        int beams = 32;
+        int columns = 1024;
+        std::string metadata_file;  // the Ouster metadata JSON it came from, if any
+    } sensor;
+    std::string world_frame = "odom";  // frame of optimized_poses.txt: "odom", "bim", ...
+    struct KeyframeRule {
+        double distance_m = 1.0;
+        double angle_deg = 10.0;
+    } keyframe;
+    struct Descriptor {
+        std::string kind = "indoor";  // "indoor" | "outdoor"
+        int rings = 20;
+        int sectors = 60;
+        double max_radius_m = 10.0;
+        // The indoor cell rule: occupied with >= min_points spanning >= min_z_span_m.
+        int min_points = 0;
+        double min_z_span_m = 0.0;
+    } descriptor;
+    struct Counts {
+        size_t keyframes = 0;
+        size_t scans = 0;
+    } counts;
+    // BIM sessions only: the model the reference scans were simulated from.
+    struct Model {
+        std::string file;
+        std::string sha256;
+        std::vector<std::string> storeys;
+    };
+    std::optional<Model> model;
+};
+
+struct SessionKeyframe {
+    int64_t stamp_ns = 0;                                         // times.txt
+    Eigen::Isometry3d T_world_lidar = Eigen::Isometry3d::Identity();  // optimized_poses.txt
+    std::optional<Eigen::Isometry3d> T_odom_lidar;                // odom_poses.txt (rig)
+    DescriptorMatrix descriptor;                                  // SCDs/NNNNNN.scd
+    common::PointCloud cloud;  // Scans/NNNNNN.pcd, in this keyframe's lidar frame; empty when
+                               // the reader was asked not to load clouds
+};
+
+// An edge of singlesession_posegraph.g2o: the measured T_from_to with its information matrix
+// over [x y z rx ry rz] (translation first, as g2o's EDGE_SE3:QUAT).
+struct SessionEdge {
+    uint32_t from = 0;
+    uint32_t to = 0;
+    Eigen::Isometry3d T_from_to = Eigen::Isometry3d::Identity();
+    common::Matrix6d information = common::Matrix6d::Identity();
+};
+
+struct Session {
+    SessionManifest manifest;
+    std::vector<SessionKeyframe> keyframes;
+    std::vector<SessionEdge> edges;
+    std::vector<StampedPose> trajectory;  // trajectory.tum: every scan, not only keyframes
+    // False when session.json was missing and the session was recovered up to its last complete
+    // keyframe; `notes` then says how many keyframes were recovered and what was dropped.
+    bool complete = true;
+    std::vector<std::string> notes;
+};
+
+struct SessionReadOptions {
+    bool load_clouds = true;
+    // Read a session without session.json (cut off by power loss or a full disk) up to its last
+    // complete keyframe. When false such a session is an error.
+    bool allow_recovery = true;
+};
+
+// Reads and validates a session. Throws common::FileError naming the file (and line) on a
+// missing file, a count mismatch between files, a malformed number, a non-finite value, a
+// descriptor of the wrong size, or a manifest that is not a bimslam session.
+Session ReadSession(const std::filesystem::path& dir, const SessionReadOptions& options = {});
+
+// The path of keyframe i's files.
+std::filesystem::path KeyframeCloudPath(const std::filesystem::path& dir, size_t index);
+std::filesystem::path KeyframeDescriptorPath(const std::filesystem::path& dir, size_t index);
+
+// SCD files: rings lines of sectors numbers. Reading checks the size when expected_rings/sectors
+// are non-zero.
+void WriteScd(const std::filesystem::path& path, const DescriptorMatrix& descriptor);
+DescriptorMatrix ReadScd(const std::filesystem::path& path, int expected_rings = 0,
+                         int expected_sectors = 0);
+
+struct SessionWriterOptions {
+    // Replace an existing session at the same path. Without it the writer refuses. Even with it,
+    // a non-empty folder that is not a session is never deleted.
+    bool overwrite = false;
+    // Rewrite the line-oriented files every this many keyframes. 1 (the rig) loses nothing but
+    // the keyframe being written on power loss; offline generators may batch.
+    size_t flush_every = 1;
+};
+
+// Writes a session incrementally, so that a cut-off session stays readable (specs "Rules"):
+// each keyframe's cloud and descriptor first, then the line files, each file atomically; the
+// manifest last, in Finish().
+class SessionWriter {
+public:
+    SessionWriter(std::filesystem::path dir, SessionManifest manifest,
+                  SessionWriterOptions options = {});
+    // Without Finish() the session stays incomplete (no session.json): the destructor flushes
+    // what it can, and readers recover it up to its last complete keyframe. An exception that
+    // unwinds past a writer must not make a half-made session look complete.
+    ~SessionWriter();
+    SessionWriter(const SessionWriter&) = delete;
+    SessionWriter& operator=(const SessionWriter&) = delete;
+
+    // Writes keyframe i = number of keyframes so far; returns i.
+    size_t AddKeyframe(const SessionKeyframe& keyframe);
+    // An odometry or intra-session loop edge between keyframes already added.
+    void AddEdge(const SessionEdge& edge);
+    // A scan's pose for trajectory.tum (every scan, in time order).
+    void AddScanPose(const StampedPose& pose);
+    // Rewrites the line-oriented files now.
+    void Flush();
+    // Flushes and writes session.json. Further calls are errors.
+    void Finish();
+
+    size_t keyframe_count() const { return keyframes_.size(); }
+    const std::filesystem::path& dir() const { return dir_; }
+
+private:
+    struct Written {
+        int64_t stamp_ns;
+        Eigen::Isometry3d T_world_lidar;
+        std::optional<Eigen::Isometry3d> T_odom_lidar;
+    };
+    std::filesystem::path dir_;
+    SessionManifest manifest_;
+    SessionWriterOptions options_;
+    std::vector<Written> keyframes_;
+    std::vector<SessionEdge> edges_;
+    std::vector<StampedPose> trajectory_;
+    size_t unflushed_ = 0;
+    bool finished_ = false;
+};
+
+// session.json to and from text (exposed for tests and `bimslam session info --json`).
+std::string SerializeManifest(const SessionManifest& manifest);
+SessionManifest ParseManifest(const std::string& name, const std::string& text);
+
+}  // namespace bimslam::io

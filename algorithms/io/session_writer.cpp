@@ -1,0 +1,182 @@
+#include <cstdio>
+#include <ctime>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/g2o.hpp"
+#include "algorithms/io/pcd.hpp"
+#include "algorithms/io/session.hpp"
+#include "algorithms/io/text_reader.hpp"
+
+namespace bimslam::io {
+namespace {
+using common::FileError;
+using common::StatusCode;
+namespace fs = std::filesystem;
+
+std::string IsoUtcNow() {
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", &tm);
+    return buf;
+}
+
+bool LooksLikeSession(const fs::path& dir) {
+    return fs::exists(dir / "session.json") || fs::is_directory(dir / "Scans") ||
+           fs::is_directory(dir / "SCDs");
+}
+
+// Refuses to replace anything unless asked, and never deletes a folder that is not a session.
+void PrepareFolder(const fs::path& dir, bool overwrite) {
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
+        if (!overwrite) {
+            throw FileError(StatusCode::kAlreadyExists, dir.string(), 0,
+                            "already exists and is not empty; choose another folder or pass the "
+                            "overwrite flag to replace the session in it");
+        }
+        if (!LooksLikeSession(dir)) {
+            throw FileError(StatusCode::kAlreadyExists, dir.string(), 0,
+                            "holds files but no session (no session.json, Scans/ or SCDs/); "
+                            "refusing to delete it even with the overwrite flag");
+        }
+        fs::remove_all(dir, ec);
+        if (ec) {
+            throw FileError(StatusCode::kIoError, dir.string(), 0,
+                            "cannot remove the old session: " + ec.message());
+        }
+    }
+    for (const fs::path& p : {dir, dir / "Scans", dir / "SCDs"}) {
+        fs::create_directories(p, ec);
+        if (ec) {
+            throw FileError(StatusCode::kIoError, p.string(), 0,
+                            "cannot create folder: " + ec.message());
+        }
+    }
+}
+}  // namespace
+
+fs::path KeyframeCloudPath(const fs::path& dir, size_t index) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "%06zu.pcd", index);
+    return dir / "Scans" / name;
+}
+
+fs::path KeyframeDescriptorPath(const fs::path& dir, size_t index) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "%06zu.scd", index);
+    return dir / "SCDs" / name;
+}
+
+void WriteScd(const fs::path& path, const DescriptorMatrix& d) {
+    std::string out;
+    for (Eigen::Index r = 0; r < d.rows(); ++r) {
+        for (Eigen::Index c = 0; c < d.cols(); ++c) {
+            if (c > 0) out += ' ';
+            out += FormatFloat(d(r, c));
+        }
+        out += '\n';
+    }
+    WriteFileAtomic(path, out);
+}
+
+SessionWriter::SessionWriter(fs::path dir, SessionManifest manifest, SessionWriterOptions options)
+    : dir_(std::move(dir)), manifest_(std::move(manifest)), options_(options) {
+    // Validate through the reader's own rules, so the writer cannot produce what it would reject.
+    ParseManifest("manifest of " + dir_.string(), SerializeManifest(manifest_));
+    if (options_.flush_every == 0) options_.flush_every = 1;
+    PrepareFolder(dir_, options_.overwrite);
+}
+
+SessionWriter::~SessionWriter() {
+    if (finished_) return;
+    try {
+        Flush();
+    } catch (...) {  // NOLINT(bugprone-empty-catch): a destructor must not throw; data is on disk
+    }
+}
+
+size_t SessionWriter::AddKeyframe(const SessionKeyframe& kf) {
+    const size_t i = keyframes_.size();
+    const std::string what = dir_.string() + " keyframe " + std::to_string(i);
+    if (finished_) throw common::Error(StatusCode::kInvalidArgument, what + ": session finished");
+    if (kf.descriptor.rows() != manifest_.descriptor.rings ||
+        kf.descriptor.cols() != manifest_.descriptor.sectors) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            what + ": descriptor is " + std::to_string(kf.descriptor.rows()) + "x" +
+                                std::to_string(kf.descriptor.cols()) + ", the manifest says " +
+                                std::to_string(manifest_.descriptor.rings) + "x" +
+                                std::to_string(manifest_.descriptor.sectors));
+    }
+    if (!common::IsValidRigid(kf.T_world_lidar, 1e-6) ||
+        (kf.T_odom_lidar && !common::IsValidRigid(*kf.T_odom_lidar, 1e-6))) {
+        throw common::Error(StatusCode::kInvalidArgument, what + ": pose is not a rigid transform");
+    }
+    if (i > 0 && kf.T_odom_lidar.has_value() != keyframes_[0].T_odom_lidar.has_value()) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            what + ": odometry poses must be given for all keyframes or none");
+    }
+    if (!kf.cloud.ChannelsConsistent()) {
+        throw common::Error(StatusCode::kInvalidArgument, what + ": cloud channels differ in size");
+    }
+    // Cloud and descriptor first: a keyframe counts only once its lines are flushed after them.
+    WritePcd(KeyframeCloudPath(dir_, i), kf.cloud, PcdEncoding::kBinary);
+    WriteScd(KeyframeDescriptorPath(dir_, i), kf.descriptor);
+    keyframes_.push_back({kf.stamp_ns, kf.T_world_lidar, kf.T_odom_lidar});
+    if (++unflushed_ >= options_.flush_every) Flush();
+    return i;
+}
+
+void SessionWriter::AddEdge(const SessionEdge& e) {
+    if (e.from >= keyframes_.size() || e.to >= keyframes_.size() || e.from == e.to) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            dir_.string() + ": edge " + std::to_string(e.from) + " -> " +
+                                std::to_string(e.to) + " does not join two written keyframes");
+    }
+    if (!e.information.allFinite() || !common::IsValidRigid(e.T_from_to, 1e-6)) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            dir_.string() + ": edge " + std::to_string(e.from) + " -> " +
+                                std::to_string(e.to) + " has a non-finite or non-rigid value");
+    }
+    edges_.push_back(e);
+}
+
+void SessionWriter::AddScanPose(const StampedPose& pose) {
+    if (!trajectory_.empty() && pose.stamp_ns < trajectory_.back().stamp_ns) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            dir_.string() + ": scan poses must come in time order");
+    }
+    trajectory_.push_back(pose);
+}
+
+void SessionWriter::Flush() {
+    std::string times;
+    std::vector<Eigen::Isometry3d> world, odom;
+    for (const Written& k : keyframes_) {
+        times += FormatNsAsSeconds(k.stamp_ns) + "\n";
+        world.push_back(k.T_world_lidar);
+        if (k.T_odom_lidar) odom.push_back(*k.T_odom_lidar);
+    }
+    WriteFileAtomic(dir_ / "times.txt", times);
+    WriteKitti(dir_ / "optimized_poses.txt", world);
+    if (!odom.empty()) WriteKitti(dir_ / "odom_poses.txt", odom);
+    WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", SerializeG2o({world, edges_}));
+    WriteTum(dir_ / "trajectory.tum", trajectory_);
+    unflushed_ = 0;
+}
+
+void SessionWriter::Finish() {
+    if (finished_) {
+        throw common::Error(StatusCode::kInvalidArgument, dir_.string() + ": already finished");
+    }
+    Flush();
+    manifest_.counts.keyframes = keyframes_.size();
+    manifest_.counts.scans = trajectory_.size();
+    if (manifest_.created.empty()) manifest_.created = IsoUtcNow();
+    WriteFileAtomic(dir_ / "session.json", SerializeManifest(manifest_));
+    finished_ = true;
+}
+
+}  // namespace bimslam::io
