@@ -1,0 +1,32 @@
+#include "host_tools/cli/command.hpp"
+
+#include <iostream>
+
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::cli {
+
+int Run(const std::function<int()>& body) {
+    using common::StatusCode;
+    try {
+        return body();
+    } catch (const common::Error& e) {
+        std::cerr << "bimslam: error: " << e.what() << "\n";
+        // Input that is missing, malformed, cut off or in the way is the user's to fix (2);
+        // anything else failed while working (1).
+        switch (e.code()) {
+            case StatusCode::kInvalidArgument:
+            case StatusCode::kParseError:
+            case StatusCode::kNotFound:
+            case StatusCode::kDataLoss:
+            case StatusCode::kAlreadyExists:
+            case StatusCode::kOutOfRange: return kExitBadInput;
+            default: return kExitFailure;
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "bimslam: error: " << e.what() << "\n";
+        return kExitFailure;
+    }
+}
+
+}  // namespace bimslam::cli

@@ -1,0 +1,22 @@
+// The `bimslam` command: shared conventions of its subcommands (DESIGN.md, "Conventions"):
+// exit 0 on success, 1 on a failure while working, 2 on bad usage or bad input; errors go to
+// stderr naming the file and what is wrong; --json where a script would want the output.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace bimslam::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitBadInput = 2;
+
+// Runs a subcommand body, turning exceptions into a message on stderr and the exit code above.
+int Run(const std::function<int()>& body);
+
+// Each file registers its subcommands; the callback stores the exit code in `exit_code`.
+void AddSessionCommands(CLI::App& app, int& exit_code);
+void AddDemoCommand(CLI::App& app, int& exit_code);
+
+}  // namespace bimslam::cli
