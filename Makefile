@@ -8,8 +8,11 @@ DEMO_OUT ?= demo_output
 
 all: build
 
+# DEPS_FLAGS=--test adds the tools the tests run against (PCL, Open3D, CloudCompare).
+DEPS_FLAGS ?=
+
 deps:
-	@bash toolchain/install-deps.sh
+	@bash toolchain/install-deps.sh $(DEPS_FLAGS)
 	@bash toolchain/setup-multicast.sh
 
 configure: deps
@@ -21,6 +24,7 @@ build: configure
 demo: build
 	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
 
+test: DEPS_FLAGS = --test
 test: test-release test-asan
 
 test-release: build

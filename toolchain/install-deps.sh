@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages bimslam needs to build, test and run; nothing else.
+# Installs the Debian 12 packages bimslam needs; nothing else.
 # Idempotent: when everything is present it only asks dpkg (about a second) and changes nothing.
-# Usage: sudo toolchain/install-deps.sh   (`make demo` and `make test` call it)
+# Usage: sudo toolchain/install-deps.sh [--test]
+#   (no flag)  what building and running need (`make demo`)
+#   --test     also the third-party tools the tests run against our files (`make test`)
 set -euo pipefail
 
 packages=(
@@ -18,6 +20,15 @@ packages=(
     # `ip`, for the loopback multicast route the LCM tests need (toolchain/setup-multicast.sh)
     iproute2
 )
+# The real readers our files must open in (tests/integration/io_interop_test.cpp): PCL's tools,
+# Open3D (with numpy) for Debian's python3, CloudCompare.
+test_packages=(pcl-tools python3-open3d cloudcompare)
+if [[ "${1:-}" == "--test" ]]; then
+    packages+=("${test_packages[@]}")
+elif [[ $# -gt 0 ]]; then
+    echo "usage: $0 [--test]" >&2
+    exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do
