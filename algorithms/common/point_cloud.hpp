@@ -25,7 +25,7 @@ struct PointCloud {
     // Nanoseconds since `stamp`, the start of the scan this point belongs to.
     std::vector<uint32_t> time_offset_ns;
 
-    SensorTime stamp;       // time of the scan start
+    SensorTime stamp;  // time of the scan start
     std::string frame = "lidar";
 
     size_t size() const { return xyz.size(); }

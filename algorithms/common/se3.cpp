@@ -57,8 +57,8 @@ Eigen::Matrix3d LeftJacobianInverseSO3(const Eigen::Vector3d& phi) {
     if (theta < kSmallAngle) {
         return Eigen::Matrix3d::Identity() - 0.5 * S + (1.0 / 12.0) * S * S;
     }
-    const double c = 1.0 / (theta * theta) -
-                     (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta));
+    const double c =
+        1.0 / (theta * theta) - (1.0 + std::cos(theta)) / (2.0 * theta * std::sin(theta));
     return Eigen::Matrix3d::Identity() - 0.5 * S + c * S * S;
 }
 
@@ -100,8 +100,7 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& T0, const Eigen::Isometry
     return T;
 }
 
-Eigen::Isometry3d FromQuaternionTranslation(const Eigen::Quaterniond& q,
-                                            const Eigen::Vector3d& t) {
+Eigen::Isometry3d FromQuaternionTranslation(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = q.normalized().toRotationMatrix();
     T.translation() = t;
@@ -131,8 +130,7 @@ bool IsValidRigid(const Eigen::Isometry3d& T, double tol) {
     if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > tol) {
         return false;
     }
-    return R.determinant() > 0.0 &&
-           T.matrix().row(3) == Eigen::RowVector4d(0, 0, 0, 1);
+    return R.determinant() > 0.0 && T.matrix().row(3) == Eigen::RowVector4d(0, 0, 0, 1);
 }
 
 }  // namespace bimslam::common

@@ -44,8 +44,7 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& T0, const Eigen::Isometry
                               double alpha);
 
 // Conversion to and from a unit quaternion plus a translation. The quaternion is normalised.
-Eigen::Isometry3d FromQuaternionTranslation(const Eigen::Quaterniond& q,
-                                            const Eigen::Vector3d& t);
+Eigen::Isometry3d FromQuaternionTranslation(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
 Eigen::Quaterniond Rotation(const Eigen::Isometry3d& T);
 
 // Adjoint of T, acting on [rho; phi]: Ad(T) = [R [t]x R ; 0 R].

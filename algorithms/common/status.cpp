@@ -4,17 +4,28 @@ namespace bimslam::common {
 
 std::string_view ToString(StatusCode code) {
     switch (code) {
-        case StatusCode::kOk: return "ok";
-        case StatusCode::kInvalidArgument: return "invalid argument";
-        case StatusCode::kParseError: return "parse error";
-        case StatusCode::kIoError: return "I/O error";
-        case StatusCode::kNotFound: return "not found";
-        case StatusCode::kAlreadyExists: return "already exists";
-        case StatusCode::kOutOfRange: return "out of range";
-        case StatusCode::kDataLoss: return "data loss";
-        case StatusCode::kDeadlineExceeded: return "deadline exceeded";
-        case StatusCode::kUnavailable: return "unavailable";
-        case StatusCode::kInternal: return "internal error";
+        case StatusCode::kOk:
+            return "ok";
+        case StatusCode::kInvalidArgument:
+            return "invalid argument";
+        case StatusCode::kParseError:
+            return "parse error";
+        case StatusCode::kIoError:
+            return "I/O error";
+        case StatusCode::kNotFound:
+            return "not found";
+        case StatusCode::kAlreadyExists:
+            return "already exists";
+        case StatusCode::kOutOfRange:
+            return "out of range";
+        case StatusCode::kDataLoss:
+            return "data loss";
+        case StatusCode::kDeadlineExceeded:
+            return "deadline exceeded";
+        case StatusCode::kUnavailable:
+            return "unavailable";
+        case StatusCode::kInternal:
+            return "internal error";
     }
     return "unknown status";
 }

@@ -52,8 +52,7 @@ private:
 // An exception carrying a StatusCode.
 class Error : public std::runtime_error {
 public:
-    Error(StatusCode code, const std::string& message)
-        : std::runtime_error(message), code_(code) {}
+    Error(StatusCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
     StatusCode code() const { return code_; }
 
 private:

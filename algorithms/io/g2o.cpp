@@ -72,11 +72,14 @@ G2oGraph ParseG2o(const std::string& name, std::string_view text) {
             g.vertices.push_back(ParsePose(r, tok, 2));
         } else if (tok[0] == "EDGE_SE3:QUAT") {
             if (tok.size() != 31) {
-                r.Fail("EDGE_SE3:QUAT needs 2 ids, 7 pose numbers and 21 information entries, "
-                       "found " + std::to_string(tok.size() - 1) + " values");
+                r.Fail(
+                    "EDGE_SE3:QUAT needs 2 ids, 7 pose numbers and 21 information entries, "
+                    "found " +
+                    std::to_string(tok.size() - 1) + " values");
             }
             SessionEdge e;
-            const int64_t from = r.ParseInt(tok[1], "edge from"), to = r.ParseInt(tok[2], "edge to");
+            const int64_t from = r.ParseInt(tok[1], "edge from"),
+                          to = r.ParseInt(tok[2], "edge to");
             const auto n = static_cast<int64_t>(g.vertices.size());
             if (from < 0 || to < 0 || from >= n || to >= n || from == to) {
                 r.Fail("edge " + std::to_string(from) + " -> " + std::to_string(to) +
@@ -88,9 +91,8 @@ G2oGraph ParseG2o(const std::string& name, std::string_view text) {
             size_t k = 10;
             for (int row = 0; row < 6; ++row) {
                 for (int col = row; col < 6; ++col) {
-                    const double v = r.ParseDouble(
-                        tok[k++], "information(" + std::to_string(row) + "," +
-                                      std::to_string(col) + ")");
+                    const double v = r.ParseDouble(tok[k++], "information(" + std::to_string(row) +
+                                                                 "," + std::to_string(col) + ")");
                     e.information(row, col) = v;
                     e.information(col, row) = v;
                 }

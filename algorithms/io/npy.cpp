@@ -64,7 +64,7 @@ bool CountOf(const std::vector<size_t>& shape, size_t& count) {
 // A parser for the header: a Python dict literal as repr() writes it (ast.literal_eval accepts
 // more, e.g. comments or nested containers, which numpy never writes and we reject).
 class DictParser {
-  public:
+public:
     DictParser(const std::string& name, std::string_view text) : name_(name), text_(text) {}
 
     [[noreturn]] void Fail(const std::string& what) const {
@@ -103,7 +103,7 @@ class DictParser {
         }
     }
 
-  private:
+private:
     void SkipSpace() {
         while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\n' ||
                                        text_[pos_] == '\t' || text_[pos_] == '\r')) {

@@ -107,7 +107,7 @@ double ParseAscii(const LineReader& reader, std::string_view token, const Field&
 
 // Converts channel values into the cloud; no allocation per point.
 class Sink {
-  public:
+public:
     static constexpr int kOk = -1;
     static constexpr int kDropped = -2;
 
@@ -168,7 +168,7 @@ class Sink {
         cloud_.Resize(n_, false, false, false);  // shrinking: drops the skipped NaN points
     }
 
-  private:
+private:
     common::PointCloud& cloud_;
     bool organized_;
     bool t_is_seconds_ = false;

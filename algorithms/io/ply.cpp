@@ -187,7 +187,7 @@ void CheckSizes(const LineReader& r, const Header& h, size_t body_size) {
 // Reads values one at a time from either encoding; errors name the line in ASCII, no line in
 // binary. No allocation per value.
 class ValueReader {
-  public:
+public:
     ValueReader(LineReader& r, Format format) : r_(r), format_(format) {
         swap_ = (format == Format::kBinaryBigEndian) != (std::endian::native == std::endian::big);
         body_ = r.Rest();
@@ -237,7 +237,7 @@ class ValueReader {
         r_.Fail("data after the last element");
     }
 
-  private:
+private:
     void Need(size_t n) {
         if (body_.size() - pos_ < n) Fail("the file ends here", StatusCode::kDataLoss);
     }

@@ -61,10 +61,10 @@ struct SessionManifest {
 };
 
 struct SessionKeyframe {
-    int64_t stamp_ns = 0;                                         // times.txt
+    int64_t stamp_ns = 0;                                             // times.txt
     Eigen::Isometry3d T_world_lidar = Eigen::Isometry3d::Identity();  // optimized_poses.txt
-    std::optional<Eigen::Isometry3d> T_odom_lidar;                // odom_poses.txt (rig)
-    DescriptorMatrix descriptor;                                  // SCDs/NNNNNN.scd
+    std::optional<Eigen::Isometry3d> T_odom_lidar;                    // odom_poses.txt (rig)
+    DescriptorMatrix descriptor;                                      // SCDs/NNNNNN.scd
     common::PointCloud cloud;  // Scans/NNNNNN.pcd, in this keyframe's lidar frame; empty when
                                // the reader was asked not to load clouds
 };

@@ -26,8 +26,7 @@ public:
             start = dot + 1;
         }
         const bool number_ok = type == json::value_t::number_float && node->is_number();
-        const bool uint_ok =
-            type == json::value_t::number_unsigned && node->is_number_unsigned();
+        const bool uint_ok = type == json::value_t::number_unsigned && node->is_number_unsigned();
         if (node->type() != type && !number_ok && !uint_ok) {
             Fail(path, std::string("must be a ") + json(type).type_name() + ", not " +
                            node->type_name() + " " + Short(*node));
@@ -89,9 +88,8 @@ std::string SerializeManifest(const SessionManifest& m) {
     }
     j["counts"] = {{"keyframes", m.counts.keyframes}, {"scans", m.counts.scans}};
     if (m.model) {
-        j["model"] = {{"file", m.model->file},
-                      {"sha256", m.model->sha256},
-                      {"storeys", m.model->storeys}};
+        j["model"] = {
+            {"file", m.model->file}, {"sha256", m.model->sha256}, {"storeys", m.model->storeys}};
     }
     return j.dump(2) + "\n";
 }

@@ -125,8 +125,8 @@ Session ReadSession(const fs::path& dir, const SessionReadOptions& options) {
     auto graph = ReadPart(dir / "singlesession_posegraph.g2o", strict, [](const fs::path& p) {
         return ParseG2o(p.string(), ReadFileToString(p));
     });
-    auto trajectory = ReadPart(dir / "trajectory.tum", strict,
-                               [](const fs::path& p) { return ReadTum(p); });
+    auto trajectory =
+        ReadPart(dir / "trajectory.tum", strict, [](const fs::path& p) { return ReadTum(p); });
     const size_t scans = CountContiguous(dir, KeyframeCloudPath);
     const size_t scds = CountContiguous(dir, KeyframeDescriptorPath);
 
@@ -141,19 +141,18 @@ Session ReadSession(const fs::path& dir, const SessionReadOptions& options) {
         if (odom) check(dir / "odom_poses.txt", odom->size(), "poses");
         check(dir / "singlesession_posegraph.g2o", graph->vertices.size(), "vertices");
         if (scans != n) {
-            throw FileError(StatusCode::kDataLoss, KeyframeCloudPath(dir, std::min(scans, n)).string(),
-                            0, scans < n ? "missing: session.json says " + std::to_string(n) +
-                                               " keyframes"
-                                         : "one keyframe cloud too many: session.json says " +
-                                               std::to_string(n) + " keyframes");
+            throw FileError(
+                StatusCode::kDataLoss, KeyframeCloudPath(dir, std::min(scans, n)).string(), 0,
+                scans < n ? "missing: session.json says " + std::to_string(n) + " keyframes"
+                          : "one keyframe cloud too many: session.json says " + std::to_string(n) +
+                                " keyframes");
         }
         if (scds != n) {
-            throw FileError(StatusCode::kDataLoss,
-                            KeyframeDescriptorPath(dir, std::min(scds, n)).string(), 0,
-                            scds < n ? "missing: session.json says " + std::to_string(n) +
-                                           " keyframes"
-                                     : "one descriptor too many: session.json says " +
-                                           std::to_string(n) + " keyframes");
+            throw FileError(
+                StatusCode::kDataLoss, KeyframeDescriptorPath(dir, std::min(scds, n)).string(), 0,
+                scds < n ? "missing: session.json says " + std::to_string(n) + " keyframes"
+                         : "one descriptor too many: session.json says " + std::to_string(n) +
+                               " keyframes");
         }
         if (trajectory->size() != s.manifest.counts.scans) {
             CountMismatch(dir / "trajectory.tum", trajectory->size(), s.manifest.counts.scans,

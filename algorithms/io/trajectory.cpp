@@ -114,8 +114,8 @@ std::vector<Eigen::Isometry3d> ParseKitti(const std::string& name, std::string_v
         }
         Eigen::Matrix<double, 3, 4> M;
         for (int i = 0; i < 12; ++i) {
-            M(i / 4, i % 4) = reader.ParseDouble(
-                tok[i], "m" + std::to_string(i / 4) + std::to_string(i % 4));
+            M(i / 4, i % 4) =
+                reader.ParseDouble(tok[i], "m" + std::to_string(i / 4) + std::to_string(i % 4));
         }
         const Eigen::Matrix3d R = M.leftCols<3>();
         if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||

@@ -43,7 +43,7 @@ struct Match {
 };
 
 class CandidateIndex {
-  public:
+public:
     // Validates the configuration (throws common::Error). Its shape, num_candidates and
     // search_ratio apply to every entry and query.
     explicit CandidateIndex(const ScanContextConfig& config = ScanContextConfig::Outdoor());
@@ -82,7 +82,7 @@ class CandidateIndex {
     const Descriptor& descriptor(size_t index) const { return descriptors_.at(index); }
     const ScanContextConfig& config() const { return config_; }
 
-  private:
+private:
     struct Tree;  // FLANN stays out of this header (a private dependency)
 
     ScanContextConfig config_;

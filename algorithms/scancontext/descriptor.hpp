@@ -39,7 +39,7 @@ struct DescriptorStats {
 // matrix, Build allocates nothing and throws nothing (usable on the rig's hot path). Not
 // thread-safe; use one builder per thread.
 class DescriptorBuilder {
-  public:
+public:
     // Validates the configuration (throws common::Error) and allocates the scratch.
     explicit DescriptorBuilder(const ScanContextConfig& config);
 
@@ -52,7 +52,7 @@ class DescriptorBuilder {
 
     const ScanContextConfig& config() const { return config_; }
 
-  private:
+private:
     ScanContextConfig config_;
     // Per cell (row-major like the descriptor): maximum and minimum z and the point count.
     std::vector<float> z_max_;

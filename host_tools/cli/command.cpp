@@ -20,8 +20,10 @@ int Run(const std::function<int()>& body) {
             case StatusCode::kNotFound:
             case StatusCode::kDataLoss:
             case StatusCode::kAlreadyExists:
-            case StatusCode::kOutOfRange: return kExitBadInput;
-            default: return kExitFailure;
+            case StatusCode::kOutOfRange:
+                return kExitBadInput;
+            default:
+                return kExitFailure;
         }
     } catch (const std::exception& e) {
         std::cerr << "bimslam: error: " << e.what() << "\n";

@@ -31,9 +31,7 @@ double Seconds(Clock::time_point since) {
     return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-double Yaw(const Eigen::Isometry3d& T) {
-    return std::atan2(T.linear()(1, 0), T.linear()(0, 0));
-}
+double Yaw(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
 
 double WrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
 
@@ -80,8 +78,8 @@ int RunDemo(const DemoOptions& opt) {
     manifest.source = "simulation";
     manifest.world_frame = "world";
     manifest.sensor = {"OS-1-32 (demo)", 32, opt.columns, ""};
-    manifest.descriptor = {"indoor", sc.num_rings, sc.num_sectors, sc.max_radius,
-                           sc.indoor_min_points, sc.indoor_min_z_span};
+    manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
+                           sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
     io::SessionWriter writer(session_dir, manifest, {.overwrite = opt.overwrite});
     std::vector<io::SessionKeyframe> keyframes;
     std::vector<int> lap_of;
@@ -123,12 +121,11 @@ int RunDemo(const DemoOptions& opt) {
     }
     writer.Finish();
     const double walk_s = Seconds(t_walk);
-    std::cout << "  walked   " << opt.laps << " laps of " << lap_m << " m: "
-              << opt.laps * scans_per_lap << " scans, " << keyframes.size()
+    std::cout << "  walked   " << opt.laps << " laps of " << lap_m
+              << " m: " << opt.laps * scans_per_lap << " scans, " << keyframes.size()
               << " keyframes (1 m / 10 deg), " << points << " keyframe points\n"
-              << "  wrote    " << session_dir.string() << "  ("
-              << FolderBytes(session_dir) / 1e6 << " MB, scanning and writing took " << walk_s
-              << " s)\n";
+              << "  wrote    " << session_dir.string() << "  (" << FolderBytes(session_dir) / 1e6
+              << " MB, scanning and writing took " << walk_s << " s)\n";
 
     // 2. Read the session back and compare everything.
     const auto t_read = Clock::now();
@@ -138,14 +135,15 @@ int RunDemo(const DemoOptions& opt) {
     for (size_t i = 0; i < std::min(s.keyframes.size(), keyframes.size()); ++i) {
         const auto& a = keyframes[i];
         const auto& b = s.keyframes[i];
-        identical += a.stamp_ns == b.stamp_ns && a.T_world_lidar.matrix() == b.T_world_lidar.matrix() &&
+        identical += a.stamp_ns == b.stamp_ns &&
+                     a.T_world_lidar.matrix() == b.T_world_lidar.matrix() &&
                      a.descriptor == b.descriptor && SameCloud(a.cloud, b.cloud, max_t_error_ns);
     }
     const bool read_ok = s.complete && identical == keyframes.size() &&
                          s.keyframes.size() == keyframes.size() && max_t_error_ns <= 8;
     std::cout << "  read     " << s.keyframes.size() << " keyframes, " << s.edges.size()
-              << " edges, " << s.trajectory.size() << " scan poses in " << Seconds(t_read)
-              << " s; " << identical << "/" << keyframes.size()
+              << " edges, " << s.trajectory.size() << " scan poses in " << Seconds(t_read) << " s; "
+              << identical << "/" << keyframes.size()
               << " keyframes bit-identical (points, descriptor, pose, time); per-point times "
                  "within "
               << max_t_error_ns << " ns (float32 seconds in PCD)\n";
@@ -179,7 +177,8 @@ int RunDemo(const DemoOptions& opt) {
                               " deg"
                         : "")
               << "\n";
-    std::cout << "results in " << out.string() << "/: session/ (specs/session-data.md; inspect with "
+    std::cout << "results in " << out.string()
+              << "/: session/ (specs/session-data.md; inspect with "
               << "'bimslam session info " << session_dir.string() << "')\n"
               << "demo " << (read_ok ? "finished" : "FAILED") << " in " << Seconds(t_start)
               << " s\n";
@@ -191,8 +190,9 @@ int RunDemo(const DemoOptions& opt) {
 void AddDemoCommand(CLI::App& app, int& exit_code) {
     auto opt = std::make_shared<DemoOptions>();
     CLI::App* demo = app.add_subcommand(
-        "demo", "Run the main job end to end on a building and a walk the project generates "
-                "itself, and print what it did and where the results are.");
+        "demo",
+        "Run the main job end to end on a building and a walk the project generates "
+        "itself, and print what it did and where the results are.");
     demo->add_option("--out,-o", opt->out, "output folder")->capture_default_str();
     demo->add_flag("--overwrite", opt->overwrite, "replace the results of an earlier demo");
     demo->add_option("--columns", opt->columns, "columns per scan (512, 1024 or 2048)")

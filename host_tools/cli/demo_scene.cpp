@@ -58,11 +58,10 @@ DemoScene DemoScene::Office() {
     // The walk: east along the corridor with a detour through the middle south room, a loop
     // in the east room, back west through the north-east room and the north-west room. Door
     // passages keep 0.25 m from the jambs so that a second, offset lap still fits.
-    s.loop = {{1.0, 6.0},   {8.0, 6.0},   {8.0, 3.0},   {11.0, 3.0},  {11.0, 4.0},
-              {8.1, 4.0},   {8.1, 6.1},   {15.85, 6.1}, {15.85, 3.0}, {21.0, 2.0},
-              {21.5, 4.0},  {16.1, 4.0},  {16.1, 6.2},  {12.35, 6.2}, {12.35, 9.0},
-              {14.0, 10.5}, {12.65, 10.5}, {12.65, 6.3}, {3.35, 6.3},  {3.35, 9.0},
-              {6.0, 9.5},   {3.65, 9.3},  {3.65, 6.0},  {1.0, 6.0}};
+    s.loop = {{1.0, 6.0},  {8.0, 6.0},   {8.0, 3.0},   {11.0, 3.0},  {11.0, 4.0},   {8.1, 4.0},
+              {8.1, 6.1},  {15.85, 6.1}, {15.85, 3.0}, {21.0, 2.0},  {21.5, 4.0},   {16.1, 4.0},
+              {16.1, 6.2}, {12.35, 6.2}, {12.35, 9.0}, {14.0, 10.5}, {12.65, 10.5}, {12.65, 6.3},
+              {3.35, 6.3}, {3.35, 9.0},  {6.0, 9.5},   {3.65, 9.3},  {3.65, 6.0},   {1.0, 6.0}};
     return s;
 }
 
@@ -103,8 +102,8 @@ common::PointCloud ScanScene(const DemoScene& scene, const Eigen::Isometry3d& T_
         const auto t_ns = static_cast<uint32_t>(100'000'000.0 * c / columns);
         for (int r = 0; r < kBeams; ++r) {
             const double el = (kFovDeg / 2 - kFovDeg * r / (kBeams - 1)) * M_PI / 180.0;
-            const Eigen::Vector3d d_lidar(std::cos(el) * std::cos(az),
-                                          std::cos(el) * std::sin(az), std::sin(el));
+            const Eigen::Vector3d d_lidar(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                          std::sin(el));
             const Eigen::Vector3d d = R * d_lidar;
             double best = std::numeric_limits<double>::infinity();
             double cos_incidence = std::abs(d.z());

@@ -47,9 +47,8 @@ int Info(const std::string& dir, bool json) {
                            {"rings", m.descriptor.rings},
                            {"sectors", m.descriptor.sectors},
                            {"max_radius_m", m.descriptor.max_radius_m}};
-        j["sensor"] = {{"model", m.sensor.model},
-                       {"beams", m.sensor.beams},
-                       {"columns", m.sensor.columns}};
+        j["sensor"] = {
+            {"model", m.sensor.model}, {"beams", m.sensor.beams}, {"columns", m.sensor.columns}};
         j["duration_s"] = sum.duration_s;
         j["path_length_m"] = sum.path_length_m;
         j["bbox_m"] = {{sum.min.x(), sum.min.y(), sum.min.z()},
@@ -67,12 +66,13 @@ int Info(const std::string& dir, bool json) {
     } else {
         std::cout << "source       unknown: session.json is missing\n";
     }
-    std::cout << "keyframes    " << s.keyframes.size() << " over " << sum.path_length_m
-              << " m and " << sum.duration_s << " s\n"
+    std::cout << "keyframes    " << s.keyframes.size() << " over " << sum.path_length_m << " m and "
+              << sum.duration_s << " s\n"
               << "scans        " << s.trajectory.size() << " poses in trajectory.tum\n"
               << "edges        " << s.edges.size() << " in singlesession_posegraph.g2o\n"
               << "descriptor   Scan Context " << m.descriptor.rings << "x" << m.descriptor.sectors;
-    if (s.complete) std::cout << ", " << m.descriptor.kind << ", " << m.descriptor.max_radius_m << " m";
+    if (s.complete)
+        std::cout << ", " << m.descriptor.kind << ", " << m.descriptor.max_radius_m << " m";
     std::cout << "\n";
     for (const std::string& note : s.notes) std::cout << "note         " << note << "\n";
     return kExitOk;
@@ -81,8 +81,9 @@ int Info(const std::string& dir, bool json) {
 }  // namespace
 
 void AddSessionCommands(CLI::App& app, int& exit_code) {
-    CLI::App* session = app.add_subcommand("session", "Inspect session data "
-                                                      "(specs/session-data.md)");
+    CLI::App* session = app.add_subcommand("session",
+                                           "Inspect session data "
+                                           "(specs/session-data.md)");
     session->require_subcommand(1);
     CLI::App* info = session->add_subcommand(
         "info", "Read and validate a session; print what it holds. Exit 2 when it is damaged.");

@@ -265,7 +265,7 @@ void ExpectSameMessage(const rig_health_t& a, const rig_health_t& b) {
 // values use the high bytes too, floating-point values are not integers.
 
 class Values {
-  public:
+public:
     int64_t I64() { return 1'000'000'000'007 * Next() + 0x0102030405; }
     int32_t I32() { return static_cast<int32_t>(100'003 * Next()); }
     int16_t I16() { return static_cast<int16_t>(10 + Next()); }
@@ -290,7 +290,7 @@ class Values {
         }
     }
 
-  private:
+private:
     int64_t Next() { return ++k_; }
     int64_t k_ = 0;
 };
@@ -571,7 +571,7 @@ void ExpectDecodesTo(const Bytes& bytes, const T& sent) {
 
 // Collects the raw messages received on one channel.
 class Collector {
-  public:
+public:
     void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
         const auto* data = static_cast<const uint8_t*>(rbuf->data);
         messages.emplace_back(data, data + rbuf->data_size);

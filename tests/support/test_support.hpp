@@ -29,23 +29,23 @@ private:
 std::optional<std::filesystem::path> SharedDataDir();
 
 // Skips the current test, saying why, when ../shared/data (or a file in it) is missing.
-#define BIMSLAM_REQUIRE_SHARED_DATA(var, relative)                                          \
-    const auto var##_root = ::bimslam::test::SharedDataDir();                               \
-    if (!var##_root || !std::filesystem::exists(*var##_root / (relative))) {                \
-        GTEST_SKIP() << "../shared/data/" << (relative)                                     \
+#define BIMSLAM_REQUIRE_SHARED_DATA(var, relative)                                            \
+    const auto var##_root = ::bimslam::test::SharedDataDir();                                 \
+    if (!var##_root || !std::filesystem::exists(*var##_root / (relative))) {                  \
+        GTEST_SKIP() << "../shared/data/" << (relative)                                       \
                      << " is absent: this test needs the shared real-data folder beside the " \
                         "project (see ../shared/data/README.md)";                             \
-    }                                                                                       \
+    }                                                                                         \
     const std::filesystem::path var = *var##_root / (relative)
 
 // Expects `statement` to throw common::FileError naming the file and line (0: no line).
-#define EXPECT_FILE_ERROR(statement, expected_file, expected_line)                                  \
-    try {                                                                         \
-        statement;                                                                \
-        ADD_FAILURE() << "no error from " #statement;                             \
-    } catch (const ::bimslam::common::FileError& e) {                             \
-        EXPECT_EQ(e.path(), std::string(expected_file)) << e.what();                \
-        EXPECT_EQ(e.line(), static_cast<size_t>(expected_line)) << e.what();        \
+#define EXPECT_FILE_ERROR(statement, expected_file, expected_line)           \
+    try {                                                                    \
+        statement;                                                           \
+        ADD_FAILURE() << "no error from " #statement;                        \
+    } catch (const ::bimslam::common::FileError& e) {                        \
+        EXPECT_EQ(e.path(), std::string(expected_file)) << e.what();         \
+        EXPECT_EQ(e.line(), static_cast<size_t>(expected_line)) << e.what(); \
     }
 
 // Writes bytes to a file as they are (no atomic rename): for feeding damaged input to readers.

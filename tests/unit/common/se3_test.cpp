@@ -80,8 +80,8 @@ TEST(Se3, InterpolateEndpointsMidpointAndExtrapolation) {
     // Slerp takes the short arc even when the quaternions have opposite signs.
     const Eigen::Quaterniond q(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
     const Eigen::Isometry3d A = FromQuaternionTranslation(q, {0, 0, 0});
-    const Eigen::Isometry3d B = FromQuaternionTranslation(
-        Eigen::Quaterniond(-q.w(), -q.x(), -q.y(), -q.z()), {0, 0, 0});
+    const Eigen::Isometry3d B =
+        FromQuaternionTranslation(Eigen::Quaterniond(-q.w(), -q.x(), -q.y(), -q.z()), {0, 0, 0});
     EXPECT_NEAR(RotationAngle(Between(A, Interpolate(A, B, 0.5))), 0.0, 1e-12);
 }
 

@@ -19,9 +19,13 @@ TEST(Time, ArithmeticStaysInNanoseconds) {
 }
 
 template <typename A, typename B>
-concept Subtractable = requires(A a, B b) { a - b; };
+concept Subtractable = requires(A a, B b) {
+    a - b;
+};
 template <typename A, typename B>
-concept Comparable = requires(A a, B b) { a < b; };
+concept Comparable = requires(A a, B b) {
+    a < b;
+};
 
 // Timestamps of different clocks must not mix: these are compile-time checks.
 static_assert(Subtractable<SensorTime, SensorTime>);

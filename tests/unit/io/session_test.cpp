@@ -61,8 +61,8 @@ Written WriteSession(const fs::path& dir, size_t n, bool finish,
             SessionEdge e;
             e.from = static_cast<uint32_t>(i - 1);
             e.to = static_cast<uint32_t>(i);
-            e.T_from_to = common::Between(w.keyframes[i - 1].T_world_lidar,
-                                          w.keyframes[i].T_world_lidar);
+            e.T_from_to =
+                common::Between(w.keyframes[i - 1].T_world_lidar, w.keyframes[i].T_world_lidar);
             e.information = common::Matrix6d::Identity() * (100.0 + double(i));
             e.information(0, 5) = e.information(5, 0) = 0.25;
             writer.AddEdge(e);
@@ -236,8 +236,8 @@ TEST(Session, DamagedFilesAreErrorsNamingFileAndLine) {
     WriteSession(good, 5, true);
     int case_no = 0;
     // Copies the good session, damages it, and expects an error naming the file and line.
-    auto expect = [&](const std::function<void(const fs::path&)>& damage,
-                      const std::string& file, size_t line) {
+    auto expect = [&](const std::function<void(const fs::path&)>& damage, const std::string& file,
+                      size_t line) {
         const fs::path dir = tmp / ("case" + std::to_string(case_no++));
         fs::copy(good, dir, fs::copy_options::recursive);
         damage(dir);
@@ -245,10 +245,12 @@ TEST(Session, DamagedFilesAreErrorsNamingFileAndLine) {
     };
     expect([](const fs::path& d) { ReplaceInFile(d / "optimized_poses.txt", 4, ""); },
            "optimized_poses.txt", 5);  // count mismatch: the missing 5th line
-    expect([](const fs::path& d) { ReplaceInFile(d / "times.txt", 2, "17000x"); }, "times.txt",
-           3);
-    expect([](const fs::path& d) { ReplaceInFile(d / "odom_poses.txt", 1, "1 0 0 nan 0 1 0 0 0 0 1 0"); },
-           "odom_poses.txt", 2);
+    expect([](const fs::path& d) { ReplaceInFile(d / "times.txt", 2, "17000x"); }, "times.txt", 3);
+    expect(
+        [](const fs::path& d) {
+            ReplaceInFile(d / "odom_poses.txt", 1, "1 0 0 nan 0 1 0 0 0 0 1 0");
+        },
+        "odom_poses.txt", 2);
     expect([](const fs::path& d) { ReplaceInFile(d / "SCDs/000003.scd", 1, "1 2 3 4 5"); },
            "SCDs/000003.scd", 2);  // wrong descriptor size
     expect([](const fs::path& d) { ReplaceInFile(d / "SCDs/000002.scd", 3, ""); },
@@ -260,11 +262,13 @@ TEST(Session, DamagedFilesAreErrorsNamingFileAndLine) {
     expect([](const fs::path& d) { fs::remove(d / "Scans/000004.pcd"); }, "Scans/000004.pcd", 0);
     expect([](const fs::path& d) { fs::copy(d / "SCDs/000000.scd", d / "SCDs/000005.scd"); },
            "SCDs/000005.scd", 0);
-    expect([](const fs::path& d) { ReplaceInFile(d / "trajectory.tum", 0, ""); },
-           "trajectory.tum", 15);
-    expect([](const fs::path& d) {
-        ReplaceInFile(d / "singlesession_posegraph.g2o", 6, "EDGE_SE3:QUAT 0 9 0 0 0 0 0 0 1");
-    }, "singlesession_posegraph.g2o", 7);
+    expect([](const fs::path& d) { ReplaceInFile(d / "trajectory.tum", 0, ""); }, "trajectory.tum",
+           15);
+    expect(
+        [](const fs::path& d) {
+            ReplaceInFile(d / "singlesession_posegraph.g2o", 6, "EDGE_SE3:QUAT 0 9 0 0 0 0 0 0 1");
+        },
+        "singlesession_posegraph.g2o", 7);
     expect([](const fs::path& d) { test::WriteBytes(d / "session.json", "{\"format\":"); },
            "session.json", 1);
     EXPECT_FILE_ERROR(ReadSession(tmp / "nothing"), (tmp / "nothing").string(), 0);

@@ -42,9 +42,10 @@ TEST(Tum, RoundTripIsBitExact) {
 }
 
 TEST(Tum, ReadsCommentsAndThirdPartyPrecision) {
-    const auto p = ParseTum("gt.tum", "# timestamp tx ty tz qx qy qz qw\n\n"
-                                      "1305031102.175304 1.3405 0.6266 1.6575 0.6574 0.6126 "
-                                      "-0.2949 -0.3248\n");
+    const auto p = ParseTum("gt.tum",
+                            "# timestamp tx ty tz qx qy qz qw\n\n"
+                            "1305031102.175304 1.3405 0.6266 1.6575 0.6574 0.6126 "
+                            "-0.2949 -0.3248\n");
     ASSERT_EQ(p.size(), 1u);
     EXPECT_EQ(p[0].stamp_ns, 1'305'031'102'175'304'000);
     EXPECT_TRUE(common::IsValidRigid(p[0].Pose()));
@@ -55,7 +56,7 @@ TEST(Tum, RejectsBadInputNamingFileAndLine) {
     EXPECT_FILE_ERROR(ParseTum("a.tum", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"), "a.tum", 2);
     EXPECT_FILE_ERROR(ParseTum("a.tum", "1 0 0 0 0 0 0 1\n2 0 nan 0 0 0 0 1\n"), "a.tum", 2);
     EXPECT_FILE_ERROR(ParseTum("a.tum", "1 0 0 0 0 0 0 x\n"), "a.tum", 1);
-    EXPECT_FILE_ERROR(ParseTum("a.tum", "1 0 0 0 0 0 0 2\n"), "a.tum", 1);        // not unit
+    EXPECT_FILE_ERROR(ParseTum("a.tum", "1 0 0 0 0 0 0 2\n"), "a.tum", 1);  // not unit
     EXPECT_FILE_ERROR(ParseTum("a.tum", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"), "a.tum", 2);
     EXPECT_FILE_ERROR(ParseTum("a.tum", std::string("1 0 0\0 0 0 0 0 1\n", 18)), "a.tum", 1);
     // A file cut off in the middle of a line.
@@ -76,9 +77,10 @@ TEST(Kitti, RoundTripIsBitExact) {
 
 TEST(Kitti, ReadsSixDigitFilesAndRejectsBadOnes) {
     // KITTI ground truth has 6 significant digits: re-orthonormalised on read.
-    const auto p = ParseKitti("00.txt", "1.000000e+00 9.043680e-12 2.326809e-11 5.551115e-17 "
-                                        "9.043683e-12 1.000000e+00 2.392370e-10 3.330669e-16 "
-                                        "2.326810e-11 2.392370e-10 9.999999e-01 -4.440892e-16\n");
+    const auto p = ParseKitti("00.txt",
+                              "1.000000e+00 9.043680e-12 2.326809e-11 5.551115e-17 "
+                              "9.043683e-12 1.000000e+00 2.392370e-10 3.330669e-16 "
+                              "2.326810e-11 2.392370e-10 9.999999e-01 -4.440892e-16\n");
     ASSERT_EQ(p.size(), 1u);
     EXPECT_TRUE(common::IsValidRigid(p[0], 1e-12));
     EXPECT_FILE_ERROR(ParseKitti("k.txt", "1 0 0 0 0 1 0 0 0 0 1\n"), "k.txt", 1);
