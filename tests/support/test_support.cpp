@@ -38,6 +38,37 @@ void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
     if (!f) throw std::runtime_error("cannot write " + path.string());
 }
 
+std::string Mutate(std::string s, std::mt19937& rng, size_t hot_prefix,
+                   std::string_view interesting) {
+    const int edits = 1 + static_cast<int>(rng() % 3);
+    auto pick = [&] { return interesting[rng() % interesting.size()]; };
+    for (int e = 0; e < edits && !s.empty(); ++e) {
+        const size_t limit = (rng() % 2 == 0) ? std::min(hot_prefix, s.size()) : s.size();
+        const size_t at = rng() % std::max<size_t>(limit, 1);
+        switch (rng() % 6) {
+            case 0:
+                s[at] = static_cast<char>(s[at] ^ (1 << (rng() % 8)));
+                break;
+            case 1:
+                s[at] = pick();
+                break;
+            case 2:
+                s.resize(at);
+                break;
+            case 3:
+                s.erase(at, 1 + rng() % 8);
+                break;
+            case 4:
+                s.insert(at, 1, pick());
+                break;
+            default:
+                s.insert(at, s.substr(rng() % s.size(), 1 + rng() % 16));
+                break;
+        }
+    }
+    return s;
+}
+
 common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed) {
     // Ray-box intersection from a sensor at (0.7, -0.4, 1.0) inside an 8 x 5 x 3 m room; a few
     // pillars break the symmetry so that rotated scans stay distinguishable.

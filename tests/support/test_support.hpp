@@ -4,7 +4,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <random>
 #include <string>
+#include <string_view>
 
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/status.hpp"
@@ -50,6 +52,13 @@ std::optional<std::filesystem::path> SharedDataDir();
 
 // Writes bytes to a file as they are (no atomic rename): for feeding damaged input to readers.
 void WriteBytes(const std::filesystem::path& path, const std::string& bytes);
+
+// One to three random byte edits of `bytes` (bit flips, bytes from `interesting`, truncation,
+// deletion, insertion, duplication), half of them within the first `hot_prefix` bytes where
+// parsers make the most decisions. For mutation fuzzing of readers.
+std::string Mutate(std::string bytes, std::mt19937& rng, size_t hot_prefix,
+                   std::string_view interesting = std::string_view("0123456789 \n-.e+n\0\xff\x7f",
+                                                                   19));
 
 // An Ouster-like scan: `rings` x `columns` points on the walls, floor and ceiling of a box room
 // seen from its centre, with intensity, ring and per-column time offsets. Deterministic in seed.

@@ -167,27 +167,8 @@ TEST(Npy, MutatedFilesOnlyEverThrowFileError) {
     size_t parsed = 0, rejected = 0;
     for (const std::string& seed : seeds) {
         for (int i = 0; i < 3000; ++i) {
-            std::string s = seed;
-            const int edits = 1 + static_cast<int>(rng() % 3);
-            for (int e = 0; e < edits && !s.empty(); ++e) {
-                const size_t at = rng() % s.size();
-                switch (rng() % 5) {
-                    case 0:
-                        s[at] = static_cast<char>(s[at] ^ (1 << (rng() % 8)));
-                        break;
-                    case 1:
-                        s[at] = interesting[rng() % (sizeof(interesting) - 1)];
-                        break;
-                    case 2:
-                        s.resize(at);
-                        break;
-                    case 3:
-                        s.erase(at, 1 + rng() % 4);
-                        break;
-                    default:
-                        s.insert(at, 1, interesting[rng() % (sizeof(interesting) - 1)]);
-                }
-            }
+            const std::string s =
+                test::Mutate(seed, rng, 128, {interesting, sizeof(interesting) - 1});
             try {
                 ParseNpy("fuzz.npy", s);
                 ++parsed;

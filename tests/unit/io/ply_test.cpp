@@ -284,35 +284,7 @@ TEST(Ply, WriterAndConversionsRejectWhatTheFormatCannotHold) {
 
 // Random byte edits of valid files must only ever produce data or a FileError (run under ASan
 // and UBSan too).
-std::string Mutate(std::string s, std::mt19937& rng, size_t hot_prefix) {
-    const char interesting[] = "0123456789 \n-.e+n\x00\xff\x7f\x80\x03";
-    const int edits = 1 + static_cast<int>(rng() % 3);
-    for (int e = 0; e < edits && !s.empty(); ++e) {
-        const size_t limit = (rng() % 2 == 0) ? std::min(hot_prefix, s.size()) : s.size();
-        const size_t at = rng() % limit;
-        switch (rng() % 6) {
-            case 0:
-                s[at] = static_cast<char>(s[at] ^ (1 << (rng() % 8)));
-                break;
-            case 1:
-                s[at] = interesting[rng() % (sizeof(interesting) - 1)];
-                break;
-            case 2:
-                s.resize(at);
-                break;
-            case 3:
-                s.erase(at, 1 + rng() % 8);
-                break;
-            case 4:
-                s.insert(at, 1, interesting[rng() % (sizeof(interesting) - 1)]);
-                break;
-            default:
-                s.insert(at, s.substr(rng() % s.size(), 1 + rng() % 16));
-                break;
-        }
-    }
-    return s;
-}
+constexpr char kInteresting[] = "0123456789 \n-.e+n\x00\xff\x7f\x80\x03";
 
 TEST(Ply, MutatedFilesOnlyEverThrowFileError) {
     PlyData both = ToPly(test::MakeRoomScan(2, 3, 2));
@@ -327,7 +299,8 @@ TEST(Ply, MutatedFilesOnlyEverThrowFileError) {
     for (const std::string& seed : seeds) {
         const size_t header = seed.find("end_header") + 11;
         for (int i = 0; i < 3000; ++i) {
-            const std::string bytes = Mutate(seed, rng, header);
+            const std::string bytes =
+                test::Mutate(seed, rng, header, {kInteresting, sizeof(kInteresting) - 1});
             try {
                 ParsePly("fuzz.ply", bytes);
                 ++parsed;

@@ -287,12 +287,7 @@ TEST(Session, GarbageNeverCrashes) {
         const fs::path dir = tmp / ("f" + std::to_string(i));
         fs::copy(good, dir, fs::copy_options::recursive);
         const fs::path victim = dir / files[rng() % files.size()];
-        std::string bytes = ReadFileToString(victim);
-        if (rng() % 3 == 0) {
-            bytes.resize(rng() % (bytes.size() + 1));  // truncated
-        } else {
-            for (int k = 0; k < 4 && !bytes.empty(); ++k) bytes[rng() % bytes.size()] = char(rng());
-        }
+        const std::string bytes = test::Mutate(ReadFileToString(victim), rng, 256);
         test::WriteBytes(victim, bytes);
         try {
             ReadSession(dir);

@@ -94,9 +94,7 @@ TEST(Trajectory, GarbageNeverCrashes) {
     std::mt19937 rng(7);
     const std::string good = SerializeTum(RandomTrajectory(20, 4));
     for (int i = 0; i < 2000; ++i) {
-        std::string s = good;
-        const int edits = 1 + static_cast<int>(rng() % 8);
-        for (int k = 0; k < edits; ++k) s[rng() % s.size()] = static_cast<char>(rng() % 256);
+        const std::string s = test::Mutate(good, rng, good.size());
         try {
             ParseTum("fuzz.tum", s);
         } catch (const FileError& e) {
