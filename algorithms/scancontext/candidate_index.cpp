@@ -1,19 +1,13 @@
 #include "algorithms/scancontext/candidate_index.hpp"
 
+#include <flann/algorithms/dist.h>
+#include <flann/algorithms/kdtree_single_index.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
-
-// FLANN 1.9's tree copy (KDTreeSingleIndex::copyTree, reached through the virtual clone() we never
-// call) placement-news from its pool without a null check; GCC 12 reports that as a potential null
-// dereference even in a system header once it is inlined here. Silenced for FLANN only.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wnull-dereference"
-#include <flann/algorithms/dist.h>
-#include <flann/algorithms/kdtree_single_index.h>
-#pragma GCC diagnostic pop
 
 namespace bimslam::scancontext {
 
@@ -21,7 +15,7 @@ namespace bimslam::scancontext {
 // was given, so the keys live here, allocated once per Build and never resized; members are
 // destroyed in reverse order, the index before its keys. The single KD-tree is used directly
 // rather than through flann::Index, which would instantiate every FLANN algorithm (slow to
-// compile, and GCC's -Wnull-dereference fires inside the k-means and randomised-tree code).
+// compile).
 struct CandidateIndex::Tree {
     std::vector<float> keys;  // rows x cols, row-major
     size_t rows = 0;

@@ -1,5 +1,6 @@
 #include "tests/support/test_support.hpp"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -36,6 +37,25 @@ void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
     std::ofstream f(path, std::ios::binary | std::ios::trunc);
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+CommandResult RunCommand(const std::string& command) {
+    TempDir dir;
+    const std::string out = (dir / "out").string(), err = (dir / "err").string();
+    const int status = std::system((command + " >" + out + " 2>" + err).c_str());
+    CommandResult r;
+    if (status != -1 && WIFEXITED(status)) {
+        r.exit_code = WEXITSTATUS(status);
+    } else if (status != -1 && WIFSIGNALED(status)) {
+        r.exit_code = 128 + WTERMSIG(status);
+    }
+    auto slurp = [](const std::string& path) {
+        std::ifstream f(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
 }
 
 std::string Mutate(std::string s, std::mt19937& rng, size_t hot_prefix,

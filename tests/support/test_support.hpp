@@ -53,6 +53,14 @@ std::optional<std::filesystem::path> SharedDataDir();
 // Writes bytes to a file as they are (no atomic rename): for feeding damaged input to readers.
 void WriteBytes(const std::filesystem::path& path, const std::string& bytes);
 
+// Runs a shell command; returns its exit code (128 + signal when killed) and what it printed.
+struct CommandResult {
+    int exit_code = -1;
+    std::string out;  // stdout
+    std::string err;  // stderr
+};
+CommandResult RunCommand(const std::string& command);
+
 // One to three random byte edits of `bytes` (bit flips, bytes from `interesting`, truncation,
 // deletion, insertion, duplication), half of them within the first `hot_prefix` bytes where
 // parsers make the most decisions. For mutation fuzzing of readers.
