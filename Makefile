@@ -4,7 +4,7 @@
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
-.PHONY: all demo test deps configure build test-release test-asan bench format clean
+.PHONY: all demo test deps configure build test-release test-asan bench fuzz format clean
 
 all: build
 
@@ -39,6 +39,12 @@ test-asan: deps
 bench: build
 	@cmake --build --preset release -j $(JOBS) --target benchmarks
 	@for b in build/release/bin/*_benchmark; do echo "== $$b"; $$b; done
+
+# Long mutation fuzzing of every reader under the sanitizers (BIMSLAM_FUZZ_ITERATIONS per seed).
+fuzz: deps
+	@cmake --preset asan >/dev/null
+	@cmake --build --preset asan -j $(JOBS) --target fuzz_tests
+	@cd build/asan && ctest -L fuzz -j $(JOBS) --output-on-failure
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
