@@ -44,7 +44,7 @@ fi
 echo "install-deps: missing: ${missing[*]}"
 if [[ $EUID -ne 0 ]]; then
     echo "install-deps: installing packages needs root. Run:" >&2
-    echo "    sudo $0" >&2
+    echo "    sudo $0 $*" >&2
     echo "then run your make command again." >&2
     exit 1
 fi

@@ -60,6 +60,8 @@ struct SessionManifest {
     std::optional<Model> model;
 };
 
+// One keyframe. stamp_ns (times.txt) is the start of the keyframe's scan in the sensor clock;
+// the cloud's per-point times count from it, and the reader sets cloud.stamp to it.
 struct SessionKeyframe {
     int64_t stamp_ns = 0;                                             // times.txt
     Eigen::Isometry3d T_world_lidar = Eigen::Isometry3d::Identity();  // optimized_poses.txt

@@ -179,7 +179,10 @@ Session ReadSession(const fs::path& dir, const SessionReadOptions& options) {
         kf.descriptor = ReadScd(KeyframeDescriptorPath(dir, i), rings, sectors);
         rings = static_cast<int>(kf.descriptor.rows());  // recovered sessions: the first decides
         sectors = static_cast<int>(kf.descriptor.cols());
-        if (options.load_clouds) kf.cloud = ReadPcd(KeyframeCloudPath(dir, i));
+        if (options.load_clouds) {
+            kf.cloud = ReadPcd(KeyframeCloudPath(dir, i));
+            kf.cloud.stamp = common::SensorTime{kf.stamp_ns};  // per-point t counts from here
+        }
     }
     if (graph) {
         for (const SessionEdge& e : graph->edges) {

@@ -116,6 +116,7 @@ TEST(Session, RoundTripIsBitExact) {
         EXPECT_EQ(a.cloud.xyz, b.cloud.xyz);
         EXPECT_EQ(a.cloud.intensity, b.cloud.intensity);
         EXPECT_EQ(a.cloud.ring, b.cloud.ring);
+        EXPECT_EQ(b.cloud.stamp.ns, a.stamp_ns);
     }
     ASSERT_EQ(s.edges.size(), w.edges.size());
     for (size_t i = 0; i < w.edges.size(); ++i) {
