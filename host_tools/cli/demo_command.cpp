@@ -5,7 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
@@ -32,6 +34,12 @@ double Seconds(Clock::time_point since) {
 }
 
 double Yaw(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
+
+std::string FixedString(double v) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(1) << v;
+    return s.str();
+}
 
 double WrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
 
@@ -68,6 +76,7 @@ int RunDemo(const DemoOptions& opt) {
     const double lap_m = scene.LoopLength();
     const double speed = 1.0, rate_hz = 10.0, sensor_z = 0.6;  // Go1-like: 1 m/s, lidar 0.6 m
     const int scans_per_lap = static_cast<int>(lap_m / speed * rate_hz);
+    std::cout << std::fixed << std::setprecision(1);
     std::cout << "bimslam demo: synthetic office storey (" << scene.walls.size()
               << " wall faces), OS1-32-like sensor 32x" << opt.columns << " at 10 Hz\n";
 
@@ -173,12 +182,12 @@ int RunDemo(const DemoOptions& opt) {
     }
     std::cout << "  matched  " << found << "/" << queries
               << " keyframes of the later laps to a first-lap keyframe within 2 m by Scan Context"
-              << (found ? ", mean yaw error " + std::to_string(yaw_err_sum / found * 180 / M_PI) +
-                              " deg"
-                        : "")
+              << (found
+                      ? ", mean yaw error " + FixedString(yaw_err_sum / found * 180 / M_PI) + " deg"
+                      : "")
               << "\n";
     std::cout << "results in " << out.string()
-              << "/: session/ (specs/session-data.md; inspect with "
+              << "/: session/ (layout: algorithms/io/README.md; inspect with "
               << "'bimslam session info " << session_dir.string() << "')\n"
               << "demo " << (read_ok ? "finished" : "FAILED") << " in " << Seconds(t_start)
               << " s\n";
