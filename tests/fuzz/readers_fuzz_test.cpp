@@ -28,22 +28,14 @@ int Iterations() {
 
 void Fuzz(const std::string& name, const std::vector<std::string>& seeds,
           const std::function<void(const std::string&)>& parse) {
-    std::mt19937 rng(std::hash<std::string>{}(name));
-    size_t accepted = 0, rejected = 0;
-    for (const std::string& seed : seeds) {
-        for (int i = 0; i < Iterations(); ++i) {
-            const std::string bytes = test::Mutate(seed, rng, 256);
-            try {
-                parse(bytes);
-                ++accepted;
-            } catch (const common::FileError& e) {
-                ASSERT_EQ(e.path(), name) << e.what();
-                ++rejected;
-            }
-        }
-    }
-    std::cout << name << ": " << accepted << " mutants accepted, " << rejected << " rejected\n";
-    EXPECT_GT(rejected, 0u);
+    std::vector<test::FuzzSeed> fuzz_seeds;
+    for (const std::string& s : seeds) fuzz_seeds.push_back({s, 256});
+    const auto counts = test::FuzzReader(
+        name, fuzz_seeds, Iterations(), static_cast<uint32_t>(std::hash<std::string>{}(name)),
+        std::string_view("0123456789 \n-.e+n\0\xff\x7f", 19), parse);
+    std::cout << name << ": " << counts.accepted << " mutants accepted, " << counts.rejected
+              << " rejected\n";
+    EXPECT_GT(counts.rejected, 0u);
 }
 
 std::vector<StampedPose> Trajectory() {

@@ -1,5 +1,6 @@
 #include "tests/support/test_support.hpp"
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -87,6 +88,30 @@ std::string Mutate(std::string s, std::mt19937& rng, size_t hot_prefix,
         }
     }
     return s;
+}
+
+FuzzCounts FuzzReader(const std::string& name, const std::vector<FuzzSeed>& seeds, int iterations,
+                      uint32_t rng_seed, std::string_view interesting,
+                      const std::function<void(const std::string&)>& parse) {
+    std::mt19937 rng(rng_seed);
+    FuzzCounts counts;
+    for (const FuzzSeed& seed : seeds) {
+        for (int i = 0; i < iterations; ++i) {
+            const std::string bytes = Mutate(seed.bytes, rng, seed.hot_prefix, interesting);
+            try {
+                parse(bytes);
+                ++counts.accepted;
+            } catch (const common::FileError& e) {
+                if (e.path() != name) {
+                    ADD_FAILURE() << "error names '" << e.path() << "', not '" << name
+                                  << "': " << e.what();
+                    return counts;
+                }
+                ++counts.rejected;
+            }
+        }
+    }
+    return counts;
 }
 
 common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed) {

@@ -3,10 +3,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/status.hpp"
@@ -67,6 +69,21 @@ CommandResult RunCommand(const std::string& command);
 std::string Mutate(std::string bytes, std::mt19937& rng, size_t hot_prefix,
                    std::string_view interesting = std::string_view("0123456789 \n-.e+n\0\xff\x7f",
                                                                    19));
+
+// Mutation fuzzing of a reader: `iterations` mutants (Mutate) of every seed go to `parse`, which
+// must either accept them or throw common::FileError naming `name`; anything else fails the test
+// (a crash, another exception, or a FileError naming another file). Returns how many of each.
+struct FuzzSeed {
+    std::string bytes;
+    size_t hot_prefix = 256;  // where the header ends: half the edits land before it
+};
+struct FuzzCounts {
+    size_t accepted = 0;
+    size_t rejected = 0;
+};
+FuzzCounts FuzzReader(const std::string& name, const std::vector<FuzzSeed>& seeds, int iterations,
+                      uint32_t rng_seed, std::string_view interesting,
+                      const std::function<void(const std::string&)>& parse);
 
 // An Ouster-like scan: `rings` x `columns` points on the walls, floor and ceiling of a box room
 // seen from its centre, with intensity, ring and per-column time offsets. Deterministic in seed.

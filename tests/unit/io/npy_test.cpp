@@ -160,24 +160,12 @@ TEST(Npy, TypedViewsAndWriterCheckTheirArguments) {
 TEST(Npy, MutatedFilesOnlyEverThrowFileError) {
     const int32_t v[] = {1, -2, 3, -4, 5, -6};
     const bool flags[] = {true, false};
-    const std::vector<std::string> seeds = {SerializeNpy(NpyArray::From(v, {3, 2})),
-                                            SerializeNpy(NpyArray::From(flags, {2}))};
+    const std::vector<test::FuzzSeed> seeds = {{SerializeNpy(NpyArray::From(v, {3, 2})), 128},
+                                               {SerializeNpy(NpyArray::From(flags, {2})), 128}};
     const char interesting[] = "0123456789 ,()'\"{}:<|fiub-L\x00\xff";
-    std::mt19937 rng(11);
-    size_t parsed = 0, rejected = 0;
-    for (const std::string& seed : seeds) {
-        for (int i = 0; i < 3000; ++i) {
-            const std::string s =
-                test::Mutate(seed, rng, 128, {interesting, sizeof(interesting) - 1});
-            try {
-                ParseNpy("fuzz.npy", s);
-                ++parsed;
-            } catch (const FileError& e) {
-                ASSERT_EQ(e.path(), "fuzz.npy");
-                ++rejected;
-            }
-        }
-    }
+    const auto [parsed, rejected] =
+        test::FuzzReader("fuzz.npy", seeds, 3000, 11, {interesting, sizeof(interesting) - 1},
+                         [](const std::string& b) { ParseNpy("fuzz.npy", b); });
     EXPECT_GT(rejected, 1000u);
     EXPECT_GT(parsed, 10u);
 }

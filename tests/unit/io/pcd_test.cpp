@@ -358,22 +358,11 @@ TEST(Pcd, MutatedFilesOnlyEverThrowFileError) {
     Put(compressed, static_cast<uint32_t>(soa.size()));
     ASSERT_EQ(ParsePcd("c", compressed + lzf).xyz, ParsePcd("b", bin).xyz);
     seeds.push_back(compressed + lzf);
-    std::mt19937 rng(2024);
-    size_t parsed = 0, rejected = 0;
-    for (const std::string& seed : seeds) {
-        const size_t header = seed.find("DATA ") + 20;
-        for (int i = 0; i < 3000; ++i) {
-            const std::string bytes =
-                test::Mutate(seed, rng, header, {kInteresting, sizeof(kInteresting) - 1});
-            try {
-                ParsePcd("fuzz.pcd", bytes);
-                ++parsed;
-            } catch (const FileError& e) {
-                ASSERT_EQ(e.path(), "fuzz.pcd");
-                ++rejected;
-            }
-        }
-    }
+    std::vector<test::FuzzSeed> fuzz_seeds;
+    for (const std::string& seed : seeds) fuzz_seeds.push_back({seed, seed.find("DATA ") + 20});
+    const auto [parsed, rejected] = test::FuzzReader(
+        "fuzz.pcd", fuzz_seeds, 3000, 2024, {kInteresting, sizeof(kInteresting) - 1},
+        [](const std::string& b) { ParsePcd("fuzz.pcd", b); });
     EXPECT_GT(rejected, 1000u);
     EXPECT_GT(parsed, 100u);
 }

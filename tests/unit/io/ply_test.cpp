@@ -294,22 +294,12 @@ TEST(Ply, MutatedFilesOnlyEverThrowFileError) {
     std::string be = seeds[0];  // the same header read as big-endian: other values, same code
     be.replace(be.find("binary_little_endian"), 20, "binary_big_endian");
     seeds.push_back(be);
-    std::mt19937 rng(77);
-    size_t parsed = 0, rejected = 0;
-    for (const std::string& seed : seeds) {
-        const size_t header = seed.find("end_header") + 11;
-        for (int i = 0; i < 3000; ++i) {
-            const std::string bytes =
-                test::Mutate(seed, rng, header, {kInteresting, sizeof(kInteresting) - 1});
-            try {
-                ParsePly("fuzz.ply", bytes);
-                ++parsed;
-            } catch (const FileError& e) {
-                ASSERT_EQ(e.path(), "fuzz.ply");
-                ++rejected;
-            }
-        }
-    }
+    std::vector<test::FuzzSeed> fuzz_seeds;
+    for (const std::string& seed : seeds)
+        fuzz_seeds.push_back({seed, seed.find("end_header") + 11});
+    const auto [parsed, rejected] =
+        test::FuzzReader("fuzz.ply", fuzz_seeds, 3000, 77, {kInteresting, sizeof(kInteresting) - 1},
+                         [](const std::string& b) { ParsePly("fuzz.ply", b); });
     EXPECT_GT(rejected, 1000u);
     EXPECT_GT(parsed, 100u);
 }
