@@ -30,9 +30,9 @@ void Fuzz(const std::string& name, const std::vector<std::string>& seeds,
           const std::function<void(const std::string&)>& parse) {
     std::vector<test::FuzzSeed> fuzz_seeds;
     for (const std::string& s : seeds) fuzz_seeds.push_back({s, 256});
-    const auto counts = test::FuzzReader(
-        name, fuzz_seeds, Iterations(), static_cast<uint32_t>(std::hash<std::string>{}(name)),
-        std::string_view("0123456789 \n-.e+n\0\xff\x7f", 19), parse);
+    const auto counts = test::FuzzReader(name, fuzz_seeds, Iterations(),
+                                         static_cast<uint32_t>(std::hash<std::string>{}(name)),
+                                         test::kMutationBytes, parse);
     std::cout << name << ": " << counts.accepted << " mutants accepted, " << counts.rejected
               << " rejected\n";
     EXPECT_GT(counts.rejected, 0u);

@@ -63,12 +63,15 @@ struct CommandResult {
 };
 CommandResult RunCommand(const std::string& command);
 
+// Bytes that readers of numbers and text headers react to (digits, separators, NUL, 0xff, DEL).
+inline constexpr std::string_view kMutationBytes{"0123456789 \n-.e+n\0\xff\x7f", 20};
+static_assert(kMutationBytes.back() == '\x7f');
+
 // One to three random byte edits of `bytes` (bit flips, bytes from `interesting`, truncation,
 // deletion, insertion, duplication), half of them within the first `hot_prefix` bytes where
 // parsers make the most decisions. For mutation fuzzing of readers.
 std::string Mutate(std::string bytes, std::mt19937& rng, size_t hot_prefix,
-                   std::string_view interesting = std::string_view("0123456789 \n-.e+n\0\xff\x7f",
-                                                                   19));
+                   std::string_view interesting = kMutationBytes);
 
 // Mutation fuzzing of a reader: `iterations` mutants (Mutate) of every seed go to `parse`, which
 // must either accept them or throw common::FileError naming `name`; anything else fails the test

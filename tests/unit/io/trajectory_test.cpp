@@ -95,7 +95,8 @@ TEST(Trajectory, GarbageNeverCrashes) {
     std::vector<Eigen::Isometry3d> poses;
     for (const auto& p : RandomTrajectory(20, 5)) poses.push_back(p.Pose());
     const std::string kitti = SerializeKitti(poses);
-    const std::string_view interesting("0123456789 \n-.e+n#\0\xff", 22);
+    constexpr std::string_view interesting{"0123456789 \n-.e+n#\0\xff", 20};
+    static_assert(interesting.back() == '\xff');
     const auto t = test::FuzzReader("fuzz.tum", {{tum, tum.size()}}, 2000, 7, interesting,
                                     [](const std::string& b) { ParseTum("fuzz.tum", b); });
     const auto k = test::FuzzReader("fuzz.txt", {{kitti, kitti.size()}}, 2000, 8, interesting,
