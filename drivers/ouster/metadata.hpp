@@ -1,0 +1,17 @@
+// Ouster metadata JSON, both layouts (specs/ouster-lidar.md, "Metadata JSON: two layouts"):
+// flat (FW 1.12-2.x tools) and nested (FW 2.2+), with the spec's defaults for missing fields.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "drivers/ouster/sensor_info.hpp"
+
+namespace bimslam::ouster {
+
+// Parses and validates; throws common::FileError (kParseError) whose message names the file and
+// the field ("beam_altitude_angles: 30 entries, pixels_per_column is 32").
+SensorInfo ParseMetadata(const std::string& name, const std::string& json_text);
+SensorInfo LoadMetadata(const std::filesystem::path& path);
+
+}  // namespace bimslam::ouster
