@@ -1,0 +1,82 @@
+#include "drivers/ouster/lidar_frame.hpp"
+
+#include <algorithm>
+
+namespace bimslam::ouster {
+namespace {
+template <typename T>
+void Size(std::vector<T>& v, size_t n, bool present) {
+    if (!present) {
+        v.clear();
+        return;
+    }
+    if (v.size() != n) v.assign(n, T{});  // allocates only when the shape changes
+    else std::fill(v.begin(), v.end(), T{});
+}
+}  // namespace
+
+void LidarFrame::Reset(const PacketFormat& f) {
+    h = f.pixels_per_column();
+    w = f.columns_per_frame();
+    profile = f.profile();
+    complete = false;
+    columns_received = 0;
+    packets = 0;
+    start_ns = 0;
+    first_arrival_ns = last_arrival_ns = 0;
+    frame_id = init_id = 0;
+    const size_t n = static_cast<size_t>(h) * w;
+    const size_t cols = static_cast<size_t>(w);
+    Size(timestamp, cols, true);
+    Size(measurement_id, cols, true);
+    Size(status, cols, true);
+    Size(encoder, cols, f.legacy());
+    Size(column_frame_id, cols, f.legacy());
+    Size(range, n, f.Has(Field::kRange));
+    Size(range2, n, f.Has(Field::kRange2));
+    Size(signal, n, f.Has(Field::kSignal));
+    Size(signal2, n, f.Has(Field::kSignal2));
+    Size(near_ir, n, f.Has(Field::kNearIr));
+    Size(reflectivity, n, f.Has(Field::kReflectivity));
+    Size(reflectivity2, n, f.Has(Field::kReflectivity2));
+    Size(flags, n, f.Has(Field::kFlags));
+    Size(flags2, n, f.Has(Field::kFlags2));
+    if (xyz.size() != n) xyz.assign(n, Eigen::Vector3f::Zero());
+}
+
+const void* LidarFrame::FieldData(Field f) const {
+    auto ptr = [](const auto& v) -> const void* { return v.empty() ? nullptr : v.data(); };
+    switch (f) {
+        case Field::kRange: return ptr(range);
+        case Field::kRange2: return ptr(range2);
+        case Field::kSignal: return ptr(signal);
+        case Field::kSignal2: return ptr(signal2);
+        case Field::kReflectivity: return ptr(reflectivity);
+        case Field::kReflectivity2: return ptr(reflectivity2);
+        case Field::kNearIr: return ptr(near_ir);
+        case Field::kFlags: return ptr(flags);
+        case Field::kFlags2: return ptr(flags2);
+    }
+    return nullptr;
+}
+
+void ToPointCloud(const LidarFrame& frame, common::PointCloud* out) {
+    out->Clear();
+    out->stamp = common::SensorTime{static_cast<int64_t>(frame.start_ns)};
+    out->frame = "os_sensor";
+    if (frame.range.empty()) return;
+    const bool use_reflectivity = !frame.reflectivity.empty();
+    for (int v = 0; v < frame.w; ++v) {
+        if (!frame.ColumnValid(v)) continue;
+        const auto dt = static_cast<uint32_t>(frame.timestamp[v] - frame.start_ns);
+        for (int u = 0; u < frame.h; ++u) {
+            const size_t i = frame.Index(u, v);
+            if (frame.range[i] == 0) continue;
+            const float intensity =
+                use_reflectivity ? frame.reflectivity[i] : static_cast<float>(frame.signal[i]);
+            out->PushBack(frame.xyz[i], intensity, static_cast<uint16_t>(u), dt);
+        }
+    }
+}
+
+}  // namespace bimslam::ouster

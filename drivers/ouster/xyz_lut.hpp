@@ -1,0 +1,39 @@
+// Range to XYZ exactly as specs/ouster-lidar.md "Range -> XYZ" (the Ouster SDK's lookup table):
+// per pixel a unit direction and an offset, both in the sensor frame, so that
+//     xyz_m(u, v) = range_mm(u, v) * 0.001 * direction(u, v) + offset(u, v).
+// Column v is the measurement id (not the encoder count); the image is staggered.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "drivers/ouster/sensor_info.hpp"
+
+namespace bimslam::ouster {
+
+template <typename Scalar>
+class XyzLut {
+public:
+    using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+    explicit XyzLut(const SensorInfo& info);
+
+    int h() const { return h_; }
+    int w() const { return w_; }
+    const Vec3& direction(int u, int v) const { return direction_[Index(u, v)]; }
+    const Vec3& offset(int u, int v) const { return offset_[Index(u, v)]; }  // metres
+
+    // XYZ for a whole staggered range image (H x W, mm); zero where the range is 0.
+    void Compute(const uint32_t* range_mm, Vec3* xyz) const;
+
+private:
+    size_t Index(int u, int v) const { return static_cast<size_t>(u) * w_ + v; }
+    int h_, w_;
+    std::vector<Vec3> direction_;
+    std::vector<Vec3> offset_;
+};
+
+extern template class XyzLut<float>;
+extern template class XyzLut<double>;
+
+}  // namespace bimslam::ouster
