@@ -1,10 +1,11 @@
 # The two commands of the README, and a few more for developers.
 #   make demo   install what is missing, build, run the main job end to end
-#   make test   install what is missing, build, run the whole test suite (Release, then ASan+UBSan)
+#   make test   install what is missing, build, run the whole test suite (Release; the unit tests
+#               under ASan+UBSan; the fuzz targets briefly under clang + libFuzzer)
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
-.PHONY: all demo test deps configure build test-release test-asan bench fuzz format clean
+.PHONY: all demo test deps configure build test-release test-asan test-fuzz bench fuzz format clean
 
 all: build
 
@@ -25,7 +26,7 @@ demo: build
 	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
 
 test: DEPS_FLAGS = --test
-test: test-release test-asan
+test: test-release test-asan test-fuzz
 
 test-release: build
 	@ctest --preset release -j $(JOBS)
@@ -40,11 +41,20 @@ bench: build
 	@cmake --build --preset release -j $(JOBS) --target benchmarks
 	@for b in build/release/bin/*_benchmark; do echo "== $$b"; $$b; done
 
-# Long mutation fuzzing of every reader under the sanitizers (BIMSLAM_FUZZ_ITERATIONS per seed).
+# The fuzz targets (clang, libFuzzer, ASan + UBSan), each run briefly.
+test-fuzz: deps
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz -j $(JOBS) --target fuzz_tests
+	@ctest --preset fuzz -j $(JOBS)
+
+# The same, long: FUZZ_SECONDS per libFuzzer target, FUZZ_ITERATIONS mutants per reader seed.
+FUZZ_SECONDS ?= 600
+FUZZ_ITERATIONS ?= 200000
 fuzz: deps
-	@cmake --preset asan >/dev/null
-	@cmake --build --preset asan -j $(JOBS) --target fuzz_tests
-	@cd build/asan && ctest -L fuzz -j $(JOBS) --output-on-failure
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz -j $(JOBS) --target fuzz_tests
+	@BIMSLAM_FUZZ_SECONDS=$(FUZZ_SECONDS) BIMSLAM_FUZZ_ITERATIONS=$(FUZZ_ITERATIONS) \
+		ctest --preset fuzz -j $(JOBS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -21,8 +21,9 @@ packages=(
     iproute2
 )
 # The real readers our files must open in (tests/integration/io_interop_test.cpp): PCL's tools,
-# Open3D (with numpy) for Debian's python3, CloudCompare.
-test_packages=(pcl-tools python3-open3d cloudcompare)
+# Open3D (with numpy) for Debian's python3, CloudCompare; and clang with its libFuzzer runtime
+# for the fuzz targets (preset `fuzz`).
+test_packages=(pcl-tools python3-open3d cloudcompare clang libclang-rt-14-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
 elif [[ $# -gt 0 ]]; then

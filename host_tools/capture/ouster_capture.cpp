@@ -1,0 +1,101 @@
+#include "host_tools/capture/ouster_capture.hpp"
+
+#include <sstream>
+
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::capture {
+namespace {
+using common::FileError;
+using common::StatusCode;
+
+std::string DescribePorts(const std::map<uint16_t, uint64_t>& ports) {
+    std::ostringstream s;
+    int shown = 0;
+    for (const auto& [port, n] : ports) {
+        if (shown++ == 4) {
+            s << ", ...";
+            break;
+        }
+        s << (shown > 1 ? ", " : "") << n << " on port " << port;
+    }
+    return s.str();
+}
+}  // namespace
+
+OusterCapture::OusterCapture(const std::filesystem::path& pcap, const ouster::SensorInfo& info,
+                             const OusterCaptureOptions& options)
+    : path_(pcap),
+      reader_(pcap),
+      extractor_(options.extractor),
+      batcher_(info, options.batcher),
+      imu_(info) {
+    const size_t lidar_size = batcher_.format().lidar_packet_size();
+    std::optional<uint16_t> lidar = options.lidar_port ? options.lidar_port : info.udp_port_lidar;
+    imu_port_ = options.imu_port ? options.imu_port : info.udp_port_imu;
+    if (!lidar) {
+        const net::PortGuess guess = net::GuessPortsInCapture(pcap, lidar_size, imu_.packet_size());
+        ports_guessed_ = true;
+        if (!guess.lidar_port) {
+            throw FileError(StatusCode::kParseError, pcap.string(), 0,
+                            "no Ouster lidar packets: none of its " +
+                                std::to_string(guess.datagrams) + " UDP datagrams has the " +
+                                std::to_string(lidar_size) + " bytes that " +
+                                std::string(ToString(info.format.lidar_profile)) + " with " +
+                                std::to_string(info.format.pixels_per_column) +
+                                " pixels per column sends (metadata " + info.source + ")");
+        }
+        lidar = guess.lidar_port;
+        if (!imu_port_) imu_port_ = guess.imu_port;
+    }
+    lidar_port_ = *lidar;
+}
+
+OusterCapture::~OusterCapture() = default;
+
+void OusterCapture::Route(const net::UdpDatagram& d) {
+    ++stats_.datagrams;
+    if (d.dst_port == lidar_port_) {
+        ++stats_.lidar_packets;
+        batcher_.AddPacket(d.payload.data(), d.payload.size(), d.timestamp_ns);
+        ready_index_ = 0;
+    } else if (imu_port_ && d.dst_port == *imu_port_) {
+        ++stats_.imu_packets;
+        ouster::ImuSample samples[64];
+        const auto r = imu_.Decode(d.payload.data(), d.payload.size(), samples);
+        stats_.imu_samples += r.samples;
+        if (on_imu_) {
+            for (size_t i = 0; i < r.samples; ++i) on_imu_(samples[i]);
+        }
+    } else {
+        ++stats_.other_datagrams;
+        ++stats_.other_ports[d.dst_port];
+    }
+}
+
+const ouster::LidarFrame* OusterCapture::NextFrame() {
+    for (;;) {
+        if (ready_index_ < batcher_.ready().size()) return batcher_.ready()[ready_index_++];
+        if (ended_) return nullptr;
+        net::PcapRecord record;
+        net::UdpDatagram d;
+        if (reader_.Next(record)) {
+            if (extractor_.Feed(record, d)) Route(d);
+            continue;
+        }
+        // End of file: a capture that holds Ouster-sized packets on no port is no Ouster capture.
+        ended_ = true;
+        stats_.truncated = reader_.truncated();
+        extractor_.Finish();
+        batcher_.Flush();
+        ready_index_ = 0;
+        if (stats_.lidar_packets == 0 && stats_.other_datagrams > 0) {
+            throw FileError(StatusCode::kParseError, path_.string(), 0,
+                            "no packets on the lidar port " + std::to_string(lidar_port_) +
+                                "; the capture holds UDP datagrams " +
+                                DescribePorts(stats_.other_ports) + ": not this Ouster sensor");
+        }
+    }
+}
+
+}  // namespace bimslam::capture
