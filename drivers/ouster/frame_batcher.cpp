@@ -8,18 +8,38 @@ namespace bimslam::ouster {
 namespace {
 
 // One field of one packet into its image: a pass per field keeps the inner loop free of type
-// dispatch, and the packet (a few KB) stays in L1 across the passes.
+// dispatch, and the packet (a few KB) stays in L1 across the passes. Rows outside, columns
+// inside: the 16 columns of a packet are adjacent in a row, so each row gets one contiguous
+// write. Columns outside would write H rows W elements apart, a power-of-two stride that maps
+// every row to the same cache set and thrashes L1 (measured: 2.4x slower per frame).
 template <typename T>
 void ExtractField(const PacketFormat& f, const FieldSpec& spec, const uint8_t* p,
                   const uint16_t* columns, const bool* valid, int n, T* image) {
     const int h = f.pixels_per_column(), w = f.columns_per_frame();
     const size_t px = f.pixel_size();
-    for (int c = 0; c < n; ++c) {
-        if (!valid[c]) continue;
-        const uint8_t* pix = f.Pixels(f.Column(p, c)) + 4 * spec.word;
-        T* out = image + columns[c];
-        for (int u = 0; u < h; ++u, pix += px, out += w) {
-            *out = static_cast<T>(((Load32(pix) >> spec.shift) & spec.mask) * spec.multiplier);
+    const uint8_t* first = f.Pixels(f.Column(p, 0)) + 4 * spec.word;
+    const size_t column_stride = static_cast<size_t>(f.Column(p, 1) - f.Column(p, 0));
+    // Locals, so that stores into the image cannot be taken for writes to the spec.
+    const uint32_t shift = spec.shift, mask = spec.mask, multiplier = spec.multiplier;
+    // The usual packet: every column valid, measurement ids consecutive. Then each row is one
+    // straight loop the compiler unrolls.
+    bool contiguous = true;
+    for (int c = 0; c < n; ++c) contiguous = contiguous && valid[c] && columns[c] == columns[0] + c;
+    for (int u = 0; u < h; ++u) {
+        T* __restrict row = image + static_cast<size_t>(u) * w;
+        const uint8_t* pix = first + u * px;
+        if (contiguous) {
+            T* __restrict out = row + columns[0];
+            for (int c = 0; c < n; ++c) {
+                out[c] = static_cast<T>(((Load32(pix + c * column_stride) >> shift) & mask) *
+                                        multiplier);
+            }
+            continue;
+        }
+        for (int c = 0; c < n; ++c) {
+            if (!valid[c]) continue;
+            row[columns[c]] =
+                static_cast<T>(((Load32(pix + c * column_stride) >> shift) & mask) * multiplier);
         }
     }
 }
@@ -28,14 +48,22 @@ void ExtractField(const PacketFormat& f, const FieldSpec& spec, const uint8_t* p
 
 std::string_view ToString(Reject r) {
     switch (r) {
-        case Reject::kSize: return "size";
-        case Reject::kPacketType: return "packet_type";
-        case Reject::kProdSn: return "prod_sn";
-        case Reject::kInitId: return "init_id";
-        case Reject::kCrc: return "crc";
-        case Reject::kMeasurementId: return "measurement_id";
-        case Reject::kLate: return "late";
-        case Reject::kDuplicate: return "duplicate";
+        case Reject::kSize:
+            return "size";
+        case Reject::kPacketType:
+            return "packet_type";
+        case Reject::kProdSn:
+            return "prod_sn";
+        case Reject::kInitId:
+            return "init_id";
+        case Reject::kCrc:
+            return "crc";
+        case Reject::kMeasurementId:
+            return "measurement_id";
+        case Reject::kLate:
+            return "late";
+        case Reject::kDuplicate:
+            return "duplicate";
     }
     return "?";
 }
@@ -123,10 +151,16 @@ void FrameBatcher::StartFrame(uint32_t frame_id, uint32_t init_id) {
             break;
         }
     }
+    // No zeroing here: every column that arrives is overwritten, and Emit zeroes the ones that
+    // did not, so a complete frame costs no extra pass over its buffers.
     LidarFrame& frame = pool_[current_];
-    frame.Reset(format_);
     frame.frame_id = frame_id;
     frame.init_id = init_id;
+    frame.complete = false;
+    frame.columns_received = 0;
+    frame.packets = 0;
+    frame.start_ns = 0;
+    frame.first_arrival_ns = frame.last_arrival_ns = 0;
     frame.columns_expected = info_.format.WindowColumns();
     std::fill(received_.begin(), received_.end(), uint8_t{0});
     last_frame_id_ = frame_id;
@@ -162,9 +196,15 @@ void FrameBatcher::Decode(const uint8_t* p, int64_t arrival_ns) {
     }
     for (const FieldSpec& spec : f.fields()) {
         switch (spec.field) {
-            case Field::kRange: ExtractField(f, spec, p, columns, valid, n, frame.range.data()); break;
-            case Field::kRange2: ExtractField(f, spec, p, columns, valid, n, frame.range2.data()); break;
-            case Field::kSignal: ExtractField(f, spec, p, columns, valid, n, frame.signal.data()); break;
+            case Field::kRange:
+                ExtractField(f, spec, p, columns, valid, n, frame.range.data());
+                break;
+            case Field::kRange2:
+                ExtractField(f, spec, p, columns, valid, n, frame.range2.data());
+                break;
+            case Field::kSignal:
+                ExtractField(f, spec, p, columns, valid, n, frame.signal.data());
+                break;
             case Field::kSignal2:
                 ExtractField(f, spec, p, columns, valid, n, frame.signal2.data());
                 break;
@@ -177,8 +217,12 @@ void FrameBatcher::Decode(const uint8_t* p, int64_t arrival_ns) {
             case Field::kReflectivity2:
                 ExtractField(f, spec, p, columns, valid, n, frame.reflectivity2.data());
                 break;
-            case Field::kFlags: ExtractField(f, spec, p, columns, valid, n, frame.flags.data()); break;
-            case Field::kFlags2: ExtractField(f, spec, p, columns, valid, n, frame.flags2.data()); break;
+            case Field::kFlags:
+                ExtractField(f, spec, p, columns, valid, n, frame.flags.data());
+                break;
+            case Field::kFlags2:
+                ExtractField(f, spec, p, columns, valid, n, frame.flags2.data());
+                break;
         }
     }
     ++frame.packets;
@@ -189,11 +233,17 @@ void FrameBatcher::Decode(const uint8_t* p, int64_t arrival_ns) {
 void FrameBatcher::Emit() {
     LidarFrame& frame = pool_[current_];
     frame.complete = frame.columns_received >= frame.columns_expected;
+    if (frame.columns_received < frame.w) {
+        for (int v = 0; v < frame.w; ++v) {
+            if (!received_[v]) frame.ZeroColumn(v);  // lost, invalid or outside the window
+        }
+    }
     if (frame.complete) {
         ++stats_.frames_complete;
     } else {
         ++stats_.frames_incomplete;
-        stats_.columns_lost += static_cast<uint64_t>(frame.columns_expected - frame.columns_received);
+        stats_.columns_lost +=
+            static_cast<uint64_t>(frame.columns_expected - frame.columns_received);
     }
     if (config_.compute_xyz) lut_.Compute(frame.range.data(), frame.xyz.data());
     ready_[ready_count_++] = &frame;

@@ -39,14 +39,14 @@ inline constexpr int kNumRejects = 8;
 std::string_view ToString(Reject r);  // "size", "packet_type", ... (JSON keys)
 
 struct LidarStats {
-    uint64_t packets = 0;   // offered to AddPacket
+    uint64_t packets = 0;  // offered to AddPacket
     uint64_t accepted = 0;
     std::array<uint64_t, kNumRejects> rejected{};
     uint64_t crc_checked = 0;
     uint64_t frames_complete = 0;
     uint64_t frames_incomplete = 0;
-    uint64_t columns_lost = 0;      // window columns missing from emitted frames
-    uint64_t sensor_restarts = 0;   // init_id changes (metadata without init_id)
+    uint64_t columns_lost = 0;     // window columns missing from emitted frames
+    uint64_t sensor_restarts = 0;  // init_id changes (metadata without init_id)
 
     uint64_t Rejected(Reject r) const { return rejected[static_cast<size_t>(r)]; }
     uint64_t TotalRejected() const;
@@ -58,7 +58,7 @@ struct BatcherConfig {
 };
 
 struct PacketResult {
-    int frames = 0;                 // frames emitted by this call (0, 1 or 2), see ready()
+    int frames = 0;                  // frames emitted by this call (0, 1 or 2), see ready()
     std::optional<Reject> rejected;  // why the packet was dropped, if it was
 };
 
@@ -90,14 +90,14 @@ private:
     PacketFormat format_;
     BatcherConfig config_;
     XyzLut<float> lut_;
-    std::array<LidarFrame, 3> pool_;       // the frame being filled + up to two emitted
+    std::array<LidarFrame, 3> pool_;  // the frame being filled + up to two emitted
     std::array<const LidarFrame*, 2> ready_{};
     size_t ready_count_ = 0;
-    size_t current_ = 0;                   // pool index of the frame being filled
-    bool filling_ = false;                 // current_ holds at least one packet
+    size_t current_ = 0;                     // pool index of the frame being filled
+    bool filling_ = false;                   // current_ holds at least one packet
     std::optional<uint32_t> last_frame_id_;  // the most recent frame started
     std::optional<uint32_t> last_init_id_;
-    std::vector<uint8_t> received_;        // per column of the frame being filled
+    std::vector<uint8_t> received_;  // per column of the frame being filled
     LidarStats stats_;
 };
 

@@ -21,12 +21,18 @@ constexpr size_t kNmeaHeader = 32, kNmeaBlock = 100, kNmeaSample = 36, kNmeaFoot
 
 std::string_view ToString(ImuReject r) {
     switch (r) {
-        case ImuReject::kSize: return "size";
-        case ImuReject::kPacketType: return "packet_type";
-        case ImuReject::kProdSn: return "prod_sn";
-        case ImuReject::kInitId: return "init_id";
-        case ImuReject::kCrc: return "crc";
-        case ImuReject::kNonFinite: return "non_finite";
+        case ImuReject::kSize:
+            return "size";
+        case ImuReject::kPacketType:
+            return "packet_type";
+        case ImuReject::kProdSn:
+            return "prod_sn";
+        case ImuReject::kInitId:
+            return "init_id";
+        case ImuReject::kCrc:
+            return "crc";
+        case ImuReject::kNonFinite:
+            return "non_finite";
     }
     return "?";
 }

@@ -23,8 +23,8 @@ namespace bimslam::ouster {
 inline constexpr double kStandardGravity = 9.80665;  // m/s^2 per g (ISO 80000-3)
 
 struct ImuSample {
-    uint64_t time_ns = 0;        // sensor clock; the accelerometer's time for LEGACY
-    uint64_t gyro_time_ns = 0;   // sensor clock
+    uint64_t time_ns = 0;       // sensor clock; the accelerometer's time for LEGACY
+    uint64_t gyro_time_ns = 0;  // sensor clock
     Eigen::Vector3d accel = Eigen::Vector3d::Zero();  // m/s^2, sensor frame
     Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   // rad/s, sensor frame
 };

@@ -10,8 +10,10 @@ void Size(std::vector<T>& v, size_t n, bool present) {
         v.clear();
         return;
     }
-    if (v.size() != n) v.assign(n, T{});  // allocates only when the shape changes
-    else std::fill(v.begin(), v.end(), T{});
+    if (v.size() != n)
+        v.assign(n, T{});  // allocates only when the shape changes
+    else
+        std::fill(v.begin(), v.end(), T{});
 }
 }  // namespace
 
@@ -44,18 +46,48 @@ void LidarFrame::Reset(const PacketFormat& f) {
     if (xyz.size() != n) xyz.assign(n, Eigen::Vector3f::Zero());
 }
 
+void LidarFrame::ZeroColumn(int v) {
+    timestamp[v] = 0;
+    measurement_id[v] = 0;
+    status[v] = 0;
+    if (!encoder.empty()) encoder[v] = 0;
+    if (!column_frame_id.empty()) column_frame_id[v] = 0;
+    auto zero = [this, v](auto& image) {
+        if (image.empty()) return;
+        for (int u = 0; u < h; ++u) image[Index(u, v)] = 0;
+    };
+    zero(range);
+    zero(range2);
+    zero(signal);
+    zero(signal2);
+    zero(near_ir);
+    zero(reflectivity);
+    zero(reflectivity2);
+    zero(flags);
+    zero(flags2);
+}
+
 const void* LidarFrame::FieldData(Field f) const {
     auto ptr = [](const auto& v) -> const void* { return v.empty() ? nullptr : v.data(); };
     switch (f) {
-        case Field::kRange: return ptr(range);
-        case Field::kRange2: return ptr(range2);
-        case Field::kSignal: return ptr(signal);
-        case Field::kSignal2: return ptr(signal2);
-        case Field::kReflectivity: return ptr(reflectivity);
-        case Field::kReflectivity2: return ptr(reflectivity2);
-        case Field::kNearIr: return ptr(near_ir);
-        case Field::kFlags: return ptr(flags);
-        case Field::kFlags2: return ptr(flags2);
+        case Field::kRange:
+            return ptr(range);
+        case Field::kRange2:
+            return ptr(range2);
+        case Field::kSignal:
+            return ptr(signal);
+        case Field::kSignal2:
+            return ptr(signal2);
+        case Field::kReflectivity:
+            return ptr(reflectivity);
+        case Field::kReflectivity2:
+            return ptr(reflectivity2);
+        case Field::kNearIr:
+            return ptr(near_ir);
+        case Field::kFlags:
+            return ptr(flags);
+        case Field::kFlags2:
+            return ptr(flags2);
     }
     return nullptr;
 }

@@ -13,24 +13,24 @@
 namespace bimslam::ouster {
 
 struct LidarFrame {
-    int h = 0;                 // pixels per column (rows)
-    int w = 0;                 // columns per frame
-    uint32_t frame_id = 0;     // 16-bit, 32-bit for FUSA headers
-    uint32_t init_id = 0;      // 0 for LEGACY
+    int h = 0;              // pixels per column (rows)
+    int w = 0;              // columns per frame
+    uint32_t frame_id = 0;  // 16-bit, 32-bit for FUSA headers
+    uint32_t init_id = 0;   // 0 for LEGACY
     LidarProfile profile = LidarProfile::kLegacy;
-    bool complete = false;     // every column of the window arrived
-    int columns_received = 0;  // within the window
-    int columns_expected = 0;  // the window's size
-    int packets = 0;           // accepted packets of this frame
-    uint64_t start_ns = 0;     // sensor clock: earliest valid column timestamp
+    bool complete = false;         // every column of the window arrived
+    int columns_received = 0;      // within the window
+    int columns_expected = 0;      // the window's size
+    int packets = 0;               // accepted packets of this frame
+    uint64_t start_ns = 0;         // sensor clock: earliest valid column timestamp
     int64_t first_arrival_ns = 0;  // host clock of the first and last packet (0 when unknown)
     int64_t last_arrival_ns = 0;
 
     // Per column v (index = measurement_id). Missing and out-of-window columns are zero.
     std::vector<uint64_t> timestamp;
     std::vector<uint16_t> measurement_id;
-    std::vector<uint32_t> status;   // bit 0 = valid
-    std::vector<uint32_t> encoder;  // LEGACY only
+    std::vector<uint32_t> status;           // bit 0 = valid
+    std::vector<uint32_t> encoder;          // LEGACY only
     std::vector<uint16_t> column_frame_id;  // LEGACY only
 
     // Staggered H x W images, row-major (row u, column v), empty when the profile lacks the field.
@@ -43,6 +43,8 @@ struct LidarFrame {
 
     // Sizes every buffer for the format (allocates only when the shape changes) and zeroes it.
     void Reset(const PacketFormat& format);
+    // Zeroes column v: its header entries and its pixels in every image (a missing column).
+    void ZeroColumn(int v);
     bool ColumnValid(int v) const { return (status[v] & 1u) != 0; }
     size_t Index(int u, int v) const { return static_cast<size_t>(u) * w + v; }
 

@@ -12,12 +12,16 @@ using F = Field;
 std::vector<FieldSpec> FieldsOf(LidarProfile p) {
     switch (p) {
         case LidarProfile::kLegacy:  // RANGE 0-19, FLAGS 28-31, REFL 32-39, SIGNAL 48-63, NIR 64-79
-            return {{F::kRange, 0, 0, 0xFFFFF, 1},   {F::kFlags, 0, 28, 0xF, 1},
-                    {F::kReflectivity, 1, 0, 0xFF, 1}, {F::kSignal, 1, 16, 0xFFFF, 1},
+            return {{F::kRange, 0, 0, 0xFFFFF, 1},
+                    {F::kFlags, 0, 28, 0xF, 1},
+                    {F::kReflectivity, 1, 0, 0xFF, 1},
+                    {F::kSignal, 1, 16, 0xFFFF, 1},
                     {F::kNearIr, 2, 0, 0xFFFF, 1}};
         case LidarProfile::kRng19Rfl8Sig16Nir16:  // RANGE 0-18, FLAGS 19-23, REFL 32-39, ...
-            return {{F::kRange, 0, 0, 0x7FFFF, 1},   {F::kFlags, 0, 19, 0x1F, 1},
-                    {F::kReflectivity, 1, 0, 0xFF, 1}, {F::kSignal, 1, 16, 0xFFFF, 1},
+            return {{F::kRange, 0, 0, 0x7FFFF, 1},
+                    {F::kFlags, 0, 19, 0x1F, 1},
+                    {F::kReflectivity, 1, 0, 0xFF, 1},
+                    {F::kSignal, 1, 16, 0xFFFF, 1},
                     {F::kNearIr, 2, 0, 0xFFFF, 1}};
         case LidarProfile::kRng15Rfl8Nir8:  // RANGE 0-14 x8, FLAGS 15, REFL 16-23, NIR 24-31 x16
             return {{F::kRange, 0, 0, 0x7FFF, 8},
@@ -25,16 +29,16 @@ std::vector<FieldSpec> FieldsOf(LidarProfile p) {
                     {F::kReflectivity, 0, 16, 0xFF, 1},
                     {F::kNearIr, 0, 24, 0xFF, 16}};
         case LidarProfile::kRng19Rfl8Sig16Nir16Dual:
-            return {{F::kRange, 0, 0, 0x7FFFF, 1},       {F::kFlags, 0, 19, 0x1F, 1},
-                    {F::kReflectivity, 0, 24, 0xFF, 1},  {F::kRange2, 1, 0, 0x7FFFF, 1},
-                    {F::kFlags2, 1, 19, 0x1F, 1},        {F::kReflectivity2, 1, 24, 0xFF, 1},
-                    {F::kSignal, 2, 0, 0xFFFF, 1},       {F::kSignal2, 2, 16, 0xFFFF, 1},
+            return {{F::kRange, 0, 0, 0x7FFFF, 1},      {F::kFlags, 0, 19, 0x1F, 1},
+                    {F::kReflectivity, 0, 24, 0xFF, 1}, {F::kRange2, 1, 0, 0x7FFFF, 1},
+                    {F::kFlags2, 1, 19, 0x1F, 1},       {F::kReflectivity2, 1, 24, 0xFF, 1},
+                    {F::kSignal, 2, 0, 0xFFFF, 1},      {F::kSignal2, 2, 16, 0xFFFF, 1},
                     {F::kNearIr, 3, 0, 0xFFFF, 1}};
         case LidarProfile::kRng15Rfl8Nir8Dual:
         case LidarProfile::kFusaRng15Rfl8Nir8Dual:
-            return {{F::kRange, 0, 0, 0x7FFF, 8},        {F::kFlags, 0, 15, 0x1, 1},
-                    {F::kReflectivity, 0, 16, 0xFF, 1},  {F::kNearIr, 0, 24, 0xFF, 16},
-                    {F::kRange2, 1, 0, 0x7FFF, 8},       {F::kFlags2, 1, 15, 0x1, 1},
+            return {{F::kRange, 0, 0, 0x7FFF, 8},       {F::kFlags, 0, 15, 0x1, 1},
+                    {F::kReflectivity, 0, 16, 0xFF, 1}, {F::kNearIr, 0, 24, 0xFF, 16},
+                    {F::kRange2, 1, 0, 0x7FFF, 8},      {F::kFlags2, 1, 15, 0x1, 1},
                     {F::kReflectivity2, 1, 16, 0xFF, 1}};
     }
     return {};
@@ -43,11 +47,15 @@ std::vector<FieldSpec> FieldsOf(LidarProfile p) {
 size_t PixelSize(LidarProfile p) {
     switch (p) {
         case LidarProfile::kLegacy:
-        case LidarProfile::kRng19Rfl8Sig16Nir16: return 12;
-        case LidarProfile::kRng15Rfl8Nir8: return 4;
-        case LidarProfile::kRng19Rfl8Sig16Nir16Dual: return 16;
+        case LidarProfile::kRng19Rfl8Sig16Nir16:
+            return 12;
+        case LidarProfile::kRng15Rfl8Nir8:
+            return 4;
+        case LidarProfile::kRng19Rfl8Sig16Nir16Dual:
+            return 16;
         case LidarProfile::kRng15Rfl8Nir8Dual:
-        case LidarProfile::kFusaRng15Rfl8Nir8Dual: return 8;
+        case LidarProfile::kFusaRng15Rfl8Nir8Dual:
+            return 8;
     }
     return 0;
 }
@@ -55,15 +63,24 @@ size_t PixelSize(LidarProfile p) {
 
 std::string_view ToString(Field f) {
     switch (f) {
-        case F::kRange: return "RANGE";
-        case F::kRange2: return "RANGE2";
-        case F::kSignal: return "SIGNAL";
-        case F::kSignal2: return "SIGNAL2";
-        case F::kReflectivity: return "REFLECTIVITY";
-        case F::kReflectivity2: return "REFLECTIVITY2";
-        case F::kNearIr: return "NEAR_IR";
-        case F::kFlags: return "FLAGS";
-        case F::kFlags2: return "FLAGS2";
+        case F::kRange:
+            return "RANGE";
+        case F::kRange2:
+            return "RANGE2";
+        case F::kSignal:
+            return "SIGNAL";
+        case F::kSignal2:
+            return "SIGNAL2";
+        case F::kReflectivity:
+            return "REFLECTIVITY";
+        case F::kReflectivity2:
+            return "REFLECTIVITY2";
+        case F::kNearIr:
+            return "NEAR_IR";
+        case F::kFlags:
+            return "FLAGS";
+        case F::kFlags2:
+            return "FLAGS2";
     }
     return "?";
 }
@@ -71,11 +88,14 @@ std::string_view ToString(Field f) {
 FieldType TypeOf(Field f) {
     switch (f) {
         case F::kRange:
-        case F::kRange2: return FieldType::kU32;
+        case F::kRange2:
+            return FieldType::kU32;
         case F::kSignal:
         case F::kSignal2:
-        case F::kNearIr: return FieldType::kU16;
-        default: return FieldType::kU8;
+        case F::kNearIr:
+            return FieldType::kU16;
+        default:
+            return FieldType::kU8;
     }
 }
 

@@ -34,9 +34,9 @@ std::optional<ImuProfile> ParseImuProfile(std::string_view s);
 std::optional<HeaderType> ParseHeaderType(std::string_view s);
 
 struct DataFormat {
-    int pixels_per_column = 0;           // H: 16, 32, 64 or 128 (64 for FW < 2.0, any beams)
+    int pixels_per_column = 0;  // H: 16, 32, 64 or 128 (64 for FW < 2.0, any beams)
     int columns_per_packet = 16;
-    int columns_per_frame = 0;           // W: 512, 1024, 2048 (4096 for 4096x5)
+    int columns_per_frame = 0;            // W: 512, 1024, 2048 (4096 for 4096x5)
     std::vector<int> pixel_shift_by_row;  // H entries, for destaggering
     // Columns the sensor sends, inclusive; last < first when the window wraps past W - 1.
     int column_window_first = 0;
@@ -61,14 +61,14 @@ struct DataFormat {
 };
 
 struct SensorInfo {
-    std::string prod_line;   // e.g. "OS-1-32-G"; empty when the file does not say
-    uint64_t prod_sn = 0;    // 0 when unknown (packets are then not checked against it)
-    std::string build_rev;   // firmware, e.g. "v2.1.1"
+    std::string prod_line;  // e.g. "OS-1-32-G"; empty when the file does not say
+    uint64_t prod_sn = 0;   // 0 when unknown (packets are then not checked against it)
+    std::string build_rev;  // firmware, e.g. "v2.1.1"
     int fw_major = 0, fw_minor = 0, fw_patch = 0;  // parsed from build_rev; 0.0.0 when unknown
-    uint32_t init_id = 0;    // initialization_id; 0 when unknown (packets not checked)
-    std::string lidar_mode;  // e.g. "1024x10"
-    double frame_rate_hz = 10.0;                 // from lidar_mode
-    std::optional<uint16_t> udp_port_lidar;      // absent from older metadata
+    uint32_t init_id = 0;         // initialization_id; 0 when unknown (packets not checked)
+    std::string lidar_mode;       // e.g. "1024x10"
+    double frame_rate_hz = 10.0;  // from lidar_mode
+    std::optional<uint16_t> udp_port_lidar;  // absent from older metadata
     std::optional<uint16_t> udp_port_imu;
     DataFormat format;
 

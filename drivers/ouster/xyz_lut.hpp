@@ -20,8 +20,8 @@ public:
 
     int h() const { return h_; }
     int w() const { return w_; }
-    const Vec3& direction(int u, int v) const { return direction_[Index(u, v)]; }
-    const Vec3& offset(int u, int v) const { return offset_[Index(u, v)]; }  // metres
+    Vec3 direction(int u, int v) const;
+    Vec3 offset(int u, int v) const;  // metres
 
     // XYZ for a whole staggered range image (H x W, mm); zero where the range is 0.
     void Compute(const uint32_t* range_mm, Vec3* xyz) const;
@@ -29,8 +29,9 @@ public:
 private:
     size_t Index(int u, int v) const { return static_cast<size_t>(u) * w_ + v; }
     int h_, w_;
-    std::vector<Vec3> direction_;
-    std::vector<Vec3> offset_;
+    // Structure of arrays (x, y, z planes of H x W each), so that Compute vectorises.
+    std::vector<Scalar> direction_;
+    std::vector<Scalar> offset_;
 };
 
 extern template class XyzLut<float>;
