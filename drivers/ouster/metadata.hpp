@@ -14,4 +14,9 @@ namespace bimslam::ouster {
 SensorInfo ParseMetadata(const std::string& name, const std::string& json_text);
 SensorInfo LoadMetadata(const std::filesystem::path& path);
 
+// The nested layout of FW 2.2+ (all seven sections), as the Ouster tools save it next to a
+// capture; ParseMetadata reads it back to the same SensorInfo (but `source`). For the capture
+// simulator and for tests.
+std::string SerializeMetadata(const SensorInfo& info);
+
 }  // namespace bimslam::ouster

@@ -12,8 +12,8 @@
 #include "drivers/ouster/frame_batcher.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "drivers/ouster/packet_encoder.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 #include "tests/support/test_support.hpp"
-#include "tests/unit/ouster/ouster_fixtures.hpp"
 
 namespace bimslam::ouster {
 namespace {
@@ -26,19 +26,19 @@ struct Stream {
 
 Stream MakeStream(LidarProfile profile) {
     Stream s;
-    s.info = test::MakeSensor(profile);
+    s.info = fixtures::MakeSensor(profile);
     s.info.build_rev = "v2.3.0";  // no CRC footers, as the FW 2.x sensors send
     s.info.fw_major = 2;
     const PacketEncoder enc(s.info);
     std::mt19937 rng(1);
     for (uint32_t id = 0; id < 10; ++id) {
-        LidarFrame f = test::MakeFrame(enc.format(), id, id);
+        LidarFrame f = fixtures::MakeFrame(enc.format(), id, id);
         // Indoor ranges (0.5 - 30 m) with 10 % no-returns, as a real scan has.
         for (auto& r : f.range) r = (rng() % 10 == 0) ? 0 : 500 + rng() % 29500;
         if (!f.range.empty() && enc.format().fields()[0].multiplier == 8) {
             for (auto& r : f.range) r &= ~7u;
         }
-        for (const auto& p : test::Encode(enc, f)) {
+        for (const auto& p : fixtures::Encode(enc, f)) {
             s.packets.push_back(p);
             s.bytes += p.size();
         }

@@ -16,6 +16,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "drivers/ouster/metadata.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::ouster {
@@ -241,6 +242,27 @@ TEST(MetadataData, EveryMalformedFileIsRejectedNamingTheField) {
         }
     }
     EXPECT_EQ(seen, kMalformedFiles.size()) << "files of the table are missing";
+}
+
+}  // namespace
+}  // namespace bimslam::ouster
+
+namespace bimslam::ouster {
+namespace {
+
+// What we write (the nested layout) reads back to the same sensor, for every real file.
+TEST(MetadataData, SerializedMetadataReadsBackTheSame) {
+    BIMSLAM_REQUIRE_SHARED_DATA(dir, "ouster/metadata");
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        if (!entry.is_regular_file()) continue;
+        SCOPED_TRACE(entry.path().filename().string());
+        const SensorInfo info = LoadMetadata(entry.path());
+        const SensorInfo back = ParseMetadata("serialized", SerializeMetadata(info));
+        fixtures::ExpectSameSensor(info, back);
+        ++files;
+    }
+    EXPECT_GT(files, 20);
 }
 
 }  // namespace

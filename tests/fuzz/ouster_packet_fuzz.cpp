@@ -11,7 +11,7 @@
 #include "drivers/ouster/frame_batcher.hpp"
 #include "drivers/ouster/imu_packet.hpp"
 #include "drivers/ouster/packet_encoder.hpp"
-#include "tests/unit/ouster/ouster_fixtures.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 
 namespace {
 using namespace bimslam::ouster;
@@ -19,16 +19,16 @@ using namespace bimslam::ouster;
 struct World {
     SensorInfo info;
     std::vector<std::vector<uint8_t>> frames[3];  // the packets of three consecutive frames
-    std::unique_ptr<FrameBatcher> batcher;          // built once, Reset per input (speed)
+    std::unique_ptr<FrameBatcher> batcher;        // built once, Reset per input (speed)
 };
 
 World& WorldFor(uint8_t selector) {
     static std::vector<World> worlds = [] {
         std::vector<World> out;
-        for (LidarProfile p : test::kAllProfiles) {
+        for (LidarProfile p : fixtures::kAllProfiles) {
             for (int variant = 0; variant < 2; ++variant) {
                 World w;
-                w.info = test::MakeSensor(p, variant == 0 ? 16 : 32, 512);
+                w.info = fixtures::MakeSensor(p, variant == 0 ? 16 : 32, 512);
                 if (variant == 1) {  // a wrapping column window and FW 3 CRC footers
                     w.info.format.column_window_first = 448;
                     w.info.format.column_window_last = 63;
@@ -36,7 +36,8 @@ World& WorldFor(uint8_t selector) {
                 const PacketEncoder enc(w.info, variant == 1);
                 w.batcher = std::make_unique<FrameBatcher>(w.info);
                 for (uint32_t f = 0; f < 3; ++f) {
-                    w.frames[f] = test::Encode(enc, test::MakeFrame(enc.format(), 65534 + f, f));
+                    w.frames[f] =
+                        fixtures::Encode(enc, fixtures::MakeFrame(enc.format(), 65534 + f, f));
                 }
                 out.push_back(std::move(w));
             }

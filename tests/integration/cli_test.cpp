@@ -5,6 +5,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "algorithms/io/npy.hpp"
+#include "drivers/net/ipv4.hpp"
+#include "drivers/net/pcap_writer.hpp"
+#include "drivers/ouster/metadata.hpp"
+#include "drivers/ouster/packet_encoder.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam {
@@ -74,6 +80,128 @@ TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
     const auto missing = test::RunCommand(kCli + " session info " + (tmp / "nope").string());
     EXPECT_EQ(missing.exit_code, 2);
     EXPECT_NE(missing.err.find("nope"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace bimslam
+
+#include "algorithms/io/npy.hpp"
+#include "drivers/net/ipv4.hpp"
+#include "drivers/net/pcap_writer.hpp"
+#include "drivers/ouster/metadata.hpp"
+#include "drivers/ouster/packet_encoder.hpp"
+#include "tests/support/ouster_fixtures.hpp"
+
+namespace bimslam {
+namespace {
+
+// An RNG19 capture of three frames made by our encoder and writer (fragmented at MTU 1500, one
+// packet lost, a stray datagram on another port), with its metadata next to it.
+fs::path MakeOusterCapture(const test::TempDir& tmp) {
+    ouster::SensorInfo info =
+        ouster::fixtures::MakeSensor(ouster::LidarProfile::kRng19Rfl8Sig16Nir16);
+    info.udp_port_lidar = 7502;
+    info.udp_port_imu = 7503;
+    test::WriteBytes(tmp / "walk.json", ouster::SerializeMetadata(info));
+    const ouster::PacketEncoder enc(info);
+    net::PcapWriter w(tmp / "walk.pcap");
+    const uint32_t sensor = *net::ParseIpv4("169.254.1.10"), host = *net::ParseIpv4("169.254.1.1");
+    int64_t t = 1'700'000'000'000'000'000;
+    for (uint32_t id = 10; id < 13; ++id) {
+        const auto packets =
+            ouster::fixtures::Encode(enc, ouster::fixtures::MakeFrame(enc.format(), id, id));
+        for (size_t k = 0; k < packets.size(); ++k) {
+            if (id == 11 && k == 20) continue;  // lost
+            w.WriteUdp(t += 1'562'500, sensor, 7502, host, 7502, packets[k], 1500);
+        }
+    }
+    const std::vector<uint8_t> stray(100, 0x55);
+    w.WriteUdp(t, sensor, 9999, host, 9999, stray);
+    w.Close();
+    return tmp / "walk.pcap";
+}
+
+TEST(Cli, OusterInfoReportsPacketsFramesAndRejections) {
+    test::TempDir tmp;
+    const fs::path pcap = MakeOusterCapture(tmp);
+    const auto info = test::RunCommand(kCli + " ouster info --json " + pcap.string());
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const auto j = nlohmann::json::parse(info.out);
+    EXPECT_EQ(j.at("profile"), "RNG19_RFL8_SIG16_NIR16");
+    EXPECT_EQ(j.at("pixels_per_column"), 32);
+    EXPECT_EQ(j.at("columns_per_frame"), 1024);
+    EXPECT_EQ(j.at("lidar_packets"), 191);
+    EXPECT_EQ(j.at("imu_packets"), 0);
+    EXPECT_EQ(j.at("frames_complete"), 2);
+    EXPECT_EQ(j.at("frames_incomplete"), 1);
+    EXPECT_EQ(j.at("columns_lost"), 16);
+    EXPECT_EQ(j.at("ip_reassembled"), 191);
+    EXPECT_EQ(j.at("other_datagrams"), 1);
+    ASSERT_TRUE(j.at("rejected").is_object());
+    EXPECT_EQ(j.at("rejected").at("size"), 0);
+    EXPECT_EQ(j.at("rejected").size(), 8u);
+    const auto text = test::RunCommand(kCli + " ouster info " + pcap.string());
+    EXPECT_EQ(text.exit_code, 0);
+    EXPECT_NE(text.out.find("2 complete, 1 incomplete"), std::string::npos) << text.out;
+}
+
+TEST(Cli, OusterExportWritesTheFrameAsArrays) {
+    test::TempDir tmp;
+    const fs::path pcap = MakeOusterCapture(tmp);
+    const fs::path out = tmp / "frame";
+    // The second complete frame is frame id 12 (11 lost a packet).
+    const auto r = test::RunCommand(kCli + " ouster export " + pcap.string() + " --out " +
+                                    out.string() + " --frame 1");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const char* f : {"RANGE", "SIGNAL", "REFLECTIVITY", "NEAR_IR", "FLAGS", "TIMESTAMP",
+                          "MEASUREMENT_ID", "STATUS", "xyz"}) {
+        EXPECT_TRUE(fs::exists(out / (std::string(f) + ".npy"))) << f;
+    }
+    EXPECT_FALSE(fs::exists(out / "RANGE2.npy"));
+    const io::NpyArray range = io::ReadNpy(out / "RANGE.npy");
+    EXPECT_EQ(range.dtype, "<u4");
+    EXPECT_EQ(range.shape, (std::vector<size_t>{32, 1024}));
+    const io::NpyArray xyz = io::ReadNpy(out / "xyz.npy");
+    EXPECT_EQ(xyz.dtype, "<f8");
+    EXPECT_EQ(xyz.shape, (std::vector<size_t>{32, 1024, 3}));
+    const auto frame = nlohmann::json::parse(std::ifstream(out / "frame.json"));
+    EXPECT_EQ(frame.at("frame_id"), 12);
+    EXPECT_TRUE(fs::exists(out / "cloud.pcd"));
+    // Not over existing results without --overwrite; not beyond the last frame.
+    EXPECT_EQ(test::RunCommand(kCli + " ouster export " + pcap.string() + " --out " + out.string())
+                  .exit_code,
+              2);
+    const auto beyond = test::RunCommand(kCli + " ouster export " + pcap.string() + " --out " +
+                                         (tmp / "x").string() + " --frame 5");
+    EXPECT_EQ(beyond.exit_code, 2);
+    EXPECT_NE(beyond.err.find("2 complete frames"), std::string::npos) << beyond.err;
+}
+
+TEST(Cli, OusterBadInputExits2NamingTheFile) {
+    test::TempDir tmp;
+    const fs::path pcap = MakeOusterCapture(tmp);
+    // Metadata of another sensor: no packet has its size.
+    ouster::SensorInfo other = ouster::fixtures::MakeSensor(ouster::LidarProfile::kLegacy, 64);
+    test::WriteBytes(tmp / "other.json", ouster::SerializeMetadata(other));
+    auto r = test::RunCommand(kCli + " ouster info " + pcap.string() + " --meta " +
+                              (tmp / "other.json").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("no Ouster lidar packets"), std::string::npos) << r.err;
+    // Broken metadata: the field is named.
+    test::WriteBytes(tmp / "broken.json", "{\"beam_altitude_angles\": [1, 2]}");
+    r = test::RunCommand(kCli + " ouster info " + pcap.string() + " --meta " +
+                         (tmp / "broken.json").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("broken.json"), std::string::npos) << r.err;
+    // A corrupt pcap header, and no metadata at all.
+    test::WriteBytes(tmp / "bad.pcap", std::string(40, '\x42'));
+    r = test::RunCommand(kCli + " ouster info " + (tmp / "bad.pcap").string() + " --meta " +
+                         (tmp / "walk.json").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("bad.pcap"), std::string::npos) << r.err;
+    r = test::RunCommand(kCli + " ouster info " + (tmp / "bad.pcap").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--meta"), std::string::npos) << r.err;
 }
 
 }  // namespace

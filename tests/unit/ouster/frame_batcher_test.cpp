@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <random>
 
-#include "tests/unit/ouster/ouster_fixtures.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 
 namespace bimslam::ouster {
 namespace {
@@ -50,10 +50,10 @@ void ExpectSameFields(const LidarFrame& a, const LidarFrame& b, int first_col = 
 class EveryProfile : public ::testing::TestWithParam<LidarProfile> {};
 
 TEST_P(EveryProfile, EncodedFrameDecodesIdenticallyAndEmitsAtItsLastPacket) {
-    const SensorInfo info = test::MakeSensor(GetParam());
+    const SensorInfo info = fixtures::MakeSensor(GetParam());
     const PacketEncoder enc(info, /*fill_crc=*/true);
-    const LidarFrame truth = test::MakeFrame(enc.format(), 77, 1);
-    const Packets packets = test::Encode(enc, truth);
+    const LidarFrame truth = fixtures::MakeFrame(enc.format(), 77, 1);
+    const Packets packets = fixtures::Encode(enc, truth);
     FrameBatcher b(info);
     for (size_t i = 0; i + 1 < packets.size(); ++i) {
         EXPECT_EQ(b.AddPacket(packets[i].data(), packets[i].size()).frames, 0);
@@ -77,14 +77,14 @@ TEST_P(EveryProfile, EncodedFrameDecodesIdenticallyAndEmitsAtItsLastPacket) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, EveryProfile, ::testing::ValuesIn(test::kAllProfiles));
+INSTANTIATE_TEST_SUITE_P(Profiles, EveryProfile, ::testing::ValuesIn(fixtures::kAllProfiles));
 
 TEST(FrameBatcher, FusaHeaderWith32BitFrameIds) {
     const SensorInfo info =
-        test::MakeSensor(LidarProfile::kFusaRng15Rfl8Nir8Dual, 32, 1024, HeaderType::kFusa);
+        fixtures::MakeSensor(LidarProfile::kFusaRng15Rfl8Nir8Dual, 32, 1024, HeaderType::kFusa);
     const PacketEncoder enc(info);
-    Packets packets = test::Encode(enc, test::MakeFrame(enc.format(), 0xFFFFFFFFu, 1));
-    const Packets next = test::Encode(enc, test::MakeFrame(enc.format(), 0, 2));
+    Packets packets = fixtures::Encode(enc, fixtures::MakeFrame(enc.format(), 0xFFFFFFFFu, 1));
+    const Packets next = fixtures::Encode(enc, fixtures::MakeFrame(enc.format(), 0, 2));
     packets.insert(packets.end(), next.begin(), next.end());
     FrameBatcher b(info);
     const auto frames = Feed(b, packets);
@@ -103,11 +103,11 @@ struct Capture {
 // n consecutive frames starting at frame id `first`.
 Capture MakeCapture(LidarProfile profile, int n, uint32_t first) {
     Capture c;
-    c.info = test::MakeSensor(profile);
+    c.info = fixtures::MakeSensor(profile);
     const PacketEncoder enc(c.info);
     for (int i = 0; i < n; ++i) {
-        c.truth.push_back(test::MakeFrame(enc.format(), (first + i) & 0xFFFF, 10 + i));
-        const Packets p = test::Encode(enc, c.truth.back());
+        c.truth.push_back(fixtures::MakeFrame(enc.format(), (first + i) & 0xFFFF, 10 + i));
+        const Packets p = fixtures::Encode(enc, c.truth.back());
         c.packets.insert(c.packets.end(), p.begin(), p.end());
     }
     return c;
@@ -200,17 +200,17 @@ TEST(FrameBatcher, FrameIdWrapsAt65535) {
 
 TEST(FrameBatcher, ColumnWindowsIncludingOnesThatWrap) {
     for (const auto& [first, last] : {std::pair{256, 511}, std::pair{896, 127}}) {
-        SensorInfo info = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
+        SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
         info.format.column_window_first = first;
         info.format.column_window_last = last;
         const PacketEncoder enc(info);
-        LidarFrame truth = test::MakeFrame(enc.format(), 9, 3);
+        LidarFrame truth = fixtures::MakeFrame(enc.format(), 9, 3);
         for (int v = 0; v < 1024; ++v) {
             if (!info.format.InWindow(v)) truth.status[v] = 0;  // the sensor marks them invalid
         }
         // The sensor sends only the packets of the window, starting at its first column.
         Packets packets;
-        const Packets all = test::Encode(enc, truth);
+        const Packets all = fixtures::Encode(enc, truth);
         for (int k = 0; k < 64; ++k) {
             const int pk = (first / 16 + k) % 64;
             if (info.format.InWindow(pk * 16)) packets.push_back(all[pk]);
@@ -239,9 +239,9 @@ TEST(FrameBatcher, ColumnWindowsIncludingOnesThatWrap) {
 }
 
 TEST(FrameBatcher, ValidatesEveryPacketAndCountsEachCause) {
-    SensorInfo info = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
+    SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
     const PacketEncoder enc(info, /*fill_crc=*/true);
-    const Packets good = test::Encode(enc, test::MakeFrame(enc.format(), 3, 1));
+    const Packets good = fixtures::Encode(enc, fixtures::MakeFrame(enc.format(), 3, 1));
     FrameBatcher b(info);
     auto expect = [&](std::vector<uint8_t> p, Reject cause) {
         const auto r = b.AddPacket(p.data(), p.size());
@@ -281,13 +281,13 @@ TEST(FrameBatcher, ValidatesEveryPacketAndCountsEachCause) {
 }
 
 TEST(FrameBatcher, InitIdChangeClosesTheFrameAndResets) {
-    SensorInfo info = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
+    SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
     SensorInfo restarted = info;
     restarted.init_id = 999;
     const PacketEncoder enc_a(info), enc_b(restarted);
-    Packets packets = test::Encode(enc_a, test::MakeFrame(enc_a.format(), 400, 1));
+    Packets packets = fixtures::Encode(enc_a, fixtures::MakeFrame(enc_a.format(), 400, 1));
     packets.resize(30);  // the sensor restarts mid-frame ...
-    const Packets after = test::Encode(enc_b, test::MakeFrame(enc_b.format(), 2, 2));
+    const Packets after = fixtures::Encode(enc_b, fixtures::MakeFrame(enc_b.format(), 2, 2));
     packets.insert(packets.end(), after.begin(), after.end());  // ... with a lower frame id
     SensorInfo unknown_init = info;
     unknown_init.init_id = 0;  // metadata without init_id: restarts are followed
@@ -306,16 +306,16 @@ TEST(FrameBatcher, InitIdChangeClosesTheFrameAndResets) {
 }
 
 TEST(FrameBatcher, PointCloudHasRingTimeAndOnlyReturns) {
-    const SensorInfo info = test::MakeSensor(LidarProfile::kLegacy);
+    const SensorInfo info = fixtures::MakeSensor(LidarProfile::kLegacy);
     const PacketEncoder enc(info);
-    LidarFrame truth = test::MakeFrame(enc.format(), 1, 5);
+    LidarFrame truth = fixtures::MakeFrame(enc.format(), 1, 5);
     size_t returns = 0;
     for (auto& r : truth.range) {
         r = (r % 3 == 0) ? 0 : r % 50000;
         returns += r != 0;
     }
     FrameBatcher b(info);
-    Feed(b, test::Encode(enc, truth), false);
+    Feed(b, fixtures::Encode(enc, truth), false);
     ASSERT_EQ(b.ready().size(), 1u);
     common::PointCloud cloud;
     ToPointCloud(*b.ready()[0], &cloud);
@@ -334,11 +334,11 @@ namespace {
 
 TEST(FrameBatcher, Fw2FootersAreNoCrc) {
     // FW 2.3 puts a constant marker in the footer (see PacketFormat::HasCrcFooter).
-    SensorInfo info = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
+    SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
     info.build_rev = "v2.3.0";
     info.fw_major = 2;
     const PacketEncoder enc(info);
-    auto packets = test::Encode(enc, test::MakeFrame(enc.format(), 5, 1));
+    auto packets = fixtures::Encode(enc, fixtures::MakeFrame(enc.format(), 5, 1));
     const uint8_t marker[] = {0xde, 0xc0, 0, 0, 0xef, 0xbe, 0xad, 0xde};
     for (auto& p : packets) std::copy(marker, marker + 8, p.end() - 8);
     FrameBatcher b(info);
@@ -355,9 +355,9 @@ namespace bimslam::ouster {
 namespace {
 
 TEST(FrameBatcher, ResetForgetsEverything) {
-    const SensorInfo info = test::MakeSensor(LidarProfile::kRng15Rfl8Nir8);
+    const SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng15Rfl8Nir8);
     const PacketEncoder enc(info);
-    auto packets = test::Encode(enc, test::MakeFrame(enc.format(), 9, 1));
+    auto packets = fixtures::Encode(enc, fixtures::MakeFrame(enc.format(), 9, 1));
     FrameBatcher b(info);
     for (size_t i = 0; i < 40; ++i) b.AddPacket(packets[i].data(), packets[i].size());
     b.Reset();

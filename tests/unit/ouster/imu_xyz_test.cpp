@@ -6,7 +6,7 @@
 #include "drivers/ouster/imu_packet.hpp"
 #include "drivers/ouster/lidar_frame.hpp"
 #include "drivers/ouster/xyz_lut.hpp"
-#include "tests/unit/ouster/ouster_fixtures.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 
 namespace bimslam::ouster {
 namespace {
@@ -29,7 +29,7 @@ Eigen::Vector3d Formula(const SensorInfo& s, int u, int v, double range_mm) {
 }
 
 TEST(XyzLut, MatchesTheSpecFormulaIncludingBeamZOffsets) {
-    SensorInfo s = test::MakeSensor(LidarProfile::kLegacy, 32, 1024);
+    SensorInfo s = fixtures::MakeSensor(LidarProfile::kLegacy, 32, 1024);
     for (double z0 : {0.0, 12.5}) {  // FW 2.5+ beam_to_lidar_transform may hold a z offset
         s.beam_to_lidar_transform(2, 3) = z0;
         const XyzLut<double> lut(s);
@@ -56,7 +56,7 @@ TEST(XyzLut, MatchesTheSpecFormulaIncludingBeamZOffsets) {
 TEST(XyzLut, GeometryIsPlausible) {
     // A beam at 0 deg altitude, column 0 points along the lidar's +x, which the default
     // lidar_to_sensor_transform turns to the sensor's -x.
-    SensorInfo s = test::MakeSensor(LidarProfile::kLegacy, 16, 1024);
+    SensorInfo s = fixtures::MakeSensor(LidarProfile::kLegacy, 16, 1024);
     s.beam_altitude_angles_deg.assign(16, 0.0);
     s.beam_azimuth_angles_deg.assign(16, 0.0);
     const XyzLut<double> lut(s);
@@ -78,7 +78,7 @@ TEST(Destagger, ShiftsEachRow) {
 }
 
 TEST(ImuDecoder, LegacyPacketsInSiUnitsAndTheSensorFrame) {
-    SensorInfo s = test::MakeSensor(LidarProfile::kLegacy);
+    SensorInfo s = fixtures::MakeSensor(LidarProfile::kLegacy);
     // Rotate the IMU by 90 deg about z to see the frame change.
     s.imu_to_sensor_transform.topLeftCorner<3, 3>() << 0, -1, 0, 1, 0, 0, 0, 0, 1;
     uint8_t p[48] = {};
@@ -111,7 +111,7 @@ TEST(ImuDecoder, LegacyPacketsInSiUnitsAndTheSensorFrame) {
 }
 
 TEST(ImuDecoder, Accel32Gyro32NmeaPackets) {
-    SensorInfo s = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
+    SensorInfo s = fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
     s.format.imu_profile = ImuProfile::kAccel32Gyro32Nmea;
     s.format.imu_measurements_per_packet = 8;
     ImuDecoder dec(s);

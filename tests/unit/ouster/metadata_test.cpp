@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "algorithms/common/status.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::ouster {
@@ -576,6 +577,31 @@ TEST(Metadata, ProfileStringsRoundTrip) {
     EXPECT_EQ(ParseLidarProfile("legacy"), std::nullopt);  // the sensor's spelling only
     EXPECT_EQ(ParseImuProfile(""), std::nullopt);
     EXPECT_EQ(ParseHeaderType("STANDARD "), std::nullopt);
+}
+
+}  // namespace
+}  // namespace bimslam::ouster
+
+namespace bimslam::ouster {
+namespace {
+
+TEST(Metadata, SerializedSyntheticSensorsReadBackTheSame) {
+    for (LidarProfile p : fixtures::kAllProfiles) {
+        SensorInfo info = fixtures::MakeSensor(p, 64, 2048);
+        info.lidar_mode = "2048x10";
+        info.udp_port_lidar = 7502;
+        info.udp_port_imu = 7503;
+        info.format.column_window_first = 1900;  // a wrapping window
+        info.format.column_window_last = 99;
+        info.beam_to_lidar_transform(2, 3) = 8.5;
+        const SensorInfo back = ParseMetadata("s.json", SerializeMetadata(info));
+        fixtures::ExpectSameSensor(info, back);
+    }
+    SensorInfo fusa =
+        fixtures::MakeSensor(LidarProfile::kFusaRng15Rfl8Nir8Dual, 32, 1024, HeaderType::kFusa);
+    fusa.format.imu_profile = ImuProfile::kAccel32Gyro32Nmea;
+    fusa.format.imu_measurements_per_packet = 8;
+    fixtures::ExpectSameSensor(fusa, ParseMetadata("f.json", SerializeMetadata(fusa)));
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "drivers/ouster/crc64.hpp"
-#include "tests/unit/ouster/ouster_fixtures.hpp"
+#include "tests/support/ouster_fixtures.hpp"
 
 namespace bimslam::ouster {
 namespace {
@@ -33,32 +33,35 @@ TEST(PacketFormat, SizesOfTheSpec) {
     // RNG19 6400, RNG15 2304, DUAL 8448.
     const std::pair<int, size_t> legacy[] = {{16, 3392}, {32, 6464}, {64, 12608}, {128, 24896}};
     for (const auto& [h, size] : legacy) {
-        EXPECT_EQ(PacketFormat(test::MakeSensor(LidarProfile::kLegacy, h)).lidar_packet_size(),
+        EXPECT_EQ(PacketFormat(fixtures::MakeSensor(LidarProfile::kLegacy, h)).lidar_packet_size(),
                   size);
     }
     EXPECT_EQ(
-        PacketFormat(test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16)).lidar_packet_size(),
+        PacketFormat(fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16)).lidar_packet_size(),
         6400u);
-    EXPECT_EQ(PacketFormat(test::MakeSensor(LidarProfile::kRng15Rfl8Nir8)).lidar_packet_size(),
+    EXPECT_EQ(PacketFormat(fixtures::MakeSensor(LidarProfile::kRng15Rfl8Nir8)).lidar_packet_size(),
               2304u);
-    EXPECT_EQ(
-        PacketFormat(test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16Dual)).lidar_packet_size(),
-        8448u);
-    // The two shared captures of 8448 B: OS-0-32 DUAL and OS-0-128 RNG15.
-    EXPECT_EQ(PacketFormat(test::MakeSensor(LidarProfile::kRng15Rfl8Nir8, 128)).lidar_packet_size(),
+    EXPECT_EQ(PacketFormat(fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16Dual))
+                  .lidar_packet_size(),
               8448u);
-    EXPECT_EQ(PacketFormat(test::MakeSensor(LidarProfile::kRng15Rfl8Nir8Dual)).lidar_packet_size(),
-              32u + 16 * (12 + 32 * 8) + 32);
-    EXPECT_EQ(PacketFormat(test::MakeSensor(LidarProfile::kLegacy)).imu_packet_size(), 48u);
+    // The two shared captures of 8448 B: OS-0-32 DUAL and OS-0-128 RNG15.
+    EXPECT_EQ(
+        PacketFormat(fixtures::MakeSensor(LidarProfile::kRng15Rfl8Nir8, 128)).lidar_packet_size(),
+        8448u);
+    EXPECT_EQ(
+        PacketFormat(fixtures::MakeSensor(LidarProfile::kRng15Rfl8Nir8Dual)).lidar_packet_size(),
+        32u + 16 * (12 + 32 * 8) + 32);
+    EXPECT_EQ(PacketFormat(fixtures::MakeSensor(LidarProfile::kLegacy)).imu_packet_size(), 48u);
 }
 
 TEST(PacketFormat, HeaderFieldsAtTheirBits) {
     for (HeaderType header : {HeaderType::kStandard, HeaderType::kFusa}) {
-        SensorInfo info = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16, 32, 1024, header);
+        SensorInfo info =
+            fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16, 32, 1024, header);
         info.prod_sn = 0xAB12345678ull;  // all 40 bits used
         info.init_id = 0xC0FFEE;
         const PacketEncoder enc(info);
-        const LidarFrame frame = test::MakeFrame(enc.format(), 0xFEDC, 1);
+        const LidarFrame frame = fixtures::MakeFrame(enc.format(), 0xFEDC, 1);
         std::vector<uint8_t> p(enc.format().lidar_packet_size());
         enc.EncodeLidarPacket(frame, 3, p.data());
         const PacketFormat& f = enc.format();
@@ -70,11 +73,11 @@ TEST(PacketFormat, HeaderFieldsAtTheirBits) {
         EXPECT_EQ(f.ColumnTimestamp(f.Column(p.data(), 1)), frame.timestamp[49]);
     }
     // STANDARD fixed bytes: packet_type 0..1, frame_id 2..3, init_id 4..6, prod_sn 7..11.
-    SensorInfo info = test::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
+    SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng19Rfl8Sig16Nir16);
     info.init_id = 0x030201;
     info.prod_sn = 0x0807060504ull;
     const PacketEncoder enc(info);
-    const LidarFrame frame = test::MakeFrame(enc.format(), 0x0A09, 2);
+    const LidarFrame frame = fixtures::MakeFrame(enc.format(), 0x0A09, 2);
     std::vector<uint8_t> p(enc.format().lidar_packet_size());
     enc.EncodeLidarPacket(frame, 0, p.data());
     const uint8_t expected[] = {1, 0, 0x09, 0x0A, 1, 2, 3, 4, 5, 6, 7, 8};
@@ -82,7 +85,7 @@ TEST(PacketFormat, HeaderFieldsAtTheirBits) {
 }
 
 TEST(PacketFormat, RejectsImpossibleLayouts) {
-    SensorInfo info = test::MakeSensor(LidarProfile::kLegacy);
+    SensorInfo info = fixtures::MakeSensor(LidarProfile::kLegacy);
     info.format.columns_per_packet = 24;  // 1024 is not a multiple
     EXPECT_THROW(PacketFormat{info}, common::Error);
 }

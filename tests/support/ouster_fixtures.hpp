@@ -1,5 +1,7 @@
-// Synthetic sensors and frames for the Ouster driver's unit tests (no metadata file needed).
+// Synthetic Ouster sensors and frames for tests, benchmarks and fuzz targets (no metadata file).
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <random>
 
@@ -7,7 +9,7 @@
 #include "drivers/ouster/packet_encoder.hpp"
 #include "drivers/ouster/sensor_info.hpp"
 
-namespace bimslam::ouster::test {
+namespace bimslam::ouster::fixtures {
 
 // An OS1-32-like sensor (gradient beam table) in `profile`, 1024 columns unless said otherwise.
 inline SensorInfo MakeSensor(LidarProfile profile, int h = 32, int w = 1024,
@@ -19,6 +21,8 @@ inline SensorInfo MakeSensor(LidarProfile profile, int h = 32, int w = 1024,
     // FW 3 sends CRC footers with the newer profiles; LEGACY is what FW 2.1 sends.
     s.build_rev = profile == LidarProfile::kLegacy ? "v2.1.1" : "v3.0.1";
     s.fw_major = profile == LidarProfile::kLegacy ? 2 : 3;
+    s.fw_minor = profile == LidarProfile::kLegacy ? 1 : 0;
+    s.fw_patch = 1;
     s.lidar_mode = std::to_string(w) + "x10";
     s.format.pixels_per_column = h;
     s.format.columns_per_frame = w;
@@ -100,8 +104,39 @@ inline std::vector<std::vector<uint8_t>> Encode(const PacketEncoder& enc, const 
     return out;
 }
 
+// Every field of two SensorInfos but `source`, with gtest expectations.
+inline void ExpectSameSensor(const SensorInfo& a, const SensorInfo& b) {
+    EXPECT_EQ(a.prod_line, b.prod_line);
+    EXPECT_EQ(a.prod_sn, b.prod_sn);
+    EXPECT_EQ(a.build_rev, b.build_rev);
+    EXPECT_EQ(a.fw_major * 10000 + a.fw_minor * 100 + a.fw_patch,
+              b.fw_major * 10000 + b.fw_minor * 100 + b.fw_patch);
+    EXPECT_EQ(a.init_id, b.init_id);
+    EXPECT_EQ(a.lidar_mode, b.lidar_mode);
+    EXPECT_EQ(a.frame_rate_hz, b.frame_rate_hz);
+    EXPECT_EQ(a.udp_port_lidar, b.udp_port_lidar);
+    EXPECT_EQ(a.udp_port_imu, b.udp_port_imu);
+    const DataFormat &fa = a.format, &fb = b.format;
+    EXPECT_EQ(fa.pixels_per_column, fb.pixels_per_column);
+    EXPECT_EQ(fa.columns_per_packet, fb.columns_per_packet);
+    EXPECT_EQ(fa.columns_per_frame, fb.columns_per_frame);
+    EXPECT_EQ(fa.pixel_shift_by_row, fb.pixel_shift_by_row);
+    EXPECT_EQ(fa.column_window_first, fb.column_window_first);
+    EXPECT_EQ(fa.column_window_last, fb.column_window_last);
+    EXPECT_EQ(fa.lidar_profile, fb.lidar_profile);
+    EXPECT_EQ(fa.imu_profile, fb.imu_profile);
+    EXPECT_EQ(fa.header_type, fb.header_type);
+    EXPECT_EQ(fa.imu_measurements_per_packet, fb.imu_measurements_per_packet);
+    EXPECT_EQ(a.beam_altitude_angles_deg, b.beam_altitude_angles_deg);
+    EXPECT_EQ(a.beam_azimuth_angles_deg, b.beam_azimuth_angles_deg);
+    EXPECT_EQ(a.lidar_origin_to_beam_origin_mm, b.lidar_origin_to_beam_origin_mm);
+    EXPECT_EQ(a.beam_to_lidar_transform, b.beam_to_lidar_transform);
+    EXPECT_EQ(a.lidar_to_sensor_transform, b.lidar_to_sensor_transform);
+    EXPECT_EQ(a.imu_to_sensor_transform, b.imu_to_sensor_transform);
+}
+
 inline const LidarProfile kAllProfiles[] = {
     LidarProfile::kLegacy, LidarProfile::kRng19Rfl8Sig16Nir16, LidarProfile::kRng15Rfl8Nir8,
     LidarProfile::kRng19Rfl8Sig16Nir16Dual, LidarProfile::kRng15Rfl8Nir8Dual};
 
-}  // namespace bimslam::ouster::test
+}  // namespace bimslam::ouster::fixtures
