@@ -1,7 +1,8 @@
 // bimslam demo: the main job end to end on data the project makes itself. It grows with every
-// issue; for now: walk a synthetic office storey twice, keep keyframes with Scan Context
-// descriptors, write them as a session, read the session back and check it bit for bit, and
-// recognise the places of the second lap among the keyframes of the first.
+// issue; for now: walk a synthetic office storey twice and record it as an Ouster capture (pcap +
+// metadata), decode the capture with the driver, keep keyframes with Scan Context descriptors,
+// write them as a session, read the session back and check it bit for bit, and recognise the
+// places of the second lap among the keyframes of the first.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,7 +15,11 @@
 #include "algorithms/io/session.hpp"
 #include "algorithms/scancontext/candidate_index.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
+#include "drivers/ouster/builtin_sensor.hpp"
+#include "drivers/ouster/metadata.hpp"
+#include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/cli/command.hpp"
+#include "host_tools/cli/demo_capture.hpp"
 #include "host_tools/cli/demo_scene.hpp"
 
 namespace bimslam::cli {
@@ -66,77 +71,116 @@ int RunDemo(const DemoOptions& opt) {
     const auto t_start = Clock::now();
     const fs::path out = opt.out;
     const fs::path session_dir = out / "session";
-    if (fs::exists(session_dir) && !opt.overwrite) {
-        throw common::FileError(common::StatusCode::kAlreadyExists, session_dir.string(), 0,
-                                "already exists; pass --overwrite or choose another --out");
+    const fs::path capture_dir = out / "capture";
+    if ((fs::exists(session_dir) || fs::exists(capture_dir)) && !opt.overwrite) {
+        throw common::FileError(common::StatusCode::kAlreadyExists, out.string(), 0,
+                                "holds an earlier demo; pass --overwrite or choose another --out");
     }
-    fs::create_directories(out);
+    fs::remove_all(capture_dir);
+    fs::create_directories(capture_dir);
 
+    // 1. The walk, recorded as an Ouster capture: pcap + metadata, as a real rig would save.
     const DemoScene scene = DemoScene::Office();
     const double lap_m = scene.LoopLength();
-    const double speed = 1.0, rate_hz = 10.0, sensor_z = 0.6;  // Go1-like: 1 m/s, lidar 0.6 m
-    const int scans_per_lap = static_cast<int>(lap_m / speed * rate_hz);
+    const double speed = 1.0, sensor_z = 0.6;  // a Go1's pace and lidar height
+    // The low-data-rate profile (8 mm range steps) keeps the demo's capture near 0.25 GB.
+    const ouster::SensorInfo sensor =
+        ouster::BuiltinOs1_32(ouster::LidarProfile::kRng15Rfl8Nir8, opt.columns, 10);
+    const int frames_per_lap = static_cast<int>(lap_m / speed * sensor.frame_rate_hz);
+    std::vector<Eigen::Isometry3d> poses;
+    for (int lap = 0; lap < opt.laps; ++lap) {
+        const double offset = 0.25 * lap;  // later laps walk beside the first
+        for (int k = 0; k < frames_per_lap; ++k) {
+            poses.push_back(scene.PoseAt(k * speed / sensor.frame_rate_hz, offset, sensor_z));
+        }
+    }
     std::cout << std::fixed << std::setprecision(1);
     std::cout << "bimslam demo: synthetic office storey (" << scene.walls.size()
-              << " wall faces), OS1-32-like sensor 32x" << opt.columns << " at 10 Hz\n";
+              << " wall faces), walked " << opt.laps << " times (" << lap_m << " m a lap)\n";
+    const auto t_capture = Clock::now();
+    const DemoCapture capture = WriteDemoCapture(scene, poses, sensor, capture_dir, 0.01, 7);
+    std::cout << "  captured " << poses.size() << " frames of a built-in OS-1-32 "
+              << ToString(sensor.format.lidar_profile) << " " << sensor.lidar_mode << ": "
+              << capture.packets << " lidar packets in IPv4 fragments, "
+              << fs::file_size(capture.pcap) / 1e6 << " MB, in " << Seconds(t_capture)
+              << " s\n           " << capture.pcap.string() << " + "
+              << capture.metadata.filename().string() << "\n";
 
-    // 1. Walk, scan, select keyframes (1 m / 10 deg), describe them.
+    // 2. Decode it like any real recording; keep keyframes (1 m / 10 deg, on the true poses
+    //    until the LiDAR odometry exists) with indoor Scan Context descriptors.
+    const auto t_decode = Clock::now();
+    const ouster::SensorInfo info = ouster::LoadMetadata(capture.metadata);
+    capture::OusterCapture reader(capture.pcap, info);
     const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
     scancontext::DescriptorBuilder builder(sc);
     io::SessionManifest manifest;
     manifest.source = "simulation";
     manifest.world_frame = "world";
-    manifest.sensor = {"OS-1-32 (demo)", 32, opt.columns, ""};
+    manifest.sensor = {info.prod_line, info.format.pixels_per_column, info.format.columns_per_frame,
+                       capture.metadata.string()};
     manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
                            sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
     io::SessionWriter writer(session_dir, manifest, {.overwrite = opt.overwrite});
     std::vector<io::SessionKeyframe> keyframes;
     std::vector<int> lap_of;
-    const int64_t t0_ns = 1'700'000'000'000'000'000;
     Eigen::Isometry3d last_key = Eigen::Isometry3d::Identity();
-    const auto t_walk = Clock::now();
-    size_t points = 0;
-    for (int lap = 0; lap < opt.laps; ++lap) {
-        const double offset = lap == 0 ? 0.0 : 0.25 * lap;  // later laps walk beside the first
-        for (int k = 0; k < scans_per_lap; ++k) {
-            const int64_t stamp = t0_ns + int64_t(lap * scans_per_lap + k) * 100'000'000;
-            const Eigen::Isometry3d T = scene.PoseAt(k * speed / rate_hz, offset, sensor_z);
-            writer.AddScanPose(io::StampedPose::FromIsometry(stamp, T));
-            const Eigen::Isometry3d rel = common::Between(last_key, T);
-            if (!keyframes.empty() && common::TranslationNorm(rel) < 1.0 &&
-                common::RotationAngle(rel) < 10.0 * M_PI / 180.0) {
-                continue;
-            }
-            io::SessionKeyframe kf;
-            kf.stamp_ns = stamp;
-            kf.T_world_lidar = T;
-            kf.cloud = ScanScene(scene, T, opt.columns, 0.01, uint32_t(keyframes.size()));
-            kf.cloud.stamp = common::SensorTime{stamp};
-            builder.Build(kf.cloud, &kf.descriptor);
-            points += kf.cloud.size();
-            const size_t i = writer.AddKeyframe(kf);
-            if (i > 0) {
-                // Odometry edge from the ground truth, 1 cm / 0.1 deg standard deviation.
-                io::SessionEdge e{uint32_t(i - 1), uint32_t(i),
-                                  common::Between(keyframes.back().T_world_lidar, T),
-                                  common::Matrix6d::Identity()};
-                e.information.diagonal() << 1e4, 1e4, 1e4, 3.3e5, 3.3e5, 3.3e5;
-                writer.AddEdge(e);
-            }
-            last_key = T;
-            keyframes.push_back(std::move(kf));
-            lap_of.push_back(lap);
+    size_t frames = 0, points = 0, keyframe_points = 0;
+    common::PointCloud cloud;
+    while (const ouster::LidarFrame* frame = reader.NextFrame()) {
+        const size_t k = frames++;
+        if (k >= poses.size() || frame->frame_id != (k & 0xFFFF)) {
+            throw common::Error(common::StatusCode::kInternal,
+                                "decoded frame " + std::to_string(frame->frame_id) +
+                                    " where frame " + std::to_string(k) + " was recorded");
         }
+        const Eigen::Isometry3d& T = poses[k];
+        const auto stamp = static_cast<int64_t>(frame->start_ns);
+        writer.AddScanPose(io::StampedPose::FromIsometry(stamp, T));
+        ouster::ToPointCloud(*frame, &cloud);
+        points += cloud.size();
+        const Eigen::Isometry3d rel = common::Between(last_key, T);
+        if (!keyframes.empty() && common::TranslationNorm(rel) < 1.0 &&
+            common::RotationAngle(rel) < 10.0 * M_PI / 180.0) {
+            continue;
+        }
+        io::SessionKeyframe kf;
+        kf.stamp_ns = stamp;
+        kf.T_world_lidar = T;
+        kf.cloud = cloud;
+        builder.Build(kf.cloud, &kf.descriptor);
+        keyframe_points += kf.cloud.size();
+        const size_t i = writer.AddKeyframe(kf);
+        if (i > 0) {
+            // Odometry edge from the ground truth, 1 cm / 0.1 deg standard deviation.
+            io::SessionEdge e{uint32_t(i - 1), uint32_t(i),
+                              common::Between(keyframes.back().T_world_lidar, T),
+                              common::Matrix6d::Identity()};
+            e.information.diagonal() << 1e4, 1e4, 1e4, 3.3e5, 3.3e5, 3.3e5;
+            writer.AddEdge(e);
+        }
+        last_key = T;
+        keyframes.push_back(std::move(kf));
+        lap_of.push_back(static_cast<int>(k) / frames_per_lap);
     }
     writer.Finish();
-    const double walk_s = Seconds(t_walk);
-    std::cout << "  walked   " << opt.laps << " laps of " << lap_m
-              << " m: " << opt.laps * scans_per_lap << " scans, " << keyframes.size()
-              << " keyframes (1 m / 10 deg), " << points << " keyframe points\n"
+    const double decode_s = Seconds(t_decode);
+    const auto& ls = reader.lidar_stats();
+    std::cout << "  decoded  " << frames << " frames (" << ls.frames_complete << " complete, "
+              << ls.TotalRejected() << " packets rejected, " << reader.extractor_stats().reassembled
+              << " datagrams reassembled), " << points / std::max<size_t>(frames, 1)
+              << " points a frame\n"
+              << "  kept     " << keyframes.size() << " keyframes (1 m / 10 deg), "
+              << keyframe_points << " points, indoor Scan Context each; decoding, describing and "
+              << "writing took " << decode_s << " s\n"
               << "  wrote    " << session_dir.string() << "  (" << FolderBytes(session_dir) / 1e6
-              << " MB, scanning and writing took " << walk_s << " s)\n";
+              << " MB)\n";
+    if (frames != poses.size() || ls.frames_complete != poses.size()) {
+        throw common::Error(common::StatusCode::kInternal,
+                            "the capture gave back " + std::to_string(ls.frames_complete) +
+                                " complete frames of " + std::to_string(poses.size()));
+    }
 
-    // 2. Read the session back and compare everything.
+    // 3. Read the session back and compare everything.
     const auto t_read = Clock::now();
     const io::Session s = io::ReadSession(session_dir);
     size_t identical = 0;
@@ -157,7 +201,7 @@ int RunDemo(const DemoOptions& opt) {
                  "within "
               << max_t_error_ns << " ns (float32 seconds in PCD)\n";
 
-    // 3. Place recognition: later laps against the first.
+    // 4. Place recognition: later laps against the first.
     scancontext::CandidateIndex index(sc);
     std::vector<size_t> first_lap;
     for (size_t i = 0; i < s.keyframes.size(); ++i) {
@@ -186,9 +230,11 @@ int RunDemo(const DemoOptions& opt) {
                       ? ", mean yaw error " + FixedString(yaw_err_sum / found * 180 / M_PI) + " deg"
                       : "")
               << "\n";
-    std::cout << "results in " << out.string()
-              << "/: session/ (layout: algorithms/io/README.md; inspect with "
-              << "'bimslam session info " << session_dir.string() << "')\n"
+    std::cout << "results in " << out.string() << "/:\n"
+              << "  capture/  lidar.pcap + metadata.json   (bimslam ouster info "
+              << capture.pcap.string() << ")\n"
+              << "  session/  keyframes, poses, descriptors (bimslam session info "
+              << session_dir.string() << "; layout in algorithms/io/README.md)\n"
               << "demo " << (read_ok ? "finished" : "FAILED") << " in " << Seconds(t_start)
               << " s\n";
     return read_ok ? kExitOk : kExitFailure;

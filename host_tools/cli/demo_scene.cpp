@@ -2,13 +2,9 @@
 
 #include <cmath>
 #include <limits>
-#include <random>
 
 namespace bimslam::cli {
 namespace {
-// OS1-32 "uniform" beam spread: 32 beams from +22.5 deg to -22.5 deg (Ouster OS1 datasheet).
-constexpr int kBeams = 32;
-constexpr double kFovDeg = 45.0;
 
 void AddBox(DemoScene& s, double x0, double y0, double x1, double y1) {
     const Eigen::Vector2d p00(x0, y0), p10(x1, y0), p11(x1, y1), p01(x0, y1);
@@ -89,47 +85,27 @@ Eigen::Isometry3d DemoScene::PoseAt(double s, double lateral_offset, double z) c
     return T;
 }
 
-common::PointCloud ScanScene(const DemoScene& scene, const Eigen::Isometry3d& T_world_lidar,
-                             int columns, double sigma_m, uint32_t seed) {
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> noise(0.0, sigma_m);
-    common::PointCloud cloud;
-    cloud.Reserve(static_cast<size_t>(kBeams) * static_cast<size_t>(columns));
-    const Eigen::Vector3d origin = T_world_lidar.translation();
-    const Eigen::Matrix3d R = T_world_lidar.linear();
-    for (int c = 0; c < columns; ++c) {
-        const double az = 2.0 * M_PI * c / columns;
-        const auto t_ns = static_cast<uint32_t>(100'000'000.0 * c / columns);
-        for (int r = 0; r < kBeams; ++r) {
-            const double el = (kFovDeg / 2 - kFovDeg * r / (kBeams - 1)) * M_PI / 180.0;
-            const Eigen::Vector3d d_lidar(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                                          std::sin(el));
-            const Eigen::Vector3d d = R * d_lidar;
-            double best = std::numeric_limits<double>::infinity();
-            double cos_incidence = std::abs(d.z());
-            if (std::abs(d.z()) > 1e-9) {  // floor or ceiling
-                best = ((d.z() > 0 ? scene.ceiling_z : scene.floor_z) - origin.z()) / d.z();
+double DemoScene::Cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& d,
+                       double* cos_incidence) const {
+    double best = std::numeric_limits<double>::infinity();
+    double cosine = std::abs(d.z());
+    if (std::abs(d.z()) > 1e-9) {  // floor or ceiling
+        best = ((d.z() > 0 ? ceiling_z : floor_z) - origin.z()) / d.z();
+    }
+    const double horiz = d.head<2>().norm();
+    if (horiz > 1e-9) {
+        const Eigen::Vector2d d2 = d.head<2>() / horiz;
+        for (const auto& w : walls) {
+            const double t2 = HitSegment(origin.head<2>(), d2, w.a, w.b);
+            if (t2 / horiz < best) {
+                best = t2 / horiz;
+                const Eigen::Vector2d e = (w.b - w.a).normalized();
+                cosine = std::abs(d2.x() * e.y() - d2.y() * e.x()) * horiz;
             }
-            const double horiz = d.head<2>().norm();
-            if (horiz > 1e-9) {
-                const Eigen::Vector2d d2 = d.head<2>() / horiz;
-                for (const auto& w : scene.walls) {
-                    const double t2 = HitSegment(origin.head<2>(), d2, w.a, w.b);
-                    if (t2 / horiz < best) {
-                        best = t2 / horiz;
-                        const Eigen::Vector2d e = (w.b - w.a).normalized();
-                        cos_incidence = std::abs(d2.x() * e.y() - d2.y() * e.x()) * horiz;
-                    }
-                }
-            }
-            if (!std::isfinite(best) || best < 0.3 || best > 50.0) continue;
-            const double range = best + noise(rng);
-            cloud.PushBack((range * d_lidar).cast<float>(),
-                           static_cast<float>(20.0 + 200.0 * cos_incidence),
-                           static_cast<uint16_t>(r), t_ns);
         }
     }
-    return cloud;
+    if (cos_incidence) *cos_incidence = cosine;
+    return best > 0 ? best : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace bimslam::cli

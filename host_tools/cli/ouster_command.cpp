@@ -28,16 +28,18 @@ struct OusterOptions {
     bool overwrite = false;
 };
 
+// --meta, else the capture's name with .json (the Ouster tools' habit), else metadata.json in
+// the capture's folder (the layout of our capture folders).
 ouster::SensorInfo LoadInfo(const OusterOptions& o) {
-    fs::path meta = o.meta;
-    if (meta.empty()) {
-        meta = fs::path(o.pcap).replace_extension(".json");
-        if (!fs::exists(meta)) {
-            throw FileError(StatusCode::kNotFound, o.pcap, 0,
-                            "no metadata: pass --meta JSON (looked for " + meta.string() + ")");
-        }
+    if (!o.meta.empty()) return ouster::LoadMetadata(o.meta);
+    const fs::path beside = fs::path(o.pcap).replace_extension(".json");
+    const fs::path folder = fs::path(o.pcap).parent_path() / "metadata.json";
+    for (const fs::path& candidate : {beside, folder}) {
+        if (fs::exists(candidate)) return ouster::LoadMetadata(candidate);
     }
-    return ouster::LoadMetadata(meta);
+    throw FileError(StatusCode::kNotFound, o.pcap, 0,
+                    "no metadata: pass --meta JSON (looked for " + beside.string() + " and " +
+                        folder.string() + ")");
 }
 
 capture::OusterCaptureOptions CaptureOptions(const OusterOptions& o) {
@@ -212,7 +214,9 @@ int Export(const OusterOptions& o) {
 
 void AddCommon(CLI::App* cmd, OusterOptions& o) {
     cmd->add_option("PCAP", o.pcap, "capture (.pcap, .pcapng, optionally .gz)")->required();
-    cmd->add_option("--meta", o.meta, "sensor metadata JSON (default: PCAP with .json)");
+    cmd->add_option(
+        "--meta", o.meta,
+        "sensor metadata JSON (default: PCAP with .json, else metadata.json beside it)");
     cmd->add_option("--lidar-port", o.lidar_port, "lidar UDP port (default: metadata, or guessed)");
     cmd->add_option("--imu-port", o.imu_port, "IMU UDP port (default: metadata, or guessed)");
 }

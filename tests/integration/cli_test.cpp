@@ -48,10 +48,21 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     EXPECT_GT(j.at("scans").get<int>(), j.at("keyframes").get<int>());
     EXPECT_GT(j.at("path_length_m").get<double>(), 100.0);
 
+    // Its capture is a real Ouster recording: the driver reads every frame back.
+    const auto capture =
+        test::RunCommand(kCli + " ouster info --json " + (out / "capture" / "lidar.pcap").string());
+    ASSERT_EQ(capture.exit_code, 0) << capture.err;
+    const auto c = nlohmann::json::parse(capture.out);
+    EXPECT_EQ(c.at("frames_complete"), j.at("scans"));
+    EXPECT_EQ(c.at("frames_incomplete"), 0);
+    EXPECT_EQ(c.at("columns_per_frame"), 512);
+    EXPECT_EQ(c.at("ip_reassembled"), c.at("lidar_packets"));
+
     // A second run must not replace the results silently.
-    const auto again = test::RunCommand(kCli + " demo --columns 512 --out " + out.string());
+    const auto again =
+        test::RunCommand(kCli + " demo --columns 512 --laps 1 --out " + out.string());
     EXPECT_EQ(again.exit_code, 2);
-    EXPECT_NE(again.err.find((out / "session").string()), std::string::npos) << again.err;
+    EXPECT_NE(again.err.find(out.string()), std::string::npos) << again.err;
     EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
 }
 

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "algorithms/common/status.hpp"
+#include "drivers/ouster/builtin_sensor.hpp"
 #include "tests/support/ouster_fixtures.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -602,6 +603,27 @@ TEST(Metadata, SerializedSyntheticSensorsReadBackTheSame) {
     fusa.format.imu_profile = ImuProfile::kAccel32Gyro32Nmea;
     fusa.format.imu_measurements_per_packet = 8;
     fixtures::ExpectSameSensor(fusa, ParseMetadata("f.json", SerializeMetadata(fusa)));
+}
+
+}  // namespace
+}  // namespace bimslam::ouster
+
+namespace bimslam::ouster {
+namespace {
+
+TEST(BuiltinSensor, IsAValidOs132InEveryMode) {
+    for (const auto& [columns, rate] :
+         {std::pair{512, 10}, std::pair{1024, 10}, std::pair{2048, 10}, std::pair{512, 20},
+          std::pair{1024, 20}}) {
+        const SensorInfo s = BuiltinOs1_32(LidarProfile::kRng19Rfl8Sig16Nir16, columns, rate);
+        // It is what our own metadata parser accepts, unchanged.
+        fixtures::ExpectSameSensor(s, ParseMetadata("builtin.json", SerializeMetadata(s)));
+        EXPECT_EQ(s.format.pixel_shift_by_row.size(), 32u);
+    }
+    const SensorInfo s = BuiltinOs1_32(LidarProfile::kLegacy, 1024, 10);
+    EXPECT_EQ(s.format.pixel_shift_by_row[0], 24);  // +4.23 deg = 24 columns after -4.23 deg
+    EXPECT_EQ(s.format.pixel_shift_by_row[3], 0);
+    EXPECT_THROW(BuiltinOs1_32(LidarProfile::kLegacy, 4096, 10), common::Error);
 }
 
 }  // namespace

@@ -1,0 +1,32 @@
+// The demo's capture: the walk through DemoScene written as a real Ouster recording, a pcap of
+// UDP packets fragmented at MTU 1500 plus its metadata JSON, so that the rest of the demo reads
+// it with the same driver a real recording goes through. Each pixel is ray-cast along the
+// sensor's own XYZ lookup table, so decoding gives back the cast points exactly (up to range
+// quantisation and noise). A stand-in until the capture simulator exists: the sensor does not
+// move during a rotation and there is no IMU or Go1 data.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "drivers/ouster/sensor_info.hpp"
+#include "host_tools/cli/demo_scene.hpp"
+
+namespace bimslam::cli {
+
+struct DemoCapture {
+    std::filesystem::path pcap;
+    std::filesystem::path metadata;
+    int64_t first_frame_ns = 0;  // sensor clock of frame 0's first column
+    size_t packets = 0;
+    size_t bytes = 0;
+};
+
+// One frame per pose (T_world_sensor), at the sensor's frame rate, range noise sigma_m.
+DemoCapture WriteDemoCapture(const DemoScene& scene, const std::vector<Eigen::Isometry3d>& poses,
+                             const ouster::SensorInfo& info, const std::filesystem::path& dir,
+                             double sigma_m, uint32_t seed);
+
+}  // namespace bimslam::cli
