@@ -195,35 +195,9 @@ void FrameBatcher::Decode(const uint8_t* p, int64_t arrival_ns) {
         }
     }
     for (const FieldSpec& spec : f.fields()) {
-        switch (spec.field) {
-            case Field::kRange:
-                ExtractField(f, spec, p, columns, valid, n, frame.range.data());
-                break;
-            case Field::kRange2:
-                ExtractField(f, spec, p, columns, valid, n, frame.range2.data());
-                break;
-            case Field::kSignal:
-                ExtractField(f, spec, p, columns, valid, n, frame.signal.data());
-                break;
-            case Field::kSignal2:
-                ExtractField(f, spec, p, columns, valid, n, frame.signal2.data());
-                break;
-            case Field::kNearIr:
-                ExtractField(f, spec, p, columns, valid, n, frame.near_ir.data());
-                break;
-            case Field::kReflectivity:
-                ExtractField(f, spec, p, columns, valid, n, frame.reflectivity.data());
-                break;
-            case Field::kReflectivity2:
-                ExtractField(f, spec, p, columns, valid, n, frame.reflectivity2.data());
-                break;
-            case Field::kFlags:
-                ExtractField(f, spec, p, columns, valid, n, frame.flags.data());
-                break;
-            case Field::kFlags2:
-                ExtractField(f, spec, p, columns, valid, n, frame.flags2.data());
-                break;
-        }
+        frame.VisitField(spec.field, [&](auto& image) {
+            ExtractField(f, spec, p, columns, valid, n, image.data());
+        });
     }
     ++frame.packets;
     if (frame.first_arrival_ns == 0) frame.first_arrival_ns = arrival_ns;

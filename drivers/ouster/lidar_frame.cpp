@@ -34,15 +34,10 @@ void LidarFrame::Reset(const PacketFormat& f) {
     Size(status, cols, true);
     Size(encoder, cols, f.legacy());
     Size(column_frame_id, cols, f.legacy());
-    Size(range, n, f.Has(Field::kRange));
-    Size(range2, n, f.Has(Field::kRange2));
-    Size(signal, n, f.Has(Field::kSignal));
-    Size(signal2, n, f.Has(Field::kSignal2));
-    Size(near_ir, n, f.Has(Field::kNearIr));
-    Size(reflectivity, n, f.Has(Field::kReflectivity));
-    Size(reflectivity2, n, f.Has(Field::kReflectivity2));
-    Size(flags, n, f.Has(Field::kFlags));
-    Size(flags2, n, f.Has(Field::kFlags2));
+    for (int k = 0; k < kNumFields; ++k) {
+        const auto field = static_cast<Field>(k);
+        VisitField(field, [&](auto& image) { Size(image, n, f.Has(field)); });
+    }
     if (xyz.size() != n) xyz.assign(n, Eigen::Vector3f::Zero());
 }
 
@@ -52,44 +47,17 @@ void LidarFrame::ZeroColumn(int v) {
     status[v] = 0;
     if (!encoder.empty()) encoder[v] = 0;
     if (!column_frame_id.empty()) column_frame_id[v] = 0;
-    auto zero = [this, v](auto& image) {
-        if (image.empty()) return;
-        for (int u = 0; u < h; ++u) image[Index(u, v)] = 0;
-    };
-    zero(range);
-    zero(range2);
-    zero(signal);
-    zero(signal2);
-    zero(near_ir);
-    zero(reflectivity);
-    zero(reflectivity2);
-    zero(flags);
-    zero(flags2);
+    for (int k = 0; k < kNumFields; ++k) {
+        VisitField(static_cast<Field>(k), [this, v](auto& image) {
+            if (image.empty()) return;
+            for (int u = 0; u < h; ++u) image[Index(u, v)] = 0;
+        });
+    }
 }
 
 const void* LidarFrame::FieldData(Field f) const {
-    auto ptr = [](const auto& v) -> const void* { return v.empty() ? nullptr : v.data(); };
-    switch (f) {
-        case Field::kRange:
-            return ptr(range);
-        case Field::kRange2:
-            return ptr(range2);
-        case Field::kSignal:
-            return ptr(signal);
-        case Field::kSignal2:
-            return ptr(signal2);
-        case Field::kReflectivity:
-            return ptr(reflectivity);
-        case Field::kReflectivity2:
-            return ptr(reflectivity2);
-        case Field::kNearIr:
-            return ptr(near_ir);
-        case Field::kFlags:
-            return ptr(flags);
-        case Field::kFlags2:
-            return ptr(flags2);
-    }
-    return nullptr;
+    return VisitField(
+        f, [](const auto& image) -> const void* { return image.empty() ? nullptr : image.data(); });
 }
 
 void ToPointCloud(const LidarFrame& frame, common::PointCloud* out) {

@@ -50,6 +50,38 @@ struct LidarFrame {
 
     // The image of a field as raw bytes (for export and digests); nullptr when absent.
     const void* FieldData(Field f) const;
+
+    // Calls fn(image) with the std::vector of field f: the one place that maps a Field to its
+    // member, so decoding, encoding, zeroing and export cannot disagree.
+    template <typename Fn>
+    decltype(auto) VisitField(Field f, Fn&& fn) {
+        switch (f) {
+            case Field::kRange:
+                return fn(range);
+            case Field::kRange2:
+                return fn(range2);
+            case Field::kSignal:
+                return fn(signal);
+            case Field::kSignal2:
+                return fn(signal2);
+            case Field::kReflectivity:
+                return fn(reflectivity);
+            case Field::kReflectivity2:
+                return fn(reflectivity2);
+            case Field::kNearIr:
+                return fn(near_ir);
+            case Field::kFlags:
+                return fn(flags);
+            case Field::kFlags2:
+                return fn(flags2);
+        }
+        return fn(flags2);  // not reached: every Field is a case above
+    }
+    template <typename Fn>
+    decltype(auto) VisitField(Field f, Fn&& fn) const {
+        return const_cast<LidarFrame*>(this)->VisitField(
+            f, [&fn](const auto& image) -> decltype(auto) { return fn(image); });
+    }
 };
 
 // Points with a non-zero range, column by column (in time order): xyz, intensity (reflectivity,

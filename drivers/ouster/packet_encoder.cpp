@@ -15,27 +15,7 @@ void StoreF32(uint8_t* p, double v) {
 }
 
 uint32_t FieldValue(const LidarFrame& frame, Field f, size_t i) {
-    switch (f) {
-        case Field::kRange:
-            return frame.range[i];
-        case Field::kRange2:
-            return frame.range2[i];
-        case Field::kSignal:
-            return frame.signal[i];
-        case Field::kSignal2:
-            return frame.signal2[i];
-        case Field::kReflectivity:
-            return frame.reflectivity[i];
-        case Field::kReflectivity2:
-            return frame.reflectivity2[i];
-        case Field::kNearIr:
-            return frame.near_ir[i];
-        case Field::kFlags:
-            return frame.flags[i];
-        case Field::kFlags2:
-            return frame.flags2[i];
-    }
-    return 0;
+    return frame.VisitField(f, [i](const auto& image) { return static_cast<uint32_t>(image[i]); });
 }
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <type_traits>
 
 #include "drivers/ouster/lidar_frame.hpp"
 #include "drivers/ouster/packet_encoder.hpp"
@@ -60,35 +61,9 @@ inline LidarFrame MakeFrame(const PacketFormat& f, uint32_t frame_id, uint32_t s
     for (const FieldSpec& s : f.fields()) {
         for (size_t i = 0; i < static_cast<size_t>(frame.h) * frame.w; ++i) {
             const uint32_t value = (rng() & s.mask) * s.multiplier;
-            switch (s.field) {
-                case Field::kRange:
-                    frame.range[i] = value;
-                    break;
-                case Field::kRange2:
-                    frame.range2[i] = value;
-                    break;
-                case Field::kSignal:
-                    frame.signal[i] = uint16_t(value);
-                    break;
-                case Field::kSignal2:
-                    frame.signal2[i] = uint16_t(value);
-                    break;
-                case Field::kReflectivity:
-                    frame.reflectivity[i] = uint8_t(value);
-                    break;
-                case Field::kReflectivity2:
-                    frame.reflectivity2[i] = uint8_t(value);
-                    break;
-                case Field::kNearIr:
-                    frame.near_ir[i] = uint16_t(value);
-                    break;
-                case Field::kFlags:
-                    frame.flags[i] = uint8_t(value);
-                    break;
-                case Field::kFlags2:
-                    frame.flags2[i] = uint8_t(value);
-                    break;
-            }
+            frame.VisitField(s.field, [&](auto& image) {
+                image[i] = static_cast<std::remove_reference_t<decltype(image[i])>>(value);
+            });
         }
     }
     return frame;
