@@ -40,6 +40,12 @@ void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
     if (!f) throw std::runtime_error("cannot write " + path.string());
 }
 
+std::string RandomBytes(size_t n, std::mt19937& rng) {
+    std::string s(n, '\0');
+    for (char& c : s) c = static_cast<char>(rng());
+    return s;
+}
+
 CommandResult RunCommand(const std::string& command) {
     TempDir dir;
     const std::string out = (dir / "out").string(), err = (dir / "err").string();

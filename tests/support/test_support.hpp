@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <random>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,13 @@ std::optional<std::filesystem::path> SharedDataDir();
 
 // Writes bytes to a file as they are (no atomic rename): for feeding damaged input to readers.
 void WriteBytes(const std::filesystem::path& path, const std::string& bytes);
+
+// The bytes of a string, for APIs that take spans of bytes.
+inline std::span<const uint8_t> AsBytes(const std::string& s) {
+    return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
+}
+// n random bytes.
+std::string RandomBytes(size_t n, std::mt19937& rng);
 
 // Runs a shell command; returns its exit code (128 + signal when killed) and what it printed.
 struct CommandResult {

@@ -21,10 +21,6 @@
 namespace bimslam::net {
 namespace {
 
-std::span<const uint8_t> Span(const std::string& s) {
-    return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
-}
-
 TEST(HotPath, ReaderExtractorAndWriterDoNotAllocate) {
     std::mt19937 rng(1);
     std::string payload(6464, '\0');
@@ -39,8 +35,8 @@ TEST(HotPath, ReaderExtractorAndWriterDoNotAllocate) {
         for (int i = 0; i < 300; ++i) {
             const uint32_t mtu = i % 3 == 0 ? 0 : i % 3 == 1 ? 1500 : 576;
             writer.WriteUdp(int64_t{i} * 600'000'000, 0x0A050501, 7502, 0x0A050502, 7502,
-                            Span(payload).first(rng() % payload.size()), mtu);
-            writer.WriteRecord(int64_t{i} * 600'000'000, Span(payload).first(100));
+                            test::AsBytes(payload).first(rng() % payload.size()), mtu);
+            writer.WriteRecord(int64_t{i} * 600'000'000, test::AsBytes(payload).first(100));
         }
         EXPECT_EQ(test::Allocations() - before, 0u) << "PcapWriter";
     }
@@ -48,7 +44,7 @@ TEST(HotPath, ReaderExtractorAndWriterDoNotAllocate) {
     const std::string bytes = [&] {
         PcapWriter memory;
         for (int i = 0; i < 50; ++i) {
-            memory.WriteUdp(int64_t{i} * 600'000'000, 1, 2, 3, 4, Span(payload), 1500);
+            memory.WriteUdp(int64_t{i} * 600'000'000, 1, 2, 3, 4, test::AsBytes(payload), 1500);
         }
         return memory.bytes();
     }();

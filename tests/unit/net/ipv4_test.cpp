@@ -21,16 +21,6 @@ constexpr int64_t kT0 = 1'700'000'000'000'000'000;
 constexpr uint32_t kSensorIp = 0x0A050501;  // 10.5.5.1
 constexpr uint32_t kHostIp = 0x0A050502;
 
-std::span<const uint8_t> Span(const std::string& s) {
-    return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
-}
-
-std::string RandomBytes(size_t n, std::mt19937& rng) {
-    std::string s(n, '\0');
-    for (char& c : s) c = static_cast<char>(rng());
-    return s;
-}
-
 struct Frame {
     int64_t ts = 0;
     std::string bytes;
@@ -53,7 +43,7 @@ std::string Capture(const std::vector<Frame>& frames, uint32_t link = kLinkTypeE
     PcapWriterConfig options;
     options.link_type = link;
     PcapWriter writer(options);
-    for (const Frame& f : frames) writer.WriteRecord(f.ts, Span(f.bytes));
+    for (const Frame& f : frames) writer.WriteRecord(f.ts, test::AsBytes(f.bytes));
     return writer.bytes();
 }
 
@@ -63,7 +53,7 @@ std::vector<Frame> UdpFrames(int64_t ts, uint16_t dst_port, const std::string& p
     PcapWriterConfig options;
     options.first_ip_id = ip_id;
     PcapWriter writer(options);
-    writer.WriteUdp(ts, kSensorIp, 7502, kHostIp, dst_port, Span(payload), mtu);
+    writer.WriteUdp(ts, kSensorIp, 7502, kHostIp, dst_port, test::AsBytes(payload), mtu);
     return Frames(writer.bytes());
 }
 
@@ -109,7 +99,7 @@ void SetBe16(std::string& frame, size_t at, uint16_t v) {
 }
 void FixIpChecksum(std::string& frame, size_t ip = 14) {
     SetBe16(frame, ip + 10, 0);
-    SetBe16(frame, ip + 10, InternetChecksum(Span(frame).subspan(ip, 20)));
+    SetBe16(frame, ip + 10, InternetChecksum(test::AsBytes(frame).subspan(ip, 20)));
 }
 
 TEST(Ipv4, AddressesAndChecksum) {
@@ -121,9 +111,9 @@ TEST(Ipv4, AddressesAndChecksum) {
     EXPECT_EQ(Ipv4ToString(0xC0A80164), "192.168.1.100");
     // RFC 1071's example: 00 01 f2 03 f4 f5 f6 f7 sums to ddf2.
     const std::string bytes("\x00\x01\xf2\x03\xf4\xf5\xf6\xf7", 8);
-    EXPECT_EQ(InternetChecksum(Span(bytes)), static_cast<uint16_t>(~0xddf2));
-    EXPECT_EQ(InternetChecksum(Span(bytes).first(7)),
-              InternetChecksum(Span(std::string("\x00\x01\xf2\x03\xf4\xf5\xf6\x00", 8))));
+    EXPECT_EQ(InternetChecksum(test::AsBytes(bytes)), static_cast<uint16_t>(~0xddf2));
+    EXPECT_EQ(InternetChecksum(test::AsBytes(bytes).first(7)),
+              InternetChecksum(test::AsBytes(std::string("\x00\x01\xf2\x03\xf4\xf5\xf6\x00", 8))));
 }
 
 TEST(UdpExtractor, RoundTripBitIdenticalWithFragmentation) {
@@ -135,16 +125,16 @@ TEST(UdpExtractor, RoundTripBitIdenticalWithFragmentation) {
             PcapWriter writer(options);
             std::vector<std::string> payloads;
             for (size_t size : {0, 1, 6464, 1472, 1473, 1464, 65507, 48, 24832}) {
-                payloads.push_back(RandomBytes(size, rng));
+                payloads.push_back(test::RandomBytes(size, rng));
             }
             for (int i = 0; i < 40; ++i) {
                 const size_t size = i % 2 ? rng() % 9000 : rng() % 65508;
-                payloads.push_back(RandomBytes(size, rng));
+                payloads.push_back(test::RandomBytes(size, rng));
             }
             for (size_t i = 0; i < payloads.size(); ++i) {
                 writer.WriteUdp(kT0 + static_cast<int64_t>(i) * 100'000'123, kSensorIp,
                                 static_cast<uint16_t>(7000 + i), kHostIp,
-                                static_cast<uint16_t>(8000 + i), Span(payloads[i]), mtu);
+                                static_cast<uint16_t>(8000 + i), test::AsBytes(payloads[i]), mtu);
             }
             ExtractorConfig config;
             config.check_udp_checksum = true;
@@ -184,7 +174,7 @@ TEST(UdpExtractor, ShuffledAndDuplicatedFragments) {
     std::vector<std::string> payloads;
     std::vector<std::vector<Frame>> datagrams;
     for (int d = 0; d < 30; ++d) {
-        payloads.push_back(RandomBytes(2000 + rng() % 30000, rng));
+        payloads.push_back(test::RandomBytes(2000 + rng() % 30000, rng));
         datagrams.push_back(UdpFrames(kT0, static_cast<uint16_t>(10000 + d), payloads.back(), 1500,
                                       static_cast<uint16_t>(100 + d)));
     }
@@ -243,7 +233,7 @@ TEST(UdpExtractor, MissingFragmentTimesOut) {
     std::vector<Frame> frames;
     std::vector<std::string> payloads;
     for (int d = 0; d < 5; ++d) {
-        payloads.push_back(RandomBytes(6464, rng));
+        payloads.push_back(test::RandomBytes(6464, rng));
         auto f = UdpFrames(kT0 + d * 400'000'000, static_cast<uint16_t>(7502), payloads.back(),
                            1500, static_cast<uint16_t>(d + 1));
         ASSERT_EQ(f.size(), 5u);
@@ -280,7 +270,7 @@ TEST(UdpExtractor, MissingFragmentTimesOut) {
 
 TEST(UdpExtractor, OverlapsAndInconsistentEndsDropTheDatagram) {
     std::mt19937 rng(8);
-    const std::string payload = RandomBytes(6464, rng);
+    const std::string payload = test::RandomBytes(6464, rng);
     const auto f = UdpFrames(kT0, 7502, payload, 1500);
     ASSERT_EQ(f.size(), 5u);
     // Fragment 1 again, but starting 8 bytes earlier: overlaps fragment 0.
@@ -316,7 +306,7 @@ TEST(UdpExtractor, OverlapsAndInconsistentEndsDropTheDatagram) {
 
 TEST(UdpExtractor, OversizeAndMalformedFragments) {
     std::mt19937 rng(9);
-    const auto f = UdpFrames(kT0, 7502, RandomBytes(3000, rng), 1500);
+    const auto f = UdpFrames(kT0, 7502, test::RandomBytes(3000, rng), 1500);
     Frame far = f[2];  // last fragment moved to offset 65512: ends beyond 65515
     SetBe16(far.bytes, 14 + 6, 65512 / 8);
     FixIpChecksum(far.bytes);
@@ -335,7 +325,7 @@ TEST(UdpExtractor, MemoryLimits) {
     std::vector<std::vector<Frame>> d;
     std::vector<std::string> payloads;
     for (int i = 0; i < 3; ++i) {
-        payloads.push_back(RandomBytes(3000, rng));
+        payloads.push_back(test::RandomBytes(3000, rng));
         d.push_back(UdpFrames(kT0 + i, static_cast<uint16_t>(100 + i), payloads.back(), 1500,
                               static_cast<uint16_t>(i + 1)));
         ASSERT_EQ(d.back().size(), 3u);
@@ -351,7 +341,7 @@ TEST(UdpExtractor, MemoryLimits) {
     EXPECT_EQ(limit.stats().evicted_datagrams_limit, 1u);
 
     // Two 40000-byte datagrams against a 65535-byte budget: the older one goes.
-    const std::string big0 = RandomBytes(40000, rng), big1 = RandomBytes(40000, rng);
+    const std::string big0 = test::RandomBytes(40000, rng), big1 = test::RandomBytes(40000, rng);
     auto b0 = UdpFrames(kT0, 1, big0, 1500, 7);
     auto b1 = UdpFrames(kT0 + 1, 2, big1, 1500, 8);
     b0.pop_back();
@@ -402,7 +392,7 @@ std::string AddTags(const std::string& eth, const std::vector<uint16_t>& tpids) 
 
 TEST(UdpExtractor, CookedCapturesAndVlanTags) {
     std::mt19937 rng(11);
-    const std::string payload = RandomBytes(6464, rng);
+    const std::string payload = test::RandomBytes(6464, rng);
     const auto eth = UdpFrames(kT0, 7502, payload, 1500);
     struct Variant {
         uint32_t link;
@@ -451,7 +441,7 @@ TEST(UdpExtractor, CookedCapturesAndVlanTags) {
 
 TEST(UdpExtractor, OtherTrafficIsCountedAndSkipped) {
     std::mt19937 rng(12);
-    const std::string eth = UdpFrames(kT0, 7502, RandomBytes(100, rng), 0)[0].bytes;
+    const std::string eth = UdpFrames(kT0, 7502, test::RandomBytes(100, rng), 0)[0].bytes;
     std::vector<Frame> frames;
     std::string arp = eth;
     SetBe16(arp, 12, 0x0806);
@@ -477,14 +467,14 @@ TEST(UdpExtractor, OtherTrafficIsCountedAndSkipped) {
     UdpDatagram out;
     for (const Frame& f : frames) {
         record.link_type = f.link;
-        record.data = Span(f.bytes);
+        record.data = test::AsBytes(f.bytes);
         EXPECT_FALSE(extractor.Feed(record, out));
     }
     // SocketCAN and cooked CAN (protocol 0x000C) are not IP.
     const std::string can("\x00\x00\x01\x2a\x08\x00\x00\x00\x01\x02\x03\x04\x05\x06\x07\x08", 16);
-    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeCanSocketcan, kT0, Span(can), 0, out));
+    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeCanSocketcan, kT0, test::AsBytes(can), 0, out));
     const std::string cooked_can = ToSll(std::string(12, '\0') + "xx" + can, 0x000C);
-    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeLinuxSll, kT0, Span(cooked_can), 0, out));
+    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeLinuxSll, kT0, test::AsBytes(cooked_can), 0, out));
     const ExtractorStats& s = extractor.stats();
     EXPECT_EQ(s.records, 10u);
     EXPECT_EQ(s.not_ipv4, 4u);  // ARP, IPv6, LLC, cooked CAN
@@ -497,7 +487,7 @@ TEST(UdpExtractor, OtherTrafficIsCountedAndSkipped) {
 
 TEST(UdpExtractor, ChecksumsAndLengths) {
     std::mt19937 rng(13);
-    const std::string eth = UdpFrames(kT0, 7502, RandomBytes(100, rng), 0)[0].bytes;
+    const std::string eth = UdpFrames(kT0, 7502, test::RandomBytes(100, rng), 0)[0].bytes;
     std::string bad_ip = eth;
     bad_ip[14 + 8] = 1;  // TTL changed, checksum not
     std::string bad_udp = eth;
@@ -515,7 +505,7 @@ TEST(UdpExtractor, ChecksumsAndLengths) {
         UdpExtractor extractor(config);
         UdpDatagram out;
         auto feed = [&](const std::string& b) {
-            return extractor.FeedFrame(kLinkTypeEthernet, kT0, Span(b), 0, out);
+            return extractor.FeedFrame(kLinkTypeEthernet, kT0, test::AsBytes(b), 0, out);
         };
         EXPECT_FALSE(feed(bad_ip));
         EXPECT_FALSE(feed(bad_udp));
@@ -537,8 +527,8 @@ TEST(UdpExtractor, ChecksumsAndLengths) {
     config.check_udp_checksum = false;
     UdpExtractor lenient(config);
     UdpDatagram out;
-    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kT0, Span(bad_ip), 0, out));
-    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kT0, Span(bad_udp), 0, out));
+    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kT0, test::AsBytes(bad_ip), 0, out));
+    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kT0, test::AsBytes(bad_udp), 0, out));
     EXPECT_EQ(lenient.stats().ip_bad_checksum, 1u);
 }
 
@@ -573,10 +563,10 @@ TEST(UdpExtractor, GuessesPortsFromPayloadSizes) {
     PcapWriter writer;
     for (int i = 0; i < 20; ++i) {
         writer.WriteUdp(kT0 + i * 1000, kSensorIp, 7502, kHostIp, 7600,
-                        Span(RandomBytes(6464, rng)), 1500);
+                        test::AsBytes(test::RandomBytes(6464, rng)), 1500);
         if (i % 5 == 0) {
             writer.WriteUdp(kT0 + i * 1000, kSensorIp, 7503, kHostIp, 7601,
-                            Span(RandomBytes(48, rng)), 1500);
+                            test::AsBytes(test::RandomBytes(48, rng)), 1500);
         }
     }
     test::TempDir dir;
@@ -595,7 +585,7 @@ TEST(UdpExtractor, MutationFuzz) {
     PcapWriter classic;
     for (int i = 0; i < 6; ++i) {
         classic.WriteUdp(kT0 + i * 1000, kSensorIp, 7502, kHostIp, 7502,
-                         Span(RandomBytes(i % 2 ? 3000 : 40, rng)), 600);
+                         test::AsBytes(test::RandomBytes(i % 2 ? 3000 : 40, rng)), 600);
     }
     std::vector<Frame> frames = Frames(classic.bytes());
     std::vector<Frame> cooked = frames;

@@ -42,16 +42,6 @@ std::vector<Rec> ReadAll(const std::string& bytes) {
     return ReadAll(reader);
 }
 
-std::span<const uint8_t> Span(const std::string& s) {
-    return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
-}
-
-std::string RandomBytes(size_t n, std::mt19937& rng) {
-    std::string s(n, '\0');
-    for (char& c : s) c = static_cast<char>(rng());
-    return s;
-}
-
 // Little helpers to write numbers in either byte order.
 struct Out {
     bool big_endian = false;
@@ -168,15 +158,15 @@ std::string ClassicPcap(bool nanosecond, const std::vector<std::string>& payload
     options.link_type = kLinkTypeCanSocketcan;
     PcapWriter writer(options);
     for (size_t i = 0; i < payloads.size(); ++i) {
-        writer.WriteRecord(t0 + static_cast<int64_t>(i) * 1'000'333, Span(payloads[i]));
+        writer.WriteRecord(t0 + static_cast<int64_t>(i) * 1'000'333, test::AsBytes(payloads[i]));
     }
     return writer.bytes();
 }
 
 TEST(PcapReader, ClassicNanosecondsAndMicroseconds) {
     std::mt19937 rng(1);
-    const std::vector<std::string> payloads = {RandomBytes(16, rng), RandomBytes(0, rng),
-                                               RandomBytes(6500, rng)};
+    const std::vector<std::string> payloads = {
+        test::RandomBytes(16, rng), test::RandomBytes(0, rng), test::RandomBytes(6500, rng)};
     for (const bool ns : {true, false}) {
         const std::string file = ClassicPcap(ns, payloads);
         PcapReader reader = PcapReader::FromMemory("mem.pcap", file);
@@ -287,7 +277,7 @@ TEST(PcapReader, FilesPlainAndGzipLargerThanTheBuffer) {
     std::mt19937 rng(2);
     std::vector<std::string> payloads;
     for (int i = 0; i < 1500; ++i) {
-        payloads.push_back(RandomBytes(rng() % 9000, rng));
+        payloads.push_back(test::RandomBytes(rng() % 9000, rng));
         for (char& c : payloads.back()) c &= 0x03;  // compressible
     }
     const std::string file = ClassicPcap(true, payloads);
@@ -320,8 +310,8 @@ TEST(PcapReader, FilesPlainAndGzipLargerThanTheBuffer) {
 
 TEST(PcapReader, TruncatedFilesEndCleanly) {
     std::mt19937 rng(3);
-    const std::vector<std::string> payloads = {RandomBytes(40, rng), RandomBytes(13, rng),
-                                               RandomBytes(70, rng)};
+    const std::vector<std::string> payloads = {
+        test::RandomBytes(40, rng), test::RandomBytes(13, rng), test::RandomBytes(70, rng)};
     const std::string classic = ClassicPcap(false, payloads);
     std::string ng = SectionHeader(false) + Interface(false, kLinkTypeEthernet, 0);
     const size_t ng_header = ng.size();
@@ -384,8 +374,8 @@ void ExpectCorrupt(F&& f, const std::string& name, uint64_t offset, const std::s
 
 TEST(PcapReader, CorruptHeadersNameFileAndOffset) {
     std::mt19937 rng(4);
-    const std::vector<std::string> payloads = {RandomBytes(40, rng), RandomBytes(13, rng),
-                                               RandomBytes(70, rng)};
+    const std::vector<std::string> payloads = {
+        test::RandomBytes(40, rng), test::RandomBytes(13, rng), test::RandomBytes(70, rng)};
     const std::string good = ClassicPcap(true, payloads);
     auto open = [](const std::string& bytes) {
         return [bytes] {

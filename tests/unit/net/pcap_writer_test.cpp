@@ -18,10 +18,6 @@ namespace {
 
 constexpr int64_t kT0 = 1'700'000'000'000'000'000;
 
-std::span<const uint8_t> Span(const std::string& s) {
-    return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
-}
-
 std::vector<std::vector<uint8_t>> Records(const std::string& pcap) {
     PcapReader reader = PcapReader::FromMemory("w.pcap", pcap);
     std::vector<std::vector<uint8_t>> out;
@@ -41,9 +37,11 @@ TEST(PcapWriter, FragmentsAsLinuxDoes) {
     PcapWriterConfig options;
     options.first_ip_id = 0xFFFF;  // wraps to 0 for the next datagram
     PcapWriter writer(options);
-    writer.WriteUdp(kT0, 0x0A050557, 7502, 0x0A050501, 7502, Span(payload), 1500);
-    writer.WriteUdp(kT0, 0x0A050557, 7502, 0x0A050501, 7502, Span(payload).first(1472), 1500);
-    writer.WriteUdp(kT0, 0x0A050557, 7502, 0x0A050501, 7502, Span(payload).first(1473), 1500);
+    writer.WriteUdp(kT0, 0x0A050557, 7502, 0x0A050501, 7502, test::AsBytes(payload), 1500);
+    writer.WriteUdp(kT0, 0x0A050557, 7502, 0x0A050501, 7502, test::AsBytes(payload).first(1472),
+                    1500);
+    writer.WriteUdp(kT0, 0x0A050557, 7502, 0x0A050501, 7502, test::AsBytes(payload).first(1473),
+                    1500);
     EXPECT_EQ(writer.next_ip_id(), 2);
     const auto frames = Records(writer.bytes());
     ASSERT_EQ(frames.size(), 5u + 1u + 2u);
@@ -84,7 +82,7 @@ TEST(PcapWriter, RawLinkTypeNoChecksumSnaplenAndMicroseconds) {
     options.snaplen = 60;
     PcapWriter writer(options);
     const std::string payload(100, 'p');
-    writer.WriteUdp(kT0 + 1999, 0x7F000001, 1, 0x7F000001, 2, Span(payload));
+    writer.WriteUdp(kT0 + 1999, 0x7F000001, 1, 0x7F000001, 2, test::AsBytes(payload));
     PcapReader reader = PcapReader::FromMemory("w.pcap", writer.bytes());
     EXPECT_FALSE(reader.nanosecond());
     EXPECT_EQ(reader.snaplen(), 60u);
@@ -109,12 +107,13 @@ TEST(PcapWriter, CanRecordsRawAndFilesThroughTheBuffer) {
         PcapWriter file(dir / "can.pcap", options);
         PcapWriter memory(options);
         for (int i = 0; i < 30000; ++i) {  // ~960 kB: several buffer flushes
-            file.WriteRecord(kT0 + i * 1000, Span(can));
-            memory.WriteRecord(kT0 + i * 1000, Span(can));
+            file.WriteRecord(kT0 + i * 1000, test::AsBytes(can));
+            memory.WriteRecord(kT0 + i * 1000, test::AsBytes(can));
         }
         file.Close();
         file.Close();  // twice is fine
-        EXPECT_FILE_ERROR(file.WriteRecord(kT0, Span(can)), (dir / "can.pcap").string(), 0);
+        EXPECT_FILE_ERROR(file.WriteRecord(kT0, test::AsBytes(can)), (dir / "can.pcap").string(),
+                          0);
         std::ifstream f(dir / "can.pcap", std::ios::binary);
         EXPECT_EQ(std::string(std::istreambuf_iterator<char>(f), {}), memory.bytes());
         EXPECT_EQ(file.records(), 30000u);
@@ -127,7 +126,7 @@ TEST(PcapWriter, CanRecordsRawAndFilesThroughTheBuffer) {
     // The destructor flushes too.
     {
         PcapWriter unclosed(dir / "unclosed.pcap", options);
-        unclosed.WriteRecord(kT0, Span(can));
+        unclosed.WriteRecord(kT0, test::AsBytes(can));
     }
     EXPECT_EQ(std::filesystem::file_size(dir / "unclosed.pcap"), 24u + 16u + 16u);
 }
@@ -138,16 +137,16 @@ TEST(PcapWriter, Errors) {
                       0);
     PcapWriter writer;
     const std::string big(65508, 'x');
-    EXPECT_THROW(writer.WriteUdp(kT0, 1, 2, 3, 4, Span(big)), common::Error);
-    EXPECT_THROW(writer.WriteUdp(kT0, 1, 2, 3, 4, Span(big).first(10), 27), common::Error);
-    EXPECT_THROW(writer.WriteRecord(-1, Span(big).first(10)), common::Error);
-    EXPECT_THROW(writer.WriteRecord(int64_t{1} << 62, Span(big).first(10)), common::Error);
-    writer.WriteUdp(kT0, 1, 2, 3, 4, Span(big).first(65507), 28);  // 8 bytes per fragment
+    EXPECT_THROW(writer.WriteUdp(kT0, 1, 2, 3, 4, test::AsBytes(big)), common::Error);
+    EXPECT_THROW(writer.WriteUdp(kT0, 1, 2, 3, 4, test::AsBytes(big).first(10), 27), common::Error);
+    EXPECT_THROW(writer.WriteRecord(-1, test::AsBytes(big).first(10)), common::Error);
+    EXPECT_THROW(writer.WriteRecord(int64_t{1} << 62, test::AsBytes(big).first(10)), common::Error);
+    writer.WriteUdp(kT0, 1, 2, 3, 4, test::AsBytes(big).first(65507), 28);  // 8 bytes per fragment
     EXPECT_EQ(writer.records(), (65515u + 7) / 8);
     PcapWriterConfig sll;
     sll.link_type = kLinkTypeLinuxSll;
     PcapWriter cooked(sll);
-    EXPECT_THROW(cooked.WriteUdp(kT0, 1, 2, 3, 4, Span(big).first(10)), common::Error);
+    EXPECT_THROW(cooked.WriteUdp(kT0, 1, 2, 3, 4, test::AsBytes(big).first(10)), common::Error);
     PcapWriterConfig bad;
     bad.snaplen = 0;
     EXPECT_THROW(PcapWriter{bad}, common::Error);
