@@ -1,5 +1,6 @@
 #include "drivers/ouster/xyz_lut.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace bimslam::ouster {
@@ -49,18 +50,39 @@ typename XyzLut<Scalar>::Vec3 XyzLut<Scalar>::offset(int u, int v) const {
 
 template <typename Scalar>
 void XyzLut<Scalar>::Compute(const uint32_t* range_mm, Vec3* xyz) const {
-    // Branch-free (a zero range multiplies the point by 0) over plain arrays, so the compiler
-    // vectorises it: ~1 ns a point instead of ~4 with a branch and Eigen temporaries.
+    // In blocks: a branch-free pass over plain arrays into x, y, z planes on the stack, which
+    // the compiler vectorises, then interleaving into the xyz triples. One loop writing the
+    // triples directly does not vectorise (a store group of 3 on SSE2) and took ~1.7x longer.
+    constexpr size_t kBlock = 256;
+    Scalar x[kBlock], y[kBlock], z[kBlock];
     const size_t n = direction_.size() / 3;
-    const Scalar *dx = direction_.data(), *dy = dx + n, *dz = dy + n;
-    const Scalar *ox = offset_.data(), *oy = ox + n, *oz = oy + n;
+    const Scalar* dx = direction_.data();
+    const Scalar* ox = offset_.data();
     Scalar* out = xyz->data();
-    for (size_t i = 0; i < n; ++i) {
-        const Scalar r = static_cast<Scalar>(range_mm[i]) * Scalar(0.001);
-        const Scalar m = range_mm[i] != 0 ? Scalar(1) : Scalar(0);
-        out[3 * i + 0] = (r * dx[i] + ox[i]) * m;
-        out[3 * i + 1] = (r * dy[i] + oy[i]) * m;
-        out[3 * i + 2] = (r * dz[i] + oz[i]) * m;
+    for (size_t b = 0; b < n; b += kBlock) {
+        const size_t m = std::min(kBlock, n - b);
+        const Scalar* __restrict dxb = dx + b;
+        const Scalar* __restrict dyb = dx + n + b;
+        const Scalar* __restrict dzb = dx + 2 * n + b;
+        const Scalar* __restrict oxb = ox + b;
+        const Scalar* __restrict oyb = ox + n + b;
+        const Scalar* __restrict ozb = ox + 2 * n + b;
+        const uint32_t* __restrict rb = range_mm + b;
+        for (size_t i = 0; i < m; ++i) {
+            // Through int32 (ranges are below 2^20): SSE2 converts signed integers directly.
+            const auto ri = static_cast<int32_t>(rb[i]);
+            const Scalar r = static_cast<Scalar>(ri) * Scalar(0.001);
+            const Scalar keep = ri != 0 ? Scalar(1) : Scalar(0);  // no return, no point
+            x[i] = (r * dxb[i] + oxb[i]) * keep;
+            y[i] = (r * dyb[i] + oyb[i]) * keep;
+            z[i] = (r * dzb[i] + ozb[i]) * keep;
+        }
+        Scalar* __restrict o = out + 3 * b;
+        for (size_t i = 0; i < m; ++i) {
+            o[3 * i] = x[i];
+            o[3 * i + 1] = y[i];
+            o[3 * i + 2] = z[i];
+        }
     }
 }
 
