@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "bimslam 0.1.0");
     int exit_code = bimslam::cli::kExitOk;
+    bimslam::cli::AddCanCommands(app, exit_code);
     bimslam::cli::AddDemoCommand(app, exit_code);
     bimslam::cli::AddOusterCommands(app, exit_code);
     bimslam::cli::AddSessionCommands(app, exit_code);

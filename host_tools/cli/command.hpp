@@ -17,6 +17,7 @@ int Run(const std::function<int()>& body);
 
 // Each file registers its subcommands; the callback stores the exit code in `exit_code`.
 void AddSessionCommands(CLI::App& app, int& exit_code);
+void AddCanCommands(CLI::App& app, int& exit_code);
 void AddDemoCommand(CLI::App& app, int& exit_code);
 void AddOusterCommands(CLI::App& app, int& exit_code);
 

@@ -4,8 +4,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "algorithms/io/npy.hpp"
+#include "drivers/can/candump.hpp"
+#include "drivers/can/go1_encoder.hpp"
 #include "drivers/net/ipv4.hpp"
 #include "drivers/net/pcap_writer.hpp"
 #include "drivers/ouster/metadata.hpp"
@@ -213,6 +216,84 @@ TEST(Cli, OusterBadInputExits2NamingTheFile) {
     r = test::RunCommand(kCli + " ouster info " + (tmp / "bad.pcap").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--meta"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace bimslam
+
+namespace bimslam {
+namespace {
+
+// A candump log of 2 s of a Go1 bridge walking at 0.5 m/s, as our encoder sends it, with one
+// garbage line in the middle.
+fs::path MakeGo1Log(const test::TempDir& tmp) {
+    can::Go1Encoder encoder;
+    can::CandumpWriter writer(tmp / "go1.log");
+    can::Go1Sample s;
+    s.valid = can::kAllGroups;
+    s.udp_link_ok = s.highstate_crc_ok = true;
+    s.vx = 0.5;
+    std::array<common::CanFrame, can::Go1Encoder::kMaxFramesPerTick> frames;
+    const int64_t t0 = 1'700'000'000'000'000'000;
+    for (int tick = 0; tick < 400; ++tick) {  // 5 ms ticks
+        const int64_t t = t0 + int64_t{tick} * 5'000'000;
+        s.bridge_time_ns = 1'000'000'000 + int64_t{tick} * 5'000'000;
+        s.odom_x = 0.5 * tick * 0.005;
+        const size_t n = encoder.Tick(&s, t, frames);
+        for (size_t i = 0; i < n; ++i) writer.Write(frames[i], "can0");
+    }
+    writer.Close();
+    std::string text;
+    {
+        std::ifstream f(tmp / "go1.log");
+        text.assign(std::istreambuf_iterator<char>(f), {});
+    }
+    text.insert(text.find('\n', text.size() / 2) + 1, "this is not a frame\n");
+    test::WriteBytes(tmp / "go1.log", text);
+    return tmp / "go1.log";
+}
+
+TEST(Cli, CanInfoAndDecodeOfAGo1Log) {
+    test::TempDir tmp;
+    const fs::path log = MakeGo1Log(tmp);
+    const auto info = test::RunCommand(kCli + " can info --json " + log.string());
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const auto j = nlohmann::json::parse(info.out);
+    EXPECT_EQ(j.at("format"), "candump");
+    EXPECT_GT(j.at("frames").get<int>(), 1500);
+    EXPECT_TRUE(j.at("ids").contains("0x0F0"));
+    EXPECT_EQ(j.at("ids").size(), 10u);
+    EXPECT_NEAR(j.at("span_s").get<double>(), 2.0, 0.01);
+    EXPECT_EQ(j.at("faults").at("crc"), 0);
+    EXPECT_EQ(j.at("faults").at("counter_lost"), 0);
+    EXPECT_EQ(j.at("faults").at("log_garbage"), 1);
+    EXPECT_EQ(j.at("go1_samples"), 200);
+
+    const auto csv = test::RunCommand(kCli + " can decode --csv " + log.string());
+    ASSERT_EQ(csv.exit_code, 0) << csv.err;
+    std::istringstream lines(csv.out);
+    std::string header, row;
+    std::getline(lines, header);
+    EXPECT_EQ(header.rfind("host_time_s,bridge_time_s,counter,valid", 0), 0u) << header;
+    int rows = 0;
+    std::string last;
+    while (std::getline(lines, row)) {
+        ++rows;
+        last = row;
+    }
+    EXPECT_EQ(rows, 200);
+    EXPECT_NE(last.find(",0.5,"), std::string::npos) << last;  // vx
+
+    const auto jl = test::RunCommand(kCli + " can decode --json " + log.string());
+    ASSERT_EQ(jl.exit_code, 0);
+    const auto first = nlohmann::json::parse(jl.out.substr(0, jl.out.find('\n')));
+    EXPECT_DOUBLE_EQ(first.at("vx").get<double>(), 0.5);
+    EXPECT_EQ(first.at("counter"), 0);
+
+    EXPECT_EQ(test::RunCommand(kCli + " can decode --json --csv " + log.string()).exit_code, 2);
+    const auto missing = test::RunCommand(kCli + " can info " + (tmp / "nope.log").string());
+    EXPECT_EQ(missing.exit_code, 2);
+    EXPECT_NE(missing.err.find("nope.log"), std::string::npos) << missing.err;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <bimslam/can_frame_t.hpp>
 #include <bimslam/go1_state_t.hpp>
 #include <bimslam/imu_sample_t.hpp>
 #include <bimslam/keyframe_t.hpp>
@@ -255,6 +256,16 @@ void ExpectSameMessage(const rig_health_t& a, const rig_health_t& b) {
     EXPECT_FIELD(disk_free_bytes);
     EXPECT_FIELD(session_bytes_written);
     EXPECT_FIELD(session_dir);
+}
+
+void ExpectSameMessage(const can_frame_t& a, const can_frame_t& b) {
+    EXPECT_FIELD(schema_version);
+    EXPECT_FIELD(sample_time_ns);
+    EXPECT_FIELD(publish_time_ns);
+    EXPECT_FIELD(id);
+    EXPECT_FIELD(flags);
+    EXPECT_FIELD(len);
+    EXPECT_FIELD(data);
 }
 
 #undef EXPECT_FIELD
@@ -527,6 +538,35 @@ rig_health_t MakeRigHealth() {
     return m;
 }
 
+// A classic frame of the Go1 bridge, and an extended CAN FD frame using every flag and byte.
+can_frame_t MakeCanFrame(bool fd) {
+    Values v;
+    can_frame_t m;
+    m.schema_version = can_frame_t::SCHEMA_VERSION;
+    m.sample_time_ns = v.I64();
+    m.publish_time_ns = v.I64();
+    for (int i = 0; i < 64; ++i) {
+        m.data[i] = 0;
+    }
+    if (fd) {
+        m.id = 0x1abcdef0 + v.I16();
+        m.flags = Bits(can_frame_t::FLAG_EFF, can_frame_t::FLAG_FD, can_frame_t::FLAG_FD_BRS,
+                       can_frame_t::FLAG_FD_ESI);
+        m.len = 64;
+        for (int i = 0; i < 64; ++i) {
+            m.data[i] = static_cast<uint8_t>(0xff - 3 * i);
+        }
+    } else {
+        m.id = 0x130;
+        m.flags = 0;
+        m.len = 8;
+        for (int i = 0; i < 8; ++i) {
+            m.data[i] = static_cast<uint8_t>(0x11 * (i + 1));
+        }
+    }
+    return m;
+}
+
 // ------------------------------------------------------------------------------------------------
 // The messages each type is tested with.
 
@@ -555,6 +595,10 @@ std::vector<imu_sample_t> Samples() {
 template <>
 std::vector<rig_health_t> Samples() {
     return {MakeRigHealth()};
+}
+template <>
+std::vector<can_frame_t> Samples() {
+    return {MakeCanFrame(false), MakeCanFrame(true)};
 }
 
 // Decodes `bytes` as a T and expects it to equal `sent`, field by field and byte for byte.
@@ -610,7 +654,7 @@ template <class T>
 class LcmRoundTrip : public ::testing::Test {};
 
 using MessageTypes = ::testing::Types<odometry_t, keyframe_t, ouster_stats_t, go1_state_t,
-                                      imu_sample_t, rig_health_t>;
+                                      imu_sample_t, rig_health_t, can_frame_t>;
 
 // Short type names for channel names. (No gtest name generator: ctest's test discovery in
 // CMake 3.25 only understands the default numbered typed-suite names, which it shows as
@@ -623,6 +667,7 @@ std::string TypeName() {
     if (std::is_same_v<T, go1_state_t>) return "go1_state_t";
     if (std::is_same_v<T, imu_sample_t>) return "imu_sample_t";
     if (std::is_same_v<T, rig_health_t>) return "rig_health_t";
+    if (std::is_same_v<T, can_frame_t>) return "can_frame_t";
     return "unknown";
 }
 
@@ -720,6 +765,18 @@ TEST(LcmConstants, AreConsistent) {
     EXPECT_EQ(static_cast<int32_t>(go1_state_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(imu_sample_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(rig_health_t::SCHEMA_VERSION), 1);
+    EXPECT_EQ(static_cast<int32_t>(can_frame_t::SCHEMA_VERSION), 1);
+
+    // can_frame_t: the FLAG_* bits are distinct single bits.
+    const int32_t can_flags[] = {can_frame_t::FLAG_EFF,    can_frame_t::FLAG_RTR,
+                                 can_frame_t::FLAG_ERR,    can_frame_t::FLAG_FD,
+                                 can_frame_t::FLAG_FD_BRS, can_frame_t::FLAG_FD_ESI};
+    int32_t can_all = 0;
+    for (int32_t f : can_flags) {
+        EXPECT_EQ(f & (f - 1), 0) << "not a single bit: " << f;
+        EXPECT_EQ(can_all & f, 0) << "flag bits overlap";
+        can_all |= f;
+    }
 
     const int32_t groups[] = {go1_state_t::GROUP_SYNC,       go1_state_t::GROUP_BODY_VEL,
                               go1_state_t::GROUP_BODY_STATE, go1_state_t::GROUP_IMU_GYRO,
@@ -762,7 +819,8 @@ TEST(LcmConstants, AreConsistent) {
     // Every type has its own fingerprint.
     const int64_t hashes[] = {odometry_t::getHash(),     keyframe_t::getHash(),
                               ouster_stats_t::getHash(), go1_state_t::getHash(),
-                              imu_sample_t::getHash(),   rig_health_t::getHash()};
+                              imu_sample_t::getHash(),   rig_health_t::getHash(),
+                              can_frame_t::getHash()};
     for (size_t i = 0; i < std::size(hashes); ++i) {
         for (size_t j = i + 1; j < std::size(hashes); ++j) {
             EXPECT_NE(hashes[i], hashes[j]) << i << " vs " << j;

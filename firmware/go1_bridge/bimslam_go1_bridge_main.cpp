@@ -1,0 +1,375 @@
+// bimslam-go1-bridge: polls the Unitree Go1's HighState over UDP and emits the frames of
+// drivers/can/go1_odometry.dbc on a CAN bus, into a candump log or over LCM
+// (firmware/go1_bridge/README.md). It only ever sends the idle HighCmd: it commands no motion.
+//
+// Exit codes (DESIGN.md): 0 success, 1 failure while working (no CAN in the kernel, socket
+// errors, a log that could not be written), 2 bad usage or bad option values.
+#include <poll.h>
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "algorithms/common/can_frame.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/common/time.hpp"
+#include "firmware/go1_bridge/bridge.hpp"
+#include "firmware/go1_bridge/high_state.hpp"
+#include "firmware/go1_bridge/sinks.hpp"
+#include "firmware/go1_bridge/udp_client.hpp"
+
+namespace bimslam::go1_bridge {
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitBadInput = 2;
+constexpr char kName[] = "bimslam-go1-bridge";
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void OnStopSignal(int signal_number) { g_stop_signal = signal_number; }
+
+void InstallSignalHandlers() {
+    struct sigaction action {};
+    action.sa_handler = OnStopSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = 0;  // no SA_RESTART: ppoll returns EINTR at once
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
+struct Options {
+    std::string go1 = "192.168.123.161:8082";
+    std::string local_address = "0.0.0.0";
+    uint16_t local_port = 8090;
+    double poll_hz = 500;
+    double link_timeout_ms = 0;
+    std::string can_interface;
+    std::string candump_path;
+    std::string candump_interface = "can0";
+    std::string lcm_url;
+    std::string lcm_channel = "BIMSLAM_GO1_CAN";
+    double duration_s = 0;
+    double status_interval_s = 2;
+    int contact_on = BridgeConfig{}.contact_on_raw;
+    int contact_off = BridgeConfig{}.contact_off_raw;
+    bool no_crc_check = false;
+};
+
+int ExitCodeFor(common::StatusCode code) {
+    using common::StatusCode;
+    switch (code) {
+        case StatusCode::kInvalidArgument:
+        case StatusCode::kParseError:
+        case StatusCode::kNotFound:
+        case StatusCode::kAlreadyExists:
+        case StatusCode::kOutOfRange:
+            return kExitBadInput;
+        default:
+            return kExitFailure;
+    }
+}
+
+std::string Number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", v);
+    return text;
+}
+
+// Moves `deadline` past `now` by whole periods (absolute deadlines: no drift); counts the periods
+// skipped when the loop fell behind by more than one.
+void Advance(int64_t& deadline, int64_t period, int64_t now, uint64_t& skipped) {
+    deadline += period;
+    if (deadline <= now) {
+        const int64_t behind = (now - deadline) / period + 1;
+        skipped += static_cast<uint64_t>(behind);
+        deadline += behind * period;
+    }
+}
+
+struct LoopStats {
+    uint64_t send_errors = 0;
+    int last_send_error = 0;
+    uint64_t receive_errors = 0;
+    int last_receive_error = 0;
+    uint64_t late_polls = 0;
+    uint64_t late_ticks = 0;
+};
+
+void PrintStatus(double t, const Bridge& bridge, bool link, const FrameSink& sink,
+                 const LoopStats& loop) {
+    const BridgeStats& s = bridge.stats();
+    std::printf(
+        "%s: t=%.1f s  HighStates %llu  CAN samples %llu  lost %llu  rejected %llu (CRC) %llu "
+        "(size)  link %s  state %s  frames %llu  sink failures %llu  UDP errors %llu/%llu\n",
+        kName, t, static_cast<unsigned long long>(s.highstates),
+        static_cast<unsigned long long>(s.samples), static_cast<unsigned long long>(s.lost),
+        static_cast<unsigned long long>(s.crc_failures),
+        static_cast<unsigned long long>(s.wrong_size), link ? "up" : "DOWN",
+        ToString(bridge.state()), static_cast<unsigned long long>(s.frames),
+        static_cast<unsigned long long>(sink.stats().failed),
+        static_cast<unsigned long long>(loop.send_errors),
+        static_cast<unsigned long long>(loop.receive_errors));
+    std::fflush(stdout);
+}
+
+void PrintSummary(double t, const Bridge& bridge, const FrameSink& sink, const LoopStats& loop,
+                  int stop_signal) {
+    const BridgeStats& s = bridge.stats();
+    const auto u = [](uint64_t v) { return static_cast<unsigned long long>(v); };
+    std::printf("%s: summary: ran %.2f s%s\n", kName, t,
+                stop_signal == SIGINT    ? " (stopped by SIGINT)"
+                : stop_signal == SIGTERM ? " (stopped by SIGTERM)"
+                                         : "");
+    std::printf(
+        "  UDP: %llu HighCmds sent (%llu send errors%s%s), %llu datagrams, %llu HighStates "
+        "accepted, %llu rejected for CRC, %llu for size, %llu samples lost, %llu receive "
+        "errors\n",
+        u(s.polls), u(loop.send_errors), loop.last_send_error ? ", last: " : "",
+        loop.last_send_error ? std::strerror(loop.last_send_error) : "", u(s.datagrams),
+        u(s.highstates), u(s.crc_failures), u(s.wrong_size), u(s.lost), u(loop.receive_errors));
+    std::printf(
+        "  CAN: %llu samples (%llu with the link down, %llu ticks waited for data), %llu "
+        "frames, %llu to %s, %llu failed\n",
+        u(s.samples), u(s.placeholder_samples), u(s.skipped_ticks), u(s.frames),
+        u(sink.stats().sent), sink.description().c_str(), u(sink.stats().failed));
+    std::printf(
+        "  link losses %llu, odometry resets %llu, groups sent not valid for bad values "
+        "%llu, late polls/ticks %llu/%llu, final state %s\n",
+        u(s.link_losses), u(s.odom_resets), u(s.unusable_groups), u(loop.late_polls),
+        u(loop.late_ticks), ToString(bridge.state()));
+    std::fflush(stdout);
+}
+
+int Run(const Options& o) {
+    // Configuration (bad values: exit 2).
+    UdpClientConfig udp_config;
+    ParseAddressAndPort(o.go1, "--go1", udp_config.go1_address, udp_config.go1_port);
+    udp_config.local_address = o.local_address;
+    udp_config.local_port = o.local_port;
+    udp_config.Validate();
+    BridgeConfig config;
+    if (!(o.poll_hz >= 100 && o.poll_hz <= 2000)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "--poll-hz: " + Number(o.poll_hz) +
+                                " (must be 100 .. 2000: the CAN sample period is 10 ms)");
+    }
+    if (o.link_timeout_ms < 0) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "--link-timeout-ms: " + Number(o.link_timeout_ms) + " is negative");
+    }
+    config.poll_period_ns = static_cast<int64_t>(std::llround(1e9 / o.poll_hz));
+    config.link_timeout_ns = static_cast<int64_t>(std::llround(o.link_timeout_ms * 1e6));
+    config.contact_on_raw = o.contact_on;
+    config.contact_off_raw = o.contact_off;
+    config.check_crc = !o.no_crc_check;
+    Bridge bridge(config);  // validates
+
+    // Resources (failures: exit 1, except files the user named wrongly: 2).
+    std::unique_ptr<FrameSink> sink;
+    if (!o.can_interface.empty()) {
+        try {
+            sink = OpenSocketCanSink(o.can_interface);
+        } catch (const common::Error& e) {
+            throw common::Error(
+                e.code(), std::string(e.what()) + "; without CAN, use --candump FILE or --lcm URL");
+        }
+    } else if (!o.candump_path.empty()) {
+        const std::filesystem::path folder =
+            std::filesystem::absolute(o.candump_path).parent_path();
+        if (!std::filesystem::is_directory(folder)) {
+            throw common::Error(common::StatusCode::kNotFound,
+                                "--candump: " + o.candump_path + ": the folder " + folder.string() +
+                                    " does not exist");
+        }
+        sink = OpenCandumpSink(o.candump_path, o.candump_interface);
+    } else {
+        sink = OpenLcmSink(o.lcm_url, o.lcm_channel);
+    }
+    UdpClient udp(udp_config);
+
+    std::array<uint8_t, kHighCmdSize> request{};
+    SerializeHighCmd(MakeIdleHighCmd(), request);
+    std::array<uint8_t, 2048> datagram{};
+    std::array<common::CanFrame, Bridge::kMaxFramesPerTick> frames{};
+    LoopStats loop;
+
+    std::printf(
+        "%s: polling the Go1 at %s:%u from %s:%u at %.0f Hz (idle HighCmd, no motion); "
+        "link timeout %.1f ms; CAN to %s%s\n",
+        kName, udp_config.go1_address.c_str(), udp_config.go1_port,
+        udp_config.local_address.c_str(), udp.local_port(), o.poll_hz,
+        static_cast<double>(config.EffectiveLinkTimeoutNs()) * 1e-6, sink->description().c_str(),
+        config.check_crc ? "" : "; HighState CRC NOT checked");
+    std::fflush(stdout);
+
+    InstallSignalHandlers();
+    const int64_t start = common::MonotonicNow().ns;
+    const int64_t end = o.duration_s > 0
+                            ? start + static_cast<int64_t>(std::llround(o.duration_s * 1e9))
+                            : std::numeric_limits<int64_t>::max();
+    const int64_t status_period = static_cast<int64_t>(std::llround(o.status_interval_s * 1e9));
+    int64_t next_poll = start;
+    int64_t next_tick = start + bridge.tick_ns();
+    int64_t next_status =
+        status_period > 0 ? start + status_period : std::numeric_limits<int64_t>::max();
+    uint64_t unused = 0;
+
+    pollfd pfd{};
+    pfd.fd = udp.fd();
+    pfd.events = POLLIN;
+    while (g_stop_signal == 0) {
+        int64_t now = common::MonotonicNow().ns;
+        if (now >= end) break;
+
+        // Everything queued from the Go1, each stamped at its receive.
+        for (;;) {
+            const UdpClient::Received r = udp.Receive(datagram);
+            if (!r.got) {
+                if (r.error != 0) {
+                    ++loop.receive_errors;
+                    loop.last_receive_error = r.error;
+                }
+                break;
+            }
+            const size_t size = r.truncated ? datagram.size() : r.size;
+            bridge.OnDatagram(std::span<const uint8_t>(datagram.data(), size),
+                              common::MonotonicNow().ns);
+        }
+
+        now = common::MonotonicNow().ns;
+        if (now >= next_poll) {
+            bridge.OnPoll(now);
+            const int err = udp.Send(request);
+            if (err != 0) {
+                ++loop.send_errors;
+                loop.last_send_error = err;
+            }
+            Advance(next_poll, config.poll_period_ns, now, loop.late_polls);
+        }
+        if (now >= next_tick) {
+            const size_t n = bridge.OnTick(now, common::HostNow().ns, frames);
+            for (size_t i = 0; i < n; ++i) sink->Send(frames[i]);
+            Advance(next_tick, bridge.tick_ns(), now, loop.late_ticks);
+        }
+        if (now >= next_status) {
+            PrintStatus(static_cast<double>(now - start) * 1e-9, bridge, bridge.link_ok(now), *sink,
+                        loop);
+            Advance(next_status, status_period, now, unused);
+        }
+
+        // Sleep until the next deadline or a datagram.
+        const int64_t wake = std::min(std::min(next_poll, next_tick), std::min(next_status, end));
+        const int64_t wait = wake - common::MonotonicNow().ns;
+        if (wait > 0) {
+            timespec ts{};
+            ts.tv_sec = static_cast<time_t>(wait / 1'000'000'000);
+            ts.tv_nsec = static_cast<long>(wait % 1'000'000'000);
+            ::ppoll(&pfd, 1, &ts, nullptr);
+        }
+    }
+
+    const double ran = static_cast<double>(common::MonotonicNow().ns - start) * 1e-9;
+    int code = kExitOk;
+    try {
+        sink->Close();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s: error: %s\n", kName, e.what());
+        code = kExitFailure;
+    }
+    PrintSummary(ran, bridge, *sink, loop, g_stop_signal);
+    if (sink->lossless() && sink->stats().failed > 0) {
+        std::fprintf(stderr, "%s: error: %llu frames could not be written to %s\n", kName,
+                     static_cast<unsigned long long>(sink->stats().failed),
+                     sink->description().c_str());
+        code = kExitFailure;
+    }
+    return code;
+}
+
+}  // namespace
+}  // namespace bimslam::go1_bridge
+
+int main(int argc, char** argv) {
+    using namespace bimslam::go1_bridge;
+    Options o;
+    CLI::App app{
+        "bimslam-go1-bridge: polls a Unitree Go1's HighState over UDP (sending only the idle "
+        "HighCmd: it never commands motion) and emits the frames of go1_odometry.dbc at their "
+        "cycle times on SocketCAN, into a candump log or over LCM. Exactly one of --can, "
+        "--candump, --lcm.\n"
+        "Exit codes: 0 ok, 1 failure while working (e.g. no CAN in the kernel), 2 bad usage."};
+    app.add_option("--go1", o.go1, "The Go1 sport-mode computer's HighState endpoint, IP:PORT")
+        ->capture_default_str();
+    app.add_option("--local-address", o.local_address, "Local IPv4 address to bind")
+        ->capture_default_str();
+    app.add_option("--local-port", o.local_port,
+                   "Local UDP port to bind (0: any free port; the SDK examples use 8090)")
+        ->capture_default_str();
+    app.add_option("--poll-hz", o.poll_hz, "HighCmd/HighState poll rate, 100..2000 Hz")
+        ->capture_default_str();
+    app.add_option("--link-timeout-ms", o.link_timeout_ms,
+                   "UdpLinkOk drops when no valid HighState arrived for this long (0: 3 poll "
+                   "periods)")
+        ->capture_default_str();
+    auto* can = app.add_option("--can", o.can_interface, "Send on this SocketCAN interface");
+    auto* candump = app.add_option("--candump", o.candump_path, "Write a candump -l log file");
+    auto* lcm = app.add_option("--lcm", o.lcm_url,
+                               "Publish bimslam::can_frame_t on LCM, e.g. "
+                               "udpm://239.255.76.67:7667?ttl=0");
+    can->excludes(candump)->excludes(lcm);
+    candump->excludes(lcm);
+    app.add_option("--candump-interface", o.candump_interface,
+                   "Interface name written into the candump log")
+        ->capture_default_str();
+    app.add_option("--lcm-channel", o.lcm_channel, "LCM channel for --lcm")->capture_default_str();
+    app.add_option("--duration", o.duration_s, "Run this many seconds (0: until SIGINT/SIGTERM)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--status-interval", o.status_interval_s,
+                   "Seconds between status lines (0: none)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--contact-on", o.contact_on, "Foot contact starts at this raw foot force")
+        ->capture_default_str();
+    app.add_option("--contact-off", o.contact_off,
+                   "Foot contact ends at this raw foot force or below")
+        ->capture_default_str();
+    app.add_flag("--no-crc-check", o.no_crc_check,
+                 "Forward HighStates whose CRC fails (HighStateCrcOk says so): bench diagnosis "
+                 "only");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+    if (o.can_interface.empty() && o.candump_path.empty() && o.lcm_url.empty()) {
+        std::fprintf(stderr,
+                     "%s: error: choose where the frames go: --can IFACE, --candump FILE "
+                     "or --lcm URL (see --help)\n",
+                     kName);
+        return 2;
+    }
+    try {
+        return Run(o);
+    } catch (const bimslam::common::Error& e) {
+        std::fprintf(stderr, "%s: error: %s\n", kName, e.what());
+        return ExitCodeFor(e.code());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s: error: %s\n", kName, e.what());
+        return 1;
+    }
+}
