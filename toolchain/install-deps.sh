@@ -15,6 +15,8 @@ packages=(
     liblcm-dev liblcm-bin libglib2.0-dev
     # command-line tools
     libcli11-dev
+    # host tools: IFC++ (BIM ingest), Embree 3 (LiDAR simulation), TBB (parallelism)
+    libifcplusplus-dev libembree-dev libtbb-dev
     # tests and benchmarks
     libgtest-dev libgmock-dev libbenchmark-dev
     # `ip`, for the loopback multicast route the LCM tests need (toolchain/setup-multicast.sh)

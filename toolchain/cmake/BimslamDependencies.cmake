@@ -23,6 +23,24 @@ target_include_directories(bimslam_flann SYSTEM INTERFACE "${FLANN_INCLUDE_DIR}"
 target_link_libraries(bimslam_flann INTERFACE PkgConfig::LZ4)
 add_library(bimslam::flann ALIAS bimslam_flann)
 
+# Host-only dependencies (host_tools/, and algorithms/simulation for Embree); the layer rules
+# keep them out of firmware/ and drivers/.
+# Embree 3: ray casting for the LiDAR simulation.
+find_package(embree 3 REQUIRED)
+bimslam_tag_capability(embree embree)
+# TBB: host-side parallelism.
+find_package(TBB REQUIRED)
+# IFC++ (libifcplusplus-dev) has no CMake package: its libraries and headers by hand. Its headers
+# are included as system headers (they are not -Wall clean).
+find_library(IFCPP_LIBRARY IfcPlusPlus PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)
+find_library(CARVE_LIBRARY carve PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)
+find_path(IFCPP_INCLUDE_DIR ifcpp/model/BuildingModel.h REQUIRED)
+add_library(bimslam_ifcpp INTERFACE)
+target_include_directories(bimslam_ifcpp SYSTEM INTERFACE "${IFCPP_INCLUDE_DIR}")
+target_link_libraries(bimslam_ifcpp INTERFACE ${IFCPP_LIBRARY} ${CARVE_LIBRARY})
+add_library(bimslam::ifcpp ALIAS bimslam_ifcpp)
+bimslam_tag_capability(bimslam_ifcpp ifcpp)
+
 if(BUILD_TESTING)
     find_package(GTest REQUIRED)
     find_package(benchmark REQUIRED)
