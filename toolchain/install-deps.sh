@@ -11,6 +11,8 @@ packages=(
     cmake ninja-build g++ make pkg-config
     # algorithms: Eigen (common), FLANN and its lz4 headers (scancontext), JSON (io)
     libeigen3-dev libflann-dev liblz4-dev nlohmann-json3-dev
+    # gzip input, PNG output
+    zlib1g-dev
     # LCM messages: library, lcm-gen, and glib for lcm.pc
     liblcm-dev liblcm-bin libglib2.0-dev
     # command-line tools

@@ -49,7 +49,7 @@ std::string ReadFileToString(const std::filesystem::path& path) {
     return out;
 }
 
-void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes) {
+void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes, Sync sync) {
     const std::filesystem::path dir =
         path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
     std::filesystem::path tmp = path;
@@ -70,7 +70,7 @@ void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes) 
             }
             done += static_cast<size_t>(n);
         }
-        if (::fsync(f.fd) != 0) {
+        if (sync == Sync::kNow && ::fsync(f.fd) != 0) {
             const int err = errno;
             ::unlink(tmp.c_str());
             errno = err;
@@ -83,10 +83,17 @@ void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes) 
         errno = err;
         ThrowErrno(path, "cannot rename the temporary file into place");
     }
+    if (sync == Sync::kDeferred) return;
     // The rename itself is durable only once the folder entry is on disk.
     Fd d;
     d.fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (d.fd >= 0) ::fsync(d.fd);
+}
+
+void SyncFileSystem(const std::filesystem::path& dir) {
+    Fd d;
+    d.fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (d.fd < 0 || ::syncfs(d.fd) != 0) ThrowErrno(dir, "cannot sync the file system");
 }
 
 namespace {

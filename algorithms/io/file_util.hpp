@@ -15,7 +15,17 @@ std::string ReadFileToString(const std::filesystem::path& path);
 // (specs/session-data.md, "Rules"): a temporary file in the same folder, fsync, rename over the
 // target, fsync of the folder. Throws common::FileError (kIoError) naming the file on failure,
 // and leaves no temporary file behind.
-void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes);
+//
+// Sync::kDeferred skips both fsyncs: the rename still keeps readers from ever seeing a half-written
+// file, but after a power loss the file may be missing or empty until SyncFileSystem() has run.
+// For offline writers of many files (a BIM reference session), which sync once at the end.
+enum class Sync { kNow, kDeferred };
+void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes,
+                     Sync sync = Sync::kNow);
+
+// Flushes everything written to the file system holding `dir` (syncfs(2)). Throws
+// common::FileError (kIoError) naming the folder on failure.
+void SyncFileSystem(const std::filesystem::path& dir);
 
 // Shortest decimal text that reads back to the same value (std::to_chars), so text round trips
 // are bit-exact. Non-finite values print as nan, inf, -inf.

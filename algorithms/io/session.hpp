@@ -14,6 +14,7 @@
 
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/se3.hpp"
+#include "algorithms/io/file_util.hpp"
 #include "algorithms/io/trajectory.hpp"
 
 namespace bimslam::io {
@@ -120,6 +121,10 @@ struct SessionWriterOptions {
     // Rewrite the line-oriented files every this many keyframes. 1 (the rig) loses nothing but
     // the keyframe being written on power loss; offline generators may batch.
     size_t flush_every = 1;
+    // Sync every file as it is written (the rig: a power loss loses at most the keyframe being
+    // written), or only once in Finish(), before session.json (offline generators, which can be
+    // re-run: each fsync costs milliseconds). session.json means complete and durable either way.
+    bool sync_each_file = true;
 };
 
 // Writes a session incrementally, so that a cut-off session stays readable (specs "Rules"):
@@ -164,6 +169,7 @@ private:
     std::vector<StampedPose> trajectory_;
     size_t unflushed_ = 0;
     bool finished_ = false;
+    Sync sync() const { return options_.sync_each_file ? Sync::kNow : Sync::kDeferred; }
 };
 
 // session.json to and from text (exposed for tests and `bimslam session info --json`).

@@ -70,7 +70,8 @@ fs::path KeyframeDescriptorPath(const fs::path& dir, size_t index) {
     return dir / "SCDs" / name;
 }
 
-void WriteScd(const fs::path& path, const DescriptorMatrix& d) {
+namespace {
+std::string SerializeScd(const DescriptorMatrix& d) {
     std::string out;
     for (Eigen::Index r = 0; r < d.rows(); ++r) {
         for (Eigen::Index c = 0; c < d.cols(); ++c) {
@@ -79,8 +80,11 @@ void WriteScd(const fs::path& path, const DescriptorMatrix& d) {
         }
         out += '\n';
     }
-    WriteFileAtomic(path, out);
+    return out;
 }
+}  // namespace
+
+void WriteScd(const fs::path& path, const DescriptorMatrix& d) { WriteFileAtomic(path, SerializeScd(d)); }
 
 SessionWriter::SessionWriter(fs::path dir, SessionManifest manifest, SessionWriterOptions options)
     : dir_(std::move(dir)), manifest_(std::move(manifest)), options_(options) {
@@ -122,8 +126,15 @@ size_t SessionWriter::AddKeyframe(const SessionKeyframe& kf) {
         throw common::Error(StatusCode::kInvalidArgument, what + ": cloud channels differ in size");
     }
     // Cloud and descriptor first: a keyframe counts only once its lines are flushed after them.
-    WritePcd(KeyframeCloudPath(dir_, i), kf.cloud, PcdEncoding::kBinary);
-    WriteScd(KeyframeDescriptorPath(dir_, i), kf.descriptor);
+    const fs::path cloud_path = KeyframeCloudPath(dir_, i);
+    std::string bytes;
+    try {
+        bytes = SerializePcd(kf.cloud, PcdEncoding::kBinary);
+    } catch (const common::Error& e) {
+        throw common::FileError(e.code(), cloud_path.string(), 0, e.what());
+    }
+    WriteFileAtomic(cloud_path, bytes, sync());
+    WriteFileAtomic(KeyframeDescriptorPath(dir_, i), SerializeScd(kf.descriptor), sync());
     keyframes_.push_back({kf.stamp_ns, kf.T_world_lidar, kf.T_odom_lidar});
     if (++unflushed_ >= options_.flush_every) Flush();
     return i;
@@ -159,11 +170,11 @@ void SessionWriter::Flush() {
         world.push_back(k.T_world_lidar);
         if (k.T_odom_lidar) odom.push_back(*k.T_odom_lidar);
     }
-    WriteFileAtomic(dir_ / "times.txt", times);
-    WriteKitti(dir_ / "optimized_poses.txt", world);
-    if (!odom.empty()) WriteKitti(dir_ / "odom_poses.txt", odom);
-    WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", SerializeG2o({world, edges_}));
-    WriteTum(dir_ / "trajectory.tum", trajectory_);
+    WriteFileAtomic(dir_ / "times.txt", times, sync());
+    WriteFileAtomic(dir_ / "optimized_poses.txt", SerializeKitti(world), sync());
+    if (!odom.empty()) WriteFileAtomic(dir_ / "odom_poses.txt", SerializeKitti(odom), sync());
+    WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", SerializeG2o({world, edges_}), sync());
+    WriteFileAtomic(dir_ / "trajectory.tum", SerializeTum(trajectory_), sync());
     unflushed_ = 0;
 }
 
@@ -175,6 +186,7 @@ void SessionWriter::Finish() {
     manifest_.counts.keyframes = keyframes_.size();
     manifest_.counts.scans = trajectory_.size();
     if (manifest_.created.empty()) manifest_.created = IsoUtcNow();
+    if (!options_.sync_each_file) SyncFileSystem(dir_);
     WriteFileAtomic(dir_ / "session.json", SerializeManifest(manifest_));
     finished_ = true;
 }

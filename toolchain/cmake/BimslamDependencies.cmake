@@ -8,6 +8,8 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(Threads REQUIRED)
+find_package(ZLIB REQUIRED)  # .gz captures and logs, PNG
+set_target_properties(ZLIB::ZLIB PROPERTIES IMPORTED_GLOBAL TRUE)
 
 # LCM 1.3.1 ships only lcm.pc (no CMake package): pkg-config, and lcm-gen for the messages.
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm>=1.3)

@@ -129,6 +129,29 @@ TEST(Session, RoundTripIsBitExact) {
     EXPECT_EQ(SerializeTum(s.trajectory), SerializeTum(w.trajectory));
 }
 
+TEST(Session, DeferredSyncWritesTheSameSession) {
+    test::TempDir tmp;
+    const Written w = WriteSession(tmp / "now", 7, true);
+    WriteSession(tmp / "later", 7, true, {.flush_every = 3, .sync_each_file = false});
+    const Session a = ReadSession(tmp / "now");
+    const Session b = ReadSession(tmp / "later");
+    ASSERT_TRUE(b.complete);
+    ASSERT_EQ(b.keyframes.size(), w.keyframes.size());
+    for (size_t i = 0; i < b.keyframes.size(); ++i) {
+        EXPECT_EQ(a.keyframes[i].cloud.xyz, b.keyframes[i].cloud.xyz);
+        EXPECT_EQ(a.keyframes[i].descriptor, b.keyframes[i].descriptor);
+        EXPECT_EQ(a.keyframes[i].T_world_lidar.matrix(), b.keyframes[i].T_world_lidar.matrix());
+    }
+    for (const char* f : {"times.txt", "optimized_poses.txt", "singlesession_posegraph.g2o",
+                          "trajectory.tum"}) {
+        EXPECT_EQ(ReadFileToString(tmp / "now" / f), ReadFileToString(tmp / "later" / f)) << f;
+    }
+    // No temporary file is left behind.
+    for (const auto& e : fs::recursive_directory_iterator(tmp / "later")) {
+        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+    }
+}
+
 TEST(Session, ManifestRoundTripAndBimModel) {
     SessionManifest m = Manifest();
     m.source = "bim";

@@ -1,0 +1,81 @@
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/image.hpp"
+#include "algorithms/io/sha256.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::io {
+namespace {
+
+uint32_t Get32(const std::string& s, size_t at) {
+    return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 |
+           uint32_t(uint8_t(s[at + 2])) << 8 | uint8_t(s[at + 3]);
+}
+
+TEST(Png, ChunksCrcsAndPixelsDecodeBack) {
+    Image img(5, 3, 3);
+    for (size_t i = 0; i < img.data.size(); ++i) img.data[i] = uint8_t(i * 7);
+    const std::string png = EncodePng(img);
+    ASSERT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+    size_t at = 8;
+    std::string idat;
+    std::vector<std::string> types;
+    while (at < png.size()) {
+        const uint32_t len = Get32(png, at);
+        const std::string body = png.substr(at + 4, 4 + len);
+        types.push_back(body.substr(0, 4));
+        EXPECT_EQ(Get32(png, at + 8 + len),
+                  crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size())));
+        if (types.back() == "IHDR") {
+            EXPECT_EQ(Get32(body, 4), 5u);
+            EXPECT_EQ(Get32(body, 8), 3u);
+            EXPECT_EQ(body[13], 2);  // RGB
+        }
+        if (types.back() == "IDAT") idat += body.substr(4);
+        at += 12 + len;
+    }
+    EXPECT_EQ(types, (std::vector<std::string>{"IHDR", "IDAT", "IEND"}));
+    std::string raw(3 * (1 + 5 * 3), '\0');
+    uLongf n = uLongf(raw.size());
+    ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(raw.data()), &n,
+                         reinterpret_cast<const Bytef*>(idat.data()), uLong(idat.size())),
+              Z_OK);
+    for (int y = 0; y < 3; ++y) {
+        EXPECT_EQ(raw[y * 16], 0);  // filter: none
+        EXPECT_EQ(0, std::memcmp(raw.data() + y * 16 + 1, img.At(0, y), 15));
+    }
+    EXPECT_THROW(EncodePng(Image(0, 3, 1)), common::Error);
+    Image bad(2, 2, 3);
+    bad.data.pop_back();
+    EXPECT_THROW(EncodePng(bad), common::Error);
+}
+
+TEST(Pgm, HeaderAndBytes) {
+    test::TempDir tmp;
+    Image img(4, 2, 1, 205);
+    img.At(1, 1)[0] = 0;
+    WritePgm(tmp / "m.pgm", img);
+    const std::string s = ReadFileToString(tmp / "m.pgm");
+    EXPECT_EQ(s.substr(0, 11), "P5\n4 2\n255\n");
+    EXPECT_EQ(s.size(), 11u + 8u);
+    EXPECT_EQ(uint8_t(s[11 + 5]), 0);
+    EXPECT_THROW(WritePgm(tmp / "c.pgm", Image(2, 2, 3)), common::FileError);
+}
+
+TEST(Sha256, Fips180Vectors) {
+    EXPECT_EQ(Sha256Hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+    EXPECT_EQ(Sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    EXPECT_EQ(Sha256Hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+              "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+    test::TempDir tmp;
+    const std::string million(1'000'000, 'a');
+    test::WriteBytes(tmp / "a", million);
+    EXPECT_EQ(Sha256File(tmp / "a"),
+              "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+    EXPECT_FILE_ERROR(Sha256File(tmp / "missing"), (tmp / "missing").string(), 0);
+}
+
+}  // namespace
+}  // namespace bimslam::io
