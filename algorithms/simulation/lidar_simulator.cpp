@@ -1,0 +1,440 @@
+#include "algorithms/simulation/lidar_simulator.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/simulation/embree_scene.hpp"
+#include "algorithms/simulation/measurement_math.hpp"
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
+namespace bimslam::simulation {
+namespace {
+using common::StatusCode;
+using detail::Mix;
+using detail::PixelRandom;
+using detail::Power;
+using detail::RoundNonNegative;
+
+void Require(bool ok, const char* type, const char* field, double value, const char* rule) {
+    if (!ok) {
+        throw common::Error(StatusCode::kInvalidArgument, std::string(type) + "." + field + " = " +
+                                                              std::to_string(value) + ": " + rule);
+    }
+}
+
+bool NonNegative(double x) { return std::isfinite(x) && x >= 0; }
+
+// ---- Embree packets ----
+
+template <int K>
+struct Packet;
+template <>
+struct Packet<1> {
+    using RayHit = RTCRayHit;
+};
+template <>
+struct Packet<4> {
+    using RayHit = RTCRayHit4;
+    static void Intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+        rtcIntersect4(valid, s, c, rh);
+    }
+};
+template <>
+struct Packet<8> {
+    using RayHit = RTCRayHit8;
+    static void Intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+        rtcIntersect8(valid, s, c, rh);
+    }
+};
+template <>
+struct Packet<16> {
+    using RayHit = RTCRayHit16;
+    static void Intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+        rtcIntersect16(valid, s, c, rh);
+    }
+};
+
+// What a lane of a packet returned.
+struct LaneHit {
+    bool hit = false;
+    float t = 0;
+    uint32_t prim = 0;
+    Eigen::Vector3f normal;  // unnormalised geometric normal
+};
+
+template <int K>
+void SetLane(typename Packet<K>::RayHit& rh, int i, const Eigen::Vector3f& o,
+             const Eigen::Vector3f& d, float t_near, float t_far) {
+    if constexpr (K == 1) {
+        (void)i;
+        rh.ray.org_x = o.x(), rh.ray.org_y = o.y(), rh.ray.org_z = o.z();
+        rh.ray.dir_x = d.x(), rh.ray.dir_y = d.y(), rh.ray.dir_z = d.z();
+        rh.ray.tnear = t_near, rh.ray.tfar = t_far, rh.ray.time = 0.0f;
+        rh.ray.mask = 0xFFFFFFFFu, rh.ray.id = 0, rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    } else {
+        rh.ray.org_x[i] = o.x(), rh.ray.org_y[i] = o.y(), rh.ray.org_z[i] = o.z();
+        rh.ray.dir_x[i] = d.x(), rh.ray.dir_y[i] = d.y(), rh.ray.dir_z[i] = d.z();
+        rh.ray.tnear[i] = t_near, rh.ray.tfar[i] = t_far, rh.ray.time[i] = 0.0f;
+        rh.ray.mask[i] = 0xFFFFFFFFu, rh.ray.id[i] = 0, rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+}
+
+template <int K>
+LaneHit GetLane(const typename Packet<K>::RayHit& rh, int i) {
+    LaneHit h;
+    if constexpr (K == 1) {
+        (void)i;
+        h.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        h.t = rh.ray.tfar, h.prim = rh.hit.primID;
+        h.normal = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    } else {
+        h.hit = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        h.t = rh.ray.tfar[i], h.prim = rh.hit.primID[i];
+        h.normal = Eigen::Vector3f(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
+    }
+    return h;
+}
+
+// ---- One scan ----
+
+struct Setup {
+    const Scene::Impl* scene = nullptr;
+    const NoiseModel* noise = nullptr;
+    ScanImage* out = nullptr;
+    int h = 0, w = 0;
+    // Per beam: cos/sin of theta_a and phi. Per column: cos/sin of theta_e.
+    std::vector<double> cos_a, sin_a, cos_phi, sin_phi, cos_e, sin_e;
+    double n_m = 0, z0_m = 0, d_m = 0;  // beam origin offsets, metres
+    double inv_max_range = 0;           // 1 / NoiseModel::max_range_m
+    double steps_per_m = 0;             // 1000 / NoiseModel::range_resolution_mm (no divisions
+                                        // per pixel: they were the slowest part of Measure)
+    Eigen::Matrix3d R_sensor_lidar;
+    Eigen::Vector3d t_sensor_lidar_m;
+    const Eigen::Isometry3d* poses = nullptr;  // T_world_sensor of column v: poses[v * stride]
+    size_t pose_stride = 0;
+    float t_near = 0, t_far = 0;
+    uint64_t key = 0;                              // the scan's random key, from the seed
+    Power incidence_power{1.0}, range_power{1.0};  // the dropout exponents
+};
+
+struct Counts {
+    size_t hits = 0, returns = 0, dropouts = 0, too_close = 0;
+};
+
+// Writes pixel (u, v) from what its ray returned.
+void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const LaneHit& hit,
+             Counts* counts) {
+    ScanImage& out = *s.out;
+    const size_t i = out.Index(u, v);
+    auto no_return = [&] {
+        out.range_mm[i] = 0;
+        out.signal[i] = 0;
+        out.reflectivity[i] = 0;
+        out.element_id[i] = kNoElement;
+    };
+    if (!hit.hit) return no_return();
+    ++counts->hits;
+    const NoiseModel& nm = *s.noise;
+    const double r = hit.t;
+    if (r < nm.min_range_m) {
+        ++counts->too_close;
+        return no_return();
+    }
+    // cos a = |n . dir| / |n| (dir is unit); a degenerate normal counts as normal incidence.
+    const float ng2 = hit.normal.squaredNorm();
+    const double cos_inc =
+        ng2 > 0 ? std::min(1.0, std::abs(hit.normal.dot(dir)) / std::sqrt(double(ng2))) : 1.0;
+    // Dropout (lidar_simulator.hpp): p = base + gain_a (1 - cos a)^e_a + gain_r (r / max)^e_r.
+    const PixelRandom random(s.key, i);
+    double p = nm.dropout_base;
+    if (nm.dropout_incidence_gain > 0) {
+        p += nm.dropout_incidence_gain * s.incidence_power(1.0 - cos_inc);
+    }
+    if (nm.dropout_range_gain > 0) {
+        p += nm.dropout_range_gain * s.range_power(r * s.inv_max_range);
+    }
+    if (p > 0 && random.Uniform(0) <= p) {
+        ++counts->dropouts;
+        return no_return();
+    }
+    double measured = r;
+    if (nm.range_sigma_m > 0) measured += nm.range_sigma_m * random.Gaussian();
+    if (measured < nm.min_range_m) {
+        ++counts->too_close;
+        return no_return();
+    }
+    // Quantisation: range_mm = step * round(r' 1000 / step). Below 2^32: r' <= max_range_m (1e6)
+    // + 8.2 range_sigma_m (100; the largest |z| of PixelRandom::Gaussian), and the
+    // rounding adds at most step / 2 < 2^30 mm.
+    const double mm = nm.range_resolution_mm * RoundNonNegative(measured * s.steps_per_m);
+    if (mm <= 0) {  // min_range_m = 0 and a range that rounds to 0: 0 would read as no return
+        ++counts->too_close;
+        return no_return();
+    }
+    ++counts->returns;
+    out.range_mm[i] = static_cast<uint32_t>(mm);
+    out.element_id[i] = s.scene->ids[hit.prim];
+    // Intensity proxy of a Lambertian target (lidar_simulator.hpp): reflectivity is range-
+    // compensated, signal falls with 1 / max(r, 1 m)^2.
+    const double lambert = nm.albedo * cos_inc;
+    out.reflectivity[i] = static_cast<uint8_t>(RoundNonNegative(100.0 * lambert));
+    const double rr = std::max(r, 1.0);
+    out.signal[i] = static_cast<uint16_t>(
+        RoundNonNegative(std::min(65535.0, nm.signal_at_1m * lambert / (rr * rr))));
+}
+
+// Casts columns [v0, v1) in packets of K rays: consecutive beams of a column, then the next
+// column (column-major), so a packet's rays start within millimetres of each other and fan out
+// over a few degrees: coherent rays, which Embree's packet traversal shares work between.
+template <int K>
+Counts CastColumns(const Setup& s, int v0, int v1) {
+    Counts counts;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    if constexpr (K > 1) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    // Zeroed once: lanes left inactive in the last packet of a block then hold no garbage.
+    typename Packet<K>::RayHit rh{};
+    alignas(64) int valid[K > 1 ? K : 1] = {};
+    int lane_u[K], lane_v[K];
+    Eigen::Vector3f lane_dir[K];
+    int lanes = 0;
+    auto flush = [&] {
+        if constexpr (K == 1) {
+            rtcIntersect1(s.scene->scene, &context, &rh);
+        } else {
+            for (int i = lanes; i < K; ++i) valid[i] = 0;
+            Packet<K>::Intersect(valid, s.scene->scene, &context, &rh);
+        }
+        for (int i = 0; i < lanes; ++i) {
+            Measure(s, lane_u[i], lane_v[i], lane_dir[i], GetLane<K>(rh, i), &counts);
+        }
+        lanes = 0;
+    };
+    for (int v = v0; v < v1; ++v) {
+        const Eigen::Isometry3d& T_ws = s.poses[v * s.pose_stride];
+        const Eigen::Matrix3d M = T_ws.linear() * s.R_sensor_lidar;  // lidar to world
+        const Eigen::Vector3d b = T_ws.linear() * s.t_sensor_lidar_m + T_ws.translation();
+        const double ce = s.cos_e[v], se = s.sin_e[v];
+        for (int u = 0; u < s.h; ++u) {
+            // The spec's ray ("Range -> XYZ", see LidarModel::Direction and Origin), from the
+            // per-beam and per-column cos/sin tables: cos and sin of theta_e + theta_a by the
+            // angle-sum identities (equal to the direct evaluation to ~1e-16).
+            const double c = ce * s.cos_a[u] - se * s.sin_a[u];
+            const double sn = se * s.cos_a[u] + ce * s.sin_a[u];
+            const Eigen::Vector3d dir(c * s.cos_phi[u], sn * s.cos_phi[u], s.sin_phi[u]);
+            const Eigen::Vector3d off(s.n_m * ce - s.d_m * dir.x(), s.n_m * se - s.d_m * dir.y(),
+                                      -s.d_m * dir.z() + s.z0_m);
+            const Eigen::Vector3f d_w = (M * dir).cast<float>();
+            const Eigen::Vector3f o_w = (M * off + b).cast<float>();
+            SetLane<K>(rh, lanes, o_w, d_w, s.t_near, s.t_far);
+            if constexpr (K > 1) valid[lanes] = -1;
+            lane_u[lanes] = u, lane_v[lanes] = v, lane_dir[lanes] = d_w;
+            if (++lanes == K) flush();
+        }
+    }
+    if (lanes > 0) flush();
+    return counts;
+}
+
+// Flush-to-zero and denormals-are-zero while casting (Embree's advice), restored afterwards.
+class ScopedFlushDenormals {
+public:
+#if defined(__SSE__)
+    ScopedFlushDenormals() : csr_(_mm_getcsr()) { _mm_setcsr(csr_ | 0x8040u); }
+    ~ScopedFlushDenormals() { _mm_setcsr(csr_); }
+
+private:
+    unsigned csr_;
+#endif
+};
+
+ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry3d* poses,
+              size_t pose_stride, const NoiseModel& noise, uint64_t seed, ScanImage* out,
+              const SimulatorOptions& options) {
+    model.Validate();
+    noise.Validate();
+    options.Validate();
+    if (out == nullptr) {
+        throw common::Error(StatusCode::kInvalidArgument, "SimulateScan: out is null");
+    }
+    const size_t pose_count = pose_stride == 0 ? 1 : static_cast<size_t>(model.columns);
+    for (size_t k = 0; k < pose_count; ++k) {
+        if (!common::IsValidRigid(poses[k])) {
+            throw common::Error(StatusCode::kInvalidArgument,
+                                "SimulateScan: T_world_sensor of column " + std::to_string(k) +
+                                    " is not a rigid transform");
+        }
+    }
+    Setup s;
+    s.scene = &scene.impl();
+    s.noise = &noise;
+    s.out = out;
+    s.h = model.beams();
+    s.w = model.columns;
+    out->Resize(s.h, s.w);
+    constexpr double kDeg = M_PI / 180.0;
+    for (int u = 0; u < s.h; ++u) {
+        const double theta_a = -model.beam_azimuth_deg[u] * kDeg;
+        const double phi = model.beam_altitude_deg[u] * kDeg;
+        s.cos_a.push_back(std::cos(theta_a));
+        s.sin_a.push_back(std::sin(theta_a));
+        s.cos_phi.push_back(std::cos(phi));
+        s.sin_phi.push_back(std::sin(phi));
+    }
+    for (int v = 0; v < s.w; ++v) {
+        const double theta_e = 2.0 * M_PI - v * 2.0 * M_PI / s.w;
+        s.cos_e.push_back(std::cos(theta_e));
+        s.sin_e.push_back(std::sin(theta_e));
+    }
+    s.n_m = model.beam_origin_mm * 0.001;
+    s.z0_m = model.beam_z_mm * 0.001;
+    s.d_m = model.BeamOriginDistance();
+    s.R_sensor_lidar = model.lidar_to_sensor_transform.topLeftCorner<3, 3>();
+    s.t_sensor_lidar_m = model.lidar_to_sensor_transform.topRightCorner<3, 1>() * 0.001;
+    s.poses = poses;
+    s.pose_stride = pose_stride;
+    // Hits closer than the emission point are behind the beam; a negative d (a beam origin on
+    // the far side) is clamped to the table origin.
+    s.t_near = static_cast<float>(std::max(0.0, s.d_m));
+    s.t_far = static_cast<float>(noise.max_range_m);
+    s.key = Mix(seed ^ 0x6A09E667F3BCC909ull);
+    s.incidence_power = Power(noise.dropout_incidence_exponent);
+    s.inv_max_range = 1.0 / noise.max_range_m;
+    s.steps_per_m = 1000.0 / noise.range_resolution_mm;
+    s.range_power = Power(noise.dropout_range_exponent);
+
+    const uint64_t embree_errors = s.scene->error_count.load();
+    std::atomic<size_t> hits{0}, returns{0}, dropouts{0}, too_close{0};
+    auto body = [&](const tbb::blocked_range<int>& range) {
+        ScopedFlushDenormals ftz;
+        Counts c;
+        switch (options.packet_size) {
+            case 1:
+                c = CastColumns<1>(s, range.begin(), range.end());
+                break;
+            case 4:
+                c = CastColumns<4>(s, range.begin(), range.end());
+                break;
+            case 8:
+                c = CastColumns<8>(s, range.begin(), range.end());
+                break;
+            default:
+                c = CastColumns<16>(s, range.begin(), range.end());
+                break;
+        }
+        hits += c.hits, returns += c.returns, dropouts += c.dropouts, too_close += c.too_close;
+    };
+    auto run = [&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, s.w, options.columns_per_task), body);
+    };
+    if (options.max_threads > 0) {
+        tbb::task_arena arena(options.max_threads);
+        arena.execute(run);
+    } else {
+        run();
+    }
+    ThrowIfEmbreeFailed(*s.scene, embree_errors, "SimulateScan");
+    ScanStats stats;
+    stats.rays = model.pixels();
+    stats.hits = hits, stats.returns = returns, stats.dropouts = dropouts;
+    stats.too_close = too_close;
+    return stats;
+}
+}  // namespace
+
+NoiseModel NoiseModel::Noiseless() {
+    NoiseModel m;
+    m.range_sigma_m = 0.0;
+    m.dropout_base = 0.0;
+    m.dropout_incidence_gain = 0.0;
+    m.dropout_range_gain = 0.0;
+    return m;
+}
+
+void NoiseModel::Validate() const {
+    const char* t = "NoiseModel";
+    Require(NonNegative(range_sigma_m) && range_sigma_m <= 100.0, t, "range_sigma_m", range_sigma_m,
+            "must be in [0, 100]");
+    Require(NonNegative(min_range_m), t, "min_range_m", min_range_m, "must be >= 0");
+    Require(std::isfinite(max_range_m) && max_range_m > min_range_m && max_range_m <= 1e6, t,
+            "max_range_m", max_range_m, "must be > min_range_m and <= 1e6");
+    Require(range_resolution_mm >= 1, t, "range_resolution_mm", range_resolution_mm,
+            "must be >= 1");
+    Require(NonNegative(dropout_base) && dropout_base <= 1, t, "dropout_base", dropout_base,
+            "must be in [0, 1]");
+    Require(NonNegative(dropout_incidence_gain), t, "dropout_incidence_gain",
+            dropout_incidence_gain, "must be >= 0");
+    Require(std::isfinite(dropout_incidence_exponent) && dropout_incidence_exponent > 0, t,
+            "dropout_incidence_exponent", dropout_incidence_exponent, "must be > 0");
+    Require(NonNegative(dropout_range_gain), t, "dropout_range_gain", dropout_range_gain,
+            "must be >= 0");
+    Require(std::isfinite(dropout_range_exponent) && dropout_range_exponent > 0, t,
+            "dropout_range_exponent", dropout_range_exponent, "must be > 0");
+    Require(NonNegative(albedo) && albedo <= 1, t, "albedo", albedo, "must be in [0, 1]");
+    Require(NonNegative(signal_at_1m), t, "signal_at_1m", signal_at_1m, "must be >= 0");
+}
+
+void SimulatorOptions::Validate() const {
+    const char* t = "SimulatorOptions";
+    Require(packet_size == 1 || packet_size == 4 || packet_size == 8 || packet_size == 16, t,
+            "packet_size", packet_size, "must be 1, 4, 8 or 16");
+    Require(columns_per_task >= 1, t, "columns_per_task", columns_per_task, "must be >= 1");
+    Require(max_threads >= 0, t, "max_threads", max_threads, "must be >= 0");
+}
+
+void ScanImage::Resize(int beams, int columns) {
+    h = beams;
+    w = columns;
+    const size_t n = static_cast<size_t>(beams) * columns;
+    range_mm.resize(n);
+    signal.resize(n);
+    reflectivity.resize(n);
+    element_id.resize(n);
+}
+
+ScanStats SimulateScan(const Scene& scene, const LidarModel& model,
+                       const Eigen::Isometry3d& T_world_sensor, const NoiseModel& noise,
+                       uint64_t seed, ScanImage* out, const SimulatorOptions& options) {
+    return Run(scene, model, &T_world_sensor, 0, noise, seed, out, options);
+}
+
+ScanStats SimulateScan(const Scene& scene, const LidarModel& model,
+                       std::span<const Eigen::Isometry3d> T_world_sensor_per_column,
+                       const NoiseModel& noise, uint64_t seed, ScanImage* out,
+                       const SimulatorOptions& options) {
+    model.Validate();
+    if (T_world_sensor_per_column.size() != static_cast<size_t>(model.columns)) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            "SimulateScan: " + std::to_string(T_world_sensor_per_column.size()) +
+                                " poses for " + std::to_string(model.columns) + " columns");
+    }
+    return Run(scene, model, T_world_sensor_per_column.data(), 1, noise, seed, out, options);
+}
+
+ScanStats SimulateScan(const Scene& scene, const LidarModel& model,
+                       const std::function<Eigen::Isometry3d(int column)>& T_world_sensor_at,
+                       const NoiseModel& noise, uint64_t seed, ScanImage* out,
+                       const SimulatorOptions& options) {
+    model.Validate();
+    std::vector<Eigen::Isometry3d> poses(static_cast<size_t>(model.columns));
+    for (int v = 0; v < model.columns; ++v) poses[v] = T_world_sensor_at(v);
+    return SimulateScan(scene, model, std::span<const Eigen::Isometry3d>(poses), noise, seed, out,
+                        options);
+}
+
+}  // namespace bimslam::simulation

@@ -1,0 +1,73 @@
+// A triangle mesh made ready for ray casting (an Embree 3 BVH), with one id per triangle (for a
+// BIM model the index of the element the triangle belongs to).
+//
+// Built and committed once in the constructor, read-only afterwards: every query is thread-safe.
+// The Embree device and scene are owned here (RAII) and never appear in this header, so users of
+// the simulation need no Embree includes. Errors reported by Embree (its error callback and
+// rtcGetDeviceError) become common::Error carrying Embree's error code and text.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "algorithms/common/triangle_mesh.hpp"
+
+namespace bimslam::simulation {
+
+struct SceneConfig {
+    // Embree's RTC_SCENE_FLAG_ROBUST: no optimisations that lose accuracy, so rays through
+    // shared edges and vertices of a closed mesh do not slip through. Costs a few per cent.
+    bool robust = true;
+    // RTC_BUILD_QUALITY_HIGH (SAH with spatial splits): slower to build, faster to trace; worth
+    // it for a scene built once and cast against millions of times.
+    bool high_quality_build = true;
+};
+
+class Scene {
+public:
+    // triangle_ids: one per triangle of mesh (e.g. the BIM element index); empty means each
+    // triangle's id is its own index. Throws common::Error (kInvalidArgument) for an index out of
+    // range, a non-finite vertex or an id list of the wrong length; (kInternal, or Embree's own
+    // code) when Embree fails, with Embree's message. An empty mesh is a valid scene that every
+    // ray misses.
+    explicit Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_ids = {},
+                   const SceneConfig& config = {});
+    ~Scene();
+    Scene(Scene&& other) noexcept;
+    Scene& operator=(Scene&& other) noexcept;
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    size_t triangle_count() const;
+    // The id of triangle i (i < triangle_count()).
+    uint32_t TriangleId(uint32_t i) const;
+    // Bounds of the geometry; an empty box for an empty scene.
+    Eigen::AlignedBox3f Bounds() const;
+
+    struct Hit {
+        float t = 0;            // distance along the (unit) direction
+        uint32_t triangle = 0;  // index into the mesh's triangles
+        uint32_t id = 0;        // TriangleId(triangle)
+        // Unit geometric normal, on the side the triangle's counter-clockwise winding faces.
+        Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    };
+    // The closest hit of origin + t * direction for t in [t_near, t_far] (direction need not be
+    // unit; t is then in its units), or nullopt. Thread-safe.
+    std::optional<Hit> Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                                 float t_near = 0.0f,
+                                 float t_far = std::numeric_limits<float>::infinity()) const;
+
+    // The Embree objects, for the simulation's own sources (embree_scene.hpp defines it).
+    struct Impl;
+    const Impl& impl() const { return *impl_; }
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace bimslam::simulation
