@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages bimslam needs; nothing else.
+# Installs the Debian 12 packages bimslam needs (and, with --test, the npm package of a test tool).
 # Idempotent: when everything is present it only asks dpkg (about a second) and changes nothing.
 # Usage: sudo toolchain/install-deps.sh [--test]
 #   (no flag)  what building and running need (`make demo`)
-#   --test     also the third-party tools the tests run against our files (`make test`)
+#   --test     also the third-party tools the tests run against our files (`make test`), and
+#              web-ifc (npm ci in tests/tools/web_ifc) when its node_modules is missing
 set -euo pipefail
 
 packages=(
@@ -25,11 +26,15 @@ packages=(
     iproute2
 )
 # The real readers our files must open in (tests/integration/io_interop_test.cpp): PCL's tools,
-# Open3D (with numpy) for Debian's python3, CloudCompare; and clang with its libFuzzer runtime
-# for the fuzz targets (preset `fuzz`).
-test_packages=(pcl-tools python3-open3d cloudcompare clang libclang-rt-14-dev)
+# Open3D (with numpy) for Debian's python3, CloudCompare; Node.js for web-ifc, the second IFC
+# engine the sample building must open in (tests/tools/web_ifc, sample_building_test.cpp); and
+# clang with its libFuzzer runtime for the fuzz targets (preset `fuzz`).
+test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
+    # Debian's npm, unless npm is there already: a nodejs from NodeSource bundles its own and
+    # conflicts with Debian's package.
+    command -v npm >/dev/null 2>&1 || packages+=(npm)
 elif [[ $# -gt 0 ]]; then
     echo "usage: $0 [--test]" >&2
     exit 2
@@ -43,17 +48,24 @@ done
 
 if [[ ${#missing[@]} -eq 0 ]]; then
     echo "install-deps: all ${#packages[@]} Debian packages are present"
-    exit 0
+else
+    echo "install-deps: missing: ${missing[*]}"
+    if [[ $EUID -ne 0 ]]; then
+        echo "install-deps: installing packages needs root. Run:" >&2
+        echo "    sudo $0 $*" >&2
+        echo "then run your make command again." >&2
+        exit 1
+    fi
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}"
+    echo "install-deps: installed ${#missing[@]} packages"
 fi
 
-echo "install-deps: missing: ${missing[*]}"
-if [[ $EUID -ne 0 ]]; then
-    echo "install-deps: installing packages needs root. Run:" >&2
-    echo "    sudo $0 $*" >&2
-    echo "then run your make command again." >&2
-    exit 1
+# web-ifc for tests/tools/web_ifc, from the npm registry at the version its package-lock.json
+# pins; node_modules stays in the source tree (git-ignored).
+web_ifc="$(cd "$(dirname "$0")/.." && pwd)/tests/tools/web_ifc"
+if [[ "${1:-}" == "--test" && ! -d "$web_ifc/node_modules/web-ifc" ]]; then
+    echo "install-deps: installing web-ifc (npm ci in tests/tools/web_ifc)"
+    npm ci --prefix "$web_ifc" --no-audit --no-fund --loglevel=error
 fi
-export DEBIAN_FRONTEND=noninteractive
-apt-get update -qq
-apt-get install -y -qq --no-install-recommends "${missing[@]}"
-echo "install-deps: installed ${#missing[@]} packages"

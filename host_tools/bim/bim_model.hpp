@@ -6,8 +6,10 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "algorithms/common/triangle_mesh.hpp"
@@ -24,6 +26,8 @@ struct BimStorey {
 // roofs, coverings; railings configurable) or the rest (doors, windows, curtain walls, spaces,
 // furniture, proxies: things a LiDAR sees through, or that move). The paper's semantic filter.
 enum class ElementRole : uint8_t { kStructure, kTransient };
+// "structure" / "transient".
+std::string_view ToString(ElementRole role);
 
 struct BimElement {
     std::string global_id;
@@ -51,11 +55,25 @@ struct BimModel {
     // Every IfcProduct subtype in the file (spaces included, with or without geometry) -> count.
     std::map<std::string, size_t> class_counts;
     std::vector<FailedElement> failed;
+    // What the reader reported while loading (IFC++'s messages, deduplicated, "<class> <GlobalId>:
+    // <message>" when about one element), at most a few hundred; warning_count counts them all.
+    std::vector<std::string> warnings;
+    size_t warning_count = 0;
 
-    common::TriangleMesh mesh;              // metres, the model's coordinate system ("bim" frame)
+    // Metres, the model's coordinate system ("bim" frame) minus origin_m. Vertices are never shared
+    // between elements: each element's triangles index only its own vertices.
+    common::TriangleMesh mesh;
     std::vector<uint32_t> triangle_element;  // per triangle: index into elements
+    // Zero unless the geometry lies far (> 10 km) from the model's origin: then the mesh is stored
+    // relative to this point (whole metres) so that float vertices keep millimetres.
+    Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();
 
-    Eigen::AlignedBox3d Bounds() const;  // of the mesh; empty box when there is no geometry
+    // Of the mesh, in the model's coordinates (origin_m added); an empty box without geometry.
+    Eigen::AlignedBox3d Bounds() const;
 };
+
+// The elements `keep` accepts, with their triangles and only the vertices those use (indices
+// renumbered, order kept); storeys, class counts, failures and warnings are copied as they are.
+BimModel SelectElements(const BimModel& model, const std::function<bool(const BimElement&)>& keep);
 
 }  // namespace bimslam::bim

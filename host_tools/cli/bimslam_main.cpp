@@ -14,6 +14,12 @@ int main(int argc, char** argv) {
     bimslam::cli::AddDemoCommand(app, exit_code);
     bimslam::cli::AddOusterCommands(app, exit_code);
     bimslam::cli::AddSessionCommands(app, exit_code);
+    auto* bim = app.add_subcommand("bim", "Building models (IFC): inspect, export, sample, plan");
+    bim->require_subcommand(1);
+    bimslam::cli::AddBimCommands(*bim, exit_code);
+    bimslam::cli::AddBimSampleCommand(*bim, exit_code);
+    bimslam::cli::AddBimPlanCommand(*bim, exit_code);
+    bimslam::cli::AddBim2SessionCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -20,5 +20,11 @@ void AddSessionCommands(CLI::App& app, int& exit_code);
 void AddCanCommands(CLI::App& app, int& exit_code);
 void AddDemoCommand(CLI::App& app, int& exit_code);
 void AddOusterCommands(CLI::App& app, int& exit_code);
+// `bim` is the `bimslam bim` subcommand: adds `bimslam bim sample`.
+void AddBimSampleCommand(CLI::App& bim, int& exit_code);
+// `bim` is the `bimslam bim` subcommand: adds `bimslam bim info` and `bimslam bim mesh`.
+void AddBimCommands(CLI::App& bim, int& exit_code);
+void AddBimPlanCommand(CLI::App& bim, int& exit_code);
+void AddBim2SessionCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

@@ -1,8 +1,10 @@
 // bimslam demo: the main job end to end on data the project makes itself. It grows with every
-// issue; for now: walk a synthetic office storey twice and record it as an Ouster capture (pcap +
-// metadata), decode the capture with the driver, keep keyframes with Scan Context descriptors,
-// write them as a session, read the session back and check it bit for bit, and recognise the
-// places of the second lap among the keyframes of the first.
+// issue; for now: write the sample building as IFC and read it back (IFC++), turn it into its
+// BIM reference session (Step 1: grids, walks through every room, simulated scans), record a
+// rig's walk through the same building as an Ouster capture (pcap + metadata), decode the
+// capture with the driver into keyframes with Scan Context descriptors, write them as a session,
+// read the session back and check it bit for bit, and recognise the rig's places among the
+// reference's keyframes.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -20,7 +22,11 @@
 #include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/cli/command.hpp"
 #include "host_tools/cli/demo_capture.hpp"
-#include "host_tools/cli/demo_scene.hpp"
+#include "algorithms/io/sha256.hpp"
+#include "host_tools/bim/coverage_path.hpp"
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/bim/reference_session.hpp"
+#include "host_tools/bim/sample_building.hpp"
 
 namespace bimslam::cli {
 namespace {
@@ -31,7 +37,7 @@ struct DemoOptions {
     std::string out = "demo_output";
     bool overwrite = false;
     int columns = 1024;
-    int laps = 2;
+    int laps = 1;
 };
 
 double Seconds(Clock::time_point since) {
@@ -70,43 +76,86 @@ bool SameCloud(const common::PointCloud& a, const common::PointCloud& b, int64_t
 int RunDemo(const DemoOptions& opt) {
     const auto t_start = Clock::now();
     const fs::path out = opt.out;
+    const fs::path building_file = out / "building.ifc";
+    const fs::path reference_dir = out / "reference";
+    const fs::path plan_dir = out / "plan";
     const fs::path session_dir = out / "session";
     const fs::path capture_dir = out / "capture";
-    if ((fs::exists(session_dir) || fs::exists(capture_dir)) && !opt.overwrite) {
-        throw common::FileError(common::StatusCode::kAlreadyExists, out.string(), 0,
-                                "holds an earlier demo; pass --overwrite or choose another --out");
+    for (const fs::path& p : {building_file, reference_dir, session_dir, capture_dir}) {
+        if (fs::exists(p) && !opt.overwrite) {
+            throw common::FileError(common::StatusCode::kAlreadyExists, out.string(), 0,
+                                    "holds an earlier demo; pass --overwrite or choose another --out");
+        }
     }
     fs::remove_all(capture_dir);
     fs::create_directories(capture_dir);
+    std::cout << std::fixed << std::setprecision(1);
 
-    // 1. The walk, recorded as an Ouster capture: pcap + metadata, as a real rig would save.
-    const DemoScene scene = DemoScene::Office();
-    const double lap_m = scene.LoopLength();
-    const double speed = 1.0, sensor_z = 0.6;  // a Go1's pace and lidar height
-    // The low-data-rate profile (8 mm range steps) keeps the demo's capture near 0.25 GB.
+    // 1. The building: the project's sample office as IFC4, read back through IFC++.
+    const auto t_building = Clock::now();
+    bim::WriteSampleBuilding(building_file);
+    const bim::BimModel model = bim::LoadIfc(building_file);
+    std::cout << "bimslam demo: the sample office building, " << model.storeys.size()
+              << " storeys, " << model.elements.size() << " elements, "
+              << model.mesh.triangles.size() << " triangles (IFC4 written and read back through "
+              << "IFC++ in " << std::setprecision(2) << Seconds(t_building) << " s)\n"
+              << std::setprecision(1) << "           " << building_file.string() << "\n";
+
+    // 2. Step 1: its reference session, scans simulated along a walk through every room.
+    bim::ReferenceSessionOptions ro;
+    ro.plan_dir = plan_dir;
+    ro.overwrite = opt.overwrite;
+    ro.lidar = simulation::LidarModel::DefaultOs1_32(opt.columns);
+    const auto t_reference = Clock::now();
+    const bim::ReferenceSessionReport ref =
+        bim::WriteReferenceSession(model, io::Sha256File(building_file), reference_dir, ro);
+    const double reference_s = Seconds(t_reference);
+    int rooms = 0;
+    double walk_m = 0;
+    for (const auto& st : ref.storeys) {
+        rooms += st.rooms;
+        walk_m += st.walk_m;
+    }
+    std::cout << "  reference " << ref.keyframes << " keyframes along " << walk_m
+              << " m of walk through " << rooms << " rooms, the structure ray-cast in "
+              << reference_s << " s (" << std::setprecision(0) << ref.walk_s / reference_s
+              << "x real time at 0.5 m/s)\n" << std::setprecision(1) << "           "
+              << reference_dir.string() << ", grids and walks in " << plan_dir.string() << "\n";
+
+    // 3. The rig's walk of the ground floor, recorded as an Ouster capture (pcap + metadata) as a
+    //    real rig would save it: the same rooms at a Go1's pace (1 m/s), starting halfway round
+    //    and 0.15 m beside the reference walk, in the real building: furniture and doors, which
+    //    the reference leaves out, are there.
+    bim::PathConfig rig_path;
+    rig_path.speed_mps = 1.0;
+    const bim::OccupancyGrid grid = bim::BuildOccupancyGrid(model, 0, {});
+    const bim::CoveragePath walk = bim::PlanCoveragePath(grid, rig_path);
+    const double lap_m = walk.length_m;
+    // The low-data-rate profile (8 mm range steps) keeps the demo's capture small.
     const ouster::SensorInfo sensor =
         ouster::BuiltinOs1_32(ouster::LidarProfile::kRng15Rfl8Nir8, opt.columns, 10);
-    const int frames_per_lap = static_cast<int>(lap_m / speed * sensor.frame_rate_hz);
+    const std::vector<io::StampedPose> lap = bim::SampleWalk(walk.poses, sensor.frame_rate_hz);
+    const int frames_per_lap = static_cast<int>(lap.size());
     std::vector<Eigen::Isometry3d> poses;
-    for (int lap = 0; lap < opt.laps; ++lap) {
-        const double offset = 0.25 * lap;  // later laps walk beside the first
-        for (int k = 0; k < frames_per_lap; ++k) {
-            poses.push_back(scene.PoseAt(k * speed / sensor.frame_rate_hz, offset, sensor_z));
-        }
+    Eigen::Isometry3d beside = Eigen::Isometry3d::Identity();
+    beside.translation().y() = 0.15;  // to the left of the walk
+    for (int k = 0; k < opt.laps * frames_per_lap; ++k) {
+        poses.push_back(lap[size_t((k + frames_per_lap / 2) % frames_per_lap)].Pose() * beside);
     }
-    std::cout << std::fixed << std::setprecision(1);
-    std::cout << "bimslam demo: synthetic office storey (" << scene.walls.size()
-              << " wall faces), walked " << opt.laps << " times (" << lap_m << " m a lap)\n";
+    const simulation::Scene world(model.mesh, model.triangle_element);
+    simulation::NoiseModel noise;
+    noise.range_resolution_mm = 8;
     const auto t_capture = Clock::now();
-    const DemoCapture capture = WriteDemoCapture(scene, poses, sensor, capture_dir, 0.01, 7);
-    std::cout << "  captured " << poses.size() << " frames of a built-in OS-1-32 "
+    const DemoCapture capture = WriteDemoCapture(world, poses, sensor, capture_dir, noise, 7);
+    std::cout << "  captured " << poses.size() << " frames (" << opt.laps << " x " << lap_m
+              << " m of the ground floor) of a built-in OS-1-32 "
               << ToString(sensor.format.lidar_profile) << " " << sensor.lidar_mode << ": "
               << capture.packets << " lidar packets in IPv4 fragments, "
               << fs::file_size(capture.pcap) / 1e6 << " MB, in " << Seconds(t_capture)
               << " s\n           " << capture.pcap.string() << " + "
               << capture.metadata.filename().string() << "\n";
 
-    // 2. Decode it like any real recording; keep keyframes (1 m / 10 deg, on the true poses
+    // 4. Decode it like any real recording; keep keyframes (1 m / 10 deg, on the true poses
     //    until the LiDAR odometry exists) with indoor Scan Context descriptors.
     const auto t_decode = Clock::now();
     const ouster::SensorInfo info = ouster::LoadMetadata(capture.metadata);
@@ -115,14 +164,13 @@ int RunDemo(const DemoOptions& opt) {
     scancontext::DescriptorBuilder builder(sc);
     io::SessionManifest manifest;
     manifest.source = "simulation";
-    manifest.world_frame = "world";
+    manifest.world_frame = "bim";
     manifest.sensor = {info.prod_line, info.format.pixels_per_column, info.format.columns_per_frame,
                        capture.metadata.string()};
     manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
                            sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
     io::SessionWriter writer(session_dir, manifest, {.overwrite = opt.overwrite});
     std::vector<io::SessionKeyframe> keyframes;
-    std::vector<int> lap_of;
     Eigen::Isometry3d last_key = Eigen::Isometry3d::Identity();
     size_t frames = 0, points = 0, keyframe_points = 0;
     common::PointCloud cloud;
@@ -160,7 +208,6 @@ int RunDemo(const DemoOptions& opt) {
         }
         last_key = T;
         keyframes.push_back(std::move(kf));
-        lap_of.push_back(static_cast<int>(k) / frames_per_lap);
     }
     writer.Finish();
     const double decode_s = Seconds(t_decode);
@@ -180,7 +227,7 @@ int RunDemo(const DemoOptions& opt) {
                                 " complete frames of " + std::to_string(poses.size()));
     }
 
-    // 3. Read the session back and compare everything.
+    // 5. Read the session back and compare everything.
     const auto t_read = Clock::now();
     const io::Session s = io::ReadSession(session_dir);
     size_t identical = 0;
@@ -201,36 +248,35 @@ int RunDemo(const DemoOptions& opt) {
                  "within "
               << max_t_error_ns << " ns (float32 seconds in PCD)\n";
 
-    // 4. Place recognition: later laps against the first.
+    // 6. Place recognition across sessions, the start of Step 2: each rig keyframe against all
+    //    keyframes of the BIM reference (both storeys) by Scan Context.
+    const io::Session reference = io::ReadSession(reference_dir, {.load_clouds = false});
     scancontext::CandidateIndex index(sc);
-    std::vector<size_t> first_lap;
-    for (size_t i = 0; i < s.keyframes.size(); ++i) {
-        if (lap_of[i] == 0) {
-            first_lap.push_back(i);
-            if (!index.Add(s.keyframes[i].descriptor).ok()) return kExitFailure;
-        }
+    for (const auto& kf : reference.keyframes) {
+        if (!index.Add(kf.descriptor).ok()) return kExitFailure;
     }
     index.Build();
-    int queries = 0, found = 0;
+    int found = 0;
     double yaw_err_sum = 0.0;
-    for (size_t i = 0; i < s.keyframes.size(); ++i) {
-        if (lap_of[i] == 0) continue;
-        ++queries;
-        const auto match = index.Query(s.keyframes[i].descriptor);
+    for (const auto& kf : s.keyframes) {
+        const auto match = index.Query(kf.descriptor);
         if (!match) continue;
-        const auto& ref = s.keyframes[first_lap[match->index]].T_world_lidar;
-        const auto& qry = s.keyframes[i].T_world_lidar;
-        if ((ref.translation() - qry.translation()).norm() > 2.0) continue;
+        const auto& T_ref = reference.keyframes[match->index].T_world_lidar;
+        if ((T_ref.translation() - kf.T_world_lidar.translation()).norm() > 2.0) continue;
         ++found;
-        yaw_err_sum += std::abs(WrapAngle(match->yaw - (Yaw(qry) - Yaw(ref))));
+        yaw_err_sum +=
+            std::abs(WrapAngle(match->yaw - (Yaw(kf.T_world_lidar) - Yaw(T_ref))));
     }
-    std::cout << "  matched  " << found << "/" << queries
-              << " keyframes of the later laps to a first-lap keyframe within 2 m by Scan Context"
+    std::cout << "  matched  " << found << "/" << s.keyframes.size()
+              << " rig keyframes to a BIM reference keyframe within 2 m by Scan Context"
               << (found
                       ? ", mean yaw error " + FixedString(yaw_err_sum / found * 180 / M_PI) + " deg"
                       : "")
               << "\n";
     std::cout << "results in " << out.string() << "/:\n"
+              << "  building.ifc  the sample building (bimslam bim info " << building_file.string()
+              << ")\n"
+              << "  reference/    its BIM reference session; plan/ its grids and walks (PGM, PNG, TUM)\n"
               << "  capture/  lidar.pcap + metadata.json   (bimslam ouster info "
               << capture.pcap.string() << ")\n"
               << "  session/  keyframes, poses, descriptors (bimslam session info "
@@ -253,7 +299,7 @@ void AddDemoCommand(CLI::App& app, int& exit_code) {
     demo->add_option("--columns", opt->columns, "columns per scan (512, 1024 or 2048)")
         ->check(CLI::IsMember({512, 1024, 2048}))
         ->capture_default_str();
-    demo->add_option("--laps", opt->laps, "laps of the walk (the first is the reference)")
+    demo->add_option("--laps", opt->laps, "laps of the rig's walk of the ground floor")
         ->check(CLI::Range(1, 10))
         ->capture_default_str();
     demo->callback([opt, &exit_code] { exit_code = Run([&] { return RunDemo(*opt); }); });

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "algorithms/io/npy.hpp"
+#include "algorithms/io/ply.hpp"
 #include "drivers/can/candump.hpp"
 #include "drivers/can/go1_encoder.hpp"
 #include "drivers/net/ipv4.hpp"
@@ -294,6 +295,148 @@ TEST(Cli, CanInfoAndDecodeOfAGo1Log) {
     const auto missing = test::RunCommand(kCli + " can info " + (tmp / "nope.log").string());
     EXPECT_EQ(missing.exit_code, 2);
     EXPECT_NE(missing.err.find("nope.log"), std::string::npos) << missing.err;
+}
+
+}  // namespace
+}  // namespace bimslam
+
+namespace bimslam {
+namespace {
+
+// A small IFC4 building in millimetres: one storey ("Ground floor", elevation 0) holding a
+// 4 x 0.2 x 2.5 m wall (structure) and, 1 m in front of it, a 1 x 0.05 x 1.2 m window
+// (transient), both centred on x = 0.
+std::string SmallIfc() {
+    auto box = [](int id, const char* dx, const char* dy, const char* dz) {
+        const std::string n[6] = {"#" + std::to_string(id),     "#" + std::to_string(id + 1),
+                                  "#" + std::to_string(id + 2), "#" + std::to_string(id + 3),
+                                  "#" + std::to_string(id + 4), "#" + std::to_string(id + 5)};
+        return n[0] + "=IFCPRODUCTDEFINITIONSHAPE($,$,(" + n[1] + "));\n" + n[1] +
+               "=IFCSHAPEREPRESENTATION(#10,'Body','SweptSolid',(" + n[2] + "));\n" + n[2] +
+               "=IFCEXTRUDEDAREASOLID(" + n[3] + ",#11,#13," + dz + ");\n" + n[3] +
+               "=IFCRECTANGLEPROFILEDEF(.AREA.,$," + n[4] + "," + dx + "," + dy + ");\n" + n[4] +
+               "=IFCAXIS2PLACEMENT2D(" + n[5] + ",$);\n" + n[5] + "=IFCCARTESIANPOINT((0.,0.));\n";
+    };
+    return "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION((''),'2;1');\n"
+           "FILE_NAME('small.ifc','2024-01-01T00:00:00',(''),(''),'','','');\n"
+           "FILE_SCHEMA(('IFC4'));\nENDSEC;\nDATA;\n"
+           "#1=IFCPROJECT('0YvctVUKr0kugbFTf53O9L',$,'Small',$,$,$,$,(#10),#2);\n"
+           "#2=IFCUNITASSIGNMENT((#3));\n#3=IFCSIUNIT(*,.LENGTHUNIT.,.MILLI.,.METRE.);\n"
+           "#10=IFCGEOMETRICREPRESENTATIONCONTEXT($,'Model',3,1.0E-5,#11,$);\n"
+           "#11=IFCAXIS2PLACEMENT3D(#12,$,$);\n#12=IFCCARTESIANPOINT((0.,0.,0.));\n"
+           "#13=IFCDIRECTION((0.,0.,1.));\n"
+           "#20=IFCBUILDING('2FCZDorxHDT8NI01kdXi8P',$,'B',$,$,#21,$,$,.ELEMENT.,$,$,$);\n"
+           "#21=IFCLOCALPLACEMENT($,#11);\n"
+           "#22=IFCRELAGGREGATES('3qzoyCPy1CtfV237Rle9$t',$,$,$,#1,(#20));\n"
+           "#30=IFCBUILDINGSTOREY('0w984V0GL6yR4z75YWgVfX',$,'Ground floor',$,$,#31,$,$,"
+           ".ELEMENT.,0.);\n#31=IFCLOCALPLACEMENT(#21,#11);\n"
+           "#36=IFCRELAGGREGATES('2KCuWpxWz0dOIBT1KsPqR1',$,$,$,#20,(#30));\n"
+           "#40=IFCWALL('3vB2YO$MX4xv5uCqZZG05x',$,'Wall',$,$,#31,#45,$,.STANDARD.);\n" +
+           box(45, "4000.", "200.", "2500.") +
+           "#60=IFCWINDOW('2Vo8NEJIz6hgbV0aHAHFZb',$,'Window',$,$,#61,#65,$,$,$,$,$,$);\n"
+           "#61=IFCLOCALPLACEMENT(#31,#62);\n#62=IFCAXIS2PLACEMENT3D(#63,$,$);\n"
+           "#63=IFCCARTESIANPOINT((0.,-1000.,800.));\n" +
+           box(65, "1000.", "50.", "1200.") +
+           "#80=IFCRELCONTAINEDINSPATIALSTRUCTURE('3Sa3dTJGn0H8TQIGiuGQd5',$,$,$,(#40,#60),#30);\n"
+           "ENDSEC;\nEND-ISO-10303-21;\n";
+}
+
+TEST(Cli, BimInfoJsonOfAModel) {
+    test::TempDir tmp;
+    test::WriteBytes(tmp / "small.ifc", SmallIfc());
+    const auto r = test::RunCommand(kCli + " bim info --json " + (tmp / "small.ifc").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    for (const char* key :
+         {"file", "schema", "length_unit_m", "storeys", "elements", "bbox_m", "failed", "triangles",
+          "elements_with_geometry", "warnings", "load_s"}) {
+        EXPECT_TRUE(j.contains(key)) << key;
+    }
+    EXPECT_EQ(j.at("file"), (tmp / "small.ifc").string());
+    EXPECT_EQ(j.at("schema"), "IFC4");
+    EXPECT_DOUBLE_EQ(j.at("length_unit_m").get<double>(), 0.001);
+    ASSERT_EQ(j.at("storeys").size(), 1u);
+    EXPECT_EQ(j.at("storeys")[0].at("name"), "Ground floor");
+    EXPECT_EQ(j.at("elements").at("IfcWall"), 1);
+    EXPECT_EQ(j.at("elements").at("IfcWindow"), 1);
+    EXPECT_EQ(j.at("elements_with_geometry"), 2);
+    EXPECT_EQ(j.at("failed").size(), 0u);
+    // Metres, not millimetres (the profiles are centred on their placements).
+    EXPECT_NEAR(j.at("bbox_m")[0][0].get<double>(), -2.0, 1e-6);
+    EXPECT_NEAR(j.at("bbox_m")[1][0].get<double>(), 2.0, 1e-6);
+    EXPECT_NEAR(j.at("bbox_m")[1][2].get<double>(), 2.5, 1e-6);
+    EXPECT_NEAR(j.at("bbox_m")[0][1].get<double>(), -1.025, 1e-6);
+
+    const auto human = test::RunCommand(kCli + " bim info " + (tmp / "small.ifc").string());
+    ASSERT_EQ(human.exit_code, 0) << human.err;
+    EXPECT_NE(human.out.find("Ground floor"), std::string::npos) << human.out;
+}
+
+TEST(Cli, BimInfoOfDamagedModelsExits2NamingTheFile) {
+    test::TempDir tmp;
+    const std::string text = SmallIfc();
+    test::WriteBytes(tmp / "half.ifc", text.substr(0, text.size() / 2));
+    auto r = test::RunCommand(kCli + " bim info " + (tmp / "half.ifc").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find((tmp / "half.ifc").string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("cut off"), std::string::npos) << r.err;
+    std::mt19937 rng(3);
+    test::WriteBytes(tmp / "garbage.ifc", test::RandomBytes(5000, rng));
+    r = test::RunCommand(kCli + " bim info --json " + (tmp / "garbage.ifc").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find((tmp / "garbage.ifc").string()), std::string::npos) << r.err;
+    r = test::RunCommand(kCli + " bim info " + (tmp / "absent.ifc").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("absent.ifc"), std::string::npos) << r.err;
+}
+
+TEST(Cli, BimMeshWritesPlyAndElementTable) {
+    test::TempDir tmp;
+    test::WriteBytes(tmp / "small.ifc", SmallIfc());
+    const std::string model = (tmp / "small.ifc").string();
+    for (const bool all : {false, true}) {
+        const fs::path ply = tmp / (all ? "all.ply" : "structure.ply");
+        const auto r = test::RunCommand(kCli + " bim mesh " + model + " -o " + ply.string() +
+                                        (all ? " --all" : ""));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.out.find(ply.string()), std::string::npos) << r.out;
+        const io::PlyData mesh = io::ReadPly(ply);
+        const auto table =
+            nlohmann::json::parse(std::ifstream(fs::path(ply).replace_extension(".json")));
+        EXPECT_EQ(table.at("model"), model);
+        EXPECT_EQ(table.at("schema"), "IFC4");
+        EXPECT_DOUBLE_EQ(table.at("length_unit_m").get<double>(), 0.001);
+        EXPECT_EQ(table.at("origin_m"), nlohmann::json({0.0, 0.0, 0.0}));
+        const auto& elements = table.at("elements");
+        ASSERT_EQ(elements.size(), all ? 2u : 1u);
+        const io::PlyProperty* element = mesh.Find("element");
+        ASSERT_NE(element, nullptr);
+        EXPECT_EQ(element->type, io::PlyType::kUint32);
+        std::vector<size_t> triangles(elements.size(), 0);
+        for (const auto& t : mesh.triangles) {
+            const auto e = size_t(element->values[t[0]]);
+            ASSERT_LT(e, elements.size());
+            EXPECT_EQ(element->values[t[1]], double(e));
+            ++triangles[e];
+        }
+        for (size_t i = 0; i < elements.size(); ++i) {
+            EXPECT_EQ(elements[i].at("index"), i);
+            EXPECT_EQ(elements[i].at("triangles"), triangles[i]);
+            EXPECT_EQ(elements[i].at("storey"), "Ground floor");
+        }
+        EXPECT_EQ(elements[0].at("class"), "IfcWall");
+        EXPECT_EQ(elements[0].at("global_id"), "3vB2YO$MX4xv5uCqZZG05x");
+        EXPECT_EQ(elements[0].at("role"), "structure");
+        if (all) {
+            EXPECT_EQ(elements[1].at("role"), "transient");
+        }
+        for (const auto& v : mesh.vertices) EXPECT_LE(v.norm(), 5.0f);  // metres
+    }
+    const auto r = test::RunCommand(kCli + " bim mesh " + model + " -o " +
+                                    (tmp / "x.ply").string() + " --storey Attic");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("Ground floor"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(tmp / "x.ply"));
 }
 
 }  // namespace

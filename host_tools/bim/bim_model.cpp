@@ -1,0 +1,66 @@
+#include "host_tools/bim/bim_model.hpp"
+
+#include <limits>
+
+namespace bimslam::bim {
+
+std::string_view ToString(ElementRole role) {
+    switch (role) {
+        case ElementRole::kStructure:
+            return "structure";
+        case ElementRole::kTransient:
+            return "transient";
+    }
+    return "unknown";
+}
+
+Eigen::AlignedBox3d BimModel::Bounds() const {
+    Eigen::AlignedBox3d box;  // empty
+    for (const auto& t : mesh.triangles) {
+        for (const uint32_t v : t) {
+            if (v < mesh.vertices.size()) box.extend(mesh.vertices[v].cast<double>() + origin_m);
+        }
+    }
+    return box;
+}
+
+BimModel SelectElements(const BimModel& model, const std::function<bool(const BimElement&)>& keep) {
+    BimModel out;
+    out.file = model.file;
+    out.schema = model.schema;
+    out.length_unit_m = model.length_unit_m;
+    out.storeys = model.storeys;
+    out.class_counts = model.class_counts;
+    out.failed = model.failed;
+    out.warnings = model.warnings;
+    out.warning_count = model.warning_count;
+    out.origin_m = model.origin_m;
+    constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
+    std::vector<uint32_t> new_index(model.mesh.vertices.size(), kUnused);
+    for (const BimElement& e : model.elements) {
+        if (!keep(e)) continue;
+        BimElement copy = e;
+        copy.first_triangle = static_cast<uint32_t>(out.mesh.triangles.size());
+        const auto element_index = static_cast<uint32_t>(out.elements.size());
+        const size_t end = std::min<size_t>(size_t{e.first_triangle} + e.triangle_count,
+                                            model.mesh.triangles.size());
+        for (size_t t = e.first_triangle; t < end; ++t) {
+            std::array<uint32_t, 3> tri{};
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t v = model.mesh.triangles[t][k];
+                if (new_index[v] == kUnused) {
+                    new_index[v] = static_cast<uint32_t>(out.mesh.vertices.size());
+                    out.mesh.vertices.push_back(model.mesh.vertices[v]);
+                }
+                tri[k] = new_index[v];
+            }
+            out.mesh.triangles.push_back(tri);
+            out.triangle_element.push_back(element_index);
+        }
+        copy.triangle_count = static_cast<uint32_t>(out.mesh.triangles.size()) - copy.first_triangle;
+        out.elements.push_back(std::move(copy));
+    }
+    return out;
+}
+
+}  // namespace bimslam::bim

@@ -1,0 +1,402 @@
+#include "host_tools/bim/occupancy_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+
+namespace bimslam::bim {
+namespace {
+using common::StatusCode;
+
+void Require(bool ok, const char* field, double value, const char* rule) {
+    if (!ok) {
+        throw common::Error(StatusCode::kInvalidArgument, std::string("GridConfig.") + field +
+                                                              " = " + std::to_string(value) +
+                                                              ": " + rule);
+    }
+}
+
+// Not obstacles for a walking robot, even when they are not structure.
+bool PassThrough(const std::string& ifc_class) {
+    for (const char* prefix : {"IfcDoor", "IfcWindow", "IfcSpace", "IfcOpeningElement",
+                               "IfcCurtainWall", "IfcVirtualElement", "IfcAnnotation"}) {
+        if (ifc_class.rfind(prefix, 0) == 0) return true;
+    }
+    return false;
+}
+
+// Doors, windows and curtain walls close the building for telling inside from outside (their
+// footprints up to this height above the floor), yet never block the walk.
+constexpr double kClosureHeightM = 2.5;
+bool Closure(const std::string& ifc_class) {
+    for (const char* prefix : {"IfcDoor", "IfcWindow", "IfcCurtainWall"}) {
+        if (ifc_class.rfind(prefix, 0) == 0) return true;
+    }
+    return false;
+}
+
+// 4-connected components of the cells `in` accepts: per cell its component, or -1.
+template <typename In>
+std::vector<int> Label(const OccupancyGrid& g, In in) {
+    std::vector<int> label(g.cells.size(), -1);
+    std::vector<size_t> stack;
+    int next = 0;
+    for (size_t start = 0; start < g.cells.size(); ++start) {
+        if (label[start] >= 0 || !in(start)) continue;
+        label[start] = next;
+        stack.assign(1, start);
+        while (!stack.empty()) {
+            const size_t i = stack.back();
+            stack.pop_back();
+            const int x = int(i % g.width), y = int(i / g.width);
+            const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+            for (int k = 0; k < 4; ++k) {
+                const int nx = x + dx[k], ny = y + dy[k];
+                if (!g.Inside(nx, ny)) continue;
+                const size_t j = size_t(ny) * g.width + nx;
+                if (label[j] < 0 && in(j)) {
+                    label[j] = next;
+                    stack.push_back(j);
+                }
+            }
+        }
+        ++next;
+    }
+    return label;
+}
+
+// Marks the cells a segment passes through (sampled at a quarter cell, so no cell is skipped).
+void RasterizeSegment(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      std::vector<uint8_t>& mask) {
+    const double len = (b - a).norm();
+    const int steps = std::max(1, int(std::ceil(len / (0.25 * g.resolution))));
+    for (int i = 0; i <= steps; ++i) {
+        int x, y;
+        if (g.ToCell(a + (b - a) * (double(i) / steps), &x, &y)) {
+            mask[size_t(y) * g.width + x] = 1;
+        }
+    }
+}
+
+// The cells whose centres lie in a triangle's xy projection, and its edges.
+void RasterizeTriangle(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                       const Eigen::Vector2d& c, std::vector<uint8_t>& mask) {
+    RasterizeSegment(g, a, b, mask);
+    RasterizeSegment(g, b, c, mask);
+    RasterizeSegment(g, c, a, mask);
+    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (std::abs(area) < 1e-12) return;
+    int x0, y0, x1, y1;
+    const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    g.ToCell(lo.cwiseMax(g.origin), &x0, &y0);
+    const Eigen::Vector2d top = g.origin + g.resolution * Eigen::Vector2d(g.width, g.height);
+    g.ToCell(hi.cwiseMin(top - Eigen::Vector2d::Constant(1e-9)), &x1, &y1);
+    for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+            const Eigen::Vector2d p = g.Center(x, y);
+            const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
+            const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
+            if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) mask[size_t(y) * g.width + x] = 1;
+        }
+    }
+}
+
+// The segment where a triangle crosses the plane z = h, if it does.
+bool SliceTriangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+                   double h, Eigen::Vector2d* p, Eigen::Vector2d* q) {
+    const Eigen::Vector3d v[3] = {a.cast<double>(), b.cast<double>(), c.cast<double>()};
+    double d[3];
+    for (int i = 0; i < 3; ++i) {
+        d[i] = v[i].z() - h;
+        if (d[i] == 0) d[i] = 1e-9;  // a vertex on the plane counts as above it
+    }
+    Eigen::Vector2d pts[2];
+    int n = 0;
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        if ((d[i] < 0) != (d[j] < 0) && n < 2) {
+            const double t = d[i] / (d[i] - d[j]);
+            pts[n++] = (v[i] + t * (v[j] - v[i])).head<2>();
+        }
+    }
+    if (n != 2) return false;
+    *p = pts[0];
+    *q = pts[1];
+    return true;
+}
+
+// Fills the inside of an element's slice: its segments form closed loops when its mesh is closed
+// (IFC solids are), so each cell row's crossings pair up as in/out (even-odd rule). A thick wall
+// is then occupied through and through, not only its outline. Rows whose count is odd (an open
+// mesh) keep the outline alone.
+void FillSlice(const OccupancyGrid& g,
+               const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& segs,
+               std::vector<double>& xs, std::vector<uint8_t>& mask) {
+    if (segs.size() < 3) return;
+    double ymin = segs[0].first.y(), ymax = ymin;
+    for (const auto& [p, q] : segs) {
+        ymin = std::min({ymin, p.y(), q.y()});
+        ymax = std::max({ymax, p.y(), q.y()});
+    }
+    const int r0 = std::max(0, int(std::floor((ymin - g.origin.y()) / g.resolution)));
+    const int r1 = std::min(g.height - 1, int(std::floor((ymax - g.origin.y()) / g.resolution)));
+    for (int row = r0; row <= r1; ++row) {
+        const double y = g.Center(0, row).y();
+        xs.clear();
+        for (const auto& [p, q] : segs) {
+            if ((p.y() <= y) != (q.y() <= y)) xs.push_back(p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x()));
+        }
+        if (xs.size() % 2 != 0) continue;
+        std::sort(xs.begin(), xs.end());
+        for (size_t k = 0; k + 1 < xs.size(); k += 2) {
+            const int c0 = std::max(0, int(std::ceil((xs[k] - g.origin.x()) / g.resolution - 0.5)));
+            const int c1 = std::min(g.width - 1, int(std::floor((xs[k + 1] - g.origin.x()) / g.resolution - 0.5)));
+            for (int c = c0; c <= c1; ++c) mask[size_t(row) * g.width + c] = 1;
+        }
+    }
+}
+
+// Exact squared Euclidean distance transform of a 1-D sampled function (Felzenszwalb and
+// Huttenlocher, "Distance Transforms of Sampled Functions", 2012).
+void Edt1d(const std::vector<double>& f, std::vector<double>& d, std::vector<int>& v,
+           std::vector<double>& z) {
+    const int n = int(f.size());
+    auto intersect = [&f](int q, int p) {  // where the parabolas from q and p meet
+        return ((f[q] + double(q) * q) - (f[p] + double(p) * p)) / (2.0 * (q - p));
+    };
+    int k = 0;
+    v[0] = 0;
+    z[0] = -std::numeric_limits<double>::infinity();
+    z[1] = std::numeric_limits<double>::infinity();
+    for (int q = 1; q < n; ++q) {
+        double s = intersect(q, v[k]);
+        while (s <= z[k]) {  // z[0] = -inf stops this at k = 0
+            --k;
+            s = intersect(q, v[k]);
+        }
+        ++k;
+        v[k] = q;
+        z[k] = s;
+        z[k + 1] = std::numeric_limits<double>::infinity();
+    }
+    k = 0;
+    for (int q = 0; q < n; ++q) {
+        while (z[k + 1] < q) ++k;
+        d[q] = double(q - v[k]) * (q - v[k]) + f[v[k]];
+    }
+}
+
+void Clearance(OccupancyGrid& g) {
+    constexpr double kInf = 1e20;
+    const int w = g.width, h = g.height;
+    std::vector<double> grid(size_t(w) * h);
+    for (size_t i = 0; i < grid.size(); ++i) grid[i] = g.cells[i] == Cell::kFree ? kInf : 0.0;
+    const int n = std::max(w, h);
+    std::vector<double> f(n), d(n), z(n + 1);
+    std::vector<int> v(n);
+    for (int x = 0; x < w; ++x) {  // columns
+        f.resize(h);
+        d.resize(h);
+        for (int y = 0; y < h; ++y) f[y] = grid[size_t(y) * w + x];
+        Edt1d(f, d, v, z);
+        for (int y = 0; y < h; ++y) grid[size_t(y) * w + x] = d[y];
+    }
+    for (int y = 0; y < h; ++y) {  // rows
+        f.resize(w);
+        d.resize(w);
+        for (int x = 0; x < w; ++x) f[x] = grid[size_t(y) * w + x];
+        Edt1d(f, d, v, z);
+        for (int x = 0; x < w; ++x) grid[size_t(y) * w + x] = d[x];
+    }
+    g.clearance.resize(grid.size());
+    for (size_t i = 0; i < grid.size(); ++i) {
+        g.clearance[i] = static_cast<float>(std::sqrt(grid[i]) * g.resolution);
+    }
+}
+}  // namespace
+
+void GridConfig::Validate() const {
+    Require(resolution_m >= 0.005 && resolution_m <= 1.0, "resolution_m", resolution_m,
+            "must be in [0.005, 1] m");
+    Require(slice_height_m > 0 && slice_height_m < 10, "slice_height_m", slice_height_m,
+            "must be in (0, 10) m");
+    Require(margin_m >= 0 && margin_m < 100, "margin_m", margin_m, "must be in [0, 100) m");
+    Require(object_height_m > 0 && object_height_m < 10, "object_height_m", object_height_m,
+            "must be in (0, 10) m");
+}
+
+bool OccupancyGrid::ToCell(const Eigen::Vector2d& p, int* x, int* y) const {
+    const Eigen::Vector2d c = (p - origin) / resolution;
+    *x = int(std::floor(c.x()));
+    *y = int(std::floor(c.y()));
+    return Inside(*x, *y);
+}
+
+size_t OccupancyGrid::FreeCells() const {
+    return size_t(std::count(cells.begin(), cells.end(), Cell::kFree));
+}
+
+OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config) {
+    config.Validate();
+    if (storey < 0 || storey >= int(model.storeys.size())) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            model.file + ": no storey " + std::to_string(storey) + " (it has " +
+                                std::to_string(model.storeys.size()) + ")");
+    }
+    OccupancyGrid g;
+    g.storey = model.storeys[storey].name;
+    g.resolution = config.resolution_m;
+    g.floor_z = model.storeys[storey].elevation_m;
+    g.slice_z = g.floor_z + config.slice_height_m;
+    // The footprint of the structure, plus a margin.
+    Eigen::AlignedBox2d box;
+    for (const BimElement& e : model.elements) {
+        if (e.role != ElementRole::kStructure) continue;
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (uint32_t k : model.mesh.triangles[t]) {
+                box.extend(model.mesh.vertices[k].head<2>().cast<double>());
+            }
+        }
+    }
+    if (box.isEmpty()) {
+        throw common::Error(StatusCode::kInvalidArgument, model.file + ": no structure geometry");
+    }
+    g.origin = box.min() - Eigen::Vector2d::Constant(config.margin_m);
+    const Eigen::Vector2d size = box.sizes() + Eigen::Vector2d::Constant(2 * config.margin_m);
+    g.width = int(std::ceil(size.x() / g.resolution));
+    g.height = int(std::ceil(size.y() / g.resolution));
+    g.cells.assign(size_t(g.width) * g.height, Cell::kUnknown);
+
+    // blocked: the structure's slice (filled) and the footprints of objects. closed: doors,
+    // windows and curtain walls of this storey, which a robot passes (or not) but which close the
+    // building: without them an exterior door or a glass facade joins the inside to the outside.
+    std::vector<uint8_t> blocked(g.cells.size(), 0), closed(g.cells.size(), 0);
+    std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
+    std::vector<double> xs;
+    for (const BimElement& e : model.elements) {
+        const bool structure = e.role == ElementRole::kStructure;
+        const bool closure = !structure && Closure(e.ifc_class);
+        if (!structure && !closure && (!config.object_footprints || PassThrough(e.ifc_class))) {
+            continue;
+        }
+        segs.clear();
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            const auto& tri = model.mesh.triangles[t];
+            const Eigen::Vector3f& a = model.mesh.vertices[tri[0]];
+            const Eigen::Vector3f& b = model.mesh.vertices[tri[1]];
+            const Eigen::Vector3f& c = model.mesh.vertices[tri[2]];
+            if (structure) {
+                Eigen::Vector2d p, q;
+                if (SliceTriangle(a, b, c, g.slice_z, &p, &q)) {
+                    RasterizeSegment(g, p, q, blocked);
+                    segs.emplace_back(p, q);
+                }
+                continue;
+            }
+            const double zmin = std::min({a.z(), b.z(), c.z()}), zmax = std::max({a.z(), b.z(), c.z()});
+            const double top = closure ? kClosureHeightM : config.object_height_m;
+            if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + top) continue;
+            RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
+                              c.head<2>().cast<double>(), closure ? closed : blocked);
+        }
+        FillSlice(g, segs, xs, blocked);
+    }
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        if (blocked[i]) g.cells[i] = Cell::kOccupied;
+        if (blocked[i]) closed[i] = 0;
+    }
+
+    // Regions of the open cells (neither blocked nor closed, 4-neighbourhood); the ones touching
+    // the grid's border are outdoors. Closed doors make each room its own region.
+    const std::vector<int> region = Label(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
+    std::vector<uint8_t> outdoors(g.cells.size() + 1, 0);  // by region
+    for (int x = 0; x < g.width; ++x) {
+        for (const int y : {0, g.height - 1}) {
+            if (region[size_t(y) * g.width + x] >= 0) outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
+        }
+    }
+    for (int y = 0; y < g.height; ++y) {
+        for (const int x : {0, g.width - 1}) {
+            if (region[size_t(y) * g.width + x] >= 0) outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
+        }
+    }
+    // The inside: the indoor regions joined through the doors (and windows) between them; with a
+    // seed, whatever the seed's cell reaches, outdoors included.
+    size_t seed_cell = SIZE_MAX;
+    if (config.seed) {
+        int x, y;
+        if (!g.ToCell(*config.seed, &x, &y) || blocked[size_t(y) * g.width + x]) {
+            throw common::Error(StatusCode::kInvalidArgument,
+                                model.file + ": the free-space seed (" +
+                                    std::to_string(config.seed->x()) + ", " +
+                                    std::to_string(config.seed->y()) + ") is outside the grid or " +
+                                    "inside a wall of storey '" + g.storey + "'");
+        }
+        seed_cell = size_t(y) * g.width + x;
+    }
+    const std::vector<int> inside = Label(g, [&](size_t i) {
+        if (blocked[i]) return false;
+        if (closed[i] || seed_cell != SIZE_MAX) return true;
+        return !outdoors[size_t(region[i])];
+    });
+    int chosen = -1;
+    if (seed_cell != SIZE_MAX) {
+        chosen = inside[seed_cell];
+    } else {
+        // The largest, counting open cells only (a run of closed cells alone is a facade).
+        std::vector<size_t> sizes;
+        for (size_t i = 0; i < g.cells.size(); ++i) {
+            if (inside[i] < 0 || closed[i]) continue;
+            if (size_t(inside[i]) >= sizes.size()) sizes.resize(size_t(inside[i]) + 1, 0);
+            ++sizes[size_t(inside[i])];
+        }
+        for (int id = 0; id < int(sizes.size()); ++id) {
+            if (sizes[size_t(id)] > 0 && (chosen < 0 || sizes[size_t(id)] > sizes[size_t(chosen)])) chosen = id;
+        }
+    }
+    if (chosen < 0) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            model.file + ": storey '" + g.storey + "' has no enclosed free space " +
+                                "at " + std::to_string(config.slice_height_m) +
+                                " m above its floor (no walls there, or a gap in its outer walls: " +
+                                "give a seed inside)");
+    }
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        if (!blocked[i]) g.cells[i] = inside[i] == chosen ? Cell::kFree : Cell::kUnknown;
+    }
+    Clearance(g);
+    return g;
+}
+
+io::Image GridImage(const OccupancyGrid& g) {
+    io::Image img(g.width, g.height, 1, 205);
+    for (int y = 0; y < g.height; ++y) {
+        for (int x = 0; x < g.width; ++x) {
+            const Cell c = g.At(x, y);
+            img.At(x, g.height - 1 - y)[0] = c == Cell::kFree ? 254 : c == Cell::kOccupied ? 0 : 205;
+        }
+    }
+    return img;
+}
+
+void WriteGrid(const OccupancyGrid& g, const std::filesystem::path& stem) {
+    const io::Image img = GridImage(g);
+    std::filesystem::path pgm = stem, png = stem, yaml = stem;
+    pgm += ".pgm";
+    png += ".png";
+    yaml += ".yaml";
+    io::WritePgm(pgm, img);
+    io::WritePng(png, img);
+    // ROS map_server: origin is the pose of the lower-left pixel, thresholds as its defaults.
+    const std::string text = "image: " + pgm.filename().string() +
+                             "\nresolution: " + io::FormatDouble(g.resolution) + "\norigin: [" +
+                             io::FormatDouble(g.origin.x()) + ", " + io::FormatDouble(g.origin.y()) +
+                             ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+    io::WriteFileAtomic(yaml, text);
+}
+
+}  // namespace bimslam::bim

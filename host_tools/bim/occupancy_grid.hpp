@@ -1,0 +1,67 @@
+// A storey's occupancy grid from the BIM (paper, Step 1): a horizontal slice of the permanent
+// structure at sensor height, the footprints of furniture and other objects a walking robot must
+// go around, and the free space reachable from a seed (the rest is outside or walled off).
+// Exported as the ROS map_server convention (PGM + YAML) and as PNG.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/io/image.hpp"
+#include "host_tools/bim/bim_model.hpp"
+
+namespace bimslam::bim {
+
+struct GridConfig {
+    double resolution_m = 0.05;
+    // Height of the slice above the storey's floor: the sensor height (an OS1 on a Go1 is at
+    // about 0.6 m). Below window sills, so windows stay walls and the free space stays inside.
+    double slice_height_m = 0.6;
+    double margin_m = 1.0;  // around the building's footprint
+    // Objects that are not structure (furniture, proxies) block the way below this height above
+    // the floor: their footprints are occupied. Doors, windows and spaces never are.
+    bool object_footprints = true;
+    double object_height_m = 1.0;
+    // Free space is what is reachable from this point (metres, model x y); without it, the
+    // largest enclosed free region (one not touching the grid's border, i.e. not outdoors).
+    std::optional<Eigen::Vector2d> seed;
+
+    void Validate() const;  // throws common::Error naming the field and value
+};
+
+enum class Cell : uint8_t { kUnknown = 0, kFree = 1, kOccupied = 2 };
+
+struct OccupancyGrid {
+    std::string storey;
+    double resolution = 0.05;
+    Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // model x y of the corner of cell (0, 0)
+    int width = 0, height = 0;                          // cells; row 0 is the lowest y
+    double floor_z = 0;   // the storey's elevation (m)
+    double slice_z = 0;   // height of the slice (m, model z)
+    std::vector<Cell> cells;
+    std::vector<float> clearance;  // metres from each free cell to the nearest non-free cell
+
+    Cell At(int x, int y) const { return cells[size_t(y) * width + x]; }
+    bool Inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
+    Eigen::Vector2d Center(int x, int y) const {
+        return origin + resolution * Eigen::Vector2d(x + 0.5, y + 0.5);
+    }
+    // The cell holding point p, or false when p is outside the grid.
+    bool ToCell(const Eigen::Vector2d& p, int* x, int* y) const;
+    size_t FreeCells() const;
+};
+
+// Throws common::Error when the storey index is out of range, or when no enclosed free space is
+// found (a storey with no walls at the slice height, or a seed inside a wall).
+OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config);
+
+// Grey image as ROS map_server draws it: free 254, occupied 0, unknown 205; top row = max y.
+io::Image GridImage(const OccupancyGrid& grid);
+// stem.pgm + stem.yaml (map_server: image, resolution, origin, negate, thresholds) + stem.png.
+void WriteGrid(const OccupancyGrid& grid, const std::filesystem::path& stem);
+
+}  // namespace bimslam::bim

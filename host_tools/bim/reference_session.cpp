@@ -1,0 +1,229 @@
+#include "host_tools/bim/reference_session.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "algorithms/scancontext/descriptor.hpp"
+#include "algorithms/simulation/scene.hpp"
+
+namespace bimslam::bim {
+namespace {
+using common::StatusCode;
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Per-pixel ray origin and direction of the sensor (the driver's XYZ table), computed once.
+struct RayTable {
+    std::vector<Eigen::Vector3f> direction, origin;
+    std::vector<uint32_t> column_offset_ns;
+    explicit RayTable(const simulation::LidarModel& m) {
+        for (int u = 0; u < m.beams(); ++u) {
+            for (int v = 0; v < m.columns; ++v) {
+                direction.push_back(m.Direction(u, v).cast<float>());
+                origin.push_back(m.Origin(u, v).cast<float>());
+            }
+        }
+        for (int v = 0; v < m.columns; ++v) {
+            column_offset_ns.push_back(uint32_t(m.ColumnTimeOffsetNs(v)));
+        }
+    }
+};
+
+// The scan's points in the sensor frame, as the driver decodes a real frame (ouster::ToPointCloud):
+// range * direction + origin, intensity = reflectivity, ring = beam, t = the column's time.
+void ToCloud(const simulation::ScanImage& img, const RayTable& rays, int64_t stamp_ns,
+             common::PointCloud* cloud) {
+    cloud->Clear();
+    cloud->stamp = common::SensorTime{stamp_ns};
+    cloud->frame = "os_sensor";
+    for (int v = 0; v < img.w; ++v) {
+        for (int u = 0; u < img.h; ++u) {
+            const size_t i = img.Index(u, v);
+            if (img.range_mm[i] == 0) continue;
+            const float r = 1e-3f * float(img.range_mm[i]);
+            cloud->PushBack(r * rays.direction[i] + rays.origin[i], float(img.reflectivity[i]),
+                            uint16_t(u), rays.column_offset_ns[v]);
+        }
+    }
+}
+}  // namespace
+
+void ReferenceSessionOptions::Validate() const {
+    if (!(keyframe_gap_m >= 0.05 && keyframe_gap_m <= 100)) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            "keyframe gap " + std::to_string(keyframe_gap_m) +
+                                " m: must be in [0.05, 100] m");
+    }
+    lidar.Validate();
+    noise.Validate();
+    grid.Validate();
+    path.Validate();
+}
+
+std::string StoreyFileStem(const std::string& storey_name) {
+    std::string out;
+    for (const char c : storey_name) {
+        if (std::isalnum(static_cast<unsigned char>(c))) {
+            out += char(std::tolower(static_cast<unsigned char>(c)));
+        } else if (!out.empty() && out.back() != '_') {
+            out += '_';
+        }
+    }
+    while (!out.empty() && out.back() == '_') out.pop_back();
+    return out.empty() ? "storey" : out;
+}
+
+void WriteStoreyPlan(const std::filesystem::path& dir, const OccupancyGrid& grid,
+                     const CoveragePath& path) {
+    std::filesystem::create_directories(dir);
+    const std::string stem = StoreyFileStem(grid.storey);
+    WriteGrid(grid, dir / stem);
+    io::WritePng(dir / (stem + "_path.png"), PathImage(grid, path));
+    io::WriteTum(dir / (stem + "_path.tum"), path.poses);
+}
+
+int FindStorey(const BimModel& model, const std::string& name) {
+    std::string known;
+    for (size_t i = 0; i < model.storeys.size(); ++i) {
+        if (model.storeys[i].name == name) return int(i);
+        known += (i ? ", '" : "'") + model.storeys[i].name + "'";
+    }
+    throw common::Error(StatusCode::kInvalidArgument,
+                        model.file + ": no storey '" + name + "' (it has " +
+                            (known.empty() ? std::string("none") : known) + ")");
+}
+
+ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::string& model_sha256,
+                                             const std::filesystem::path& dir,
+                                             const ReferenceSessionOptions& options) {
+    options.Validate();
+    std::vector<int> storeys;
+    for (const std::string& name : options.storeys) storeys.push_back(FindStorey(model, name));
+    if (options.storeys.empty()) {
+        for (int i = 0; i < int(model.storeys.size()); ++i) storeys.push_back(i);
+    }
+    if (storeys.empty()) {
+        throw common::Error(StatusCode::kInvalidArgument, model.file + ": the model has no storeys");
+    }
+    ReferenceSessionReport report;
+
+    // 1. Plan: a grid and a walk per storey, the walks one after another in time.
+    const auto t_plan = Clock::now();
+    std::vector<std::vector<io::StampedPose>> walks;
+    int64_t start_ns = 0;
+    for (const int s : storeys) {
+        const OccupancyGrid grid = BuildOccupancyGrid(model, s, options.grid);
+        CoveragePath path = PlanCoveragePath(grid, options.path);
+        if (!options.plan_dir.empty()) WriteStoreyPlan(options.plan_dir, grid, path);
+        StoreyReport sr;
+        sr.name = grid.storey;
+        sr.rooms = path.rooms;
+        sr.viewpoints = int(path.viewpoints.size());
+        sr.unreachable_viewpoints = path.unreachable_viewpoints;
+        sr.free_area_m2 = double(grid.FreeCells()) * grid.resolution * grid.resolution;
+        sr.walk_m = path.length_m;
+        sr.walk_s = path.duration_s;
+        report.storeys.push_back(sr);
+        report.walk_s += path.duration_s;
+        for (io::StampedPose& p : path.poses) p.stamp_ns += start_ns;
+        // The next storey's walk starts a second after this one ends (the stairs are not walked).
+        start_ns = path.poses.back().stamp_ns + 1'000'000'000;
+        walks.push_back(std::move(path.poses));
+    }
+    report.plan_s = Since(t_plan);
+
+    // 2. The scene: the paper's semantic filter keeps the permanent structure.
+    const BimModel cast = options.all_elements
+                              ? SelectElements(model, [](const BimElement&) { return true; })
+                              : SelectElements(model, [](const BimElement& e) {
+                                    return e.role == ElementRole::kStructure;
+                                });
+    const simulation::Scene scene(cast.mesh, cast.triangle_element);
+    const RayTable rays(options.lidar);
+    const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
+    scancontext::DescriptorBuilder builder(sc);
+
+    io::SessionManifest manifest;
+    manifest.source = "bim";
+    manifest.world_frame = "bim";
+    manifest.sensor = {options.sensor_model, options.lidar.beams(), options.lidar.columns,
+                       options.metadata_file};
+    manifest.keyframe = {options.keyframe_gap_m, 360.0};  // by distance along the walk only
+    manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
+                           sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
+    io::SessionManifest::Model m;
+    m.file = std::filesystem::path(model.file).filename().string();
+    m.sha256 = model_sha256;
+    for (const int s : storeys) m.storeys.push_back(model.storeys[s].name);
+    manifest.model = m;
+    // Offline and re-runnable: the line files are rewritten every 50 keyframes, and the files are
+    // synced once before session.json rather than each on its own (milliseconds each).
+    io::SessionWriter writer(dir, manifest,
+                             {.overwrite = options.overwrite, .flush_every = 50, .sync_each_file = false});
+
+    // 3. Frames at the sensor's rate along each walk; a keyframe every gap metres of it.
+    size_t planned = 0;
+    for (const auto& w : walks) {
+        double length = 0;
+        for (size_t i = 1; i < w.size(); ++i) length += (w[i].translation - w[i - 1].translation).norm();
+        planned += size_t(length / options.keyframe_gap_m) + 1;
+    }
+    simulation::ScanImage image;
+    std::optional<Eigen::Isometry3d> previous_key;
+    for (size_t k = 0; k < walks.size(); ++k) {
+        const auto& walk = walks[k];
+        double since_key = options.keyframe_gap_m;  // the walk's first frame is a keyframe
+        Eigen::Vector3d last = walk.front().translation;
+        for (const io::StampedPose& frame : SampleWalk(walk, options.lidar.frame_rate_hz)) {
+            const int64_t t = frame.stamp_ns;
+            const Eigen::Isometry3d T = frame.Pose();
+            writer.AddScanPose(frame);
+            since_key += (T.translation() - last).norm();
+            last = T.translation();
+            if (since_key < options.keyframe_gap_m) continue;
+            since_key = 0;
+
+            const auto t_sim = Clock::now();
+            io::SessionKeyframe kf;
+            kf.stamp_ns = t;
+            kf.T_world_lidar = T;
+            const auto stats = simulation::SimulateScan(scene, options.lidar, T, options.noise,
+                                                        options.seed ^ uint64_t(report.keyframes),
+                                                        &image);
+            report.rays += stats.rays;
+            ToCloud(image, rays, t, &kf.cloud);
+            builder.Build(kf.cloud, &kf.descriptor);
+            report.points += kf.cloud.size();
+            report.simulate_s += Since(t_sim);
+
+            const auto t_write = Clock::now();
+            const size_t i = writer.AddKeyframe(kf);
+            if (previous_key) {
+                // Ground truth: the edge is exact; 1 mm and 1 mrad keep the graph well scaled.
+                io::SessionEdge e{uint32_t(i - 1), uint32_t(i), common::Between(*previous_key, T),
+                                  common::Matrix6d::Identity()};
+                e.information.diagonal().setConstant(1e6);
+                writer.AddEdge(e);
+            }
+            report.write_s += Since(t_write);
+            previous_key = T;
+            ++report.keyframes;
+            ++report.storeys[k].keyframes;
+            if (options.progress) options.progress(report.keyframes, planned);
+        }
+    }
+    const auto t_finish = Clock::now();
+    writer.Finish();
+    report.write_s += Since(t_finish);
+    return report;
+}
+
+}  // namespace bimslam::bim

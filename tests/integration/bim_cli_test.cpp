@@ -1,0 +1,112 @@
+// `bimslam bim plan` and `bimslam bim2session` as a user runs them: files, exit codes, messages.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/session.hpp"
+#include "algorithms/io/sha256.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kCli = BIMSLAM_CLI_PATH;
+
+// The sample building, written by the command itself.
+fs::path Sample(const test::TempDir& tmp) {
+    const fs::path file = tmp / "building.ifc";
+    const auto r = test::RunCommand(kCli + " bim sample -o " + file.string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return file;
+}
+
+TEST(BimCli, PlanWritesGridsAndWalksOfEveryStorey) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    const auto r = test::RunCommand(kCli + " bim plan " + model.string() + " -o " +
+                                    (tmp / "plan").string() + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (const std::string stem : {"ground_floor", "first_floor"}) {
+        for (const std::string ext : {".pgm", ".yaml", ".png", "_path.png", "_path.tum"}) {
+            EXPECT_TRUE(fs::exists(tmp / "plan" / (stem + ext))) << stem + ext;
+        }
+        const auto walk = io::ReadTum(tmp / "plan" / (stem + "_path.tum"));
+        EXPECT_GT(walk.size(), 500u);
+    }
+    const auto plan = nlohmann::json::parse(io::ReadFileToString(tmp / "plan" / "plan.json"));
+    ASSERT_EQ(plan.size(), 2u);
+    EXPECT_EQ(plan[0].at("storey"), "Ground Floor");
+    EXPECT_GE(plan[0].at("rooms").get<int>(), 9);
+    EXPECT_EQ(plan[0].at("unreachable_viewpoints"), 0);
+    // One storey only, and a storey the model does not have.
+    const auto one = test::RunCommand(kCli + " bim plan " + model.string() + " -o " +
+                                      (tmp / "one").string() + " --storey 'First Floor'");
+    EXPECT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_FALSE(fs::exists(tmp / "one" / "ground_floor.pgm"));
+    const auto bad = test::RunCommand(kCli + " bim plan " + model.string() + " -o " +
+                                      (tmp / "bad").string() + " --storey Attic");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("'Ground Floor'"), std::string::npos) << bad.err;
+}
+
+TEST(BimCli, Bim2SessionWritesTheReferenceSession) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    const fs::path session = tmp / "ref";
+    const auto r = test::RunCommand(kCli + " bim2session " + model.string() + " -o " +
+                                    session.string() +
+                                    " --storey 'Ground Floor' --keyframe-gap 4 --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const io::Session s = io::ReadSession(session, {.load_clouds = false});
+    ASSERT_TRUE(s.complete);
+    EXPECT_EQ(s.manifest.source, "bim");
+    EXPECT_EQ(s.manifest.world_frame, "bim");
+    ASSERT_TRUE(s.manifest.model.has_value());
+    EXPECT_EQ(s.manifest.model->file, "building.ifc");
+    EXPECT_EQ(s.manifest.model->sha256, io::Sha256File(model));
+    EXPECT_EQ(s.manifest.model->storeys, std::vector<std::string>{"Ground Floor"});
+    EXPECT_DOUBLE_EQ(s.manifest.keyframe.distance_m, 4.0);
+    EXPECT_GT(s.keyframes.size(), 20u);
+    EXPECT_EQ(s.edges.size(), s.keyframes.size() - 1);
+    // The figures a user compares: faster than the walk it stands for.
+    const auto j = nlohmann::json::parse(r.out.substr(r.out.find('{')));
+    EXPECT_EQ(j.at("keyframes").get<size_t>(), s.keyframes.size());
+    EXPECT_GT(j.at("realtime_ratio").get<double>(), 1.0);
+
+    // It never replaces a session silently.
+    const auto again = test::RunCommand(kCli + " bim2session " + model.string() + " -o " +
+                                        session.string() + " --keyframe-gap 4");
+    EXPECT_EQ(again.exit_code, 2);
+    EXPECT_NE(again.err.find(session.string()), std::string::npos) << again.err;
+}
+
+TEST(BimCli, Bim2SessionRejectsBadInput) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    const std::string text = io::ReadFileToString(model);
+    test::WriteBytes(tmp / "cut.ifc", text.substr(0, text.size() / 2));
+    const auto cut = test::RunCommand(kCli + " bim2session " + (tmp / "cut.ifc").string() +
+                                      " -o " + (tmp / "s1").string());
+    EXPECT_EQ(cut.exit_code, 2);
+    EXPECT_NE(cut.err.find((tmp / "cut.ifc").string()), std::string::npos) << cut.err;
+    EXPECT_FALSE(fs::exists(tmp / "s1" / "session.json"));
+
+    const auto gap = test::RunCommand(kCli + " bim2session " + model.string() + " -o " +
+                                      (tmp / "s2").string() + " --keyframe-gap 0");
+    EXPECT_EQ(gap.exit_code, 2);
+    EXPECT_NE(gap.err.find("keyframe gap"), std::string::npos) << gap.err;
+
+    test::WriteBytes(tmp / "meta.json", "{\"beam_altitude_angles\": [1, 2]}");
+    const auto meta = test::RunCommand(kCli + " bim2session " + model.string() + " -o " +
+                                       (tmp / "s3").string() + " --sensor " +
+                                       (tmp / "meta.json").string());
+    EXPECT_EQ(meta.exit_code, 2);
+    EXPECT_NE(meta.err.find((tmp / "meta.json").string()), std::string::npos) << meta.err;
+}
+
+}  // namespace
+}  // namespace bimslam
