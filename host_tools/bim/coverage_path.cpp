@@ -137,29 +137,18 @@ struct Planner {
 
 // Rooms: 4-connected components of the cells with more clearance than room_split_m.
 std::vector<std::vector<size_t>> Rooms(const OccupancyGrid& g, const PathConfig& c) {
-    std::vector<int> label(g.cells.size(), -1);
-    std::vector<std::vector<size_t>> rooms;
+    const std::vector<int> label = LabelRegions(g, [&](size_t i) {
+        return g.cells[i] == Cell::kFree && g.clearance[i] >= c.room_split_m;
+    });
+    std::vector<std::vector<size_t>> all;
+    for (size_t i = 0; i < label.size(); ++i) {
+        if (label[i] < 0) continue;
+        if (size_t(label[i]) >= all.size()) all.resize(size_t(label[i]) + 1);
+        all[size_t(label[i])].push_back(i);
+    }
     const size_t min_cells = size_t(c.min_room_area_m2 / (g.resolution * g.resolution));
-    for (size_t s = 0; s < g.cells.size(); ++s) {
-        if (label[s] >= 0 || g.cells[s] != Cell::kFree || g.clearance[s] < c.room_split_m) continue;
-        std::vector<size_t> room, stack{s};
-        label[s] = int(rooms.size());
-        while (!stack.empty()) {
-            const size_t i = stack.back();
-            stack.pop_back();
-            room.push_back(i);
-            const int x = int(i % g.width), y = int(i / g.width);
-            const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-            for (int k = 0; k < 4; ++k) {
-                const int nx = x + dx[k], ny = y + dy[k];
-                if (!g.Inside(nx, ny)) continue;
-                const size_t j = size_t(ny) * g.width + nx;
-                if (label[j] < 0 && g.cells[j] == Cell::kFree && g.clearance[j] >= c.room_split_m) {
-                    label[j] = label[s];
-                    stack.push_back(j);
-                }
-            }
-        }
+    std::vector<std::vector<size_t>> rooms;
+    for (auto& room : all) {
         if (room.size() >= min_cells) rooms.push_back(std::move(room));
     }
     return rooms;

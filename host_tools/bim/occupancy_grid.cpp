@@ -39,9 +39,9 @@ bool Closure(const std::string& ifc_class) {
     return false;
 }
 
-// 4-connected components of the cells `in` accepts: per cell its component, or -1.
-template <typename In>
-std::vector<int> Label(const OccupancyGrid& g, In in) {
+}  // namespace
+
+std::vector<int> LabelRegions(const OccupancyGrid& g, const std::function<bool(size_t)>& in) {
     std::vector<int> label(g.cells.size(), -1);
     std::vector<size_t> stack;
     int next = 0;
@@ -68,6 +68,8 @@ std::vector<int> Label(const OccupancyGrid& g, In in) {
     }
     return label;
 }
+
+namespace {
 
 // Marks the cells a segment passes through (sampled at a quarter cell, so no cell is skipped).
 void RasterizeSegment(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
@@ -312,7 +314,7 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
 
     // Regions of the open cells (neither blocked nor closed, 4-neighbourhood); the ones touching
     // the grid's border are outdoors. Closed doors make each room its own region.
-    const std::vector<int> region = Label(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
+    const std::vector<int> region = LabelRegions(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
     std::vector<uint8_t> outdoors(g.cells.size() + 1, 0);  // by region
     for (int x = 0; x < g.width; ++x) {
         for (const int y : {0, g.height - 1}) {
@@ -338,7 +340,7 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
         }
         seed_cell = size_t(y) * g.width + x;
     }
-    const std::vector<int> inside = Label(g, [&](size_t i) {
+    const std::vector<int> inside = LabelRegions(g, [&](size_t i) {
         if (blocked[i]) return false;
         if (closed[i] || seed_cell != SIZE_MAX) return true;
         return !outdoors[size_t(region[i])];

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,10 @@ struct OccupancyGrid {
 // Throws common::Error when the storey index is out of range, or when no enclosed free space is
 // found (a storey with no walls at the slice height, or a seed inside a wall).
 OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config);
+
+// 4-connected components of the cells `in` accepts (by index y * width + x): per cell its
+// component, numbered from 0, or -1.
+std::vector<int> LabelRegions(const OccupancyGrid& grid, const std::function<bool(size_t)>& in);
 
 // Grey image as ROS map_server draws it: free 254, occupied 0, unknown 205; top row = max y.
 io::Image GridImage(const OccupancyGrid& grid);
