@@ -29,6 +29,8 @@ struct PlanOptions {
     bim::GridConfig grid;
     bim::PathConfig path;
     bool no_objects = false;
+    bool no_railings = false;
+    std::vector<double> free_seed;  // x y
 };
 
 void AddPlanOptions(CLI::App* cmd, PlanOptions& o) {
@@ -45,16 +47,25 @@ void AddPlanOptions(CLI::App* cmd, PlanOptions& o) {
                     "viewpoints in a large room at most this far apart, m")
         ->capture_default_str();
     cmd->add_flag("--no-objects", o.no_objects, "furniture and other objects do not block the walk");
+    cmd->add_flag("--no-railings", o.no_railings,
+                  "railings are not structure: they neither block the walk nor are scanned");
+    cmd->add_option("--free-seed", o.free_seed,
+                    "X Y (model metres): free space is what this point reaches on every storey "
+                    "(default: the largest enclosed region)")
+        ->expected(2);
 }
 
 void Finalise(PlanOptions& o) {
     o.path.sensor_height_m = o.grid.slice_height_m;
     o.grid.object_footprints = !o.no_objects;
+    if (o.free_seed.size() == 2) o.grid.seed = Eigen::Vector2d(o.free_seed[0], o.free_seed[1]);
 }
 
-bim::BimModel Load(const std::string& file) {
+bim::BimModel Load(const std::string& file, const PlanOptions& o) {
     const auto t0 = Clock::now();
-    bim::BimModel model = bim::LoadIfc(file);
+    bim::IfcLoadOptions load;
+    load.railings_are_structure = !o.no_railings;
+    bim::BimModel model = bim::LoadIfc(file, load);
     std::cout << std::fixed << std::setprecision(1) << "loaded   " << file << ": " << model.schema
               << ", " << model.storeys.size() << " storeys, " << model.elements.size()
               << " elements with geometry, " << model.mesh.triangles.size() << " triangles in "
@@ -73,7 +84,7 @@ struct PlanArgs {
 
 int Plan(PlanArgs& a) {
     Finalise(a.plan);
-    const bim::BimModel model = Load(a.model);
+    const bim::BimModel model = Load(a.model, a.plan);
     std::vector<int> storeys;
     for (const auto& name : a.plan.storeys) storeys.push_back(bim::FindStorey(model, name));
     if (storeys.empty()) {
@@ -131,7 +142,7 @@ struct SessionArgs {
 int ToSession(SessionArgs& a) {
     Finalise(a.plan);
     const auto t0 = Clock::now();
-    const bim::BimModel model = Load(a.model);
+    const bim::BimModel model = Load(a.model, a.plan);
     const double load_s = Since(t0);
     bim::ReferenceSessionOptions o;
     o.storeys = a.plan.storeys;

@@ -51,6 +51,16 @@ TEST(BimCli, PlanWritesGridsAndWalksOfEveryStorey) {
                                       (tmp / "bad").string() + " --storey Attic");
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_NE(bad.err.find("'Ground Floor'"), std::string::npos) << bad.err;
+    // A seed point: inside the building it gives the same free space; in a wall it is an error.
+    const auto seeded = test::RunCommand(kCli + " bim plan " + model.string() + " -o " +
+                                         (tmp / "seeded").string() + " --free-seed 15 7.15");
+    EXPECT_EQ(seeded.exit_code, 0) << seeded.err;
+    EXPECT_EQ(io::ReadFileToString(tmp / "seeded" / "ground_floor.pgm"),
+              io::ReadFileToString(tmp / "plan" / "ground_floor.pgm"));
+    const auto in_wall = test::RunCommand(kCli + " bim plan " + model.string() + " -o " +
+                                          (tmp / "wall").string() + " --free-seed 0.1 7");
+    EXPECT_EQ(in_wall.exit_code, 2);
+    EXPECT_NE(in_wall.err.find("seed"), std::string::npos) << in_wall.err;
 }
 
 TEST(BimCli, Bim2SessionWritesTheReferenceSession) {
