@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "algorithms/common/status.hpp"
+
 namespace bimslam::bim {
 
 std::string_view ToString(ElementRole role) {
@@ -22,6 +24,26 @@ Eigen::AlignedBox3d BimModel::Bounds() const {
         }
     }
     return box;
+}
+
+int FindStorey(const BimModel& model, const std::string& name) {
+    std::string known;
+    for (size_t i = 0; i < model.storeys.size(); ++i) {
+        if (model.storeys[i].name == name) return int(i);
+        known += (i ? ", '" : "'") + model.storeys[i].name + "'";
+    }
+    throw common::Error(common::StatusCode::kInvalidArgument,
+                        model.file + ": no storey '" + name + "' (it has " +
+                            (known.empty() ? std::string("none") : known) + ")");
+}
+
+std::vector<int> StoreyIndices(const BimModel& model, const std::vector<std::string>& names) {
+    std::vector<int> out;
+    for (const std::string& name : names) out.push_back(FindStorey(model, name));
+    if (names.empty()) {
+        for (int i = 0; i < int(model.storeys.size()); ++i) out.push_back(i);
+    }
+    return out;
 }
 
 BimModel SelectElements(const BimModel& model, const std::function<bool(const BimElement&)>& keep) {

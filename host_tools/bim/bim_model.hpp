@@ -72,6 +72,12 @@ struct BimModel {
     Eigen::AlignedBox3d Bounds() const;
 };
 
+// The index of the storey called `name`; throws common::Error (kInvalidArgument) naming the
+// storeys the model has when there is none.
+int FindStorey(const BimModel& model, const std::string& name);
+// The indices of the storeys named, in that order; every storey when `names` is empty.
+std::vector<int> StoreyIndices(const BimModel& model, const std::vector<std::string>& names);
+
 // The elements `keep` accepts, with their triangles and only the vertices those use (indices
 // renumbered, order kept); storeys, class counts, failures and warnings are copied as they are.
 BimModel SelectElements(const BimModel& model, const std::function<bool(const BimElement&)>& keep);

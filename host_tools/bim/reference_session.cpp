@@ -90,26 +90,11 @@ void WriteStoreyPlan(const std::filesystem::path& dir, const OccupancyGrid& grid
     io::WriteTum(dir / (stem + "_path.tum"), path.poses);
 }
 
-int FindStorey(const BimModel& model, const std::string& name) {
-    std::string known;
-    for (size_t i = 0; i < model.storeys.size(); ++i) {
-        if (model.storeys[i].name == name) return int(i);
-        known += (i ? ", '" : "'") + model.storeys[i].name + "'";
-    }
-    throw common::Error(StatusCode::kInvalidArgument,
-                        model.file + ": no storey '" + name + "' (it has " +
-                            (known.empty() ? std::string("none") : known) + ")");
-}
-
 ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::string& model_sha256,
                                              const std::filesystem::path& dir,
                                              const ReferenceSessionOptions& options) {
     options.Validate();
-    std::vector<int> storeys;
-    for (const std::string& name : options.storeys) storeys.push_back(FindStorey(model, name));
-    if (options.storeys.empty()) {
-        for (int i = 0; i < int(model.storeys.size()); ++i) storeys.push_back(i);
-    }
+    const std::vector<int> storeys = StoreyIndices(model, options.storeys);
     if (storeys.empty()) {
         throw common::Error(StatusCode::kInvalidArgument, model.file + ": the model has no storeys");
     }
@@ -141,11 +126,11 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     report.plan_s = Since(t_plan);
 
     // 2. The scene: the paper's semantic filter keeps the permanent structure.
-    const BimModel cast = options.all_elements
-                              ? SelectElements(model, [](const BimElement&) { return true; })
-                              : SelectElements(model, [](const BimElement& e) {
-                                    return e.role == ElementRole::kStructure;
-                                });
+    const BimModel structure =
+        options.all_elements ? BimModel{} : SelectElements(model, [](const BimElement& e) {
+            return e.role == ElementRole::kStructure;
+        });
+    const BimModel& cast = options.all_elements ? model : structure;
     const simulation::Scene scene(cast.mesh, cast.triangle_element);
     const RayTable rays(options.lidar);
     const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
@@ -171,11 +156,7 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
 
     // 3. Frames at the sensor's rate along each walk; a keyframe every gap metres of it.
     size_t planned = 0;
-    for (const auto& w : walks) {
-        double length = 0;
-        for (size_t i = 1; i < w.size(); ++i) length += (w[i].translation - w[i - 1].translation).norm();
-        planned += size_t(length / options.keyframe_gap_m) + 1;
-    }
+    for (const StoreyReport& sr : report.storeys) planned += size_t(sr.walk_m / options.keyframe_gap_m) + 1;
     simulation::ScanImage image;
     std::optional<Eigen::Isometry3d> previous_key;
     for (size_t k = 0; k < walks.size(); ++k) {

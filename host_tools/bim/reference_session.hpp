@@ -75,14 +75,10 @@ void WriteStoreyPlan(const std::filesystem::path& dir, const OccupancyGrid& grid
                      const CoveragePath& path);
 
 // Writes the reference session of `model` (its `file` and `sha256` go to session.json) to `dir`.
-// Throws common::Error for an unknown storey (naming the known ones), a storey without enclosed
+// Throws common::Error for an unknown storey (FindStorey), a storey without enclosed
 // free space, or options out of range; common::FileError when the session cannot be written.
 ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::string& model_sha256,
                                              const std::filesystem::path& dir,
                                              const ReferenceSessionOptions& options);
-
-// The index of the storey called `name`; throws common::Error (kInvalidArgument) naming the
-// storeys the model has when there is none.
-int FindStorey(const BimModel& model, const std::string& name);
 
 }  // namespace bimslam::bim

@@ -85,11 +85,7 @@ struct PlanArgs {
 int Plan(PlanArgs& a) {
     Finalise(a.plan);
     const bim::BimModel model = Load(a.model, a.plan);
-    std::vector<int> storeys;
-    for (const auto& name : a.plan.storeys) storeys.push_back(bim::FindStorey(model, name));
-    if (storeys.empty()) {
-        for (int i = 0; i < int(model.storeys.size()); ++i) storeys.push_back(i);
-    }
+    const std::vector<int> storeys = bim::StoreyIndices(model, a.plan.storeys);
     nlohmann::json summary = nlohmann::json::array();
     for (const int s : storeys) {
         const bim::OccupancyGrid grid = bim::BuildOccupancyGrid(model, s, a.plan.grid);

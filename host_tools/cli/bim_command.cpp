@@ -163,19 +163,7 @@ int Mesh(const BimOptions& o) {
     options.railings_are_structure = !o.no_railings;
     const Loaded loaded = Load(o.model, options);
     const bim::BimModel& m = loaded.model;
-    int storey = -1;
-    if (!o.storey.empty()) {
-        std::string names;
-        for (size_t i = 0; i < m.storeys.size(); ++i) {
-            if (m.storeys[i].name == o.storey) storey = int(i);
-            names += (i == 0 ? "'" : ", '") + m.storeys[i].name + "'";
-        }
-        if (storey < 0) {
-            throw FileError(StatusCode::kNotFound, o.model, 0,
-                            "no storey '" + o.storey + "'; its storeys are " +
-                                (names.empty() ? "none" : names));
-        }
-    }
+    const int storey = o.storey.empty() ? -1 : bim::FindStorey(m, o.storey);
     const bim::BimModel kept = bim::SelectElements(m, [&](const bim::BimElement& e) {
         return (o.all || e.role == bim::ElementRole::kStructure) &&
                (storey < 0 || e.storey == storey);
