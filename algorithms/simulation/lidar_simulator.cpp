@@ -42,6 +42,9 @@ struct Packet;
 template <>
 struct Packet<1> {
     using RayHit = RTCRayHit;
+    static void Intersect(const int* /*valid*/, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
+        rtcIntersect1(s, c, rh);
+    }
 };
 template <>
 struct Packet<4> {
@@ -71,6 +74,7 @@ struct LaneHit {
     float t = 0;
     uint32_t prim = 0;
     Eigen::Vector3f normal;  // unnormalised geometric normal
+    bool overlay = false;    // of the overlay scene (prim indexes its triangles)
 };
 
 template <int K>
@@ -94,16 +98,37 @@ void SetLane(typename Packet<K>::RayHit& rh, int i, const Eigen::Vector3f& o,
     }
 }
 
+// Marks lane i as not hit, keeping its ray (and its tfar) for the next scene.
+template <int K>
+void ClearHit(typename Packet<K>::RayHit& rh, int i) {
+    if constexpr (K == 1) {
+        (void)i;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    } else {
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+}
+
+template <int K>
+bool LaneHitSomething(const typename Packet<K>::RayHit& rh, int i) {
+    if constexpr (K == 1) {
+        (void)i;
+        return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    } else {
+        return rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+    }
+}
+
 template <int K>
 LaneHit GetLane(const typename Packet<K>::RayHit& rh, int i) {
     LaneHit h;
     if constexpr (K == 1) {
         (void)i;
-        h.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        h.hit = LaneHitSomething<K>(rh, i);
         h.t = rh.ray.tfar, h.prim = rh.hit.primID;
         h.normal = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     } else {
-        h.hit = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        h.hit = LaneHitSomething<K>(rh, i);
         h.t = rh.ray.tfar[i], h.prim = rh.hit.primID[i];
         h.normal = Eigen::Vector3f(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
     }
@@ -114,6 +139,7 @@ LaneHit GetLane(const typename Packet<K>::RayHit& rh, int i) {
 
 struct Setup {
     const Scene::Impl* scene = nullptr;
+    const Scene::Impl* overlay = nullptr;  // SimulatorOptions::overlay, null when none or empty
     const NoiseModel* noise = nullptr;
     ScanImage* out = nullptr;
     int h = 0, w = 0;
@@ -188,7 +214,7 @@ void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const Lan
     }
     ++counts->returns;
     out.range_mm[i] = static_cast<uint32_t>(mm);
-    out.element_id[i] = s.scene->ids[hit.prim];
+    out.element_id[i] = (hit.overlay ? s.overlay : s.scene)->ids[hit.prim];
     // Intensity proxy of a Lambertian target (lidar_simulator.hpp): reflectivity is range-
     // compensated, signal falls with 1 / max(r, 1 m)^2.
     const double lambert = nm.albedo * cos_inc;
@@ -201,6 +227,9 @@ void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const Lan
 // Casts columns [v0, v1) in packets of K rays: consecutive beams of a column, then the next
 // column (column-major), so a packet's rays start within millimetres of each other and fan out
 // over a few degrees: coherent rays, which Embree's packet traversal shares work between.
+// With an overlay, the same packet is then cast against it: Embree leaves a ray's tfar at its
+// static hit's distance (at t_far for a miss), so the overlay is searched only in front of the
+// static hit and the nearer hit of the two is the one left in the packet.
 template <int K>
 Counts CastColumns(const Setup& s, int v0, int v1) {
     Counts counts;
@@ -213,15 +242,29 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
     int lane_u[K], lane_v[K];
     Eigen::Vector3f lane_dir[K];
     int lanes = 0;
+    LaneHit hits[K];
     auto flush = [&] {
-        if constexpr (K == 1) {
-            rtcIntersect1(s.scene->scene, &context, &rh);
-        } else {
+        if constexpr (K > 1) {
             for (int i = lanes; i < K; ++i) valid[i] = 0;
-            Packet<K>::Intersect(valid, s.scene->scene, &context, &rh);
         }
-        for (int i = 0; i < lanes; ++i) {
-            Measure(s, lane_u[i], lane_v[i], lane_dir[i], GetLane<K>(rh, i), &counts);
+        Packet<K>::Intersect(valid, s.scene->scene, &context, &rh);
+        if (s.overlay == nullptr) {
+            for (int i = 0; i < lanes; ++i) {
+                Measure(s, lane_u[i], lane_v[i], lane_dir[i], GetLane<K>(rh, i), &counts);
+            }
+        } else {
+            for (int i = 0; i < lanes; ++i) {
+                hits[i] = GetLane<K>(rh, i);
+                ClearHit<K>(rh, i);  // the ray and its tfar (the static hit's t) stay
+            }
+            Packet<K>::Intersect(valid, s.overlay->scene, &context, &rh);
+            for (int i = 0; i < lanes; ++i) {
+                if (LaneHitSomething<K>(rh, i)) {
+                    hits[i] = GetLane<K>(rh, i);
+                    hits[i].overlay = true;
+                }
+                Measure(s, lane_u[i], lane_v[i], lane_dir[i], hits[i], &counts);
+            }
         }
         lanes = 0;
     };
@@ -282,6 +325,9 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     }
     Setup s;
     s.scene = &scene.impl();
+    if (options.overlay != nullptr && options.overlay->triangle_count() > 0) {
+        s.overlay = &options.overlay->impl();
+    }
     s.noise = &noise;
     s.out = out;
     s.h = model.beams();
@@ -319,6 +365,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     s.range_power = Power(noise.dropout_range_exponent);
 
     const uint64_t embree_errors = s.scene->error_count.load();
+    const uint64_t overlay_errors = s.overlay ? s.overlay->error_count.load() : 0;
     std::atomic<size_t> hits{0}, returns{0}, dropouts{0}, too_close{0};
     auto body = [&](const tbb::blocked_range<int>& range) {
         ScopedFlushDenormals ftz;
@@ -349,6 +396,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
         run();
     }
     ThrowIfEmbreeFailed(*s.scene, embree_errors, "SimulateScan");
+    if (s.overlay) ThrowIfEmbreeFailed(*s.overlay, overlay_errors, "SimulateScan (overlay)");
     ScanStats stats;
     stats.rays = model.pixels();
     stats.hits = hits, stats.returns = returns, stats.dropouts = dropouts;

@@ -24,6 +24,15 @@
 //                  (uint16 photon-count-like: inverse-square, saturating below 1 m)
 // Pixels without a return have range 0, signal 0, reflectivity 0 and element id kNoElement.
 //
+// Overlay (SimulatorOptions::overlay): a second, small Scene (e.g. people walking, rebuilt per
+// scan) cast with the same rays as the static scene, so the big static BVH is never rebuilt for
+// moving objects. Each ray is cast first against the static scene, then against the overlay for
+// t up to the static hit's distance (max_range_m when there is none), and the nearer hit is the
+// pixel's (the overlay's at an equal distance): its distance, normal (incidence angle) and id.
+// The measurement model then applies to that hit exactly as for a single scene, with the same
+// per-pixel randomness: an image with an overlay equals the image of one scene holding both
+// meshes (with the same ids). An empty overlay is skipped.
+//
 // Threads and determinism: columns are cast in parallel (TBB, blocks of columns; Embree packets
 // of SimulatorOptions::packet_size rays within a block). All randomness of pixel (u, v) comes
 // from a counter-based hash of (seed, u * W + v), never from a shared generator, so the images
@@ -76,7 +85,8 @@ struct ScanImage {
     std::vector<uint32_t> range_mm;     // 0 = no return
     std::vector<uint16_t> signal;       // intensity proxy
     std::vector<uint8_t> reflectivity;  // intensity proxy, 0 ... 100
-    std::vector<uint32_t> element_id;   // Scene::TriangleId of the triangle hit, or kNoElement
+    std::vector<uint32_t> element_id;   // Scene::TriangleId of the triangle hit (of the overlay's
+                                        // scene for an overlay hit), or kNoElement
 
     size_t Index(int u, int v) const { return static_cast<size_t>(u) * w + v; }
     // Sizes the planes (keeping their capacity: no allocation for the same size again).
@@ -97,6 +107,12 @@ struct SimulatorOptions {
     int packet_size = 16;
     int columns_per_task = 8;  // TBB block size, in columns
     int max_threads = 0;       // 0: as many as TBB allows; else a task arena of that many
+    // A second scene cast with the same rays (e.g. moving people, rebuilt per scan); a pixel's
+    // hit is the nearer of the two. element_id of an overlay hit is the overlay scene's
+    // TriangleId (callers give overlay triangles ids distinct from the static scene's). Casting
+    // the overlay only up to the static hit keeps its cost small; nullptr or an empty scene: no
+    // overlay. Not owned; must outlive the SimulateScan call.
+    const Scene* overlay = nullptr;
     void Validate() const;
 };
 

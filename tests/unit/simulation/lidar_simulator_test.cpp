@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -187,6 +188,175 @@ TEST(SimulateScan, StaticPoseArrayEqualsTheStaticOverload) {
     SimulateScan(scene, model, T, NoiseModel(), 5, &a);
     SimulateScan(scene, model, std::span<const Eigen::Isometry3d>(poses), NoiseModel(), 5, &b);
     EXPECT_TRUE(SameImage(a, b));
+}
+
+// ---- Overlay: a second scene cast with the same rays ----
+
+// Appends `part` to `mesh`, its triangles with element id `id`.
+void Append(common::TriangleMesh* mesh, std::vector<uint32_t>* ids,
+            const common::TriangleMesh& part, uint32_t id) {
+    const auto base = static_cast<uint32_t>(mesh->vertices.size());
+    mesh->vertices.insert(mesh->vertices.end(), part.vertices.begin(), part.vertices.end());
+    for (const auto& t : part.triangles) {
+        mesh->triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    ids->insert(ids->end(), part.triangles.size(), id);
+}
+
+// Every pixel, every field and every count equal.
+void ExpectSameScan(const ScanImage& a, const ScanStats& sa, const ScanImage& b,
+                    const ScanStats& sb, const std::string& what) {
+    EXPECT_TRUE(SameImage(a, b)) << what;
+    EXPECT_EQ(sa.hits, sb.hits) << what;
+    EXPECT_EQ(sa.returns, sb.returns) << what;
+    EXPECT_EQ(sa.dropouts, sb.dropouts) << what;
+    EXPECT_EQ(sa.too_close, sb.too_close) << what;
+}
+
+TEST(SimulateScanOverlay, EqualsTheSameBoxesMergedIntoTheStaticScene) {
+    // Static: a wall at x = 5 and a floor at z = -1.2 (rays upwards and sideways miss).
+    common::TriangleMesh static_mesh;
+    std::vector<uint32_t> static_ids;
+    Append(&static_mesh, &static_ids, WallAt(5.0, 3.0), 1);
+    Append(&static_mesh, &static_ids, FloorAt(-1.2, 8.0), 2);
+    // Overlay: two "people", one between the sensor and the wall (the static scene has a hit
+    // behind it), one behind the sensor where only the floor is (above the horizon the static
+    // scene has no hit at all), and one beyond the wall (hidden).
+    const uint32_t kPersonA = 1000, kPersonB = 1001, kHidden = 1002;
+    common::TriangleMesh people;
+    std::vector<uint32_t> people_ids;
+    Append(&people, &people_ids, BoxRoom({2.5, -0.4, -1.15}, {2.9, 0.3, 0.5}).mesh, kPersonA);
+    Append(&people, &people_ids, BoxRoom({-3.3, -0.3, -1.15}, {-2.9, 0.2, 0.6}).mesh, kPersonB);
+    Append(&people, &people_ids, BoxRoom({5.5, -0.5, -1.15}, {5.9, 0.5, 0.6}).mesh, kHidden);
+    common::TriangleMesh merged_mesh = static_mesh;
+    std::vector<uint32_t> merged_ids = static_ids;
+    Append(&merged_mesh, &merged_ids, people, 0);
+    merged_ids.resize(static_ids.size());  // the people's own ids
+    merged_ids.insert(merged_ids.end(), people_ids.begin(), people_ids.end());
+
+    const Scene static_scene(static_mesh, static_ids);
+    const Scene overlay(people, people_ids);
+    const Scene merged(merged_mesh, merged_ids);
+    const LidarModel model = LidarModel::DefaultOs1_32(1024);
+    const Eigen::Isometry3d T = Pose(0.1, 0.05, 0.0, 10, 2, -3);
+    NoiseModel noisy;  // the default: noise and dropouts, drawn per pixel as without an overlay
+    noisy.range_sigma_m = 0.02;
+    for (const NoiseModel& noise : {Exact(), noisy}) {
+        const bool exact = noise.range_sigma_m == 0;
+        ScanImage alone;
+        SimulateScan(static_scene, model, T, noise, 11, &alone);
+        for (const int packet : {1, 4, 8, 16}) {
+            for (const int threads : {1, 0}) {
+                SimulatorOptions options;
+                options.packet_size = packet;
+                options.max_threads = threads;
+                ScanImage reference, img;
+                const ScanStats ref_stats =
+                    SimulateScan(merged, model, T, noise, 11, &reference, options);
+                options.overlay = &overlay;
+                const ScanStats stats =
+                    SimulateScan(static_scene, model, T, noise, 11, &img, options);
+                const std::string what = "packet " + std::to_string(packet) + " threads " +
+                                         std::to_string(threads) + (exact ? " exact" : " noisy");
+                ExpectSameScan(img, stats, reference, ref_stats, what);
+                if (!exact) continue;
+                // The overlay's ids, in front of the wall and where the static scene has none.
+                size_t over_wall = 0, over_nothing = 0, person_a = 0, person_b = 0;
+                for (size_t i = 0; i < img.element_id.size(); ++i) {
+                    const uint32_t id = img.element_id[i];
+                    ASSERT_NE(id, kHidden) << what;
+                    person_a += id == kPersonA, person_b += id == kPersonB;
+                    if (id == kPersonA || id == kPersonB) {
+                        ASSERT_NE(img.range_mm[i], 0u);
+                        if (alone.element_id[i] == 1) {
+                            ++over_wall;
+                            EXPECT_LT(img.range_mm[i], alone.range_mm[i]) << what;
+                        }
+                        over_nothing += alone.range_mm[i] == 0;
+                    } else {
+                        // Elsewhere the static scene's pixel, untouched.
+                        ASSERT_EQ(img.range_mm[i], alone.range_mm[i]) << what << " pixel " << i;
+                        ASSERT_EQ(img.element_id[i], alone.element_id[i]) << what;
+                        ASSERT_EQ(img.reflectivity[i], alone.reflectivity[i]) << what;
+                    }
+                }
+                EXPECT_GT(person_a, 300u) << what;
+                EXPECT_GT(person_b, 200u) << what;
+                EXPECT_GT(over_wall, 100u) << what;
+                EXPECT_GT(over_nothing, 50u) << what;
+            }
+        }
+    }
+}
+
+TEST(SimulateScanOverlay, OverlayBehindTheStaticSceneChangesNothing) {
+    NoiseModel noise;  // with noise and dropouts
+    noise.range_sigma_m = 0.02;
+    const LidarModel model = LidarModel::DefaultOs1_32(1024);
+    // A closed room and boxes outside it: every overlay hit is behind a wall.
+    const BoxRoom room({0, 0, 0}, {6, 4, 3});
+    const Scene room_scene(room.mesh, room.ids);
+    common::TriangleMesh outside;
+    std::vector<uint32_t> outside_ids;
+    Append(&outside, &outside_ids, BoxRoom({6.2, 1.0, 0.0}, {6.7, 1.6, 1.8}).mesh, 1000);
+    Append(&outside, &outside_ids, BoxRoom({-1.0, -1.0, -1.0}, {7.0, 5.0, -0.1}).mesh, 1001);
+    const Scene outside_scene(outside, outside_ids);
+    // A wall, and a box beyond max_range_m where the static scene has no hit.
+    NoiseModel short_range = noise;
+    short_range.max_range_m = 20;
+    const Scene wall(WallAt(5.0, 2.0));
+    const Scene far_box(BoxRoom({-24.0, -2.0, -2.0}, {-21.0, 2.0, 2.0}).mesh);
+    struct Case {
+        const Scene* scene;
+        const Scene* overlay;
+        const NoiseModel* noise;
+        const char* name;
+    };
+    for (const Case& c : {Case{&room_scene, &outside_scene, &noise, "behind the walls"},
+                          Case{&wall, &far_box, &short_range, "beyond max range"}}) {
+        for (const int packet : {1, 4, 8, 16}) {
+            const Eigen::Isometry3d T = Pose(2.2, 1.7, 1.3, 37, 0, 4);
+            SimulatorOptions options;
+            options.packet_size = packet;
+            ScanImage without, with;
+            const ScanStats s0 = SimulateScan(*c.scene, model, T, *c.noise, 5, &without, options);
+            options.overlay = c.overlay;
+            const ScanStats s1 = SimulateScan(*c.scene, model, T, *c.noise, 5, &with, options);
+            ExpectSameScan(with, s1, without, s0,
+                           std::string(c.name) + " packet " + std::to_string(packet));
+        }
+    }
+    // Without the room, the boxes outside it are seen: the overlay was cast.
+    const Scene empty{common::TriangleMesh()};
+    SimulatorOptions options;
+    options.overlay = &outside_scene;
+    ScanImage img;
+    const ScanStats stats =
+        SimulateScan(empty, model, Pose(2.2, 1.7, 1.3), noise, 5, &img, options);
+    EXPECT_GT(stats.hits, 1000u);
+    EXPECT_GT(std::count(img.element_id.begin(), img.element_id.end(), 1000u), 100);
+    EXPECT_GT(std::count(img.element_id.begin(), img.element_id.end(), 1001u), 1000);
+}
+
+TEST(SimulateScanOverlay, EmptyOverlayEqualsNoOverlayBitForBit) {
+    const Scene scene(FurnishedRoom());
+    const Scene empty{common::TriangleMesh()};
+    ASSERT_EQ(empty.triangle_count(), 0u);
+    NoiseModel noise;
+    noise.range_sigma_m = 0.02;
+    for (const LidarModel& model :
+         {LidarModel::DefaultOs1_32(1024), SimpleModel(Linspace(30, -40, 7), 512)}) {
+        for (const int packet : {1, 4, 8, 16}) {
+            SimulatorOptions options;
+            options.packet_size = packet;
+            ScanImage without, with;
+            const Eigen::Isometry3d T = Pose(0.3, 0.4, 0.1, 20, 2, -3);
+            const ScanStats s0 = SimulateScan(scene, model, T, noise, 99, &without, options);
+            options.overlay = &empty;
+            const ScanStats s1 = SimulateScan(scene, model, T, noise, 99, &with, options);
+            ExpectSameScan(with, s1, without, s0, "packet " + std::to_string(packet));
+        }
+    }
 }
 
 // ---- Invalid arguments ----
