@@ -18,6 +18,8 @@ packages=(
     liblcm-dev liblcm-bin libglib2.0-dev
     # command-line tools
     libcli11-dev
+    # scenario and configuration files
+    libyaml-cpp-dev
     # host tools: IFC++ (BIM ingest), Embree 3 (LiDAR simulation), TBB (parallelism)
     libifcplusplus-dev libembree-dev libtbb-dev
     # tests and benchmarks

@@ -7,6 +7,7 @@ find_package(PkgConfig REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
+find_package(yaml-cpp REQUIRED)  # scenario and configuration files
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # .gz captures and logs, PNG
 set_target_properties(ZLIB::ZLIB PROPERTIES IMPORTED_GLOBAL TRUE)

@@ -1,0 +1,272 @@
+#include "host_tools/simulate/scenario.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <string>
+
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::simulate {
+namespace {
+
+using common::StatusCode;
+
+constexpr std::array<std::string_view, 4> kLidarModes = {"512x10", "1024x10", "2048x10", "1024x20"};
+constexpr std::array<std::string_view, 4> kUdpProfiles = {"LEGACY", "RNG19", "RNG15", "DUAL"};
+
+// Shortest text that reads back to the same double, so a message shows what the file said.
+std::string Num(double x) {
+    std::array<char, 32> buf{};
+    const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), x);
+    return std::string(buf.data(), r.ptr);
+}
+
+template <int N>
+std::string Vec(const Eigen::Matrix<double, N, 1>& v) {
+    std::string s = "[";
+    for (int i = 0; i < N; ++i) s += (i ? ", " : "") + Num(v[i]);
+    return s + "]";
+}
+
+std::string Idx(const std::string& path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
+
+// Messages read "<yaml key path> = <value>: <rule>".
+void Require(bool ok, const std::string& field, const std::string& value, const char* rule) {
+    if (!ok) throw common::Error(StatusCode::kInvalidArgument, field + " = " + value + ": " + rule);
+}
+
+bool Finite(double x) { return std::isfinite(x); }
+
+void RequireFinite(const std::string& field, double x) {
+    Require(Finite(x), field, Num(x), "must be finite");
+}
+template <int N>
+void RequireFinite(const std::string& field, const Eigen::Matrix<double, N, 1>& v) {
+    Require(v.allFinite(), field, Vec(v), "must be finite");
+}
+void RequireNonNegative(const std::string& field, double x) {
+    Require(Finite(x) && x >= 0, field, Num(x), "must be >= 0");
+}
+void RequirePositive(const std::string& field, double x) {
+    Require(Finite(x) && x > 0, field, Num(x), "must be > 0");
+}
+// Bounded above as well: a typo such as 50 for 0.5 m/s would otherwise run silently.
+void RequireInRange(const std::string& field, double x, double lo_excl, double hi_incl,
+                    const char* rule) {
+    Require(Finite(x) && x > lo_excl && x <= hi_incl, field, Num(x), rule);
+}
+void RequireProbability(const std::string& field, double x) {
+    Require(Finite(x) && x >= 0 && x < 1, field, Num(x), "must be in [0, 1)");
+}
+void RequireNonEmpty(const std::string& field, const std::string& s) {
+    Require(!s.empty(), field, "''", "must not be empty");
+}
+void RequireIfcClass(const std::string& field, const std::string& s) {
+    Require(s.size() > 3 && s.compare(0, 3, "Ifc") == 0, field, "'" + s + "'",
+            "must be an IFC class name such as IfcDoor");
+}
+
+template <size_t N>
+void RequireOneOf(const std::string& field, const std::string& value,
+                  const std::array<std::string_view, N>& allowed) {
+    bool ok = false;
+    std::string list;
+    for (const auto a : allowed) {
+        ok = ok || value == a;
+        list += (list.empty() ? "" : ", ") + std::string(a);
+    }
+    if (!ok) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            field + " = '" + value + "': must be one of " + list);
+    }
+}
+
+void ValidateSpeed(const SpeedSpec& s) {
+    RequireInRange("speed.speed_mps", s.speed_mps, 0, 5, "must be > 0 and <= 5");
+    RequireInRange("speed.max_accel_mps2", s.max_accel_mps2, 0, 10, "must be > 0 and <= 10");
+    RequireInRange("speed.max_yaw_rate_deg_s", s.max_yaw_rate_deg_s, 0, 720,
+                   "must be > 0 and <= 720");
+    RequireInRange("speed.max_lateral_accel_mps2", s.max_lateral_accel_mps2, 0, 10,
+                   "must be > 0 and <= 10");
+}
+
+void ValidatePath(const PathSpec& p) {
+    Require(p.mode == PathMode::kCoverage || p.mode == PathMode::kWaypoints, "path.mode",
+            std::to_string(static_cast<int>(p.mode)), "must be coverage or waypoints");
+    if (p.mode == PathMode::kWaypoints) {
+        Require(!p.waypoints.empty(), "path.waypoints", "[]",
+                "mode waypoints needs at least 1 waypoint");
+    } else {
+        Require(p.waypoints.empty(), "path.waypoints",
+                std::to_string(p.waypoints.size()) + " points",
+                "must be empty with mode coverage (the walk is planned)");
+    }
+    for (size_t i = 0; i < p.waypoints.size(); ++i) {
+        RequireFinite(Idx("path.waypoints", i), p.waypoints[i]);
+    }
+    if (p.start) {
+        RequireFinite("path.start.xy", p.start->xy);
+        RequireFinite("path.start.yaw_deg", p.start->yaw_deg);
+    }
+}
+
+void ValidateSensor(const SensorSpec& s) {
+    RequireOneOf("sensor.lidar_mode", s.lidar_mode, kLidarModes);
+    RequireOneOf("sensor.udp_profile", s.udp_profile, kUdpProfiles);
+    // Within a few metres of the base: a rig, not a crane.
+    Require(s.mount_xyz.allFinite() && s.mount_xyz.cwiseAbs().maxCoeff() <= 3.0, "sensor.mount_xyz",
+            Vec(s.mount_xyz), "must be finite, each within [-3, 3] m");
+    Require(s.mount_rpy_deg.allFinite() && s.mount_rpy_deg.cwiseAbs().maxCoeff() <= 180.0,
+            "sensor.mount_rpy_deg", Vec(s.mount_rpy_deg),
+            "must be finite, each within [-180, 180]");
+}
+
+void ValidateNoise(const NoiseSpec& n) {
+    Require(
+        Finite(n.lidar.range_sigma_m) && n.lidar.range_sigma_m >= 0 && n.lidar.range_sigma_m <= 1,
+        "noise.lidar.range_sigma_m", Num(n.lidar.range_sigma_m), "must be in [0, 1]");
+    RequireProbability("noise.lidar.dropout", n.lidar.dropout);
+    RequireInRange("noise.lidar.max_range_m", n.lidar.max_range_m, 0, 1000,
+                   "must be > 0 and <= 1000");
+    RequireNonNegative("noise.imu.accel_sigma_mps2", n.imu.accel_sigma_mps2);
+    RequireNonNegative("noise.imu.gyro_sigma_deg_s", n.imu.gyro_sigma_deg_s);
+    RequireNonNegative("noise.imu.accel_bias_sigma_mps2", n.imu.accel_bias_sigma_mps2);
+    RequireNonNegative("noise.imu.gyro_bias_sigma_deg_s", n.imu.gyro_bias_sigma_deg_s);
+    const OdometryNoiseSpec& o = n.odometry;
+    Require(Finite(o.scale_error) && std::abs(o.scale_error) < 1, "noise.odometry.scale_error",
+            Num(o.scale_error), "must be in (-1, 1)");
+    RequireNonNegative("noise.odometry.velocity_sigma_mps", o.velocity_sigma_mps);
+    RequireFinite("noise.odometry.yaw_drift_deg_per_min", o.yaw_drift_deg_per_min);
+    RequireNonNegative("noise.odometry.slips_per_min", o.slips_per_min);
+    RequireNonNegative("noise.odometry.slip_duration_s", o.slip_duration_s);
+    Require(Finite(o.slip_factor) && o.slip_factor >= 0 && o.slip_factor <= 1,
+            "noise.odometry.slip_factor", Num(o.slip_factor), "must be in [0, 1]");
+}
+
+void ValidateEdits(const EditsSpec& e) {
+    for (size_t i = 0; i < e.boxes.size(); ++i) {
+        const std::string p = Idx("edits.boxes", i);
+        const AddedBox& b = e.boxes[i];
+        RequireFinite(p + ".center", b.center);
+        Require(b.size.allFinite() && (b.size.array() > 0).all(), p + ".size", Vec(b.size),
+                "must be finite and > 0 in each axis");
+        RequireFinite(p + ".yaw_deg", b.yaw_deg);
+    }
+    for (size_t i = 0; i < e.cylinders.size(); ++i) {
+        const std::string p = Idx("edits.cylinders", i);
+        RequireFinite(p + ".base", e.cylinders[i].base);
+        RequirePositive(p + ".radius_m", e.cylinders[i].radius_m);
+        RequirePositive(p + ".height_m", e.cylinders[i].height_m);
+    }
+    for (size_t i = 0; i < e.meshes.size(); ++i) {
+        const std::string p = Idx("edits.meshes", i);
+        const AddedMesh& m = e.meshes[i];
+        RequireNonEmpty(p + ".file", m.file.string());
+        RequireFinite(p + ".position", m.position);
+        RequireFinite(p + ".yaw_deg", m.yaw_deg);
+        RequirePositive(p + ".scale", m.scale);
+    }
+    const ClutterSpec& c = e.clutter;
+    Require(Finite(c.density_per_m2) && c.density_per_m2 >= 0 && c.density_per_m2 <= 5,
+            "edits.clutter.density_per_m2", Num(c.density_per_m2), "must be in [0, 5]");
+    RequirePositive("edits.clutter.min_size_m", c.min_size_m);
+    RequirePositive("edits.clutter.max_size_m", c.max_size_m);
+    Require(c.min_size_m <= c.max_size_m, "edits.clutter.max_size_m", Num(c.max_size_m),
+            "must be >= edits.clutter.min_size_m");
+    RequireNonNegative("edits.clutter.keep_off_walk_m", c.keep_off_walk_m);
+    for (size_t i = 0; i < e.removed.global_ids.size(); ++i) {
+        RequireNonEmpty(Idx("edits.removed.global_ids", i), e.removed.global_ids[i]);
+    }
+    for (size_t i = 0; i < e.removed.classes.size(); ++i) {
+        RequireIfcClass(Idx("edits.removed.classes", i), e.removed.classes[i]);
+    }
+    for (size_t i = 0; i < e.moved.size(); ++i) {
+        const std::string p = Idx("edits.moved", i);
+        RequireNonEmpty(p + ".global_id", e.moved[i].global_id);
+        RequireFinite(p + ".translation", e.moved[i].translation);
+        RequireFinite(p + ".yaw_deg", e.moved[i].yaw_deg);
+    }
+    Require(Finite(e.as_built.wall_offset_sigma_m) && e.as_built.wall_offset_sigma_m >= 0 &&
+                e.as_built.wall_offset_sigma_m <= 1,
+            "edits.as_built.wall_offset_sigma_m", Num(e.as_built.wall_offset_sigma_m),
+            "must be in [0, 1]");
+    for (size_t i = 0; i < e.as_built.walls.size(); ++i) {
+        const std::string p = Idx("edits.as_built.walls", i);
+        RequireNonEmpty(p + ".global_id", e.as_built.walls[i].global_id);
+        RequireFinite(p + ".offset_m", e.as_built.walls[i].offset_m);
+    }
+    for (size_t i = 0; i < e.people.size(); ++i) {
+        const std::string p = Idx("edits.people", i);
+        const PersonSpec& q = e.people[i];
+        RequireFinite(p + ".from", q.from);
+        RequireFinite(p + ".to", q.to);
+        Require(q.from != q.to, p + ".to", Vec(q.to), "must differ from .from");
+        RequireInRange(p + ".speed_mps", q.speed_mps, 0, 5, "must be > 0 and <= 5");
+        RequireInRange(p + ".radius_m", q.radius_m, 0, 2, "must be > 0 and <= 2");
+        RequireInRange(p + ".height_m", q.height_m, 0, 3, "must be > 0 and <= 3");
+    }
+}
+
+}  // namespace
+
+void Scenario::Validate() const {
+    Require(platform == Platform::kGo1 || platform == Platform::kHandheld, "platform",
+            std::to_string(static_cast<int>(platform)), "must be go1 or handheld");
+    ValidatePath(path);
+    ValidateSpeed(speed);
+    RequireNonNegative("duration_s", duration_s);
+    ValidateSensor(sensor);
+    RequireProbability("network.packet_loss", network.packet_loss);
+    ValidateNoise(noise);
+    ValidateEdits(edits);
+}
+
+Scenario DefaultScenario(Platform platform) {
+    Scenario s;
+    s.platform = platform;
+    if (platform == Platform::kHandheld) {
+        s.speed.speed_mps = 1.0;
+        s.speed.max_yaw_rate_deg_s = 90.0;
+        // The handheld base is already at chest height (GaitConfig::Handheld): the sensor sits
+        // just above the hand.
+        s.sensor.mount_xyz = Eigen::Vector3d(0.0, 0.0, 0.1);
+    }
+    return s;
+}
+
+std::string_view ToString(Platform platform) {
+    switch (platform) {
+        case Platform::kGo1:
+            return "go1";
+        case Platform::kHandheld:
+            return "handheld";
+    }
+    return "?";
+}
+
+std::string_view ToString(PathMode mode) {
+    switch (mode) {
+        case PathMode::kCoverage:
+            return "coverage";
+        case PathMode::kWaypoints:
+            return "waypoints";
+    }
+    return "?";
+}
+
+std::optional<Platform> PlatformFromString(std::string_view text) {
+    for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
+        if (text == ToString(p)) return p;
+    }
+    return std::nullopt;
+}
+
+std::optional<PathMode> PathModeFromString(std::string_view text) {
+    for (const PathMode m : {PathMode::kCoverage, PathMode::kWaypoints}) {
+        if (text == ToString(m)) return m;
+    }
+    return std::nullopt;
+}
+
+}  // namespace bimslam::simulate
