@@ -1,0 +1,329 @@
+#include "algorithms/simulation/body_trajectory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/simulation/measurement_math.hpp"
+
+namespace bimslam::simulation {
+namespace {
+using common::StatusCode;
+
+constexpr double kGravity = 9.80665;
+constexpr double kDegToRad = M_PI / 180.0;
+constexpr double kResampleM = 0.05;    // path resampling step
+constexpr double kSampleS = 0.01;      // planar samples and spline knots: 100 Hz
+constexpr double kSmoothSigmaS = 0.1;  // Gaussian smoothing of the planar samples
+constexpr double kDiffS = 5e-4;        // central differences
+constexpr double kWobbleHz[3] = {0.31, 0.53, 0.87};
+
+void Require(bool ok, const char* type, const char* field, double value, const char* rule) {
+    if (!ok || !std::isfinite(value)) {
+        throw common::Error(StatusCode::kInvalidArgument, std::string(type) + "." + field + " = " +
+                                                              std::to_string(value) + ": " + rule);
+    }
+}
+
+// The path every kResampleM metres along its length (its last point kept).
+std::vector<Eigen::Vector2d> Resample(const std::vector<Eigen::Vector2d>& path) {
+    std::vector<Eigen::Vector2d> out{path.front()};
+    double carry = 0;  // distance walked since the last output point
+    for (size_t i = 1; i < path.size(); ++i) {
+        const Eigen::Vector2d a = path[i - 1], b = path[i];
+        const double len = (b - a).norm();
+        double at = kResampleM - carry;
+        while (at <= len) {
+            out.push_back(a + (b - a) * (at / len));
+            at += kResampleM;
+        }
+        carry = len - (at - kResampleM);
+    }
+    if ((out.back() - path.back()).norm() > 1e-6) out.push_back(path.back());
+    return out;
+}
+
+// Uniform cubic B-spline basis at f in [0, 1) (and its derivatives), for control points
+// i-1, i, i+1, i+2.
+std::array<double, 4> Basis(double f, int derivative) {
+    const double f2 = f * f, f3 = f2 * f;
+    switch (derivative) {
+        case 0:
+            return {(1 - 3 * f + 3 * f2 - f3) / 6, (4 - 6 * f2 + 3 * f3) / 6,
+                    (1 + 3 * f + 3 * f2 - 3 * f3) / 6, f3 / 6};
+        case 1:
+            return {(-3 + 6 * f - 3 * f2) / 6, (-12 * f + 9 * f2) / 6, (3 + 6 * f - 9 * f2) / 6,
+                    3 * f2 / 6};
+        default:
+            return {(6 - 6 * f) / 6, (-12 + 18 * f) / 6, (6 - 18 * f) / 6, 6 * f / 6};
+    }
+}
+
+}  // namespace
+
+void PathTiming::Validate() const {
+    Require(speed_mps > 0 && speed_mps <= 5, "PathTiming", "speed_mps", speed_mps,
+            "must be in (0, 5] m/s");
+    Require(max_accel_mps2 > 0, "PathTiming", "max_accel_mps2", max_accel_mps2, "must be > 0");
+    Require(max_yaw_rate_radps > 0, "PathTiming", "max_yaw_rate_radps", max_yaw_rate_radps,
+            "must be > 0");
+    Require(max_lateral_accel_mps2 > 0, "PathTiming", "max_lateral_accel_mps2",
+            max_lateral_accel_mps2, "must be > 0");
+    Require(stand_s >= 0, "PathTiming", "stand_s", stand_s, "must be >= 0");
+}
+
+GaitConfig GaitConfig::Go1Trot() { return GaitConfig{}; }
+
+GaitConfig GaitConfig::Handheld() {
+    GaitConfig g;
+    g.base_height_m = 1.2;
+    g.frequency_hz = 0.9;  // 1.8 steps per second, two steps per cycle
+    g.bounce_m = 0.02;     // the head and hands bob once per step
+    g.sway_m = 0.015;      // the body shifts over each stance foot
+    g.roll_deg = 1.5;
+    g.pitch_deg = 1.0;
+    g.yaw_deg = 2.0;  // shoulders twist with the stride
+    g.duty_factor = 0.6;
+    g.wobble_deg = 0.5;
+    return g;
+}
+
+void GaitConfig::Validate() const {
+    Require(base_height_m > 0 && base_height_m < 3, "GaitConfig", "base_height_m", base_height_m,
+            "must be in (0, 3) m");
+    Require(frequency_hz > 0 && frequency_hz <= 5, "GaitConfig", "frequency_hz", frequency_hz,
+            "must be in (0, 5] Hz");
+    Require(bounce_m >= 0 && bounce_m < 0.2, "GaitConfig", "bounce_m", bounce_m,
+            "must be in [0, 0.2) m");
+    Require(sway_m >= 0 && sway_m < 0.2, "GaitConfig", "sway_m", sway_m, "must be in [0, 0.2) m");
+    for (const auto& [name, v] : {std::pair{"roll_deg", roll_deg},
+                                  {"pitch_deg", pitch_deg},
+                                  {"yaw_deg", yaw_deg},
+                                  {"wobble_deg", wobble_deg}}) {
+        Require(v >= 0 && v <= 20, "GaitConfig", name, v, "must be in [0, 20] deg");
+    }
+    Require(duty_factor > 0 && duty_factor < 1, "GaitConfig", "duty_factor", duty_factor,
+            "must be in (0, 1)");
+}
+
+BodyTrajectory::BodyTrajectory(const std::vector<Eigen::Vector2d>& path_in, double start_yaw,
+                               double floor_z, const PathTiming& timing, const GaitConfig& gait,
+                               uint64_t seed)
+    : gait_(gait), floor_z_(floor_z) {
+    timing.Validate();
+    gait.Validate();
+    Require(std::isfinite(start_yaw), "BodyTrajectory", "start_yaw", start_yaw, "must be finite");
+    Require(std::isfinite(floor_z), "BodyTrajectory", "floor_z", floor_z, "must be finite");
+    std::vector<Eigen::Vector2d> path;
+    for (const Eigen::Vector2d& p : path_in) {
+        if (!p.allFinite()) {
+            throw common::Error(StatusCode::kInvalidArgument,
+                                "BodyTrajectory: a path point is not finite");
+        }
+        if (path.empty() || (p - path.back()).norm() > 1e-9) path.push_back(p);
+    }
+    if (path.empty())
+        throw common::Error(StatusCode::kInvalidArgument, "BodyTrajectory: empty path");
+    path = Resample(path);
+    const size_t n = path.size();
+
+    // Heading along the path, unwrapped, averaged over half a metre.
+    std::vector<double> raw(n, start_yaw), heading(n, start_yaw);
+    for (size_t i = 0; i < n && n > 1; ++i) {
+        const Eigen::Vector2d d = path[std::min(i + 1, n - 1)] - path[i ? i - 1 : 0];
+        double a = std::atan2(d.y(), d.x());
+        const double previous = i ? raw[i - 1] : start_yaw;
+        raw[i] = previous + std::remainder(a - previous, 2 * M_PI);
+    }
+    const int half = 5;  // 0.25 m each side
+    for (size_t i = 0; i < n; ++i) {
+        double sum = 0;
+        int count = 0;
+        for (long j = long(i) - half; j <= long(i) + half; ++j) {
+            if (j < 0 || j >= long(n)) continue;
+            sum += raw[size_t(j)];
+            ++count;
+        }
+        heading[i] = n > 1 ? sum / count : start_yaw;
+    }
+
+    // Speed limits, then acceleration limits forwards and backwards (file comment, step 1).
+    std::vector<double> ds(n, 0.0), v(n, timing.speed_mps);
+    for (size_t i = 1; i < n; ++i) ds[i] = (path[i] - path[i - 1]).norm();
+    for (size_t i = 0; i < n; ++i) {
+        const size_t a = i ? i - 1 : 0, b = std::min(i + 1, n - 1);
+        const double arc = (b > i ? ds[b] : 0) + (i > a ? ds[i] : 0);
+        const double kappa = arc > 0 ? std::abs(heading[b] - heading[a]) / arc : 0;
+        if (kappa > 1e-9) {
+            v[i] = std::min({v[i], timing.max_yaw_rate_radps / kappa,
+                             std::sqrt(timing.max_lateral_accel_mps2 / kappa)});
+        }
+        v[i] = std::max(v[i], 0.02);  // a turn on the spot still creeps forward
+    }
+    v.front() = 0;
+    v.back() = 0;
+    for (size_t i = 1; i < n; ++i) {
+        v[i] = std::min(v[i], std::sqrt(v[i - 1] * v[i - 1] + 2 * timing.max_accel_mps2 * ds[i]));
+    }
+    for (size_t i = n - 1; i-- > 0;) {
+        v[i] =
+            std::min(v[i], std::sqrt(v[i + 1] * v[i + 1] + 2 * timing.max_accel_mps2 * ds[i + 1]));
+    }
+
+    // Timed keyframes (t, x, y, yaw): stand, turn on the spot, walk, stand.
+    struct Key {
+        double t;
+        Eigen::Vector3d q;
+    };
+    std::vector<Key> keys;
+    double t = 0;
+    const Eigen::Vector3d first(path[0].x(), path[0].y(), start_yaw);
+    keys.push_back({t, first});
+    t += timing.stand_s;
+    keys.push_back({t, first});
+    const double turn = heading[0] - start_yaw;
+    if (std::abs(turn) > 1e-6) {
+        // Eased (raised cosine): peak rate = pi/2 * mean rate, kept at the limit.
+        const double T = M_PI_2 * std::abs(turn) / timing.max_yaw_rate_radps;
+        for (int k = 1; k <= 20; ++k) {
+            const double f = 0.5 - 0.5 * std::cos(M_PI * k / 20.0);
+            keys.push_back(
+                {t + T * k / 20.0, Eigen::Vector3d(first.x(), first.y(), start_yaw + f * turn)});
+        }
+        t += T;
+    }
+    for (size_t i = 1; i < n; ++i) {
+        const double mean_v = 0.5 * (v[i - 1] + v[i]);
+        const double dt =
+            std::max(ds[i] / std::max(mean_v, 1e-3),
+                     std::abs(heading[i] - heading[i - 1]) / timing.max_yaw_rate_radps);
+        t += dt;
+        length_m_ += ds[i];
+        keys.push_back({t, Eigen::Vector3d(path[i].x(), path[i].y(), heading[i])});
+    }
+    t += timing.stand_s;
+    keys.push_back({t, keys.back().q});
+    duration_s_ = t;
+
+    // 100 Hz samples (linear between keyframes), Gaussian-smoothed: the spline's control points.
+    const size_t samples = size_t(std::ceil(duration_s_ / kSampleS)) + 1;
+    std::vector<Eigen::Vector3d> raw_samples(samples);
+    size_t k = 1;
+    for (size_t s = 0; s < samples; ++s) {
+        const double ts = std::min(double(s) * kSampleS, duration_s_);
+        while (k + 1 < keys.size() && keys[k].t < ts) ++k;
+        const Key& a = keys[k - 1];
+        const Key& b = keys.size() > 1 ? keys[k] : keys[0];
+        const double span = b.t - a.t;
+        const double f = span > 0 ? std::clamp((ts - a.t) / span, 0.0, 1.0) : 1.0;
+        raw_samples[s] = a.q + f * (b.q - a.q);
+    }
+    const int radius = int(std::ceil(3 * kSmoothSigmaS / kSampleS));
+    std::vector<double> weights(size_t(2 * radius + 1));
+    for (int j = -radius; j <= radius; ++j) {
+        const double x = j * kSampleS / kSmoothSigmaS;
+        weights[size_t(j + radius)] = std::exp(-0.5 * x * x);
+    }
+    control_.assign(samples, Eigen::Vector3d::Zero());
+    for (size_t s = 0; s < samples; ++s) {
+        double wsum = 0;
+        for (int j = -radius; j <= radius; ++j) {
+            const long idx = std::clamp(long(s) + j, 0L, long(samples) - 1);  // held at the ends
+            control_[s] += weights[size_t(j + radius)] * raw_samples[size_t(idx)];
+            wsum += weights[size_t(j + radius)];
+        }
+        control_[s] /= wsum;
+    }
+    knot_s_ = kSampleS;
+
+    // Wobble phases from the seed, so that runs are reproducible.
+    const detail::PixelRandom random(seed, 0);
+    for (size_t j = 0; j < wobble_phase_.size(); ++j)
+        wobble_phase_[j] = 2 * M_PI * random.Uniform(j);
+}
+
+Eigen::Vector3d BodyTrajectory::SplineAt(double t, int derivative) const {
+    const double u = std::clamp(t, 0.0, duration_s_) / knot_s_;
+    const long i = std::min(long(std::floor(u)), long(control_.size()) - 1);
+    const double f = u - double(i);
+    const std::array<double, 4> b = Basis(f, derivative);
+    Eigen::Vector3d out = Eigen::Vector3d::Zero();
+    for (int j = 0; j < 4; ++j) {
+        const long idx = std::clamp(i - 1 + j, 0L, long(control_.size()) - 1);
+        out += b[size_t(j)] * control_[size_t(idx)];
+    }
+    return derivative == 0 ? out : out / std::pow(knot_s_, derivative);
+}
+
+Eigen::Isometry3d BodyTrajectory::Pose(double t) const {
+    const Eigen::Vector3d q = SplineAt(t, 0);
+    const double phase = 2 * M_PI * gait_.frequency_hz * t;
+    const double deg = kDegToRad;
+    double roll = gait_.roll_deg * deg * std::sin(phase);
+    double pitch = gait_.pitch_deg * deg * std::sin(2 * phase + 0.7);
+    double yaw = gait_.yaw_deg * deg * std::sin(phase + 1.3);
+    if (gait_.wobble_deg > 0) {
+        double* angles[3] = {&roll, &pitch, &yaw};
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int j = 0; j < 3; ++j) {
+                *angles[axis] +=
+                    gait_.wobble_deg * deg *
+                    std::sin(2 * M_PI * kWobbleHz[j] * t + wobble_phase_[size_t(3 * axis + j)]);
+            }
+        }
+    }
+    // Lowest at mid-stance: the bounce is a cosine of twice the phase.
+    const double bounce = gait_.bounce_m * std::cos(2 * phase);
+    const double sway = gait_.sway_m * std::sin(phase);
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() << q.x(), q.y(), floor_z_ + gait_.base_height_m + bounce;
+    T.linear() = (Eigen::AngleAxisd(q.z() + yaw, Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+    T.translation() += T.linear() * Eigen::Vector3d(0, sway, 0);
+    return T;
+}
+
+BodyTrajectory::Planar BodyTrajectory::PlanarAt(double t) const {
+    const Eigen::Vector3d q = SplineAt(t, 0), dq = SplineAt(t, 1);
+    Planar p;
+    p.xy = q.head<2>();
+    p.yaw = q.z();
+    const bool inside = t > 0 && t < duration_s_;
+    p.v_xy = inside ? Eigen::Vector2d(dq.head<2>()) : Eigen::Vector2d::Zero();
+    p.yaw_rate = inside ? dq.z() : 0.0;
+    return p;
+}
+
+FootContacts BodyTrajectory::ContactsAt(double t) const {
+    // Trot: FR with RL, FL with RR, half a cycle apart; each foot on the ground duty_factor of
+    // its cycle, starting at its pair's phase.
+    const double cycle = t * gait_.frequency_hz;
+    auto on = [&](double offset) {
+        const double phase = cycle + offset - std::floor(cycle + offset);
+        return phase < gait_.duty_factor;
+    };
+    return {on(0.0), on(0.5), on(0.5), on(0.0)};
+}
+
+BodyTrajectory::Kinematics BodyTrajectory::KinematicsAt(
+    double t, const Eigen::Isometry3d& T_base_frame) const {
+    const double h = kDiffS;
+    const Eigen::Isometry3d Tm = Pose(t - h) * T_base_frame;
+    const Eigen::Isometry3d T0 = Pose(t) * T_base_frame;
+    const Eigen::Isometry3d Tp = Pose(t + h) * T_base_frame;
+    Kinematics k;
+    k.T_world_frame = T0;
+    k.v_world = (Tp.translation() - Tm.translation()) / (2 * h);
+    k.a_world = (Tp.translation() - 2 * T0.translation() + Tm.translation()) / (h * h);
+    // Body rate: R(t+h) = R(t-h) Exp(2h omega) to second order.
+    k.omega_frame = common::LogSO3(Tm.linear().transpose() * Tp.linear()) / (2 * h);
+    k.specific_force_frame =
+        T0.linear().transpose() * (k.a_world - Eigen::Vector3d(0, 0, -kGravity));
+    return k;
+}
+
+}  // namespace bimslam::simulation
