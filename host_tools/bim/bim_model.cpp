@@ -26,6 +26,14 @@ Eigen::AlignedBox3d BimModel::Bounds() const {
     return box;
 }
 
+bool PassThrough(std::string_view ifc_class) {
+    for (const char* prefix : {"IfcDoor", "IfcWindow", "IfcSpace", "IfcOpeningElement",
+                               "IfcCurtainWall", "IfcVirtualElement", "IfcAnnotation"}) {
+        if (ifc_class.starts_with(prefix)) return true;
+    }
+    return false;
+}
+
 int FindStorey(const BimModel& model, const std::string& name) {
     std::string known;
     for (size_t i = 0; i < model.storeys.size(); ++i) {
@@ -79,7 +87,8 @@ BimModel SelectElements(const BimModel& model, const std::function<bool(const Bi
             out.mesh.triangles.push_back(tri);
             out.triangle_element.push_back(element_index);
         }
-        copy.triangle_count = static_cast<uint32_t>(out.mesh.triangles.size()) - copy.first_triangle;
+        copy.triangle_count =
+            static_cast<uint32_t>(out.mesh.triangles.size()) - copy.first_triangle;
         out.elements.push_back(std::move(copy));
     }
     return out;

@@ -29,6 +29,10 @@ enum class ElementRole : uint8_t { kStructure, kTransient };
 // "structure" / "transient".
 std::string_view ToString(ElementRole role);
 
+// Elements a walking robot passes and a LiDAR sees through: doors (taken as open), windows and
+// curtain walls (glass), spaces, openings, virtual elements and annotations (not physical).
+bool PassThrough(std::string_view ifc_class);
+
 struct BimElement {
     std::string global_id;
     std::string ifc_class;  // e.g. "IfcWallStandardCase"
@@ -47,10 +51,10 @@ struct FailedElement {
 };
 
 struct BimModel {
-    std::string file;             // where it came from
-    std::string schema;           // "IFC2X3", "IFC4", ...
-    double length_unit_m = 1.0;   // the file's length unit in metres (0.001 for millimetres)
-    std::vector<BimStorey> storeys;  // by elevation, lowest first
+    std::string file;                  // where it came from
+    std::string schema;                // "IFC2X3", "IFC4", ...
+    double length_unit_m = 1.0;        // the file's length unit in metres (0.001 for millimetres)
+    std::vector<BimStorey> storeys;    // by elevation, lowest first
     std::vector<BimElement> elements;  // elements with geometry, triangles contiguous per element
     // Every IfcProduct subtype in the file (spaces included, with or without geometry) -> count.
     std::map<std::string, size_t> class_counts;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <queue>
 #include <span>
+#include <sstream>
 #include <string>
 
 #include "algorithms/common/se3.hpp"
@@ -17,9 +18,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 void Require(bool ok, const char* field, double value, const char* rule) {
     if (!ok) {
-        throw common::Error(StatusCode::kInvalidArgument, std::string("PathConfig.") + field +
-                                                              " = " + std::to_string(value) +
-                                                              ": " + rule);
+        throw common::Error(
+            StatusCode::kInvalidArgument,
+            std::string("PathConfig.") + field + " = " + std::to_string(value) + ": " + rule);
     }
 }
 
@@ -33,7 +34,8 @@ struct Lattice {
     std::vector<float> cost;
 
     Eigen::Vector2d Center(size_t i) const {
-        return origin + resolution * Eigen::Vector2d(double(i % width) + 0.5, double(i / width) + 0.5);
+        return origin +
+               resolution * Eigen::Vector2d(double(i % width) + 0.5, double(i / width) + 0.5);
     }
 
     // Dijkstra from `source`; stops early once every cell of `targets` is settled, when given.
@@ -124,7 +126,8 @@ struct Planner {
         out.cost.assign(out.traversable.size(), std::numeric_limits<float>::max());
         for (size_t i = 0; i < g.cells.size(); ++i) {
             if (!fine.traversable[i]) continue;
-            const size_t j = size_t(int(i / g.width) / k) * out.width + size_t(int(i % g.width) / k);
+            const size_t j =
+                size_t(int(i / g.width) / k) * out.width + size_t(int(i % g.width) / k);
             out.traversable[j] = 1;
             out.cost[j] = std::min(out.cost[j], fine.cost[i]);
         }
@@ -137,9 +140,8 @@ struct Planner {
 
 // Rooms: 4-connected components of the cells with more clearance than room_split_m.
 std::vector<std::vector<size_t>> Rooms(const OccupancyGrid& g, const PathConfig& c) {
-    const std::vector<int> label = LabelRegions(g, [&](size_t i) {
-        return g.cells[i] == Cell::kFree && g.clearance[i] >= c.room_split_m;
-    });
+    const std::vector<int> label = LabelRegions(
+        g, [&](size_t i) { return g.cells[i] == Cell::kFree && g.clearance[i] >= c.room_split_m; });
     std::vector<std::vector<size_t>> all;
     for (size_t i = 0; i < label.size(); ++i) {
         if (label[i] < 0) continue;
@@ -289,8 +291,8 @@ void PathConfig::Validate() const {
     Require(sensor_height_m > 0 && sensor_height_m < 10, "sensor_height_m", sensor_height_m,
             "must be in (0, 10) m");
     Require(spacing_m > 0 && spacing_m <= 1, "spacing_m", spacing_m, "must be in (0, 1] m");
-    Require(smoothing_passes >= 0 && smoothing_passes <= 10, "smoothing_passes",
-            smoothing_passes, "must be in [0, 10]");
+    Require(smoothing_passes >= 0 && smoothing_passes <= 10, "smoothing_passes", smoothing_passes,
+            "must be in [0, 10]");
 }
 
 CoveragePath PlanCoveragePath(const OccupancyGrid& g, const PathConfig& c) {
@@ -315,8 +317,8 @@ CoveragePath PlanCoveragePath(const OccupancyGrid& g, const PathConfig& c) {
     for (size_t r = 1; r < rooms.size(); ++r) {
         if (rooms[r].size() > rooms[biggest].size()) biggest = r;
     }
-    const size_t start = size_t(std::find(view_room.begin(), view_room.end(), int(biggest)) -
-                                view_room.begin());
+    const size_t start =
+        size_t(std::find(view_room.begin(), view_room.end(), int(biggest)) - view_room.begin());
     std::swap(views[0], views[start]);
     std::swap(view_room[0], view_room[start]);
 
@@ -366,7 +368,8 @@ CoveragePath PlanCoveragePath(const OccupancyGrid& g, const PathConfig& c) {
         leg.push_back(g.Center(int(from % g.width), int(from / g.width)));
         std::reverse(leg.begin(), leg.end());
         const std::vector<Eigen::Vector2d> straight = Straighten(planner, leg);
-        line.insert(line.end(), straight.begin(), straight.end() - 1);  // the next leg starts at its end
+        line.insert(line.end(), straight.begin(),
+                    straight.end() - 1);  // the next leg starts at its end
         pinned.push_back(1);
         pinned.resize(line.size(), 0);
     }
@@ -414,12 +417,47 @@ CoveragePath PlanCoveragePath(const OccupancyGrid& g, const PathConfig& c) {
         out.poses.push_back(io::StampedPose::FromIsometry(int64_t(std::llround(time_s * 1e9)), T));
         int x, y;
         if (g.ToCell(out.points[i], &x, &y)) {
-            out.min_clearance_m = std::min(out.min_clearance_m, double(g.clearance[size_t(y) * g.width + x]));
+            out.min_clearance_m =
+                std::min(out.min_clearance_m, double(g.clearance[size_t(y) * g.width + x]));
         }
     }
     out.length_m = length;
     out.duration_s = time_s;
     return out;
+}
+
+std::vector<Eigen::Vector2d> PlanRoute(const OccupancyGrid& g, const PathConfig& c,
+                                       const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+    c.Validate();
+    const Planner planner(g, c);
+    auto cell = [&](const Eigen::Vector2d& p, const char* which) {
+        int x, y;
+        if (!g.ToCell(p, &x, &y) || !planner.fine.traversable[size_t(y) * g.width + x]) {
+            std::ostringstream os;
+            os << "storey '" << g.storey << "': the route's " << which << " (" << p.x() << ", "
+               << p.y() << ") is not free space with " << c.clearance_m << " m of clearance";
+            throw common::Error(StatusCode::kInvalidArgument, os.str());
+        }
+        return size_t(y) * g.width + x;
+    };
+    const size_t a = cell(from, "start"), b = cell(to, "end");
+    std::vector<double> dist;
+    std::vector<size_t> parent;
+    planner.fine.Search(a, dist, parent, std::span(&b, 1));
+    if (!std::isfinite(dist[b])) {
+        std::ostringstream os;
+        os << "storey '" << g.storey << "': no way with " << c.clearance_m
+           << " m of clearance from (" << from.x() << ", " << from.y() << ") to (" << to.x() << ", "
+           << to.y() << ")";
+        throw common::Error(StatusCode::kInvalidArgument, os.str());
+    }
+    std::vector<Eigen::Vector2d> leg{to};
+    for (size_t i = parent[b]; i != a && i != SIZE_MAX; i = parent[i]) {
+        leg.push_back(g.Center(int(i % g.width), int(i / g.width)));
+    }
+    leg.push_back(from);
+    std::reverse(leg.begin(), leg.end());
+    return Straighten(planner, leg);
 }
 
 std::vector<io::StampedPose> SampleWalk(const std::vector<io::StampedPose>& walk, double rate_hz) {
@@ -437,7 +475,8 @@ std::vector<io::StampedPose> SampleWalk(const std::vector<io::StampedPose>& walk
         }
         const io::StampedPose& a = walk[j - 1];
         const io::StampedPose& b = walk[j];
-        const double f = std::clamp(double(t - a.stamp_ns) / double(b.stamp_ns - a.stamp_ns), 0.0, 1.0);
+        const double f =
+            std::clamp(double(t - a.stamp_ns) / double(b.stamp_ns - a.stamp_ns), 0.0, 1.0);
         out.push_back(io::StampedPose::FromIsometry(t, common::Interpolate(a.Pose(), b.Pose(), f)));
     }
     return out;

@@ -20,15 +20,6 @@ void Require(bool ok, const char* field, double value, const char* rule) {
     }
 }
 
-// Not obstacles for a walking robot, even when they are not structure.
-bool PassThrough(const std::string& ifc_class) {
-    for (const char* prefix : {"IfcDoor", "IfcWindow", "IfcSpace", "IfcOpeningElement",
-                               "IfcCurtainWall", "IfcVirtualElement", "IfcAnnotation"}) {
-        if (ifc_class.rfind(prefix, 0) == 0) return true;
-    }
-    return false;
-}
-
 // Doors, windows and curtain walls close the building for telling inside from outside (their
 // footprints up to this height above the floor), yet never block the walk.
 constexpr double kClosureHeightM = 2.5;

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddBimSampleCommand(*bim, exit_code);
     bimslam::cli::AddBimPlanCommand(*bim, exit_code);
     bimslam::cli::AddBim2SessionCommand(app, exit_code);
+    bimslam::cli::AddSimulateCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -26,5 +26,6 @@ void AddBimSampleCommand(CLI::App& bim, int& exit_code);
 void AddBimCommands(CLI::App& bim, int& exit_code);
 void AddBimPlanCommand(CLI::App& bim, int& exit_code);
 void AddBim2SessionCommand(CLI::App& app, int& exit_code);
+void AddSimulateCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

@@ -1,0 +1,133 @@
+// bimslam simulate: a capture of a Go1 or handheld walk through a (changed) building, written as
+// the rig records it (host_tools/simulate/simulate.hpp).
+#include <unistd.h>
+
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/sha256.hpp"
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/cli/command.hpp"
+#include "host_tools/simulate/scenario_yaml.hpp"
+#include "host_tools/simulate/simulate.hpp"
+
+namespace bimslam::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct SimulateArgs {
+    std::string model;
+    std::string storey;
+    std::string scenario;
+    std::string platform;
+    double duration_s = -1;
+    int64_t seed = -1;
+    std::string out;
+    bool overwrite = false;
+    bool json = false;
+};
+
+int Simulate(const SimulateArgs& a) {
+    simulate::Scenario s;
+    if (!a.scenario.empty()) {
+        s = simulate::LoadScenario(a.scenario);
+        if (!a.platform.empty()) {
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "--platform: the scenario file sets the platform");
+        }
+    } else {
+        s = simulate::DefaultScenario(a.platform == "handheld" ? simulate::Platform::kHandheld
+                                                               : simulate::Platform::kGo1);
+    }
+    if (!a.model.empty()) s.model = a.model;
+    if (!a.storey.empty()) s.storey = a.storey;
+    if (a.duration_s >= 0) s.duration_s = a.duration_s;
+    if (a.seed >= 0) s.seed = uint64_t(a.seed);
+    if (s.model.empty()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "no model: give --model or set `model` in the scenario");
+    }
+    s.Validate();
+    if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            a.out + ": exists and is not empty (--overwrite replaces its files)");
+    }
+    const bim::BimModel model = bim::LoadIfc(s.model.string());
+    std::cout << "loaded    " << s.model.string() << ": " << model.schema << ", "
+              << model.storeys.size() << " storeys, " << model.elements.size() << " elements\n";
+    const bool tty = isatty(STDERR_FILENO);
+    const auto progress = [tty](double f) {
+        if (tty) std::cerr << "\r  simulating " << int(100 * f) << " %" << std::flush;
+    };
+    const simulate::CaptureReport r =
+        simulate::SimulateCapture(s, model, io::Sha256File(s.model), a.out, progress);
+    if (tty) std::cerr << "\r                      \r";
+    const double mb = double(r.pcap_bytes) / 1e6;
+    std::cout << std::fixed << std::setprecision(1) << "walk      "
+              << simulate::ToString(s.platform) << ", " << r.walk_length_m << " m in "
+              << r.duration_s << " s"
+              << (r.laps > 1 ? " (" + std::to_string(r.laps) + " laps)" : "")
+              << (r.starts_outside ? ", starting outside" : "") << "\n"
+              << "lidar     " << r.frames << " frames, " << r.lidar_packets << " lidar + "
+              << r.imu_packets << " IMU packets (" << r.lost_packets << " lost), " << mb << " MB ("
+              << mb / (r.duration_s / 60.0) << " MB/min)\n";
+    if (s.platform == simulate::Platform::kGo1) {
+        std::cout << "can       " << r.can_frames << " Go1 frames\n";
+    }
+    std::cout << "changes   " << r.added_objects << " added, " << r.removed_elements << " removed, "
+              << r.moved_elements << " moved, " << r.people << " people\n"
+              << "time      " << std::setprecision(2) << r.wall_s << " s, " << std::setprecision(1)
+              << r.duration_s / r.wall_s << "x real time\n"
+              << "capture   " << a.out << " (capture.json lists the files)\n";
+    if (a.json) {
+        nlohmann::json j = {{"capture", a.out},
+                            {"frames", r.frames},
+                            {"duration_s", r.duration_s},
+                            {"walk_length_m", r.walk_length_m},
+                            {"laps", r.laps},
+                            {"starts_outside", r.starts_outside},
+                            {"lidar_packets", r.lidar_packets},
+                            {"imu_packets", r.imu_packets},
+                            {"lost_packets", r.lost_packets},
+                            {"can_frames", r.can_frames},
+                            {"pcap_bytes", r.pcap_bytes},
+                            {"wall_s", r.wall_s},
+                            {"real_time_factor", r.duration_s / r.wall_s}};
+        std::cout << j.dump(2) << "\n";
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+void AddSimulateCommand(CLI::App& app, int& exit_code) {
+    auto a = std::make_shared<SimulateArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "simulate",
+        "simulate a capture: a Go1 or handheld walk through the model, with the scenario's "
+        "changes, written as lidar.pcap + metadata.json, go1_can.log/.pcap, ground_truth.tum, "
+        "changes.json and capture.json");
+    cmd->add_option("--model", a->model, "IFC model (overrides the scenario's `model`)");
+    cmd->add_option("--storey", a->storey,
+                    "storey by name (default: the scenario's, else the lowest)");
+    cmd->add_option("--scenario", a->scenario,
+                    "scenario YAML (host_tools/simulate/scenarios/ has examples; default: a Go1 "
+                    "coverage walk with default noise)");
+    cmd->add_option("--platform", a->platform, "go1 or handheld, without a scenario file")
+        ->check(CLI::IsMember({"go1", "handheld"}));
+    cmd->add_option("--duration", a->duration_s,
+                    "seconds to capture (default: the walk once; longer repeats the walk)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--seed", a->seed, "random seed (overrides the scenario's)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("-o,--output", a->out, "capture directory")->required();
+    cmd->add_flag("--overwrite", a->overwrite,
+                  "replace the files of an existing capture directory");
+    cmd->add_flag("--json", a->json, "also print the figures as JSON");
+    cmd->callback([a, &exit_code] { exit_code = Run([&] { return Simulate(*a); }); });
+}
+
+}  // namespace bimslam::cli

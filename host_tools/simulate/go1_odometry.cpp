@@ -1,0 +1,90 @@
+#include "host_tools/simulate/go1_odometry.hpp"
+
+#include <cmath>
+#include <random>
+
+namespace bimslam::simulate {
+
+Go1OdometryModel::Go1OdometryModel(const simulation::BodyTrajectory& trajectory,
+                                   const OdometryNoiseSpec& noise,
+                                   const simulation::ImuNoise& imu_noise, uint64_t seed)
+    : trajectory_(trajectory), noise_(noise), imu_(imu_noise, seed ^ 0x60160160ull), seed_(seed) {
+    yaw_drift_ = noise.yaw_drift_deg_per_min * M_PI / 180.0 / 60.0;
+    // Slips: a Poisson process over the whole walk, drawn up front so that they are known.
+    std::mt19937_64 rng(seed ^ 0x5119ull);
+    if (noise.slips_per_min > 0) {
+        std::exponential_distribution<double> gap(noise.slips_per_min / 60.0);
+        for (double t = gap(rng); t < trajectory.duration_s(); t += gap(rng)) {
+            slips_.push_back({t, t + noise.slip_duration_s});
+            t += noise.slip_duration_s;
+        }
+    }
+}
+
+can::Go1Sample Go1OdometryModel::Next(double t) {
+    const simulation::BodyTrajectory::Planar p = trajectory_.PlanarAt(t);
+    const simulation::BodyTrajectory::Kinematics k =
+        trajectory_.KinematicsAt(t, Eigen::Isometry3d::Identity());
+    std::mt19937_64 rng(seed_ ^ (0x9E3779B97F4A7C15ull * (index_ + 1)));
+    std::normal_distribution<double> normal(0.0, 1.0);
+
+    // Leg odometry: the body-frame planar velocity, scaled, noisy, slipping.
+    const Eigen::Rotation2Dd R(p.yaw);
+    Eigen::Vector2d v = R.inverse() * p.v_xy;
+    v *= 1.0 + noise_.scale_error;
+    v += noise_.velocity_sigma_mps * Eigen::Vector2d(normal(rng), normal(rng));
+    for (const SlipInterval& s : slips_) {
+        if (t >= s.begin_s && t < s.end_s) v *= noise_.slip_factor;
+    }
+    const double yaw_rate = p.yaw_rate + yaw_drift_;
+
+    // Unitree's dead reckoning integrates what it reports.
+    const double dt = index_ == 0 ? 0.0 : t - last_t_;
+    odom_yaw_ += yaw_rate * dt;
+    odom_x_ += dt * (std::cos(odom_yaw_) * v.x() - std::sin(odom_yaw_) * v.y());
+    odom_y_ += dt * (std::sin(odom_yaw_) * v.x() + std::cos(odom_yaw_) * v.y());
+    last_t_ = t;
+
+    can::Go1Sample s;
+    s.udp_link_ok = true;
+    s.highstate_crc_ok = true;
+    s.sample_age_us = 800;
+    s.valid = can::kAllGroups;
+    s.vx = v.x();
+    s.vy = v.y();
+    s.yaw_rate = yaw_rate;
+    s.vz = k.v_world.z();
+    s.body_height = k.T_world_frame.translation().z() - trajectory_.floor_z();
+    s.foot_raise_height = 0.08;
+    const simulation::ImuMeasurement imu =
+        imu_.Measure(index_, k.specific_force_frame, k.omega_frame);
+    for (int i = 0; i < 3; ++i) {
+        s.gyro[size_t(i)] = imu.gyro[i];
+        s.accel[size_t(i)] = imu.accel[i];
+    }
+    // Roll and pitch as they are, yaw as the Go1 believes it.
+    const Eigen::Matrix3d R3 = k.T_world_frame.linear();
+    const double true_yaw = std::atan2(R3(1, 0), R3(0, 0));
+    const Eigen::Quaterniond q(Eigen::AngleAxisd(odom_yaw_ - true_yaw, Eigen::Vector3d::UnitZ()) *
+                               R3);
+    s.quat_wxyz = {q.w(), q.x(), q.y(), q.z()};
+    const simulation::FootContacts contacts = trajectory_.ContactsAt(t);
+    for (size_t leg = 0; leg < 4; ++leg) {
+        s.foot_contact[leg] = contacts[leg];
+        // Raw force: about a quarter of the Go1's 12 kg on each stance foot (trot: two feet).
+        s.foot_force_raw[leg] = contacts[leg] ? uint16_t(420 + int(20 * normal(rng))) : uint16_t(8);
+    }
+    s.odom_x = odom_x_;
+    s.odom_y = odom_y_;
+    s.odom_z = 0.0;
+    s.odom_yaw = std::remainder(odom_yaw_, 2 * M_PI);
+    s.mode = 2;          // VEL_WALK
+    s.gait = 1;          // TROT
+    s.bridge_state = 1;  // RUNNING
+    s.battery_soc = 87;
+    s.imu_temperature_c = 38;
+    ++index_;
+    return s;
+}
+
+}  // namespace bimslam::simulate

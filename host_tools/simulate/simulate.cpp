@@ -1,0 +1,298 @@
+#include "host_tools/simulate/simulate.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "algorithms/simulation/body_trajectory.hpp"
+#include "algorithms/simulation/imu_model.hpp"
+#include "algorithms/simulation/lidar_simulator.hpp"
+#include "drivers/can/candump.hpp"
+#include "drivers/can/go1_encoder.hpp"
+#include "drivers/net/can_pcap.hpp"
+#include "drivers/ouster/metadata.hpp"
+#include "host_tools/bim/lidar_from_metadata.hpp"
+#include "host_tools/simulate/go1_odometry.hpp"
+#include "host_tools/simulate/ouster_writer.hpp"
+#include "host_tools/simulate/scenario_yaml.hpp"
+#include "host_tools/simulate/walk.hpp"
+#include "host_tools/simulate/world.hpp"
+
+namespace bimslam::simulate {
+namespace {
+using nlohmann::json;
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kImuRateHz = 100.0;        // Ouster IMU packets (LEGACY)
+constexpr int64_t kCanTickNs = 5'000'000;   // the bridge's timer (drivers/can/go1_encoder.hpp)
+constexpr int64_t kCanLatencyNs = 800'000;  // HighState receive to CAN transmit (SampleAge)
+
+int64_t Ns(double t) { return int64_t(std::llround(t * 1e9)); }
+
+json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+Eigen::Isometry3d MountTransform(const SensorSpec& s) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = (Eigen::AngleAxisd(s.mount_rpy_deg.z() * kDeg, Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(s.mount_rpy_deg.y() * kDeg, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(s.mount_rpy_deg.x() * kDeg, Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+    T.translation() = s.mount_xyz;
+    return T;
+}
+
+simulation::GaitConfig GaitFor(Platform p) {
+    return p == Platform::kGo1 ? simulation::GaitConfig::Go1Trot()
+                               : simulation::GaitConfig::Handheld();
+}
+
+// The trajectory, its walk repeated until it lasts `duration_s` (0: once).
+simulation::BodyTrajectory MakeTrajectory(const Walk& walk, const Scenario& s, size_t* laps) {
+    simulation::PathTiming timing;
+    timing.speed_mps = s.speed.speed_mps;
+    timing.max_accel_mps2 = s.speed.max_accel_mps2;
+    timing.max_yaw_rate_radps = s.speed.max_yaw_rate_deg_s * kDeg;
+    timing.max_lateral_accel_mps2 = s.speed.max_lateral_accel_mps2;
+    *laps = 1;
+    for (;;) {
+        simulation::BodyTrajectory t(RepeatWalk(walk, s.path.mode, *laps), walk.start_yaw,
+                                     walk.floor_z, timing, GaitFor(s.platform), s.seed);
+        if (t.duration_s() >= s.duration_s) return t;
+        *laps =
+            std::max(*laps + 1, size_t(std::ceil(s.duration_s / t.duration_s() * double(*laps))));
+    }
+}
+
+simulation::NoiseModel LidarNoise(const LidarNoiseSpec& spec, const ouster::SensorInfo& info) {
+    simulation::NoiseModel n;
+    n.range_sigma_m = spec.range_sigma_m;
+    n.dropout_base = spec.dropout;
+    n.max_range_m = spec.max_range_m;
+    // The RNG15 profiles carry ranges in 8 mm steps (specs/ouster-lidar.md).
+    const ouster::LidarProfile p = info.format.lidar_profile;
+    const bool rng15 = p == ouster::LidarProfile::kRng15Rfl8Nir8 ||
+                       p == ouster::LidarProfile::kRng15Rfl8Nir8Dual ||
+                       p == ouster::LidarProfile::kFusaRng15Rfl8Nir8Dual;
+    n.range_resolution_mm = rng15 ? 8 : 1;
+    return n;
+}
+
+// The Go1 bridge's CAN traffic over the whole capture.
+uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& s,
+                  const simulation::ImuNoise& imu_noise, double end_s,
+                  const std::filesystem::path& dir, json* manifest) {
+    Go1OdometryModel model(trajectory, s.noise.odometry, imu_noise, s.seed);
+    can::Go1EncoderConfig config;
+    config.frame_spacing_ns = 230'000;  // an 8-byte frame at 500 kbit/s
+    can::Go1Encoder encoder(config);
+    can::CandumpWriter log(dir / "go1_can.log");
+    net::PcapWriterConfig pc;
+    pc.link_type = net::kLinkTypeCanSocketcan;
+    net::PcapWriter pcap(dir / "go1_can.pcap", pc);
+    std::array<common::CanFrame, can::Go1Encoder::kMaxFramesPerTick> frames;
+    can::Go1Sample sample;
+    uint64_t written = 0;
+    for (int64_t tick = 0; tick * kCanTickNs <= Ns(end_s); ++tick) {
+        const double t = double(tick * kCanTickNs) * 1e-9;
+        if (encoder.sample_tick_next()) {
+            sample = model.Next(t);
+            sample.bridge_time_ns = kBridgeBootNs + tick * kCanTickNs;
+        }
+        const int64_t host = kSensorBootNs + kHostMinusSensorNs + tick * kCanTickNs + kCanLatencyNs;
+        const size_t n = encoder.Tick(&sample, host, frames);
+        for (size_t i = 0; i < n; ++i) {
+            log.Write(frames[i], "can0");
+            net::WriteCanFrame(pcap, frames[i]);
+        }
+        written += n;
+    }
+    log.Close();
+    pcap.Close();
+    json slips = json::array();
+    for (const SlipInterval& slip : model.slips()) {
+        if (slip.begin_s < end_s) slips.push_back({slip.begin_s, slip.end_s});
+    }
+    (*manifest)["go1"] = {{"can_log", "go1_can.log"},
+                          {"can_pcap", "go1_can.pcap"},
+                          {"frames", written},
+                          {"interface", "can0"},
+                          {"scale_error", s.noise.odometry.scale_error},
+                          {"yaw_drift_radps", model.yaw_drift_radps()},
+                          {"slips_s", slips},
+                          {"slip_factor", s.noise.odometry.slip_factor}};
+    return written;
+}
+
+}  // namespace
+
+void ColumnPoses(const simulation::BodyTrajectory& trajectory,
+                 const Eigen::Isometry3d& T_base_sensor, const simulation::LidarModel& lidar,
+                 double t0, std::span<Eigen::Isometry3d> poses) {
+    for (int v = 0; v < lidar.columns && size_t(v) < poses.size(); ++v) {
+        const double t = t0 + double(lidar.ColumnTimeOffsetNs(v)) * 1e-9;
+        poses[size_t(v)] = trajectory.Pose(t) * T_base_sensor;
+    }
+}
+
+CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
+                              const std::string& model_sha256, const std::filesystem::path& dir,
+                              const std::function<void(double)>& progress) {
+    const auto wall_start = std::chrono::steady_clock::now();
+    s.Validate();
+    if (!model.origin_m.isZero()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            model.file +
+                                ": the geometry lies more than 10 km from the model's "
+                                "origin; the simulator needs it near the origin");
+    }
+    const int storey = s.storey.empty() ? 0 : bim::FindStorey(model, s.storey);
+    const Walk walk = PlanWalk(model, storey, s);
+    CaptureReport r;
+    r.dir = dir;
+    const simulation::BodyTrajectory trajectory = MakeTrajectory(walk, s, &r.laps);
+    const double end_s = s.duration_s > 0 ? s.duration_s : trajectory.duration_s();
+    r.walk_length_m = trajectory.length_m();
+    r.starts_outside = walk.starts_outside;
+
+    World world = BuildWorld(model, storey, s.edits, walk.grid, walk.points, s.seed);
+    const simulation::Scene scene(world.mesh, world.ids);
+    const ouster::SensorInfo info = SensorFor(s.sensor);
+    const simulation::LidarModel lidar = bim::LidarModelFromSensorInfo(info);
+    const simulation::NoiseModel noise = LidarNoise(s.noise.lidar, info);
+    const Eigen::Isometry3d T_base_sensor = MountTransform(s.sensor);
+    // IMU samples are expressed in the sensor frame at the IMU's position (the encoder rotates
+    // them into the IMU's frame, drivers/ouster/packet_encoder.hpp).
+    Eigen::Isometry3d T_base_imu = T_base_sensor;
+    T_base_imu.translate(Eigen::Vector3d(info.imu_to_sensor_transform.block<3, 1>(0, 3) * 1e-3));
+    simulation::ImuNoise imu_noise;
+    imu_noise.accel_sigma_mps2 = s.noise.imu.accel_sigma_mps2;
+    imu_noise.gyro_sigma_radps = s.noise.imu.gyro_sigma_deg_s * kDeg;
+    imu_noise.accel_bias_sigma_mps2 = s.noise.imu.accel_bias_sigma_mps2;
+    imu_noise.gyro_bias_sigma_radps = s.noise.imu.gyro_bias_sigma_deg_s * kDeg;
+    const simulation::ImuModel imu(imu_noise, s.seed ^ 0x1A0ull);
+
+    std::filesystem::create_directories(dir);
+    io::WriteFileAtomic(dir / "metadata.json", ouster::SerializeMetadata(info));
+    net::PcapWriter pcap(dir / "lidar.pcap");
+    OusterWriter writer(info, pcap, s.network, s.seed, kHostMinusSensorNs);
+
+    const int w = lidar.columns;
+    const double period_s = 1.0 / lidar.frame_rate_hz;
+    const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
+    std::vector<io::StampedPose> truth;
+    std::vector<uint64_t> column_ns(static_cast<size_t>(w));
+    std::vector<ouster::ImuSample> imu_batch;
+    uint64_t imu_index = 0;
+    auto take_imu_until = [&](double until_s) {
+        imu_batch.clear();
+        for (; double(imu_index) / kImuRateHz <= until_s; ++imu_index) {
+            const double t = double(imu_index) / kImuRateHz;
+            const auto k = trajectory.KinematicsAt(t, T_base_imu);
+            const simulation::ImuMeasurement m =
+                imu.Measure(imu_index, k.specific_force_frame, k.omega_frame);
+            ouster::ImuSample sample;
+            sample.time_ns = sample.gyro_time_ns = uint64_t(kSensorBootNs + Ns(t));
+            sample.accel = m.accel;
+            sample.gyro = m.gyro;
+            imu_batch.push_back(sample);
+        }
+    };
+    simulation::ScanImage image;
+    std::vector<Eigen::Isometry3d> poses(static_cast<size_t>(w));
+    std::vector<uint32_t> people_ids;
+    for (size_t k = 0; k < frames; ++k) {
+        const double t0 = double(k) * period_s;
+        ColumnPoses(trajectory, T_base_sensor, lidar, t0, poses);
+        for (int v = 0; v < w; ++v) {
+            column_ns[size_t(v)] = uint64_t(kSensorBootNs + Ns(t0) + lidar.ColumnTimeOffsetNs(v));
+        }
+        // People move between scans, not within one (at 1.2 m/s, 12 cm a scan).
+        const common::TriangleMesh people =
+            PeopleMesh(world.people, world.people_floor_z, t0 + 0.5 * period_s, &people_ids);
+        const simulation::Scene overlay(people, people_ids);
+        simulation::SimulatorOptions options;
+        options.overlay = world.people.empty() ? nullptr : &overlay;
+        simulation::SimulateScan(scene, lidar, std::span<const Eigen::Isometry3d>(poses), noise,
+                                 s.seed ^ (uint64_t(k) * 0x9E3779B97F4A7C15ull), &image, options);
+        take_imu_until(t0 + period_s - 1e-9);
+        writer.WriteFrame(uint32_t(k), image, column_ns, imu_batch);
+        truth.push_back(io::StampedPose::FromIsometry(int64_t(column_ns[0]), poses[0]));
+        if (progress && (k % 10 == 0 || k + 1 == frames)) progress(double(k + 1) / double(frames));
+    }
+    take_imu_until(end_s);
+    writer.WriteImu(imu_batch);
+    pcap.Close();
+    io::WriteTum(dir / "ground_truth.tum", truth);
+
+    json manifest;
+    if (s.platform == Platform::kGo1) {
+        r.can_frames = WriteCan(trajectory, s, imu_noise, end_s, dir, &manifest);
+    }
+    const json changes = WriteChanges(world, dir);
+    io::WriteFileAtomic(dir / "changes.json", changes.dump(2) + "\n");
+    io::WriteFileAtomic(dir / "scenario.yaml", ScenarioToYaml(s));
+
+    r.duration_s = end_s;
+    r.frames = frames;
+    r.lidar_packets = writer.stats().lidar_packets;
+    r.imu_packets = writer.stats().imu_packets;
+    r.lost_packets = writer.stats().lost_packets;
+    r.pcap_bytes = std::filesystem::file_size(dir / "lidar.pcap");
+    r.added_objects = changes["added"].size();
+    r.removed_elements = changes["removed"].size();
+    r.moved_elements = changes["moved"].size();
+    r.people = world.people.size();
+
+    std::vector<double> mount(16);
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(mount.data()) = T_base_sensor.matrix();
+    manifest["format"] = "bimslam-capture";
+    manifest["version"] = 1;
+    manifest["model"] = {
+        {"file", model.file},
+        {"sha256", model_sha256},
+        {"storey", model.storeys.empty() ? "" : model.storeys[size_t(storey)].name}};
+    manifest["platform"] = ToString(s.platform);
+    manifest["files"] = {{"lidar_pcap", "lidar.pcap"},
+                         {"metadata", "metadata.json"},
+                         {"ground_truth", "ground_truth.tum"},
+                         {"changes", "changes.json"},
+                         {"scenario", "scenario.yaml"}};
+    if (s.platform == Platform::kGo1) {
+        manifest["files"]["go1_can_log"] = "go1_can.log";
+        manifest["files"]["go1_can_pcap"] = "go1_can.pcap";
+    }
+    manifest["ground_truth"] = "T_bim_sensor at column 0 of each lidar frame, sensor clock";
+    manifest["clocks"] = {{"sensor_ns_at_start", kSensorBootNs},
+                          {"host_minus_sensor_ns", kHostMinusSensorNs},
+                          {"bridge_ns_at_start", kBridgeBootNs}};
+    manifest["sensor"] = {{"lidar_mode", info.lidar_mode},
+                          {"udp_profile_lidar", ouster::ToString(info.format.lidar_profile)},
+                          {"prod_sn", info.prod_sn},
+                          {"init_id", info.init_id},
+                          {"udp_port_lidar", info.udp_port_lidar.value_or(7502)},
+                          {"udp_port_imu", info.udp_port_imu.value_or(7503)},
+                          {"T_base_sensor", mount}};
+    manifest["imu"] = {{"rate_hz", kImuRateHz},
+                       {"frame", "sensor"},
+                       {"accel_bias_mps2", Vec(imu.accel_bias())},
+                       {"gyro_bias_radps", Vec(imu.gyro_bias())},
+                       {"accel_sigma_mps2", imu_noise.accel_sigma_mps2},
+                       {"gyro_sigma_radps", imu_noise.gyro_sigma_radps}};
+    manifest["walk"] = {{"duration_s", end_s},
+                        {"length_m", r.walk_length_m},
+                        {"laps", r.laps},
+                        {"starts_outside", r.starts_outside},
+                        {"waypoints", walk.waypoints}};
+    manifest["packets"] = {{"frames", frames},
+                           {"lidar", r.lidar_packets},
+                           {"imu", r.imu_packets},
+                           {"lost", r.lost_packets},
+                           {"fragmented", s.network.fragment}};
+    io::WriteFileAtomic(dir / "capture.json", manifest.dump(2) + "\n");
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return r;
+}
+
+}  // namespace bimslam::simulate

@@ -1,0 +1,35 @@
+// The planar walk of a capture: the storey's coverage walk (bim/coverage_path.hpp) or the
+// scenario's waypoints, joined by routes through the occupancy grid that keep the platform's
+// clearance; from a start pose that may lie outside the building, in which case the first route
+// is planned on a grid that reaches from the start (free space outdoors too) and enters through a
+// door to the outside.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host_tools/bim/bim_model.hpp"
+#include "host_tools/bim/occupancy_grid.hpp"
+#include "host_tools/simulate/scenario.hpp"
+
+namespace bimslam::simulate {
+
+struct Walk {
+    std::vector<Eigen::Vector2d> points;  // the planar path, start first
+    size_t lap_begin = 0;  // points[lap_begin...] is the walk proper, after the way from the start
+    double start_yaw = 0;  // radians
+    double floor_z = 0;    // the storey's floor
+    bool starts_outside = false;
+    bim::OccupancyGrid grid;  // the storey's grid (inside), for clutter placement
+    size_t waypoints = 0;     // viewpoints of the coverage walk, or waypoints
+};
+
+// Throws common::Error naming what cannot be walked (a waypoint in a wall, a start outside with
+// no door to the outside, a storey without free space).
+Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& scenario);
+
+// The walk with its lap walked `laps` times: a coverage walk is closed and starts over; a waypoint
+// walk turns back and retraces its way.
+std::vector<Eigen::Vector2d> RepeatWalk(const Walk& walk, PathMode mode, size_t laps);
+
+}  // namespace bimslam::simulate

@@ -1,0 +1,359 @@
+#include "host_tools/simulate/world.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <set>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
+
+namespace bimslam::simulate {
+namespace {
+using common::StatusCode;
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kGroundWidthM = 40.0;
+
+[[noreturn]] void Fail(const std::string& what) {
+    throw common::Error(StatusCode::kInvalidArgument, what);
+}
+
+void Append(common::TriangleMesh& to, std::vector<uint32_t>& ids, const common::TriangleMesh& m,
+            uint32_t id) {
+    const uint32_t base = uint32_t(to.vertices.size());
+    to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
+    for (const auto& t : m.triangles)
+        to.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    ids.insert(ids.end(), m.triangles.size(), id);
+}
+
+// The vertices an element's triangles use (each element has its own, bim_model.hpp).
+std::vector<uint32_t> ElementVertices(const bim::BimModel& m, const bim::BimElement& e) {
+    std::set<uint32_t> v;
+    for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+        v.insert(m.mesh.triangles[t].begin(), m.mesh.triangles[t].end());
+    }
+    return {v.begin(), v.end()};
+}
+
+void Transform(common::TriangleMesh& mesh, const std::vector<uint32_t>& vertices,
+               const Eigen::Isometry3d& T) {
+    for (const uint32_t i : vertices)
+        mesh.vertices[i] = (T * mesh.vertices[i].cast<double>()).cast<float>();
+}
+
+Eigen::AlignedBox3d Bounds(const common::TriangleMesh& mesh,
+                           const std::vector<uint32_t>& vertices) {
+    Eigen::AlignedBox3d box;
+    for (const uint32_t i : vertices) box.extend(mesh.vertices[i].cast<double>());
+    return box;
+}
+
+// The ground: four quads around the footprint (xy box), facing up.
+common::TriangleMesh Ground(const Eigen::AlignedBox3d& bounds, double z) {
+    const Eigen::Vector2d lo = bounds.min().head<2>(), hi = bounds.max().head<2>();
+    const double w = kGroundWidthM;
+    common::TriangleMesh out;
+    std::vector<uint32_t> unused;
+    const Eigen::Vector2d rects[4][2] = {{{lo.x() - w, lo.y() - w}, {hi.x() + w, lo.y()}},
+                                         {{lo.x() - w, hi.y()}, {hi.x() + w, hi.y() + w}},
+                                         {{lo.x() - w, lo.y()}, {lo.x(), hi.y()}},
+                                         {{hi.x(), lo.y()}, {hi.x() + w, hi.y()}}};
+    for (const auto& r : rects) {
+        const uint32_t b = uint32_t(out.vertices.size());
+        const Eigen::Vector2d corners[4] = {r[0], {r[1].x(), r[0].y()}, r[1], {r[0].x(), r[1].y()}};
+        for (const Eigen::Vector2d& c : corners) {
+            out.vertices.emplace_back(float(c.x()), float(c.y()), float(z));
+        }
+        out.triangles.push_back({b, b + 1, b + 2});
+        out.triangles.push_back({b, b + 2, b + 3});
+    }
+    return out;
+}
+
+// The horizontal direction a wall is thinnest in: the eigenvector of the smaller eigenvalue of
+// its vertices' xy covariance.
+Eigen::Vector2d WallNormal(const common::TriangleMesh& mesh,
+                           const std::vector<uint32_t>& vertices) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const uint32_t i : vertices) mean += mesh.vertices[i].head<2>().cast<double>();
+    mean /= double(vertices.size());
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const uint32_t i : vertices) {
+        const Eigen::Vector2d d = mesh.vertices[i].head<2>().cast<double>() - mean;
+        cov += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(cov);
+    return solver.eigenvectors().col(0);
+}
+
+ElementChange ChangeOf(const bim::BimModel& m, size_t e, const std::string& change) {
+    const bim::BimElement& el = m.elements[e];
+    ElementChange c;
+    c.change = change;
+    c.global_id = el.global_id;
+    c.ifc_class = el.ifc_class;
+    c.name = el.name;
+    c.storey = el.storey;
+    return c;
+}
+
+double DistanceToPolyline(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& line) {
+    double best = line.size() == 1 ? (line[0] - p).norm() : std::numeric_limits<double>::infinity();
+    for (size_t i = 1; i < line.size(); ++i) {
+        const Eigen::Vector2d a = line[i - 1], d = line[i] - a;
+        const double f =
+            d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+        best = std::min(best, (a + f * d - p).norm());
+    }
+    return best;
+}
+
+size_t FindElement(const bim::BimModel& m, const std::string& global_id, const std::string& field) {
+    for (size_t e = 0; e < m.elements.size(); ++e) {
+        if (m.elements[e].global_id == global_id) return e;
+    }
+    Fail(field + " = '" + global_id + "': no element of the model has this GlobalId");
+}
+
+}  // namespace
+
+common::TriangleMesh BoxMesh(const Eigen::Vector3d& center, const Eigen::Vector3d& size,
+                             double yaw_rad) {
+    common::TriangleMesh m;
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    for (int i = 0; i < 8; ++i) {
+        const Eigen::Vector3d s((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5);
+        m.vertices.push_back((center + R * s.cwiseProduct(size)).cast<float>());
+    }
+    // Corner i has bits x=1, y=2, z=4; faces counter-clockwise seen from outside.
+    m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                   {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    return m;
+}
+
+common::TriangleMesh CylinderMesh(const Eigen::Vector3d& base, double radius, double height,
+                                  int segments) {
+    common::TriangleMesh m;
+    for (int k = 0; k < segments; ++k) {
+        const double a = 2 * M_PI * k / segments;
+        const Eigen::Vector3d d(radius * std::cos(a), radius * std::sin(a), 0);
+        m.vertices.push_back((base + d).cast<float>());
+        m.vertices.push_back((base + d + Eigen::Vector3d(0, 0, height)).cast<float>());
+    }
+    const uint32_t bottom = uint32_t(m.vertices.size()), top = bottom + 1;
+    m.vertices.push_back(base.cast<float>());
+    m.vertices.push_back((base + Eigen::Vector3d(0, 0, height)).cast<float>());
+    for (int k = 0; k < segments; ++k) {
+        const uint32_t a = uint32_t(2 * k), b = uint32_t(2 * ((k + 1) % segments));
+        m.triangles.push_back({a, b, b + 1});
+        m.triangles.push_back({a, b + 1, a + 1});
+        m.triangles.push_back({bottom, b, a});
+        m.triangles.push_back({top, a + 1, b + 1});
+    }
+    return m;
+}
+
+World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
+                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
+                 uint64_t seed) {
+    bim::BimModel model = model_in;  // vertices are moved in place
+    World w;
+    std::vector<uint8_t> removed(model.elements.size(), 0);
+    for (size_t k = 0; k < edits.removed.global_ids.size(); ++k) {
+        const size_t e = FindElement(model, edits.removed.global_ids[k],
+                                     "edits.removed.global_ids[" + std::to_string(k) + "]");
+        removed[e] = 1;
+    }
+    for (size_t k = 0; k < edits.removed.classes.size(); ++k) {
+        size_t matched = 0;
+        for (size_t e = 0; e < model.elements.size(); ++e) {
+            if (model.elements[e].ifc_class == edits.removed.classes[k]) removed[e] = 1, ++matched;
+        }
+        if (matched == 0) {
+            Fail("edits.removed.classes[" + std::to_string(k) + "] = '" + edits.removed.classes[k] +
+                 "': no element of the model has this class");
+        }
+    }
+    for (size_t e = 0; e < model.elements.size(); ++e) {
+        if (removed[e]) w.changes.push_back(ChangeOf(model, e, "removed"));
+    }
+
+    for (size_t k = 0; k < edits.moved.size(); ++k) {
+        const MovedElement& mv = edits.moved[k];
+        const size_t e =
+            FindElement(model, mv.global_id, "edits.moved[" + std::to_string(k) + "].global_id");
+        const std::vector<uint32_t> v = ElementVertices(model, model.elements[e]);
+        const Eigen::Vector3d c = Bounds(model.mesh, v).center();
+        const Eigen::Isometry3d T = Eigen::Translation3d(c + mv.translation) *
+                                    Eigen::AngleAxisd(mv.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                                    Eigen::Translation3d(-c);
+        Transform(model.mesh, v, T);
+        ElementChange change = ChangeOf(model, e, "moved");
+        change.translation = mv.translation;
+        change.yaw_deg = mv.yaw_deg;
+        w.changes.push_back(change);
+    }
+
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (size_t e = 0; e < model.elements.size(); ++e) {
+        const bim::BimElement& el = model.elements[e];
+        double offset = 0;
+        bool listed = false;
+        for (const WallOffset& wo : edits.as_built.walls) {
+            if (wo.global_id == el.global_id) offset = wo.offset_m, listed = true;
+        }
+        const bool wall = el.ifc_class.starts_with("IfcWall") && el.storey == storey;
+        if (!listed && wall && edits.as_built.wall_offset_sigma_m > 0) {
+            offset = edits.as_built.wall_offset_sigma_m * normal(rng);
+        }
+        if (offset == 0 || removed[e]) continue;
+        const std::vector<uint32_t> v = ElementVertices(model, el);
+        const Eigen::Vector2d n = WallNormal(model.mesh, v);
+        const Eigen::Vector3d t(offset * n.x(), offset * n.y(), 0);
+        Transform(model.mesh, v, Eigen::Isometry3d(Eigen::Translation3d(t)));
+        ElementChange change = ChangeOf(model, e, "as_built");
+        change.translation = t;
+        w.changes.push_back(change);
+    }
+    for (size_t k = 0; k < edits.as_built.walls.size(); ++k) {
+        FindElement(model, edits.as_built.walls[k].global_id,
+                    "edits.as_built.walls[" + std::to_string(k) + "].global_id");
+    }
+
+    // The static scene: what is physically there.
+    for (size_t e = 0; e < model.elements.size(); ++e) {
+        const bim::BimElement& el = model.elements[e];
+        if (removed[e] || bim::PassThrough(el.ifc_class)) continue;
+        for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
+            w.mesh.triangles.push_back(model.mesh.triangles[t]);
+            w.ids.push_back(uint32_t(e));
+        }
+    }
+    w.mesh.vertices = model.mesh.vertices;  // unused ones cost nothing to Embree
+    const double ground_z = model.storeys.empty() ? 0.0 : model.storeys.front().elevation_m;
+    Append(w.mesh, w.ids, Ground(model.Bounds(), ground_z - model.origin_m.z()), kGroundId);
+
+    for (size_t k = 0; k < edits.boxes.size(); ++k) {
+        const AddedBox& b = edits.boxes[k];
+        w.added.push_back({b.name.empty() ? "box" + std::to_string(k) : b.name, "box",
+                           BoxMesh(b.center, b.size, b.yaw_deg * kDeg)});
+    }
+    for (size_t k = 0; k < edits.cylinders.size(); ++k) {
+        const AddedCylinder& c = edits.cylinders[k];
+        w.added.push_back({c.name.empty() ? "cylinder" + std::to_string(k) : c.name, "cylinder",
+                           CylinderMesh(c.base, c.radius_m, c.height_m)});
+    }
+    for (size_t k = 0; k < edits.meshes.size(); ++k) {
+        const AddedMesh& am = edits.meshes[k];
+        common::TriangleMesh m = LoadMeshFile(am.file);
+        const Eigen::Affine3d T = Eigen::Translation3d(am.position) *
+                                  Eigen::AngleAxisd(am.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                                  Eigen::Scaling(am.scale);
+        for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
+        w.added.push_back(
+            {am.name.empty() ? am.file.stem().string() : am.name, "mesh", std::move(m)});
+    }
+
+    // Clutter: boxes on free cells with room for them, clear of the walk.
+    const ClutterSpec& cl = edits.clutter;
+    if (cl.density_per_m2 > 0) {
+        std::vector<size_t> free;
+        for (size_t i = 0; i < grid.cells.size(); ++i) {
+            if (grid.cells[i] == bim::Cell::kFree) free.push_back(i);
+        }
+        const double area = double(free.size()) * grid.resolution * grid.resolution;
+        const size_t wanted = size_t(std::lround(cl.density_per_m2 * area));
+        std::uniform_real_distribution<double> size(cl.min_size_m, cl.max_size_m), yaw(0, M_PI);
+        size_t placed = 0;
+        for (size_t attempt = 0; placed < wanted && attempt < 50 * wanted && !free.empty();
+             ++attempt) {
+            const size_t i = free[std::uniform_int_distribution<size_t>(0, free.size() - 1)(rng)];
+            const Eigen::Vector3d s(size(rng), size(rng), size(rng));
+            const double half = 0.5 * std::hypot(s.x(), s.y());
+            const Eigen::Vector2d c = grid.Center(int(i % grid.width), int(i / grid.width));
+            if (grid.clearance[i] < half + 0.05) continue;  // into a wall
+            if (DistanceToPolyline(c, walk) < half + cl.keep_off_walk_m) continue;
+            w.added.push_back({"clutter" + std::to_string(placed++), "clutter",
+                               BoxMesh({c.x(), c.y(), grid.floor_z + 0.5 * s.z()}, s, yaw(rng))});
+        }
+    }
+    for (size_t k = 0; k < w.added.size(); ++k) {
+        Append(w.mesh, w.ids, w.added[k].mesh, kAddedIdBase + uint32_t(k));
+    }
+    w.people = edits.people;
+    w.people_floor_z = grid.floor_z;
+    return w;
+}
+
+common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double floor_z, double t,
+                                std::vector<uint32_t>* ids) {
+    common::TriangleMesh out;
+    ids->clear();
+    for (size_t k = 0; k < people.size(); ++k) {
+        const PersonSpec& p = people[k];
+        const double length = (p.to - p.from).norm();
+        // To and fro: a triangle wave of the distance walked.
+        const double s = std::fmod(p.speed_mps * t, 2 * length);
+        const double along = s <= length ? s : 2 * length - s;
+        const Eigen::Vector2d at = p.from + (p.to - p.from) * (along / length);
+        Append(out, *ids,
+               CylinderMesh(Eigen::Vector3d(at.x(), at.y(), floor_z), p.radius_m, p.height_m, 12),
+               kPersonIdBase + uint32_t(k));
+    }
+    return out;
+}
+
+nlohmann::json WriteChanges(const World& world, const std::filesystem::path& dir) {
+    using nlohmann::json;
+    json added = json::array(), removed = json::array(), moved = json::array(),
+         people = json::array();
+    const std::filesystem::path folder = dir / "changes";
+    if (!world.added.empty()) std::filesystem::create_directories(folder);
+    for (size_t k = 0; k < world.added.size(); ++k) {
+        const AddedObject& a = world.added[k];
+        char stem[32];
+        std::snprintf(stem, sizeof stem, "%03zu_", k);
+        const std::string file = "changes/" + std::string(stem) + a.name + ".ply";
+        io::WritePly(dir / file, io::ToPly(a.mesh));
+        Eigen::AlignedBox3d box;
+        for (const auto& v : a.mesh.vertices) box.extend(v.cast<double>());
+        added.push_back({{"name", a.name},
+                         {"kind", a.kind},
+                         {"mesh", file},
+                         {"box_min", {box.min().x(), box.min().y(), box.min().z()}},
+                         {"box_max", {box.max().x(), box.max().y(), box.max().z()}}});
+    }
+    for (const ElementChange& c : world.changes) {
+        json j = {{"global_id", c.global_id}, {"class", c.ifc_class}, {"name", c.name}};
+        if (c.change == "removed") {
+            removed.push_back(j);
+            continue;
+        }
+        j["reason"] = c.change;
+        j["translation"] = {c.translation.x(), c.translation.y(), c.translation.z()};
+        j["yaw_deg"] = c.yaw_deg;
+        moved.push_back(j);
+    }
+    for (const PersonSpec& p : world.people) {
+        people.push_back({{"from", {p.from.x(), p.from.y()}},
+                          {"to", {p.to.x(), p.to.y()}},
+                          {"speed_mps", p.speed_mps},
+                          {"radius_m", p.radius_m},
+                          {"height_m", p.height_m},
+                          {"floor_z", world.people_floor_z}});
+    }
+    return {{"frame", "bim"},
+            {"added", added},
+            {"removed", removed},
+            {"moved", moved},
+            {"people", people}};
+}
+
+}  // namespace bimslam::simulate

@@ -1,0 +1,80 @@
+// The "real world" a capture is simulated in: the BIM as built, with the scenario's edits, and
+// the ground truth of every edit (changes.json).
+//
+// What of the BIM is physically there: every element except doors (open, so the walk passes
+// through them), windows, curtain walls and their panels (glass, which the LiDAR sees through),
+// spaces and openings (not physical). Furniture and proxies are there, as are railings and stairs.
+// Around the building's footprint lies a ground plane 40 m wide at the lowest storey's elevation
+// (the outdoors of a walk that starts outside), with a hole under the building so that it does
+// not double the ground floor's slab.
+//
+// Edits, in this order: removed elements (by GlobalId or class, any storey); moved elements
+// (translated, and turned about the centre of their bounding box); as-built deviations (walls of
+// the storey shifted along their horizontal normal, the direction of least horizontal extent of
+// their vertices); added boxes, cylinders and meshes; random clutter (boxes on free floor cells of
+// the storey, clear of the walk and of walls). People are not in the static world: PeopleMesh
+// builds them per scan at their position at that time (they walk to and fro).
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/triangle_mesh.hpp"
+#include "host_tools/bim/bim_model.hpp"
+#include "host_tools/bim/occupancy_grid.hpp"
+#include "host_tools/simulate/scenario.hpp"
+
+namespace bimslam::simulate {
+
+struct AddedObject {
+    std::string name;
+    std::string kind;           // "box", "cylinder", "mesh", "clutter"
+    common::TriangleMesh mesh;  // BIM coordinates
+};
+
+struct ElementChange {
+    std::string change;  // "removed", "moved", "as_built"
+    std::string global_id;
+    std::string ifc_class;
+    std::string name;
+    int storey = -1;
+    Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // moved and as_built
+    double yaw_deg = 0.0;                                   // moved
+};
+
+struct World {
+    common::TriangleMesh mesh;  // the static scene
+    std::vector<uint32_t> ids;  // per triangle: BIM element index, or kAddedIdBase + object
+    std::vector<AddedObject> added;
+    std::vector<ElementChange> changes;
+    std::vector<PersonSpec> people;
+    double people_floor_z = 0.0;  // the storey's floor, where people walk
+};
+inline constexpr uint32_t kAddedIdBase = 1u << 30;
+inline constexpr uint32_t kGroundId = kAddedIdBase - 1;
+inline constexpr uint32_t kPersonIdBase = (1u << 31);
+
+// Throws common::Error naming the edit (its YAML path) when a GlobalId or class matches nothing,
+// and what reading a mesh file throws (common::FileError naming the file).
+World BuildWorld(const bim::BimModel& model, int storey, const EditsSpec& edits,
+                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
+                 uint64_t seed);
+
+// The people at time t (seconds), as closed cylinders with triangle ids kPersonIdBase + person.
+common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double floor_z, double t,
+                                std::vector<uint32_t>* ids);
+
+// changes.json: the edits in BIM coordinates; each added object's mesh is written as
+// `changes/<index>_<name>.ply` under `dir` and named in the JSON with its bounding box.
+nlohmann::json WriteChanges(const World& world, const std::filesystem::path& dir);
+
+// Box and vertical cylinder meshes (outward-facing triangles), for the edits and for tests.
+common::TriangleMesh BoxMesh(const Eigen::Vector3d& center, const Eigen::Vector3d& size,
+                             double yaw_rad);
+common::TriangleMesh CylinderMesh(const Eigen::Vector3d& base, double radius, double height,
+                                  int segments = 24);
+// A PLY or OBJ mesh file (by extension). Throws common::FileError naming the file.
+common::TriangleMesh LoadMeshFile(const std::filesystem::path& file);
+
+}  // namespace bimslam::simulate
