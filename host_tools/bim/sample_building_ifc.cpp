@@ -236,6 +236,9 @@ private:
             items.push_back(
                 w_.Box({x0, std::min(y0, y1), 0}, {x0 + leaf_t, std::max(y0, y1), leaf_h}));
         }
+        // The frame's head across the top of the opening: what closes the building's outline
+        // for the occupancy grid (bim/occupancy_grid.hpp, closures) while the leaves stand open.
+        items.push_back(w_.Box({-wd / 2, -t / 2, d.height_m - 0.06}, {wd / 2, t / 2, d.height_m}));
         const int placement = w_.LocalPlacement(opening_placement, Vector3d::Zero());
         // IfcDoor(... Tag, OverallHeight, OverallWidth, PredefinedType, OperationType,
         // UserDefinedOperationType).

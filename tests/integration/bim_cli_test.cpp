@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "algorithms/io/file_util.hpp"
@@ -67,9 +68,9 @@ TEST(BimCli, Bim2SessionWritesTheReferenceSession) {
     test::TempDir tmp;
     const fs::path model = Sample(tmp);
     const fs::path session = tmp / "ref";
-    const auto r = test::RunCommand(kCli + " bim2session " + model.string() + " -o " +
-                                    session.string() +
-                                    " --storey 'Ground Floor' --keyframe-gap 4 --json");
+    const auto r =
+        test::RunCommand(kCli + " bim2session " + model.string() + " -o " + session.string() +
+                         " --storey 'Ground Floor' --keyframe-gap 4 --json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const io::Session s = io::ReadSession(session, {.load_clouds = false});
     ASSERT_TRUE(s.complete);
@@ -99,8 +100,8 @@ TEST(BimCli, Bim2SessionRejectsBadInput) {
     const fs::path model = Sample(tmp);
     const std::string text = io::ReadFileToString(model);
     test::WriteBytes(tmp / "cut.ifc", text.substr(0, text.size() / 2));
-    const auto cut = test::RunCommand(kCli + " bim2session " + (tmp / "cut.ifc").string() +
-                                      " -o " + (tmp / "s1").string());
+    const auto cut = test::RunCommand(kCli + " bim2session " + (tmp / "cut.ifc").string() + " -o " +
+                                      (tmp / "s1").string());
     EXPECT_EQ(cut.exit_code, 2);
     EXPECT_NE(cut.err.find((tmp / "cut.ifc").string()), std::string::npos) << cut.err;
     EXPECT_FALSE(fs::exists(tmp / "s1" / "session.json"));
@@ -111,11 +112,103 @@ TEST(BimCli, Bim2SessionRejectsBadInput) {
     EXPECT_NE(gap.err.find("keyframe gap"), std::string::npos) << gap.err;
 
     test::WriteBytes(tmp / "meta.json", "{\"beam_altitude_angles\": [1, 2]}");
-    const auto meta = test::RunCommand(kCli + " bim2session " + model.string() + " -o " +
-                                       (tmp / "s3").string() + " --sensor " +
-                                       (tmp / "meta.json").string());
+    const auto meta =
+        test::RunCommand(kCli + " bim2session " + model.string() + " -o " + (tmp / "s3").string() +
+                         " --sensor " + (tmp / "meta.json").string());
     EXPECT_EQ(meta.exit_code, 2);
     EXPECT_NE(meta.err.find((tmp / "meta.json").string()), std::string::npos) << meta.err;
+}
+
+}  // namespace
+}  // namespace bimslam
+
+// `bimslam simulate` as a user runs it: the default Go1 walk, a shipped scenario, bad input.
+namespace bimslam {
+namespace {
+
+TEST(SimulateCli, WritesACaptureTheOtherCommandsRead) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    const fs::path cap = tmp / "capture";
+    const auto r = test::RunCommand(kCli + " simulate --model " + model.string() +
+                                    " --duration 6 --seed 3 -o " + cap.string() + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("x real time"), std::string::npos) << r.out;
+    for (const std::string f :
+         {"lidar.pcap", "metadata.json", "go1_can.log", "go1_can.pcap", "ground_truth.tum",
+          "changes.json", "capture.json", "scenario.yaml"}) {
+        EXPECT_TRUE(fs::exists(cap / f)) << f;
+    }
+    EXPECT_EQ(io::ReadTum(cap / "ground_truth.tum").size(), 60u);
+    // The project's own readers take it as a real capture.
+    const auto info =
+        test::RunCommand(kCli + " ouster info " + (cap / "lidar.pcap").string() + " --json");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const auto j = nlohmann::json::parse(info.out);
+    EXPECT_EQ(j.at("frames_complete"), 60);
+    EXPECT_EQ(j.at("frames_incomplete"), 0);
+    EXPECT_EQ(j.at("crc_checked"), j.at("lidar_packets"));  // FW 3: every packet has its CRC-64
+    const auto can = test::RunCommand(kCli + " can info " + (cap / "go1_can.log").string());
+    ASSERT_EQ(can.exit_code, 0) << can.err;
+    EXPECT_NE(can.out.find("faults      none"), std::string::npos) << can.out;
+    // The recorded scenario runs again to the same capture.
+    const fs::path again = tmp / "again";
+    const auto r2 =
+        test::RunCommand(kCli + " simulate --scenario " + (cap / "scenario.yaml").string() +
+                         " --model " + model.string() + " -o " + again.string());
+    ASSERT_EQ(r2.exit_code, 0) << r2.err;
+    EXPECT_EQ(io::ReadFileToString(cap / "ground_truth.tum"),
+              io::ReadFileToString(again / "ground_truth.tum"));
+    EXPECT_EQ(io::ReadFileToString(cap / "lidar.pcap"), io::ReadFileToString(again / "lidar.pcap"));
+    // An existing capture is not overwritten by accident.
+    const auto exists = test::RunCommand(kCli + " simulate --model " + model.string() +
+                                         " --duration 1 -o " + cap.string());
+    EXPECT_EQ(exists.exit_code, 2);
+    EXPECT_NE(exists.err.find("--overwrite"), std::string::npos) << exists.err;
+}
+
+TEST(SimulateCli, RejectsBadInputNamingIt) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    auto run = [&](const std::string& args) {
+        return test::RunCommand(kCli + " simulate " + args + " -o " + (tmp / "out").string());
+    };
+    std::ofstream(tmp / "typo.yaml") << "speed:\n  sped_mps: 1\n";
+    const auto typo =
+        run("--model " + model.string() + " --scenario " + (tmp / "typo.yaml").string());
+    EXPECT_EQ(typo.exit_code, 2);
+    EXPECT_NE(typo.err.find("speed.sped_mps"), std::string::npos) << typo.err;
+    const auto no_model = run("");
+    EXPECT_EQ(no_model.exit_code, 2);
+    EXPECT_NE(no_model.err.find("--model"), std::string::npos) << no_model.err;
+    // Outside a building with no door to the outside.
+    std::ofstream(tmp / "outside.yaml") << "path:\n  start: {xy: [-5, 7.5], yaw_deg: 0}\n";
+    const auto outside =
+        run("--model " + model.string() + " --scenario " + (tmp / "outside.yaml").string());
+    EXPECT_EQ(outside.exit_code, 2);
+    EXPECT_NE(outside.err.find("--exterior-doors"), std::string::npos) << outside.err;
+    std::ofstream(tmp / "broken.ifc") << "ISO-10303-21;\nHEADER;\n";
+    const auto broken = run("--model " + (tmp / "broken.ifc").string());
+    EXPECT_EQ(broken.exit_code, 2);
+    EXPECT_NE(broken.err.find("broken.ifc"), std::string::npos) << broken.err;
+}
+
+// From outside, through an entrance, into the coverage walk.
+TEST(SimulateCli, StartsOutsideThroughADoor) {
+    test::TempDir tmp;
+    const fs::path model = tmp / "entrances.ifc";
+    ASSERT_EQ(
+        test::RunCommand(kCli + " bim sample --exterior-doors -o " + model.string()).exit_code, 0);
+    const fs::path cap = tmp / "capture";
+    const auto r = test::RunCommand(
+        kCli + " simulate --model " + model.string() + " --scenario " +
+        std::string(BIMSLAM_SOURCE_ROOT) +
+        "/host_tools/simulate/scenarios/outdoor_start.yaml --duration 40 -o " + cap.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto truth = io::ReadTum(cap / "ground_truth.tum");
+    ASSERT_FALSE(truth.empty());
+    EXPECT_LT(truth.front().translation.x(), -4.0);  // outdoors at first
+    EXPECT_GT(truth.back().translation.x(), 0.5);    // inside after 40 s
 }
 
 }  // namespace
