@@ -206,6 +206,16 @@ Checked CheckSamples(const std::vector<Go1Sample>& samples) {
     return c;
 }
 
+// The "late polls/ticks P/T" of the bridge's summary: T, the 5 ms ticks its loop skipped.
+uint64_t LateTicks(const std::string& out) {
+    const std::string key = "late polls/ticks ";
+    const size_t at = out.find(key);
+    EXPECT_NE(at, std::string::npos) << out;
+    if (at == std::string::npos) return 0;
+    const size_t slash = out.find('/', at + key.size());
+    return std::stoull(out.substr(slash + 1));
+}
+
 TEST(Go1BridgeProgram, HelpAndBadUsage) {
     const auto help = test::RunCommand(kBridge + " --help");
     EXPECT_EQ(help.exit_code, 0);
@@ -268,8 +278,20 @@ TEST(Go1BridgeProgram, CandumpEndToEndAgainstAFakeGo1WithASilence) {
     EXPECT_EQ(decoder.stats().crc, 0u);
     EXPECT_EQ(decoder.stats().counter_resync, 0u);
     EXPECT_EQ(decoder.stats().counter_repeat, 0u);
-    EXPECT_EQ(decoder.stats().counter_lost, 0u);
-    EXPECT_EQ(decoder.stats().Faults(), 0u);
+    // Frames go missing (counter_lost) or come after their sample was given up on (late) only
+    // when the bridge's loop fell behind and skipped 5 ms ticks, which a loaded machine can
+    // cause (it catches up rather than bursting, and reports it); each skipped tick can cost
+    // every message due in it one transmission. Nothing else may go wrong.
+    std::string stats;
+    decoder.stats().ForEach([&](const char* name, uint64_t v) {
+        stats += std::string(name) + " " + std::to_string(v) + ", ";
+    });
+    const uint64_t late_ticks = LateTicks(r.out);
+    EXPECT_LE(decoder.stats().counter_lost + decoder.stats().late,
+              late_ticks * can::kGo1Messages)
+        << stats << "\n"
+        << r.out;
+    EXPECT_EQ(decoder.stats().Faults() - decoder.stats().late, 0u) << stats << "\n" << r.out;
 
     const Checked c = CheckSamples(samples);
     // 10 ms per sample for 1.5 s.
