@@ -12,6 +12,8 @@ packages=(
     cmake ninja-build g++ make pkg-config
     # algorithms: Eigen (common), FLANN and its lz4 headers (scancontext), JSON (io)
     libeigen3-dev libflann-dev liblz4-dev nlohmann-json3-dev
+    # LiDAR odometry: Ceres (scan-to-map registration)
+    libceres-dev
     # gzip input, PNG output
     zlib1g-dev
     # LCM messages: library, lcm-gen, and glib for lcm.pc

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
     bimslam::cli::AddBimPlanCommand(*bim, exit_code);
     bimslam::cli::AddBim2SessionCommand(app, exit_code);
     bimslam::cli::AddSimulateCommand(app, exit_code);
+    bimslam::cli::AddOdometryCommand(app, exit_code);
+    bimslam::cli::AddEvaluateCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -27,5 +27,7 @@ void AddBimCommands(CLI::App& bim, int& exit_code);
 void AddBimPlanCommand(CLI::App& bim, int& exit_code);
 void AddBim2SessionCommand(CLI::App& app, int& exit_code);
 void AddSimulateCommand(CLI::App& app, int& exit_code);
+void AddOdometryCommand(CLI::App& app, int& exit_code);
+void AddEvaluateCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

@@ -7,6 +7,7 @@ find_package(PkgConfig REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
+find_package(Ceres 2.1 REQUIRED)  # LiDAR odometry's scan-to-map registration
 find_package(yaml-cpp REQUIRED)  # scenario and configuration files
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # .gz captures and logs, PNG

@@ -1,0 +1,222 @@
+#include "algorithms/odometry/lidar_odometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/odometry/require.hpp"
+
+namespace bimslam::odometry {
+namespace {
+
+double Ms(LidarOdometry::Clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+}
+
+}  // namespace
+
+void LidarOdometryConfig::Validate() const {
+    const char* c = "LidarOdometryConfig";
+    preprocess.Validate();
+    map.Validate();
+    registration.Validate();
+    body_prior.Validate();
+    Require(budget_ms > 0 && budget_ms <= 10000, c, "budget_ms", budget_ms,
+            "must be in (0, 10000]");
+    Require(map_update_share >= 0 && map_update_share < 1, c, "map_update_share",
+            map_update_share, "must be in [0, 1)");
+    Require(common::IsValidRigid(T_base_lidar, 1e-6), c, "T_base_lidar", 0,
+            "must be a rigid transform");
+    Require(imu_capacity >= 16, c, "imu_capacity", double(imu_capacity), "must be >= 16");
+    Require(max_imu_gap_s > 0 && max_imu_gap_s <= 1, c, "max_imu_gap_s", max_imu_gap_s,
+            "must be in (0, 1]");
+    Require(constant_velocity_sigma.allFinite() && (constant_velocity_sigma.array() > 0).all(), c,
+            "constant_velocity_sigma", constant_velocity_sigma.minCoeff(), "must all be > 0");
+    Require(imu_rotation_sigma > 0, c, "imu_rotation_sigma", imu_rotation_sigma, "must be > 0");
+    Require(velocity_window >= 1 && velocity_window <= 50, c, "velocity_window", velocity_window,
+            "must be in [1, 50]");
+}
+
+LidarOdometry::LidarOdometry(const LidarOdometryConfig& config)
+    : config_(config),
+      preprocessor_(config.preprocess),
+      map_(config.map),
+      registration_(config.registration, config.preprocess.max_registration_points),
+      body_prior_(config.body_prior) {
+    config_.Validate();
+    imu_.resize(config_.imu_capacity);
+    world_points_.reserve(config_.preprocess.max_points);
+    past_.resize(size_t(config_.velocity_window) + 1);
+}
+
+void LidarOdometry::AddImu(const ImuMeasurement& imu) {
+    if (!imu.gyro.allFinite() || !imu.accel.allFinite() ||
+        (imu_count_ > 0 && imu.t_ns <= Imu(imu_count_ - 1).t_ns)) {
+        ++dropped_inputs_;
+        return;
+    }
+    if (imu_count_ == imu_.size()) {
+        imu_head_ = (imu_head_ + 1) % imu_.size();
+        --imu_count_;
+    }
+    imu_[(imu_head_ + imu_count_) % imu_.size()] = imu;
+    ++imu_count_;
+}
+
+void LidarOdometry::AddBodyMotion(const BodyMotionSample& sample) {
+    if (!body_prior_.Add(sample).ok()) ++dropped_inputs_;
+}
+
+bool LidarOdometry::IntegrateGyro(int64_t t0, int64_t t1, Eigen::Quaterniond* q) const {
+    *q = Eigen::Quaterniond::Identity();
+    if (imu_count_ < 2 || t1 < t0) return false;
+    const int64_t gap = static_cast<int64_t>(config_.max_imu_gap_s * 1e9);
+    if (Imu(0).t_ns > t0 + gap || Imu(imu_count_ - 1).t_ns < t1 - gap) return false;
+    // The gyro held piecewise constant from each sample to the next (the last one beyond it),
+    // integrated over the overlap of each piece with [t0, t1].
+    size_t lo = 0, hi = imu_count_ - 1;  // the last sample at or before t0 (binary search)
+    while (lo < hi) {
+        const size_t mid = (lo + hi + 1) / 2;
+        if (Imu(mid).t_ns <= t0) lo = mid; else hi = mid - 1;
+    }
+    size_t i = lo;
+    for (; i < imu_count_; ++i) {
+        const int64_t a = std::max(t0, i == 0 ? t0 : Imu(i).t_ns);
+        const int64_t b = std::min(t1, i + 1 < imu_count_ ? Imu(i + 1).t_ns : t1);
+        if (i + 1 < imu_count_ && Imu(i + 1).t_ns - Imu(i).t_ns > gap && b > a) return false;
+        if (b > a) {
+            const Eigen::Vector3d phi = Imu(i).gyro * (double(b - a) * 1e-9);
+            *q = *q * Eigen::Quaterniond(common::ExpSO3(phi));
+        }
+        if (b >= t1) break;
+    }
+    q->normalize();
+    return true;
+}
+
+const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
+    const Clock::time_point start = Clock::now();
+    const int64_t stamp = scan.stamp.ns;
+    if (initialized_ && stamp <= last_stamp_ns_) {
+        result_.flags = kTooFewPoints;
+        return result_;
+    }
+    OdometryResult& r = result_;
+    const Eigen::Isometry3d T_prev = r.T_odom_lidar;
+    r.flags = 0;
+    r.stamp_ns = stamp;
+    ++scans_;
+
+    // 1. Prediction of the motion since the previous scan.
+    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+    common::Vector6d sigma = config_.constant_velocity_sigma;
+    const double dt = initialized_ ? double(stamp - last_stamp_ns_) * 1e-9 : 0.0;
+    if (!initialized_) {
+        r.flags |= kFirstScan;
+    } else {
+        delta = common::ExpSE3(velocity_ * dt);
+        if (config_.use_body_motion) {
+            if (const auto rel = body_prior_.Between(last_stamp_ns_, stamp)) {
+                const Eigen::Isometry3d& B = config_.T_base_lidar;
+                delta = B.inverse() * rel->T_a_b * B;
+                const common::Matrix6d cov =
+                    common::Adjoint(B.inverse()) * rel->covariance *
+                    common::Adjoint(B.inverse()).transpose();
+                sigma = cov.diagonal().cwiseSqrt().cwiseMax(1e-3);
+                r.flags |= kBodyPriorUsed;
+            }
+        }
+        Eigen::Quaterniond q;
+        if (config_.use_imu && IntegrateGyro(last_stamp_ns_, stamp, &q)) {
+            delta.linear() = q.toRotationMatrix();
+            sigma.tail<3>().setConstant(config_.imu_rotation_sigma);
+            r.flags |= kImuUsed;
+        }
+    }
+
+    // 2. Preprocessing, deskewed with the predicted velocity (the gyro inside the scan).
+    uint32_t max_offset = 0;
+    for (const uint32_t t : scan.time_offset_ns) max_offset = std::max(max_offset, t);
+    const double duration = std::max(1e-3, max_offset * 1e-9);
+    ScanMotion motion;
+    const common::Vector6d twist = dt > 0 ? common::Vector6d(common::LogSE3(delta) / dt)
+                                          : common::Vector6d::Zero();
+    motion.SetConstantVelocity(twist, duration);
+    if (config_.use_imu) {
+        std::array<Eigen::Quaterniond, ScanMotion::kKnots> knots;
+        bool ok = true;
+        for (int k = 0; k < ScanMotion::kKnots && ok; ++k) {
+            ok = IntegrateGyro(stamp, stamp + static_cast<int64_t>(motion.KnotTime(k) * 1e9),
+                               &knots[size_t(k)]);
+        }
+        if (ok) motion.SetRotations(knots);
+    }
+    r.preprocess = preprocessor_.Run(scan, motion);
+    const Clock::time_point preprocessed = Clock::now();
+    r.preprocess_ms = Ms(preprocessed - start);
+
+    // 3. Registration to the local map.
+    const Eigen::Isometry3d T_pred = T_prev * delta;
+    r.registration = RegistrationResult{};
+    Eigen::Isometry3d T = T_pred;
+    r.covariance = sigma.cwiseAbs2().asDiagonal();
+    if (initialized_) {
+        if (preprocessor_.registration_points().size() <
+            size_t(config_.registration.min_correspondences)) {
+            r.flags |= kTooFewPoints | kRegistrationFailed;
+        } else {
+            const auto budget = std::chrono::duration_cast<Clock::duration>(
+                std::chrono::duration<double, std::milli>(config_.budget_ms *
+                                                          (1 - config_.map_update_share)));
+            r.registration = registration_.Align(preprocessor_.registration_points(), map_, T_pred,
+                                                 sigma, start + budget);
+            const RegistrationResult& reg = r.registration;
+            if (reg.failed) {
+                r.flags |= kRegistrationFailed;
+            } else {
+                T = reg.T_map_lidar;
+                r.covariance = reg.covariance;
+                if (reg.over_budget) r.flags |= kOverBudget;
+                if (reg.degenerate_directions > 0) r.flags |= kDegenerate;
+                if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
+            }
+        }
+    }
+    const Clock::time_point registered = Clock::now();
+    r.register_ms = Ms(registered - preprocessed);
+
+    // 4. The map update at the estimated pose.
+    const auto points = preprocessor_.map_points();
+    world_points_.resize(points.size());
+    const Eigen::Matrix3f R = T.linear().cast<float>();
+    const Eigen::Vector3f t = T.translation().cast<float>();
+    for (size_t i = 0; i < points.size(); ++i) world_points_[i] = R * points[i] + t;
+    map_.Insert(world_points_);
+    map_.Prune(T.translation());
+    r.map_voxels = map_.voxels();
+    r.map_points = map_.points();
+
+    r.T_prev_lidar = common::Between(T_prev, T);
+    r.T_odom_lidar = T;
+    // The velocity over the window: the relative motion from the oldest pose kept, expressed as
+    // a twist in the current lidar frame.
+    past_[past_count_ % past_.size()] = {stamp, T};
+    ++past_count_;
+    if (past_count_ >= 2) {
+        const size_t n = std::min(past_count_, past_.size());
+        const PastPose& oldest = past_[(past_count_ - n) % past_.size()];
+        const double span = double(stamp - oldest.stamp_ns) * 1e-9;
+        if (span > 0) {
+            const common::Vector6d xi =
+                common::LogSE3(common::Between(T, oldest.T_odom_lidar)) / span;
+            velocity_ = -xi;  // the motion from the oldest to now, seen from now
+        }
+    }
+    initialized_ = true;
+    last_stamp_ns_ = stamp;
+    const Clock::time_point end = Clock::now();
+    r.map_ms = Ms(end - registered);
+    r.total_ms = Ms(end - start);
+    return r;
+}
+
+}  // namespace bimslam::odometry

@@ -1,0 +1,114 @@
+// Scan preprocessing for LiDAR odometry: range crop, the rig's self-filter box, per-point deskew
+// and voxel downsampling. Everything is sized at construction; Run() never allocates once the
+// scan size has been seen (the rig's hot path, DESIGN.md "Conventions").
+//
+// Deskew. A spinning LiDAR sees each column from where the sensor was at that column's time, so
+// a scan taken while moving is smeared by the motion during the ~100 ms sweep. Each point p taken
+// at offset tau from the scan start is moved into the lidar frame at the scan start:
+//   p_start = T_start_tau * p,
+// where ScanMotion gives T_start_tau: by default constant velocity (the twist of the motion
+// estimated between scans, T_start_tau = Exp(tau * xi)), with the rotation replaced by the
+// integrated gyro of the Ouster IMU when it covers the scan (LIO-SAM and FAST-LIO do the same).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "algorithms/common/point_cloud.hpp"
+#include "algorithms/common/se3.hpp"
+
+namespace bimslam::odometry {
+
+// The motion of the lidar during one scan: T_start_tau for tau in [0, duration], as poses at
+// evenly spaced knots, interpolated linearly (translation) and by slerp (rotation) in between.
+class ScanMotion {
+public:
+    static constexpr int kKnots = 17;
+
+    // No motion.
+    ScanMotion() { SetConstantVelocity(common::Vector6d::Zero(), 0.1); }
+    // Constant velocity: xi = [v; omega] (m/s, rad/s) in the lidar frame at the scan start.
+    void SetConstantVelocity(const common::Vector6d& xi_per_s, double duration_s);
+    // Replaces the rotation at each knot (the translation stays): q_start_tau[k] for tau_k =
+    // k * duration / (kKnots - 1).
+    void SetRotations(const std::array<Eigen::Quaterniond, kKnots>& q_start_tau);
+
+    double duration_s() const { return duration_s_; }
+    double KnotTime(int k) const { return duration_s_ * k / (kKnots - 1); }
+    // T_start_tau; tau outside [0, duration] is clamped.
+    Eigen::Isometry3d At(double tau_s) const;
+    // The whole-scan motion T_start_end.
+    Eigen::Isometry3d End() const { return At(duration_s_); }
+
+private:
+    double duration_s_ = 0.1;
+    std::array<Eigen::Quaterniond, kKnots> q_;
+    std::array<Eigen::Vector3d, kKnots> t_;
+};
+
+struct PreprocessConfig {
+    double min_range = 0.5;   // m: closer returns are the rig itself or noise
+    double max_range = 60.0;  // m
+    // The rig's self-filter: points inside this box of the lidar frame are dropped. The default
+    // holds a Go1's trunk and legs under a lidar mounted 5 cm ahead of the trunk's centre and
+    // 28 cm above it (the trunk is 0.65 x 0.28 m). Empty when any min > max.
+    Eigen::Vector3d self_box_min = {-0.45, -0.25, -0.65};
+    Eigen::Vector3d self_box_max = {0.35, 0.25, -0.10};
+    bool deskew = true;
+    // Two resolutions, as KISS-ICP (Vizzo et al., RA-L 2023): a fine one for the map, a coarse one
+    // for registration, whose points are then capped (every k-th is kept) to bound the time.
+    double map_voxel = 0.10;           // m
+    double registration_voxel = 0.35;  // m
+    size_t max_registration_points = 4000;
+    size_t max_points = 262144;  // input points per scan the buffers are sized for
+
+    // Throws common::Error naming the field and value when out of range.
+    void Validate() const;
+};
+
+struct PreprocessStats {
+    size_t input = 0;
+    size_t zero_range = 0;  // no return
+    size_t cropped = 0;     // outside [min_range, max_range]
+    size_t self = 0;        // inside the self-filter box
+    size_t non_finite = 0;
+    size_t kept = 0;          // deskewed points (the keyframe cloud)
+    size_t map_points = 0;    // after the map voxel filter
+    size_t registration_points = 0;
+};
+
+class Preprocessor {
+public:
+    explicit Preprocessor(const PreprocessConfig& config = {});
+
+    // Crops, deskews (to the lidar frame at the scan start) and downsamples `scan` (lidar frame,
+    // time offsets from its stamp; without offsets no deskew is possible and none is done).
+    const PreprocessStats& Run(const common::PointCloud& scan, const ScanMotion& motion);
+
+    // The results of the last Run(), valid until the next one.
+    const common::PointCloud& deskewed() const { return deskewed_; }  // every kept point
+    std::span<const Eigen::Vector3f> map_points() const { return map_points_; }
+    std::span<const Eigen::Vector3f> registration_points() const { return registration_points_; }
+    const PreprocessConfig& config() const { return config_; }
+
+private:
+    // First point per voxel of `in` into `out`, using the preallocated hash table.
+    void VoxelFilter(std::span<const Eigen::Vector3f> in, double voxel,
+                     std::vector<Eigen::Vector3f>* out);
+
+    PreprocessConfig config_;
+    PreprocessStats stats_;
+    common::PointCloud deskewed_;
+    std::vector<Eigen::Vector3f> map_points_;
+    std::vector<Eigen::Vector3f> registration_points_;
+    std::vector<uint64_t> table_keys_;  // open addressing, tagged with generation_
+    std::vector<uint32_t> table_generation_;
+    uint32_t generation_ = 0;
+};
+
+}  // namespace bimslam::odometry

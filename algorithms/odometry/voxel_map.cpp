@@ -1,0 +1,199 @@
+#include "algorithms/odometry/voxel_map.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/odometry/require.hpp"
+
+namespace bimslam::odometry {
+namespace {
+
+size_t Hash(const Eigen::Vector3i& k) {
+    // The spatial hash of Teschner et al. 2003 (three large primes, xor).
+    return static_cast<size_t>((uint64_t(uint32_t(k.x())) * 73856093u) ^
+                               (uint64_t(uint32_t(k.y())) * 19349669u) ^
+                               (uint64_t(uint32_t(k.z())) * 83492791u));
+}
+
+}  // namespace
+
+void VoxelMapConfig::Validate() const {
+    const char* c = "VoxelMapConfig";
+    Require(voxel_size >= 0.05 && voxel_size <= 10, c, "voxel_size", voxel_size,
+            "must be in [0.05, 10] m");
+    Require(max_points_per_voxel >= 3 && max_points_per_voxel <= kMaxPointsPerVoxel, c,
+            "max_points_per_voxel", max_points_per_voxel, "must be in [3, 24]");
+    Require(min_point_spacing >= 0 && min_point_spacing < voxel_size, c, "min_point_spacing",
+            min_point_spacing, "must be in [0, voxel_size)");
+    Require(max_voxels >= 64 && max_voxels <= (1u << 24), c, "max_voxels", double(max_voxels),
+            "must be in [64, 2^24]");
+    Require(max_distance > voxel_size && std::isfinite(max_distance), c, "max_distance",
+            max_distance, "must be finite and > voxel_size");
+    Require(min_plane_points >= 3 && min_plane_points <= max_points_per_voxel, c,
+            "min_plane_points", min_plane_points, "must be in [3, max_points_per_voxel]");
+    Require(max_plane_thickness > 0 && max_plane_thickness < voxel_size, c, "max_plane_thickness",
+            max_plane_thickness, "must be in (0, voxel_size)");
+}
+
+VoxelMap::VoxelMap(const VoxelMapConfig& config) : config_(config) {
+    config_.Validate();
+    inv_size_ = static_cast<float>(1.0 / config_.voxel_size);
+    voxels_.reserve(config_.max_voxels);
+    size_t slots = 1;
+    while (slots < 2 * config_.max_voxels) slots <<= 1;  // load factor <= 1/2
+    slots_.assign(slots, -1);
+    touched_.reserve(config_.max_voxels);
+}
+
+Eigen::Vector3i VoxelMap::KeyOf(const Eigen::Vector3f& p) const {
+    return {static_cast<int>(std::floor(p.x() * inv_size_)),
+            static_cast<int>(std::floor(p.y() * inv_size_)),
+            static_cast<int>(std::floor(p.z() * inv_size_))};
+}
+
+int32_t VoxelMap::Find(const Eigen::Vector3i& key) const {
+    const size_t mask = slots_.size() - 1;
+    for (size_t s = Hash(key) & mask;; s = (s + 1) & mask) {
+        const int32_t i = slots_[s];
+        if (i < 0) return -1;
+        if (voxels_[size_t(i)].key == key) return i;
+    }
+}
+
+void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) {
+    touched_.clear();
+    const float spacing2 = static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
+    const size_t mask = slots_.size() - 1;
+    for (const Eigen::Vector3f& p : points) {
+        if (!p.allFinite()) continue;
+        const Eigen::Vector3i key = KeyOf(p);
+        size_t s = Hash(key) & mask;
+        int32_t i = -1;
+        for (;; s = (s + 1) & mask) {
+            i = slots_[s];
+            if (i < 0 || voxels_[size_t(i)].key == key) break;
+        }
+        if (i < 0) {
+            if (voxels_.size() >= config_.max_voxels) {
+                ++dropped_;
+                continue;
+            }
+            i = static_cast<int32_t>(voxels_.size());
+            voxels_.emplace_back();
+            voxels_.back().key = key;
+            slots_[s] = i;
+        }
+        Voxel& v = voxels_[size_t(i)];
+        if (v.count >= config_.max_points_per_voxel) continue;
+        bool near = false;
+        for (int k = 0; k < v.count && !near; ++k) {
+            near = (v.points[size_t(k)] - p).squaredNorm() < spacing2;
+        }
+        if (near) continue;
+        v.points[size_t(v.count++)] = p;
+        ++points_;
+        if (!v.dirty) {
+            v.dirty = true;
+            touched_.push_back(i);
+        }
+    }
+    for (const int32_t i : touched_) {
+        Voxel& v = voxels_[size_t(i)];
+        FitPlane(v);
+        v.dirty = false;
+    }
+}
+
+void VoxelMap::FitPlane(Voxel& v) const {
+    v.plane.valid = false;
+    if (v.count < config_.min_plane_points) return;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int k = 0; k < v.count; ++k) mean += v.points[size_t(k)].cast<double>();
+    mean /= v.count;
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int k = 0; k < v.count; ++k) {
+        const Eigen::Vector3d d = v.points[size_t(k)].cast<double>() - mean;
+        cov += d * d.transpose();
+    }
+    cov /= v.count;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(cov);
+    const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+    const double thickness = std::sqrt(std::max(0.0, lambda(0)));
+    const double spread = std::sqrt(std::max(0.0, lambda(1)));
+    if (thickness > config_.max_plane_thickness || spread < 3 * thickness) return;
+    const Eigen::Vector3d n = eig.eigenvectors().col(0).normalized();
+    v.plane.normal = n.cast<float>();
+    v.plane.offset = static_cast<float>(n.dot(mean));
+    v.plane.valid = true;
+}
+
+const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance) const {
+    static const std::array<Eigen::Vector3i, 7> kNeighbours = {
+        Eigen::Vector3i(0, 0, 0),  Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
+        Eigen::Vector3i(0, 1, 0),  Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
+        Eigen::Vector3i(0, 0, -1)};
+    const Eigen::Vector3i key = KeyOf(p);
+    const VoxelPlane* best = nullptr;
+    float best_abs = 0;
+    for (const Eigen::Vector3i& d : kNeighbours) {
+        const int32_t i = Find(key + d);
+        if (i < 0) continue;
+        const VoxelPlane& plane = voxels_[size_t(i)].plane;
+        if (!plane.valid) continue;
+        const float r = plane.normal.dot(p) - plane.offset;
+        if (!best || std::abs(r) < best_abs) {
+            best = &plane;
+            best_abs = std::abs(r);
+            *distance = r;
+        }
+    }
+    return best;
+}
+
+void VoxelMap::RebuildSlots() {
+    std::fill(slots_.begin(), slots_.end(), -1);
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = 0; i < voxels_.size(); ++i) {
+        size_t s = Hash(voxels_[i].key) & mask;
+        while (slots_[s] >= 0) s = (s + 1) & mask;
+        slots_[s] = static_cast<int32_t>(i);
+    }
+}
+
+void VoxelMap::Prune(const Eigen::Vector3d& sensor) {
+    const Eigen::Vector3f c = ((sensor.cast<float>() * inv_size_).array() - 0.5f).matrix();
+    double radius = config_.max_distance;
+    const size_t before = voxels_.size();
+    bool shrinking = false;
+    for (;;) {
+        // Voxel centres are key + 0.5 in voxel units: compare squared distances in those units.
+        const float r2 = static_cast<float>(radius * radius) * inv_size_ * inv_size_;
+        size_t kept = 0;
+        for (size_t i = 0; i < voxels_.size(); ++i) {
+            if ((voxels_[i].key.cast<float>() - c).squaredNorm() <= r2) {
+                if (kept != i) voxels_[kept] = voxels_[i];
+                ++kept;
+            } else {
+                points_ -= size_t(voxels_[i].count);
+            }
+        }
+        voxels_.resize(kept);
+        // More than 90 % full: shrink the radius until at most three-quarters full.
+        const size_t n = voxels_.size(), cap = config_.max_voxels;
+        if (shrinking ? 4 * n <= 3 * cap : 10 * n <= 9 * cap) break;
+        shrinking = true;
+        radius *= 0.8;
+        if (radius < config_.voxel_size) break;
+    }
+    if (voxels_.size() != before) RebuildSlots();
+}
+
+void VoxelMap::Clear() {
+    voxels_.clear();
+    std::fill(slots_.begin(), slots_.end(), -1);
+    points_ = 0;
+}
+
+}  // namespace bimslam::odometry

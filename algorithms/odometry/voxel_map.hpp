@@ -1,0 +1,85 @@
+// The local map of LiDAR odometry: a voxel hash of a bounded number of points, each voxel
+// holding a few points and the plane fitted to them (its centroid and normal, from the
+// eigen-decomposition of their covariance). Scan points are registered to these planes
+// (point-to-plane, Chen & Medioni 1992); a voxel whose points do not lie on a plane (a corner, an
+// edge, clutter) offers none.
+//
+// Bounded: at most max_voxels voxels of at most kMaxPointsPerVoxel points, all allocated at
+// construction. Voxels farther than max_distance from the sensor are dropped (what lies far
+// behind); when the map is still full, the radius shrinks until it is three-quarters full. A full
+// voxel takes no more points, so the map of what was seen first stays fixed (KISS-ICP's rule).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace bimslam::odometry {
+
+inline constexpr int kMaxPointsPerVoxel = 24;
+
+struct VoxelMapConfig {
+    double voxel_size = 0.4;        // m
+    int max_points_per_voxel = 20;  // <= kMaxPointsPerVoxel
+    double min_point_spacing = 0.08;  // m: a new point closer than this to one in its voxel is dropped
+    size_t max_voxels = 40000;        // about 40 MB at 24 points per voxel
+    double max_distance = 35.0;       // m from the sensor
+    // Plane test: at least min_plane_points, and the standard deviation across the plane at most
+    // max_plane_thickness while the spread within it is at least three times that.
+    int min_plane_points = 5;
+    double max_plane_thickness = 0.04;  // m
+
+    void Validate() const;
+};
+
+struct VoxelPlane {
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    float offset = 0;  // normal . x = offset on the plane
+    bool valid = false;
+};
+
+class VoxelMap {
+public:
+    explicit VoxelMap(const VoxelMapConfig& config = {});
+
+    // Adds points (map frame), then refits the planes of the voxels that changed.
+    void Insert(std::span<const Eigen::Vector3f> points);
+    // Drops the voxels beyond max_distance of `sensor` (map frame), then more if still full.
+    void Prune(const Eigen::Vector3d& sensor);
+    void Clear();
+
+    // The plane for a point (map frame): of its voxel and its 6 face neighbours, the valid plane
+    // nearest to it; nullptr when none. *distance gets the signed point-to-plane distance.
+    const VoxelPlane* FindPlane(const Eigen::Vector3f& p, float* distance) const;
+
+    size_t voxels() const { return voxels_.size(); }
+    size_t points() const { return points_; }
+    size_t dropped_points() const { return dropped_; }  // no room: map full
+    const VoxelMapConfig& config() const { return config_; }
+
+private:
+    struct Voxel {
+        Eigen::Vector3i key;
+        int count = 0;
+        bool dirty = false;
+        VoxelPlane plane;
+        std::array<Eigen::Vector3f, kMaxPointsPerVoxel> points;
+    };
+    Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
+    int32_t Find(const Eigen::Vector3i& key) const;  // index into voxels_ or -1
+    void RebuildSlots();
+    void FitPlane(Voxel& v) const;
+
+    VoxelMapConfig config_;
+    float inv_size_;
+    std::vector<Voxel> voxels_;   // capacity max_voxels, never exceeded
+    std::vector<int32_t> slots_;  // open addressing: index into voxels_ or -1
+    std::vector<int32_t> touched_;
+    size_t points_ = 0;
+    size_t dropped_ = 0;
+};
+
+}  // namespace bimslam::odometry

@@ -1,0 +1,123 @@
+// bimslam odometry: a capture replayed through the on-board LiDAR odometry and keyframe
+// selection, as fast as possible, into a session (host_tools/replay/capture_odometry.hpp).
+#include <unistd.h>
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "algorithms/common/status.hpp"
+#include "host_tools/cli/command.hpp"
+#include "host_tools/replay/capture_odometry.hpp"
+
+namespace bimslam::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct OdometryArgs {
+    std::string capture;
+    std::string out;
+    bool no_can = false;
+    bool no_imu = false;
+    bool no_deskew = false;
+    double budget_ms = 50;
+    double duration_s = 0;
+    bool overwrite = false;
+    bool json = false;
+};
+
+int Odometry(const OdometryArgs& a) {
+    replay::CaptureOdometryOptions o;
+    o.capture_dir = a.capture;
+    o.session_dir = a.out;
+    o.overwrite = a.overwrite;
+    o.use_can = !a.no_can;
+    o.use_imu = !a.no_imu;
+    o.odometry.budget_ms = a.budget_ms;
+    o.odometry.preprocess.deskew = !a.no_deskew;
+    o.max_duration_s = a.duration_s;
+    const bool tty = !a.json && ::isatty(STDOUT_FILENO);
+    o.on_scan = [tty, n = 0](const odometry::OdometryResult& r) mutable {
+        ++n;
+        if (tty && n % 50 == 0) {
+            std::cout << "\rscan " << n << "  (" << std::fixed << std::setprecision(1)
+                      << r.total_ms << " ms)" << std::flush;
+        }
+    };
+    const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);
+    if (tty) std::cout << "\r";
+    const double p50 = replay::Percentile(rep.scan_ms, 0.5);
+    const double p99 = replay::Percentile(rep.scan_ms, 0.99);
+    const double max = replay::Percentile(rep.scan_ms, 1.0);
+    if (a.json) {
+        nlohmann::json j = {{"session", a.out},
+                            {"scans", rep.scans},
+                            {"keyframes", rep.keyframes},
+                            {"incomplete_frames", rep.incomplete_frames},
+                            {"imu_samples", rep.imu_samples},
+                            {"body_samples", rep.body_samples},
+                            {"used_can", rep.used_can},
+                            {"mount_from_capture", rep.mount_from_capture},
+                            {"distance_m", rep.distance_m},
+                            {"capture_s", rep.capture_s},
+                            {"wall_s", rep.wall_s},
+                            {"scan_ms_p50", p50},
+                            {"scan_ms_p99", p99},
+                            {"scan_ms_max", max},
+                            {"over_budget", rep.over_budget},
+                            {"degenerate", rep.degenerate},
+                            {"failed", rep.failed},
+                            {"not_converged", rep.not_converged},
+                            {"notes", rep.notes}};
+        std::cout << j.dump(2) << "\n";
+        return kExitOk;
+    }
+    for (const std::string& n : rep.notes) std::cout << "note      " << n << "\n";
+    std::cout << std::fixed << std::setprecision(1);
+    std::cout << "inputs    " << rep.scans << " scans (" << rep.incomplete_frames
+              << " incomplete), " << rep.imu_samples << " IMU samples, " << rep.body_samples
+              << " Go1 samples" << (rep.mount_from_capture ? ", mount from capture.json" : "")
+              << "\n";
+    std::cout << "odometry  " << rep.distance_m << " m in " << rep.capture_s << " s of capture, "
+              << "run in " << rep.wall_s << " s (" << rep.capture_s / std::max(rep.wall_s, 1e-9)
+              << "x real time)\n";
+    std::cout << std::setprecision(2) << "per scan  p50 " << p50 << " ms, p99 " << p99
+              << " ms, max " << max << " ms; over budget " << rep.over_budget << ", degenerate "
+              << rep.degenerate << ", failed " << rep.failed << "\n";
+    std::cout << "session   " << a.out << ": " << rep.keyframes
+              << " keyframes, trajectory.tum with every scan\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void AddOdometryCommand(CLI::App& app, int& exit_code) {
+    auto args = std::make_shared<OdometryArgs>();
+    auto* cmd = app.add_subcommand(
+        "odometry",
+        "Replay a capture through the on-board LiDAR odometry and keyframe selection (the\n"
+        "same code as bimslam-rig), as fast as possible, into a session.\n"
+        "Reads CAPTURE_DIR/lidar.pcap and metadata.json, the Ouster IMU packets in the pcap,\n"
+        "CAPTURE_DIR/go1_can.log when present (the Go1 motion prior) and capture.json's lidar\n"
+        "mount when present. Writes SESSION/trajectory.tum (every scan, sensor clock) and the\n"
+        "keyframes (Scans/, SCDs/, poses, singlesession_posegraph.g2o, session.json).\n"
+        "Compare with ground truth: bimslam evaluate --est SESSION/trajectory.tum --ref "
+        "CAPTURE_DIR/ground_truth.tum");
+    cmd->add_option("capture", args->capture, "Capture folder (from the rig or bimslam simulate)")
+        ->required();
+    cmd->add_option("-o,--output", args->out, "Session folder to write")->required();
+    cmd->add_flag("--no-can", args->no_can, "Ignore go1_can.log (no Go1 motion prior)");
+    cmd->add_flag("--no-imu", args->no_imu, "Ignore the Ouster IMU");
+    cmd->add_flag("--no-deskew", args->no_deskew, "Register scans as they are, without deskew");
+    cmd->add_option("--budget-ms", args->budget_ms, "Time budget per scan")
+        ->check(CLI::Range(1.0, 10000.0))
+        ->capture_default_str();
+    cmd->add_option("--duration", args->duration_s, "Stop after this many seconds of capture")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--overwrite", args->overwrite, "Replace an existing session");
+    cmd->add_flag("--json", args->json, "Print the summary as JSON");
+    cmd->callback([args, &exit_code] { exit_code = Run([&] { return Odometry(*args); }); });
+}
+
+}  // namespace bimslam::cli

@@ -1,0 +1,65 @@
+// A capture folder (lidar.pcap, metadata.json, go1_can.log when present: what the rig records and
+// `bimslam simulate` writes) replayed through the on-board LiDAR odometry and keyframe selection,
+// as fast as the machine goes, into a session (specs/session-data.md). The same library code as
+// the rig; only the reading of files is here.
+//
+// Clocks. Scans and Ouster IMU samples are stamped by the sensor; Go1 samples by the host (the
+// candump stamps). The host-minus-sensor offset is estimated from the lidar packets themselves:
+// the smallest (pcap arrival - sensor time of the packet's last column) seen so far, i.e. the
+// offset plus the smallest network latency. A Go1 sample is dated at its candump stamp minus its
+// SampleAge (the bridge's receive of the HighState), then moved to the sensor clock.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "algorithms/keyframes/keyframe_selector.hpp"
+#include "algorithms/odometry/lidar_odometry.hpp"
+
+namespace bimslam::replay {
+
+struct CaptureOdometryOptions {
+    std::filesystem::path capture_dir;
+    std::filesystem::path session_dir;  // empty: no session written (benchmarks)
+    bool overwrite = false;
+    bool use_can = true;  // go1_can.log when present
+    bool use_imu = true;  // the Ouster IMU packets in lidar.pcap
+    odometry::LidarOdometryConfig odometry;  // T_base_lidar is taken from capture.json if there
+    keyframes::KeyframeConfig keyframes;
+    double max_duration_s = 0;  // > 0: stop after this much capture time
+    // Called after every scan (progress, figures); may be empty.
+    std::function<void(const odometry::OdometryResult&)> on_scan;
+};
+
+struct CaptureOdometryReport {
+    size_t scans = 0;
+    size_t keyframes = 0;
+    size_t incomplete_frames = 0;
+    size_t imu_samples = 0;
+    size_t body_samples = 0;   // Go1 samples given to the odometry
+    bool used_can = false;     // go1_can.log present and read
+    bool mount_from_capture = false;  // T_base_lidar from capture.json
+    std::vector<double> scan_ms;      // per scan, total time in LidarOdometry::Process
+    size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
+    double distance_m = 0;       // along the odometry trajectory
+    double capture_s = 0;        // sensor time from the first to the last scan
+    double wall_s = 0;           // this run
+    int64_t host_minus_sensor_ns = 0;
+    std::vector<std::string> notes;  // what was missing or skipped, for the user
+};
+
+// The p-quantile (0..1) of v, nearest rank; 0 for none.
+double Percentile(std::vector<double> v, double p);
+
+// Throws common::Error / FileError naming the file on missing or bad input (exit 2 material).
+CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& options);
+
+// The lidar's mount T_base_sensor recorded in a capture.json, if the file and key exist. Throws
+// common::FileError when the file exists but the key is malformed.
+std::optional<Eigen::Isometry3d> ReadCaptureMount(const std::filesystem::path& capture_json);
+
+}  // namespace bimslam::replay
