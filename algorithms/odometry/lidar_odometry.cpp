@@ -32,6 +32,7 @@ void LidarOdometryConfig::Validate() const {
     Require(constant_velocity_sigma.allFinite() && (constant_velocity_sigma.array() > 0).all(), c,
             "constant_velocity_sigma", constant_velocity_sigma.minCoeff(), "must all be > 0");
     Require(imu_rotation_sigma > 0, c, "imu_rotation_sigma", imu_rotation_sigma, "must be > 0");
+    Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
     Require(velocity_window >= 1 && velocity_window <= 50, c, "velocity_window", velocity_window,
             "must be in [1, 50]");
 }
@@ -93,6 +94,23 @@ bool LidarOdometry::IntegrateGyro(int64_t t0, int64_t t1, Eigen::Quaterniond* q)
     return true;
 }
 
+ScanMotion LidarOdometry::MotionFor(const common::Vector6d& twist, double duration,
+                                    int64_t stamp) const {
+    ScanMotion motion;
+    motion.SetConstantVelocity(twist, duration);
+    if (config_.use_imu) {
+        std::array<Eigen::Quaterniond, ScanMotion::kKnots> knots;
+        for (int k = 0; k < ScanMotion::kKnots; ++k) {
+            if (!IntegrateGyro(stamp, stamp + static_cast<int64_t>(motion.KnotTime(k) * 1e9),
+                               &knots[size_t(k)])) {
+                return motion;
+            }
+        }
+        motion.SetRotations(knots);
+    }
+    return motion;
+}
+
 const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const Clock::time_point start = Clock::now();
     const int64_t stamp = scan.stamp.ns;
@@ -137,19 +155,9 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     uint32_t max_offset = 0;
     for (const uint32_t t : scan.time_offset_ns) max_offset = std::max(max_offset, t);
     const double duration = std::max(1e-3, max_offset * 1e-9);
-    ScanMotion motion;
     const common::Vector6d twist = dt > 0 ? common::Vector6d(common::LogSE3(delta) / dt)
                                           : common::Vector6d::Zero();
-    motion.SetConstantVelocity(twist, duration);
-    if (config_.use_imu) {
-        std::array<Eigen::Quaterniond, ScanMotion::kKnots> knots;
-        bool ok = true;
-        for (int k = 0; k < ScanMotion::kKnots && ok; ++k) {
-            ok = IntegrateGyro(stamp, stamp + static_cast<int64_t>(motion.KnotTime(k) * 1e9),
-                               &knots[size_t(k)]);
-        }
-        if (ok) motion.SetRotations(knots);
-    }
+    const ScanMotion motion = MotionFor(twist, duration, stamp);
     r.preprocess = preprocessor_.Run(scan, motion);
     const Clock::time_point preprocessed = Clock::now();
     r.preprocess_ms = Ms(preprocessed - start);
@@ -159,26 +167,49 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     r.registration = RegistrationResult{};
     Eigen::Isometry3d T = T_pred;
     r.covariance = sigma.cwiseAbs2().asDiagonal();
-    if (initialized_) {
+    const auto deadline =
+        start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(
+                    config_.budget_ms * (1 - config_.map_update_share)));
+    const auto align = [&](const Eigen::Isometry3d& from) {
         if (preprocessor_.registration_points().size() <
             size_t(config_.registration.min_correspondences)) {
             r.flags |= kTooFewPoints | kRegistrationFailed;
-        } else {
-            const auto budget = std::chrono::duration_cast<Clock::duration>(
-                std::chrono::duration<double, std::milli>(config_.budget_ms *
-                                                          (1 - config_.map_update_share)));
-            r.registration = registration_.Align(preprocessor_.registration_points(), map_, T_pred,
-                                                 sigma, start + budget);
-            const RegistrationResult& reg = r.registration;
-            if (reg.failed) {
-                r.flags |= kRegistrationFailed;
-            } else {
-                T = reg.T_map_lidar;
-                r.covariance = reg.covariance;
-                if (reg.over_budget) r.flags |= kOverBudget;
-                if (reg.degenerate_directions > 0) r.flags |= kDegenerate;
-                if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
-            }
+            return false;
+        }
+        r.registration = registration_.Align(preprocessor_.registration_points(), map_, from,
+                                             sigma, deadline);
+        const RegistrationResult& reg = r.registration;
+        if (reg.failed) {
+            r.flags |= kRegistrationFailed;
+            return false;
+        }
+        T = reg.T_map_lidar;
+        r.covariance = reg.covariance;
+        r.flags &= ~uint32_t(kOverBudget | kDegenerate | kNotConverged);
+        if (reg.over_budget) r.flags |= kOverBudget;
+        if (reg.degenerate_directions > 0) r.flags |= kDegenerate;
+        if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
+        return true;
+    };
+    const bool too_few = preprocessor_.registration_points().size() <
+                         size_t(config_.registration.min_correspondences);
+    if (!initialized_ && too_few) {
+        // Nothing to start the map with: the odometry starts at the next scan that has points.
+        r.flags |= kTooFewPoints;
+        r.total_ms = Ms(Clock::now() - start);
+        return r;
+    }
+    if (initialized_ && align(T_pred) && dt > 0 && config_.preprocess.deskew && scan.HasTime()) {
+        // 3b. The scan was deskewed with a predicted motion; when the estimated one differs by
+        // more than redeskew_threshold over the sweep (a start, a stop, a sudden turn without
+        // the IMU), the scan is deskewed again with it and registered once more.
+        const ScanMotion estimated =
+            MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
+        const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
+        const double moved = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
+        if (moved > config_.redeskew_threshold && Clock::now() < deadline) {
+            r.preprocess = preprocessor_.Run(scan, estimated);
+            if (align(T)) r.flags |= kDeskewedAgain;
         }
     }
     const Clock::time_point registered = Clock::now();

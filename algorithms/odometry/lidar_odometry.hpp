@@ -8,7 +8,9 @@
 // 2. Preprocessing: range crop, self-filter, deskew with that motion (the gyro's rotation inside
 //    the scan when present), voxel downsampling (Preprocessor).
 // 3. Registration of the downsampled scan to the local map from the prediction (ScanRegistration,
-//    Ceres), with degenerate directions kept at the prediction.
+//    Ceres), with degenerate directions kept at the prediction. When the motion it implies
+//    differs from the one the scan was deskewed with, the scan is deskewed again with it and
+//    registered once more.
 // 4. The map gets the scan's fine points at the estimated pose and forgets what lies far behind.
 //
 // Time. The whole call is budgeted (budget_ms): registration stops at its share of the budget
@@ -64,6 +66,10 @@ struct LidarOdometryConfig {
     // that is wrong deskews the next scan wrongly, whose pose is then wrong the other way: with
     // one scan this can ring (measured on hand-held captures); averaging over a few damps it.
     int velocity_window = 4;
+    // A scan is deskewed again with its estimated motion when that differs from the predicted
+    // one by more than this over the sweep (metres of translation + 10 m x radians of rotation:
+    // the displacement of a point 10 m away).
+    double redeskew_threshold = 0.02;
 
     void Validate() const;
 };
@@ -77,6 +83,7 @@ enum OdometryFlag : uint32_t {
     kBodyPriorUsed = 1u << 5,
     kImuUsed = 1u << 6,
     kTooFewPoints = 1u << 7,         // the scan kept fewer points than registration needs
+    kDeskewedAgain = 1u << 8,        // deskewed and registered a second time (step 3b)
 };
 
 struct OdometryResult {
@@ -120,6 +127,8 @@ private:
     // Rotation of the lidar at t1 in the lidar at t0 from the gyro; false when the buffer does
     // not cover [t0, t1].
     bool IntegrateGyro(int64_t t0_ns, int64_t t1_ns, Eigen::Quaterniond* q) const;
+    // The motion during a scan: constant velocity `twist`, the gyro's rotation when it covers it.
+    ScanMotion MotionFor(const common::Vector6d& twist, double duration, int64_t stamp) const;
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 
     LidarOdometryConfig config_;

@@ -40,7 +40,7 @@
 namespace bimslam::odometry {
 
 struct RegistrationConfig {
-    int max_iterations = 12;          // outer: correspondences found again
+    int max_iterations = 20;          // outer: correspondences found again
     int max_solver_iterations = 4;    // Ceres iterations per outer iteration
     double max_correspondence_distance = 0.5;  // m
     // The Cauchy scale is annealed: it starts at cauchy_scale_initial, so that a prediction a

@@ -22,8 +22,8 @@ namespace bimslam::odometry {
 inline constexpr int kMaxPointsPerVoxel = 24;
 
 struct VoxelMapConfig {
-    double voxel_size = 0.4;        // m
-    int max_points_per_voxel = 20;  // <= kMaxPointsPerVoxel
+    double voxel_size = 0.6;        // m
+    int max_points_per_voxel = 24;  // <= kMaxPointsPerVoxel
     double min_point_spacing = 0.08;  // m: a new point closer than this to one in its voxel is dropped
     size_t max_voxels = 40000;        // about 40 MB at 24 points per voxel
     double max_distance = 35.0;       // m from the sensor

@@ -1,7 +1,14 @@
 // The motion prior runs on the rig's hot path: Add and Between must not allocate.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <iostream>
+#include <numeric>
+
+#include "algorithms/keyframes/keyframe_selector.hpp"
+#include "algorithms/odometry/lidar_odometry.hpp"
 #include "algorithms/odometry/motion_prior.hpp"
+#include "tests/support/synthetic_scene.hpp"
 #include "tests/support/allocation_counter.hpp"
 
 namespace bimslam::odometry {
@@ -21,6 +28,86 @@ TEST(HotPath, MotionPriorDoesNotAllocate) {
         }
     }
     EXPECT_EQ(test::Allocations() - before, 0u);
+}
+
+}  // namespace
+}  // namespace bimslam::odometry
+
+namespace bimslam::odometry {
+namespace {
+
+// Scans of a furnished room along a short walk (analytic ray casting, made before counting).
+std::vector<common::PointCloud> RoomScans(int n) {
+    test::Scene scene;
+    scene.room = test::SceneBox{{-7, -4.5, -0.3}, {7, 4.5, 2.7}};
+    scene.boxes.push_back({{2, 3, -0.3}, {3.6, 3.8, 0.5}});
+    scene.boxes.push_back({{-4.5, -4.1, -0.3}, {-3.5, -3.1, 0.7}});
+    scene.cylinders.push_back({{1.0, -1.5}, 0.25, -0.3, 2.7});
+    test::LidarModel lidar;
+    lidar.range_noise_sigma = 0.01;
+    std::vector<common::PointCloud> scans;
+    for (int k = 0; k < n; ++k) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = Eigen::Vector3d(0.05 * k, 0.02 * k, 0.6);
+        T.linear() = Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        scans.push_back(test::ScanScene(scene, T, lidar, uint32_t(k) + 1));
+        scans.back().stamp = common::SensorTime{1'000'000'000 + int64_t(k) * 100'000'000};
+    }
+    return scans;
+}
+
+TEST(HotPath, PreprocessingTheMapAndKeyframesDoNotAllocateAfterWarmUp) {
+    const auto scans = RoomScans(12);
+    Preprocessor pre;
+    VoxelMap map;
+    keyframes::KeyframeConfig kc;
+    kc.distance_m = 0.1;  // a keyframe every other scan
+    keyframes::KeyframeSelector selector(kc);
+    OdometryResult r;
+    std::vector<Eigen::Vector3f> world;
+    world.reserve(300000);
+    ScanMotion motion;
+    size_t keyframes = 0;
+    const auto step = [&](size_t k) {
+        pre.Run(scans[k], motion);
+        world.assign(pre.map_points().begin(), pre.map_points().end());
+        map.Insert(world);
+        map.Prune(Eigen::Vector3d::Zero());
+        r.stamp_ns = scans[k].stamp.ns;
+        r.T_odom_lidar.translation() = Eigen::Vector3d(0.05 * double(k), 0, 0);
+        keyframes += selector.Add(r, pre.deskewed()) ? 1 : 0;
+    };
+    for (size_t k = 0; k < 4; ++k) step(k);  // warm-up: buffers reach their sizes
+    const size_t before = test::Allocations();
+    for (size_t k = 4; k < scans.size(); ++k) step(k);
+    EXPECT_EQ(test::Allocations() - before, 0u);
+    EXPECT_GT(keyframes, 4u);
+}
+
+// LidarOdometry::Process as a whole: its own code allocates nothing, ceres::Solve does (its
+// program, evaluator and linear solver are built on every call). Measured here and kept bounded
+// per scan (no growth over the walk): the figure is in README.md.
+TEST(HotPath, LidarOdometryAllocatesOnlyInsideCeresAndABoundedAmount) {
+    const auto scans = RoomScans(30);
+    LidarOdometry lo;
+    for (size_t k = 0; k < 5; ++k) lo.Process(scans[k]);
+    std::vector<size_t> per_scan;
+    size_t solves = 0;
+    for (size_t k = 5; k < scans.size(); ++k) {
+        const size_t before = test::Allocations();
+        const OdometryResult& r = lo.Process(scans[k]);
+        per_scan.push_back(test::Allocations() - before);
+        solves += size_t(r.registration.iterations);
+        EXPECT_EQ(r.flags & kRegistrationFailed, 0u);
+    }
+    const size_t total = std::accumulate(per_scan.begin(), per_scan.end(), size_t(0));
+    const size_t max = *std::max_element(per_scan.begin(), per_scan.end());
+    std::cout << "allocations per scan: mean " << double(total) / double(per_scan.size())
+              << ", max " << max << ", per Ceres solve " << double(total) / double(solves)
+              << "\n";
+    EXPECT_GT(solves, 0u);
+    // Every allocation is Ceres's: at most a fixed number per solve.
+    EXPECT_LE(double(total) / double(solves), 200.0);
 }
 
 }  // namespace

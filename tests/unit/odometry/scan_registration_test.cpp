@@ -5,6 +5,7 @@
 #include "algorithms/odometry/preprocess.hpp"
 #include "algorithms/odometry/scan_registration.hpp"
 #include "algorithms/odometry/voxel_map.hpp"
+#include "algorithms/common/status.hpp"
 #include "tests/unit/odometry/odometry_scenes.hpp"
 
 namespace bimslam::odometry {
@@ -51,8 +52,71 @@ TEST(ScanRegistration, RecoversAKnownMotionInAFurnishedRoom) {
     EXPECT_TRUE(r.result.converged);
     EXPECT_EQ(r.result.degenerate_directions, 0);
     EXPECT_GT(r.result.correspondences, 500);
+    // A map of one noisy scan (1 cm range noise): millimetres and a tenth of a degree.
     EXPECT_LT(r.translation_error, 0.01);
-    EXPECT_LT(r.rotation_error_deg, 0.1);
+    EXPECT_LT(r.rotation_error_deg, 0.2);
+}
+
+// In a corridor with no end in range, the scan says nothing about motion along its axis: that
+// direction is flagged and keeps the initial guess, 30 cm off, instead of wandering.
+TEST(ScanRegistration, ACorridorsAxisIsDegenerateAndKeepsTheGuess) {
+    const simulation::Scene scene(test::Corridor(200));
+    const Eigen::Isometry3d map_pose = Pose(0, 0, 0.5, 0);
+    const Eigen::Isometry3d truth = Pose(0.1, 0.05, 0.5, 0.03);
+    Eigen::Isometry3d guess = truth;
+    guess.translation().x() += 0.3;  // along the axis
+    guess.translation().y() -= 0.05;
+    const Registered r = Register(scene, map_pose, truth, guess);
+    EXPECT_FALSE(r.result.failed);
+    EXPECT_EQ(r.result.degenerate_directions, 1);
+    EXPECT_LT(r.result.min_eigen_ratio, 0.01);
+    const Eigen::Vector3d error = r.result.T_map_lidar.translation() - truth.translation();
+    EXPECT_NEAR(error.x(), 0.3, 0.02) << "the axis keeps the guess";
+    EXPECT_LT(std::abs(error.y()), 0.01) << "across the corridor the scan decides";
+    EXPECT_LT(std::abs(error.z()), 0.01);
+    EXPECT_LT(r.rotation_error_deg, 0.2);
+    // The covariance along the axis is the guess's (5 cm), not the scan's millimetres.
+    EXPECT_NEAR(std::sqrt(r.result.covariance(0, 0)), 0.05, 0.01);
+    EXPECT_LT(std::sqrt(r.result.covariance(1, 1)), 0.01);
+}
+
+TEST(ScanRegistration, TooFewCorrespondencesFailsWithTheGuess) {
+    VoxelMap empty;
+    ScanRegistration reg;
+    std::vector<Eigen::Vector3f> points(500, Eigen::Vector3f(3, 0, 0));
+    const Eigen::Isometry3d guess = Pose(1, 2, 3, 0.4);
+    const RegistrationResult& r =
+        reg.Align(points, empty, guess, common::Vector6d::Constant(0.1),
+                  ScanRegistration::Clock::now() + std::chrono::seconds(1));
+    EXPECT_TRUE(r.failed);
+    EXPECT_TRUE(r.T_map_lidar.isApprox(guess));
+}
+
+TEST(ScanRegistration, AnExpiredDeadlineReturnsTheGuessFlagged) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    Preprocessor pre;
+    VoxelMap map;
+    pre.Run(test::Scan(scene, [](double) { return Pose(0, 0, 0.5, 0); }, 0, 1), ScanMotion());
+    map.Insert(std::vector<Eigen::Vector3f>(pre.map_points().begin(), pre.map_points().end()));
+    ScanRegistration reg;
+    const Eigen::Isometry3d guess = Pose(0.05, 0, 0, 0.01);
+    const RegistrationResult& r =
+        reg.Align(pre.registration_points(), map, guess, common::Vector6d::Constant(0.1),
+                  ScanRegistration::Clock::now() - std::chrono::milliseconds(1));
+    EXPECT_TRUE(r.over_budget);
+    EXPECT_EQ(r.iterations, 0);
+    EXPECT_TRUE(r.T_map_lidar.translation().allFinite());
+}
+
+TEST(RegistrationConfig, ValidateNamesTheField) {
+    RegistrationConfig c;
+    c.cauchy_scale_initial = 0.001;
+    try {
+        c.Validate();
+        FAIL() << "no error";
+    } catch (const common::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("cauchy_scale_initial"), std::string::npos);
+    }
 }
 
 }  // namespace

@@ -1,0 +1,265 @@
+// LiDAR odometry on simulated scans with rolling shutter (Embree, OS1-32 1024 x 10, 1 cm range
+// noise): a featureless corridor with and without the Go1 prior, pure rotation in place, scans
+// with 30 % of their columns missing, empty scans, and deskewing on a fast turn.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/odometry/lidar_odometry.hpp"
+#include "tests/unit/odometry/odometry_scenes.hpp"
+
+namespace bimslam::odometry {
+namespace {
+
+using test::Pose;
+using Trajectory = std::function<Eigen::Isometry3d(double)>;  // T_world_lidar at t seconds
+
+constexpr double kScan = 0.1;
+constexpr int64_t kStart = 5'000'000'000;  // the first scan's stamp, ns
+
+struct Inputs {
+    bool imu = false;
+    bool body = false;  // the Go1 prior, with the lidar at the base (T_base_lidar = identity)
+    bool deskew = true;
+    double drop_columns = 0;  // fraction of each scan's columns missing (a contiguous block)
+    std::function<bool(int)> empty_scan = [](int) { return false; };
+};
+
+struct OdometryRun {
+    double max_translation_error = 0, max_rotation_error_deg = 0;
+    double final_translation_error = 0, final_rotation_error_deg = 0;
+    uint32_t flags = 0;  // OR over the scans
+    bool finite = true;
+    std::vector<OdometryResult> results;
+};
+
+// The body rates of the trajectory at t by central differences, in the lidar frame.
+void Rates(const Trajectory& traj, double t, Eigen::Vector3d* v, Eigen::Vector3d* w) {
+    const double h = 1e-4;
+    const Eigen::Isometry3d a = traj(t - h), b = traj(t + h), c = traj(t);
+    *v = c.linear().transpose() * (b.translation() - a.translation()) / (2 * h);
+    *w = common::LogSO3(a.linear().transpose() * b.linear()) / (2 * h);
+}
+
+OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int scans, const Inputs& in,
+             LidarOdometryConfig config = {}) {
+    config.use_imu = in.imu;
+    config.use_body_motion = in.body;
+    config.preprocess.deskew = in.deskew;
+    config.T_base_lidar = Eigen::Isometry3d::Identity();
+    LidarOdometry lo(config);
+    OdometryRun run;
+    const Eigen::Isometry3d T_world_odom = traj(0);
+    int64_t fed_ns = kStart - 200'000'000;
+    for (int k = 0; k < scans; ++k) {
+        const int64_t stamp = kStart + int64_t(k) * 100'000'000;
+        // IMU and body motion at 100 Hz up to the end of this scan.
+        for (; fed_ns <= stamp + 100'000'000; fed_ns += 10'000'000) {
+            const double t = double(fed_ns - kStart) * 1e-9;
+            Eigen::Vector3d v, w;
+            Rates(traj, t, &v, &w);
+            if (in.imu) lo.AddImu({fed_ns, w, Eigen::Vector3d(0, 0, 9.81)});
+            if (in.body) {
+                BodyMotionSample s;
+                s.t_ns = fed_ns;
+                s.v_xy = v.head<2>();
+                s.yaw_rate = w.z();
+                s.attitude = Eigen::Quaterniond(traj(t).linear());
+                lo.AddBodyMotion(s);
+            }
+        }
+        const double t0 = k * kScan;
+        common::PointCloud cloud =
+            in.empty_scan(k) ? common::PointCloud{}
+                             : test::Scan(scene, [&](double tau) { return traj(t0 + tau); },
+                                          stamp, uint64_t(k) + 7);
+        cloud.stamp = common::SensorTime{stamp};
+        if (in.drop_columns > 0 && !cloud.empty()) {
+            // Columns missing: a block at a different azimuth in every scan.
+            const double lo_t = std::fmod(0.37 * k, 1.0 - in.drop_columns) * 0.1;
+            const double hi_t = lo_t + in.drop_columns * 0.1;
+            common::PointCloud kept;
+            kept.stamp = cloud.stamp;
+            for (size_t i = 0; i < cloud.size(); ++i) {
+                const double tau = cloud.time_offset_ns[i] * 1e-9;
+                if (tau >= lo_t && tau < hi_t) continue;
+                kept.PushBack(cloud.xyz[i], cloud.intensity[i], cloud.ring[i],
+                              cloud.time_offset_ns[i]);
+            }
+            cloud = kept;
+        }
+        const OdometryResult& r = lo.Process(cloud);
+        run.results.push_back(r);
+        run.flags |= r.flags;
+        run.finite = run.finite && r.T_odom_lidar.matrix().allFinite() &&
+                     r.covariance.allFinite();
+        const Eigen::Isometry3d truth = T_world_odom.inverse() * traj(t0);
+        const Eigen::Isometry3d e = truth.inverse() * r.T_odom_lidar;
+        run.final_translation_error = e.translation().norm();
+        run.final_rotation_error_deg = common::RotationAngle(e) * 180 / M_PI;
+            run.max_translation_error = std::max(run.max_translation_error, run.final_translation_error);
+        run.max_rotation_error_deg =
+            std::max(run.max_rotation_error_deg, run.final_rotation_error_deg);
+    }
+    return run;
+}
+
+// Along a straight corridor whose ends are out of range, at a speed that varies between 0.4
+// and 1.2 m/s: the scans cannot tell how far the sensor went; the Go1's leg odometry can.
+Eigen::Isometry3d CorridorWalk(double t) {
+    const double x = 0.8 * t + 0.4 * (2 / M_PI) * (1 - std::cos(M_PI * t / 2));
+    return Pose(x, 0.1, 0.6, 0.0);
+}
+
+TEST(LidarOdometry, AFeaturelessCorridorDoesNotDivergeWithTheGo1Prior) {
+    const simulation::Scene scene(test::Corridor(200));
+    const OdometryRun with = Odometry(scene, CorridorWalk, 60, {.imu = true, .body = true});
+    const OdometryRun without = Odometry(scene, CorridorWalk, 60, {.imu = true, .body = false});
+    EXPECT_TRUE(with.flags & kDegenerate) << "the corridor's axis is detected";
+    EXPECT_TRUE(with.flags & kBodyPriorUsed);
+    EXPECT_TRUE(with.finite);
+    EXPECT_LT(with.max_translation_error, 0.05) << "6 s, about 5 m, along a featureless axis";
+    EXPECT_LT(with.max_rotation_error_deg, 1.0);
+    // Without the prior the axis follows a constant velocity that is not: the prior is what
+    // holds the estimate.
+    EXPECT_GT(without.final_translation_error, 3 * with.final_translation_error);
+    std::cout << "corridor, 6 s: error " << with.final_translation_error * 100
+              << " cm with the Go1 prior, " << without.final_translation_error * 100
+              << " cm without\n";
+}
+
+// The walks below start at rest for half a second, as the rig does: the first scan cannot be
+// deskewed (no motion is known yet), and whatever smear it has stays in the map.
+double Moving(double t) { return std::max(0.0, t - 0.5); }
+
+// Turning on the spot at 1 rad/s (57 deg/s) for 5.5 s in a furnished room.
+Eigen::Isometry3d TurnInPlace(double t) { return Pose(0.5, -0.3, 0.6, 1.0 * Moving(t)); }
+
+TEST(LidarOdometry, PureRotationInPlace) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    for (const bool imu : {true, false}) {
+        const OdometryRun run = Odometry(scene, TurnInPlace, 60, {.imu = imu});
+        EXPECT_TRUE(run.finite);
+        EXPECT_EQ(run.flags & kRegistrationFailed, 0u);
+        if (imu) {
+            EXPECT_LT(run.max_translation_error, 0.01);
+            EXPECT_LT(run.max_rotation_error_deg, 0.5);
+        } else {
+            // The turn starts at full rate, 5.7 degrees per scan, with nothing to predict it:
+            // the first turning scans are off by a degree or two, then it settles.
+            EXPECT_LT(run.max_rotation_error_deg, 3.0);
+            EXPECT_LT(run.max_translation_error, 0.05);
+        }
+        EXPECT_LT(run.final_rotation_error_deg, 0.2) << "imu " << imu;
+        EXPECT_LT(run.final_translation_error, 0.01) << "imu " << imu;
+        std::cout << "turn in place, " << (imu ? "with" : "without") << " IMU: max error "
+                  << run.max_translation_error * 100 << " cm, " << run.max_rotation_error_deg
+                  << " deg\n";
+    }
+}
+
+// Walking 0.8 m/s while turning at 0.3 rad/s through the furnished room.
+Eigen::Isometry3d Arc(double t) {
+    const double yaw = 0.3 * Moving(t);
+    return Pose(-3 + 0.8 * std::sin(yaw) / 0.3, -2 + 0.8 * (1 - std::cos(yaw)) / 0.3, 0.6, yaw);
+}
+
+TEST(LidarOdometry, ThirtyPercentOfTheColumnsMissing) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    const OdometryRun run = Odometry(scene, Arc, 40, {.imu = true, .drop_columns = 0.3});
+    EXPECT_TRUE(run.finite);
+    EXPECT_EQ(run.flags & (kRegistrationFailed | kTooFewPoints), 0u);
+    EXPECT_LT(run.max_translation_error, 0.03);
+    EXPECT_LT(run.max_rotation_error_deg, 0.5);
+}
+
+TEST(LidarOdometry, EmptyScansGiveNoNanAndTheWalkResumes) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    Inputs in{.imu = true};
+    in.empty_scan = [](int k) { return k == 0 || (k >= 10 && k < 13); };
+    const OdometryRun run = Odometry(scene, Arc, 30, in);
+    EXPECT_TRUE(run.finite);
+    for (int k : {0, 10, 11, 12}) {
+        EXPECT_TRUE(run.results[size_t(k)].flags & kTooFewPoints) << k;
+        EXPECT_EQ(run.results[size_t(k)].preprocess.kept, 0u);
+    }
+    // Through three empty scans the pose is predicted (IMU rotation, constant velocity), then
+    // the next scans register again.
+    EXPECT_EQ(run.results.back().flags & kRegistrationFailed, 0u);
+    EXPECT_LT(run.final_translation_error, 0.05);
+
+    // A cloud of all-zero points (no return anywhere) is not an empty cloud: it is filtered.
+    LidarOdometry lo;
+    common::PointCloud zeros;
+    zeros.stamp = common::SensorTime{kStart};
+    for (int i = 0; i < 32 * 1024; ++i) {
+        zeros.PushBack(Eigen::Vector3f::Zero(), 0.f, uint16_t(i % 32), uint32_t(i / 32) * 97656);
+    }
+    for (int k = 0; k < 3; ++k) {
+        zeros.stamp = common::SensorTime{kStart + k * 100'000'000};
+        const OdometryResult& r = lo.Process(zeros);
+        EXPECT_EQ(r.preprocess.zero_range, zeros.size());
+        EXPECT_TRUE(r.T_odom_lidar.matrix().allFinite());
+        EXPECT_TRUE(r.covariance.allFinite());
+    }
+}
+
+// A fast turn: 1.5 rad/s (86 deg/s) while walking 1 m/s. A sweep then smears by 8.6 degrees.
+Eigen::Isometry3d FastTurn(double t) {
+    const double yaw = 1.5 * Moving(t);
+    return Pose(1.0 * std::sin(yaw) / 1.5 - 2, 1.0 * (1 - std::cos(yaw)) / 1.5 - 1, 0.6, yaw);
+}
+
+TEST(LidarOdometry, DeskewingLowersTheErrorOnAFastTurn) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    const OdometryRun on = Odometry(scene, FastTurn, 40, {.imu = true, .deskew = true});
+    const OdometryRun off = Odometry(scene, FastTurn, 40, {.imu = true, .deskew = false});
+    std::cout << "fast turn: max error " << on.max_translation_error * 100 << " cm "
+              << on.max_rotation_error_deg << " deg deskewed, " << off.max_translation_error * 100
+              << " cm " << off.max_rotation_error_deg << " deg not\n";
+    EXPECT_LT(on.max_translation_error, 0.03);
+    EXPECT_LT(on.max_rotation_error_deg, 0.5);
+    EXPECT_LT(on.max_translation_error, 0.5 * off.max_translation_error);
+    EXPECT_LT(on.max_rotation_error_deg, 0.5 * off.max_rotation_error_deg);
+}
+
+TEST(LidarOdometry, AScanNotAfterThePreviousIsIgnored) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    LidarOdometry lo;
+    const auto cloud = test::Scan(scene, [](double) { return Pose(0, 0, 0.6, 0); }, kStart, 1);
+    lo.Process(cloud);
+    const OdometryResult& again = lo.Process(cloud);
+    EXPECT_EQ(again.flags, uint32_t(kTooFewPoints));
+    EXPECT_EQ(lo.scans(), 1u);
+}
+
+TEST(LidarOdometry, OutOfOrderAndNonFiniteInputsAreDroppedAndCounted) {
+    LidarOdometry lo;
+    lo.AddImu({100, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    lo.AddImu({50, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    lo.AddImu({200, Eigen::Vector3d::Constant(NAN), Eigen::Vector3d::Zero()});
+    BodyMotionSample s;
+    s.t_ns = 100;
+    lo.AddBodyMotion(s);
+    lo.AddBodyMotion(s);
+    EXPECT_EQ(lo.dropped_inputs(), 3u);
+}
+
+TEST(LidarOdometryConfig, ValidateNamesTheField) {
+    LidarOdometryConfig c;
+    c.budget_ms = 0;
+    EXPECT_THROW(c.Validate(), common::Error);
+    c = {};
+    c.map.max_points_per_voxel = 100;
+    try {
+        LidarOdometry lo(c);
+        FAIL();
+    } catch (const common::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("max_points_per_voxel"), std::string::npos);
+    }
+}
+
+}  // namespace
+}  // namespace bimslam::odometry
