@@ -1,9 +1,9 @@
 // bimslam demo: the main job end to end on data the project makes itself. It grows with every
 // issue; for now: write the sample building as IFC and read it back (IFC++), turn it into its
-// BIM reference session (Step 1: grids, walks through every room, simulated scans), record a
-// rig's walk through the same building as an Ouster capture (pcap + metadata), decode the
-// capture with the driver into keyframes with Scan Context descriptors, write them as a session,
-// read the session back and check it bit for bit, and recognise the rig's places among the
+// BIM reference session (Step 1: grids, walks through every room, simulated scans), simulate a
+// Go1 rig's capture of the ground floor (bimslam simulate), run the on-board LiDAR odometry and
+// keyframe selection on it into a session (bimslam odometry), score it against the ground truth
+// (bimslam evaluate), read the session back, and recognise the rig's places among the
 // reference's keyframes.
 #include <chrono>
 #include <cmath>
@@ -17,16 +17,16 @@
 #include "algorithms/io/session.hpp"
 #include "algorithms/scancontext/candidate_index.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
-#include "drivers/ouster/builtin_sensor.hpp"
-#include "drivers/ouster/metadata.hpp"
-#include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/cli/command.hpp"
-#include "host_tools/cli/demo_capture.hpp"
 #include "algorithms/io/sha256.hpp"
 #include "host_tools/bim/coverage_path.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/reference_session.hpp"
 #include "host_tools/bim/sample_building.hpp"
+#include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/replay/capture_odometry.hpp"
+#include "host_tools/simulate/scenario.hpp"
+#include "host_tools/simulate/simulate.hpp"
 
 namespace bimslam::cli {
 namespace {
@@ -37,7 +37,7 @@ struct DemoOptions {
     std::string out = "demo_output";
     bool overwrite = false;
     int columns = 1024;
-    int laps = 1;
+    double duration_s = 120;
 };
 
 double Seconds(Clock::time_point since) {
@@ -53,25 +53,6 @@ std::string FixedString(double v) {
 }
 
 double WrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
-
-uintmax_t FolderBytes(const fs::path& dir) {
-    uintmax_t bytes = 0;
-    for (const auto& e : fs::recursive_directory_iterator(dir)) {
-        if (e.is_regular_file()) bytes += e.file_size();
-    }
-    return bytes;
-}
-
-// Bit-identical xyz, intensity and ring. The per-point time is stored as float32 seconds
-// (specs/session-data.md), exact to a few ns only: its largest error goes to max_t_error_ns.
-bool SameCloud(const common::PointCloud& a, const common::PointCloud& b, int64_t& max_t_error_ns) {
-    if (a.size() != b.size() || a.time_offset_ns.size() != b.time_offset_ns.size()) return false;
-    for (size_t i = 0; i < a.time_offset_ns.size(); ++i) {
-        max_t_error_ns = std::max<int64_t>(
-            max_t_error_ns, std::abs(int64_t(a.time_offset_ns[i]) - int64_t(b.time_offset_ns[i])));
-    }
-    return a.xyz == b.xyz && a.intensity == b.intensity && a.ring == b.ring;
-}
 
 int RunDemo(const DemoOptions& opt) {
     const auto t_start = Clock::now();
@@ -122,136 +103,66 @@ int RunDemo(const DemoOptions& opt) {
               << "x real time at 0.5 m/s)\n" << std::setprecision(1) << "           "
               << reference_dir.string() << ", grids and walks in " << plan_dir.string() << "\n";
 
-    // 3. The rig's walk of the ground floor, recorded as an Ouster capture (pcap + metadata) as a
-    //    real rig would save it: the same rooms at a Go1's pace (1 m/s), starting halfway round
-    //    and 0.15 m beside the reference walk, in the real building: furniture and doors, which
-    //    the reference leaves out, are there.
-    bim::PathConfig rig_path;
-    rig_path.speed_mps = 1.0;
-    const bim::OccupancyGrid grid = bim::BuildOccupancyGrid(model, 0, {});
-    const bim::CoveragePath walk = bim::PlanCoveragePath(grid, rig_path);
-    const double lap_m = walk.length_m;
-    // The low-data-rate profile (8 mm range steps) keeps the demo's capture small.
-    const ouster::SensorInfo sensor =
-        ouster::BuiltinOs1_32(ouster::LidarProfile::kRng15Rfl8Nir8, opt.columns, 10);
-    const std::vector<io::StampedPose> lap = bim::SampleWalk(walk.poses, sensor.frame_rate_hz);
-    const int frames_per_lap = static_cast<int>(lap.size());
-    std::vector<Eigen::Isometry3d> poses;
-    Eigen::Isometry3d beside = Eigen::Isometry3d::Identity();
-    beside.translation().y() = 0.15;  // to the left of the walk
-    for (int k = 0; k < opt.laps * frames_per_lap; ++k) {
-        poses.push_back(lap[size_t((k + frames_per_lap / 2) % frames_per_lap)].Pose() * beside);
-    }
-    const simulation::Scene world(model.mesh, model.triangle_element);
-    simulation::NoiseModel noise;
-    noise.range_resolution_mm = 8;
-    const auto t_capture = Clock::now();
-    const DemoCapture capture = WriteDemoCapture(world, poses, sensor, capture_dir, noise, 7);
-    std::cout << "  captured " << poses.size() << " frames (" << opt.laps << " x " << lap_m
-              << " m of the ground floor) of a built-in OS-1-32 "
-              << ToString(sensor.format.lidar_profile) << " " << sensor.lidar_mode << ": "
-              << capture.packets << " lidar packets in IPv4 fragments, "
-              << fs::file_size(capture.pcap) / 1e6 << " MB, in " << Seconds(t_capture)
-              << " s\n           " << capture.pcap.string() << " + "
-              << capture.metadata.filename().string() << "\n";
+    // 3. The rig's capture: a Go1 trotting the ground floor's coverage walk, simulated as the rig
+    //    records it (host_tools/simulate): Ouster lidar + IMU packets in a pcap, the Go1's CAN
+    //    log, and the ground truth; in the real building, furniture and doors included, which the
+    //    reference leaves out.
+    simulate::Scenario scenario = simulate::DefaultScenario(simulate::Platform::kGo1);
+    scenario.model = building_file;
+    scenario.duration_s = opt.duration_s;
+    scenario.sensor.lidar_mode = std::to_string(opt.columns) + "x10";
+    scenario.seed = 7;
+    const simulate::CaptureReport cap =
+        simulate::SimulateCapture(scenario, model, io::Sha256File(building_file), capture_dir);
+    std::cout << "  captured " << cap.frames << " frames, " << cap.duration_s << " s of a Go1 "
+              << "trotting the ground floor's " << cap.walk_length_m << " m walk (OS-1-32 "
+              << scenario.sensor.lidar_mode << " " << scenario.sensor.udp_profile << ", "
+              << cap.imu_packets << " IMU packets, " << cap.can_frames << " Go1 CAN frames), "
+              << "simulated in " << cap.wall_s << " s\n           " << capture_dir.string()
+              << "/: lidar.pcap, metadata.json, go1_can.log, ground_truth.tum\n";
 
-    // 4. Decode it like any real recording; keep keyframes (1 m / 10 deg, on the true poses
-    //    until the LiDAR odometry exists) with indoor Scan Context descriptors.
-    const auto t_decode = Clock::now();
-    const ouster::SensorInfo info = ouster::LoadMetadata(capture.metadata);
-    capture::OusterCapture reader(capture.pcap, info);
-    const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
-    scancontext::DescriptorBuilder builder(sc);
-    io::SessionManifest manifest;
-    manifest.source = "simulation";
-    manifest.world_frame = "bim";
-    manifest.sensor = {info.prod_line, info.format.pixels_per_column, info.format.columns_per_frame,
-                       capture.metadata.string()};
-    manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
-                           sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
-    io::SessionWriter writer(session_dir, manifest, {.overwrite = opt.overwrite});
-    std::vector<io::SessionKeyframe> keyframes;
-    Eigen::Isometry3d last_key = Eigen::Isometry3d::Identity();
-    size_t frames = 0, points = 0, keyframe_points = 0;
-    common::PointCloud cloud;
-    while (const ouster::LidarFrame* frame = reader.NextFrame()) {
-        const size_t k = frames++;
-        if (k >= poses.size() || frame->frame_id != (k & 0xFFFF)) {
-            throw common::Error(common::StatusCode::kInternal,
-                                "decoded frame " + std::to_string(frame->frame_id) +
-                                    " where frame " + std::to_string(k) + " was recorded");
-        }
-        const Eigen::Isometry3d& T = poses[k];
-        const auto stamp = static_cast<int64_t>(frame->start_ns);
-        writer.AddScanPose(io::StampedPose::FromIsometry(stamp, T));
-        ouster::ToPointCloud(*frame, &cloud);
-        points += cloud.size();
-        const Eigen::Isometry3d rel = common::Between(last_key, T);
-        if (!keyframes.empty() && common::TranslationNorm(rel) < 1.0 &&
-            common::RotationAngle(rel) < 10.0 * M_PI / 180.0) {
-            continue;
-        }
-        io::SessionKeyframe kf;
-        kf.stamp_ns = stamp;
-        kf.T_world_lidar = T;
-        kf.cloud = cloud;
-        builder.Build(kf.cloud, &kf.descriptor);
-        keyframe_points += kf.cloud.size();
-        const size_t i = writer.AddKeyframe(kf);
-        if (i > 0) {
-            // Odometry edge from the ground truth, 1 cm / 0.1 deg standard deviation.
-            io::SessionEdge e{uint32_t(i - 1), uint32_t(i),
-                              common::Between(keyframes.back().T_world_lidar, T),
-                              common::Matrix6d::Identity()};
-            e.information.diagonal() << 1e4, 1e4, 1e4, 3.3e5, 3.3e5, 3.3e5;
-            writer.AddEdge(e);
-        }
-        last_key = T;
-        keyframes.push_back(std::move(kf));
-    }
-    writer.Finish();
-    const double decode_s = Seconds(t_decode);
-    const auto& ls = reader.lidar_stats();
-    std::cout << "  decoded  " << frames << " frames (" << ls.frames_complete << " complete, "
-              << ls.TotalRejected() << " packets rejected, " << reader.extractor_stats().reassembled
-              << " datagrams reassembled), " << points / std::max<size_t>(frames, 1)
-              << " points a frame\n"
-              << "  kept     " << keyframes.size() << " keyframes (1 m / 10 deg), "
-              << keyframe_points << " points, indoor Scan Context each; decoding, describing and "
-              << "writing took " << decode_s << " s\n"
-              << "  wrote    " << session_dir.string() << "  (" << FolderBytes(session_dir) / 1e6
-              << " MB)\n";
-    if (frames != poses.size() || ls.frames_complete != poses.size()) {
-        throw common::Error(common::StatusCode::kInternal,
-                            "the capture gave back " + std::to_string(ls.frames_complete) +
-                                " complete frames of " + std::to_string(poses.size()));
-    }
+    // 4. The on-board LiDAR odometry and keyframe selection, run offline on the capture exactly
+    //    as bimslam-rig runs them (bimslam odometry).
+    replay::CaptureOdometryOptions oo;
+    oo.capture_dir = capture_dir;
+    oo.session_dir = session_dir;
+    oo.overwrite = opt.overwrite;
+    const replay::CaptureOdometryReport odo = replay::RunCaptureOdometry(oo);
+    std::cout << "  odometry " << odo.scans << " scans, " << odo.keyframes
+              << " keyframes (1 m / 10 deg, indoor Scan Context each) in " << odo.wall_s
+              << " s; per scan p50 " << std::setprecision(2)
+              << replay::Percentile(odo.scan_ms, 0.5) << " ms, max "
+              << replay::Percentile(odo.scan_ms, 1.0) << " ms of a " << std::setprecision(0)
+              << oo.odometry.budget_ms << std::setprecision(1) << " ms budget\n           " << session_dir.string()
+              << "/ (trajectory.tum: every scan)\n";
 
-    // 5. Read the session back and compare everything.
+    // 5. Its accuracy against the simulator's ground truth (bimslam evaluate).
+    const evaluation::EvaluationResult ev = evaluation::EvaluateFiles(
+        session_dir / "trajectory.tum", capture_dir / "ground_truth.tum", {});
+    std::cout << "  accuracy APE " << std::setprecision(2) << ev.ape_trans_m.rmse * 100
+              << " cm / " << ev.ape_rot_deg.rmse << " deg RMSE after SE(3) alignment, drift "
+              << ev.drift_percent << " % over " << std::setprecision(1) << ev.distance_m
+              << " m, no loop closure (the paper's SC-A-LOAM: 12.4 cm / 2.3 deg)\n";
+
+    // 6. Read the session back: complete, every keyframe and every scan pose there.
     const auto t_read = Clock::now();
     const io::Session s = io::ReadSession(session_dir);
-    size_t identical = 0;
-    int64_t max_t_error_ns = 0;
-    for (size_t i = 0; i < std::min(s.keyframes.size(), keyframes.size()); ++i) {
-        const auto& a = keyframes[i];
-        const auto& b = s.keyframes[i];
-        identical += a.stamp_ns == b.stamp_ns &&
-                     a.T_world_lidar.matrix() == b.T_world_lidar.matrix() &&
-                     a.descriptor == b.descriptor && SameCloud(a.cloud, b.cloud, max_t_error_ns);
-    }
-    const bool read_ok = s.complete && identical == keyframes.size() &&
-                         s.keyframes.size() == keyframes.size() && max_t_error_ns <= 8;
+    const bool read_ok = s.complete && s.keyframes.size() == odo.keyframes &&
+                         s.trajectory.size() == odo.scans &&
+                         s.edges.size() + 1 == s.keyframes.size();
     std::cout << "  read     " << s.keyframes.size() << " keyframes, " << s.edges.size()
-              << " edges, " << s.trajectory.size() << " scan poses in " << Seconds(t_read) << " s; "
-              << identical << "/" << keyframes.size()
-              << " keyframes bit-identical (points, descriptor, pose, time); per-point times "
-                 "within "
-              << max_t_error_ns << " ns (float32 seconds in PCD)\n";
+              << " odometry edges, " << s.trajectory.size() << " scan poses back in "
+              << Seconds(t_read) << " s: " << (read_ok ? "complete" : "INCONSISTENT") << "\n";
 
-    // 6. Place recognition across sessions, the start of Step 2: each rig keyframe against all
-    //    keyframes of the BIM reference (both storeys) by Scan Context.
+    // 7. Place recognition across sessions, the start of Step 2: each rig keyframe against all
+    //    keyframes of the BIM reference (both storeys) by Scan Context. The rig's keyframes are
+    //    in its odometry frame; until anchoring exists they are put in the BIM frame with the
+    //    simulator's ground-truth pose of the first scan, only to score the matches.
+    const std::vector<io::StampedPose> truth = io::ReadTum(capture_dir / "ground_truth.tum");
+    const Eigen::Isometry3d T_bim_odom =
+        truth.empty() ? Eigen::Isometry3d::Identity() : truth.front().Pose();
     const io::Session reference = io::ReadSession(reference_dir, {.load_clouds = false});
-    scancontext::CandidateIndex index(sc);
+    scancontext::CandidateIndex index(oo.keyframes.descriptor);
     for (const auto& kf : reference.keyframes) {
         if (!index.Add(kf.descriptor).ok()) return kExitFailure;
     }
@@ -262,10 +173,10 @@ int RunDemo(const DemoOptions& opt) {
         const auto match = index.Query(kf.descriptor);
         if (!match) continue;
         const auto& T_ref = reference.keyframes[match->index].T_world_lidar;
-        if ((T_ref.translation() - kf.T_world_lidar.translation()).norm() > 2.0) continue;
+        const Eigen::Isometry3d T_bim_lidar = T_bim_odom * kf.T_world_lidar;
+        if ((T_ref.translation() - T_bim_lidar.translation()).norm() > 2.0) continue;
         ++found;
-        yaw_err_sum +=
-            std::abs(WrapAngle(match->yaw - (Yaw(kf.T_world_lidar) - Yaw(T_ref))));
+        yaw_err_sum += std::abs(WrapAngle(match->yaw - (Yaw(T_bim_lidar) - Yaw(T_ref))));
     }
     std::cout << "  matched  " << found << "/" << s.keyframes.size()
               << " rig keyframes to a BIM reference keyframe within 2 m by Scan Context"
@@ -277,10 +188,12 @@ int RunDemo(const DemoOptions& opt) {
               << "  building.ifc  the sample building (bimslam bim info " << building_file.string()
               << ")\n"
               << "  reference/    its BIM reference session; plan/ its grids and walks (PGM, PNG, TUM)\n"
-              << "  capture/  lidar.pcap + metadata.json   (bimslam ouster info "
-              << capture.pcap.string() << ")\n"
-              << "  session/  keyframes, poses, descriptors (bimslam session info "
-              << session_dir.string() << "; layout in algorithms/io/README.md)\n"
+              << "  capture/      the rig's capture (bimslam ouster info " << capture_dir.string()
+              << "/lidar.pcap; capture.json lists its files)\n"
+              << "  session/      the rig's session: keyframes, poses, descriptors, trajectory "
+                 "(bimslam session info "
+              << session_dir.string() << "; bimslam evaluate --est " << session_dir.string()
+              << "/trajectory.tum --ref " << capture_dir.string() << "/ground_truth.tum)\n"
               << "demo " << (read_ok ? "finished" : "FAILED") << " in " << Seconds(t_start)
               << " s\n";
     return read_ok ? kExitOk : kExitFailure;
@@ -299,8 +212,9 @@ void AddDemoCommand(CLI::App& app, int& exit_code) {
     demo->add_option("--columns", opt->columns, "columns per scan (512, 1024 or 2048)")
         ->check(CLI::IsMember({512, 1024, 2048}))
         ->capture_default_str();
-    demo->add_option("--laps", opt->laps, "laps of the rig's walk of the ground floor")
-        ->check(CLI::Range(1, 10))
+    demo->add_option("--duration", opt->duration_s,
+                     "seconds of the rig's walk of the ground floor (0: the whole walk once)")
+        ->check(CLI::Range(0.0, 3600.0))
         ->capture_default_str();
     demo->callback([opt, &exit_code] { exit_code = Run([&] { return RunDemo(*opt); }); });
 }

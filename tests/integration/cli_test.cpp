@@ -37,20 +37,22 @@ TEST(Cli, HelpListsCommandsAndBadUsageExits2) {
 TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     test::TempDir tmp;
     const fs::path out = tmp / "demo";
-    const auto demo = test::RunCommand(kCli + " demo --columns 512 --out " + out.string());
+    const auto demo =
+        test::RunCommand(kCli + " demo --columns 512 --duration 30 --out " + out.string());
     ASSERT_EQ(demo.exit_code, 0) << demo.out << demo.err;
     EXPECT_NE(demo.out.find("demo finished"), std::string::npos) << demo.out;
-    EXPECT_NE(demo.out.find("bit-identical"), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find("complete"), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find("accuracy APE"), std::string::npos) << demo.out;
 
     const auto info = test::RunCommand(kCli + " session info --json " + (out / "session").string());
     ASSERT_EQ(info.exit_code, 0) << info.err;
     const auto j = nlohmann::json::parse(info.out);
     EXPECT_TRUE(j.at("complete").get<bool>());
-    EXPECT_EQ(j.at("source"), "simulation");
-    EXPECT_GT(j.at("keyframes").get<int>(), 50);
+    EXPECT_EQ(j.at("source"), "rig");  // the on-board odometry's session
+    EXPECT_GT(j.at("keyframes").get<int>(), 10);
     EXPECT_EQ(j.at("edges").get<int>(), j.at("keyframes").get<int>() - 1);
     EXPECT_GT(j.at("scans").get<int>(), j.at("keyframes").get<int>());
-    EXPECT_GT(j.at("path_length_m").get<double>(), 100.0);
+    EXPECT_GT(j.at("path_length_m").get<double>(), 8.0);
 
     // Its capture is a real Ouster recording: the driver reads every frame back.
     const auto capture =
@@ -64,7 +66,7 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
 
     // A second run must not replace the results silently.
     const auto again =
-        test::RunCommand(kCli + " demo --columns 512 --laps 1 --out " + out.string());
+        test::RunCommand(kCli + " demo --columns 512 --duration 10 --out " + out.string());
     EXPECT_EQ(again.exit_code, 2);
     EXPECT_NE(again.err.find(out.string()), std::string::npos) << again.err;
     EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
@@ -74,7 +76,7 @@ TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
     test::TempDir tmp;
     const fs::path out = tmp / "demo";
     ASSERT_EQ(
-        test::RunCommand(kCli + " demo --columns 512 --laps 1 --out " + out.string()).exit_code, 0);
+        test::RunCommand(kCli + " demo --columns 512 --duration 10 --out " + out.string()).exit_code, 0);
     const fs::path session = out / "session";
     {
         std::ofstream f(session / "times.txt", std::ios::app);
