@@ -225,6 +225,24 @@ TEST(LidarOdometry, DeskewingLowersTheErrorOnAFastTurn) {
     EXPECT_LT(on.max_rotation_error_deg, 0.5 * off.max_rotation_error_deg);
 }
 
+// A budget too small to finish: every scan returns its best estimate so far, flagged, at once.
+TEST(LidarOdometry, ABudgetTooSmallReturnsTheBestSoFarFlagged) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    LidarOdometryConfig config;
+    config.budget_ms = 0.3;
+    const OdometryRun run = Odometry(scene, Arc, 20, {.imu = true}, config);
+    EXPECT_TRUE(run.flags & kOverBudget);
+    EXPECT_TRUE(run.finite);
+    size_t over = 0;
+    for (const auto& r : run.results) {
+        over += (r.flags & kOverBudget) ? 1 : 0;
+        EXPECT_LE(r.registration.iterations, 2) << "stops at the deadline";
+    }
+    EXPECT_GT(over, 10u);
+    // Without registration only the IMU's rotation is known: it keeps the heading.
+    EXPECT_LT(run.max_rotation_error_deg, 1.0);
+}
+
 TEST(LidarOdometry, AScanNotAfterThePreviousIsIgnored) {
     const simulation::Scene scene(test::FurnishedRoom());
     LidarOdometry lo;
