@@ -1,0 +1,212 @@
+// The LiDAR odometry end to end on simulated captures of the sample building, as `bimslam
+// odometry` runs it (host_tools/replay/capture_odometry.hpp): the capture is simulated first
+// (not timed), then replayed as fast as possible on one thread (the odometry has no threads of
+// its own and Ceres runs with 1), so every timing below is one core's.
+//
+// BM_OdometryAccuracy/platform:P/seconds:S  (P 0 = Go1 with its CAN log, 1 = handheld)
+//   The session is written, then its trajectory.tum is evaluated against the capture's
+//   ground_truth.tum with se3 alignment (host_tools/evaluation, as `bimslam evaluate`). The timed
+//   part is the replay only. Counters: APE translation rmse/max (cm), APE rotation rmse (deg),
+//   RPE over 1 m of path (cm), KITTI drift over 10 m (%), distance (m, ground truth), per-scan
+//   time p50/p99/max (ms), scans over budget and degenerate, and realtime_x (capture seconds per
+//   second of replay, session writing included).
+//
+// BM_OdometryMemory/seconds:S  (opt-in: BIMSLAM_BENCH_LONG=1)
+//   A long Go1 capture (the coverage walk repeated; ~4.3 MB of pcap per captured second, so ~7.7 GB
+//   for 30 min) replayed without writing a session: the process's resident memory after 5 minutes
+//   of capture and at the end, its peak during the replay, and the local map's size at the end;
+//   also the accuracy over the whole walk (se3 alignment), from the poses kept in memory.
+#include <benchmark/benchmark.h>
+#include <malloc.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "algorithms/io/trajectory.hpp"
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/bim/sample_building.hpp"
+#include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/replay/capture_odometry.hpp"
+#include "host_tools/simulate/simulate.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::replay {
+namespace {
+namespace fs = std::filesystem;
+using simulate::Platform;
+
+// The default scenario of `platform`, `seconds` long (the walk repeats when it is shorter),
+// simulated in the sample building into dir/capture. The model is freed before returning.
+simulate::CaptureReport Simulate(const test::TempDir& dir, Platform platform, double seconds) {
+    const fs::path ifc = dir / "building.ifc";
+    bim::WriteSampleBuilding(ifc);
+    const bim::BimModel model = bim::LoadIfc(ifc);
+    simulate::Scenario s = simulate::DefaultScenario(platform);
+    s.duration_s = seconds;
+    return simulate::SimulateCapture(s, model, "", dir / "capture");
+}
+
+void BM_OdometryAccuracy(benchmark::State& state) {
+    const bool handheld = state.range(0) == 1;
+    test::TempDir tmp;
+    const simulate::CaptureReport sim =
+        Simulate(tmp, handheld ? Platform::kHandheld : Platform::kGo1, double(state.range(1)));
+
+    CaptureOdometryOptions o;
+    o.capture_dir = sim.dir;
+    o.session_dir = tmp / "session";
+    o.overwrite = true;
+    o.use_can = !handheld;  // as `bimslam odometry --no-can` for a handheld capture
+    CaptureOdometryReport rep;
+    for (auto _ : state) rep = RunCaptureOdometry(o);
+
+    evaluation::EvaluationConfig config;
+    config.align = evaluation::Alignment::kSe3;
+    const evaluation::EvaluationResult e = evaluation::EvaluateFiles(
+        o.session_dir / "trajectory.tum", sim.dir / "ground_truth.tum", config);
+
+    state.counters["ape_trans_rmse_cm"] = 100.0 * e.ape_trans_m.rmse;
+    state.counters["ape_trans_max_cm"] = 100.0 * e.ape_trans_m.max;
+    state.counters["ape_rot_rmse_deg"] = e.ape_rot_deg.rmse;
+    state.counters["rpe_trans_rmse_cm"] = 100.0 * e.rpe_trans_m.rmse;  // per 1 m of path
+    state.counters["drift_pct"] = e.drift_percent;
+    state.counters["distance_m"] = e.distance_m;  // ground truth, matched poses
+    state.counters["scan_ms_p50"] = Percentile(rep.scan_ms, 0.5);
+    state.counters["scan_ms_p99"] = Percentile(rep.scan_ms, 0.99);
+    state.counters["scan_ms_max"] = Percentile(rep.scan_ms, 1.0);
+    state.counters["over_budget"] = double(rep.over_budget);
+    state.counters["degenerate"] = double(rep.degenerate);
+    state.counters["failed"] = double(rep.failed);
+    state.counters["scans"] = double(rep.scans);
+    state.counters["matched"] = double(e.matched);
+    state.counters["keyframes"] = double(rep.keyframes);
+    state.counters["realtime_x"] = rep.capture_s / std::max(rep.wall_s, 1e-9);
+    state.SetLabel(handheld ? "handheld" : "go1+can");
+}
+BENCHMARK(BM_OdometryAccuracy)
+    ->Args({0, 180})
+    ->Args({1, 180})
+    ->ArgNames({"platform", "seconds"})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+// VmRSS (current) and VmHWM (peak) of this process, MB (10^6 bytes).
+struct Memory {
+    double rss_mb = 0;
+    double hwm_mb = 0;
+};
+Memory ReadMemory() {
+    Memory m;
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line)) {
+        const auto kb = [&line] { return std::stod(line.substr(line.find(':') + 1)) * 1e3 / 1e6; };
+        if (line.starts_with("VmRSS:")) m.rss_mb = kb();
+        if (line.starts_with("VmHWM:")) m.hwm_mb = kb();
+    }
+    return m;
+}
+
+// Resets VmHWM to the current VmRSS (Linux >= 4.0: "5" to /proc/self/clear_refs). False when
+// the kernel refused.
+bool ResetPeak() {
+    {
+        std::ofstream out("/proc/self/clear_refs");
+        out << "5";
+        out.flush();
+        if (!out) return false;
+    }
+    const Memory m = ReadMemory();
+    return m.hwm_mb <= m.rss_mb + 1.0;
+}
+
+void BM_OdometryMemory(benchmark::State& state) {
+    if (std::getenv("BIMSLAM_BENCH_LONG") == nullptr) {
+        state.SkipWithError(
+            "opt-in: set BIMSLAM_BENCH_LONG=1 (simulates 30 min of capture: 7.7 GB of pcap in a "
+            "temporary folder, about 2.5 min)");
+        for (auto _ : state) {
+        }
+        return;
+    }
+    test::TempDir tmp;
+    const simulate::CaptureReport sim = Simulate(tmp, Platform::kGo1, double(state.range(0)));
+    // The simulation's peak is not the odometry's: give its freed memory back to the system and
+    // start the peak again. When the kernel does not allow the reset, VmHWM would be the
+    // simulation's peak, so peak_rss_mb is then the largest VmRSS sampled every 10 scans.
+    const double sim_peak_mb = ReadMemory().hwm_mb;
+    // The estimated poses, for the accuracy over the whole walk (64 bytes a scan: ~1.2 MB of the
+    // RSS at the end is theirs, not the odometry's; the ground truth's as much is in
+    // rss_mb_before).
+    const std::vector<io::StampedPose> truth = io::ReadTum(sim.dir / "ground_truth.tum");
+    std::vector<io::StampedPose> poses;
+    poses.reserve(truth.size() + 16);
+    ::malloc_trim(0);
+    const bool peak_reset = ResetPeak();
+    const Memory before = ReadMemory();
+
+    CaptureOdometryOptions o;
+    o.capture_dir = sim.dir;  // no session_dir: nothing written
+    int64_t first_ns = -1;
+    size_t scans = 0, map_voxels = 0, map_points = 0;
+    bool at_5min = false;
+    Memory mem_5min, mem_end;
+    double sampled_peak_mb = before.rss_mb;
+    o.on_scan = [&](const odometry::OdometryResult& r) {
+        if (first_ns < 0) first_ns = r.stamp_ns;
+        ++scans;
+        map_voxels = r.map_voxels;
+        map_points = r.map_points;
+        poses.push_back(io::StampedPose::FromIsometry(r.stamp_ns, r.T_odom_lidar));
+        // Every 10 scans, and every scan of the last second (sim.frames scans are coming).
+        if (scans % 10 == 0 || scans + 10 >= sim.frames) {
+            mem_end = ReadMemory();
+            sampled_peak_mb = std::max(sampled_peak_mb, mem_end.rss_mb);
+        }
+        if (!at_5min && double(r.stamp_ns - first_ns) * 1e-9 >= 300.0) {
+            at_5min = true;
+            mem_5min = ReadMemory();
+        }
+    };
+    CaptureOdometryReport rep;
+    for (auto _ : state) rep = RunCaptureOdometry(o);
+    const evaluation::EvaluationResult e = evaluation::Evaluate(poses, truth, {});
+
+    state.counters["rss_mb_before"] = before.rss_mb;
+    state.counters["rss_mb_at_5min"] = mem_5min.rss_mb;
+    state.counters["rss_mb_at_end"] = mem_end.rss_mb;
+    state.counters["peak_rss_mb"] = peak_reset ? mem_end.hwm_mb : sampled_peak_mb;
+    state.counters["peak_rss_sampled_mb"] = sampled_peak_mb;
+    state.counters["peak_reset"] = peak_reset ? 1 : 0;
+    state.counters["sim_peak_rss_mb"] = sim_peak_mb;
+    state.counters["map_voxels_at_end"] = double(map_voxels);
+    state.counters["map_points_at_end"] = double(map_points);
+    state.counters["scans"] = double(rep.scans);
+    state.counters["capture_s"] = rep.capture_s;
+    state.counters["distance_m"] = rep.distance_m;
+    state.counters["pcap_GB"] = double(sim.pcap_bytes) / 1e9;
+    state.counters["realtime_x"] = rep.capture_s / std::max(rep.wall_s, 1e-9);
+    state.counters["scan_ms_p99"] = Percentile(rep.scan_ms, 0.99);
+    state.counters["scan_ms_max"] = Percentile(rep.scan_ms, 1.0);
+    state.counters["failed"] = double(rep.failed);
+    state.counters["over_budget"] = double(rep.over_budget);
+    state.counters["degenerate"] = double(rep.degenerate);
+    state.counters["ape_trans_rmse_cm"] = 100.0 * e.ape_trans_m.rmse;
+    state.counters["ape_trans_max_cm"] = 100.0 * e.ape_trans_m.max;
+    state.counters["ape_rot_rmse_deg"] = e.ape_rot_deg.rmse;
+    state.counters["drift_pct"] = e.drift_percent;
+}
+BENCHMARK(BM_OdometryMemory)
+    ->Args({1800})
+    ->ArgNames({"seconds"})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+}  // namespace
+}  // namespace bimslam::replay
+
+BENCHMARK_MAIN();

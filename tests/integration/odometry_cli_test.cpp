@@ -1,0 +1,243 @@
+// `bimslam odometry` as a user runs it: a simulated capture (Go1 with its CAN log, handheld
+// without) replayed into a session, its trajectory checked with `bimslam evaluate` against the
+// capture's ground truth, the session read back by `bimslam session info`; bad input exits 2
+// naming the file.
+//
+// The accuracy bounds are regression bounds, well above what is measured (about 1 cm and 0.1 deg
+// on these short walks); the measured figures are printed and recorded as test properties.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kCli = BIMSLAM_CLI_PATH;
+constexpr int kCaptureSeconds = 20;
+
+// The sample building and the captures simulated in it, made once per test process (ctest runs
+// every test in a process of its own, so only what a test asks for is simulated).
+class OdometryCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { tmp_ = std::make_unique<test::TempDir>(); }
+    static void TearDownTestSuite() { tmp_.reset(); }
+
+    static const test::TempDir& Tmp() { return *tmp_; }
+
+    static fs::path Model() {
+        const fs::path file = Tmp() / "building.ifc";
+        if (!fs::exists(file)) {
+            const auto r = test::RunCommand(kCli + " bim sample -o " + file.string());
+            EXPECT_EQ(r.exit_code, 0) << r.err;
+        }
+        return file;
+    }
+
+    // A capture of the default walk, `kCaptureSeconds` long.
+    static fs::path Capture(const std::string& platform) {
+        const fs::path dir = Tmp() / ("capture_" + platform);
+        if (!fs::exists(dir / "ground_truth.tum")) {
+            const auto r =
+                test::RunCommand(kCli + " simulate --model " + Model().string() + " --platform " +
+                                 platform + " --duration " + std::to_string(kCaptureSeconds) +
+                                 " -o " + dir.string() + " --overwrite");
+            EXPECT_EQ(r.exit_code, 0) << r.err;
+        }
+        return dir;
+    }
+
+private:
+    static std::unique_ptr<test::TempDir> tmp_;
+};
+std::unique_ptr<test::TempDir> OdometryCli::tmp_;
+
+// Runs a command that must succeed and print JSON; the parsed JSON (null on failure).
+nlohmann::json RunJson(const std::string& command) {
+    const auto r = test::RunCommand(command);
+    EXPECT_EQ(r.exit_code, 0) << command << "\n" << r.err;
+    if (r.exit_code != 0) return nullptr;
+    try {
+        return nlohmann::json::parse(r.out);
+    } catch (const nlohmann::json::exception& e) {
+        ADD_FAILURE() << command << ": not JSON (" << e.what() << "):\n" << r.out;
+        return nullptr;
+    }
+}
+
+// `bimslam evaluate --json` of a session's trajectory against the capture's ground truth.
+nlohmann::json Evaluate(const fs::path& session, const fs::path& capture) {
+    return RunJson(kCli + " evaluate --est " + (session / "trajectory.tum").string() + " --ref " +
+                   (capture / "ground_truth.tum").string() + " --json");
+}
+
+// Shows the measured figures in the log and in the test's XML properties.
+void Report(const std::string& what, const nlohmann::json& odo, const nlohmann::json& eval) {
+    const double ape_cm = 100.0 * eval.at("ape_trans_rmse_m").get<double>();
+    const double rot_deg = eval.at("ape_rot_rmse_deg").get<double>();
+    std::cout << what << ": " << odo.at("scans") << " scans, " << odo.at("keyframes")
+              << " keyframes, APE trans rmse " << ape_cm << " cm (max "
+              << 100.0 * eval.at("ape_trans_max_m").get<double>() << " cm), APE rot rmse "
+              << rot_deg << " deg, RPE 1 m trans rmse "
+              << 100.0 * eval.at("rpe_trans_rmse_m").get<double>() << " cm, drift "
+              << eval.at("drift_percent") << " %, per scan p50 " << odo.at("scan_ms_p50")
+              << " ms, p99 " << odo.at("scan_ms_p99") << " ms, max " << odo.at("scan_ms_max")
+              << " ms\n";
+    ::testing::Test::RecordProperty("ape_trans_rmse_cm", std::to_string(ape_cm));
+    ::testing::Test::RecordProperty("ape_rot_rmse_deg", std::to_string(rot_deg));
+    ::testing::Test::RecordProperty("scan_ms_p50",
+                                    std::to_string(odo.at("scan_ms_p50").get<double>()));
+}
+
+TEST_F(OdometryCli, Go1WithCanTracksTheGroundTruth) {
+    const fs::path cap = Capture("go1");
+    const size_t frames = io::ReadTum(cap / "ground_truth.tum").size();
+    ASSERT_NEAR(double(frames), 10.0 * kCaptureSeconds, 5.0);  // 10 Hz
+    const fs::path ses = Tmp() / "session_go1";
+    const nlohmann::json odo =
+        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + " --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_TRUE(odo.at("used_can").get<bool>());
+    EXPECT_GT(odo.at("body_samples").get<size_t>(), 0u);
+    EXPECT_GT(odo.at("imu_samples").get<size_t>(), 0u);
+    EXPECT_EQ(odo.at("scans").get<size_t>(), frames);
+    EXPECT_GT(odo.at("keyframes").get<size_t>(), 3u);
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+    EXPECT_TRUE(odo.at("notes").empty()) << odo.at("notes");
+    EXPECT_GT(odo.at("distance_m").get<double>(), 1.0);
+    EXPECT_NEAR(odo.at("capture_s").get<double>(), kCaptureSeconds, 0.5);
+    for (const char* key : {"scan_ms_p50", "scan_ms_p99", "scan_ms_max", "wall_s"}) {
+        EXPECT_GT(odo.at(key).get<double>(), 0.0) << key;
+    }
+    EXPECT_TRUE(fs::is_regular_file(ses / "session.json"));
+
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report("go1 with CAN", odo, eval);
+    EXPECT_EQ(eval.at("matched"), odo.at("scans"));
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+
+    const nlohmann::json info = RunJson(kCli + " session info " + ses.string() + " --json");
+    ASSERT_TRUE(info.is_object());
+    EXPECT_EQ(info.at("keyframes"), odo.at("keyframes"));
+    EXPECT_EQ(info.at("scans"), odo.at("scans"));
+    EXPECT_TRUE(info.at("complete").get<bool>());
+}
+
+// Handheld captures have no CAN log; --no-can is how a Go1 capture is replayed without it too.
+TEST_F(OdometryCli, HandheldWithoutCanTracksTheGroundTruth) {
+    const fs::path cap = Capture("handheld");
+    EXPECT_FALSE(fs::exists(cap / "go1_can.log"));
+    const size_t frames = io::ReadTum(cap / "ground_truth.tum").size();
+    const fs::path ses = Tmp() / "session_handheld";
+    const nlohmann::json odo =
+        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + " --no-can --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_FALSE(odo.at("used_can").get<bool>());
+    EXPECT_EQ(odo.at("body_samples").get<size_t>(), 0u);
+    EXPECT_GT(odo.at("imu_samples").get<size_t>(), 0u);
+    EXPECT_EQ(odo.at("scans").get<size_t>(), frames);
+    EXPECT_GT(odo.at("keyframes").get<size_t>(), 3u);
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report("handheld, --no-can", odo, eval);
+    EXPECT_EQ(eval.at("matched"), odo.at("scans"));
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+}
+
+// Every file in a folder (relative path) with its bytes.
+std::map<std::string, std::string> Contents(const fs::path& dir) {
+    std::map<std::string, std::string> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) {
+            out[fs::relative(e.path(), dir).string()] = io::ReadFileToString(e.path());
+        }
+    }
+    return out;
+}
+
+TEST_F(OdometryCli, BadInputExits2NamingTheFile) {
+    const fs::path cap = Capture("go1");
+    const fs::path out = Tmp() / "bad_session";
+    const auto odometry = [&](const fs::path& capture, const std::string& extra = "") {
+        return test::RunCommand(kCli + " odometry " + capture.string() + " -o " + out.string() +
+                                extra);
+    };
+
+    // No capture folder.
+    const fs::path nowhere = Tmp() / "nowhere";
+    const auto missing = odometry(nowhere);
+    EXPECT_EQ(missing.exit_code, 2) << missing.out << missing.err;
+    EXPECT_NE(missing.err.find(nowhere.string()), std::string::npos) << missing.err;
+    EXPECT_FALSE(fs::exists(out));
+
+    // A capture folder without its lidar.pcap.
+    const fs::path no_pcap = Tmp() / "no_pcap";
+    fs::create_directories(no_pcap);
+    for (const char* f : {"metadata.json", "capture.json", "go1_can.log", "ground_truth.tum"}) {
+        fs::copy_file(cap / f, no_pcap / f);
+    }
+    const auto absent = odometry(no_pcap);
+    EXPECT_EQ(absent.exit_code, 2) << absent.out << absent.err;
+    EXPECT_NE(absent.err.find((no_pcap / "lidar.pcap").string()), std::string::npos) << absent.err;
+    EXPECT_FALSE(fs::exists(out));
+
+    // A real capture whose pcap file header (its first 24 bytes) is garbage.
+    const fs::path corrupt = Tmp() / "corrupt";
+    fs::copy(cap, corrupt, fs::copy_options::recursive);
+    {
+        std::string pcap = io::ReadFileToString(corrupt / "lidar.pcap");
+        ASSERT_GT(pcap.size(), 24u);
+        pcap.replace(0, 24, "this is not a pcap file!");
+        test::WriteBytes(corrupt / "lidar.pcap", pcap);
+    }
+    const auto garbage = odometry(corrupt);
+    EXPECT_EQ(garbage.exit_code, 2) << garbage.out << garbage.err;
+    EXPECT_NE(garbage.err.find((corrupt / "lidar.pcap").string()), std::string::npos)
+        << garbage.err;
+    EXPECT_FALSE(fs::exists(out));
+
+    // An existing session is not replaced without --overwrite, and is left as it was.
+    const auto first = odometry(cap, " --duration 3");
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    const auto before = Contents(out);
+    ASSERT_TRUE(before.contains("session.json"));
+    ASSERT_TRUE(before.contains("trajectory.tum"));
+    const size_t before_poses = io::ReadTum(out / "trajectory.tum").size();
+    const auto again = odometry(cap, " --duration 2");
+    EXPECT_EQ(again.exit_code, 2) << again.out << again.err;
+    EXPECT_NE(again.err.find(out.string()), std::string::npos) << again.err;
+    EXPECT_NE(again.err.find("overwrite"), std::string::npos) << again.err;
+    EXPECT_EQ(Contents(out), before);
+    // With --overwrite it is replaced.
+    const auto replaced = odometry(cap, " --duration 2 --overwrite");
+    EXPECT_EQ(replaced.exit_code, 0) << replaced.err;
+    EXPECT_LT(io::ReadTum(out / "trajectory.tum").size(), before_poses);
+}
+
+TEST(OdometryCliHelp, NamesTheOptionsAndTheNextStep) {
+    const auto help = test::RunCommand(kCli + " odometry --help");
+    EXPECT_EQ(help.exit_code, 0) << help.err;
+    for (const char* word : {"--no-can", "--no-imu", "evaluate", "--overwrite", "--json"}) {
+        EXPECT_NE(help.out.find(word), std::string::npos) << word << "\n" << help.out;
+    }
+    // Without the required arguments: a usage error.
+    EXPECT_EQ(test::RunCommand(kCli + " odometry").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace bimslam
