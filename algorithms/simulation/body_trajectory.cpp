@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "algorithms/common/polyline.hpp"
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/simulation/measurement_math.hpp"
@@ -25,24 +26,6 @@ void Require(bool ok, const char* type, const char* field, double value, const c
         throw common::Error(StatusCode::kInvalidArgument, std::string(type) + "." + field + " = " +
                                                               std::to_string(value) + ": " + rule);
     }
-}
-
-// The path every kResampleM metres along its length (its last point kept).
-std::vector<Eigen::Vector2d> Resample(const std::vector<Eigen::Vector2d>& path) {
-    std::vector<Eigen::Vector2d> out{path.front()};
-    double carry = 0;  // distance walked since the last output point
-    for (size_t i = 1; i < path.size(); ++i) {
-        const Eigen::Vector2d a = path[i - 1], b = path[i];
-        const double len = (b - a).norm();
-        double at = kResampleM - carry;
-        while (at <= len) {
-            out.push_back(a + (b - a) * (at / len));
-            at += kResampleM;
-        }
-        carry = len - (at - kResampleM);
-    }
-    if ((out.back() - path.back()).norm() > 1e-6) out.push_back(path.back());
-    return out;
 }
 
 // Uniform cubic B-spline basis at f in [0, 1) (and its derivatives), for control points
@@ -126,7 +109,7 @@ BodyTrajectory::BodyTrajectory(const std::vector<Eigen::Vector2d>& path_in, doub
     }
     if (path.empty())
         throw common::Error(StatusCode::kInvalidArgument, "BodyTrajectory: empty path");
-    path = Resample(path);
+    path = common::ResamplePolyline(path, kResampleM, /*closed=*/false);
     const size_t n = path.size();
 
     // Heading along the path, unwrapped, averaged over half a metre.

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "algorithms/common/polyline.hpp"
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 
@@ -261,22 +262,6 @@ std::vector<Eigen::Vector2d> Smooth(const Planner& p, std::vector<Eigen::Vector2
     return pts;
 }
 
-// Points every `spacing` along a closed polyline.
-std::vector<Eigen::Vector2d> Resample(const std::vector<Eigen::Vector2d>& pts, double spacing) {
-    std::vector<Eigen::Vector2d> out{pts[0]};
-    double carry = 0;
-    for (size_t i = 0; i < pts.size(); ++i) {
-        const Eigen::Vector2d a = pts[i], b = pts[(i + 1) % pts.size()];
-        const double len = (b - a).norm();
-        double s = spacing - carry;
-        while (s <= len) {
-            out.push_back(a + (b - a) * (s / len));
-            s += spacing;
-        }
-        carry = len - (s - spacing);
-    }
-    return out;
-}
 }  // namespace
 
 void PathConfig::Validate() const {
@@ -380,7 +365,7 @@ CoveragePath PlanCoveragePath(const OccupancyGrid& g, const PathConfig& c) {
 
     // Rounded at the corners, evenly sampled.
     line = Smooth(planner, line, pinned, c.smoothing_passes);
-    out.points = Resample(line, c.spacing_m);
+    out.points = common::ResamplePolyline(line, c.spacing_m, /*closed=*/true);
 
     // Heading along the walk, averaged over half a metre so that the body turns smoothly.
     const size_t n = out.points.size();
