@@ -161,6 +161,10 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     size_t next_body = 0;
     int64_t first_stamp = -1;
     Eigen::Vector3d last_position = Eigen::Vector3d::Zero();
+    // A capture that turns out corrupt part way: the error names the file and the byte; the
+    // session so far stays on disk without session.json (SessionWriter's destructor flushes it),
+    // recoverable up to its last complete keyframe, and the message says so.
+    try {
     while (const ouster::LidarFrame* frame = capture.NextFrame()) {
         if (!frame->complete) ++report.incomplete_frames;
         for (int v = frame->w - 1; v >= 0; --v) {  // the packet stamp of the last column
@@ -203,6 +207,15 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
             }
         }
         if (o.on_scan) o.on_scan(r);
+    }
+    } catch (const common::FileError& e) {
+        if (!writer || selector.count() == 0) throw;
+        throw common::FileError(
+            e.code(), e.path(), e.line(),
+            e.detail() + "; the session up to scan " + std::to_string(report.scans) + " (" +
+                std::to_string(selector.count()) + " keyframes) is left in " +
+                o.session_dir.string() +
+                " without session.json: `bimslam session info` recovers it");
     }
     if (report.scans == 0) {
         throw common::FileError(StatusCode::kDataLoss, pcap.string(), 0,

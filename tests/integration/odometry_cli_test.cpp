@@ -211,6 +211,27 @@ TEST_F(OdometryCli, BadInputExits2NamingTheFile) {
         << garbage.err;
     EXPECT_FALSE(fs::exists(out));
 
+    // Corrupt half way: exit 2 naming the file and the byte; what was done before stays, as a
+    // session without session.json that `session info` recovers, and the message says where.
+    const fs::path half = Tmp() / "half";
+    fs::copy(cap, half, fs::copy_options::recursive);
+    {
+        std::string pcap = io::ReadFileToString(half / "lidar.pcap");
+        ASSERT_GT(pcap.size(), 2'000'000u);
+        pcap.replace(pcap.size() / 2, 2000, std::string(2000, '\xff'));
+        test::WriteBytes(half / "lidar.pcap", pcap);
+    }
+    const fs::path half_out = Tmp() / "half_session";
+    const auto broken = test::RunCommand(kCli + " odometry " + half.string() + " -o " +
+                                         half_out.string());
+    EXPECT_EQ(broken.exit_code, 2) << broken.out << broken.err;
+    EXPECT_NE(broken.err.find((half / "lidar.pcap").string() + ": at byte "), std::string::npos)
+        << broken.err;
+    EXPECT_NE(broken.err.find("session info"), std::string::npos) << broken.err;
+    const auto recovered = test::RunCommand(kCli + " session info " + half_out.string());
+    EXPECT_EQ(recovered.exit_code, 0) << recovered.err;
+    EXPECT_NE(recovered.out.find("INCOMPLETE"), std::string::npos) << recovered.out;
+
     // An existing session is not replaced without --overwrite, and is left as it was.
     const auto first = odometry(cap, " --duration 3");
     ASSERT_EQ(first.exit_code, 0) << first.err;
