@@ -32,7 +32,7 @@ bool KeyframeSelector::Add(const odometry::OdometryResult& scan,
         const bool far = T_last_current.translation().norm() >= config_.distance_m;
         const bool turned =
             common::RotationAngle(T_last_current) >= config_.angle_deg * M_PI / 180.0;
-        if (!far && !turned) return false;
+        if ((!far && !turned) || deskewed.size() < config_.min_points) return false;
         io::SessionEdge e;
         e.from = static_cast<uint32_t>(count_ - 1);
         e.to = static_cast<uint32_t>(count_);
@@ -42,6 +42,7 @@ bool KeyframeSelector::Add(const odometry::OdometryResult& scan,
         e.information = (sym + 1e-9 * common::Matrix6d::Identity()).inverse();
         edge_ = e;
     } else {
+        if (deskewed.size() < config_.min_points) return false;
         edge_.reset();
     }
     keyframe_.stamp_ns = scan.stamp_ns;

@@ -21,6 +21,9 @@ namespace bimslam::keyframes {
 struct KeyframeConfig {
     double distance_m = 1.0;
     double angle_deg = 10.0;
+    // A scan with fewer points (all columns lost, a blocked sensor) never becomes a keyframe:
+    // its cloud and descriptor would be empty. The next scan with points takes its place.
+    size_t min_points = 1000;
     scancontext::ScanContextConfig descriptor = scancontext::ScanContextConfig::Indoor();
 
     void Validate() const;

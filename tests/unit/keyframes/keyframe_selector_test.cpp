@@ -86,6 +86,21 @@ TEST(KeyframeSelector, TheEdgeCarriesTheMotionAndTheAccumulatedCovariance) {
     EXPECT_GT(kf.descriptor.maxCoeff(), 0.f);
 }
 
+TEST(KeyframeSelector, AScanWithoutPointsNeverBecomesAKeyframe) {
+    Walker w;
+    const common::PointCloud full = w.cloud;
+    w.cloud = common::PointCloud{};
+    EXPECT_FALSE(w.Step(Eigen::Isometry3d::Identity())) << "not even the first";
+    w.cloud = full;
+    EXPECT_TRUE(w.Step(Forward(0.1)));
+    w.cloud = common::PointCloud{};
+    EXPECT_FALSE(w.Step(Forward(1.5))) << "far enough, but empty";
+    w.cloud = full;
+    ASSERT_TRUE(w.Step(Forward(0.1))) << "the next scan with points takes its place";
+    EXPECT_NEAR(w.selector.edge()->T_from_to.translation().x(), 1.6, 1e-12);
+    EXPECT_EQ(w.selector.count(), 2u);
+}
+
 TEST(KeyframeConfig, ValidateNamesTheField) {
     KeyframeConfig c;
     c.angle_deg = 0;
