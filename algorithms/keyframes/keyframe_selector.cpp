@@ -8,8 +8,8 @@ namespace bimslam::keyframes {
 
 void KeyframeConfig::Validate() const {
     using odometry::Require;
-    Require(distance_m > 0 && std::isfinite(distance_m), "KeyframeConfig", "distance_m",
-            distance_m, "must be > 0");
+    Require(distance_m > 0 && std::isfinite(distance_m), "KeyframeConfig", "distance_m", distance_m,
+            "must be > 0");
     Require(angle_deg > 0 && angle_deg <= 360, "KeyframeConfig", "angle_deg", angle_deg,
             "must be in (0, 360]");
     descriptor.Validate();

@@ -22,8 +22,8 @@ void LidarOdometryConfig::Validate() const {
     body_prior.Validate();
     Require(budget_ms > 0 && budget_ms <= 10000, c, "budget_ms", budget_ms,
             "must be in (0, 10000]");
-    Require(map_update_share >= 0 && map_update_share < 1, c, "map_update_share",
-            map_update_share, "must be in [0, 1)");
+    Require(map_update_share >= 0 && map_update_share < 1, c, "map_update_share", map_update_share,
+            "must be in [0, 1)");
     Require(common::IsValidRigid(T_base_lidar, 1e-6), c, "T_base_lidar", 0,
             "must be a rigid transform");
     Require(imu_capacity >= 16, c, "imu_capacity", double(imu_capacity), "must be >= 16");
@@ -77,7 +77,10 @@ bool LidarOdometry::IntegrateGyro(int64_t t0, int64_t t1, Eigen::Quaterniond* q)
     size_t lo = 0, hi = imu_count_ - 1;  // the last sample at or before t0 (binary search)
     while (lo < hi) {
         const size_t mid = (lo + hi + 1) / 2;
-        if (Imu(mid).t_ns <= t0) lo = mid; else hi = mid - 1;
+        if (Imu(mid).t_ns <= t0)
+            lo = mid;
+        else
+            hi = mid - 1;
     }
     size_t i = lo;
     for (; i < imu_count_; ++i) {
@@ -136,9 +139,8 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
             if (const auto rel = body_prior_.Between(last_stamp_ns_, stamp)) {
                 const Eigen::Isometry3d& B = config_.T_base_lidar;
                 delta = B.inverse() * rel->T_a_b * B;
-                const common::Matrix6d cov =
-                    common::Adjoint(B.inverse()) * rel->covariance *
-                    common::Adjoint(B.inverse()).transpose();
+                const common::Matrix6d cov = common::Adjoint(B.inverse()) * rel->covariance *
+                                             common::Adjoint(B.inverse()).transpose();
                 sigma = cov.diagonal().cwiseSqrt().cwiseMax(1e-3);
                 r.flags |= kBodyPriorUsed;
             }
@@ -155,8 +157,8 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     uint32_t max_offset = 0;
     for (const uint32_t t : scan.time_offset_ns) max_offset = std::max(max_offset, t);
     const double duration = std::max(1e-3, max_offset * 1e-9);
-    const common::Vector6d twist = dt > 0 ? common::Vector6d(common::LogSE3(delta) / dt)
-                                          : common::Vector6d::Zero();
+    const common::Vector6d twist =
+        dt > 0 ? common::Vector6d(common::LogSE3(delta) / dt) : common::Vector6d::Zero();
     const ScanMotion motion = MotionFor(twist, duration, stamp);
     r.preprocess = preprocessor_.Run(scan, motion);
     const Clock::time_point preprocessed = Clock::now();
@@ -167,17 +169,17 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     r.registration = RegistrationResult{};
     Eigen::Isometry3d T = T_pred;
     r.covariance = sigma.cwiseAbs2().asDiagonal();
-    const auto deadline =
-        start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(
-                    config_.budget_ms * (1 - config_.map_update_share)));
+    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double, std::milli>(
+                                          config_.budget_ms * (1 - config_.map_update_share)));
     const auto align = [&](const Eigen::Isometry3d& from) {
         if (preprocessor_.registration_points().size() <
             size_t(config_.registration.min_correspondences)) {
             r.flags |= kTooFewPoints | kRegistrationFailed;
             return false;
         }
-        r.registration = registration_.Align(preprocessor_.registration_points(), map_, from,
-                                             sigma, deadline);
+        r.registration =
+            registration_.Align(preprocessor_.registration_points(), map_, from, sigma, deadline);
         const RegistrationResult& reg = r.registration;
         if (reg.failed) {
             r.flags |= kRegistrationFailed;

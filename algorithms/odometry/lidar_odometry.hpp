@@ -49,14 +49,14 @@ struct LidarOdometryConfig {
     VoxelMapConfig map;
     RegistrationConfig registration;
     MotionPriorConfig body_prior;
-    double budget_ms = 50.0;          // per scan, 10 Hz
-    double map_update_share = 0.15;   // of the budget kept for the map update
+    double budget_ms = 50.0;         // per scan, 10 Hz
+    double map_update_share = 0.15;  // of the budget kept for the map update
     // The lidar on the Go1's body (for the body-motion prior): 5 cm ahead, 28 cm above.
     Eigen::Isometry3d T_base_lidar = Eigen::Isometry3d(Eigen::Translation3d(0.05, 0.0, 0.28));
     bool use_imu = true;
     bool use_body_motion = true;
-    size_t imu_capacity = 2048;       // samples (20 s at the Ouster's 100 Hz)
-    double max_imu_gap_s = 0.05;      // longer gaps: the gyro does not cover the interval
+    size_t imu_capacity = 2048;   // samples (20 s at the Ouster's 100 Hz)
+    double max_imu_gap_s = 0.05;  // longer gaps: the gyro does not cover the interval
     // Standard deviation of the constant-velocity prediction per scan [m m m rad rad rad]: the
     // fallback along degenerate directions when there is no body motion.
     common::Vector6d constant_velocity_sigma =
@@ -76,14 +76,14 @@ struct LidarOdometryConfig {
 
 enum OdometryFlag : uint32_t {
     kFirstScan = 1u << 0,
-    kOverBudget = 1u << 1,           // the best estimate when the budget ran out
-    kDegenerate = 1u << 2,           // some directions came from the prediction
-    kRegistrationFailed = 1u << 3,   // too few correspondences: the prediction
+    kOverBudget = 1u << 1,          // the best estimate when the budget ran out
+    kDegenerate = 1u << 2,          // some directions came from the prediction
+    kRegistrationFailed = 1u << 3,  // too few correspondences: the prediction
     kNotConverged = 1u << 4,
     kBodyPriorUsed = 1u << 5,
     kImuUsed = 1u << 6,
-    kTooFewPoints = 1u << 7,         // the scan kept fewer points than registration needs
-    kDeskewedAgain = 1u << 8,        // deskewed and registered a second time (step 3b)
+    kTooFewPoints = 1u << 7,   // the scan kept fewer points than registration needs
+    kDeskewedAgain = 1u << 8,  // deskewed and registered a second time (step 3b)
 };
 
 struct OdometryResult {

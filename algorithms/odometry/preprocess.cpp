@@ -48,8 +48,8 @@ void ScanMotion::SetRotations(const std::array<Eigen::Quaterniond, kKnots>& q_st
 }
 
 Eigen::Isometry3d ScanMotion::At(double tau_s) const {
-    const double x = duration_s_ > 0 ? std::clamp(tau_s / duration_s_, 0.0, 1.0) * (kKnots - 1)
-                                     : 0.0;
+    const double x =
+        duration_s_ > 0 ? std::clamp(tau_s / duration_s_, 0.0, 1.0) * (kKnots - 1) : 0.0;
     const int k = std::min(static_cast<int>(x), kKnots - 2);
     const double a = x - k;
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

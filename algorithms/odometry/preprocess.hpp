@@ -77,8 +77,8 @@ struct PreprocessStats {
     size_t cropped = 0;     // outside [min_range, max_range]
     size_t self = 0;        // inside the self-filter box
     size_t non_finite = 0;
-    size_t kept = 0;          // deskewed points (the keyframe cloud)
-    size_t map_points = 0;    // after the map voxel filter
+    size_t kept = 0;        // deskewed points (the keyframe cloud)
+    size_t map_points = 0;  // after the map voxel filter
     size_t registration_points = 0;
 };
 

@@ -11,9 +11,9 @@ namespace bimslam::odometry {
 inline void Require(bool ok, const char* config, const char* field, double value,
                     const char* rule) {
     if (!ok) {
-        throw common::Error(common::StatusCode::kInvalidArgument,
-                            std::string(config) + "." + field + " = " + std::to_string(value) +
-                                ": " + rule);
+        throw common::Error(
+            common::StatusCode::kInvalidArgument,
+            std::string(config) + "." + field + " = " + std::to_string(value) + ": " + rule);
     }
 }
 

@@ -14,8 +14,8 @@ void RegistrationConfig::Validate() const {
     const char* c = "RegistrationConfig";
     Require(max_iterations >= 1 && max_iterations <= 100, c, "max_iterations", max_iterations,
             "must be in [1, 100]");
-    Require(max_solver_iterations >= 1 && max_solver_iterations <= 100, c,
-            "max_solver_iterations", max_solver_iterations, "must be in [1, 100]");
+    Require(max_solver_iterations >= 1 && max_solver_iterations <= 100, c, "max_solver_iterations",
+            max_solver_iterations, "must be in [1, 100]");
     Require(max_correspondence_distance > 0 && max_correspondence_distance <= 10, c,
             "max_correspondence_distance", max_correspondence_distance, "must be in (0, 10] m");
     Require(cauchy_scale > 0 && cauchy_scale <= 10, c, "cauchy_scale", cauchy_scale,

@@ -40,14 +40,14 @@
 namespace bimslam::odometry {
 
 struct RegistrationConfig {
-    int max_iterations = 20;          // outer: correspondences found again
-    int max_solver_iterations = 4;    // Ceres iterations per outer iteration
+    int max_iterations = 20;                   // outer: correspondences found again
+    int max_solver_iterations = 4;             // Ceres iterations per outer iteration
     double max_correspondence_distance = 0.5;  // m
     // The Cauchy scale is annealed: it starts at cauchy_scale_initial, so that a prediction a
     // few decimetres off still pulls every point, and halves each outer iteration down to
     // cauchy_scale, near the range noise, where outliers (people, clutter) stop counting.
-    double cauchy_scale = 0.02;          // m
-    double cauchy_scale_initial = 0.1;   // m
+    double cauchy_scale = 0.02;         // m
+    double cauchy_scale_initial = 0.1;  // m
     int min_correspondences = 60;
     // Converged when an outer iteration moves the pose less than this.
     double converged_translation = 1e-3;  // m
@@ -83,7 +83,8 @@ public:
     // what it has. prior_sigma: the initial guess's standard deviations [m, m, m, rad, rad, rad]
     // (the covariance along degenerate directions).
     const RegistrationResult& Align(std::span<const Eigen::Vector3f> points, const VoxelMap& map,
-                                    const Eigen::Isometry3d& T0, const common::Vector6d& prior_sigma,
+                                    const Eigen::Isometry3d& T0,
+                                    const common::Vector6d& prior_sigma,
                                     Clock::time_point deadline);
 
     const RegistrationConfig& config() const { return config_; }

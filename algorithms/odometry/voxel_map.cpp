@@ -63,7 +63,8 @@ int32_t VoxelMap::Find(const Eigen::Vector3i& key) const {
 
 void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) {
     touched_.clear();
-    const float spacing2 = static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
+    const float spacing2 =
+        static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
     const size_t mask = slots_.size() - 1;
     for (const Eigen::Vector3f& p : points) {
         if (!p.allFinite()) continue;
@@ -131,8 +132,8 @@ void VoxelMap::FitPlane(Voxel& v) const {
 
 const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance) const {
     static const std::array<Eigen::Vector3i, 7> kNeighbours = {
-        Eigen::Vector3i(0, 0, 0),  Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
-        Eigen::Vector3i(0, 1, 0),  Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
+        Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
+        Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
         Eigen::Vector3i(0, 0, -1)};
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelPlane* best = nullptr;

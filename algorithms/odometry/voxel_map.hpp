@@ -24,9 +24,10 @@ inline constexpr int kMaxPointsPerVoxel = 24;
 struct VoxelMapConfig {
     double voxel_size = 0.6;        // m
     int max_points_per_voxel = 24;  // <= kMaxPointsPerVoxel
-    double min_point_spacing = 0.08;  // m: a new point closer than this to one in its voxel is dropped
-    size_t max_voxels = 40000;        // about 40 MB at 24 points per voxel
-    double max_distance = 35.0;       // m from the sensor
+    double min_point_spacing =
+        0.08;                    // m: a new point closer than this to one in its voxel is dropped
+    size_t max_voxels = 40000;   // about 40 MB at 24 points per voxel
+    double max_distance = 35.0;  // m from the sensor
     // Plane test: at least min_plane_points, and the standard deviation across the plane at most
     // max_plane_thickness while the spread within it is at least three times that.
     int min_plane_points = 5;

@@ -15,14 +15,14 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/session.hpp"
+#include "algorithms/io/sha256.hpp"
 #include "algorithms/scancontext/candidate_index.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
-#include "host_tools/cli/command.hpp"
-#include "algorithms/io/sha256.hpp"
 #include "host_tools/bim/coverage_path.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/reference_session.hpp"
 #include "host_tools/bim/sample_building.hpp"
+#include "host_tools/cli/command.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
 #include "host_tools/replay/capture_odometry.hpp"
 #include "host_tools/simulate/scenario.hpp"
@@ -64,8 +64,9 @@ int RunDemo(const DemoOptions& opt) {
     const fs::path capture_dir = out / "capture";
     for (const fs::path& p : {building_file, reference_dir, session_dir, capture_dir}) {
         if (fs::exists(p) && !opt.overwrite) {
-            throw common::FileError(common::StatusCode::kAlreadyExists, out.string(), 0,
-                                    "holds an earlier demo; pass --overwrite or choose another --out");
+            throw common::FileError(
+                common::StatusCode::kAlreadyExists, out.string(), 0,
+                "holds an earlier demo; pass --overwrite or choose another --out");
         }
     }
     fs::remove_all(capture_dir);
@@ -100,8 +101,9 @@ int RunDemo(const DemoOptions& opt) {
     std::cout << "  reference " << ref.keyframes << " keyframes along " << walk_m
               << " m of walk through " << rooms << " rooms, the structure ray-cast in "
               << reference_s << " s (" << std::setprecision(0) << ref.walk_s / reference_s
-              << "x real time at 0.5 m/s)\n" << std::setprecision(1) << "           "
-              << reference_dir.string() << ", grids and walks in " << plan_dir.string() << "\n";
+              << "x real time at 0.5 m/s)\n"
+              << std::setprecision(1) << "           " << reference_dir.string()
+              << ", grids and walks in " << plan_dir.string() << "\n";
 
     // 3. The rig's capture: a Go1 trotting the ground floor's coverage walk, simulated as the rig
     //    records it (host_tools/simulate): Ouster lidar + IMU packets in a pcap, the Go1's CAN
@@ -130,17 +132,17 @@ int RunDemo(const DemoOptions& opt) {
     const replay::CaptureOdometryReport odo = replay::RunCaptureOdometry(oo);
     std::cout << "  odometry " << odo.scans << " scans, " << odo.keyframes
               << " keyframes (1 m / 10 deg, indoor Scan Context each) in " << odo.wall_s
-              << " s; per scan p50 " << std::setprecision(2)
-              << replay::Percentile(odo.scan_ms, 0.5) << " ms, max "
-              << replay::Percentile(odo.scan_ms, 1.0) << " ms of a " << std::setprecision(0)
-              << oo.odometry.budget_ms << std::setprecision(1) << " ms budget\n           " << session_dir.string()
+              << " s; per scan p50 " << std::setprecision(2) << replay::Percentile(odo.scan_ms, 0.5)
+              << " ms, max " << replay::Percentile(odo.scan_ms, 1.0) << " ms of a "
+              << std::setprecision(0) << oo.odometry.budget_ms << std::setprecision(1)
+              << " ms budget\n           " << session_dir.string()
               << "/ (trajectory.tum: every scan)\n";
 
     // 5. Its accuracy against the simulator's ground truth (bimslam evaluate).
     const evaluation::EvaluationResult ev = evaluation::EvaluateFiles(
         session_dir / "trajectory.tum", capture_dir / "ground_truth.tum", {});
-    std::cout << "  accuracy APE " << std::setprecision(2) << ev.ape_trans_m.rmse * 100
-              << " cm / " << ev.ape_rot_deg.rmse << " deg RMSE after SE(3) alignment, drift "
+    std::cout << "  accuracy APE " << std::setprecision(2) << ev.ape_trans_m.rmse * 100 << " cm / "
+              << ev.ape_rot_deg.rmse << " deg RMSE after SE(3) alignment, drift "
               << ev.drift_percent << " % over " << std::setprecision(1) << ev.distance_m
               << " m, no loop closure (the paper's SC-A-LOAM: 12.4 cm / 2.3 deg)\n";
 
@@ -184,18 +186,18 @@ int RunDemo(const DemoOptions& opt) {
                       ? ", mean yaw error " + FixedString(yaw_err_sum / found * 180 / M_PI) + " deg"
                       : "")
               << "\n";
-    std::cout << "results in " << out.string() << "/:\n"
-              << "  building.ifc  the sample building (bimslam bim info " << building_file.string()
-              << ")\n"
-              << "  reference/    its BIM reference session; plan/ its grids and walks (PGM, PNG, TUM)\n"
-              << "  capture/      the rig's capture (bimslam ouster info " << capture_dir.string()
-              << "/lidar.pcap; capture.json lists its files)\n"
-              << "  session/      the rig's session: keyframes, poses, descriptors, trajectory "
-                 "(bimslam session info "
-              << session_dir.string() << "; bimslam evaluate --est " << session_dir.string()
-              << "/trajectory.tum --ref " << capture_dir.string() << "/ground_truth.tum)\n"
-              << "demo " << (read_ok ? "finished" : "FAILED") << " in " << Seconds(t_start)
-              << " s\n";
+    std::cout
+        << "results in " << out.string() << "/:\n"
+        << "  building.ifc  the sample building (bimslam bim info " << building_file.string()
+        << ")\n"
+        << "  reference/    its BIM reference session; plan/ its grids and walks (PGM, PNG, TUM)\n"
+        << "  capture/      the rig's capture (bimslam ouster info " << capture_dir.string()
+        << "/lidar.pcap; capture.json lists its files)\n"
+        << "  session/      the rig's session: keyframes, poses, descriptors, trajectory "
+           "(bimslam session info "
+        << session_dir.string() << "; bimslam evaluate --est " << session_dir.string()
+        << "/trajectory.tum --ref " << capture_dir.string() << "/ground_truth.tum)\n"
+        << "demo " << (read_ok ? "finished" : "FAILED") << " in " << Seconds(t_start) << " s\n";
     return read_ok ? kExitOk : kExitFailure;
 }
 

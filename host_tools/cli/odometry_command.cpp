@@ -41,8 +41,8 @@ int Odometry(const OdometryArgs& a) {
     o.on_scan = [tty, n = 0](const odometry::OdometryResult& r) mutable {
         ++n;
         if (tty && n % 50 == 0) {
-            std::cout << "\rscan " << n << "  (" << std::fixed << std::setprecision(1)
-                      << r.total_ms << " ms)" << std::flush;
+            std::cout << "\rscan " << n << "  (" << std::fixed << std::setprecision(1) << r.total_ms
+                      << " ms)" << std::flush;
         }
     };
     const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);

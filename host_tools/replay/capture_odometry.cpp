@@ -36,12 +36,10 @@ std::vector<TimedBodySample> ReadGo1(const fs::path& path) {
             t.host_ns = s.host_time_ns - int64_t(s.sample_age_us) * 1000;
             t.sample.v_xy = {s.vx, s.vy};
             t.sample.yaw_rate = s.yaw_rate;
-            t.sample.velocity_valid = t.sample.yaw_rate_valid =
-                (s.valid & can::kGroupBodyVel) != 0;
+            t.sample.velocity_valid = t.sample.yaw_rate_valid = (s.valid & can::kGroupBodyVel) != 0;
             if (s.valid & can::kGroupQuat) {
-                t.sample.attitude =
-                    Eigen::Quaterniond(s.quat_wxyz[0], s.quat_wxyz[1], s.quat_wxyz[2],
-                                       s.quat_wxyz[3]);
+                t.sample.attitude = Eigen::Quaterniond(s.quat_wxyz[0], s.quat_wxyz[1],
+                                                       s.quat_wxyz[2], s.quat_wxyz[3]);
             }
             if (out.empty() || t.host_ns > out.back().host_ns) out.push_back(t);
         }
@@ -61,7 +59,6 @@ double Percentile(std::vector<double> v, double p) {
     std::sort(v.begin(), v.end());
     return v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))];
 }
-
 
 std::optional<Eigen::Isometry3d> ReadCaptureMount(const fs::path& path) {
     std::ifstream in(path);
@@ -152,8 +149,8 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
         manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
                                sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
         writer.emplace(o.session_dir, manifest,
-                       io::SessionWriterOptions{.overwrite = o.overwrite, .flush_every = 50,
-                                                .sync_each_file = false});
+                       io::SessionWriterOptions{
+                           .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
     }
 
     common::PointCloud cloud;
@@ -165,57 +162,58 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     // session so far stays on disk without session.json (SessionWriter's destructor flushes it),
     // recoverable up to its last complete keyframe, and the message says so.
     try {
-    while (const ouster::LidarFrame* frame = capture.NextFrame()) {
-        if (!frame->complete) ++report.incomplete_frames;
-        for (int v = frame->w - 1; v >= 0; --v) {  // the packet stamp of the last column
-            if (!frame->ColumnValid(v) || frame->last_arrival_ns == 0) continue;
-            offset = std::min(offset, frame->last_arrival_ns - int64_t(frame->timestamp[v]));
-            break;
-        }
-        ouster::ToPointCloud(*frame, &cloud);
-        const int64_t stamp = cloud.stamp.ns;
-        if (first_stamp < 0) first_stamp = stamp;
-        if (o.max_duration_s > 0 && double(stamp - first_stamp) * 1e-9 > o.max_duration_s) break;
-        // Body motion up to a little past this scan's end.
-        if (config.use_body_motion && offset != std::numeric_limits<int64_t>::max()) {
-            const int64_t until = stamp + 300'000'000;
-            for (; next_body < body.size() && body[next_body].host_ns - offset <= until;
-                 ++next_body) {
-                odometry::BodyMotionSample s = body[next_body].sample;
-                s.t_ns = body[next_body].host_ns - offset;
-                lo.AddBodyMotion(s);
-                ++report.body_samples;
+        while (const ouster::LidarFrame* frame = capture.NextFrame()) {
+            if (!frame->complete) ++report.incomplete_frames;
+            for (int v = frame->w - 1; v >= 0; --v) {  // the packet stamp of the last column
+                if (!frame->ColumnValid(v) || frame->last_arrival_ns == 0) continue;
+                offset = std::min(offset, frame->last_arrival_ns - int64_t(frame->timestamp[v]));
+                break;
             }
-        }
-        const odometry::OdometryResult& r = lo.Process(cloud);
-        ++report.scans;
-        report.scan_ms.push_back(r.total_ms);
-        report.over_budget += (r.flags & odometry::kOverBudget) ? 1 : 0;
-        report.degenerate += (r.flags & odometry::kDegenerate) ? 1 : 0;
-        report.failed += (r.flags & odometry::kRegistrationFailed) ? 1 : 0;
-        report.not_converged += (r.flags & odometry::kNotConverged) ? 1 : 0;
-        if (report.scans > 1) {
-            report.distance_m += (r.T_odom_lidar.translation() - last_position).norm();
-        }
-        last_position = r.T_odom_lidar.translation();
-        report.capture_s = double(stamp - first_stamp) * 1e-9;
-        if (writer) {
-            writer->AddScanPose(io::StampedPose::FromIsometry(stamp, r.T_odom_lidar));
-            if (selector.Add(r, lo.deskewed())) {
-                writer->AddKeyframe(selector.keyframe());
-                if (selector.edge()) writer->AddEdge(*selector.edge());
+            ouster::ToPointCloud(*frame, &cloud);
+            const int64_t stamp = cloud.stamp.ns;
+            if (first_stamp < 0) first_stamp = stamp;
+            if (o.max_duration_s > 0 && double(stamp - first_stamp) * 1e-9 > o.max_duration_s)
+                break;
+            // Body motion up to a little past this scan's end.
+            if (config.use_body_motion && offset != std::numeric_limits<int64_t>::max()) {
+                const int64_t until = stamp + 300'000'000;
+                for (; next_body < body.size() && body[next_body].host_ns - offset <= until;
+                     ++next_body) {
+                    odometry::BodyMotionSample s = body[next_body].sample;
+                    s.t_ns = body[next_body].host_ns - offset;
+                    lo.AddBodyMotion(s);
+                    ++report.body_samples;
+                }
             }
+            const odometry::OdometryResult& r = lo.Process(cloud);
+            ++report.scans;
+            report.scan_ms.push_back(r.total_ms);
+            report.over_budget += (r.flags & odometry::kOverBudget) ? 1 : 0;
+            report.degenerate += (r.flags & odometry::kDegenerate) ? 1 : 0;
+            report.failed += (r.flags & odometry::kRegistrationFailed) ? 1 : 0;
+            report.not_converged += (r.flags & odometry::kNotConverged) ? 1 : 0;
+            if (report.scans > 1) {
+                report.distance_m += (r.T_odom_lidar.translation() - last_position).norm();
+            }
+            last_position = r.T_odom_lidar.translation();
+            report.capture_s = double(stamp - first_stamp) * 1e-9;
+            if (writer) {
+                writer->AddScanPose(io::StampedPose::FromIsometry(stamp, r.T_odom_lidar));
+                if (selector.Add(r, lo.deskewed())) {
+                    writer->AddKeyframe(selector.keyframe());
+                    if (selector.edge()) writer->AddEdge(*selector.edge());
+                }
+            }
+            if (o.on_scan) o.on_scan(r);
         }
-        if (o.on_scan) o.on_scan(r);
-    }
     } catch (const common::FileError& e) {
         if (!writer || selector.count() == 0) throw;
-        throw common::FileError(
-            e.code(), e.path(), e.line(),
-            e.detail() + "; the session up to scan " + std::to_string(report.scans) + " (" +
-                std::to_string(selector.count()) + " keyframes) is left in " +
-                o.session_dir.string() +
-                " without session.json: `bimslam session info` recovers it");
+        throw common::FileError(e.code(), e.path(), e.line(),
+                                e.detail() + "; the session up to scan " +
+                                    std::to_string(report.scans) + " (" +
+                                    std::to_string(selector.count()) + " keyframes) is left in " +
+                                    o.session_dir.string() +
+                                    " without session.json: `bimslam session info` recovers it");
     }
     if (report.scans == 0) {
         throw common::FileError(StatusCode::kDataLoss, pcap.string(), 0,

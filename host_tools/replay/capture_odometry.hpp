@@ -26,8 +26,8 @@ struct CaptureOdometryOptions {
     std::filesystem::path capture_dir;
     std::filesystem::path session_dir;  // empty: no session written (benchmarks)
     bool overwrite = false;
-    bool use_can = true;  // go1_can.log when present
-    bool use_imu = true;  // the Ouster IMU packets in lidar.pcap
+    bool use_can = true;                     // go1_can.log when present
+    bool use_imu = true;                     // the Ouster IMU packets in lidar.pcap
     odometry::LidarOdometryConfig odometry;  // T_base_lidar is taken from capture.json if there
     keyframes::KeyframeConfig keyframes;
     double max_duration_s = 0;  // > 0: stop after this much capture time
@@ -40,14 +40,14 @@ struct CaptureOdometryReport {
     size_t keyframes = 0;
     size_t incomplete_frames = 0;
     size_t imu_samples = 0;
-    size_t body_samples = 0;   // Go1 samples given to the odometry
-    bool used_can = false;     // go1_can.log present and read
+    size_t body_samples = 0;          // Go1 samples given to the odometry
+    bool used_can = false;            // go1_can.log present and read
     bool mount_from_capture = false;  // T_base_lidar from capture.json
     std::vector<double> scan_ms;      // per scan, total time in LidarOdometry::Process
     size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
-    double distance_m = 0;       // along the odometry trajectory
-    double capture_s = 0;        // sensor time from the first to the last scan
-    double wall_s = 0;           // this run
+    double distance_m = 0;  // along the odometry trajectory
+    double capture_s = 0;   // sensor time from the first to the last scan
+    double wall_s = 0;      // this run
     int64_t host_minus_sensor_ns = 0;
     std::vector<std::string> notes;  // what was missing or skipped, for the user
 };

@@ -75,8 +75,9 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
 TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
     test::TempDir tmp;
     const fs::path out = tmp / "demo";
-    ASSERT_EQ(
-        test::RunCommand(kCli + " demo --columns 512 --duration 10 --out " + out.string()).exit_code, 0);
+    ASSERT_EQ(test::RunCommand(kCli + " demo --columns 512 --duration 10 --out " + out.string())
+                  .exit_code,
+              0);
     const fs::path session = out / "session";
     {
         std::ofstream f(session / "times.txt", std::ios::app);

@@ -287,8 +287,7 @@ TEST(Go1BridgeProgram, CandumpEndToEndAgainstAFakeGo1WithASilence) {
         stats += std::string(name) + " " + std::to_string(v) + ", ";
     });
     const uint64_t late_ticks = LateTicks(r.out);
-    EXPECT_LE(decoder.stats().counter_lost + decoder.stats().late,
-              late_ticks * can::kGo1Messages)
+    EXPECT_LE(decoder.stats().counter_lost + decoder.stats().late, late_ticks * can::kGo1Messages)
         << stats << "\n"
         << r.out;
     EXPECT_EQ(decoder.stats().Faults() - decoder.stats().late, 0u) << stats << "\n" << r.out;

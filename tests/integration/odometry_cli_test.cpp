@@ -222,8 +222,8 @@ TEST_F(OdometryCli, BadInputExits2NamingTheFile) {
         test::WriteBytes(half / "lidar.pcap", pcap);
     }
     const fs::path half_out = Tmp() / "half_session";
-    const auto broken = test::RunCommand(kCli + " odometry " + half.string() + " -o " +
-                                         half_out.string());
+    const auto broken =
+        test::RunCommand(kCli + " odometry " + half.string() + " -o " + half_out.string());
     EXPECT_EQ(broken.exit_code, 2) << broken.out << broken.err;
     EXPECT_NE(broken.err.find((half / "lidar.pcap").string() + ": at byte "), std::string::npos)
         << broken.err;

@@ -1,7 +1,7 @@
 // Polyline resampling: spacing along the length across corners, open and closed.
-#include <gtest/gtest.h>
-
 #include "algorithms/common/polyline.hpp"
+
+#include <gtest/gtest.h>
 
 namespace bimslam::common {
 namespace {

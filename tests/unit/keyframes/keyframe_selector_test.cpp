@@ -1,11 +1,12 @@
 // Keyframe selection: the distance and angle rules, the keyframe's cloud and descriptor, and the
 // odometry edge with the covariance accumulated over the scans in between.
+#include "algorithms/keyframes/keyframe_selector.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "algorithms/common/status.hpp"
-#include "algorithms/keyframes/keyframe_selector.hpp"
 
 namespace bimslam::keyframes {
 namespace {
@@ -17,9 +18,9 @@ struct Walker {
     explicit Walker(const KeyframeConfig& c = {}) : selector(c) {
         for (int i = 0; i < 2000; ++i) {  // a round room's wall, 4 m away, -1 to 2 m high
             const double a = 2 * M_PI * (i / 10) / 200;
-            cloud.PushBack(
-                Eigen::Vector3f(float(4 * std::cos(a)), float(4 * std::sin(a)), -1.f + 0.3f * float(i % 10)),
-                10.f, uint16_t(i % 32), uint32_t(i) * 50'000);
+            cloud.PushBack(Eigen::Vector3f(float(4 * std::cos(a)), float(4 * std::sin(a)),
+                                           -1.f + 0.3f * float(i % 10)),
+                           10.f, uint16_t(i % 32), uint32_t(i) * 50'000);
         }
     }
     // One scan that moved by `step` since the last, with the given per-scan covariance.

@@ -8,8 +8,8 @@
 #include "algorithms/keyframes/keyframe_selector.hpp"
 #include "algorithms/odometry/lidar_odometry.hpp"
 #include "algorithms/odometry/motion_prior.hpp"
-#include "tests/support/synthetic_scene.hpp"
 #include "tests/support/allocation_counter.hpp"
+#include "tests/support/synthetic_scene.hpp"
 
 namespace bimslam::odometry {
 namespace {
@@ -103,8 +103,7 @@ TEST(HotPath, LidarOdometryAllocatesOnlyInsideCeresAndABoundedAmount) {
     const size_t total = std::accumulate(per_scan.begin(), per_scan.end(), size_t(0));
     const size_t max = *std::max_element(per_scan.begin(), per_scan.end());
     std::cout << "allocations per scan: mean " << double(total) / double(per_scan.size())
-              << ", max " << max << ", per Ceres solve " << double(total) / double(solves)
-              << "\n";
+              << ", max " << max << ", per Ceres solve " << double(total) / double(solves) << "\n";
     EXPECT_GT(solves, 0u);
     // Every allocation is Ceres's: at most a fixed number per solve.
     EXPECT_LE(double(total) / double(solves), 200.0);

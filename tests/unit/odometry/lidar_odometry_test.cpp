@@ -1,13 +1,14 @@
 // LiDAR odometry on simulated scans with rolling shutter (Embree, OS1-32 1024 x 10, 1 cm range
 // noise): a featureless corridor with and without the Go1 prior, pure rotation in place, scans
 // with 30 % of their columns missing, empty scans, and deskewing on a fast turn.
+#include "algorithms/odometry/lidar_odometry.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
 
 #include "algorithms/common/se3.hpp"
-#include "algorithms/odometry/lidar_odometry.hpp"
 #include "tests/unit/odometry/odometry_scenes.hpp"
 
 namespace bimslam::odometry {
@@ -43,8 +44,8 @@ void Rates(const Trajectory& traj, double t, Eigen::Vector3d* v, Eigen::Vector3d
     *w = common::LogSO3(a.linear().transpose() * b.linear()) / (2 * h);
 }
 
-OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int scans, const Inputs& in,
-             LidarOdometryConfig config = {}) {
+OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int scans,
+                     const Inputs& in, LidarOdometryConfig config = {}) {
     config.use_imu = in.imu;
     config.use_body_motion = in.body;
     config.preprocess.deskew = in.deskew;
@@ -72,9 +73,10 @@ OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int
         }
         const double t0 = k * kScan;
         common::PointCloud cloud =
-            in.empty_scan(k) ? common::PointCloud{}
-                             : test::Scan(scene, [&](double tau) { return traj(t0 + tau); },
-                                          stamp, uint64_t(k) + 7);
+            in.empty_scan(k)
+                ? common::PointCloud{}
+                : test::Scan(
+                      scene, [&](double tau) { return traj(t0 + tau); }, stamp, uint64_t(k) + 7);
         cloud.stamp = common::SensorTime{stamp};
         if (in.drop_columns > 0 && !cloud.empty()) {
             // Columns missing: a block at a different azimuth in every scan.
@@ -93,13 +95,13 @@ OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int
         const OdometryResult& r = lo.Process(cloud);
         run.results.push_back(r);
         run.flags |= r.flags;
-        run.finite = run.finite && r.T_odom_lidar.matrix().allFinite() &&
-                     r.covariance.allFinite();
+        run.finite = run.finite && r.T_odom_lidar.matrix().allFinite() && r.covariance.allFinite();
         const Eigen::Isometry3d truth = T_world_odom.inverse() * traj(t0);
         const Eigen::Isometry3d e = truth.inverse() * r.T_odom_lidar;
         run.final_translation_error = e.translation().norm();
         run.final_rotation_error_deg = common::RotationAngle(e) * 180 / M_PI;
-            run.max_translation_error = std::max(run.max_translation_error, run.final_translation_error);
+        run.max_translation_error =
+            std::max(run.max_translation_error, run.final_translation_error);
         run.max_rotation_error_deg =
             std::max(run.max_rotation_error_deg, run.final_rotation_error_deg);
     }
@@ -246,7 +248,8 @@ TEST(LidarOdometry, ABudgetTooSmallReturnsTheBestSoFarFlagged) {
 TEST(LidarOdometry, AScanNotAfterThePreviousIsIgnored) {
     const simulation::Scene scene(test::FurnishedRoom());
     LidarOdometry lo;
-    const auto cloud = test::Scan(scene, [](double) { return Pose(0, 0, 0.6, 0); }, kStart, 1);
+    const auto cloud = test::Scan(
+        scene, [](double) { return Pose(0, 0, 0.6, 0); }, kStart, 1);
     lo.Process(cloud);
     const OdometryResult& again = lo.Process(cloud);
     EXPECT_EQ(again.flags, uint32_t(kTooFewPoints));

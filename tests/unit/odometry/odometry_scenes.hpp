@@ -17,7 +17,8 @@ namespace bimslam::odometry::test {
 inline void Append(common::TriangleMesh* mesh, const common::TriangleMesh& part) {
     const auto base = static_cast<uint32_t>(mesh->vertices.size());
     mesh->vertices.insert(mesh->vertices.end(), part.vertices.begin(), part.vertices.end());
-    for (auto t : part.triangles) mesh->triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    for (auto t : part.triangles)
+        mesh->triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
 
 // A closed box seen from inside (floor, ceiling, four walls) centred at `centre`.
@@ -49,9 +50,8 @@ inline common::PointCloud Scan(const simulation::Scene& scene,
     static const simulation::LidarModel lidar = simulation::LidarModel::DefaultOs1_32(1024, 10.0);
     simulation::ScanImage image;
     simulation::SimulateScan(
-        scene, lidar,
-        [&](int v) { return pose(double(lidar.ColumnTimeOffsetNs(v)) * 1e-9); }, noise, seed,
-        &image);
+        scene, lidar, [&](int v) { return pose(double(lidar.ColumnTimeOffsetNs(v)) * 1e-9); },
+        noise, seed, &image);
     common::PointCloud cloud;
     cloud.stamp = common::SensorTime{stamp_ns};
     for (int v = 0; v < image.w; ++v) {

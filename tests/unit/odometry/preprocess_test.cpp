@@ -1,11 +1,12 @@
 // Preprocessing (crop, self-filter, deskew, voxel filters) and the bounded voxel map.
+#include "algorithms/odometry/preprocess.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
-#include "algorithms/odometry/preprocess.hpp"
 #include "algorithms/odometry/voxel_map.hpp"
 
 namespace bimslam::odometry {
@@ -22,15 +23,15 @@ TEST(Preprocessor, CropsSelfFiltersAndCountsEveryDrop) {
     config.min_range = 1.0;
     config.max_range = 20.0;
     Preprocessor pre(config);
-    const auto cloud = Cloud({{0, 0, 0},                       // no return
-                              {0.5, 0, 0},                     // too close
-                              {30, 0, 0},                      // too far
-                              {0.1, 0.1, -0.3},                // too close as well
-                              {0.3, 0.0, -0.9},                // too close (0.95 m)
-                              {-0.4, 0.2, -0.2},               // too close (0.49 m)
-                              {5, 1, 0},                       // kept
-                              {NAN, 0, 0},                     // not finite
-                              {2, 3, 1}});                     // kept
+    const auto cloud = Cloud({{0, 0, 0},          // no return
+                              {0.5, 0, 0},        // too close
+                              {30, 0, 0},         // too far
+                              {0.1, 0.1, -0.3},   // too close as well
+                              {0.3, 0.0, -0.9},   // too close (0.95 m)
+                              {-0.4, 0.2, -0.2},  // too close (0.49 m)
+                              {5, 1, 0},          // kept
+                              {NAN, 0, 0},        // not finite
+                              {2, 3, 1}});        // kept
     const PreprocessStats& s = pre.Run(cloud, ScanMotion());
     EXPECT_EQ(s.input, 9u);
     EXPECT_EQ(s.zero_range, 1u);

@@ -1,11 +1,12 @@
 // Point-to-plane registration with Ceres against the voxel map: exact poses recovered in a
 // furnished room; a corridor's axis detected as degenerate and kept at the initial guess.
+#include "algorithms/odometry/scan_registration.hpp"
+
 #include <gtest/gtest.h>
 
-#include "algorithms/odometry/preprocess.hpp"
-#include "algorithms/odometry/scan_registration.hpp"
-#include "algorithms/odometry/voxel_map.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/odometry/preprocess.hpp"
+#include "algorithms/odometry/voxel_map.hpp"
 #include "tests/unit/odometry/odometry_scenes.hpp"
 
 namespace bimslam::odometry {
@@ -25,17 +26,19 @@ Registered Register(const simulation::Scene& scene, const Eigen::Isometry3d& map
     Preprocessor pre;
     VoxelMap map;
     const ScanMotion still;
-    const auto first = test::Scan(scene, [&](double) { return map_pose; }, 0, 1);
+    const auto first = test::Scan(
+        scene, [&](double) { return map_pose; }, 0, 1);
     pre.Run(first, still);
     std::vector<Eigen::Vector3f> world;
-    for (const auto& p : pre.map_points()) world.push_back((map_pose * p.cast<double>()).cast<float>());
+    for (const auto& p : pre.map_points())
+        world.push_back((map_pose * p.cast<double>()).cast<float>());
     map.Insert(world);
-    const auto second = test::Scan(scene, [&](double) { return truth; }, 100'000'000, 2);
+    const auto second = test::Scan(
+        scene, [&](double) { return truth; }, 100'000'000, 2);
     pre.Run(second, still);
     ScanRegistration reg;
     Registered out;
-    out.result = reg.Align(pre.registration_points(), map, guess,
-                           common::Vector6d::Constant(0.05),
+    out.result = reg.Align(pre.registration_points(), map, guess, common::Vector6d::Constant(0.05),
                            ScanRegistration::Clock::now() + std::chrono::seconds(10));
     const Eigen::Isometry3d err = truth.inverse() * out.result.T_map_lidar;
     out.translation_error = err.translation().norm();
@@ -96,7 +99,9 @@ TEST(ScanRegistration, AnExpiredDeadlineReturnsTheGuessFlagged) {
     const simulation::Scene scene(test::FurnishedRoom());
     Preprocessor pre;
     VoxelMap map;
-    pre.Run(test::Scan(scene, [](double) { return Pose(0, 0, 0.5, 0); }, 0, 1), ScanMotion());
+    pre.Run(test::Scan(
+                scene, [](double) { return Pose(0, 0, 0.5, 0); }, 0, 1),
+            ScanMotion());
     map.Insert(std::vector<Eigen::Vector3f>(pre.map_points().begin(), pre.map_points().end()));
     ScanRegistration reg;
     const Eigen::Isometry3d guess = Pose(0.05, 0, 0, 0.01);
