@@ -96,14 +96,16 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
     auto args = std::make_shared<OdometryArgs>();
     auto* cmd = app.add_subcommand(
         "odometry",
-        "Replay a capture through the on-board LiDAR odometry and keyframe selection (the\n"
-        "same code as bimslam-rig), as fast as possible, into a session.\n"
+        "LiDAR odometry and keyframes of a capture into a session: the on-board algorithm, "
+        "offline, as fast as possible");
+    cmd->footer(
+        "Runs algorithms/odometry and algorithms/keyframes, the code the rig runs on board.\n"
         "Reads CAPTURE_DIR/lidar.pcap and metadata.json, the Ouster IMU packets in the pcap,\n"
         "CAPTURE_DIR/go1_can.log when present (the Go1 motion prior) and capture.json's lidar\n"
         "mount when present. Writes SESSION/trajectory.tum (every scan, sensor clock) and the\n"
         "keyframes (Scans/, SCDs/, poses, singlesession_posegraph.g2o, session.json).\n"
-        "Compare with ground truth: bimslam evaluate --est SESSION/trajectory.tum --ref "
-        "CAPTURE_DIR/ground_truth.tum");
+        "Compare with ground truth:\n"
+        "  bimslam evaluate --est SESSION/trajectory.tum --ref CAPTURE_DIR/ground_truth.tum");
     cmd->add_option("capture", args->capture, "Capture folder (from the rig or bimslam simulate)")
         ->required();
     cmd->add_option("-o,--output", args->out, "Session folder to write")->required();
