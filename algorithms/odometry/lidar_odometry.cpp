@@ -172,9 +172,13 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
                                       std::chrono::duration<double, std::milli>(
                                           config_.budget_ms * (1 - config_.map_update_share)));
+    // Checked again after a second deskew, which can change the count.
+    const auto too_few = [&] {
+        return preprocessor_.registration_points().size() <
+               size_t(config_.registration.min_correspondences);
+    };
     const auto align = [&](const Eigen::Isometry3d& from) {
-        if (preprocessor_.registration_points().size() <
-            size_t(config_.registration.min_correspondences)) {
+        if (too_few()) {
             r.flags |= kTooFewPoints | kRegistrationFailed;
             return false;
         }
@@ -193,9 +197,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
         return true;
     };
-    const bool too_few = preprocessor_.registration_points().size() <
-                         size_t(config_.registration.min_correspondences);
-    if (!initialized_ && too_few) {
+    if (!initialized_ && too_few()) {
         // Nothing to start the map with: the odometry starts at the next scan that has points.
         r.flags |= kTooFewPoints;
         r.total_ms = Ms(Clock::now() - start);

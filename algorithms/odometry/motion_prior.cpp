@@ -4,16 +4,14 @@
 #include <cmath>
 #include <string>
 
+#include "algorithms/odometry/require.hpp"
+
 namespace bimslam::odometry {
 namespace {
 using common::StatusCode;
 
 void Require(bool ok, const char* field, double value, const char* rule) {
-    if (!ok) {
-        throw common::Error(StatusCode::kInvalidArgument, std::string("MotionPriorConfig.") +
-                                                              field + " = " +
-                                                              std::to_string(value) + ": " + rule);
-    }
+    odometry::Require(ok, "MotionPriorConfig", field, value, rule);
 }
 
 // Roll and pitch of a body attitude (ZYX Euler angles, yaw dropped).
