@@ -18,6 +18,11 @@ void LidarOdometryConfig::Validate() const {
     const char* c = "LidarOdometryConfig";
     preprocess.Validate();
     map.Validate();
+    if (edge_features) {
+        edges.Validate();
+        edge_map.Validate();
+        Require(edge_map.fit_lines, c, "edge_map.fit_lines", 0, "must be true");
+    }
     registration.Validate();
     body_prior.Validate();
     Require(budget_ms > 0 && budget_ms <= 10000, c, "budget_ms", budget_ms,
@@ -41,9 +46,15 @@ LidarOdometry::LidarOdometry(const LidarOdometryConfig& config)
     : config_(config),
       preprocessor_(config.preprocess),
       map_(config.map),
-      registration_(config.registration, config.preprocess.max_registration_points),
+      registration_(config.registration,
+                    config.preprocess.max_registration_points +
+                        (config.edge_features ? 2 * config.edges.max_edges : 0)),
       body_prior_(config.body_prior) {
     config_.Validate();
+    if (config_.edge_features) {
+        edge_extractor_.emplace(config_.edges, config_.preprocess.max_points);
+        edge_map_.emplace(config_.edge_map);
+    }
     imu_.resize(config_.imu_capacity);
     world_points_.reserve(config_.preprocess.max_points);
     past_.resize(size_t(config_.velocity_window) + 1);
@@ -160,7 +171,12 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const common::Vector6d twist =
         dt > 0 ? common::Vector6d(common::LogSE3(delta) / dt) : common::Vector6d::Zero();
     const ScanMotion motion = MotionFor(twist, duration, stamp);
-    r.preprocess = preprocessor_.Run(scan, motion);
+    const auto preprocess = [&](const ScanMotion& m) {
+        r.preprocess = preprocessor_.Run(scan, m);
+        if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
+        r.edge_points = edges_.size();
+    };
+    preprocess(motion);
     const Clock::time_point preprocessed = Clock::now();
     r.preprocess_ms = Ms(preprocessed - start);
 
@@ -182,8 +198,8 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
             r.flags |= kTooFewPoints | kRegistrationFailed;
             return false;
         }
-        r.registration =
-            registration_.Align(preprocessor_.registration_points(), map_, from, sigma, deadline);
+        r.registration = registration_.Align(preprocessor_.registration_points(), map_, from, sigma,
+                                             deadline, edges_, edge_map_ ? &*edge_map_ : nullptr);
         const RegistrationResult& reg = r.registration;
         if (reg.failed) {
             r.flags |= kRegistrationFailed;
@@ -212,7 +228,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
         const double moved = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
         if (moved > config_.redeskew_threshold && Clock::now() < deadline) {
-            r.preprocess = preprocessor_.Run(scan, estimated);
+            preprocess(estimated);
             if (align(T)) r.flags |= kDeskewedAgain;
         }
     }
@@ -227,6 +243,12 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     for (size_t i = 0; i < points.size(); ++i) world_points_[i] = R * points[i] + t;
     map_.Insert(world_points_);
     map_.Prune(T.translation());
+    if (edge_map_) {
+        world_points_.resize(edges_.size());
+        for (size_t i = 0; i < edges_.size(); ++i) world_points_[i] = R * edges_[i] + t;
+        edge_map_->Insert(world_points_);
+        edge_map_->Prune(T.translation());
+    }
     r.map_voxels = map_.voxels();
     r.map_points = map_.points();
 

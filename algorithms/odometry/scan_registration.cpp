@@ -95,6 +95,7 @@ ScanRegistration::ScanRegistration(const RegistrationConfig& config, size_t max_
 ScanRegistration::~ScanRegistration() = default;
 
 int ScanRegistration::Associate(std::span<const Eigen::Vector3f> points, const VoxelMap& map,
+                                std::span<const Eigen::Vector3f> edges, const VoxelMap* edge_map,
                                 const Eigen::Isometry3d& T, double cauchy_scale) {
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
@@ -112,13 +113,34 @@ int ScanRegistration::Associate(std::span<const Eigen::Vector3f> points, const V
         c.d = plane->offset;
         c.sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));  // Cauchy IRLS weight
     }
+    if (!edge_map) return n;
+    for (const Eigen::Vector3f& p : edges) {
+        if (size_t(n) + 2 > corr_.size()) break;
+        float r = 0;
+        const VoxelLine* line = edge_map->FindLine(R * p + t, &r);
+        if (!line || r > max_d) continue;
+        // The distance to a line with direction u through c is that to two planes through c,
+        // with normals e1, e2 orthogonal to u and to each other.
+        const Eigen::Vector3d u = line->direction.cast<double>();
+        const Eigen::Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+        const double sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));
+        for (const Eigen::Vector3d& e : {e1, e2}) {
+            Correspondence& c = corr_[size_t(n++)];
+            c.p = p.cast<double>();
+            c.n = e;
+            c.d = e.dot(line->point.cast<double>());
+            c.sqrt_w = sqrt_w;
+        }
+    }
     return n;
 }
 
 const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3f> points,
                                                   const VoxelMap& map, const Eigen::Isometry3d& T0,
                                                   const common::Vector6d& prior_sigma,
-                                                  Clock::time_point deadline) {
+                                                  Clock::time_point deadline,
+                                                  std::span<const Eigen::Vector3f> edges,
+                                                  const VoxelMap* edge_map) {
     result_ = RegistrationResult{};
     result_.T_map_lidar = T0;
     common::Vector6d delta = common::Vector6d::Zero();
@@ -142,7 +164,7 @@ const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3
             break;
         }
         const Eigen::Isometry3d T = ApplyPerturbation(T0, delta);
-        const int found = Associate(points, map, T, kernel);
+        const int found = Associate(points, map, edges, edge_map, T, kernel);
         if (found < config_.min_correspondences) {
             if (it == 0) {
                 result_.failed = true;

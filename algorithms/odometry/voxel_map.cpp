@@ -101,13 +101,14 @@ void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) {
     }
     for (const int32_t i : touched_) {
         Voxel& v = voxels_[size_t(i)];
-        FitPlane(v);
+        Fit(v);
         v.dirty = false;
     }
 }
 
-void VoxelMap::FitPlane(Voxel& v) const {
+void VoxelMap::Fit(Voxel& v) const {
     v.plane.valid = false;
+    v.line.valid = false;
     if (v.count < config_.min_plane_points) return;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (int k = 0; k < v.count; ++k) mean += v.points[size_t(k)].cast<double>();
@@ -121,6 +122,17 @@ void VoxelMap::FitPlane(Voxel& v) const {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
     eig.computeDirect(cov);
     const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+    if (config_.fit_lines) {
+        const double across = std::sqrt(std::max(0.0, lambda(1)));
+        if (across > config_.max_plane_thickness ||
+            std::sqrt(std::max(0.0, lambda(2))) < 3 * across) {
+            return;
+        }
+        v.line.point = mean.cast<float>();
+        v.line.direction = eig.eigenvectors().col(2).normalized().cast<float>();
+        v.line.valid = true;
+        return;
+    }
     const double thickness = std::sqrt(std::max(0.0, lambda(0)));
     const double spread = std::sqrt(std::max(0.0, lambda(1)));
     if (thickness > config_.max_plane_thickness || spread < 3 * thickness) return;
@@ -130,11 +142,33 @@ void VoxelMap::FitPlane(Voxel& v) const {
     v.plane.valid = true;
 }
 
+namespace {
+// A voxel and its 6 face neighbours: where FindPlane and FindLine look.
+const std::array<Eigen::Vector3i, 7> kNeighbours = {
+    Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
+    Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
+    Eigen::Vector3i(0, 0, -1)};
+}  // namespace
+
+const VoxelLine* VoxelMap::FindLine(const Eigen::Vector3f& p, float* distance) const {
+    const Eigen::Vector3i key = KeyOf(p);
+    const VoxelLine* best = nullptr;
+    for (const Eigen::Vector3i& d : kNeighbours) {
+        const int32_t i = Find(key + d);
+        if (i < 0) continue;
+        const VoxelLine& line = voxels_[size_t(i)].line;
+        if (!line.valid) continue;
+        const Eigen::Vector3f q = p - line.point;
+        const float r = (q - line.direction * line.direction.dot(q)).norm();
+        if (!best || r < *distance) {
+            best = &line;
+            *distance = r;
+        }
+    }
+    return best;
+}
+
 const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance) const {
-    static const std::array<Eigen::Vector3i, 7> kNeighbours = {
-        Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
-        Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
-        Eigen::Vector3i(0, 0, -1)};
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelPlane* best = nullptr;
     float best_abs = 0;

@@ -32,6 +32,10 @@ struct VoxelMapConfig {
     // max_plane_thickness while the spread within it is at least three times that.
     int min_plane_points = 5;
     double max_plane_thickness = 0.04;  // m
+    // LOAM's edge map (edge_features.hpp): each voxel fits a line instead, valid when the spread
+    // across it is at most max_plane_thickness in both directions and the spread along it at
+    // least three times that.
+    bool fit_lines = false;
 
     void Validate() const;
 };
@@ -39,6 +43,12 @@ struct VoxelMapConfig {
 struct VoxelPlane {
     Eigen::Vector3f normal = Eigen::Vector3f::Zero();
     float offset = 0;  // normal . x = offset on the plane
+    bool valid = false;
+};
+
+struct VoxelLine {
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();  // the centroid
+    Eigen::Vector3f direction = Eigen::Vector3f::Zero();
     bool valid = false;
 };
 
@@ -55,6 +65,8 @@ public:
     // The plane for a point (map frame): of its voxel and its 6 face neighbours, the valid plane
     // nearest to it; nullptr when none. *distance gets the signed point-to-plane distance.
     const VoxelPlane* FindPlane(const Eigen::Vector3f& p, float* distance) const;
+    // With fit_lines: the nearest valid line the same way; *distance gets the distance to it.
+    const VoxelLine* FindLine(const Eigen::Vector3f& p, float* distance) const;
 
     size_t voxels() const { return voxels_.size(); }
     size_t points() const { return points_; }
@@ -67,12 +79,13 @@ private:
         int count = 0;
         bool dirty = false;
         VoxelPlane plane;
+        VoxelLine line;
         std::array<Eigen::Vector3f, kMaxPointsPerVoxel> points;
     };
     Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
     int32_t Find(const Eigen::Vector3i& key) const;  // index into voxels_ or -1
     void RebuildSlots();
-    void FitPlane(Voxel& v) const;
+    void Fit(Voxel& v) const;
 
     VoxelMapConfig config_;
     float inv_size_;

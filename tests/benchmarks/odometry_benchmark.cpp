@@ -3,7 +3,8 @@
 // (not timed), then replayed as fast as possible on one thread (the odometry has no threads of
 // its own and Ceres runs with 1), so every timing below is one core's.
 //
-// BM_OdometryAccuracy/platform:P/seconds:S  (P 0 = Go1 with its CAN log, 1 = handheld)
+// BM_OdometryAccuracy/platform:P/seconds:S/edges:E  (P 0 = Go1 with its CAN log, 1 = handheld;
+// E 1 = LOAM edge features on, the measurement behind their default of off)
 //   The session is written, then its trajectory.tum is evaluated against the capture's
 //   ground_truth.tum with se3 alignment (host_tools/evaluation, as `bimslam evaluate`). The timed
 //   part is the replay only. Counters: APE translation rmse/max (cm), APE rotation rmse (deg),
@@ -61,6 +62,7 @@ void BM_OdometryAccuracy(benchmark::State& state) {
     o.session_dir = tmp / "session";
     o.overwrite = true;
     o.use_can = !handheld;  // as `bimslam odometry --no-can` for a handheld capture
+    o.odometry.edge_features = state.range(2) == 1;
     CaptureOdometryReport rep;
     for (auto _ : state) rep = RunCaptureOdometry(o);
 
@@ -85,12 +87,15 @@ void BM_OdometryAccuracy(benchmark::State& state) {
     state.counters["matched"] = double(e.matched);
     state.counters["keyframes"] = double(rep.keyframes);
     state.counters["realtime_x"] = rep.capture_s / std::max(rep.wall_s, 1e-9);
-    state.SetLabel(handheld ? "handheld" : "go1+can");
+    state.SetLabel(std::string(handheld ? "handheld" : "go1+can") +
+                   (o.odometry.edge_features ? ", edge features" : ""));
 }
 BENCHMARK(BM_OdometryAccuracy)
-    ->Args({0, 180})
-    ->Args({1, 180})
-    ->ArgNames({"platform", "seconds"})
+    ->Args({0, 180, 0})
+    ->Args({1, 180, 0})
+    ->Args({0, 180, 1})
+    ->Args({1, 180, 1})
+    ->ArgNames({"platform", "seconds", "edges"})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

@@ -159,6 +159,21 @@ TEST_F(OdometryCli, HandheldWithoutCanTracksTheGroundTruth) {
     EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
 }
 
+// --edge-features (LOAM edges, off by default): the same capture, as accurate.
+TEST_F(OdometryCli, Go1WithEdgeFeaturesTracksTheGroundTruth) {
+    const fs::path cap = Capture("go1");
+    const fs::path ses = Tmp() / "session_go1_edges";
+    const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
+                                       " --edge-features --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report("go1 with CAN, --edge-features", odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+}
+
 // Every file in a folder (relative path) with its bytes.
 std::map<std::string, std::string> Contents(const fs::path& dir) {
     std::map<std::string, std::string> out;
@@ -253,7 +268,8 @@ TEST_F(OdometryCli, BadInputExits2NamingTheFile) {
 TEST(OdometryCliHelp, NamesTheOptionsAndTheNextStep) {
     const auto help = test::RunCommand(kCli + " odometry --help");
     EXPECT_EQ(help.exit_code, 0) << help.err;
-    for (const char* word : {"--no-can", "--no-imu", "evaluate", "--overwrite", "--json"}) {
+    for (const char* word :
+         {"--no-can", "--no-imu", "--edge-features", "evaluate", "--overwrite", "--json"}) {
         EXPECT_NE(help.out.find(word), std::string::npos) << word << "\n" << help.out;
     }
     // Without the required arguments: a usage error.

@@ -1,4 +1,5 @@
-// The motion prior runs on the rig's hot path: Add and Between must not allocate.
+// The odometry's hot path after warm-up: the motion prior, preprocessing, the maps, edge features
+// and keyframes allocate nothing; LidarOdometry::Process allocates only inside Ceres.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,6 +61,9 @@ TEST(HotPath, PreprocessingTheMapAndKeyframesDoNotAllocateAfterWarmUp) {
     const auto scans = RoomScans(12);
     Preprocessor pre;
     VoxelMap map;
+    EdgeExtractor edges;  // LOAM edges and their line map (edge_features, off by default)
+    VoxelMap edge_map(EdgeMapConfig());
+    size_t edge_points = 0;
     keyframes::KeyframeConfig kc;
     kc.distance_m = 0.1;  // a keyframe every other scan
     keyframes::KeyframeSelector selector(kc);
@@ -73,6 +77,10 @@ TEST(HotPath, PreprocessingTheMapAndKeyframesDoNotAllocateAfterWarmUp) {
         world.assign(pre.map_points().begin(), pre.map_points().end());
         map.Insert(world);
         map.Prune(Eigen::Vector3d::Zero());
+        const auto e = edges.Run(pre.deskewed());
+        edge_points += e.size();
+        edge_map.Insert(e);
+        edge_map.Prune(Eigen::Vector3d::Zero());
         r.stamp_ns = scans[k].stamp.ns;
         r.T_odom_lidar.translation() = Eigen::Vector3d(0.05 * double(k), 0, 0);
         keyframes += selector.Add(r, pre.deskewed()) ? 1 : 0;
@@ -82,6 +90,7 @@ TEST(HotPath, PreprocessingTheMapAndKeyframesDoNotAllocateAfterWarmUp) {
     for (size_t k = 4; k < scans.size(); ++k) step(k);
     EXPECT_EQ(test::Allocations() - before, 0u);
     EXPECT_GT(keyframes, 4u);
+    EXPECT_GT(edge_points, 12u * 10u);
 }
 
 // LidarOdometry::Process as a whole: its own code allocates nothing, ceres::Solve does (its
