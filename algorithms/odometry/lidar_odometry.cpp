@@ -236,19 +236,16 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     r.register_ms = Ms(registered - preprocessed);
 
     // 4. The map update at the estimated pose.
-    const auto points = preprocessor_.map_points();
-    world_points_.resize(points.size());
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
-    for (size_t i = 0; i < points.size(); ++i) world_points_[i] = R * points[i] + t;
-    map_.Insert(world_points_);
-    map_.Prune(T.translation());
-    if (edge_map_) {
-        world_points_.resize(edges_.size());
-        for (size_t i = 0; i < edges_.size(); ++i) world_points_[i] = R * edges_[i] + t;
-        edge_map_->Insert(world_points_);
-        edge_map_->Prune(T.translation());
-    }
+    const auto update = [&](VoxelMap& map, std::span<const Eigen::Vector3f> points) {
+        world_points_.resize(points.size());
+        for (size_t i = 0; i < points.size(); ++i) world_points_[i] = R * points[i] + t;
+        map.Insert(world_points_);
+        map.Prune(T.translation());
+    };
+    update(map_, preprocessor_.map_points());
+    if (edge_map_) update(*edge_map_, edges_);
     r.map_voxels = map_.voxels();
     r.map_points = map_.points();
 
