@@ -75,4 +75,14 @@ private:
     std::string detail_;
 };
 
+// The one check every ...Config::Validate() uses: throws Error(kInvalidArgument) with a message
+// naming the struct, the field, the value and the rule (DESIGN.md, "Conventions").
+inline void Require(bool ok, const char* config, const char* field, double value,
+                    const char* rule) {
+    if (!ok) {
+        throw Error(StatusCode::kInvalidArgument, std::string(config) + "." + field + " = " +
+                                                      std::to_string(value) + ": " + rule);
+    }
+}
+
 }  // namespace bimslam::common

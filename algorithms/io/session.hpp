@@ -104,6 +104,10 @@ struct SessionReadOptions {
 // descriptor of the wrong size, or a manifest that is not a bimslam session.
 Session ReadSession(const std::filesystem::path& dir, const SessionReadOptions& options = {});
 
+// times.txt: one timestamp (seconds) per line, parsed exactly to nanoseconds. Throws
+// common::FileError naming the file and line.
+std::vector<int64_t> ReadTimes(const std::filesystem::path& path);
+
 // The path of keyframe i's files.
 std::filesystem::path KeyframeCloudPath(const std::filesystem::path& dir, size_t index);
 std::filesystem::path KeyframeDescriptorPath(const std::filesystem::path& dir, size_t index);

@@ -14,24 +14,6 @@ using common::FileError;
 using common::StatusCode;
 namespace fs = std::filesystem;
 
-// Number of lines holding data (trailing empty line ignored), for count-mismatch messages.
-std::vector<int64_t> ReadTimes(const fs::path& path) {
-    const std::string text = ReadFileToString(path);
-    LineReader r(path.string(), text);
-    std::vector<int64_t> out;
-    std::string_view line;
-    std::vector<std::string_view> tok;
-    while (r.Next(line)) {
-        LineReader::Split(line, tok);
-        if (tok.size() != 1) {
-            r.Fail("expected one timestamp (seconds), found " + std::to_string(tok.size()) +
-                   " values");
-        }
-        out.push_back(r.ParseSecondsToNs(tok[0], "time"));
-    }
-    return out;
-}
-
 // A line-oriented file of the session: required ones must exist in a complete session; in a
 // recovered one a missing file holds zero keyframes.
 template <typename Reader>
@@ -62,6 +44,23 @@ size_t CountContiguous(const fs::path& dir, fs::path (*path_of)(const fs::path&,
                         std::to_string(expected));
 }
 }  // namespace
+
+std::vector<int64_t> ReadTimes(const fs::path& path) {
+    const std::string text = ReadFileToString(path);
+    LineReader r(path.string(), text);
+    std::vector<int64_t> out;
+    std::string_view line;
+    std::vector<std::string_view> tok;
+    while (r.Next(line)) {
+        LineReader::Split(line, tok);
+        if (tok.size() != 1) {
+            r.Fail("expected one timestamp (seconds), found " + std::to_string(tok.size()) +
+                   " values");
+        }
+        out.push_back(r.ParseSecondsToNs(tok[0], "time"));
+    }
+    return out;
+}
 
 DescriptorMatrix ReadScd(const fs::path& path, int expected_rings, int expected_sectors) {
     const std::string text = ReadFileToString(path);

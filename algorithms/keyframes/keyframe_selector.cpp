@@ -2,12 +2,12 @@
 
 #include <cmath>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::keyframes {
 
 void KeyframeConfig::Validate() const {
-    using odometry::Require;
+    using common::Require;
     Require(distance_m > 0 && std::isfinite(distance_m), "KeyframeConfig", "distance_m", distance_m,
             "must be > 0");
     Require(angle_deg > 0 && angle_deg <= 360, "KeyframeConfig", "angle_deg", angle_deg,

@@ -4,9 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::odometry {
+using common::Require;
 
 void EdgeFeatureConfig::Validate() const {
     const char* c = "EdgeFeatureConfig";

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::odometry {
+using common::Require;
 namespace {
 
 double Ms(LidarOdometry::Clock::duration d) {

@@ -4,9 +4,10 @@
 #include <cmath>
 #include <string>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::odometry {
+using common::Require;
 namespace {
 using common::StatusCode;
 

@@ -3,28 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::odometry {
+using common::Require;
 namespace {
-
-// 21 bits per axis (+-1e6 voxels): enough for 100 km at 5 cm.
-uint64_t VoxelKey(const Eigen::Vector3f& p, float inv_voxel) {
-    const auto axis = [inv_voxel](float x) {
-        return static_cast<uint64_t>(static_cast<int64_t>(std::floor(x * inv_voxel)) + (1 << 20)) &
-               0x1FFFFFu;
-    };
-    return axis(p.x()) | (axis(p.y()) << 21) | (axis(p.z()) << 42);
-}
-
-// A 64-bit mix (splitmix64's finaliser) so that neighbouring voxels spread over the table.
-uint64_t Mix(uint64_t x) {
-    x ^= x >> 30;
-    x *= 0xbf58476d1ce4e5b9ull;
-    x ^= x >> 27;
-    x *= 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
 
 size_t NextPowerOfTwo(size_t n) {
     size_t p = 1;
@@ -97,8 +81,8 @@ void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, double voxel
     const float inv = static_cast<float>(1.0 / voxel);
     const size_t mask = table_keys_.size() - 1;
     for (const Eigen::Vector3f& p : in) {
-        const uint64_t key = VoxelKey(p, inv);
-        for (size_t slot = Mix(key) & mask;; slot = (slot + 1) & mask) {
+        const uint64_t key = common::VoxelKey(p, inv);
+        for (size_t slot = common::MixKey(key) & mask;; slot = (slot + 1) & mask) {
             if (table_generation_[slot] != generation_) {
                 table_generation_[slot] = generation_;
                 table_keys_[slot] = key;

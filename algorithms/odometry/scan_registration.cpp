@@ -6,9 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::odometry {
+using common::Require;
 
 void RegistrationConfig::Validate() const {
     const char* c = "RegistrationConfig";

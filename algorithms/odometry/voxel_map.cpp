@@ -4,9 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "algorithms/odometry/require.hpp"
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::odometry {
+using common::Require;
 namespace {
 
 size_t Hash(const Eigen::Vector3i& k) {
