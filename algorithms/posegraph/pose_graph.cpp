@@ -1,0 +1,255 @@
+#include "algorithms/posegraph/pose_graph.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::posegraph {
+using common::Matrix6d;
+using common::Require;
+using common::Vector6d;
+
+void PoseGraphConfig::Validate() const {
+    const char* c = "PoseGraphConfig";
+    Require(loop_loss_scale > 0, c, "loop_loss_scale", loop_loss_scale, "must be positive");
+    Require(max_iterations >= 1, c, "max_iterations", max_iterations, "must be at least 1");
+    Require(threads >= 1, c, "threads", threads, "must be at least 1");
+}
+
+namespace {
+
+template <typename T>
+using Quat = Eigen::Quaternion<T>;
+template <typename T>
+using Vec3 = Eigen::Matrix<T, 3, 1>;
+
+// [t; 2 vec(q)] of z^-1 * (qa, ta)^-1 * (qb, tb).
+template <typename T>
+void Relative(const Eigen::Quaterniond& qz, const Eigen::Vector3d& tz, const Quat<T>& qa,
+              const Vec3<T>& ta, const Quat<T>& qb, const Vec3<T>& tb, T* r) {
+    const Quat<T> qa_inv = qa.conjugate();
+    const Quat<T> q_ab = qa_inv * qb;
+    const Vec3<T> t_ab = qa_inv * (tb - ta);
+    const Quat<T> qz_inv = qz.conjugate().cast<T>();
+    Quat<T> q_err = qz_inv * q_ab;
+    const Vec3<T> t_err = qz_inv * (t_ab - tz.cast<T>());
+    if (q_err.w() < T(0)) q_err.coeffs() = -q_err.coeffs();  // the shorter way round
+    r[0] = t_err.x();
+    r[1] = t_err.y();
+    r[2] = t_err.z();
+    r[3] = T(2) * q_err.x();
+    r[4] = T(2) * q_err.y();
+    r[5] = T(2) * q_err.z();
+}
+
+template <typename T>
+void Whiten(const Matrix6d& S, T* r) {
+    T w[6];
+    for (int i = 0; i < 6; ++i) {
+        w[i] = T(0);
+        for (int j = 0; j < 6; ++j) w[i] += S(i, j) * r[j];
+    }
+    for (int i = 0; i < 6; ++i) r[i] = w[i];
+}
+
+// Between two poses of one frame (odometry; a loop within one session).
+struct BetweenCost {
+    Eigen::Quaterniond qz;
+    Eigen::Vector3d tz;
+    Matrix6d S;
+    template <typename T>
+    bool operator()(const T* qa, const T* ta, const T* qb, const T* tb, T* r) const {
+        Relative(qz, tz, Quat<T>(qa), Vec3<T>(ta), Quat<T>(qb), Vec3<T>(tb), r);
+        Whiten(S, r);
+        return true;
+    }
+};
+
+// Between keyframes of two sessions, each placed by its anchor (eq. 2 of the paper).
+struct AnchoredCost {
+    Eigen::Quaterniond qz;
+    Eigen::Vector3d tz;
+    Matrix6d S;
+    template <typename T>
+    bool operator()(const T* qda, const T* tda, const T* qa, const T* ta, const T* qdb,
+                    const T* tdb, const T* qb, const T* tb, T* r) const {
+        const Quat<T> Qda(qda), Qdb(qdb);
+        const Quat<T> QA = Qda * Quat<T>(qa);
+        const Vec3<T> TA = Qda * Vec3<T>(ta) + Vec3<T>(tda);
+        const Quat<T> QB = Qdb * Quat<T>(qb);
+        const Vec3<T> TB = Qdb * Vec3<T>(tb) + Vec3<T>(tdb);
+        Relative(qz, tz, QA, TA, QB, TB, r);
+        Whiten(S, r);
+        return true;
+    }
+};
+
+// A pose as Ceres' parameter blocks: quaternion x y z w (EigenQuaternionManifold) and translation.
+struct Block {
+    double q[4];
+    double t[3];
+    void Set(const Eigen::Isometry3d& T) {
+        const Eigen::Quaterniond qq = common::Rotation(T);
+        q[0] = qq.x(), q[1] = qq.y(), q[2] = qq.z(), q[3] = qq.w();
+        for (int i = 0; i < 3; ++i) t[i] = T.translation()(i);
+    }
+    Eigen::Isometry3d Get() const {
+        return common::FromQuaternionTranslation(Eigen::Quaterniond(q[3], q[0], q[1], q[2]),
+                                                 Eigen::Vector3d(t[0], t[1], t[2]));
+    }
+};
+
+}  // namespace
+
+Matrix6d SqrtInformation(const Matrix6d& information) {
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(0.5 *
+                                                      (information + information.transpose()));
+    const Vector6d root = eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+    return root.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+Vector6d RelativePoseResidual(const Eigen::Isometry3d& z, const Eigen::Isometry3d& T_a,
+                              const Eigen::Isometry3d& T_b) {
+    Vector6d r;
+    const Eigen::Quaterniond qa = common::Rotation(T_a), qb = common::Rotation(T_b);
+    const Eigen::Vector3d ta = T_a.translation(), tb = T_b.translation();
+    Relative(common::Rotation(z), Eigen::Vector3d(z.translation()), qa, ta, qb, tb, r.data());
+    return r;
+}
+
+size_t PoseGraph::AddSession(std::vector<Eigen::Isometry3d> poses, const Eigen::Isometry3d& anchor,
+                             bool fixed) {
+    sessions_.push_back({std::move(poses), anchor, fixed});
+    return sessions_.size() - 1;
+}
+
+void PoseGraph::AddOdometry(const OdometryFactor& f) {
+    if (f.session >= sessions_.size() || f.from >= keyframes(f.session) ||
+        f.to >= keyframes(f.session) || f.from == f.to) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "PoseGraph: odometry factor joins missing keyframes");
+    }
+    odometry_.push_back(f);
+}
+
+size_t PoseGraph::AddLoop(const LoopFactor& f) {
+    if (f.session_a >= sessions_.size() || f.session_b >= sessions_.size() ||
+        f.index_a >= keyframes(f.session_a) || f.index_b >= keyframes(f.session_b) ||
+        (f.session_a == f.session_b && f.index_a == f.index_b)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "PoseGraph: loop factor joins missing keyframes");
+    }
+    loops_.push_back(f);
+    return loops_.size() - 1;
+}
+
+void PoseGraph::SetAnchor(size_t s, const Eigen::Isometry3d& T) { sessions_.at(s).anchor = T; }
+
+void PoseGraph::SetPoses(size_t s, std::vector<Eigen::Isometry3d> poses) {
+    if (poses.size() != keyframes(s)) {
+        throw common::Error(common::StatusCode::kInvalidArgument, "PoseGraph: wrong pose count");
+    }
+    sessions_.at(s).poses = std::move(poses);
+}
+
+Vector6d PoseGraph::LoopResidual(size_t i) const {
+    const LoopFactor& f = loops_.at(i);
+    return SqrtInformation(f.information) * RelativePoseResidual(f.T_a_b,
+                                                                 WorldPose(f.session_a, f.index_a),
+                                                                 WorldPose(f.session_b, f.index_b));
+}
+
+OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
+                                    const std::vector<double>& loop_weights) {
+    config.Validate();
+    if (!loop_weights.empty() && loop_weights.size() != loops_.size()) {
+        throw common::Error(common::StatusCode::kInvalidArgument, "PoseGraph: one weight per loop");
+    }
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<Block> anchors(sessions_.size());
+    std::vector<std::vector<Block>> poses(sessions_.size());
+    for (size_t s = 0; s < sessions_.size(); ++s) {
+        anchors[s].Set(sessions_[s].anchor);
+        poses[s].resize(sessions_[s].poses.size());
+        for (size_t k = 0; k < poses[s].size(); ++k) poses[s][k].Set(sessions_[s].poses[k]);
+    }
+    ceres::Problem problem;
+    for (const OdometryFactor& f : odometry_) {
+        Block& a = poses[f.session][f.from];
+        Block& b = poses[f.session][f.to];
+        auto* cost = new ceres::AutoDiffCostFunction<BetweenCost, 6, 4, 3, 4, 3>(
+            new BetweenCost{common::Rotation(f.T_from_to), f.T_from_to.translation(),
+                            SqrtInformation(f.information)});
+        problem.AddResidualBlock(cost, nullptr, a.q, a.t, b.q, b.t);
+    }
+    for (size_t i = 0; i < loops_.size(); ++i) {
+        const double w = loop_weights.empty() ? 1.0 : loop_weights[i];
+        if (!(w > 0)) continue;
+        const LoopFactor& f = loops_[i];
+        const Matrix6d S = std::sqrt(w) * SqrtInformation(f.information);
+        const Eigen::Quaterniond qz = common::Rotation(f.T_a_b);
+        const Eigen::Vector3d tz = f.T_a_b.translation();
+        ceres::LossFunction* loss =
+            config.robust_loops ? new ceres::CauchyLoss(config.loop_loss_scale) : nullptr;
+        Block& a = poses[f.session_a][f.index_a];
+        Block& b = poses[f.session_b][f.index_b];
+        if (f.session_a == f.session_b) {
+            auto* cost = new ceres::AutoDiffCostFunction<BetweenCost, 6, 4, 3, 4, 3>(
+                new BetweenCost{qz, tz, S});
+            problem.AddResidualBlock(cost, loss, a.q, a.t, b.q, b.t);
+        } else {
+            Block& da = anchors[f.session_a];
+            Block& db = anchors[f.session_b];
+            auto* cost = new ceres::AutoDiffCostFunction<AnchoredCost, 6, 4, 3, 4, 3, 4, 3, 4, 3>(
+                new AnchoredCost{qz, tz, S});
+            problem.AddResidualBlock(cost, loss, da.q, da.t, a.q, a.t, db.q, db.t, b.q, b.t);
+        }
+    }
+    // Blocks enter the problem with their residuals; a block in none (an anchor without loops)
+    // stays out and keeps its value. Then the manifolds, the fixed sessions and the gauge.
+    auto prepare = [&](Block& b, bool constant) {
+        if (!problem.HasParameterBlock(b.q)) return;
+        problem.SetManifold(b.q, new ceres::EigenQuaternionManifold);
+        if (constant) {
+            problem.SetParameterBlockConstant(b.q);
+            problem.SetParameterBlockConstant(b.t);
+        }
+    };
+    for (size_t s = 0; s < sessions_.size(); ++s) {
+        const bool fixed = sessions_[s].fixed;
+        prepare(anchors[s], fixed);
+        for (size_t k = 0; k < poses[s].size(); ++k) prepare(poses[s][k], fixed || k == 0);
+    }
+    OptimizeSummary out;
+    if (problem.NumResidualBlocks() == 0) {
+        out.converged = true;
+        return out;
+    }
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    options.max_num_iterations = config.max_iterations;
+    options.num_threads = config.threads;
+    options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+
+    for (size_t s = 0; s < sessions_.size(); ++s) {
+        if (sessions_[s].fixed) continue;
+        sessions_[s].anchor = anchors[s].Get();
+        for (size_t k = 0; k < poses[s].size(); ++k) sessions_[s].poses[k] = poses[s][k].Get();
+    }
+    out.converged = summary.termination_type == ceres::CONVERGENCE;
+    out.iterations = static_cast<int>(summary.iterations.size());
+    out.initial_cost = summary.initial_cost;
+    out.final_cost = summary.final_cost;
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!out.converged) out.message = summary.message;
+    return out;
+}
+
+}  // namespace bimslam::posegraph
