@@ -1,0 +1,84 @@
+// The parameters of multi-session anchoring (anchoring.hpp), with the reasons for their defaults.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include "algorithms/posegraph/pose_graph.hpp"
+#include "algorithms/registration/oriented_cloud.hpp"
+#include "algorithms/registration/registration.hpp"
+#include "algorithms/scancontext/config.hpp"
+
+namespace bimslam::anchor {
+
+// How wrong loops are kept out (README.md, "Wrong loops", gives the measurements).
+enum class OutlierMethod {
+    kPcm,   // pairwise consistency maximisation: the largest set of mutually consistent loops
+    kGnc,   // graduated non-convexity with a truncated least squares cost (Yang et al. 2020)
+    kNone,  // only the Cauchy loss of the pose graph
+};
+std::string_view ToString(OutlierMethod m);
+bool ParseOutlierMethod(std::string_view name, OutlierMethod* out);
+
+struct AnchorConfig {
+    // Place recognition: each query keyframe's nearest ring keys, then the best few of them by
+    // Scan Context distance are registered.
+    scancontext::ScanContextConfig descriptor = scancontext::ScanContextConfig::Indoor();
+    int ring_key_candidates = 10;  // [SC] uses 10
+    int sc_candidates = 2;         // registered per query keyframe (2: symmetric places)
+    double max_sc_distance = 0.6;  // candidates beyond are not worth a registration
+
+    // Registration and what a loop must show to count as verified.
+    registration::OrientedCloudConfig cloud;
+    registration::RegistrationConfig registration;
+    double min_inlier_ratio = 0.5;  // of the query's planar points within 5 cm of the model
+    double max_inlier_rmse = 0.03;  // m
+    // Place-recognition loops must be well constrained in every direction: one that is not (a
+    // corridor) kept its initial guess along its weak axis, and that guess was only "here".
+    bool require_full_rank = true;
+
+    // Pairwise consistency of two loops of one session (PCM): the pose of one query keyframe
+    // predicted through the other loop and the odometry between them must agree within
+    // consistency_* plus drift_* times the distance travelled between the two keyframes.
+    double consistency_m = 0.3;
+    double consistency_deg = 2.0;
+    double drift_per_m = 0.03;  // 3 %: three times this project's odometry without IMU
+    double drift_deg_per_m = 0.15;
+    int min_clique = 4;             // fewer mutually consistent loops are no hypothesis
+    double rival_min_ratio = 0.25;  // a rival clique this big (relative) is examined too
+    int max_hypotheses = 3;
+    OutlierMethod outliers = OutlierMethod::kPcm;
+
+    // Proximity: once placed, every query keyframe near a reference keyframe is registered again
+    // from its estimated pose; accepted when it stays within the gate of that estimate.
+    double proximity_radius_m = 3.0;  // horizontal
+    double proximity_height_m = 1.5;  // vertical: not the storey above or below
+    double proximity_gate_m = 0.5;
+    double proximity_gate_deg = 5.0;
+    size_t proximity_first_level = 1;  // the estimate is good: skip the coarsest level
+    int max_rounds = 6;
+    double converged_m = 0.01;  // rounds end when no keyframe moves more than this ...
+    // ... and the accepted set is the same. After the last round, a loop whose whitened residual
+    // exceeds this chi-square (6 dof, 0.999) is dropped as inconsistent with the solution.
+    double max_loop_chi2 = 22.5;
+
+    // Verdict.
+    int min_loops = 5;             // loops of the best hypothesis for "anchored"
+    double min_coverage = 0.1;     // share of the query's keyframes with a loop
+    double ambiguity_ratio = 0.8;  // a rival explaining this share of the best's loops ...
+    double distinct_m = 1.0;       // ... at an anchor at least this far off ...
+    double distinct_deg = 5.0;     // ... or turned this much: "ambiguous"
+
+    // For the robustness benchmark: this share of the verified place-recognition loops is
+    // replaced by wrong pairs (a query keyframe registered at a random other reference keyframe)
+    // that are accepted as verified whatever their fitness.
+    double inject_false_loops = 0.0;
+    uint64_t seed = 1;
+
+    posegraph::PoseGraphConfig graph;
+    int threads = 0;  // 0: all cores
+
+    void Validate() const;  // throws common::Error naming the field
+};
+
+}  // namespace bimslam::anchor

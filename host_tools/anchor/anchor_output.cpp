@@ -1,0 +1,197 @@
+#include "host_tools/anchor/anchor_output.hpp"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/pcd.hpp"
+#include "algorithms/io/session.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "algorithms/posegraph/pose_graph.hpp"
+
+namespace bimslam::anchor {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json PoseJson(const Eigen::Isometry3d& T) {
+    const Eigen::Quaterniond q = common::Rotation(T);
+    const Eigen::Vector3d t = T.translation();
+    return {{"translation", {t.x(), t.y(), t.z()}},
+            {"quaternion_xyzw", {q.x(), q.y(), q.z(), q.w()}},
+            {"yaw_deg", std::atan2(T.linear()(1, 0), T.linear()(0, 0)) * 180 / M_PI}};
+}
+
+}  // namespace
+
+std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
+                              const AnchorResult& result, const AnchorConfig& config) {
+    json j;
+    const AnchorSession& ref = sessions[0];
+    j["reference"] = {{"dir", ref.dir.string()},
+                      {"keyframes", ref.keyframes()},
+                      {"world_frame", ref.session.manifest.world_frame}};
+    if (ref.session.manifest.model) {
+        j["reference"]["model"] = {{"file", ref.session.manifest.model->file},
+                                   {"sha256", ref.session.manifest.model->sha256}};
+    }
+    std::string overall = "anchored";
+    json out = json::array();
+    for (size_t q = 0; q < result.sessions.size(); ++q) {
+        const SessionResult& s = result.sessions[q];
+        const AnchorSession& in = sessions[q + 1];
+        json hyps = json::array();
+        for (const Hypothesis& h : s.hypotheses) {
+            hyps.push_back({{"T_world_local", PoseJson(h.anchor)},
+                            {"clique", h.clique},
+                            {"loops", h.loops},
+                            {"covered_keyframes", h.covered},
+                            {"mean_inlier_ratio", h.mean_inlier_ratio},
+                            {"rounds", h.rounds}});
+        }
+        json e = {{"name", s.name},
+                  {"dir", in.dir.string()},
+                  {"verdict", ToString(s.verdict)},
+                  {"reason", s.reason},
+                  {"keyframes", s.keyframes},
+                  {"candidates", s.candidates},
+                  {"verified", s.verified},
+                  {"accepted_loops", s.accepted_loops},
+                  {"covered_keyframes", s.covered},
+                  {"via_other_sessions", s.via_other_sessions},
+                  {"hypotheses", hyps},
+                  {"notes", in.notes}};
+        if (s.verdict == Verdict::kAnchored) e["T_world_local"] = PoseJson(s.anchor);
+        if (s.verdict != Verdict::kAnchored && overall == "anchored") overall = ToString(s.verdict);
+        if (s.verdict == Verdict::kFailed) overall = "failed";
+        out.push_back(e);
+    }
+    j["sessions"] = out;
+    j["verdict"] = overall;
+    const StageTimes& t = result.times;
+    j["times_s"] = {{"maps", t.map_s},
+                    {"candidates", t.candidates_s},
+                    {"registration", t.registration_s},
+                    {"consistency", t.consistency_s},
+                    {"optimisation", t.optimisation_s},
+                    {"total", t.total_s},
+                    {"registrations", t.registrations}};
+    j["config"] = {{"outliers", ToString(config.outliers)},
+                   {"sc_candidates", config.sc_candidates},
+                   {"max_sc_distance", config.max_sc_distance},
+                   {"min_inlier_ratio", config.min_inlier_ratio},
+                   {"proximity_radius_m", config.proximity_radius_m},
+                   {"inject_false_loops", config.inject_false_loops}};
+    return j.dump(2) + "\n";
+}
+
+std::string LoopsJson(const std::vector<AnchorSession>& sessions, const AnchorResult& result) {
+    json a = json::array();
+    for (const LoopRecord& l : result.loops) {
+        const Eigen::Isometry3d& c = l.T_target_query;
+        const Eigen::Quaterniond q = common::Rotation(c);
+        const registration::RegistrationResult& r = l.registration;
+        a.push_back({{"query", sessions[l.query_session].name},
+                     {"query_index", l.query_index},
+                     {"target", sessions[l.target_session].name},
+                     {"target_index", l.target_index},
+                     {"source", ToString(l.source)},
+                     {"sc_distance", l.sc_distance},
+                     {"sc_yaw_deg", l.sc_yaw * 180 / M_PI},
+                     {"inlier_ratio", r.fitness.inlier_ratio},
+                     {"inlier_rmse_m", r.fitness.inlier_rmse},
+                     {"degenerate_directions", r.degenerate_directions},
+                     {"iterations", r.iterations},
+                     {"T_target_query",
+                      {c.translation().x(), c.translation().y(), c.translation().z(), q.x(), q.y(),
+                       q.z(), q.w()}},
+                     {"verified", l.verified},
+                     {"accepted", l.accepted},
+                     {"hypothesis", l.hypothesis},
+                     {"reason", l.accepted ? std::string("accepted") : l.reason}});
+    }
+    return a.dump(1) + "\n";
+}
+
+std::vector<io::StampedPose> WorldTrajectory(const AnchorSession& session,
+                                             const std::vector<Eigen::Isometry3d>& world) {
+    const auto& kfs = session.session.keyframes;
+    std::vector<io::StampedPose> out;
+    if (session.session.trajectory.empty()) {
+        for (size_t k = 0; k < world.size(); ++k) {
+            out.push_back(io::StampedPose::FromIsometry(kfs[k].stamp_ns, world[k]));
+        }
+        return out;
+    }
+    std::vector<Eigen::Isometry3d> correction;  // T_world_local at each keyframe
+    for (size_t k = 0; k < world.size(); ++k)
+        correction.push_back(world[k] * session.poses[k].inverse());
+    size_t k = 0;
+    for (const io::StampedPose& p : session.session.trajectory) {
+        while (k + 1 < kfs.size() && kfs[k + 1].stamp_ns <= p.stamp_ns) ++k;
+        Eigen::Isometry3d C = correction[k];
+        if (k + 1 < kfs.size() && p.stamp_ns > kfs[k].stamp_ns) {
+            const double a = double(p.stamp_ns - kfs[k].stamp_ns) /
+                             double(kfs[k + 1].stamp_ns - kfs[k].stamp_ns);
+            C = common::Interpolate(correction[k], correction[k + 1], a);
+        }
+        out.push_back(io::StampedPose::FromIsometry(p.stamp_ns, C * p.Pose()));
+    }
+    return out;
+}
+
+std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
+                                        const std::vector<AnchorSession>& sessions,
+                                        const AnchorResult& result, const AnchorConfig& config,
+                                        bool overwrite) {
+    if (fs::exists(out) && !fs::is_empty(out) && !overwrite) {
+        throw common::FileError(common::StatusCode::kAlreadyExists, out.string(), 0,
+                                "exists and is not empty (--overwrite replaces it)");
+    }
+    fs::create_directories(out);
+    std::vector<fs::path> written;
+    for (size_t q = 0; q < result.sessions.size(); ++q) {
+        const SessionResult& s = result.sessions[q];
+        const AnchorSession& in = sessions[q + 1];
+        fs::path dir = out / s.name;
+        if (s.verdict != Verdict::kAnchored) {
+            if (overwrite) fs::remove_all(dir);
+            continue;
+        }
+        io::SessionManifest m = in.session.manifest;
+        m.world_frame = "bim";
+        m.created.clear();
+        m.counts = {};
+        m.descriptor.kind = std::string(scancontext::ToString(config.descriptor.kind));
+        m.descriptor.rings = config.descriptor.num_rings;
+        m.descriptor.sectors = config.descriptor.num_sectors;
+        m.descriptor.max_radius_m = config.descriptor.max_radius;
+        m.descriptor.min_points = config.descriptor.indoor_min_points;
+        m.descriptor.min_z_span_m = config.descriptor.indoor_min_z_span;
+        io::SessionWriter w(
+            dir, m, {.overwrite = overwrite, .flush_every = 1000000, .sync_each_file = false});
+        for (size_t k = 0; k < in.keyframes(); ++k) {
+            io::SessionKeyframe kf;
+            kf.stamp_ns = in.session.keyframes[k].stamp_ns;
+            kf.T_world_lidar = s.world_poses[k];
+            kf.T_odom_lidar = in.session.keyframes[k].T_odom_lidar.value_or(in.poses[k]);
+            kf.descriptor = in.descriptors[k];
+            kf.cloud = io::ReadPcd(io::KeyframeCloudPath(in.dir, k));
+            w.AddKeyframe(kf);
+        }
+        for (const io::SessionEdge& e : in.session.edges) w.AddEdge(e);
+        const std::vector<io::StampedPose> traj = WorldTrajectory(in, s.world_poses);
+        for (const io::StampedPose& p : traj) w.AddScanPose(p);
+        w.Finish();
+        io::WriteTum(dir / "trajectory_bim.tum", traj);
+        written.push_back(dir);
+    }
+    io::WriteFileAtomic(out / "anchor.json", AnchorSummaryJson(sessions, result, config));
+    io::WriteFileAtomic(out / "loops.json", LoopsJson(sessions, result));
+    io::WriteFileAtomic(out / "posegraph.g2o", posegraph::SerializeMultiSessionG2o(result.graph));
+    return written;
+}
+
+}  // namespace bimslam::anchor

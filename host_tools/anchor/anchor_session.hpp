@@ -1,0 +1,63 @@
+// A session as anchoring uses it: its keyframes' poses in its own frame, their oriented clouds
+// for registration, their Scan Context descriptors, its odometry edges, and the scan poses of
+// trajectory.tum; read from a bimslam session, or from the layout SC-A-LOAM, LT-mapper and
+// FAST-LIO-SC write (Scans/*.pcd, odom_poses.txt, optimized_poses.txt, times.txt), whose missing
+// parts are derived and said:
+//   - no SCDs/: the descriptors are computed from the clouds (indoor Scan Context, the rig's);
+//   - no g2o: odometry edges between consecutive keyframes from the poses, with the stated
+//     default covariance (kDefaultEdgeSigma*), since those tools do not write theirs;
+//   - no session.json: counts and the descriptor's shape come from the files.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "algorithms/io/session.hpp"
+#include "algorithms/registration/oriented_cloud.hpp"
+#include "algorithms/scancontext/config.hpp"
+#include "algorithms/scancontext/descriptor.hpp"
+
+namespace bimslam::anchor {
+
+// The covariance of an odometry edge derived from poses alone: per metre travelled (plus a floor
+// for short edges). A LiDAR odometry drifts about 1 % (this project's: 0.1-1.4 %, its README);
+// 2 % and 0.5 deg per metre leave room for other tools' odometry without letting a wrong loop
+// bend the path freely.
+inline constexpr double kDefaultEdgeSigmaPerMetre = 0.02;    // m per m
+inline constexpr double kDefaultEdgeSigmaDegPerMetre = 0.5;  // deg per m
+inline constexpr double kDefaultEdgeSigmaFloor = 0.01;       // m (and 0.25 deg)
+
+struct AnchorSession {
+    std::string name;  // the folder's name
+    std::filesystem::path dir;
+    io::Session session;   // without clouds; manifest filled in for foreign sessions
+    bool foreign = false;  // SC-A-LOAM/LT-mapper layout, not a bimslam session
+    std::vector<Eigen::Isometry3d> poses;  // T_local_lidar per keyframe
+    std::vector<scancontext::Descriptor> descriptors;
+    std::vector<registration::OrientedCloud> clouds;
+    std::vector<double> path_m;  // distance along the keyframes from the first
+    // What was missing and what was derived, for the user.
+    std::vector<std::string> notes;
+    size_t keyframes() const { return poses.size(); }
+};
+
+struct LoadOptions {
+    registration::OrientedCloudConfig cloud;
+    scancontext::ScanContextConfig descriptor = scancontext::ScanContextConfig::Indoor();
+    bool load_clouds = true;
+    int threads = 0;  // 0: all cores
+};
+
+// Reads a session for anchoring. Throws common::FileError naming the file on a damaged or
+// unreadable session (exit 2), and on a folder that is neither layout.
+AnchorSession LoadAnchorSession(const std::filesystem::path& dir, const LoadOptions& options);
+
+// True when `dir` holds the SC-A-LOAM/LT-mapper layout without session.json and SCDs/.
+bool IsForeignSession(const std::filesystem::path& dir);
+
+// The odometry edges of a foreign session: consecutive keyframes, default covariance.
+std::vector<io::SessionEdge> EdgesFromPoses(const std::vector<Eigen::Isometry3d>& poses);
+
+}  // namespace bimslam::anchor

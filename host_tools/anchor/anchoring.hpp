@@ -1,0 +1,111 @@
+// Multi-session anchoring (the BIM-SLAM paper's Step 2): query sessions moved into the frame of
+// a fixed reference session (the BIM's, "bim") without any initial pose.
+//
+//  1. Place recognition: every query keyframe against every reference keyframe by Scan Context
+//     (ring-key candidates, then the column-shift distance, whose shift is the yaw); the best
+//     candidates are registered to the reference's surfel map from the reference keyframe's pose
+//     turned by that yaw. A registration with enough inliers, well constrained, is a verified
+//     loop; each implies where the query's frame lies in the world (its anchor).
+//  2. Wrong loops: a symmetric building gives loops that register well and are wrong. Pairwise
+//     consistency maximisation (Mangelson et al. 2018) keeps the largest set of loops that agree
+//     with each other through the query's odometry; the next largest sets that disagree with it
+//     are rival hypotheses.
+//  3. Each hypothesis: the pose graph (algorithms/posegraph: fixed reference, the query's anchor
+//     node and odometry edges, the loops with a Cauchy loss) from the anchor its best loop
+//     implies; then rounds of proximity registration from the estimate (every query keyframe
+//     near a reference keyframe), optimising again, until the accepted loops stop changing.
+//  4. Verdict: the hypothesis whose loops explain the most keyframes; "ambiguous" when a rival at
+//     a distinct anchor explains nearly as many (both reported), "failed" when none holds.
+//  5. Several query sessions: each is anchored to the reference first; then every session's
+//     keyframes near another session's are registered to that session's map (loops between
+//     query sessions, lifelong mapping); a session that failed alone is tried again against the
+//     reference together with the anchored sessions; and all are optimised together.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "algorithms/posegraph/pose_graph.hpp"
+#include "algorithms/registration/registration.hpp"
+#include "host_tools/anchor/anchor_config.hpp"
+#include "host_tools/anchor/anchor_session.hpp"
+
+namespace bimslam::anchor {
+
+enum class Verdict { kAnchored, kAmbiguous, kFailed };
+std::string_view ToString(Verdict v);
+
+enum class LoopSource { kScanContext, kProximity, kInjected };
+std::string_view ToString(LoopSource s);
+
+// One loop candidate: session indices are into AnchorInput's order (0 = the reference).
+struct LoopRecord {
+    size_t query_session = 0, query_index = 0;
+    size_t target_session = 0, target_index = 0;
+    LoopSource source = LoopSource::kScanContext;
+    double sc_distance = -1;  // Scan Context distance (place recognition only)
+    double sc_yaw = 0;        // rad, the yaw registration started from
+    registration::RegistrationResult registration;  // T_target_source: the query's world pose
+    // The target keyframe's world pose when registered, and c = T_target_query: the query
+    // keyframe's pose in the target keyframe's frame (the loop factor's measurement).
+    Eigen::Isometry3d T_world_target = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_target_query = Eigen::Isometry3d::Identity();
+    bool verified = false;  // the registration passed
+    bool accepted = false;  // in the final graph
+    int hypothesis = -1;    // the clique it belongs to, if any
+    std::string reason;     // why rejected, or "accepted"
+};
+
+struct Hypothesis {
+    Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();  // T_world_local
+    size_t clique = 0;   // mutually consistent place-recognition loops
+    size_t loops = 0;    // accepted after the proximity rounds
+    size_t covered = 0;  // query keyframes with an accepted loop
+    double mean_inlier_ratio = 0;
+    int rounds = 0;
+};
+
+struct SessionResult {
+    std::string name;
+    Verdict verdict = Verdict::kFailed;
+    std::string reason;  // what the verdict rests on, in words
+    Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();  // T_world_local, when anchored
+    std::vector<Eigen::Isometry3d> world_poses;                // T_world_lidar per keyframe
+    std::vector<Hypothesis> hypotheses;                        // best first
+    size_t keyframes = 0;
+    size_t candidates = 0;  // place-recognition candidates registered
+    size_t verified = 0;
+    size_t accepted_loops = 0;
+    size_t covered = 0;
+    bool via_other_sessions = false;  // anchored only with the help of other query sessions
+};
+
+struct StageTimes {
+    double descriptors_s = 0;   // loading, oriented clouds and descriptors (the caller's)
+    double map_s = 0;           // the reference's surfel maps
+    double candidates_s = 0;    // Scan Context search
+    double registration_s = 0;  // every registration, wall time
+    double consistency_s = 0;   // PCM (or GNC weights)
+    double optimisation_s = 0;  // Ceres
+    double total_s = 0;
+    size_t registrations = 0;
+};
+
+struct AnchorResult {
+    std::vector<SessionResult> sessions;  // one per query, in input order
+    std::vector<LoopRecord> loops;        // every candidate
+    posegraph::PoseGraph graph;           // the final graph, accepted loops only
+    StageTimes times;
+};
+
+// Progress: (stage name, done, total).
+using Progress = std::function<void(const std::string&, size_t, size_t)>;
+
+// sessions[0] is the reference (held fixed, its frame is the world's); the rest are queries.
+// Every session must have been loaded with clouds. Throws common::Error for a bad config.
+AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
+                    const Progress& progress = {});
+
+}  // namespace bimslam::anchor

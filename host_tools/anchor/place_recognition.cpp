@@ -1,0 +1,201 @@
+#include "host_tools/anchor/place_recognition.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "algorithms/posegraph/max_clique.hpp"
+#include "algorithms/scancontext/distance.hpp"
+
+namespace bimslam::anchor {
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+Eigen::Isometry3d Yaw(double yaw) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+}
+
+}  // namespace
+
+void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& target,
+                   const AnchorConfig& config, const std::vector<Eigen::Isometry3d>& init,
+                   size_t first_level, bool proximity, std::vector<LoopRecord>* records,
+                   StageTimes* times) {
+    const auto t0 = Clock::now();
+    tbb::parallel_for(size_t(0), records->size(), [&](size_t k) {
+        LoopRecord& r = (*records)[k];
+        const AnchorSession& q = sessions[r.query_session];
+        r.registration = registration::Register(q.clouds[r.query_index], target.map(), init[k],
+                                                config.registration, first_level);
+        r.T_target_query = r.T_world_target.inverse() * r.registration.T_target_source;
+        const registration::Fitness& f = r.registration.fitness;
+        if (r.registration.failed) {
+            r.reason = "registration failed: " + std::to_string(r.registration.correspondences) +
+                       " correspondences";
+        } else if (f.inlier_ratio < config.min_inlier_ratio) {
+            r.reason = "inlier ratio " + std::to_string(f.inlier_ratio).substr(0, 4) + " < " +
+                       std::to_string(config.min_inlier_ratio).substr(0, 4);
+        } else if (f.inlier_rmse > config.max_inlier_rmse) {
+            r.reason = "inlier rmse " + std::to_string(f.inlier_rmse * 100).substr(0, 4) + " cm";
+        } else if (!proximity && config.require_full_rank &&
+                   r.registration.degenerate_directions > 0) {
+            r.reason = "degenerate: " + std::to_string(r.registration.degenerate_directions) +
+                       " weak direction(s)";
+        } else {
+            r.verified = true;
+            r.reason.clear();
+        }
+    });
+    times->registration_s += Since(t0);
+    times->registrations += records->size();
+}
+
+std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& sessions, size_t query,
+                                       const Target& target, const AnchorConfig& config,
+                                       StageTimes* times) {
+    const auto t0 = Clock::now();
+    const AnchorSession& q = sessions[query];
+    std::vector<std::vector<LoopRecord>> per_keyframe(q.keyframes());
+    tbb::parallel_for(size_t(0), q.keyframes(), [&](size_t j) {
+        const auto match = target.index().Query(q.descriptors[j], config.ring_key_candidates);
+        if (!match) return;
+        std::vector<scancontext::Candidate> c = match->candidates;
+        std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) {
+            return a.scan_context.distance < b.scan_context.distance;
+        });
+        for (const scancontext::Candidate& cand : c) {
+            if (int(per_keyframe[j].size()) >= config.sc_candidates) break;
+            if (cand.scan_context.distance > config.max_sc_distance) break;
+            if (target.keyframes()[cand.index].session == query) continue;
+            const TargetKeyframe& tk = target.keyframes()[cand.index];
+            LoopRecord r;
+            r.query_session = query;
+            r.query_index = j;
+            r.target_session = tk.session;
+            r.target_index = tk.index;
+            r.T_world_target = tk.T_world_lidar;
+            r.source = LoopSource::kScanContext;
+            r.sc_distance = cand.scan_context.distance;
+            r.sc_yaw = cand.scan_context.yaw;  // yaw of T_target_query
+            per_keyframe[j].push_back(r);
+        }
+    });
+    std::vector<LoopRecord> records;
+    for (auto& v : per_keyframe) records.insert(records.end(), v.begin(), v.end());
+    times->candidates_s += Since(t0);
+
+    std::vector<Eigen::Isometry3d> init;
+    for (const LoopRecord& r : records) init.push_back(r.T_world_target * Yaw(r.sc_yaw));
+    RegisterLoops(sessions, target, config, init, 0, false, &records, times);
+    return records;
+}
+
+void InjectFalseLoops(const std::vector<AnchorSession>& sessions, size_t query,
+                      const Target& target, const AnchorConfig& config,
+                      std::vector<LoopRecord>* records, StageTimes* times) {
+    if (config.inject_false_loops <= 0) return;
+    size_t verified = 0;
+    for (const LoopRecord& r : *records) verified += r.verified;
+    const double f = config.inject_false_loops;
+    const size_t n = size_t(std::lround(f / (1 - f) * double(verified)));
+    std::mt19937_64 rng(config.seed);
+    std::uniform_int_distribution<size_t> pick_q(0, sessions[query].keyframes() - 1);
+    std::uniform_int_distribution<size_t> pick_t(0, target.keyframes().size() - 1);
+    std::vector<LoopRecord> fake(n);
+    std::vector<Eigen::Isometry3d> init(n);
+    for (size_t k = 0; k < n; ++k) {
+        LoopRecord& r = fake[k];
+        r.query_session = query;
+        r.query_index = pick_q(rng);
+        const size_t t = pick_t(rng);
+        const TargetKeyframe& tk = target.keyframes()[t];
+        r.target_session = tk.session;
+        r.target_index = tk.index;
+        r.T_world_target = tk.T_world_lidar;
+        r.source = LoopSource::kInjected;
+        const auto d = scancontext::Distance(sessions[query].descriptors[r.query_index],
+                                             target.index().descriptor(t), 1.0);
+        r.sc_distance = d.distance;
+        r.sc_yaw = d.yaw;
+        init[k] = tk.T_world_lidar * Yaw(r.sc_yaw);
+    }
+    RegisterLoops(sessions, target, config, init, 0, false, &fake, times);
+    for (LoopRecord& r : fake) {
+        if (r.registration.failed) continue;  // nothing to inject: no transform at all
+        r.verified = true;                    // accepted whatever its fitness: the worst case
+        r.reason.clear();
+        records->push_back(r);
+    }
+}
+
+Eigen::Isometry3d ImpliedAnchor(const LoopRecord& loop,
+                                const std::vector<AnchorSession>& sessions) {
+    return loop.registration.T_target_source *
+           sessions[loop.query_session].poses[loop.query_index].inverse();
+}
+
+bool Consistent(const LoopRecord& a, const LoopRecord& b,
+                const std::vector<AnchorSession>& sessions, const AnchorConfig& config) {
+    const AnchorSession& q = sessions[a.query_session];
+    const Eigen::Isometry3d predicted = ImpliedAnchor(a, sessions) * q.poses[b.query_index];
+    const Eigen::Isometry3d E = predicted.inverse() * b.registration.T_target_source;
+    const double d = std::abs(q.path_m[a.query_index] - q.path_m[b.query_index]);
+    const double max_t = config.consistency_m + config.drift_per_m * d;
+    const double max_r = (config.consistency_deg + config.drift_deg_per_m * d) * M_PI / 180;
+    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_r;
+}
+
+std::vector<std::vector<size_t>> ConsistentHypotheses(const std::vector<LoopRecord>& records,
+                                                      const std::vector<size_t>& loops,
+                                                      const std::vector<AnchorSession>& sessions,
+                                                      const AnchorConfig& config) {
+    const size_t n = loops.size();
+    posegraph::Graph g(n);
+    for (size_t a = 0; a < n; ++a) {
+        for (size_t b = a + 1; b < n; ++b) {
+            const LoopRecord& la = records[loops[a]];
+            const LoopRecord& lb = records[loops[b]];
+            // Both directions: the bounds are not symmetric in general (drift rotates).
+            if (Consistent(la, lb, sessions, config) && Consistent(lb, la, sessions, config)) {
+                g.Connect(a, b);
+            }
+        }
+    }
+    std::vector<std::vector<size_t>> out;
+    std::vector<char> used(n, 0);
+    while (int(out.size()) < config.max_hypotheses) {
+        std::vector<size_t> allowed;
+        for (size_t v = 0; v < n; ++v) {
+            if (!used[v]) allowed.push_back(v);
+        }
+        if (allowed.empty()) break;
+        const posegraph::CliqueResult c = posegraph::MaximumClique(g, allowed);
+        if (int(c.vertices.size()) < config.min_clique) break;
+        if (!out.empty() &&
+            double(c.vertices.size()) < config.rival_min_ratio * double(out[0].size())) {
+            break;
+        }
+        // A loop that agrees with half of this clique belongs to its hypothesis: later cliques
+        // must disagree with it.
+        for (size_t v = 0; v < n; ++v) {
+            size_t agree = 0;
+            for (size_t m : c.vertices) agree += (m == v || g.Connected(v, m));
+            if (2 * agree >= c.vertices.size()) used[v] = 1;
+        }
+        std::vector<size_t> members;
+        for (size_t m : c.vertices) members.push_back(loops[m]);
+        out.push_back(std::move(members));
+    }
+    return out;
+}
+
+}  // namespace bimslam::anchor

@@ -1,0 +1,50 @@
+// Steps 1 and 2 of anchoring (anchoring.hpp): loop candidates by Scan Context, verified by
+// registration; the hypotheses of mutually consistent loops (PCM); the false loops the
+// robustness benchmark injects.
+#pragma once
+
+#include <vector>
+
+#include "host_tools/anchor/anchoring.hpp"
+#include "host_tools/anchor/target.hpp"
+
+namespace bimslam::anchor {
+
+// Registers each record's query keyframe to the target's map from `init[k]` (world frame) and
+// fills its registration, T_target_query and verified (the place-recognition test unless
+// `proximity`). Parallel; adds the wall time and the count to *times.
+void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& target,
+                   const AnchorConfig& config, const std::vector<Eigen::Isometry3d>& init,
+                   size_t first_level, bool proximity, std::vector<LoopRecord>* records,
+                   StageTimes* times);
+
+// Every query keyframe's best Scan Context candidates among the target's keyframes (of other
+// sessions than the query), registered and verified.
+std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& sessions, size_t query,
+                                       const Target& target, const AnchorConfig& config,
+                                       StageTimes* times);
+
+// Replaces config.inject_false_loops of the verified loops by wrong pairs (see AnchorConfig).
+void InjectFalseLoops(const std::vector<AnchorSession>& sessions, size_t query,
+                      const Target& target, const AnchorConfig& config,
+                      std::vector<LoopRecord>* records, StageTimes* times);
+
+// T_world_local the loop implies for its query session: the registered pose times the inverse of
+// the keyframe's pose in its session.
+Eigen::Isometry3d ImpliedAnchor(const LoopRecord& loop, const std::vector<AnchorSession>& sessions);
+
+// Two loops of one query session agree: the query keyframe of b, placed through a's anchor and
+// the odometry, lies where b's registration put it, within the consistency bounds that grow
+// with the distance travelled between the two keyframes.
+bool Consistent(const LoopRecord& a, const LoopRecord& b,
+                const std::vector<AnchorSession>& sessions, const AnchorConfig& config);
+
+// The cliques of mutually consistent loops among `loops` (indices into records): the largest
+// first, then the largest among the loops that disagree with every clique found so far, while a
+// clique has at least min_clique loops and rival_min_ratio of the first's.
+std::vector<std::vector<size_t>> ConsistentHypotheses(const std::vector<LoopRecord>& records,
+                                                      const std::vector<size_t>& loops,
+                                                      const std::vector<AnchorSession>& sessions,
+                                                      const AnchorConfig& config);
+
+}  // namespace bimslam::anchor

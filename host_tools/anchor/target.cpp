@@ -1,0 +1,55 @@
+#include "host_tools/anchor/target.hpp"
+
+#include <algorithm>
+
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::anchor {
+
+Target::Target(const std::vector<AnchorSession>& sessions,
+               const std::vector<std::pair<size_t, std::vector<Eigen::Isometry3d>>>& members,
+               const AnchorConfig& config)
+    : map_(std::make_unique<registration::SurfelPyramid>(config.registration)),
+      index_(config.descriptor) {
+    for (const auto& [s, world] : members) {
+        const AnchorSession& session = sessions.at(s);
+        if (world.size() != session.keyframes() || session.clouds.size() != session.keyframes()) {
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "Target: session " + session.name + " without clouds or poses");
+        }
+        sessions_.push_back(s);
+        for (size_t k = 0; k < world.size(); ++k) {
+            map_->Add(session.clouds[k], world[k]);
+            keyframes_.push_back({s, k, world[k]});
+            const common::Status st = index_.Add(session.descriptors[k]);
+            if (!st.ok()) {
+                throw common::Error(common::StatusCode::kInvalidArgument,
+                                    session.name + ": keyframe " + std::to_string(k) +
+                                        " descriptor: " + st.message());
+            }
+        }
+    }
+    map_->Build();
+    index_.Build();
+}
+
+bool Target::Contains(size_t session) const {
+    return std::find(sessions_.begin(), sessions_.end(), session) != sessions_.end();
+}
+
+size_t Target::Nearest(const Eigen::Vector3d& p, double radius, double height) const {
+    size_t best = kNone;
+    double best_d2 = radius * radius;
+    for (size_t i = 0; i < keyframes_.size(); ++i) {
+        const Eigen::Vector3d d = keyframes_[i].T_world_lidar.translation() - p;
+        if (std::abs(d.z()) > height) continue;
+        const double d2 = d.head<2>().squaredNorm();
+        if (d2 <= best_d2) {
+            best_d2 = d2;
+            best = i;
+        }
+    }
+    return best;
+}
+
+}  // namespace bimslam::anchor

@@ -1,0 +1,152 @@
+// bimslam anchor: query sessions moved into the BIM reference session's frame, with no initial
+// pose (host_tools/anchor: place recognition, registration, consistency, pose graph).
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "algorithms/common/status.hpp"
+#include "host_tools/anchor/anchor_output.hpp"
+#include "host_tools/anchor/anchoring.hpp"
+#include "host_tools/cli/command.hpp"
+#include "host_tools/cli/progress.hpp"
+
+namespace bimslam::cli {
+namespace {
+namespace fs = std::filesystem;
+
+struct AnchorArgs {
+    std::string reference;
+    std::vector<std::string> queries;
+    std::string out;
+    std::string outliers = "pcm";
+    double inject_false_loops = 0;
+    int threads = 0;
+    uint64_t seed = 1;
+    bool overwrite = false;
+    bool json = false;
+};
+
+int AnchorMain(const AnchorArgs& a) {
+    anchor::AnchorConfig config;
+    if (!anchor::ParseOutlierMethod(a.outliers, &config.outliers)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "--outliers " + a.outliers + ": expected pcm, gnc or none");
+    }
+    config.inject_false_loops = a.inject_false_loops;
+    config.threads = a.threads;
+    config.seed = a.seed;
+    config.Validate();
+    if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
+        throw common::FileError(common::StatusCode::kAlreadyExists, a.out, 0,
+                                "exists and is not empty (--overwrite replaces it)");
+    }
+    ProgressBar bar(!a.json && ::isatty(STDERR_FILENO));
+    anchor::LoadOptions lo;
+    lo.cloud = config.cloud;
+    lo.descriptor = config.descriptor;
+    lo.threads = a.threads;
+    std::vector<anchor::AnchorSession> sessions;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<std::string> dirs{a.reference};
+    dirs.insert(dirs.end(), a.queries.begin(), a.queries.end());
+    for (size_t k = 0; k < dirs.size(); ++k) {
+        bar.Update("reading " + fs::path(dirs[k]).filename().string(), k, dirs.size());
+        sessions.push_back(anchor::LoadAnchorSession(dirs[k], lo));
+    }
+    // Two queries of one name would write to one folder: name them apart.
+    for (size_t k = 1; k < sessions.size(); ++k) {
+        for (size_t o = 1; o < k; ++o) {
+            if (sessions[o].name == sessions[k].name) sessions[k].name += "_" + std::to_string(k);
+        }
+    }
+    const double load_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    anchor::AnchorResult r = anchor::Anchor(
+        sessions, config, [&](const std::string& s, size_t d, size_t n) { bar.Update(s, d, n); });
+    r.times.descriptors_s = load_s;
+    bar.Update("writing " + a.out, 0, 1);
+    const std::vector<fs::path> written =
+        anchor::WriteAnchorOutput(a.out, sessions, r, config, a.overwrite);
+    bar.Clear();
+
+    bool all = true;
+    for (const auto& s : r.sessions) all = all && s.verdict == anchor::Verdict::kAnchored;
+    if (a.json) {
+        std::cout << anchor::AnchorSummaryJson(sessions, r, config);
+        return all ? kExitOk : kExitFailure;
+    }
+    std::cout << std::fixed << std::setprecision(1);
+    std::cout << "reference  " << a.reference << ": " << sessions[0].keyframes() << " keyframes\n";
+    for (size_t q = 0; q < r.sessions.size(); ++q) {
+        const anchor::SessionResult& s = r.sessions[q];
+        for (const std::string& n : sessions[q + 1].notes)
+            std::cout << "note       " << s.name << ": " << n << "\n";
+        std::cout << "query      " << s.name << ": " << s.keyframes << " keyframes, "
+                  << s.candidates << " Scan Context candidates registered, " << s.verified
+                  << " verified\n";
+        std::cout << "  " << anchor::ToString(s.verdict) << ": " << s.reason << "\n";
+        if (s.verdict == anchor::Verdict::kAnchored) {
+            const Eigen::Vector3d t = s.anchor.translation();
+            std::cout << "  T_bim_" << s.name << ": t = (" << t.x() << ", " << t.y() << ", "
+                      << t.z() << ") m, yaw "
+                      << std::atan2(s.anchor.linear()(1, 0), s.anchor.linear()(0, 0)) * 180 / M_PI
+                      << " deg" << (s.via_other_sessions ? " (through other sessions)" : "")
+                      << "\n";
+        }
+        for (size_t h = 0; h < s.hypotheses.size() && s.verdict == anchor::Verdict::kAmbiguous;
+             ++h) {
+            const Eigen::Vector3d t = s.hypotheses[h].anchor.translation();
+            std::cout << "  hypothesis " << h << ": " << s.hypotheses[h].covered
+                      << " keyframes, t = (" << t.x() << ", " << t.y() << ", " << t.z() << ")\n";
+        }
+    }
+    const anchor::StageTimes& t = r.times;
+    std::cout << std::setprecision(2) << "time       " << t.descriptors_s << " s reading (clouds, "
+              << "descriptors), " << t.map_s << " s maps, " << t.candidates_s << " s candidates, "
+              << t.registration_s << " s registration (" << t.registrations << "), "
+              << t.consistency_s << " s consistency, " << t.optimisation_s << " s optimisation\n";
+    std::cout << "wrote      " << a.out << "/: anchor.json, loops.json, posegraph.g2o";
+    for (const fs::path& p : written) std::cout << ", " << p.filename().string() << "/";
+    std::cout << "\n";
+    return all ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
+void AddAnchorCommand(CLI::App& app, int& exit_code) {
+    auto args = std::make_shared<AnchorArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "anchor",
+        "Move query sessions into the BIM reference's frame: no initial pose, robust to wrong "
+        "loops (Step 2)");
+    cmd->add_option("--reference", args->reference,
+                    "The BIM reference session (bimslam bim2session)")
+        ->required();
+    cmd->add_option("--query", args->queries,
+                    "A query session (repeatable): bimslam odometry's, or SC-A-LOAM/LT-mapper's "
+                    "layout (Scans/, poses, times)")
+        ->required();
+    cmd->add_option("-o,--output", args->out, "Output folder")->required();
+    cmd->add_option("--outliers", args->outliers,
+                    "How wrong loops are rejected: pcm (pairwise consistency), gnc (graduated "
+                    "non-convexity) or none (the Cauchy loss only)")
+        ->capture_default_str();
+    cmd->add_option("--inject-false-loops", args->inject_false_loops,
+                    "Benchmarks: replace this share of the verified loops by wrong pairs")
+        ->check(CLI::Range(0.0, 0.95));
+    cmd->add_option("--seed", args->seed, "Seed of --inject-false-loops")->capture_default_str();
+    cmd->add_option("--threads", args->threads, "Threads (0: all cores)")->capture_default_str();
+    cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output folder");
+    cmd->add_flag("--json", args->json, "Print anchor.json instead of the summary");
+    cmd->footer(
+        "Writes OUT/anchor.json (the verdict per query: anchored, ambiguous or failed, with the "
+        "numbers behind it), OUT/loops.json (every loop candidate, accepted or rejected and why), "
+        "OUT/posegraph.g2o (multi-session graph), and per anchored query OUT/<name>/: the session "
+        "with world frame 'bim' and trajectory_bim.tum (every scan). Exit 0 when every query is "
+        "anchored, 1 when one is ambiguous or failed, 2 for bad or damaged input "
+        "(host_tools/anchor/README.md).");
+    cmd->callback([args, &exit_code] { exit_code = Run([&] { return AnchorMain(*args); }); });
+}
+
+}  // namespace bimslam::cli
