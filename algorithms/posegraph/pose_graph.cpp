@@ -17,6 +17,10 @@ using common::Vector6d;
 void PoseGraphConfig::Validate() const {
     const char* c = "PoseGraphConfig";
     Require(loop_loss_scale > 0, c, "loop_loss_scale", loop_loss_scale, "must be positive");
+    Require(!annealing.empty() && annealing.back() == 1.0, c, "annealing",
+            annealing.empty() ? 0.0 : annealing.back(), "must end with 1");
+    Require(odometry_loss_scale >= 0, c, "odometry_loss_scale", odometry_loss_scale,
+            "must not be negative (0: no robust loss)");
     Require(max_iterations >= 1, c, "max_iterations", max_iterations, "must be at least 1");
     Require(threads >= 1, c, "threads", threads, "must be at least 1");
 }
@@ -179,13 +183,22 @@ OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
         for (size_t k = 0; k < poses[s].size(); ++k) poses[s][k].Set(sessions_[s].poses[k]);
     }
     ceres::Problem problem;
+    // Every robust loss is wrapped so that its scale can be annealed between solves.
+    std::vector<std::pair<ceres::LossFunctionWrapper*, double>> losses;
+    auto robust = [&](double scale) -> ceres::LossFunction* {
+        if (!(scale > 0)) return nullptr;
+        auto* w =
+            new ceres::LossFunctionWrapper(new ceres::CauchyLoss(scale), ceres::TAKE_OWNERSHIP);
+        losses.push_back({w, scale});
+        return w;
+    };
     for (const OdometryFactor& f : odometry_) {
         Block& a = poses[f.session][f.from];
         Block& b = poses[f.session][f.to];
         auto* cost = new ceres::AutoDiffCostFunction<BetweenCost, 6, 4, 3, 4, 3>(
             new BetweenCost{common::Rotation(f.T_from_to), f.T_from_to.translation(),
                             SqrtInformation(f.information)});
-        problem.AddResidualBlock(cost, nullptr, a.q, a.t, b.q, b.t);
+        problem.AddResidualBlock(cost, robust(config.odometry_loss_scale), a.q, a.t, b.q, b.t);
     }
     for (size_t i = 0; i < loops_.size(); ++i) {
         const double w = loop_weights.empty() ? 1.0 : loop_weights[i];
@@ -194,8 +207,7 @@ OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
         const Matrix6d S = std::sqrt(w) * SqrtInformation(f.information);
         const Eigen::Quaterniond qz = common::Rotation(f.T_a_b);
         const Eigen::Vector3d tz = f.T_a_b.translation();
-        ceres::LossFunction* loss =
-            config.robust_loops ? new ceres::CauchyLoss(config.loop_loss_scale) : nullptr;
+        ceres::LossFunction* loss = config.robust_loops ? robust(config.loop_loss_scale) : nullptr;
         Block& a = poses[f.session_a][f.index_a];
         Block& b = poses[f.session_b][f.index_b];
         if (f.session_a == f.session_b) {
@@ -236,7 +248,19 @@ OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
     options.num_threads = config.threads;
     options.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
-    ceres::Solve(options, &problem, &summary);
+    for (size_t stage = 0; stage < config.annealing.size(); ++stage) {
+        for (auto& [wrapper, scale] : losses) {
+            wrapper->Reset(new ceres::CauchyLoss(scale * config.annealing[stage]),
+                           ceres::TAKE_OWNERSHIP);
+        }
+        ceres::Solver::Summary s;
+        ceres::Solve(options, &problem, &s);
+        if (stage == 0) summary = s;
+        summary.termination_type = s.termination_type;
+        summary.final_cost = s.final_cost;
+        summary.message = s.message;
+        out.iterations += static_cast<int>(s.iterations.size());
+    }
 
     for (size_t s = 0; s < sessions_.size(); ++s) {
         if (sessions_[s].fixed) continue;
@@ -244,7 +268,6 @@ OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
         for (size_t k = 0; k < poses[s].size(); ++k) sessions_[s].poses[k] = poses[s][k].Get();
     }
     out.converged = summary.termination_type == ceres::CONVERGENCE;
-    out.iterations = static_cast<int>(summary.iterations.size());
     out.initial_cost = summary.initial_cost;
     out.final_cost = summary.final_cost;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

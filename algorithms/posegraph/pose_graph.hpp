@@ -7,7 +7,8 @@
 // Delta_s * x_s,k.
 //
 // Factors:
-//   odometry  between x_s,i and x_s,j of one session: Log(z^-1 x_s,i^-1 x_s,j), z = T_i_j measured;
+//   odometry  between x_s,i and x_s,j of one session: Log(z^-1 x_s,i^-1 x_s,j), z = T_i_j measured,
+//             with a Cauchy loss (odometry_loss_scale);
 //   loop      between keyframe i of session a and j of session b, the BIM-SLAM paper's eq. 2:
 //             Log(c^-1 (Delta_a x_a,i)^-1 (Delta_b x_b,j)), c = T_ai_bj measured (the pose of b's
 //             keyframe in a's), with a robust loss;
@@ -32,6 +33,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "algorithms/common/se3.hpp"
@@ -58,6 +60,16 @@ struct PoseGraphConfig {
     double loop_loss_scale = 3.0;
     // Off for graduated non-convexity, which weighs the loops itself.
     bool robust_loops = true;
+    // Cauchy loss on odometry edges too, in standard deviations; 0: none. An odometry that
+    // loses track for a moment (a doorway, a jolt) makes one edge tens of sigmas wrong; without
+    // a robust loss that edge outvotes the loops on both sides of it.
+    double odometry_loss_scale = 3.0;
+    // The robust losses' scales are multiplied by these in turn, each solve starting where the
+    // last ended: a wide Cauchy is nearly quadratic, so a residual tens of sigmas off still
+    // pulls (a loop that proximity found after a broken odometry edge) instead of sitting in the
+    // flat tail where the loss ignores it; then the scale narrows to its value (graduated
+    // non-convexity, as Black and Rangarajan 1996).
+    std::vector<double> annealing = {16.0, 4.0, 1.0};
     int max_iterations = 100;
     int threads = 2;
     void Validate() const;

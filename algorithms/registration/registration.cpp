@@ -19,6 +19,9 @@ void RegistrationConfig::Validate() const {
         Require(l.cauchy_scale > 0, c, "levels[].cauchy_scale", l.cauchy_scale, "must be positive");
         Require(l.max_iterations >= 1, c, "levels[].max_iterations", l.max_iterations,
                 "must be at least 1");
+        Require(l.max_points >= 6, c, "levels[].max_points", double(l.max_points),
+                "must be at least 6");
+        Require(l.converged > 0, c, "levels[].converged", l.converged, "must be positive");
     }
     Require(min_normal_cos >= -1 && min_normal_cos < 1, c, "min_normal_cos", min_normal_cos,
             "must be in [-1, 1)");
@@ -54,10 +57,12 @@ void SurfelPyramid::Build() {
 namespace {
 
 struct Normal {
-    Matrix6d H = Matrix6d::Zero();
+    Matrix6d H = Matrix6d::Zero();      // weighted: the solve and the information
+    Matrix6d H_geo = Matrix6d::Zero();  // unweighted, per point of the full cloud: degeneracy
     Vector6d g = Vector6d::Zero();
     double weighted_sq = 0, weight = 0;
     int correspondences = 0;
+    size_t used = 0;  // query points tried
     size_t inliers = 0;
     double inlier_sq = 0;
 };
@@ -72,7 +77,10 @@ Normal Accumulate(const OrientedCloud& source, const SurfelMap& map, const Eigen
     const float max_d = static_cast<float>(level.max_distance);
     const float min_cos = static_cast<float>(config.min_normal_cos);
     const double c2 = level.cauchy_scale * level.cauchy_scale;
-    for (size_t k = 0; k < source.size(); ++k) {
+    const size_t stride =
+        std::max<size_t>(1, (source.size() + level.max_points - 1) / level.max_points);
+    for (size_t k = 0; k < source.size(); k += stride) {
+        ++ne.used;
         const Eigen::Vector3f q = R * source.points[k] + t;
         float r = 0;
         const Surfel* s = map.Find(q, R * source.normals[k], min_cos, &r);
@@ -84,6 +92,7 @@ Normal Accumulate(const OrientedCloud& source, const SurfelMap& map, const Eigen
         J << Rtn, p.cross(Rtn);  // n^T R0 = (R0^T n)^T
         const double w = 1.0 / (1.0 + double(r) * r / c2);
         ne.H.noalias() += w * J * J.transpose();
+        ne.H_geo.noalias() += double(stride) * J * J.transpose();
         ne.g.noalias() += w * double(r) * J;
         ne.weighted_sq += w * double(r) * r;
         ne.weight += w;
@@ -104,12 +113,32 @@ double MeanRange(const OrientedCloud& cloud) {
 
 }  // namespace
 
+// The directions (eigenvectors of the scaled geometric Hessian) that enough points constrain,
+// as columns: the subspace the solve and the information live in (see the header).
+Eigen::Matrix<double, 6, Eigen::Dynamic> Constrained(const Matrix6d& H_geo_scaled, double min_eigen,
+                                                     int* degenerate, double* min_ratio) {
+    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(H_geo_scaled);
+    const Vector6d lambda = eig.eigenvalues().cwiseMax(0.0);
+    if (min_ratio) *min_ratio = lambda.minCoeff() / std::max(lambda.maxCoeff(), 1e-12);
+    Eigen::Matrix<double, 6, Eigen::Dynamic> U(6, 0);
+    int d = 0;
+    for (int i = 0; i < 6; ++i) {
+        if (lambda(i) < min_eigen) {
+            ++d;
+            continue;
+        }
+        U.conservativeResize(6, U.cols() + 1);
+        U.col(U.cols() - 1) = eig.eigenvectors().col(i);
+    }
+    if (degenerate) *degenerate = d;
+    return U;
+}
+
 RegistrationResult Register(const OrientedCloud& source, const SurfelPyramid& target,
                             const Eigen::Isometry3d& T_init, const RegistrationConfig& config,
                             size_t first_level) {
     RegistrationResult out;
     out.T_target_source = T_init;
-    out.fitness.points = source.size();
     if (target.levels() != config.levels.size()) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "Register: the target was built for another number of levels");
@@ -118,10 +147,9 @@ RegistrationResult Register(const OrientedCloud& source, const SurfelPyramid& ta
     Vector6d scale;
     const double L = MeanRange(source);
     scale << 1, 1, 1, L, L, L;
+    const Vector6d Sinv = scale.cwiseInverse();
     Eigen::Isometry3d T = T_init;
     Normal ne;
-    Eigen::Matrix<double, 6, 6> V = Matrix6d::Identity();  // eigenvectors of the scaled H
-    Vector6d lambda = Vector6d::Zero();
     for (size_t li = first_level; li < config.levels.size(); ++li) {
         const RegistrationLevel& level = config.levels[li];
         const SurfelMap& map = target.level(li);
@@ -134,21 +162,18 @@ RegistrationResult Register(const OrientedCloud& source, const SurfelPyramid& ta
                 out.correspondences = ne.correspondences;
                 return out;
             }
-            // Solve in scaled coordinates: x = S delta, H_s = S^-1 H S^-1.
-            const Matrix6d Hs = scale.asDiagonal().inverse() * ne.H * scale.asDiagonal().inverse();
-            const Vector6d gs = scale.asDiagonal().inverse() * ne.g;
-            const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(Hs);
-            V = eig.eigenvectors();
-            lambda = eig.eigenvalues().cwiseMax(0.0);
-            Vector6d xs = Vector6d::Zero();
-            for (int i = 0; i < 6; ++i) {
-                if (lambda(i) < config.degenerate_min_eigenvalue) continue;  // keep the guess
-                xs -= V.col(i) * (V.col(i).dot(gs) / lambda(i));
-            }
-            const Vector6d delta = scale.asDiagonal().inverse() * xs;
+            // Solve in scaled coordinates, x = S delta (H_s = S^-1 H S^-1), within the
+            // constrained subspace U: x = U (U^T H_s U)^-1 U^T (-g_s); along the rest, the guess.
+            const Matrix6d Hs = Sinv.asDiagonal() * ne.H * Sinv.asDiagonal();
+            const Vector6d gs = Sinv.asDiagonal() * ne.g;
+            const auto U = Constrained(Sinv.asDiagonal() * ne.H_geo * Sinv.asDiagonal(),
+                                       config.degenerate_min_eigenvalue, nullptr, nullptr);
+            if (U.cols() == 0) break;
+            const Eigen::MatrixXd A = U.transpose() * Hs * U;
+            const Vector6d xs = -U * A.ldlt().solve(U.transpose() * gs);
+            const Vector6d delta = Sinv.asDiagonal() * xs;
             T = T * common::ExpSE3(delta);
-            if (delta.head<3>().norm() < config.converged_translation &&
-                delta.tail<3>().norm() < config.converged_rotation) {
+            if (xs.norm() < level.converged) {
                 out.converged = true;
                 break;
             }
@@ -160,7 +185,8 @@ RegistrationResult Register(const OrientedCloud& source, const SurfelPyramid& ta
     out.T_target_source = T;
     out.correspondences = ne.correspondences;
     out.fitness.inliers = ne.inliers;
-    out.fitness.inlier_ratio = source.empty() ? 0 : double(ne.inliers) / double(source.size());
+    out.fitness.points = ne.used;
+    out.fitness.inlier_ratio = ne.used ? double(ne.inliers) / double(ne.used) : 0;
     out.fitness.inlier_rmse = ne.inliers ? std::sqrt(ne.inlier_sq / double(ne.inliers)) : 0;
     if (ne.correspondences < config.min_correspondences) {
         out.failed = true;
@@ -168,19 +194,12 @@ RegistrationResult Register(const OrientedCloud& source, const SurfelPyramid& ta
     }
     out.sigma = std::sqrt(ne.weighted_sq / std::max(ne.weight, 1e-12));
     const double sigma = std::max(out.sigma, config.min_sigma);
-    const Matrix6d Hs = scale.asDiagonal().inverse() * ne.H * scale.asDiagonal().inverse();
-    const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(Hs);
-    lambda = eig.eigenvalues().cwiseMax(0.0);
-    const double lmax = std::max(lambda.maxCoeff(), 1e-12);
-    out.min_eigen_ratio = lambda.minCoeff() / lmax;
-    Vector6d kept = lambda;
-    for (int i = 0; i < 6; ++i) {
-        if (lambda(i) < config.degenerate_min_eigenvalue) {
-            kept(i) = 0;
-            ++out.degenerate_directions;
-        }
-    }
-    const Matrix6d Is = eig.eigenvectors() * kept.asDiagonal() * eig.eigenvectors().transpose();
+    // The information: the weighted Hessian on the constrained subspace, zero elsewhere.
+    const auto U = Constrained(Sinv.asDiagonal() * ne.H_geo * Sinv.asDiagonal(),
+                               config.degenerate_min_eigenvalue, &out.degenerate_directions,
+                               &out.min_eigen_ratio);
+    const Matrix6d P = U * U.transpose();
+    const Matrix6d Is = P * (Sinv.asDiagonal() * ne.H * Sinv.asDiagonal()) * P;
     out.information =
         config.information_scale / (sigma * sigma) * scale.asDiagonal() * Is * scale.asDiagonal();
     return out;

@@ -20,13 +20,15 @@
 // from the problem itself. Points of one scan are not independent (a wall's points share its
 // plane's error), so `information_scale` < 1 discounts them.
 //
-// Degeneracy (Zhang, Kaess, Singh, ICRA 2016): the eigenvalues of H = sum w J^T J with rotation
-// scaled by the mean range of the points (so both halves are in metres, and an eigenvalue counts
-// the points, weighted by w <= 1 and by how squarely they face that direction, that constrain
-// it). A direction constrained by fewer than degenerate_min_eigenvalue points' worth (the axis
-// of a long corridor, the in-plane motion of a scan that sees only a floor) keeps the initial
-// guess and gets zero information. An absolute count, not a ratio to the largest eigenvalue: a
-// corridor's roll is weak next to its sideways translation but measured by thousands of points.
+// Degeneracy (Zhang, Kaess, Singh, ICRA 2016): the eigenvalues of the unweighted H_geo = sum J^T J
+// over the query's points (those a coarse level skips counted too), with rotation scaled by the
+// mean range of the points, so both halves are in metres and an eigenvalue counts the points, by
+// how squarely they face that direction, that constrain it. Geometry, not the robust weights,
+// decides. A direction constrained by fewer than degenerate_min_eigenvalue points' worth (the
+// axis of a long corridor, the in-plane motion of a scan that sees only a floor) keeps the
+// initial guess and gets zero information; the solve runs in the other directions. An absolute
+// count, not a ratio to the largest eigenvalue: a corridor's roll is weak next to its sideways
+// translation but measured by thousands of points.
 #pragma once
 
 #include <Eigen/Core>
@@ -44,18 +46,23 @@ struct RegistrationLevel {
     double max_distance = 0.5;  // m: farther correspondences are not made
     double cauchy_scale = 0.1;  // m
     int max_iterations = 15;
+    // At most this many query points, evenly thinned (every k-th): a coarse level only has to
+    // bring the pose within reach of the next.
+    size_t max_points = 2000;
+    // Converged when an iteration moves the pose less than this (m; the rotation is in metres
+    // at the points' mean range).
+    double converged = 1e-3;
 };
 
 struct RegistrationConfig {
     // Coarse to fine. The first level's reach decides how far off an initial guess may be (about
     // its max_distance plus a voxel); the last decides the accuracy.
-    std::vector<RegistrationLevel> levels = {
-        {1.0, 1.2, 0.4, 15}, {0.5, 0.5, 0.15, 15}, {0.25, 0.2, 0.04, 20}};
-    double min_normal_cos = 0.8;          // the query's and the surfel's normals within 37 degrees
-    double inlier_distance = 0.05;        // m: fitness counts points this close at the last level
-    int min_correspondences = 50;         // fewer: failed
-    double converged_translation = 1e-4;  // m per iteration
-    double converged_rotation = 1e-5;     // rad per iteration
+    std::vector<RegistrationLevel> levels = {{1.0, 1.2, 0.4, 15, 500, 5e-3},
+                                             {0.5, 0.5, 0.15, 15, 1000, 2e-3},
+                                             {0.25, 0.2, 0.04, 20, 2000, 2e-4}};
+    double min_normal_cos = 0.8;    // the query's and the surfel's normals within 37 degrees
+    double inlier_distance = 0.05;  // m: fitness counts points this close at the last level
+    int min_correspondences = 50;   // fewer: failed
     double degenerate_min_eigenvalue = 10.0;
     double min_sigma = 0.01;         // m, floor of the residual standard deviation
     double information_scale = 0.1;  // see above
@@ -77,7 +84,7 @@ private:
 };
 
 struct Fitness {
-    size_t points = 0;   // query points with a normal
+    size_t points = 0;   // query points used at the last level
     size_t inliers = 0;  // with a correspondence within inlier_distance at the end
     double inlier_ratio = 0;
     double inlier_rmse = 0;  // m
@@ -89,7 +96,7 @@ struct RegistrationResult {
     // Over the right perturbation [rho; phi] of T_target_source; zero along degenerate directions.
     common::Matrix6d information = common::Matrix6d::Zero();
     int degenerate_directions = 0;
-    double min_eigen_ratio = 0;  // smallest eigenvalue over the largest, of the scaled Hessian
+    double min_eigen_ratio = 0;  // smallest eigenvalue over the largest, of the scaled H_geo
     int iterations = 0;
     int correspondences = 0;  // at the end
     double sigma = 0;         // m, the residual standard deviation used (before the floor)

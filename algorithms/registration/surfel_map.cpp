@@ -92,29 +92,33 @@ const std::array<Eigen::Vector3i, 7> kNeighbours = {
 
 const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
                               float min_cos_angle, float* distance) const {
-    // The bins to search: the nearest half-axis, and the second nearest when n is closer than
-    // 60 degrees to it as well (a 45-degree wall fits planes in both).
+    const Eigen::Vector3i v = common::VoxelOf(p, inv_size_);
+    const Surfel* best = nullptr;
+    auto look = [&](int bin, const Eigen::Vector3i& d) {
+        const int32_t i = tables_[bin].Find(common::PackVoxel(v + d));
+        if (i < 0) return;
+        const Surfel& s = surfels_[size_t(i)];
+        if (s.normal.dot(n) < min_cos_angle) return;
+        const float r = s.normal.dot(p) - s.offset;
+        if (!best || std::abs(r) < std::abs(*distance)) {
+            best = &s;
+            *distance = r;
+        }
+    };
+    // The nearest half-axis's bin, and the second nearest when n is closer than 60 degrees to it
+    // as well (a 45-degree wall fits planes in both).
     int bins[2] = {NormalBin(n), -1};
     Eigen::Vector3f a = n.cwiseAbs();
     a[bins[0] / 2] = -1;
     int second = 0;
     if (a.maxCoeff(&second) > 0.5f) bins[1] = 2 * second + (n[second] < 0 ? 1 : 0);
-
-    const Eigen::Vector3i v = common::VoxelOf(p, inv_size_);
-    const Surfel* best = nullptr;
+    // Most points lie on the plane of their own voxel: then the neighbours cannot be nearer.
+    look(bins[0], kNeighbours[0]);
+    if (best && std::abs(*distance) < 0.1f / inv_size_) return best;
     for (const int bin : bins) {
         if (bin < 0) continue;
-        for (const Eigen::Vector3i& d : kNeighbours) {
-            const int32_t i = tables_[bin].Find(common::PackVoxel(v + d));
-            if (i < 0) continue;
-            const Surfel& s = surfels_[size_t(i)];
-            if (s.normal.dot(n) < min_cos_angle) continue;
-            const float r = s.normal.dot(p) - s.offset;
-            if (!best || std::abs(r) < std::abs(*distance)) {
-                best = &s;
-                *distance = r;
-            }
-        }
+        for (size_t k = (bin == bins[0] ? 1 : 0); k < kNeighbours.size(); ++k)
+            look(bin, kNeighbours[k]);
     }
     return best;
 }

@@ -41,6 +41,8 @@ void AnchorConfig::Validate() const {
             "must be in (0, 2]");
     Require(min_inlier_ratio >= 0 && min_inlier_ratio <= 1, c, "min_inlier_ratio", min_inlier_ratio,
             "must be in [0, 1]");
+    Require(odometry_information_scale > 0, c, "odometry_information_scale",
+            odometry_information_scale, "must be positive");
     Require(max_inlier_rmse > 0, c, "max_inlier_rmse", max_inlier_rmse, "must be positive");
     Require(consistency_m > 0, c, "consistency_m", consistency_m, "must be positive");
     Require(consistency_deg > 0, c, "consistency_deg", consistency_deg, "must be positive");

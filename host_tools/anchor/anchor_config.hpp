@@ -28,9 +28,24 @@ struct AnchorConfig {
     int sc_candidates = 2;         // registered per query keyframe (2: symmetric places)
     double max_sc_distance = 0.6;  // candidates beyond are not worth a registration
 
-    // Registration and what a loop must show to count as verified.
+    // Registration and what a loop must show to count as verified. The information of a loop
+    // is the registration's Hessian over its residual variance, times information_scale: the
+    // points of one scan do not err independently (a wall's points share its plane's error), so
+    // they carry the information of far fewer points. 0.006 (about one point in 150) makes the
+    // loops' errors against ground truth match their stated sigma (median |e|/sigma 0.67 as for
+    // a normal distribution) on the sample building's Go1 and handheld captures
+    // (README.md, "Calibration"); 0.1, Censi's closed form with a 1 cm floor, claimed 3-5x too
+    // little error.
     registration::OrientedCloudConfig cloud;
-    registration::RegistrationConfig registration;
+    registration::RegistrationConfig registration = [] {
+        registration::RegistrationConfig r;
+        r.information_scale = 0.006;
+        return r;
+    }();
+    // The query's odometry edges keep their covariances from the session's g2o, scaled by this:
+    // the rig's odometry states its per-scan registration covariance, which the same calibration
+    // measured to be about 3x too small in sigma (median |e|/sigma 2.0).
+    double odometry_information_scale = 0.1;
     double min_inlier_ratio = 0.5;  // of the query's planar points within 5 cm of the model
     double max_inlier_rmse = 0.03;  // m
     // Place-recognition loops must be well constrained in every direction: one that is not (a

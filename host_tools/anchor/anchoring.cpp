@@ -35,13 +35,13 @@ struct State {
 };
 
 PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions, const std::vector<State>& state,
-                     const std::vector<LoopRecord>& loops) {
+                     const std::vector<LoopRecord>& loops, double odometry_scale) {
     PoseGraph g;
     for (size_t s = 0; s < sessions.size(); ++s) {
         g.AddSession(state[s].poses, state[s].anchor, state[s].fixed);
         if (state[s].fixed) continue;
         for (const io::SessionEdge& e : sessions[s].session.edges) {
-            g.AddOdometry({s, e.from, e.to, e.T_from_to, e.information});
+            g.AddOdometry({s, e.from, e.to, e.T_from_to, odometry_scale * e.information});
         }
     }
     for (const LoopRecord& l : loops) {
@@ -55,11 +55,11 @@ PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions, const std::vect
 double Optimize(const std::vector<AnchorSession>& sessions, std::vector<State>* state,
                 const std::vector<LoopRecord>& loops, const AnchorConfig& config, StageTimes* times,
                 const std::vector<double>& weights = {},
-                posegraph::PoseGraphConfig graph_config = {}, PoseGraph* out = nullptr) {
+                const posegraph::PoseGraphConfig* graph_config = nullptr,
+                PoseGraph* out = nullptr) {
     const auto t0 = Clock::now();
-    graph_config.threads = config.graph.threads;
-    PoseGraph g = BuildGraph(sessions, *state, loops);
-    g.Optimize(graph_config, weights);
+    PoseGraph g = BuildGraph(sessions, *state, loops, config.odometry_information_scale);
+    g.Optimize(graph_config ? *graph_config : config.graph, weights);
     double moved = 0;
     for (size_t s = 0; s < sessions.size(); ++s) {
         State& st = (*state)[s];
@@ -103,7 +103,7 @@ std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
     std::vector<double> w(loops.size(), 1.0);
     const double c2 = config.max_loop_chi2;
     PoseGraph g;
-    Optimize(sessions, state, loops, config, times, w, plain, &g);
+    Optimize(sessions, state, loops, config, times, w, &plain, &g);
     double max_r2 = 0;
     for (size_t k = 0; k < loops.size(); ++k) max_r2 = std::max(max_r2, g.LoopChi2(k));
     if (max_r2 <= c2) return w;
@@ -121,7 +121,7 @@ std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
                 binary = false;
             }
         }
-        Optimize(sessions, state, loops, config, times, w, plain, &g);
+        Optimize(sessions, state, loops, config, times, w, &plain, &g);
         if (binary && it > 0) break;
         mu *= 1.4;
     }
@@ -210,7 +210,7 @@ Evaluation Evaluate(const std::vector<AnchorSession>& sessions, std::vector<Stat
         previous = covered;
     }
     // Loops the solution cannot explain are dropped, and the rest optimised once more.
-    PoseGraph g = BuildGraph(sessions, state, loops);
+    PoseGraph g = BuildGraph(sessions, state, loops, config.odometry_information_scale);
     std::vector<LoopRecord> kept;
     for (size_t k = 0; k < loops.size(); ++k) {
         const double chi2 = g.LoopChi2(k);
@@ -547,8 +547,7 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
         }
     }
     for (size_t q : now) state[q].fixed = false;
-    if (!now.empty())
-        Optimize(sessions, &state, joint, config, &times, {}, config.graph, &result.graph);
+    if (!now.empty()) Optimize(sessions, &state, joint, config, &times, {}, nullptr, &result.graph);
     for (size_t q = 1; q < sessions.size(); ++q) {
         QueryOutcome& o = outcomes[q - 1];
         if (o.result.verdict == Verdict::kAnchored) {
