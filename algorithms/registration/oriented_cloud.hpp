@@ -38,6 +38,7 @@ struct OrientedCloudConfig {
     // their range noise would tilt it towards the rays), and no point lies farther than three
     // thicknesses from it. 3 cm: an OS1's range noise is 1-3 cm; a voxel over an edge is thicker.
     double max_thickness = 0.03;      // m
+    double thin_voxel_size = 0.05;    // m: the input thinned first (one point per voxel)
     double sample_voxel_size = 0.15;  // m: one point (the first) per voxel of this size
     size_t max_points = 0;            // 0: no cap; else evenly thinned to at most this many
 

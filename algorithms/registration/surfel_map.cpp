@@ -73,6 +73,9 @@ void SurfelMap::Build() {
         f.centroid = (s.origin + mean).cast<float>();
         f.offset = f.normal.dot(f.centroid);
         f.thickness = static_cast<float>(std::sqrt(lambda(0)));
+        f.axis = eig.eigenvectors().col(2).cast<float>();
+        f.spread[0] = static_cast<float>(std::sqrt(lambda(2)));
+        f.spread[1] = static_cast<float>(std::sqrt(lambda(1)));
         f.points = static_cast<uint32_t>(s.n);
         tables_[s.bin].Insert(s.key, static_cast<int32_t>(surfels_.size()));
         surfels_.push_back(f);
@@ -121,6 +124,16 @@ const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n
             look(bin, kNeighbours[k]);
     }
     return best;
+}
+
+int SurfelMap::InVoxel(const Eigen::Vector3f& p, const Surfel* out[kNormalBins]) const {
+    const uint64_t key = common::VoxelKey(p, inv_size_);
+    int n = 0;
+    for (int bin = 0; bin < kNormalBins; ++bin) {
+        const int32_t i = tables_[bin].Find(key);
+        if (i >= 0) out[n++] = &surfels_[size_t(i)];
+    }
+    return n;
 }
 
 }  // namespace bimslam::registration

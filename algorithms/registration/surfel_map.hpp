@@ -36,7 +36,19 @@ struct Surfel {
     float offset = 0;                                  // normal . x = offset on the plane
     Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
     float thickness = 0;  // m, standard deviation across the plane
+    // Its extent within the plane: the direction of largest spread and the standard deviations
+    // along it and along normal x axis (a voxel half covered by a wall, at a door, has its
+    // centroid and spread in the covered half).
+    Eigen::Vector3f axis = Eigen::Vector3f::Zero();
+    float spread[2] = {0, 0};
     uint32_t points = 0;
+    // Whether a point of the plane lies within two standard deviations of the patch.
+    bool Covers(const Eigen::Vector3f& x) const {
+        const Eigen::Vector3f d = x - centroid;
+        const float u = d.dot(axis) / spread[0];
+        const float w = d.dot(normal.cross(axis)) / spread[1];
+        return u * u + w * w <= 4.0f;
+    }
 };
 
 // The normal bin of a unit vector: 2 * (axis of its largest component) + (that component < 0).
@@ -59,6 +71,9 @@ public:
     // the signed distance of p from its plane.
     const Surfel* Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float min_cos_angle,
                        float* distance) const;
+
+    // The surfels of the voxel holding p, in every bin (at most kNormalBins).
+    int InVoxel(const Eigen::Vector3f& p, const Surfel* out[kNormalBins]) const;
 
     size_t size() const { return surfels_.size(); }  // valid surfels
     const std::vector<Surfel>& surfels() const { return surfels_; }

@@ -63,6 +63,10 @@ void AnchorConfig::Validate() const {
             double(proximity_first_level), "must name a registration level");
     Require(max_rounds >= 1, c, "max_rounds", max_rounds, "must be at least 1");
     Require(max_loop_chi2 > 0, c, "max_loop_chi2", max_loop_chi2, "must be positive");
+    Require(free_space_level < registration.levels.size(), c, "free_space_level",
+            double(free_space_level), "must name a registration level");
+    Require(max_seen_through > 0 && max_seen_through <= 1, c, "max_seen_through", max_seen_through,
+            "must be in (0, 1]");
     Require(min_loops >= 1, c, "min_loops", min_loops, "must be at least 1");
     Require(min_coverage >= 0 && min_coverage <= 1, c, "min_coverage", min_coverage,
             "must be in [0, 1]");

@@ -49,6 +49,8 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
                             {"loops", h.loops},
                             {"covered_keyframes", h.covered},
                             {"mean_inlier_ratio", h.mean_inlier_ratio},
+                            {"seen_through", h.seen_through},
+                            {"contradicted", h.contradicted},
                             {"rounds", h.rounds}});
         }
         json e = {{"name", s.name},
@@ -113,6 +115,7 @@ std::string LoopsJson(const std::vector<AnchorSession>& sessions, const AnchorRe
                      {"verified", l.verified},
                      {"accepted", l.accepted},
                      {"hypothesis", l.hypothesis},
+                     {"seen_through", l.seen_through},
                      {"reason", l.accepted ? std::string("accepted") : l.reason}});
     }
     return a.dump(1) + "\n";

@@ -127,13 +127,14 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
     }
     // Descriptors: the session's own when they are the kind the reference uses, else computed.
     const bool compute =
-        s.foreign || !SameDescriptor(s.session.manifest.descriptor, options.descriptor);
+        options.compute_descriptors &&
+        (s.foreign || !SameDescriptor(s.session.manifest.descriptor, options.descriptor));
     if (compute && !s.foreign) {
         s.notes.push_back("descriptors recomputed: the session's (" +
                           s.session.manifest.descriptor.kind + ") are not the " +
                           std::string(scancontext::ToString(options.descriptor.kind)) +
                           " Scan Context this run compares with");
-    } else if (s.foreign) {
+    } else if (compute) {
         s.notes.push_back("Scan Context descriptors computed from the clouds (" +
                           std::string(scancontext::ToString(options.descriptor.kind)) + ")");
     }
@@ -147,6 +148,9 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
                 s.path_m[k - 1] + (s.poses[k].translation() - s.poses[k - 1].translation()).norm();
         }
         if (!compute) s.descriptors[k] = s.session.keyframes[k].descriptor;
+    }
+    if (s.foreign && !compute) {
+        s.notes.push_back("no SCDs/: bimslam anchor computes the Scan Context descriptors");
     }
     if (options.load_clouds || compute) {
         s.clouds.resize(options.load_clouds ? n : 0);

@@ -47,6 +47,8 @@ struct LoadOptions {
     registration::OrientedCloudConfig cloud;
     scancontext::ScanContextConfig descriptor = scancontext::ScanContextConfig::Indoor();
     bool load_clouds = true;
+    // Descriptors missing or of another kind are computed from the clouds (reads every cloud).
+    bool compute_descriptors = true;
     int threads = 0;  // 0: all cores
 };
 

@@ -1,6 +1,7 @@
 #include "host_tools/anchor/anchoring.hpp"
 
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -10,6 +11,7 @@
 #include <set>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/registration/free_space.hpp"
 #include "host_tools/anchor/place_recognition.hpp"
 #include "host_tools/anchor/target.hpp"
 
@@ -226,6 +228,26 @@ Evaluation Evaluate(const std::vector<AnchorSession>& sessions, std::vector<Stat
     for (size_t j = 0; j < n; ++j) {
         if (near[j] && !near[j]->verified) ev.rejected.push_back(*near[j]);
     }
+    // Negative evidence: the query's rays through the target's surfaces, where it is near.
+    std::vector<registration::FreeSpaceResult> fs(n);
+    const registration::SurfelMap& fs_map = target.map().level(config.free_space_level);
+    tbb::parallel_for(size_t(0), n, [&](size_t j) {
+        const Eigen::Isometry3d T = state[q].anchor * state[q].poses[j];
+        if (target.Nearest(T.translation(), config.proximity_radius_m, config.proximity_height_m) ==
+            Target::kNone) {
+            return;
+        }
+        fs[j] = registration::CheckFreeSpace(query.clouds[j], fs_map, T, config.free_space);
+    });
+    std::vector<double> ratios;
+    for (const auto& f : fs) {
+        if (f.rays > 0) ratios.push_back(f.ratio());
+    }
+    if (!ratios.empty()) {
+        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+        ev.hypothesis.seen_through = ratios[ratios.size() / 2];
+    }
+    for (LoopRecord& l : kept) l.seen_through = fs[l.query_index].ratio();
     double inliers = 0;
     for (const LoopRecord& l : kept) inliers += l.registration.fitness.inlier_ratio;
     ev.hypothesis.anchor = state[q].anchor;
@@ -330,14 +352,30 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
         evals.back().clique = int(h);
         if (progress) progress("hypotheses: " + query.name, h + 1, cliques.size());
     }
+    // Hypotheses that free space contradicts rank last; then by the keyframes they explain.
+    for (Evaluation& e : evals) {
+        e.hypothesis.contradicted = e.hypothesis.seen_through > config.max_seen_through;
+    }
     std::sort(evals.begin(), evals.end(), [](const Evaluation& a, const Evaluation& b) {
-        return std::tie(a.hypothesis.covered, a.hypothesis.loops) >
-               std::tie(b.hypothesis.covered, b.hypothesis.loops);
+        return std::make_tuple(!a.hypothesis.contradicted, a.hypothesis.covered,
+                               a.hypothesis.loops) > std::make_tuple(!b.hypothesis.contradicted,
+                                                                     b.hypothesis.covered,
+                                                                     b.hypothesis.loops);
     });
     for (const Evaluation& e : evals) res.hypotheses.push_back(e.hypothesis);
 
     // Verdict.
     const size_t n = query.keyframes();
+    if (!evals.empty() && evals[0].hypothesis.contradicted) {
+        res.verdict = Verdict::kFailed;
+        res.reason = "every hypothesis (" + std::to_string(evals.size()) +
+                     ") is contradicted by free space: the best one's keyframes see through the "
+                     "model's surfaces with " +
+                     std::to_string(100 * evals[0].hypothesis.seen_through).substr(0, 4) +
+                     " % of their rays (at most " +
+                     std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
+        return out;
+    }
     const double min_cover = std::max(double(config.min_loops), config.min_coverage * double(n));
     if (evals.empty() || double(evals[0].hypothesis.covered) < min_cover ||
         int(evals[0].hypothesis.loops) < config.min_loops) {
@@ -353,7 +391,7 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
         return out;
     }
     const Evaluation& best = evals[0];
-    if (evals.size() > 1) {
+    if (evals.size() > 1 && !evals[1].hypothesis.contradicted) {
         const Evaluation& rival = evals[1];
         const double dist =
             MeanDistance(query.poses, best.hypothesis.anchor, rival.hypothesis.anchor);
@@ -377,13 +415,21 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
     res.world_poses = best.query.World();
     res.accepted_loops = best.accepted.size();
     res.covered = best.hypothesis.covered;
+    const auto percent = [](double r) { return std::to_string(100 * r).substr(0, 4) + " %"; };
     res.reason = std::to_string(best.hypothesis.loops) + " loops on " +
                  std::to_string(best.hypothesis.covered) + " of " + std::to_string(n) +
                  " keyframes, mean inlier ratio " +
-                 std::to_string(best.hypothesis.mean_inlier_ratio).substr(0, 4) +
-                 (evals.size() > 1 ? "; the next hypothesis explains " +
-                                         std::to_string(evals[1].hypothesis.covered)
-                                   : std::string("; no rival hypothesis"));
+                 std::to_string(best.hypothesis.mean_inlier_ratio).substr(0, 4) + ", " +
+                 percent(best.hypothesis.seen_through) + " of rays through the model; ";
+    if (evals.size() == 1) {
+        res.reason += "no rival hypothesis";
+    } else {
+        const Hypothesis& next = evals[1].hypothesis;
+        res.reason +=
+            "the next hypothesis explains " + std::to_string(next.covered) +
+            (next.contradicted ? " and is contradicted (" + percent(next.seen_through) + ")"
+                               : std::string());
+    }
     out.state = best.query;
     out.accepted = best.accepted;
     // Records: accepted place-recognition loops and every proximity loop of the chosen one.

@@ -55,7 +55,10 @@ struct LoopRecord {
     bool verified = false;  // the registration passed
     bool accepted = false;  // in the final graph
     int hypothesis = -1;    // the clique it belongs to, if any
-    std::string reason;     // why rejected, or "accepted"
+    // Share of the query keyframe's rays seen through the target at the final estimate
+    // (registration::CheckFreeSpace); -1 when not checked.
+    double seen_through = -1;
+    std::string reason;  // why rejected, or "accepted"
 };
 
 struct Hypothesis {
@@ -64,6 +67,11 @@ struct Hypothesis {
     size_t loops = 0;    // accepted after the proximity rounds
     size_t covered = 0;  // query keyframes with an accepted loop
     double mean_inlier_ratio = 0;
+    // The median over the query's keyframes near the target of the share of their rays that pass
+    // through a target surface before reaching their point (registration::CheckFreeSpace):
+    // evidence against the placement.
+    double seen_through = 0;
+    bool contradicted = false;  // seen_through over AnchorConfig::max_seen_through
     int rounds = 0;
 };
 

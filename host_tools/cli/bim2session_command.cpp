@@ -46,7 +46,8 @@ void AddPlanOptions(CLI::App* cmd, PlanOptions& o) {
     cmd->add_option("--view-spacing", o.path.view_spacing_m,
                     "viewpoints in a large room at most this far apart, m")
         ->capture_default_str();
-    cmd->add_flag("--no-objects", o.no_objects, "furniture and other objects do not block the walk");
+    cmd->add_flag("--no-objects", o.no_objects,
+                  "furniture and other objects do not block the walk");
     cmd->add_flag("--no-railings", o.no_railings,
                   "railings are not structure: they neither block the walk nor are scanned");
     cmd->add_option("--free-seed", o.free_seed,
@@ -156,34 +157,41 @@ int ToSession(SessionArgs& a) {
         o.metadata_file = a.sensor;
     }
     o.progress = [](size_t done, size_t planned) {
-        if (done % 50 == 0) std::cerr << "\r  " << done << " / ~" << planned << " keyframes" << std::flush;
+        if (done % 50 == 0)
+            std::cerr << "\r  " << done << " / ~" << planned << " keyframes" << std::flush;
     };
     const std::string sha = io::Sha256File(a.model);
     const bim::ReferenceSessionReport r = bim::WriteReferenceSession(model, sha, a.out, o);
     std::cerr << "\r";
     const double total_s = Since(t0);
     for (const auto& s : r.storeys) {
-        std::cout << std::setprecision(1) << "storey   '" << s.name << "': " << s.rooms << " rooms, "
-                  << s.viewpoints << " viewpoints, walk " << s.walk_m << " m (" << s.walk_s
-                  << " s), " << s.keyframes << " keyframes\n";
+        std::cout << std::setprecision(1) << "storey   '" << s.name << "': " << s.rooms
+                  << " rooms, " << s.viewpoints << " viewpoints, walk " << s.walk_m << " m ("
+                  << s.walk_s << " s), " << s.keyframes << " keyframes\n";
     }
-    const double per_key_ms = 1e3 * (r.simulate_s + r.write_s) / double(std::max<size_t>(r.keyframes, 1));
+    const double per_key_ms =
+        1e3 * (r.simulate_s + r.write_s) / double(std::max<size_t>(r.keyframes, 1));
     const double ratio = r.walk_s / std::max(total_s, 1e-9);
     std::cout << std::setprecision(2) << "session  " << a.out << ": " << r.keyframes
-              << " keyframes every " << a.gap_m << " m, " << r.points << " points, "
-              << r.rays / 1e6 << " M rays cast\n"
+              << " keyframes every " << a.gap_m << " m, " << r.points << " points, " << r.rays / 1e6
+              << " M rays cast\n"
               << "time     load " << load_s << " s, plan " << r.plan_s << " s, simulate "
               << r.simulate_s << " s, write " << r.write_s << " s (" << per_key_ms
-              << " ms a keyframe); " << std::setprecision(0) << ratio
-              << "x the real-time walk at " << std::setprecision(2) << a.plan.path.speed_mps
-              << " m/s\n";
+              << " ms a keyframe); " << std::setprecision(0) << ratio << "x the real-time walk at "
+              << std::setprecision(2) << a.plan.path.speed_mps << " m/s\n";
     if (a.json) {
-        nlohmann::json j = {{"session", a.out},       {"keyframes", r.keyframes},
-                            {"points", r.points},     {"rays", r.rays},
-                            {"walk_s", r.walk_s},     {"load_s", load_s},
-                            {"plan_s", r.plan_s},     {"simulate_s", r.simulate_s},
-                            {"write_s", r.write_s},   {"total_s", total_s},
-                            {"ms_per_keyframe", per_key_ms}, {"realtime_ratio", ratio},
+        nlohmann::json j = {{"session", a.out},
+                            {"keyframes", r.keyframes},
+                            {"points", r.points},
+                            {"rays", r.rays},
+                            {"walk_s", r.walk_s},
+                            {"load_s", load_s},
+                            {"plan_s", r.plan_s},
+                            {"simulate_s", r.simulate_s},
+                            {"write_s", r.write_s},
+                            {"total_s", total_s},
+                            {"ms_per_keyframe", per_key_ms},
+                            {"realtime_ratio", ratio},
                             {"model_sha256", sha}};
         std::cout << j.dump(2) << "\n";
     }

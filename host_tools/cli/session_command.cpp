@@ -4,6 +4,7 @@
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/io/session.hpp"
+#include "host_tools/anchor/anchor_session.hpp"
 #include "host_tools/cli/command.hpp"
 
 namespace bimslam::cli {
@@ -30,13 +31,27 @@ Summary Summarise(const io::Session& s) {
 }
 
 int Info(const std::string& dir, bool json) {
-    const io::Session s = io::ReadSession(dir, {.load_clouds = false, .allow_recovery = true});
+    // A session of SC-A-LOAM, LT-mapper or FAST-LIO-SC (Scans/, poses, times; no session.json,
+    // SCDs or g2o) is read the way `bimslam anchor` reads it, saying what it derives.
+    const bool foreign = anchor::IsForeignSession(dir);
+    io::Session s;
+    if (foreign) {
+        anchor::LoadOptions options;
+        options.load_clouds = false;
+        options.compute_descriptors = false;
+        anchor::AnchorSession a = anchor::LoadAnchorSession(dir, options);
+        s = std::move(a.session);
+        s.notes = std::move(a.notes);
+    } else {
+        s = io::ReadSession(dir, {.load_clouds = false, .allow_recovery = true});
+    }
     const Summary sum = Summarise(s);
     const auto& m = s.manifest;
     if (json) {
         nlohmann::json j;
         j["path"] = dir;
         j["complete"] = s.complete;
+        j["layout"] = foreign ? "sc-a-loam" : "bimslam";
         // A recovered session has no manifest: what it would have said is unknown.
         j["source"] = s.complete ? nlohmann::json(m.source) : nlohmann::json(nullptr);
         j["world_frame"] = s.complete ? nlohmann::json(m.world_frame) : nlohmann::json(nullptr);
@@ -57,8 +72,13 @@ int Info(const std::string& dir, bool json) {
         std::cout << j.dump(2) << "\n";
         return kExitOk;
     }
-    std::cout << "session      " << dir << (s.complete ? "" : "  (INCOMPLETE: recovered)") << "\n";
-    if (s.complete) {
+    std::cout << "session      " << dir
+              << (foreign ? "  (SC-A-LOAM/LT-mapper layout)"
+                          : (s.complete ? "" : "  (INCOMPLETE: recovered)"))
+              << "\n";
+    if (foreign) {
+        std::cout << "source       another tool: no session.json, SCDs/ or pose graph\n";
+    } else if (s.complete) {
         std::cout << "source       " << m.source << ", poses in frame '" << m.world_frame << "'"
                   << (m.created.empty() ? "" : ", created " + m.created) << "\n"
                   << "sensor       " << m.sensor.model << " " << m.sensor.beams << "x"
@@ -69,11 +89,15 @@ int Info(const std::string& dir, bool json) {
     std::cout << "keyframes    " << s.keyframes.size() << " over " << sum.path_length_m << " m and "
               << sum.duration_s << " s\n"
               << "scans        " << s.trajectory.size() << " poses in trajectory.tum\n"
-              << "edges        " << s.edges.size() << " in singlesession_posegraph.g2o\n"
-              << "descriptor   Scan Context " << m.descriptor.rings << "x" << m.descriptor.sectors;
+              << "edges        " << s.edges.size()
+              << (foreign ? " derived from the poses\n" : " in singlesession_posegraph.g2o\n");
+    if (!foreign) {
+        std::cout << "descriptor   Scan Context " << m.descriptor.rings << "x"
+                  << m.descriptor.sectors;
+    }
     if (s.complete)
         std::cout << ", " << m.descriptor.kind << ", " << m.descriptor.max_radius_m << " m";
-    std::cout << "\n";
+    if (!foreign) std::cout << "\n";
     for (const std::string& note : s.notes) std::cout << "note         " << note << "\n";
     return kExitOk;
 }

@@ -1,0 +1,37 @@
+// Negative evidence for a placement: a query point is "seen through" a surface of the map when
+// the ray from the query's sensor to it crosses a surfel facing that sensor well before the point.
+// Where the query really is, that happens only where the world differs from the map (a wall that
+// was removed); under a wrong placement it happens wherever the two disagree (a partition in one
+// storey that the storey above does not have), however well the rest registers. Registration
+// fitness counts the agreement; this counts the contradiction (the free-space reasoning of
+// occupancy mapping, e.g. OctoMap, Hornung et al. 2013).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+
+#include "algorithms/registration/oriented_cloud.hpp"
+#include "algorithms/registration/surfel_map.hpp"
+
+namespace bimslam::registration {
+
+struct FreeSpaceConfig {
+    size_t max_rays = 300;    // query points tested, evenly thinned
+    double margin = 0.3;      // m: a crossing this close before the point does not count
+    double max_range = 12.0;  // m: farther points are not tested (long rays, little evidence)
+};
+
+struct FreeSpaceResult {
+    size_t rays = 0;  // tested
+    size_t seen_through = 0;
+    double ratio() const { return rays ? double(seen_through) / double(rays) : 0.0; }
+};
+
+// Marches each ray through `map` in half-voxel steps and looks for a surfel of the voxel it is
+// in whose patch (Surfel::Covers: a voxel's plane does not fill the voxel at a door or a wall's
+// end) it crosses inside that voxel, from the side the surfel faces.
+FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map,
+                               const Eigen::Isometry3d& T_map_source,
+                               const FreeSpaceConfig& config);
+
+}  // namespace bimslam::registration
