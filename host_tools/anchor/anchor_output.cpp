@@ -45,6 +45,7 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
         json hyps = json::array();
         for (const Hypothesis& h : s.hypotheses) {
             hyps.push_back({{"T_world_local", PoseJson(h.anchor)},
+                            {"clique_index", h.clique_index},
                             {"clique", h.clique},
                             {"loops", h.loops},
                             {"covered_keyframes", h.covered},

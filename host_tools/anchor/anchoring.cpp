@@ -350,6 +350,7 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
             evals.push_back(Evaluate(sessions, state, q, target, seeds, anchor, config, times));
         }
         evals.back().clique = int(h);
+        evals.back().hypothesis.clique_index = int(h);
         if (progress) progress("hypotheses: " + query.name, h + 1, cliques.size());
     }
     // Hypotheses that free space contradicts rank last; then by the keyframes they explain.

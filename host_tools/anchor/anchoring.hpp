@@ -63,7 +63,8 @@ struct LoopRecord {
 
 struct Hypothesis {
     Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();  // T_world_local
-    size_t clique = 0;   // mutually consistent place-recognition loops
+    int clique_index = -1;  // the clique it grew from (LoopRecord::hypothesis)
+    size_t clique = 0;      // mutually consistent place-recognition loops in it
     size_t loops = 0;    // accepted after the proximity rounds
     size_t covered = 0;  // query keyframes with an accepted loop
     double mean_inlier_ratio = 0;

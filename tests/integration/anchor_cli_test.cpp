@@ -1,0 +1,377 @@
+// `bimslam anchor` as a user runs it, on sessions of captures the project simulates: a Go1 and a
+// handheld walk anchor to the sample building's BIM reference within centimetres with no
+// initial pose (scored with `bimslam evaluate --align none` against the simulator's ground
+// truth, which is in BIM coordinates); so does a query moved 100 m and turned 170 degrees, one
+// that starts outside the building, one in the SC-A-LOAM/LT-mapper layout, and two sessions at
+// once; injected false loops stay out of the accepted set; a mirror-symmetric building is
+// reported ambiguous and a ground-floor walk against a first-floor reference is not anchored;
+// damaged sessions exit 2 naming the file.
+//
+// The bounds are the targets (3 cm / 8 cm, 0.5 / 1.5 deg) on walks where this stays
+// true with margin; the benchmark (anchor_benchmark) reports the measured spread.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <unistd.h>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::string kCli = BIMSLAM_CLI_PATH;
+const std::string kScenarios = BIMSLAM_SCENARIO_DIR;
+constexpr int kSeconds = 40;
+
+// Data the tests share, made once per build of `bimslam` and kept in the build folder: ctest runs
+// each test in a process of its own, and simulating every building and walk per test would take
+// minutes. A fixture is made in a temporary sibling and renamed into place, so two test processes
+// that race each make it and one rename wins.
+fs::path FixtureRoot() {
+    static const fs::path root = [] {
+        const auto stamp = fs::last_write_time(kCli).time_since_epoch().count();
+        const fs::path base = BIMSLAM_FIXTURE_DIR;
+        fs::create_directories(base);
+        const fs::path mine = base / std::to_string(stamp);
+        for (const auto& e : fs::directory_iterator(base)) {  // other builds' fixtures
+            if (e.path() != mine) fs::remove_all(e.path());
+        }
+        fs::create_directories(mine);
+        return mine;
+    }();
+    return root;
+}
+
+test::CommandResult Cli(const std::string& args) { return test::RunCommand(kCli + " " + args); }
+
+void MustRun(const std::string& args) {
+    const auto r = Cli(args);
+    ASSERT_EQ(r.exit_code, 0) << "bimslam " << args << "\n" << r.out << r.err;
+}
+
+fs::path Fixture(const std::string& name, const std::function<void(const fs::path&)>& make) {
+    const fs::path dir = FixtureRoot() / name;
+    if (fs::exists(dir)) return dir;
+    const fs::path tmp = FixtureRoot() / (name + ".tmp" + std::to_string(::getpid()));
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    make(tmp);
+    std::error_code ec;
+    fs::rename(tmp, dir, ec);  // fails when another process was first: use theirs
+    if (ec) fs::remove_all(tmp);
+    return dir;
+}
+
+// A building (`bim sample` with extra flags) and its BIM reference session.
+fs::path Building(const std::string& name, const std::string& sample_flags,
+                  const std::string& reference_flags = "") {
+    return Fixture(name, [&](const fs::path& d) {
+        MustRun("bim sample -o " + (d / "building.ifc").string() + " " + sample_flags);
+        MustRun("bim2session " + (d / "building.ifc").string() + " -o " +
+                (d / "reference").string() + " " + reference_flags);
+    });
+}
+fs::path Office() { return Building("office", ""); }
+
+// A capture of `building` simulated with `flags`, turned into a session by `bimslam odometry`;
+// the pcap is dropped once the session exists (the tests need the session and the truth).
+fs::path Walk(const std::string& name, const fs::path& building, const std::string& flags) {
+    return Fixture(name, [&](const fs::path& d) {
+        MustRun("simulate --model " + (building / "building.ifc").string() + " --duration " +
+                std::to_string(kSeconds) + " -o " + (d / "capture").string() + " " + flags);
+        MustRun("odometry " + (d / "capture").string() + " -o " + (d / "session").string());
+        fs::remove(d / "capture" / "lidar.pcap");
+    });
+}
+
+json ReadJson(const fs::path& file) { return json::parse(io::ReadFileToString(file)); }
+
+struct Accuracy {
+    double rmse_cm = 1e9, max_cm = 1e9, rot_rmse_deg = 1e9, rot_max_deg = 1e9;
+    size_t matched = 0;
+};
+
+// `bimslam evaluate --align none` of a trajectory against a capture's ground truth.
+Accuracy Evaluate(const fs::path& trajectory, const fs::path& walk) {
+    const auto r = Cli("evaluate --align none --json --est " + trajectory.string() + " --ref " +
+                       (walk / "capture" / "ground_truth.tum").string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    Accuracy a;
+    if (r.exit_code != 0) return a;
+    const json j = json::parse(r.out);
+    a.rmse_cm = 100 * j["ape_trans_rmse_m"].get<double>();
+    a.max_cm = 100 * j["ape_trans_max_m"].get<double>();
+    a.rot_rmse_deg = j["ape_rot_rmse_deg"].get<double>();
+    a.rot_max_deg = j["ape_rot_max_deg"].get<double>();
+    a.matched = j["matched"].get<size_t>();
+    std::cout << trajectory.string() << ": APE " << a.rmse_cm << " cm (max " << a.max_cm << "), "
+              << a.rot_rmse_deg << " deg (max " << a.rot_max_deg << ")\n";
+    return a;
+}
+
+// Runs `bimslam anchor` into a fresh folder; returns its exit code.
+int Anchor(const fs::path& reference, const std::vector<fs::path>& queries, const fs::path& out,
+           const std::string& flags = "", std::string* err = nullptr) {
+    std::string args = "anchor --reference " + reference.string() + " -o " + out.string() + " " +
+                       flags;
+    for (const fs::path& q : queries) args += " --query " + q.string();
+    const auto r = Cli(args);
+    if (err) *err = r.err;
+    std::cout << r.out << r.err;
+    return r.exit_code;
+}
+
+void ExpectTargets(const Accuracy& a) {
+    EXPECT_LT(a.rmse_cm, 3.0);
+    EXPECT_LT(a.max_cm, 8.0);
+    EXPECT_LT(a.rot_rmse_deg, 0.5);
+    EXPECT_LT(a.rot_max_deg, 1.5);
+}
+
+class AnchorCli : public ::testing::Test {
+protected:
+    void SetUp() override { out_ = std::make_unique<test::TempDir>(); }
+    fs::path Out(const std::string& name) const { return *out_ / name; }
+    std::unique_ptr<test::TempDir> out_;
+};
+
+TEST_F(AnchorCli, AGo1WalkAnchorsWithinCentimetresAndWritesEverything) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, out), 0);
+    const json summary = ReadJson(out / "anchor.json");
+    EXPECT_EQ(summary["verdict"], "anchored");
+    EXPECT_EQ(summary["sessions"][0]["verdict"], "anchored");
+    ExpectTargets(Evaluate(out / "session" / "trajectory_bim.tum", walk));
+
+    // Every scan placed, the anchored session readable with world frame "bim".
+    const auto scans = io::ReadTum(walk / "session" / "trajectory.tum").size();
+    EXPECT_EQ(io::ReadTum(out / "session" / "trajectory_bim.tum").size(), scans);
+    const auto info = Cli("session info --json " + (out / "session").string());
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_EQ(json::parse(info.out)["world_frame"], "bim");
+    // loops.json: every candidate with a verdict; accepted ones on most keyframes.
+    const json loops = ReadJson(out / "loops.json");
+    size_t accepted = 0;
+    for (const json& l : loops) {
+        accepted += l["accepted"].get<bool>();
+        EXPECT_FALSE(l["reason"].get<std::string>().empty());
+    }
+    EXPECT_GT(accepted, summary["sessions"][0]["keyframes"].get<size_t>() / 2);
+    // The multi-session g2o: fixed reference vertices, odometry and loop edges.
+    const std::string g2o = io::ReadFileToString(out / "posegraph.g2o");
+    EXPECT_NE(g2o.find("FIX 0\n"), std::string::npos);
+    EXPECT_NE(g2o.find("EDGE_SE3:QUAT 1000000 1000001 "), std::string::npos);
+}
+
+TEST_F(AnchorCli, AHandheldWalkAnchorsWithinCentimetres) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("handheld", office, "--platform handheld --seed 12");
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, out), 0);
+    ExpectTargets(Evaluate(out / "session" / "trajectory_bim.tum", walk));
+}
+
+// Rewrites a session's poses (keyframes, odometry, every scan) as seen from a frame T_new_old
+// away: the same walk with another odometry origin.
+void MoveSession(const fs::path& from, const fs::path& to, const Eigen::Isometry3d& T_new_old) {
+    fs::copy(from, to, fs::copy_options::recursive);
+    for (const char* file : {"optimized_poses.txt", "odom_poses.txt"}) {
+        std::vector<Eigen::Isometry3d> poses = io::ReadKitti(to / file);
+        for (auto& T : poses) T = T_new_old * T;
+        io::WriteKitti(to / file, poses);
+    }
+    std::vector<io::StampedPose> scans = io::ReadTum(to / "trajectory.tum");
+    for (auto& p : scans) p = io::StampedPose::FromIsometry(p.stamp_ns, T_new_old * p.Pose());
+    io::WriteTum(to / "trajectory.tum", scans);
+}
+
+TEST_F(AnchorCli, AQueryHundredMetresAwayAndTurned170DegreesAnchors) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(170 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(100, -60, 5);
+    MoveSession(walk / "session", Out("moved"), T);
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(office / "reference", {Out("moved")}, out), 0);
+    ExpectTargets(Evaluate(out / "moved" / "trajectory_bim.tum", walk));
+}
+
+TEST_F(AnchorCli, AWalkThatStartsOutsideAnchors) {
+    // The sample building with its entrances (host_tools/simulate/scenarios/outdoor_start.yaml).
+    const fs::path building =
+        Building("office_entrances", "--exterior-doors");
+    const fs::path walk = Walk("outdoor", building, "--scenario " + kScenarios + "/outdoor_start.yaml");
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(building / "reference", {walk / "session"}, out), 0);
+    // The start, 5 m outside, is placed through the odometry from the first loops inside.
+    const auto truth = io::ReadTum(walk / "capture" / "ground_truth.tum");
+    const auto placed = io::ReadTum(out / "session" / "trajectory_bim.tum");
+    ASSERT_FALSE(placed.empty());
+    EXPECT_LT(truth.front().Pose().translation().x(), -3.0);  // it did start outside
+    EXPECT_LT((placed.front().translation - truth.front().translation).norm(), 0.10);
+    const Accuracy a = Evaluate(out / "session" / "trajectory_bim.tum", walk);
+    EXPECT_LT(a.rmse_cm, 5.0);
+}
+
+TEST_F(AnchorCli, InjectedFalseLoopsStayOutOfTheAcceptedHypothesis) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, out, "--inject-false-loops 0.3"), 0);
+    ExpectTargets(Evaluate(out / "session" / "trajectory_bim.tum", walk));
+    // Each injected loop against the truth: those that are wrong by more than half a metre must
+    // not be in the clique the accepted hypothesis grew from.
+    const json loops = ReadJson(out / "loops.json");
+    const auto reference = io::ReadKitti(office / "reference" / "optimized_poses.txt");
+    const auto truth = io::ReadTum(walk / "capture" / "ground_truth.tum");
+    const int chosen =
+        ReadJson(out / "anchor.json")["sessions"][0]["hypotheses"][0]["clique_index"].get<int>();
+    std::vector<int64_t> kf_stamps;
+    {
+        const std::string text = io::ReadFileToString(walk / "session" / "times.txt");
+        size_t pos = 0;
+        while (pos < text.size()) {
+            const size_t end = text.find('\n', pos);
+            const std::string line = text.substr(pos, end - pos);
+            if (!line.empty()) kf_stamps.push_back(std::llround(std::stod(line) * 1e9));
+            if (end == std::string::npos) break;
+            pos = end + 1;
+        }
+    }
+    auto truth_at = [&](int64_t stamp) {
+        for (const auto& p : truth) {
+            if (std::llabs(p.stamp_ns - stamp) < 1'000'000) return p.Pose();
+        }
+        ADD_FAILURE() << "no truth at " << stamp;
+        return Eigen::Isometry3d::Identity();
+    };
+    size_t injected = 0, wrong = 0, wrong_in_accepted = 0;
+    for (const json& l : loops) {
+        if (l["source"] != "injected") continue;
+        ++injected;
+        const std::vector<double> c = l["T_target_query"].get<std::vector<double>>();
+        const Eigen::Isometry3d T_ref_query = common::FromQuaternionTranslation(
+            Eigen::Quaterniond(c[6], c[3], c[4], c[5]), Eigen::Vector3d(c[0], c[1], c[2]));
+        const Eigen::Isometry3d placed = reference.at(l["target_index"].get<size_t>()) * T_ref_query;
+        const Eigen::Isometry3d gt = truth_at(kf_stamps.at(l["query_index"].get<size_t>()));
+        if ((placed.translation() - gt.translation()).norm() < 0.5) continue;  // right by chance
+        ++wrong;
+        if (l["hypothesis"].get<int>() == chosen) ++wrong_in_accepted;
+        EXPECT_FALSE(l["accepted"].get<bool>());
+    }
+    EXPECT_GT(injected, 20u);
+    EXPECT_GT(wrong, injected / 2);
+    EXPECT_EQ(wrong_in_accepted, 0u);
+}
+
+TEST_F(AnchorCli, AMirrorSymmetricBuildingIsAmbiguousNotAnchored) {
+    const fs::path building = Building("symmetric", "--layout symmetric");
+    const fs::path walk = Walk("symmetric_walk", building, "--platform go1 --seed 13");
+    const fs::path out = Out("anchor");
+    EXPECT_EQ(Anchor(building / "reference", {walk / "session"}, out), 1);
+    const json summary = ReadJson(out / "anchor.json");
+    EXPECT_EQ(summary["sessions"][0]["verdict"], "ambiguous") << summary.dump(2);
+    EXPECT_GE(summary["sessions"][0]["hypotheses"].size(), 2u);
+    EXPECT_FALSE(fs::exists(out / "session"));  // nothing placed
+}
+
+TEST_F(AnchorCli, AGroundFloorWalkAgainstAFirstFloorReferenceIsNotAnchored) {
+    // The storeys share the corridor and the outer walls; the partitions differ. Registration
+    // alone fits most keyframes; free space contradicts the placement.
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path first = Fixture("office_first_floor", [&](const fs::path& d) {
+        MustRun("bim2session " + (office / "building.ifc").string() + " --storey \"First Floor\" -o " +
+                (d / "reference").string());
+    });
+    const fs::path out = Out("anchor");
+    EXPECT_EQ(Anchor(first / "reference", {walk / "session"}, out), 1);
+    EXPECT_NE(ReadJson(out / "anchor.json")["sessions"][0]["verdict"], "anchored");
+}
+
+TEST_F(AnchorCli, TwoSessionsAnchorTogetherWithLoopsBetweenThem) {
+    const fs::path office = Office();
+    const fs::path go1 = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path handheld = Walk("handheld", office, "--platform handheld --seed 12");
+    fs::copy(go1 / "session", Out("go1"), fs::copy_options::recursive);
+    fs::copy(handheld / "session", Out("handheld"), fs::copy_options::recursive);
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(office / "reference", {Out("go1"), Out("handheld")}, out), 0);
+    ExpectTargets(Evaluate(out / "go1" / "trajectory_bim.tum", go1));
+    ExpectTargets(Evaluate(out / "handheld" / "trajectory_bim.tum", handheld));
+    size_t between = 0;
+    for (const json& l : ReadJson(out / "loops.json")) {
+        between += l["accepted"].get<bool>() && l["target"] != "reference";
+    }
+    EXPECT_GT(between, 5u);
+}
+
+TEST_F(AnchorCli, ASessionInTheScALoamLayoutIsReadAndAnchored) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path foreign = Out("foreign");
+    fs::create_directories(foreign);
+    fs::copy(walk / "session" / "Scans", foreign / "Scans", fs::copy_options::recursive);
+    for (const char* f : {"optimized_poses.txt", "odom_poses.txt", "times.txt"}) {
+        fs::copy(walk / "session" / f, foreign / f);
+    }
+    const auto info = Cli("session info " + foreign.string());
+    EXPECT_EQ(info.exit_code, 0);
+    EXPECT_NE(info.out.find("SC-A-LOAM/LT-mapper layout"), std::string::npos) << info.out;
+    const fs::path out = Out("anchor");
+    ASSERT_EQ(Anchor(office / "reference", {foreign}, out), 0);
+    const json notes = ReadJson(out / "anchor.json")["sessions"][0]["notes"];
+    EXPECT_NE(notes.dump().find("derived from the poses"), std::string::npos) << notes.dump();
+    EXPECT_NE(notes.dump().find("descriptors computed"), std::string::npos) << notes.dump();
+    // Keyframes only (no trajectory.tum there): still on the truth.
+    ExpectTargets(Evaluate(out / "foreign" / "trajectory_bim.tum", walk));
+}
+
+TEST_F(AnchorCli, DamagedOrMissingSessionsExit2NamingTheFile) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    std::string err;
+    // A missing reference.
+    EXPECT_EQ(Anchor(Out("nowhere"), {walk / "session"}, Out("a1"), "", &err), 2);
+    EXPECT_NE(err.find("nowhere"), std::string::npos) << err;
+    // A keyframe cloud cut off.
+    fs::copy(walk / "session", Out("cut"), fs::copy_options::recursive);
+    const fs::path pcd = Out("cut") / "Scans" / "000003.pcd";
+    fs::resize_file(pcd, fs::file_size(pcd) / 2);
+    EXPECT_EQ(Anchor(office / "reference", {Out("cut")}, Out("a2"), "", &err), 2);
+    EXPECT_NE(err.find("000003.pcd"), std::string::npos) << err;
+    // A pose file with garbage in it.
+    fs::copy(walk / "session", Out("garbage"), fs::copy_options::recursive);
+    test::WriteBytes(Out("garbage") / "optimized_poses.txt", "1 0 0 x\n");
+    EXPECT_EQ(Anchor(office / "reference", {Out("garbage")}, Out("a3"), "", &err), 2);
+    EXPECT_NE(err.find("optimized_poses.txt"), std::string::npos) << err;
+    // An output folder in the way.
+    fs::create_directories(Out("taken"));
+    test::WriteBytes(Out("taken") / "x", "x");
+    EXPECT_EQ(Anchor(office / "reference", {walk / "session"}, Out("taken"), "", &err), 2);
+    EXPECT_NE(err.find("--overwrite"), std::string::npos) << err;
+}
+
+TEST_F(AnchorCli, HelpNamesTheOutputs) {
+    const auto r = Cli("anchor --help");
+    EXPECT_EQ(r.exit_code, 0);
+    for (const char* word : {"--reference", "--query", "--outliers", "loops.json", "anchor.json",
+                             "trajectory_bim.tum", "posegraph.g2o", "ambiguous"}) {
+        EXPECT_NE(r.out.find(word), std::string::npos) << word;
+    }
+}
+
+}  // namespace
+}  // namespace bimslam
