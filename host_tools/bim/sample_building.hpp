@@ -51,9 +51,9 @@ struct SampleBuildingOptions {
     uint64_t seed = 1;
     bool furniture = true;
     // Doors to the outside on the ground floor: the office's at both ends of its corridor, the
-    // hall's main entrance into the hall, the symmetric building's at both ends. Off by default:
-    // without them every storey's free space is enclosed, which the occupancy grid's default (the
-    // largest enclosed free region, occupancy_grid.hpp) relies on; with them give the grid a seed.
+    // hall's main entrance into the hall, the symmetric building's at both ends. Off by default.
+    // Their frames close the building for the occupancy grid (occupancy_grid.hpp, closures), so
+    // every storey's free space stays enclosed with them too (sample_coverage_test.cpp).
     bool exterior_doors = false;
 
     // Throws common::Error (kInvalidArgument) naming the field and value.
