@@ -1,28 +1,48 @@
-// The project's own sample building: a small two-storey office (30 m x 15 m, 3.2 m floor to floor)
-// written as an IFC4 STEP file, so that the demo and the default tests need no third-party model.
+// The project's own sample buildings, written as IFC4 STEP files, so that the demo and the default
+// tests need no third-party model. Three layouts (SampleBuildingOptions::layout):
+//  - "office" (the default): a small two-storey office, 30 m x 15 m, 3.2 m floor to floor. Every
+//    storey has a corridor along x (clear y 6.15..8.15) with rooms of different sizes on both
+//    sides, a door from the corridor into every room, windows in the exterior walls, and a stair
+//    room whose straight flight connects the ground floor with the first floor through an opening
+//    in the first floor's slab. One room per storey has a corner cut off by a slanted wall.
+//  - "hall": a second, different building, 24 m x 20 m, three storeys 3.5 m apart, thicker walls.
+//    The ground floor is a central hall along y with round columns, rooms on both sides and a stair
+//    hall to the north; the upper floors have a corridor along y, open offices with columns, and
+//    rooms opening from the stair hall. Two straight flights, one per storey, climb the stair
+//    hall. The entrance (--exterior-doors) is in the south wall, into the hall.
+//  - "symmetric": one storey, 20 m x 12 m, exactly invariant under the mirror about each centre
+//    line (and so under a half turn about the vertical through the centre): identical rooms on
+//    both sides of a central corridor, double doors in their middles, windows at mirrored places,
+//    no slanted wall, no stair, furniture placed in one quarter and mirrored into the others, and
+//    (--exterior-doors) the same entrance at both ends. A rig in it cannot tell where it is up to
+//    the symmetry: the case anchoring must report as ambiguous.
 // SampleBuildingLayout() is the building in plain numbers (metres), the generator's own truth that
 // tests compare a reader's output with; SampleBuildingIfc() writes the same building as IFC4 text
-// (plain text generation through ifc_writer.hpp: no IFC library is involved).
+// (plain text generation through ifc_writer.hpp: no IFC library is involved). The office's file is
+// the same, byte for byte, as before the other layouts existed (sample_layouts_test.cpp).
 //
 // The model's frame ("bim" frame): x east along the building's length, y north, z up, metres,
-// origin at the south-west outer corner of the footprint at ground-floor level. Every storey has a
-// corridor along x (clear y 6.15..8.15) with rooms of different sizes on both sides, a door from
-// the corridor into every room, windows in the exterior walls, and a stair room whose straight
-// flight connects the ground floor with the first floor through an opening in the first floor's
-// slab. One room per storey has a corner cut off by a slanted wall.
+// origin at the south-west outer corner of the footprint at ground-floor level.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace bimslam::bim {
 
+// Which building (see the comment at the top).
+enum class BuildingLayout : uint8_t { kOffice, kHall, kSymmetric };
+std::string_view ToString(BuildingLayout layout);  // "office", "hall", "symmetric"
+std::optional<BuildingLayout> ParseBuildingLayout(std::string_view name);
+
 struct SampleBuildingOptions {
+    BuildingLayout layout = BuildingLayout::kOffice;
     // The file's length unit in metres: 1 (METRE) or 0.001 (MILLI METRE). Every length, coordinate
     // and elevation in the file is written in it; the building is the same.
     double length_unit_m = 1.0;
@@ -30,16 +50,17 @@ struct SampleBuildingOptions {
     // gives the same file, byte for byte.
     uint64_t seed = 1;
     bool furniture = true;
-    // Doors in the corridor's end walls to the outside (ground floor). Off by default: without
-    // them every storey's free space is enclosed, which the occupancy grid's default (the largest
-    // enclosed free region, occupancy_grid.hpp) relies on; with them give the grid a seed.
+    // Doors to the outside on the ground floor: the office's at both ends of its corridor, the
+    // hall's main entrance into the hall, the symmetric building's at both ends. Off by default.
+    // Their frames close the building for the occupancy grid (occupancy_grid.hpp, closures), so
+    // every storey's free space stays enclosed with them too (sample_coverage_test.cpp).
     bool exterior_doors = false;
 
     // Throws common::Error (kInvalidArgument) naming the field and value.
     void Validate() const;
 };
 
-// "Ground Floor" at elevation 0 and "First Floor" at 3.2 m.
+// "Ground Floor" at elevation 0, then "First Floor" (3.2 m in the office), ...
 struct SampleStorey {
     std::string name;
     double elevation_m = 0.0;  // of the finished floor (the top of its slab)
@@ -54,7 +75,10 @@ enum class RoomKind : uint8_t {
     kMeeting,
     kKitchen,
     kToilets,
-    kStorage
+    kStorage,
+    kHall,  // a wide circulation room (the hall layout's ground floor)
+    kClassroom,
+    kLibrary
 };
 std::string_view ToString(RoomKind kind);
 
@@ -65,10 +89,12 @@ struct SampleRoom {
     int storey = 0;
     RoomKind kind = RoomKind::kOffice;
     // The clear floor area between the faces of its walls, counter-clockwise, metres (model x y).
-    // Convex: rectangles, one per storey with a corner cut off.
+    // Convex: rectangles (in the office one per storey has a corner cut off).
     std::vector<Eigen::Vector2d> polygon;
 
-    bool Circulation() const { return kind == RoomKind::kCorridor || kind == RoomKind::kStair; }
+    bool Circulation() const {
+        return kind == RoomKind::kCorridor || kind == RoomKind::kStair || kind == RoomKind::kHall;
+    }
     Eigen::AlignedBox2d Bounds() const;
     double Area() const;
     bool Contains(const Eigen::Vector2d& p) const;  // inside or on the boundary
@@ -101,7 +127,7 @@ struct SampleDoor {
     double height_m = 2.1;
     int leaves = 1;
     // The rooms it connects (indices into SampleLayout::rooms; -1 outdoors); it swings into
-    // rooms[1]. For room doors rooms[0] is the corridor.
+    // rooms[1]. For room doors rooms[0] is the circulation (corridor, hall or stair hall).
     std::array<int, 2> rooms{-1, -1};
 };
 
@@ -182,7 +208,10 @@ struct SampleFurniture {
 };
 
 struct SampleLayout {
-    Eigen::Vector2d footprint_m{30.0, 15.0};  // outer faces at x = 0, 30 and y = 0, 15
+    BuildingLayout layout = BuildingLayout::kOffice;
+    std::string building_name;  // IfcBuilding.Name, e.g. "Sample office"
+    std::string summary;        // IfcProject.LongName, e.g. "A small two-storey office ..."
+    Eigen::Vector2d footprint_m{30.0, 15.0};  // outer faces at x = 0 and length, y = 0 and width
     double exterior_wall_m = 0.3;
     double interior_wall_m = 0.15;
     double slab_m = 0.2;
@@ -197,12 +226,14 @@ struct SampleLayout {
     std::vector<SampleRailing> railings;
     std::vector<SampleFurniture> furniture;
 
-    int Corridor(int storey) const;  // the room index of the storey's corridor
+    // The room index of the storey's main circulation room (its corridor or hall), or -1.
+    int Corridor(int storey) const;
     // Of all element geometry (model coordinates, metres): the ground slab's underside to the roof.
     Eigen::AlignedBox3d Bounds() const;
 };
 
-// The building (furniture per options.seed and options.furniture; the unit does not matter).
+// The building of options.layout (furniture per options.seed and options.furniture; the unit does
+// not matter).
 SampleLayout SampleBuildingLayout(const SampleBuildingOptions& options = {});
 
 // The building as IFC4 STEP text (ISO 10303-21). Throws common::Error (kInvalidArgument) for

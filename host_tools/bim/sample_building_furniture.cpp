@@ -1,11 +1,12 @@
-// The sample building's furniture: desks, tables, cabinets and shelves placed by room kind, with
+// The sample buildings' furniture: desks, tables, cabinets and shelves placed by room kind, with
 // the seed choosing which pieces stand, their sizes and small offsets. Every piece lies inside its
 // room and keeps clear of the doors (1.4 m in front of each, both sides), the columns and the
-// stair, so the way into every room stays open.
+// stairs, so the way into every room stays open. Rows stand along the wall opposite the room's
+// door (RoomFrame), so a room opening to the east is furnished as one opening to the north.
 #include <algorithm>
 #include <cmath>
 
-#include "host_tools/bim/sample_building.hpp"
+#include "host_tools/bim/sample_builder.hpp"
 
 namespace bimslam::bim {
 namespace {
@@ -84,15 +85,8 @@ public:
             add.push_back(std::move(f));
         }
         for (SampleFurniture& f : add) {
-            const int n = 1 + int(std::count_if(L_.furniture.begin(), L_.furniture.end(),
-                                                [&](const SampleFurniture& o) {
-                                                    return o.room == room && o.kind == f.kind;
-                                                }));
-            std::string name(ToString(f.kind));
-            name[0] = char(name[0] - 'a' + 'A');
-            f.name = name + " " + L_.rooms[room].number + "-" + std::to_string(n);
             Block(f.storey, Grow(f.Footprint(), 0.05));
-            L_.furniture.push_back(std::move(f));
+            AddFurniture(L_, std::move(f));
         }
         return true;
     }
@@ -121,26 +115,55 @@ private:
     std::vector<std::pair<int, AlignedBox2d>> blocked_;
 };
 
-// Desks in a row along the window wall (the one away from the corridor), a cabinet against a
-// side wall.
+// A room seen from its door: u runs along the wall opposite the door (the back wall), v across.
+// In the office every room opens to the corridor in x, so u is x there and the back wall is the
+// window wall; without a door the room is taken as opening towards the footprint's middle in y.
+struct RoomFrame {
+    bool along_x = true;      // u is the model's x
+    bool back_at_min = true;  // the back wall is at the room's least v
+    Vector2d At(double u, double v) const { return along_x ? Vector2d(u, v) : Vector2d(v, u); }
+    double U(const Vector2d& p) const { return along_x ? p.x() : p.y(); }
+    double V(const Vector2d& p) const { return along_x ? p.y() : p.x(); }
+};
+
+RoomFrame FrameOf(const SampleLayout& L, int room) {
+    const AlignedBox2d b = L.rooms[room].Bounds();
+    for (const SampleDoor& d : L.doors) {
+        if (d.rooms[1] != room) continue;
+        RoomFrame f;
+        f.along_x = std::abs(L.walls[d.wall].Direction().x()) > 0.5;
+        f.back_at_min = f.V(d.centre) > f.V(b.center());
+        return f;
+    }
+    RoomFrame f;
+    f.back_at_min = b.center().y() < L.footprint_m.y() / 2;
+    return f;
+}
+
+// Desks in a row along the back wall (the window wall, away from the corridor), a cabinet against
+// a side wall.
 void Office(Placer& p, const SampleLayout& L, int room) {
     Rng& rng = p.rng();
     const AlignedBox2d b = L.rooms[room].Bounds();
-    const bool south = b.center().y() < L.footprint_m.y() / 2;
-    const double span = b.sizes().x() - 0.6;
+    const RoomFrame f = FrameOf(L, room);
+    const double u0 = f.U(b.min()), u1 = f.U(b.max());
+    const double span = (u1 - u0) - 0.6;
     const int n = std::min(4, int(span / 1.8));
     const double gap = rng.Cm(0.1, 0.5);
-    const double y = south ? b.min().y() + gap + 0.4 : b.max().y() - gap - 0.4;
+    const double v = f.back_at_min ? f.V(b.min()) + gap + 0.4 : f.V(b.max()) - gap - 0.4;
     int placed = 0;
     for (int i = 0; i < n; ++i) {
         const bool keep = rng.Chance(0.85) || (i == n - 1 && placed == 0);
-        const double x = b.min().x() + 0.3 + (i + 0.5) * span / n + rng.Cm(-0.1, 0.1);
-        if (keep) placed += p.Place(FurnitureKind::kDesk, room, {x, y}, false, {1.6, 0.8, 0.75});
+        const double u = u0 + 0.3 + (i + 0.5) * span / n + rng.Cm(-0.1, 0.1);
+        if (keep) {
+            placed += p.Place(FurnitureKind::kDesk, room, f.At(u, v), !f.along_x, {1.6, 0.8, 0.75});
+        }
     }
     const bool west = rng.Chance(0.5);
     const Vector3d size(rng.Cm(0.8, 1.2), 0.45, rng.Chance(0.5) ? 1.2 : 1.9);
-    const double x = west ? b.min().x() + 0.25 : b.max().x() - 0.25;
-    p.Place(FurnitureKind::kCabinet, room, {x, b.center().y() + rng.Cm(-0.8, 0.8)}, true, size);
+    const double u = west ? u0 + 0.25 : u1 - 0.25;
+    p.Place(FurnitureKind::kCabinet, room, f.At(u, f.V(b.center()) + rng.Cm(-0.8, 0.8)), f.along_x,
+            size);
 }
 
 // Islands of two desks face to face on a grid, around the columns.
@@ -158,31 +181,39 @@ void OpenOffice(Placer& p, const SampleLayout& L, int room) {
     }
 }
 
-// A table in the middle, shortened until it fits; a shelf against a side wall.
+// A table in the middle along the room's longer side, shortened until it fits; a shelf against an
+// end wall.
 void Meeting(Placer& p, const SampleLayout& L, int room) {
     Rng& rng = p.rng();
     const AlignedBox2d b = L.rooms[room].Bounds();
-    double length = std::min(b.sizes().x() - 3.0, rng.Cm(3.0, 4.4));
+    const bool along_x = b.sizes().x() >= b.sizes().y();
+    double length = std::min((along_x ? b.sizes().x() : b.sizes().y()) - 3.0, rng.Cm(3.0, 4.4));
     const double width = rng.Cm(1.1, 1.4);
     const Vector2d c = b.center() + Vector2d(rng.Cm(-0.3, 0.3), rng.Cm(-0.2, 0.2));
     while (length >= 1.6 &&
-           !p.Place(FurnitureKind::kTable, room, c, false, {length, width, 0.75})) {
+           !p.Place(FurnitureKind::kTable, room, c, !along_x, {length, width, 0.75})) {
         length -= 0.4;
     }
     const Vector3d shelf(rng.Cm(1.6, 2.4), 0.4, 2.0);
-    if (!p.Place(FurnitureKind::kShelf, room, {b.min().x() + 0.22, c.y()}, true, shelf)) {
-        p.Place(FurnitureKind::kShelf, room, {b.max().x() - 0.22, c.y()}, true, shelf);
+    const Vector2d first =
+        along_x ? Vector2d(b.min().x() + 0.22, c.y()) : Vector2d(c.x(), b.min().y() + 0.22);
+    const Vector2d second =
+        along_x ? Vector2d(b.max().x() - 0.22, c.y()) : Vector2d(c.x(), b.max().y() - 0.22);
+    if (!p.Place(FurnitureKind::kShelf, room, first, along_x, shelf)) {
+        p.Place(FurnitureKind::kShelf, room, second, along_x, shelf);
     }
 }
 
-// A counter along a side wall at the far end from the corridor, a small table.
+// A counter along a side wall at the far end from the door, a small table.
 void Kitchen(Placer& p, const SampleLayout& L, int room) {
     Rng& rng = p.rng();
     const AlignedBox2d b = L.rooms[room].Bounds();
-    const bool south = b.center().y() < L.footprint_m.y() / 2;
+    const RoomFrame f = FrameOf(L, room);
     const double length = rng.Cm(2.4, 3.6);
-    const double y = south ? b.min().y() + 0.1 + length / 2 : b.max().y() - 0.1 - length / 2;
-    p.Place(FurnitureKind::kCabinet, room, {b.min().x() + 0.32, y}, true, {length, 0.6, 0.9});
+    const double v =
+        f.back_at_min ? f.V(b.min()) + 0.1 + length / 2 : f.V(b.max()) - 0.1 - length / 2;
+    p.Place(FurnitureKind::kCabinet, room, f.At(f.U(b.min()) + 0.32, v), f.along_x,
+            {length, 0.6, 0.9});
     p.Place(FurnitureKind::kTable, room, b.center() + Vector2d(rng.Cm(0, 0.6), rng.Cm(-0.3, 0.3)),
             false, {1.2, 0.8, 0.75});
 }
@@ -191,20 +222,75 @@ void Kitchen(Placer& p, const SampleLayout& L, int room) {
 void Storage(Placer& p, const SampleLayout& L, int room) {
     Rng& rng = p.rng();
     const AlignedBox2d b = L.rooms[room].Bounds();
-    for (const double x : {b.min().x() + 0.22, b.max().x() - 0.22}) {
+    const RoomFrame f = FrameOf(L, room);
+    for (const double u : {f.U(b.min()) + 0.22, f.U(b.max()) - 0.22}) {
         const Vector3d size(rng.Cm(2.0, 3.0), 0.4, 2.0);
-        p.Place(FurnitureKind::kShelf, room, {x, b.center().y() + rng.Cm(-0.5, 0.5)}, true, size);
+        p.Place(FurnitureKind::kShelf, room, f.At(u, f.V(b.center()) + rng.Cm(-0.5, 0.5)),
+                f.along_x, size);
     }
+}
+
+// Rows of desks facing the back wall (the front, with the teacher's table), an aisle on the side
+// of the door.
+void Classroom(Placer& p, const SampleLayout& L, int room) {
+    Rng& rng = p.rng();
+    const AlignedBox2d b = L.rooms[room].Bounds();
+    const RoomFrame f = FrameOf(L, room);
+    const double u0 = f.U(b.min()), u1 = f.U(b.max());
+    const double v0 = f.V(b.min()), v1 = f.V(b.max());
+    const double dir = f.back_at_min ? 1.0 : -1.0;  // away from the front
+    const double front = f.back_at_min ? v0 : v1;
+    const double teacher = rng.Cm(-0.5, 0.5);
+    p.Place(FurnitureKind::kTable, room, f.At(0.5 * (u0 + u1) + teacher, front + dir * 0.9),
+            !f.along_x, {1.6, 0.7, 0.75});
+    const double pitch = rng.Cm(1.4, 1.7);
+    for (double d = 2.4; d <= (v1 - v0) - 1.8; d += pitch) {
+        for (double u = u0 + 1.2; u <= u1 - 1.0; u += 1.8) {
+            if (!rng.Chance(0.9)) continue;
+            p.Place(FurnitureKind::kDesk, room, f.At(u, front + dir * d), !f.along_x,
+                    {1.4, 0.6, 0.75});
+        }
+    }
+}
+
+// Rows of tall shelves across the room, reading tables near the door.
+void Library(Placer& p, const SampleLayout& L, int room) {
+    Rng& rng = p.rng();
+    const AlignedBox2d b = L.rooms[room].Bounds();
+    const RoomFrame f = FrameOf(L, room);
+    const double u0 = f.U(b.min()), u1 = f.U(b.max());
+    const double v0 = f.V(b.min()), v1 = f.V(b.max());
+    const double dir = f.back_at_min ? 1.0 : -1.0;
+    const double back = f.back_at_min ? v0 : v1;
+    const double aisle = rng.Cm(1.5, 1.9);
+    for (double d = 0.8; d <= (v1 - v0) - 3.0; d += aisle) {
+        const double length = std::min(u1 - u0 - 2.4, rng.Cm(3.0, 5.0));
+        const double u = u0 + 1.2 + length / 2 + rng.Cm(0, 0.6);
+        p.Place(FurnitureKind::kShelf, room, f.At(u, back + dir * d), !f.along_x,
+                {length, 0.5, 2.1});
+    }
+    p.Place(FurnitureKind::kTable, room,
+            f.At(0.5 * (u0 + u1), (f.back_at_min ? v1 : v0) - dir * 1.6), !f.along_x,
+            {2.0, 0.9, 0.75});
 }
 
 }  // namespace
 
-// Declared in sample_building.cpp, its only caller.
-void PlaceFurniture(SampleLayout& layout, uint64_t seed);
+void AddFurniture(SampleLayout& layout, SampleFurniture f) {
+    const int n = 1 + int(std::count_if(layout.furniture.begin(), layout.furniture.end(),
+                                        [&](const SampleFurniture& o) {
+                                            return o.room == f.room && o.kind == f.kind;
+                                        }));
+    std::string name(ToString(f.kind));
+    name[0] = char(name[0] - 'a' + 'A');
+    f.name = name + " " + layout.rooms[f.room].number + "-" + std::to_string(n);
+    layout.furniture.push_back(std::move(f));
+}
 
-void PlaceFurniture(SampleLayout& layout, uint64_t seed) {
+void PlaceFurniture(SampleLayout& layout, uint64_t seed, const std::function<bool(int)>& furnish) {
     Placer placer(layout, seed);
     for (int r = 0; r < int(layout.rooms.size()); ++r) {
+        if (furnish && !furnish(r)) continue;
         switch (layout.rooms[r].kind) {
             case RoomKind::kOffice:
                 Office(placer, layout, r);
@@ -221,8 +307,15 @@ void PlaceFurniture(SampleLayout& layout, uint64_t seed) {
             case RoomKind::kStorage:
                 Storage(placer, layout, r);
                 break;
+            case RoomKind::kClassroom:
+                Classroom(placer, layout, r);
+                break;
+            case RoomKind::kLibrary:
+                Library(placer, layout, r);
+                break;
             case RoomKind::kCorridor:
             case RoomKind::kStair:
+            case RoomKind::kHall:
             case RoomKind::kToilets:
                 break;
         }

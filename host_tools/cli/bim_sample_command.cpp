@@ -1,5 +1,6 @@
-// bimslam bim sample: writes the project's own sample building, a two-storey office
-// (host_tools/bim/sample_building.hpp), as an IFC4 file, and says what it holds.
+// bimslam bim sample: writes one of the project's own sample buildings (the two-storey office, the
+// three-storey hall, the mirror-symmetric building; host_tools/bim/sample_building.hpp) as an IFC4
+// file, and says what it holds.
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -16,6 +17,7 @@ namespace fs = std::filesystem;
 
 struct SampleOptions {
     std::string out;
+    std::string layout = "office";
     std::string unit = "m";
     uint64_t seed = 1;
     bool no_furniture = false;
@@ -30,6 +32,7 @@ int Sample(const SampleOptions& o) {
                                 "exists; pass --force to overwrite it");
     }
     bim::SampleBuildingOptions options;
+    options.layout = *bim::ParseBuildingLayout(o.layout);  // CLI11 checked the name
     options.length_unit_m = o.unit == "mm" ? 0.001 : 1.0;
     options.seed = o.seed;
     options.furniture = !o.no_furniture;
@@ -40,6 +43,9 @@ int Sample(const SampleOptions& o) {
     std::cout << "wrote        " << path.string() << " (" << std::fixed << std::setprecision(1)
               << double(fs::file_size(path)) / 1e3 << " kB), IFC4, lengths in "
               << (o.unit == "mm" ? "millimetres" : "metres") << ", seed " << o.seed << "\n";
+    std::cout << "building     " << L.building_name << " (layout " << o.layout << "), "
+              << L.footprint_m.x() << " x " << L.footprint_m.y() << " m, " << L.storeys.size()
+              << (L.storeys.size() == 1 ? " storey" : " storeys") << "\n";
     std::cout << std::setprecision(2);
     for (size_t s = 0; s < L.storeys.size(); ++s) {
         std::ostringstream rooms;
@@ -70,10 +76,22 @@ int Sample(const SampleOptions& o) {
 
 void AddBimSampleCommand(CLI::App& bim, int& exit_code) {
     CLI::App* cmd = bim.add_subcommand(
-        "sample",
-        "Write the built-in sample building (a two-storey office, 30 x 15 m) as an IFC4 file");
+        "sample", "Write a built-in sample building (office, hall or symmetric) as an IFC4 file");
+    cmd->footer(
+        "Layouts (host_tools/bim/README.md):\n"
+        "  office     two storeys, 30 x 15 m, 3.2 m floor to floor: a corridor along x, offices,\n"
+        "             a stair, a slanted wall (the default; the demo's building)\n"
+        "  hall       three storeys, 24 x 20 m, 3.5 m floor to floor: a central hall with\n"
+        "             columns on the ground floor, corridors along y above, a stair hall with\n"
+        "             two flights; --exterior-doors adds the entrance in the south wall\n"
+        "  symmetric  one storey, 20 x 12 m, the same under the mirror about both centre lines\n"
+        "             (and a half turn): a rig in it cannot tell where it is up to the symmetry;\n"
+        "             --exterior-doors adds the same entrance at both ends");
     auto o = std::make_shared<SampleOptions>();
     cmd->add_option("-o,--out", o->out, "the IFC file to write")->required();
+    cmd->add_option("--layout", o->layout, "which building: office, hall or symmetric")
+        ->check(CLI::IsMember({"office", "hall", "symmetric"}))
+        ->capture_default_str();
     cmd->add_option("--unit", o->unit, "length unit of the file: m or mm")
         ->check(CLI::IsMember({"m", "mm"}))
         ->capture_default_str();
@@ -81,7 +99,7 @@ void AddBimSampleCommand(CLI::App& bim, int& exit_code) {
         ->capture_default_str();
     cmd->add_flag("--no-furniture", o->no_furniture, "leave the furniture out");
     cmd->add_flag("--exterior-doors", o->exterior_doors,
-                  "doors to the outside at the corridor's ends (ground floor)");
+                  "doors to the outside on the ground floor (see the layouts)");
     cmd->add_flag("--force", o->force, "overwrite an existing file");
     cmd->callback([o, &exit_code] { exit_code = Run([&] { return Sample(*o); }); });
 }

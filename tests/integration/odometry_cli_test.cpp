@@ -1,7 +1,7 @@
 // `bimslam odometry` as a user runs it: a simulated capture (Go1 with its CAN log, handheld
 // without) replayed into a session, its trajectory checked with `bimslam evaluate` against the
-// capture's ground truth, the session read back by `bimslam session info`; bad input exits 2
-// naming the file.
+// capture's ground truth, the session read back by `bimslam session info`; the same in the hall,
+// the second sample building; bad input exits 2 naming the file.
 //
 // The accuracy bounds are regression bounds, well above what is measured (about 1 cm and 0.1 deg
 // on these short walks); the measured figures are printed and recorded as test properties.
@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 const std::string kCli = BIMSLAM_CLI_PATH;
 constexpr int kCaptureSeconds = 20;
 
-// The sample building and the captures simulated in it, made once per test process (ctest runs
+// The sample buildings and the captures simulated in them, made once per test process (ctest runs
 // every test in a process of its own, so only what a test asks for is simulated).
 class OdometryCli : public ::testing::Test {
 protected:
@@ -44,12 +44,30 @@ protected:
         return file;
     }
 
+    // The hall, the project's second building (`bim sample --layout hall`).
+    static fs::path HallModel() {
+        const fs::path file = Tmp() / "hall.ifc";
+        if (!fs::exists(file)) {
+            const auto r = test::RunCommand(kCli + " bim sample --layout hall -o " + file.string());
+            EXPECT_EQ(r.exit_code, 0) << r.err;
+        }
+        return file;
+    }
+
     // A capture of the default walk, `kCaptureSeconds` long.
     static fs::path Capture(const std::string& platform) {
-        const fs::path dir = Tmp() / ("capture_" + platform);
+        return Simulate(Model(), platform, Tmp() / ("capture_" + platform));
+    }
+    // The same in the hall (its ground floor).
+    static fs::path HallCapture(const std::string& platform) {
+        return Simulate(HallModel(), platform, Tmp() / ("hall_capture_" + platform));
+    }
+
+    static fs::path Simulate(const fs::path& model, const std::string& platform,
+                             const fs::path& dir) {
         if (!fs::exists(dir / "ground_truth.tum")) {
             const auto r =
-                test::RunCommand(kCli + " simulate --model " + Model().string() + " --platform " +
+                test::RunCommand(kCli + " simulate --model " + model.string() + " --platform " +
                                  platform + " --duration " + std::to_string(kCaptureSeconds) +
                                  " -o " + dir.string() + " --overwrite");
             EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -172,6 +190,37 @@ TEST_F(OdometryCli, Go1WithEdgeFeaturesTracksTheGroundTruth) {
     Report("go1 with CAN, --edge-features", odo, eval);
     EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
     EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+}
+
+// The hall: a building the odometry was not tuned on (other footprint, heights, walls, rooms,
+// columns in a central hall); the same bounds as in the office.
+void ExpectTracksTheGroundTruth(const std::string& what, const fs::path& cap, const fs::path& ses,
+                                bool go1) {
+    const size_t frames = io::ReadTum(cap / "ground_truth.tum").size();
+    ASSERT_NEAR(double(frames), 10.0 * kCaptureSeconds, 5.0);
+    const nlohmann::json odo =
+        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + " --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_EQ(odo.at("used_can").get<bool>(), go1);
+    EXPECT_EQ(odo.at("scans").get<size_t>(), frames);
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+    EXPECT_GT(odo.at("keyframes").get<size_t>(), 3u);
+    EXPECT_GT(odo.at("distance_m").get<double>(), 5.0);
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report(what, odo, eval);
+    EXPECT_EQ(eval.at("matched"), odo.at("scans"));
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+}
+
+TEST_F(OdometryCli, Go1TracksTheGroundTruthInTheHall) {
+    ExpectTracksTheGroundTruth("hall, go1 with CAN", HallCapture("go1"), Tmp() / "hall_go1", true);
+}
+
+TEST_F(OdometryCli, HandheldTracksTheGroundTruthInTheHall) {
+    ExpectTracksTheGroundTruth("hall, handheld", HallCapture("handheld"), Tmp() / "hall_handheld",
+                               false);
 }
 
 // Every file in a folder (relative path) with its bytes.
