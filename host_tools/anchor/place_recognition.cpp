@@ -8,6 +8,7 @@
 #include <random>
 
 #include "algorithms/posegraph/max_clique.hpp"
+#include "algorithms/registration/free_space.hpp"
 #include "algorithms/scancontext/distance.hpp"
 
 namespace bimslam::anchor {
@@ -53,6 +54,12 @@ void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& tar
         } else {
             r.verified = true;
             r.reason.clear();
+        }
+        if (!r.registration.failed) {
+            r.seen_through = registration::CheckFreeSpace(
+                                 q.clouds[r.query_index], target.map().level(config.free_space_level),
+                                 r.registration.T_target_source, config.free_space)
+                                 .ratio();
         }
     });
     times->registration_s += Since(t0);
