@@ -1,5 +1,6 @@
 #include "host_tools/capture/ouster_capture.hpp"
 
+#include <limits>
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
@@ -55,6 +56,7 @@ OusterCapture::~OusterCapture() = default;
 
 void OusterCapture::Route(const net::UdpDatagram& d) {
     ++stats_.datagrams;
+    last_arrival_ns_ = d.timestamp_ns;
     if (d.dst_port == lidar_port_) {
         ++stats_.lidar_packets;
         batcher_.AddPacket(d.payload.data(), d.payload.size(), d.timestamp_ns);
@@ -85,6 +87,7 @@ const ouster::LidarFrame* OusterCapture::NextFrame() {
         }
         // End of file: a capture that holds Ouster-sized packets on no port is no Ouster capture.
         ended_ = true;
+        last_arrival_ns_ = std::numeric_limits<int64_t>::max();
         stats_.truncated = reader_.truncated();
         extractor_.Finish();
         batcher_.Flush();
