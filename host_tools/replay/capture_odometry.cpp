@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/io/capture_files.hpp"
 #include "algorithms/io/session.hpp"
 #include "algorithms/pipeline/scan_pipeline.hpp"
 #include "drivers/can/go1_decoder.hpp"
@@ -45,65 +46,32 @@ double Percentile(std::vector<double> v, double p) {
     return v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))];
 }
 
-std::optional<Eigen::Isometry3d> ReadCaptureMount(const fs::path& path) {
-    std::ifstream in(path);
-    if (!in) return std::nullopt;
-    std::stringstream text;
-    text << in.rdbuf();
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(text.str());
-    } catch (const nlohmann::json::exception& e) {
-        throw common::FileError(StatusCode::kParseError, path.string(), 0, e.what());
-    }
-    const auto sensor = j.find("sensor");
-    if (sensor == j.end() || !sensor->is_object() || !sensor->contains("T_base_sensor")) {
-        return std::nullopt;
-    }
-    const nlohmann::json& m = (*sensor)["T_base_sensor"];
-    if (!m.is_array() || m.size() != 16 ||
-        !std::all_of(m.begin(), m.end(), [](const auto& x) { return x.is_number(); })) {
-        throw common::FileError(StatusCode::kParseError, path.string(), 0,
-                                "sensor.T_base_sensor: expected 16 numbers (row-major 4x4)");
-    }
-    Eigen::Matrix4d M;
-    for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[size_t(i)].get<double>();
-    Eigen::Isometry3d T;
-    T.matrix() = M;
-    if (!common::IsValidRigid(T, 1e-6)) {
-        throw common::FileError(StatusCode::kParseError, path.string(), 0,
-                                "sensor.T_base_sensor is not a rigid transform");
-    }
-    return T;
-}
-
 CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     const auto wall_start = std::chrono::steady_clock::now();
     CaptureOdometryReport report;
-    const fs::path pcap = o.capture_dir / "lidar.pcap";
-    const fs::path metadata = o.capture_dir / "metadata.json";
-    const fs::path can_log = o.capture_dir / "go1_can.log";
-    if (!fs::is_directory(o.capture_dir)) {
-        throw common::FileError(StatusCode::kNotFound, o.capture_dir.string(), 0,
-                                "not a folder (expected a capture: lidar.pcap, metadata.json)");
-    }
-    for (const fs::path& p : {pcap, metadata}) {
-        if (!fs::is_regular_file(p)) {
-            throw common::FileError(StatusCode::kNotFound, p.string(), 0, "missing");
-        }
-    }
+    const io::CaptureFiles files = io::ResolveCapture(o.capture_dir);
+    const fs::path& pcap = files.pcap;
+    const fs::path& metadata = files.metadata;
+    const fs::path can_log = o.can_log.empty() ? files.can_log : o.can_log;
     odometry::LidarOdometryConfig config = o.odometry;
     config.use_imu = config.use_imu && o.use_imu;
-    if (const auto mount = ReadCaptureMount(o.capture_dir / "capture.json")) {
-        config.T_base_lidar = *mount;
-        report.mount_from_capture = true;
+    if (!files.capture_json.empty()) {
+        if (const auto mount = io::ReadCaptureMount(files.capture_json)) {
+            config.T_base_lidar = *mount;
+            report.mount_from_capture = true;
+        }
     }
     std::vector<pipeline::BodyInput> body;
-    if (o.use_can && fs::is_regular_file(can_log)) {
+    if (o.use_can && !can_log.empty()) {
+        if (!fs::is_regular_file(can_log)) {
+            throw common::FileError(StatusCode::kNotFound, can_log.string(), 0, "missing");
+        }
         body = ReadGo1(can_log);
         report.used_can = true;
     } else if (o.use_can) {
-        report.notes.push_back("no go1_can.log: no body-motion prior");
+        report.notes.push_back(files.folder ? "no go1_can.log: no body-motion prior"
+                                            : "no CAN log (a pcap was given; --can LOG adds "
+                                              "one): no body-motion prior");
     }
     config.use_body_motion = report.used_can && !body.empty();
 
