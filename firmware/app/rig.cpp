@@ -120,8 +120,11 @@ RunSummary RunRig(const RunOptions& o) {
     LidarIngestConfig li;
     li.bind_address = cfg.bind_address;
     li.sensor_address = cfg.sensor_address;
-    li.lidar_port = uint16_t(cfg.lidar_port ? cfg.lidar_port : info.udp_port_lidar.value_or(7502));
-    li.imu_port = uint16_t(cfg.imu_port ? cfg.imu_port : info.udp_port_imu.value_or(7503));
+    // Live: the configured ports, else the metadata's. Replay: the recorded ones (the metadata's).
+    li.lidar_port =
+        uint16_t(cfg.lidar_port && !replay ? cfg.lidar_port : info.udp_port_lidar.value_or(7502));
+    li.imu_port =
+        uint16_t(cfg.imu_port && !replay ? cfg.imu_port : info.udp_port_imu.value_or(7503));
     li.receive_buffer_bytes = cfg.receive_buffer_bytes;
     li.sensor_timeout_ns = int64_t(cfg.sensor_timeout_s * 1e9);
     li.publish_imu = cfg.publish_imu;
@@ -153,6 +156,7 @@ RunSummary RunRig(const RunOptions& o) {
     wc.can_wait_ns = int64_t(cfg.can_wait_ms * 1e6);
     wc.deadline_ns = int64_t(cfg.deadline_ms * 1e6);
     wc.lossless = replay && clock.lossless();
+    wc.record = cfg.record;
     OdometryWorker worker(
         wc,
         {scans, imu, bodies, odometry_out, keyframes_lcm, keyframes_session, poses, worker_wakeup},

@@ -56,7 +56,8 @@ struct LidarIngest::Impl {
     IngestCounters c;
     uint64_t imu_pushed = 0;
     uint64_t imu_sequence = 0;
-    int64_t last_arrival_ns = 0;
+    int64_t last_arrival_ns = 0;        // of any datagram: the arrival clock never goes back
+    int64_t last_lidar_arrival_ns = 0;  // of the last lidar packet
     uint32_t candidate_init_id = 0;
     int candidate_count = 0;
 
@@ -105,10 +106,12 @@ struct LidarIngest::Impl {
                const std::atomic<bool>& stop) {
         ++c.lidar_datagrams;
         c.bytes += size;
-        if (c.last_packet_mono_ns != 0 && arrival_ns - last_arrival_ns > config.sensor_timeout_ns) {
+        // A silence: the lidar's own packets stopped (the IMU port may have gone on).
+        if (c.last_packet_mono_ns != 0 &&
+            arrival_ns - last_lidar_arrival_ns > config.sensor_timeout_ns) {
             ++c.silences;
         }
-        last_arrival_ns = arrival_ns;
+        last_arrival_ns = last_lidar_arrival_ns = arrival_ns;
         c.last_packet_mono_ns = mono_ns;
         const ouster::PacketResult r = batcher.AddPacket(data, size, arrival_ns);
         if (r.rejected == ouster::Reject::kInitId) {

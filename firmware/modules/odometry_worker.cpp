@@ -60,10 +60,11 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         fill(*item);
         queue.CommitPush();
     };
-    push(q_.poses, [&](PoseItem& p) {
-        p.pose = io::StampedPose::FromIsometry(out.stamp_ns, r.T_odom_lidar);
-        p.segment = segment_;
-    });
+    if (config_.record)
+        push(q_.poses, [&](PoseItem& p) {
+            p.pose = io::StampedPose::FromIsometry(out.stamp_ns, r.T_odom_lidar);
+            p.segment = segment_;
+        });
     if (out.keyframe) {
         const auto fill = [&](KeyframeItem& k) {
             k.keyframe = *out.keyframe_data;  // copies into the slot's reserved buffers
@@ -73,7 +74,7 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
             k.scan_index = out.scan_index;
             k.segment = segment_;
         };
-        push(q_.keyframes_session, fill);
+        if (config_.record) push(q_.keyframes_session, fill);
         push(q_.keyframes_lcm, fill);
     }
     const int64_t done = runtime::MonotonicNs();

@@ -25,6 +25,7 @@ struct OdometryWorkerConfig {
     int64_t can_wait_ns = 20'000'000;
     int64_t deadline_ns = 100'000'000;
     bool lossless = false;  // replay as fast as possible: wait for the CAN log, never drop
+    bool record = true;     // false: no session writer consumes poses and keyframes
 };
 
 struct WorkerCounters {
