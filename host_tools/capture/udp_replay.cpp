@@ -42,7 +42,8 @@ UdpReplayReport ReplayUdp(const UdpReplayOptions& o) {
                 sender.Flush();  // what is due now goes out before the wait
                 std::this_thread::sleep_until(due);
             }
-            const double late = std::chrono::duration<double, std::milli>(Clock::now() - due).count();
+            const double late =
+                std::chrono::duration<double, std::milli>(Clock::now() - due).count();
             report.max_late_ms = std::max(report.max_late_ms, late);
         }
         sender.Add(o.to_ip, port->second, d.payload);

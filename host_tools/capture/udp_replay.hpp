@@ -22,7 +22,7 @@ struct UdpReplayOptions {
     double speed = 1.0;  // 0: as fast as possible
     std::string bind_address = "0.0.0.0";
     uint16_t bind_port = 0;
-    double max_duration_s = 0;  // > 0: stop after this much capture time
+    double max_duration_s = 0;             // > 0: stop after this much capture time
     std::function<void(double)> progress;  // capture seconds sent so far, about once a second
 };
 

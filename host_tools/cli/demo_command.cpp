@@ -1,10 +1,10 @@
 // bimslam demo: the main job end to end on data the project makes itself. It grows with every
 // issue; for now: write the sample building as IFC and read it back (IFC++), turn it into its
 // BIM reference session (Step 1: grids, walks through every room, simulated scans), simulate a
-// Go1 rig's capture of the ground floor (bimslam simulate), run the on-board LiDAR odometry and
-// keyframe selection on it into a session (bimslam odometry), score it against the ground truth
-// (bimslam evaluate), read the session back, and recognise the rig's places among the
-// reference's keyframes.
+// Go1 rig's capture of the ground floor (bimslam simulate), run it through the on-board
+// firmware (bimslam-rig replay, a separate process, LCM recorded by lcm-logger) into a session,
+// score it against the ground truth (bimslam evaluate), read the session back, and recognise the
+// rig's places among the reference's keyframes.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +16,7 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/session.hpp"
 #include "algorithms/io/sha256.hpp"
+#include "algorithms/keyframes/keyframe_selector.hpp"
 #include "algorithms/scancontext/candidate_index.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
 #include "host_tools/bim/coverage_path.hpp"
@@ -23,8 +24,8 @@
 #include "host_tools/bim/reference_session.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/cli/command.hpp"
+#include "host_tools/cli/rig_replay.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
-#include "host_tools/replay/capture_odometry.hpp"
 #include "host_tools/simulate/scenario.hpp"
 #include "host_tools/simulate/simulate.hpp"
 
@@ -125,18 +126,18 @@ int RunDemo(const DemoOptions& opt) {
 
     // 4. The on-board LiDAR odometry and keyframe selection, run offline on the capture exactly
     //    as bimslam-rig runs them (bimslam odometry).
-    replay::CaptureOdometryOptions oo;
-    oo.capture_dir = capture_dir;
-    oo.session_dir = session_dir;
-    oo.overwrite = opt.overwrite;
-    const replay::CaptureOdometryReport odo = replay::RunCaptureOdometry(oo);
-    std::cout << "  odometry " << odo.scans << " scans, " << odo.keyframes
+    const RigReplayRun odo = RunRigReplay(capture_dir, out / "rig");
+    fs::remove_all(session_dir);
+    fs::rename(odo.session, session_dir);
+    std::cout << "  bimslam-rig replay " << odo.scans << " scans, " << odo.keyframes
               << " keyframes (1 m / 10 deg, indoor Scan Context each) in " << odo.wall_s
-              << " s; per scan p50 " << std::setprecision(2) << replay::Percentile(odo.scan_ms, 0.5)
-              << " ms, max " << replay::Percentile(odo.scan_ms, 1.0) << " ms of a "
-              << std::setprecision(0) << oo.odometry.budget_ms << std::setprecision(1)
-              << " ms budget\n           " << session_dir.string()
-              << "/ (trajectory.tum: every scan)\n";
+              << " s, as fast as the machine goes (lossless; the latency includes queueing then: "
+                 "last packet to odometry on LCM p50 "
+              << std::setprecision(2) << odo.latency_p50_ms << " ms, max " << odo.latency_max_ms
+              << std::setprecision(1) << " ms)\n           " << session_dir.string()
+              << "/ (trajectory.tum: every scan)"
+              << (odo.lcm_log.empty() ? "" : ", LCM recorded in " + odo.lcm_log.string()) << "\n";
+    const keyframes::KeyframeConfig keyframe_config;
 
     // 5. Its accuracy against the simulator's ground truth (bimslam evaluate).
     const evaluation::EvaluationResult ev = evaluation::EvaluateFiles(
@@ -164,7 +165,7 @@ int RunDemo(const DemoOptions& opt) {
     const Eigen::Isometry3d T_bim_odom =
         truth.empty() ? Eigen::Isometry3d::Identity() : truth.front().Pose();
     const io::Session reference = io::ReadSession(reference_dir, {.load_clouds = false});
-    scancontext::CandidateIndex index(oo.keyframes.descriptor);
+    scancontext::CandidateIndex index(keyframe_config.descriptor);
     for (const auto& kf : reference.keyframes) {
         if (!index.Add(kf.descriptor).ok()) return kExitFailure;
     }

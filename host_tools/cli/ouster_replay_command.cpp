@@ -74,9 +74,12 @@ int Replay(const ReplayArgs& a) {
     const capture::UdpReplayReport r = capture::ReplayUdp(o);
     if (tty) std::cerr << "\r";
     if (a.json) {
-        std::cout << nlohmann::json{{"sent", r.sent},          {"failed", r.failed},
-                                    {"bytes", r.bytes},        {"skipped", r.skipped},
-                                    {"capture_s", r.capture_s}, {"wall_s", r.wall_s},
+        std::cout << nlohmann::json{{"sent", r.sent},
+                                    {"failed", r.failed},
+                                    {"bytes", r.bytes},
+                                    {"skipped", r.skipped},
+                                    {"capture_s", r.capture_s},
+                                    {"wall_s", r.wall_s},
                                     {"max_late_ms", r.max_late_ms}}
                          .dump(2)
                   << "\n";
