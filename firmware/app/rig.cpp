@@ -78,6 +78,10 @@ RunSummary RunRig(const RunOptions& o) {
         if (!files.capture_json.empty()) {
             if (const auto mount = io::ReadCaptureMount(files.capture_json)) T_base_lidar = *mount;
         }
+    } else if (can_source == "log") {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            "can.source: log reads a recording, which only replay does; live "
+                            "takes socketcan, lcm or none");
     } else if (cfg.metadata.empty()) {
         throw common::Error(StatusCode::kInvalidArgument,
                             "sensor.metadata: live mode needs the sensor's metadata JSON");
