@@ -36,7 +36,7 @@ inline constexpr char kRigHealthChannel[] = "BIMSLAM_RIG_HEALTH";
 void ToMessage(const OdometryItem& item, int64_t publish_ns, bimslam::odometry_t* msg);
 void ToMessage(const KeyframeItem& item, const keyframes::KeyframeConfig& config,
                int64_t publish_ns, bimslam::keyframe_t* msg);
-// The Ouster IMU sample is published in the sensor frame (as ouster::ImuDecoder delivers it).
+// The Ouster IMU sample in the IMU's own frame (the ingest rotates it back from the sensor frame).
 void ToMessage(const OusterImuItem& item, int64_t publish_ns, bimslam::imu_sample_t* msg);
 void ToMessage(const Go1Item& item, int64_t publish_ns, bimslam::go1_state_t* msg);
 

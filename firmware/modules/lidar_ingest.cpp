@@ -53,6 +53,9 @@ struct LidarIngest::Impl {
     bool have_first_record = false;
     net::PcapRecord first_record;  // read ahead to learn the first capture time
 
+    // imu_sample_t carries the Ouster IMU in its own frame ("imu"); the decoder hands it over in
+    // the sensor frame.
+    Eigen::Matrix3d R_imu_sensor = Eigen::Matrix3d::Identity();
     IngestCounters c;
     uint64_t imu_pushed = 0;
     uint64_t imu_sequence = 0;
@@ -73,6 +76,7 @@ struct LidarIngest::Impl {
           imu_lcm(il),
           replay(r) {
         c.init_id = info.init_id;
+        R_imu_sensor = info.imu_to_sensor_transform.topLeftCorner<3, 3>().transpose();
     }
 
     // Waits for room in a queue in a lossless replay; false when the item must be dropped.
@@ -147,7 +151,12 @@ struct LidarIngest::Impl {
                 imu.CommitPush();
                 ++imu_pushed;
             }
-            if (config.publish_imu) imu_lcm.TryPush({samples[i], imu_sequence});
+            if (config.publish_imu) {
+                ouster::ImuSample in_imu = samples[i];
+                in_imu.gyro = R_imu_sensor * samples[i].gyro;
+                in_imu.accel = R_imu_sensor * samples[i].accel;
+                imu_lcm.TryPush({in_imu, imu_sequence});
+            }
             ++imu_sequence;
         }
     }
