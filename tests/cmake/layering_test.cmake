@@ -95,7 +95,8 @@ run_case(pipeline_links_net FAIL "algorithms/pipeline .*links bimslam_drivers_ne
     LIBS ${base} "drivers/net|bimslam::algorithms_common"
          "algorithms/pipeline|bimslam::drivers_net")
 run_case(pipeline_includes_net FAIL "algorithms/pipeline/use.cpp: '#include \"drivers/net/udp_source.hpp\"'"
-    LIBS ${base} INCLUDES "algorithms/pipeline|\"drivers/net/udp_source.hpp\"")
+    LIBS ${base} "algorithms/pipeline"
+    INCLUDES "algorithms/pipeline|\"drivers/net/udp_source.hpp\"")
 run_case(other_algorithms_link_decoders FAIL "algorithms/odometry .*links bimslam_drivers_ouster"
     LIBS ${base} "algorithms/odometry|bimslam::drivers_ouster")
 run_case(firmware_link_ifcpp FAIL "firmware/app .*brings ifcpp"
