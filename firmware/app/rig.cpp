@@ -184,7 +184,6 @@ RunSummary RunRig(const RunOptions& o) {
     std::atomic<bool> stop_sources{false}, ingest_done{false}, can_done{!can.has_value()},
         worker_done{false}, health_stop{false}, health_done{false}, lcm_inputs_done{false};
     runtime::ThreadTable threads;
-    const int64_t scan_period = int64_t(1e9 / std::max(1.0, info.frame_rate_hz));
     threads.Add(Spec("ingest", cfg.ingest, 0, 0, "lidar/IMU datagrams",
                      replay ? "the recording (paced)" : "the two UDP sockets"),
                 [&](runtime::ThreadStats& s) {
@@ -237,7 +236,6 @@ RunSummary RunRig(const RunOptions& o) {
                     health_done.store(true);
                     lcm_wakeup.Notify();
                 });
-    (void)scan_period;
 
     // Start-up: memory, signals (handled by this thread only: blocked in every other), threads.
     if (cfg.lock_memory) {

@@ -155,6 +155,46 @@ TEST_F(Rig, SigkillLeavesARecoverableSession) {
     EXPECT_GE(s["keyframes"].get<int>(), 2) << info.out;
 }
 
+TEST_F(Rig, RecordingAsPcapWithItsJsonLikeTheOusterTools) {
+    const fs::path cap = Capture("handheld", 4);
+    const fs::path dir = Tmp() / "ouster_style";
+    fs::create_directories(dir);
+    fs::copy_file(cap / "lidar.pcap", dir / "walk.pcap", fs::copy_options::overwrite_existing);
+    fs::copy_file(cap / "metadata.json", dir / "walk.json", fs::copy_options::overwrite_existing);
+    const auto r = test::RunCommand(kCli + " odometry " + (dir / "walk.pcap").string() + " -o " +
+                                    (dir / "offline").string() + " --budget-ms 1000 --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const fs::path config = WriteConfig(Tmp() / "pcap.yaml", "");
+    const nlohmann::json j =
+        RigJson(kRig + " replay " + (dir / "walk.pcap").string() + " --speed max --json --config " +
+                config.string() + " --session-root " + (dir / "rig").string());
+    ASSERT_FALSE(j.is_null());
+    EXPECT_EQ(Slurp(fs::path(j["session"].get<std::string>()) / "trajectory.tum"),
+              Slurp(dir / "offline" / "trajectory.tum"));
+}
+
+TEST_F(Rig, ACaptureWithoutDatagramsSaysHowManyRecordsWereDroppedAndWhy) {
+    const fs::path cap = Capture("handheld", 4, "network:\n  fragment: false\n");
+    // Every IPv4 header's version nibble made 6: nothing is IPv4 any more.
+    std::ifstream f(cap / "lidar.pcap", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(f)), {});
+    for (size_t at = 24; at + 16 <= bytes.size();) {
+        uint32_t caplen;
+        std::memcpy(&caplen, bytes.data() + at + 8, 4);
+        if (caplen > 14) bytes[at + 16 + 14] = char(0x65);
+        at += 16 + caplen;
+    }
+    const fs::path dir = Tmp() / "broken";
+    fs::create_directories(dir);
+    std::ofstream(dir / "x.pcap", std::ios::binary) << bytes;
+    fs::copy_file(cap / "metadata.json", dir / "x.json", fs::copy_options::overwrite_existing);
+    const auto r = test::RunCommand(kCli + " odometry " + (dir / "x.pcap").string() + " -o " +
+                                    (dir / "s").string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("dropped: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("malformed IPv4"), std::string::npos) << r.err;
+}
+
 TEST_F(Rig, ShippedConfigurationsLoad) {
     for (const char* name : {"go1.yaml", "handheld.yaml"}) {
         const fs::path file = fs::path(BIMSLAM_SOURCE_ROOT) / "firmware/app/config" / name;
