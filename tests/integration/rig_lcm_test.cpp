@@ -19,11 +19,13 @@
 #include <mutex>
 #include <thread>
 
+#include "host_tools/capture/udp_replay.hpp"
 #include "tests/integration/rig_test_support.hpp"
 
 namespace bimslam {
 namespace {
 namespace fs = std::filesystem;
+using test::rig::kCli;
 using test::rig::kRig;
 
 // Counts and decodes every bimslam channel in a thread of its own.
@@ -104,7 +106,10 @@ TEST_F(RigLcm, EveryChannelReachesASubscriber) {
     ASSERT_FALSE(j.is_null());
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const auto n = sub.counts();
-    EXPECT_EQ(n.count("BIMSLAM_ODOMETRY") ? n.at("BIMSLAM_ODOMETRY") : 0, j["scans"]);
+    // UDP multicast may lose a datagram on a loaded machine: nearly every scan, never more.
+    const int odometry = n.count("BIMSLAM_ODOMETRY") ? n.at("BIMSLAM_ODOMETRY") : 0;
+    EXPECT_GE(odometry, int(0.9 * j["scans"].get<double>()));
+    EXPECT_LE(odometry, j["scans"].get<int>());
     EXPECT_GE(n.count("BIMSLAM_KEYFRAME") ? n.at("BIMSLAM_KEYFRAME") : 0, 2);
     EXPECT_GE(n.count("BIMSLAM_IMU") ? n.at("BIMSLAM_IMU") : 0, 400);
     EXPECT_GE(n.count("BIMSLAM_GO1_STATE") ? n.at("BIMSLAM_GO1_STATE") : 0, 400);
@@ -144,9 +149,87 @@ TEST_F(RigLcm, LcmLoggerRecordsARunAndLcmLogplayerPlaysItBack) {
     EXPECT_EQ(r.exit_code, 0) << r.err;
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const auto n = sub.counts();
-    EXPECT_EQ(n.count("BIMSLAM_ODOMETRY") ? n.at("BIMSLAM_ODOMETRY") : 0, j["scans"]);
+    // Recorded and played back over UDP multicast twice: nearly every scan, never more.
+    const int odometry = n.count("BIMSLAM_ODOMETRY") ? n.at("BIMSLAM_ODOMETRY") : 0;
+    EXPECT_GE(odometry, int(0.9 * j["scans"].get<double>()));
+    EXPECT_LE(odometry, j["scans"].get<int>());
     EXPECT_GE(n.count("BIMSLAM_RIG_HEALTH") ? n.at("BIMSLAM_RIG_HEALTH") : 0, 1);
     EXPECT_EQ(sub.decode_failures(), 0);
+}
+
+// The Go1 side as on the bench: the simulator's HighState stream (go1_highstate.pcap) sent from
+// the Go1's port to the real bimslam-go1-bridge, whose CAN frames reach bimslam-rig live over LCM
+// (can.source lcm) while `bimslam ouster replay` sends the lidar; compared with the direct path,
+// the simulator's own CAN log through bimslam-rig replay. Both trajectories against the ground
+// truth: the bridge's mapping must give the odometry the same motion prior.
+TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
+    const fs::path cap = Capture("go1", 8);
+    ASSERT_TRUE(fs::exists(cap / "go1_highstate.pcap"));
+    const fs::path direct_config = test::rig::WriteConfig(Tmp() / "direct.yaml", "");
+    const nlohmann::json direct = test::rig::RigJson(
+        kRig + " replay " + cap.string() + " --speed max --json --config " +
+        direct_config.string() + " --session-root " + (Tmp() / "direct").string());
+    ASSERT_FALSE(direct.is_null());
+
+    const int lidar_port = test::rig::FreeUdpPortPair();
+    const int go1_port = test::rig::FreeUdpPortPair();  // the Go1's, and the bridge's + 1
+    const std::string channel = "BIMSLAM_GO1_CAN_" + std::to_string(::getpid());
+    const std::string url = test::rig::PrivateLcmUrl();
+    const fs::path live_config = test::rig::WriteConfig(
+        Tmp() / "bridge.yaml",
+        "sensor:\n  metadata: " + (cap / "metadata.json").string() +
+            "\n  bind_address: 127.0.0.1\n  lidar_port: " + std::to_string(lidar_port) +
+            "\n  imu_port: " + std::to_string(lidar_port + 1) +
+            "\ncan:\n  source: lcm\n  lcm_channel: " + channel + "\n");
+    const pid_t rig = test::rig::Spawn(kRig + " live --json --config " + live_config.string() +
+                                           " --session-root " + (Tmp() / "bridged").string(),
+                                       Tmp() / "bridged.out", Tmp() / "bridged.err");
+    const pid_t bridge = test::rig::Spawn(
+        std::string(BIMSLAM_GO1_BRIDGE_PATH) + " --go1 127.0.0.1:" + std::to_string(go1_port) +
+            " --local-address 127.0.0.1 --local-port " + std::to_string(go1_port + 1) + " --lcm '" +
+            url + "' --lcm-channel " + channel + " --status-interval 0",
+        Tmp() / "bridge.out", Tmp() / "bridge.err");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    capture::UdpReplayOptions go1;
+    go1.pcap = cap / "go1_highstate.pcap";
+    go1.ports[8090] = uint16_t(go1_port + 1);
+    go1.bind_address = "127.0.0.1";
+    go1.bind_port = uint16_t(go1_port);
+    capture::UdpReplayReport sent;
+    std::thread go1_thread([&] { sent = capture::ReplayUdp(go1); });
+    const auto lidar = test::RunCommand(
+        kCli + " ouster replay " + cap.string() + " --to 127.0.0.1 --lidar-port " +
+        std::to_string(lidar_port) + " --imu-port " + std::to_string(lidar_port + 1));
+    go1_thread.join();
+    EXPECT_EQ(lidar.exit_code, 0) << lidar.err;
+    EXPECT_GT(sent.sent, 3500u);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    ::kill(rig, SIGINT);
+    ::kill(bridge, SIGINT);
+    ASSERT_EQ(test::rig::Wait(rig), 0)
+        << test::RunCommand("cat " + (Tmp() / "bridged.err").string()).out;
+    test::rig::Wait(bridge);
+    std::ifstream in(Tmp() / "bridged.out");
+    const nlohmann::json live = nlohmann::json::parse(in);
+    EXPECT_GT(live["go1_samples"].get<int>(), 600) << "the bridge's samples did not reach the rig";
+    // About 8000 frames through UDP multicast on a loaded machine: the E2E checks may see a few
+    // late or repeated frames (measured 9), never a systematic fault.
+    EXPECT_LT(live["can_e2e_errors"].get<int>(), 80);
+    EXPECT_GE(live["scans"].get<int>(), 75);
+    const auto ape = [&](const nlohmann::json& run) {
+        const auto r = test::RunCommand(
+            kCli + " evaluate --json --est " +
+            (fs::path(run["session"].get<std::string>()) / "trajectory.tum").string() + " --ref " +
+            (cap / "ground_truth.tum").string());
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        return nlohmann::json::parse(r.out).at("ape_trans_rmse_m").get<double>();
+    };
+    const double bridged = ape(live);
+    const double direct_ape = ape(direct);
+    std::cout << "APE through the bridge " << bridged * 100 << " cm, direct " << direct_ape * 100
+              << " cm\n";
+    EXPECT_LT(bridged, 0.05);
+    EXPECT_LT(std::abs(bridged - direct_ape), 0.02);
 }
 
 TEST_F(RigLcm, SdNotifyReadyWatchdogStatusStopping) {
