@@ -33,7 +33,10 @@ packages=(
 # Open3D (with numpy) for Debian's python3, CloudCompare; Node.js for web-ifc, the second IFC
 # engine the sample building must open in (tests/tools/web_ifc, sample_building_test.cpp); and
 # clang with its libFuzzer runtime for the fuzz targets (preset `fuzz`).
-test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev)
+# systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
+# library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt).
+test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
+    liblcm-java openjdk-17-jdk-headless)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
     # Debian's npm, unless npm is there already: a nodejs from NodeSource bundles its own and

@@ -84,7 +84,9 @@ std::string SerializeScd(const DescriptorMatrix& d) {
 }
 }  // namespace
 
-void WriteScd(const fs::path& path, const DescriptorMatrix& d) { WriteFileAtomic(path, SerializeScd(d)); }
+void WriteScd(const fs::path& path, const DescriptorMatrix& d) {
+    WriteFileAtomic(path, SerializeScd(d));
+}
 
 SessionWriter::SessionWriter(fs::path dir, SessionManifest manifest, SessionWriterOptions options)
     : dir_(std::move(dir)), manifest_(std::move(manifest)), options_(options) {
@@ -172,7 +174,11 @@ void SessionWriter::Flush() {
     }
     WriteFileAtomic(dir_ / "times.txt", times, sync());
     WriteFileAtomic(dir_ / "optimized_poses.txt", SerializeKitti(world), sync());
-    if (!odom.empty()) WriteFileAtomic(dir_ / "odom_poses.txt", SerializeKitti(odom), sync());
+    // A rig session has odometry poses even before its first keyframe (the reader requires the
+    // file of a complete rig session; a full disk can leave it without keyframes).
+    if (!odom.empty() || manifest_.source == "rig") {
+        WriteFileAtomic(dir_ / "odom_poses.txt", SerializeKitti(odom), sync());
+    }
     WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", SerializeG2o({world, edges_}), sync());
     WriteFileAtomic(dir_ / "trajectory.tum", SerializeTum(trajectory_), sync());
     unflushed_ = 0;

@@ -12,7 +12,7 @@ namespace {
 using common::StatusCode;
 
 void Require(bool ok, const char* field, double value, const char* rule) {
-    odometry::Require(ok, "MotionPriorConfig", field, value, rule);
+    common::Require(ok, "MotionPriorConfig", field, value, rule);
 }
 
 // Roll and pitch of a body attitude (ZYX Euler angles, yaw dropped).

@@ -145,6 +145,32 @@ LinkResult ParseLinkLayer(uint32_t link_type, std::span<const uint8_t> frame, Li
     return LinkResult::kOk;
 }
 
+std::string DescribeDrops(const ExtractorStats& s, bool bad_checksum_dropped) {
+    const std::pair<const char*, uint64_t> causes[] = {
+        {"of an unsupported link type", s.unsupported_link_type},
+        {"cut inside the link header", s.link_truncated},
+        {"not IPv4", s.not_ipv4},
+        {"IPv4 but not UDP", s.not_udp},
+        {"malformed IPv4", s.ip_malformed},
+        {"cut short by the snap length", s.ip_truncated},
+        {"with a bad IPv4 header checksum", bad_checksum_dropped ? s.ip_bad_checksum : 0},
+        {"with a bad UDP length", s.udp_bad_length},
+        {"with a bad UDP checksum", s.udp_bad_checksum},
+        {"of incomplete IPv4 fragments", s.timed_out_datagrams + s.incomplete_at_end +
+                                             s.evicted_datagrams_limit + s.evicted_datagrams_bytes +
+                                             s.overlapping_datagrams + s.oversize_datagrams},
+    };
+    uint64_t total = 0;
+    std::string detail;
+    for (const auto& [what, n] : causes) {
+        if (n == 0) continue;
+        total += n;
+        detail += (detail.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+    }
+    if (total == 0) return "";
+    return std::to_string(total) + " dropped: " + detail;
+}
+
 void ExtractorConfig::Validate() const {
     using common::Error;
     using common::StatusCode;
@@ -479,7 +505,10 @@ PortGuess GuessPortsInCapture(const std::filesystem::path& path, size_t lidar_pa
             datagrams.push_back(datagram);  // GuessPorts reads the payload size only
         }
     }
-    return GuessPorts(datagrams, lidar_payload_bytes, imu_payload_bytes);
+    PortGuess guess = GuessPorts(datagrams, lidar_payload_bytes, imu_payload_bytes);
+    guess.records = reader.records();
+    guess.extractor = extractor.stats();
+    return guess;
 }
 
 }  // namespace bimslam::net

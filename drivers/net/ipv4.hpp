@@ -78,10 +78,13 @@ struct ExtractorConfig {
     // Fragment bytes held in reassembly at once (Linux: ipfrag_high_thresh, 4 MiB). At least
     // 65535, the largest datagram.
     size_t max_bytes_in_flight = 1 << 20;
-    // A wrong IPv4 header checksum means the addresses, lengths or fragment offsets cannot be
-    // trusted, so such packets are dropped (as the kernel does). The header checksum is computed
-    // in software even with checksum offload, so captures on the sending host have it right.
-    bool drop_bad_ip_checksum = true;
+    // A wrong IPv4 header checksum is counted (ip_bad_checksum) and the packet kept, as
+    // Wireshark and the Ouster SDK do by default: real recordings carry bad checksums (addresses
+    // rewritten after capture, checksum offload on the capturing host), and dropping them made
+    // such a capture read as "0 UDP datagrams". The fields are still checked for consistency
+    // (lengths, offsets), and the Ouster packets carry their own checks (size, CRC-64). True
+    // drops them, as the kernel does.
+    bool drop_bad_ip_checksum = false;
     // UDP checksums in captures taken on the sending host are often wrong (checksum offload
     // fills them in after capture), so they are not checked unless asked; when checked, a
     // non-zero wrong checksum drops the datagram (0 means "not computed", RFC 768).
@@ -100,7 +103,7 @@ struct ExtractorStats {
     uint64_t not_udp = 0;                // IPv4 of another protocol (TCP, ICMP, ...)
     uint64_t ip_malformed = 0;      // version, header length, total length < header, bad offsets
     uint64_t ip_truncated = 0;      // captured bytes fewer than the IPv4 total length (snaplen)
-    uint64_t ip_bad_checksum = 0;   // counted; dropped when drop_bad_ip_checksum
+    uint64_t ip_bad_checksum = 0;   // counted; dropped only when drop_bad_ip_checksum
     uint64_t udp_bad_length = 0;    // UDP length < 8 or beyond the IP payload
     uint64_t udp_bad_checksum = 0;  // only with check_udp_checksum; dropped
     uint64_t datagrams = 0;         // datagrams returned (unfragmented and reassembled)
@@ -115,6 +118,10 @@ struct ExtractorStats {
     uint64_t evicted_datagrams_bytes = 0;  // dropped: max_bytes_in_flight reached
     uint64_t incomplete_at_end = 0;        // dropped by Finish(): the capture ended first
 };
+
+// "N records dropped: a not IPv4, b bad IPv4 checksum, ..." (causes with a count only), or "" when
+// nothing was dropped: for messages about captures that yield fewer datagrams than expected.
+std::string DescribeDrops(const ExtractorStats& stats, bool bad_checksum_dropped);
 
 class UdpExtractor {
 public:
@@ -182,7 +189,9 @@ struct PortGuess {
     std::optional<uint16_t> imu_port;
     uint64_t lidar_datagrams = 0;  // datagrams of the lidar size on the chosen port
     uint64_t imu_datagrams = 0;
-    uint64_t datagrams = 0;  // datagrams looked at
+    uint64_t datagrams = 0;    // datagrams looked at
+    uint64_t records = 0;      // capture records read (GuessPortsInCapture)
+    ExtractorStats extractor;  // why records gave no datagram (GuessPortsInCapture)
 };
 // Only dst_port and payload.size() are read, so the payload spans may already be stale.
 PortGuess GuessPorts(std::span<const UdpDatagram> datagrams, size_t lidar_payload_bytes,

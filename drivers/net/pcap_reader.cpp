@@ -555,4 +555,19 @@ uint32_t PcapReader::snaplen() const { return state_->snaplen; }
 bool PcapReader::nanosecond() const { return state_->nanosecond; }
 const std::string& PcapReader::name() const { return state_->name; }
 
+bool LooksLikePcap(const std::filesystem::path& path) {
+    uint8_t h[4] = {};
+    gzFile f = gzopen(path.c_str(), "rb");
+    if (f == nullptr) return false;
+    const int n = gzread(f, h, sizeof(h));
+    gzclose(f);
+    if (n != 4) return false;
+    const uint32_t le = h[0] | h[1] << 8 | h[2] << 16 | uint32_t(h[3]) << 24;
+    const uint32_t be = h[3] | h[2] << 8 | h[1] << 16 | uint32_t(h[0]) << 24;
+    for (uint32_t magic : {0xA1B2C3D4u, 0xA1B23C4Du}) {
+        if (le == magic || be == magic) return true;
+    }
+    return le == 0x0A0D0D0Au;  // pcapng section header (the same in both byte orders)
+}
+
 }  // namespace bimslam::net

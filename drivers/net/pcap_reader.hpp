@@ -53,6 +53,10 @@ struct PcapRecord {
 
 enum class PcapFormat : uint8_t { kPcap, kPcapNg };
 
+// True when the file (gzipped or not) starts with a classic pcap or pcapng magic: how a reader of
+// "a CAN recording" tells a pcap from a candump text log. False when it cannot be read.
+bool LooksLikePcap(const std::filesystem::path& path);
+
 class PcapReader {
 public:
     // Largest caplen and classic snaplen accepted: libpcap's MAXIMUM_SNAPLEN (262144). Larger

@@ -72,6 +72,10 @@ public:
     int Flush();
     // Forgets every frame and counter, as after construction, without allocating.
     void Reset();
+    // The init_id packets are checked against from now on: a sensor that restarted sends a new
+    // one, which its user accepts once it has seen it persist (the batcher alone cannot tell a
+    // restart from another sensor on the port). Frames emit as after any init_id change.
+    void SetExpectedInitId(uint32_t init_id) { info_.init_id = init_id; }
     // The frames emitted by the last AddPacket or Flush, oldest first; valid until the next call.
     std::span<const LidarFrame* const> ready() const { return {ready_.data(), ready_count_}; }
 

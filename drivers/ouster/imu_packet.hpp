@@ -52,6 +52,8 @@ public:
     };
     Result Decode(const uint8_t* p, size_t size, std::span<ImuSample> out);
     const ImuStats& stats() const { return stats_; }
+    // As FrameBatcher::SetExpectedInitId, after a sensor restart.
+    void SetExpectedInitId(uint32_t init_id) { info_.init_id = init_id; }
 
 private:
     Result Drop(ImuReject r);

@@ -24,8 +24,8 @@
 #include "algorithms/common/can_frame.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/common/time.hpp"
+#include "drivers/go1/high_state.hpp"
 #include "firmware/go1_bridge/bridge.hpp"
-#include "firmware/go1_bridge/high_state.hpp"
 #include "firmware/go1_bridge/sinks.hpp"
 #include "firmware/go1_bridge/udp_client.hpp"
 

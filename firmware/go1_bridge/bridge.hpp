@@ -51,9 +51,12 @@
 #include "algorithms/common/can_frame.hpp"
 #include "drivers/can/go1_encoder.hpp"
 #include "drivers/can/go1_sample.hpp"
-#include "firmware/go1_bridge/high_state.hpp"
+#include "drivers/go1/high_state.hpp"
 
 namespace bimslam::go1_bridge {
+
+// The HighState codec lives in drivers/go1 (the capture simulator writes HighStates too).
+using namespace ::bimslam::go1;  // NOLINT(google-build-using-namespace)
 
 // STS_BridgeState values (DBC VAL_ 320 STS_BridgeState).
 enum class BridgeState : uint8_t { kInit = 0, kRunning = 1, kDegraded = 2, kFault = 3 };

@@ -61,7 +61,7 @@ void AnchorConfig::Validate() const {
             "must be positive");
     Require(proximity_first_level < registration.levels.size(), c, "proximity_first_level",
             double(proximity_first_level), "must name a registration level");
-    Require(max_rounds >= 1, c, "max_rounds", max_rounds, "must be at least 1");
+    Require(max_rounds >= 0, c, "max_rounds", max_rounds, "must not be negative");
     Require(max_loop_chi2 > 0, c, "max_loop_chi2", max_loop_chi2, "must be positive");
     Require(free_space_level < registration.levels.size(), c, "free_space_level",
             double(free_space_level), "must name a registration level");

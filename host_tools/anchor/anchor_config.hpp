@@ -72,7 +72,7 @@ struct AnchorConfig {
     double proximity_gate_m = 0.5;
     double proximity_gate_deg = 5.0;
     size_t proximity_first_level = 1;  // the estimate is good: skip the coarsest level
-    int max_rounds = 6;
+    int max_rounds = 6;  // 0: place-recognition loops only (to measure the outlier methods alone)
     double converged_m = 0.01;  // rounds end when no keyframe moves more than this ...
     // ... and the accepted set is the same. After the last round, a loop whose whitened residual
     // exceeds this chi-square (6 dof, 0.999) is dropped as inconsistent with the solution.

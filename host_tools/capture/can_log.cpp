@@ -8,6 +8,7 @@
 #include "algorithms/common/status.hpp"
 #include "drivers/can/candump.hpp"
 #include "drivers/net/can_pcap.hpp"
+#include "drivers/net/pcap_reader.hpp"
 
 namespace bimslam::capture {
 namespace {
@@ -27,15 +28,6 @@ std::pair<std::array<uint8_t, 4>, bool> Peek(const std::filesystem::path& path) 
     return {head, gz};
 }
 
-bool IsPcapMagic(const std::array<uint8_t, 4>& h, bool* pcapng) {
-    const uint32_t le = h[0] | h[1] << 8 | h[2] << 16 | uint32_t(h[3]) << 24;
-    const uint32_t be = h[3] | h[2] << 8 | h[1] << 16 | uint32_t(h[0]) << 24;
-    *pcapng = le == 0x0A0D0D0A;
-    for (uint32_t magic : {0xA1B2C3D4u, 0xA1B23C4Du}) {
-        if (le == magic || be == magic) return true;
-    }
-    return *pcapng;
-}
 }  // namespace
 
 struct CanLog::Impl {
@@ -44,11 +36,10 @@ struct CanLog::Impl {
 };
 
 CanLog::CanLog(const std::filesystem::path& path) : impl_(std::make_unique<Impl>()) {
-    const auto [head, gz] = Peek(path);
-    bool pcapng = false;
-    if (IsPcapMagic(head, &pcapng)) {
+    const bool gz = Peek(path).second;  // also: unreadable files throw here
+    if (net::LooksLikePcap(path)) {
         impl_->pcap.emplace(path);
-        format_ = pcapng ? "pcapng" : "pcap";
+        format_ = impl_->pcap->pcap().format() == net::PcapFormat::kPcapNg ? "pcapng" : "pcap";
     } else {
         can::CandumpReaderConfig config;
         config.mode = can::CandumpMode::kLenient;

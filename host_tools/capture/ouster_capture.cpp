@@ -1,5 +1,6 @@
 #include "host_tools/capture/ouster_capture.hpp"
 
+#include <limits>
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
@@ -37,9 +38,12 @@ OusterCapture::OusterCapture(const std::filesystem::path& pcap, const ouster::Se
         const net::PortGuess guess = net::GuessPortsInCapture(pcap, lidar_size, imu_.packet_size());
         ports_guessed_ = true;
         if (!guess.lidar_port) {
+            const std::string drops = net::DescribeDrops(guess.extractor, false);
             throw FileError(StatusCode::kParseError, pcap.string(), 0,
                             "no Ouster lidar packets: none of its " +
-                                std::to_string(guess.datagrams) + " UDP datagrams has the " +
+                                std::to_string(guess.datagrams) + " UDP datagrams (" +
+                                std::to_string(guess.records) + " records" +
+                                (drops.empty() ? "" : "; " + drops) + ") has the " +
                                 std::to_string(lidar_size) + " bytes that " +
                                 std::string(ToString(info.format.lidar_profile)) + " with " +
                                 std::to_string(info.format.pixels_per_column) +
@@ -55,6 +59,7 @@ OusterCapture::~OusterCapture() = default;
 
 void OusterCapture::Route(const net::UdpDatagram& d) {
     ++stats_.datagrams;
+    last_arrival_ns_ = d.timestamp_ns;
     if (d.dst_port == lidar_port_) {
         ++stats_.lidar_packets;
         batcher_.AddPacket(d.payload.data(), d.payload.size(), d.timestamp_ns);
@@ -85,15 +90,23 @@ const ouster::LidarFrame* OusterCapture::NextFrame() {
         }
         // End of file: a capture that holds Ouster-sized packets on no port is no Ouster capture.
         ended_ = true;
+        last_arrival_ns_ = std::numeric_limits<int64_t>::max();
         stats_.truncated = reader_.truncated();
         extractor_.Finish();
         batcher_.Flush();
         ready_index_ = 0;
+        const std::string drops = net::DescribeDrops(extractor_.stats(), false);
         if (stats_.lidar_packets == 0 && stats_.other_datagrams > 0) {
             throw FileError(StatusCode::kParseError, path_.string(), 0,
                             "no packets on the lidar port " + std::to_string(lidar_port_) +
                                 "; the capture holds UDP datagrams " +
-                                DescribePorts(stats_.other_ports) + ": not this Ouster sensor");
+                                DescribePorts(stats_.other_ports) + ": not this Ouster sensor" +
+                                (drops.empty() ? "" : " (" + drops + ")"));
+        }
+        if (stats_.lidar_packets == 0 && !drops.empty()) {
+            throw FileError(StatusCode::kParseError, path_.string(), 0,
+                            "0 UDP datagrams from " + std::to_string(extractor_.stats().records) +
+                                " records: " + drops);
         }
     }
 }

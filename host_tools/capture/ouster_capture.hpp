@@ -52,6 +52,9 @@ public:
         on_imu_ = std::move(callback);
     }
 
+    // Capture time of the last datagram read: the one that emitted the frames NextFrame returns,
+    // or INT64_MAX once the end of the file emitted the last frame.
+    int64_t last_arrival_ns() const { return last_arrival_ns_; }
     uint16_t lidar_port() const { return lidar_port_; }
     std::optional<uint16_t> imu_port() const { return imu_port_; }
     bool ports_guessed() const { return ports_guessed_; }
@@ -74,6 +77,7 @@ private:
     bool ports_guessed_ = false;
     bool ended_ = false;
     size_t ready_index_ = 0;  // frames of batcher_.ready() already returned
+    int64_t last_arrival_ns_ = 0;
     std::function<void(const ouster::ImuSample&)> on_imu_;
     OusterCaptureStats stats_;
 };

@@ -20,6 +20,8 @@ void AddSessionCommands(CLI::App& app, int& exit_code);
 void AddCanCommands(CLI::App& app, int& exit_code);
 void AddDemoCommand(CLI::App& app, int& exit_code);
 void AddOusterCommands(CLI::App& app, int& exit_code);
+// `ouster` is the `bimslam ouster` subcommand: adds `bimslam ouster replay`.
+void AddOusterReplayCommand(CLI::App& ouster, int& exit_code);
 // `bim` is the `bimslam bim` subcommand: adds `bimslam bim sample`.
 void AddBimSampleCommand(CLI::App& bim, int& exit_code);
 // `bim` is the `bimslam bim` subcommand: adds `bimslam bim info` and `bimslam bim mesh`.

@@ -18,6 +18,7 @@ namespace fs = std::filesystem;
 struct OdometryArgs {
     std::string capture;
     std::string out;
+    std::string can_log;
     bool no_can = false;
     bool no_imu = false;
     bool no_deskew = false;
@@ -32,6 +33,7 @@ int Odometry(const OdometryArgs& a) {
     replay::CaptureOdometryOptions o;
     o.capture_dir = a.capture;
     o.session_dir = a.out;
+    o.can_log = a.can_log;
     o.overwrite = a.overwrite;
     o.use_can = !a.no_can;
     o.use_imu = !a.no_imu;
@@ -104,12 +106,17 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
         "Runs algorithms/odometry and algorithms/keyframes, the code the rig runs on board.\n"
         "Reads CAPTURE_DIR/lidar.pcap and metadata.json, the Ouster IMU packets in the pcap,\n"
         "CAPTURE_DIR/go1_can.log when present (the Go1 motion prior) and capture.json's lidar\n"
-        "mount when present. Writes SESSION/trajectory.tum (every scan, sensor clock) and the\n"
+        "mount when present; or X.pcap with X.json (else metadata.json) beside it.\n"
+        "Writes SESSION/trajectory.tum (every scan, sensor clock) and the\n"
         "keyframes (Scans/, SCDs/, poses, singlesession_posegraph.g2o, session.json).\n"
         "Compare with ground truth:\n"
         "  bimslam evaluate --est SESSION/trajectory.tum --ref CAPTURE_DIR/ground_truth.tum");
-    cmd->add_option("capture", args->capture, "Capture folder (from the rig or bimslam simulate)")
+    cmd->add_option("capture", args->capture,
+                    "Capture folder (from the rig or bimslam simulate), or a pcap with its "
+                    "metadata JSON beside it (x.pcap + x.json, as the Ouster tools save them)")
         ->required();
+    cmd->add_option("--can", args->can_log,
+                    "Go1 CAN log (candump -l or pcap) to use instead of the folder's go1_can.log");
     cmd->add_option("-o,--output", args->out, "Session folder to write")->required();
     cmd->add_flag("--no-can", args->no_can, "Ignore go1_can.log (no Go1 motion prior)");
     cmd->add_flag("--no-imu", args->no_imu, "Ignore the Ouster IMU");

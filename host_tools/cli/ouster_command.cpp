@@ -243,6 +243,7 @@ void AddOusterCommands(CLI::App& app, int& exit_code) {
         ->capture_default_str();
     exp->add_flag("--overwrite", exp_opt->overwrite, "write into a non-empty output folder");
     exp->callback([exp_opt, &exit_code] { exit_code = Run([&] { return Export(*exp_opt); }); });
+    AddOusterReplayCommand(*ouster, exit_code);
 }
 
 }  // namespace bimslam::cli

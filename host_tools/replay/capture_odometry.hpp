@@ -1,7 +1,8 @@
-// A capture folder (lidar.pcap, metadata.json, go1_can.log when present: what the rig records and
-// `bimslam simulate` writes) replayed through the on-board LiDAR odometry and keyframe selection,
-// as fast as the machine goes, into a session (specs/session-data.md). The same library code as
-// the rig; only the reading of files is here.
+// A recording (a capture folder as the rig records and `bimslam simulate` writes it, or a pcap
+// with its metadata JSON as the Ouster tools save them: algorithms/io/capture_files.hpp) replayed
+// through the on-board LiDAR odometry and keyframe selection, as fast as the machine goes, into a
+// session (specs/session-data.md). The same library code as the rig; only the reading of files is
+// here.
 //
 // Clocks. Scans and Ouster IMU samples are stamped by the sensor; Go1 samples by the host (the
 // candump stamps). The host-minus-sensor offset is estimated from the lidar packets themselves:
@@ -23,7 +24,9 @@
 namespace bimslam::replay {
 
 struct CaptureOdometryOptions {
+    // A capture folder, or a pcap with its metadata JSON (io::ResolveCapture).
     std::filesystem::path capture_dir;
+    std::filesystem::path can_log;      // overrides the folder's go1_can.log
     std::filesystem::path session_dir;  // empty: no session written (benchmarks)
     bool overwrite = false;
     bool use_can = true;                     // go1_can.log when present
@@ -57,9 +60,5 @@ double Percentile(std::vector<double> v, double p);
 
 // Throws common::Error / FileError naming the file on missing or bad input (exit 2 material).
 CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& options);
-
-// The lidar's mount T_base_sensor recorded in a capture.json, if the file and key exist. Throws
-// common::FileError when the file exists but the key is malformed.
-std::optional<Eigen::Isometry3d> ReadCaptureMount(const std::filesystem::path& capture_json);
 
 }  // namespace bimslam::replay

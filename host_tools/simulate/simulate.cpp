@@ -12,6 +12,7 @@
 #include "algorithms/simulation/lidar_simulator.hpp"
 #include "drivers/can/candump.hpp"
 #include "drivers/can/go1_encoder.hpp"
+#include "drivers/go1/high_state.hpp"
 #include "drivers/net/can_pcap.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "host_tools/bim/lidar_from_metadata.hpp"
@@ -79,6 +80,50 @@ simulation::NoiseModel LidarNoise(const LidarNoiseSpec& spec, const ouster::Sens
     return n;
 }
 
+// The UDP stream the Go1 itself sends the bridge: a HighState every 2 ms (500 Hz, what the
+// SDK's examples poll at) from 192.168.123.161:8082 to the bridge at 192.168.123.200:8090, each
+// carrying the model's latest 10 ms sample (the same samples, from a model with the same seed,
+// as the CAN log the bridge would make of it), stamped by the capturing host's clock. Running
+// the real bimslam-go1-bridge on it exercises its HighState-to-CAN mapping end to end.
+void WriteHighStates(const simulation::BodyTrajectory& trajectory, const Scenario& s,
+                     const simulation::ImuNoise& imu_noise, double end_s,
+                     const std::filesystem::path& dir) {
+    Go1OdometryModel model(trajectory, s.noise.odometry, imu_noise, s.seed);
+    net::PcapWriter pcap(dir / "go1_highstate.pcap");
+    std::array<uint8_t, go1::kHighStateSize> bytes{};
+    go1::HighState h;
+    h.head = {0xFE, 0xEF};
+    h.level_flag = go1::kHighLevel;
+    const uint32_t go1_ip = 0xC0A87BA1, bridge_ip = 0xC0A87BC8;  // .161 and .200
+    for (int64_t t_ns = 0; t_ns <= Ns(end_s); t_ns += 10'000'000) {
+        const can::Go1Sample g = model.Next(double(t_ns) * 1e-9);
+        for (int i = 0; i < 4; ++i) h.imu.quaternion[size_t(i)] = float(g.quat_wxyz[size_t(i)]);
+        for (size_t i = 0; i < 3; ++i) {
+            h.imu.gyroscope[i] = float(g.gyro[i]);
+            h.imu.accelerometer[i] = float(g.accel[i]);
+        }
+        const Eigen::Quaterniond q(g.quat_wxyz[0], g.quat_wxyz[1], g.quat_wxyz[2], g.quat_wxyz[3]);
+        const Eigen::Vector3d rpy = q.toRotationMatrix().eulerAngles(2, 1, 0);
+        h.imu.rpy = {float(rpy[2]), float(rpy[1]), float(g.odom_yaw)};
+        h.imu.temperature = g.imu_temperature_c;
+        for (size_t leg = 0; leg < 4; ++leg) h.foot_force[leg] = int16_t(g.foot_force_raw[leg]);
+        h.bms.soc = g.battery_soc;
+        h.mode = g.mode;
+        h.gait_type = g.gait;
+        h.foot_raise_height = float(g.foot_raise_height);
+        h.position = {float(g.odom_x), float(g.odom_y), float(g.odom_z)};
+        h.body_height = float(g.body_height);
+        h.velocity = {float(g.vx), float(g.vy), float(g.vz)};
+        h.yaw_speed = float(g.yaw_rate);
+        go1::SerializeHighState(h, bytes);
+        const int64_t host0 = kSensorBootNs + kHostMinusSensorNs + t_ns;
+        for (int64_t k = 0; k < 5; ++k) {
+            pcap.WriteUdp(host0 + k * 2'000'000, go1_ip, 8082, bridge_ip, 8090, bytes);
+        }
+    }
+    pcap.Close();
+}
+
 // The Go1 bridge's CAN traffic over the whole capture.
 uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& s,
                   const simulation::ImuNoise& imu_noise, double end_s,
@@ -110,11 +155,13 @@ uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& 
     }
     log.Close();
     pcap.Close();
+    WriteHighStates(trajectory, s, imu_noise, end_s, dir);
     json slips = json::array();
     for (const SlipInterval& slip : model.slips()) {
         if (slip.begin_s < end_s) slips.push_back({slip.begin_s, slip.end_s});
     }
     (*manifest)["go1"] = {{"can_log", "go1_can.log"},
+                          {"highstate_pcap", "go1_highstate.pcap"},
                           {"can_pcap", "go1_can.pcap"},
                           {"frames", written},
                           {"interface", "can0"},

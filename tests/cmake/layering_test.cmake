@@ -84,6 +84,21 @@ run_case(common_links_other_algorithms FAIL "algorithms/common .*links bimslam_a
 run_case(drivers_link_other_algorithms FAIL "drivers/ouster .*links bimslam_algorithms_io"
     LIBS "algorithms/common" "algorithms/io|bimslam::algorithms_common"
          "drivers/ouster|bimslam::algorithms_io")
+# The per-scan join may use the decoders, and no other algorithms library may; nor may it use
+# drivers/net (sockets, files).
+run_case(pipeline_uses_decoders PASS "layering rules hold"
+    LIBS ${base} "drivers/can|bimslam::algorithms_common"
+         "algorithms/pipeline|bimslam::drivers_ouster,bimslam::drivers_can"
+    INCLUDES "algorithms/pipeline|\"drivers/ouster/lidar_frame.hpp\""
+             "algorithms/pipeline|\"drivers/can/go1_sample.hpp\"")
+run_case(pipeline_links_net FAIL "algorithms/pipeline .*links bimslam_drivers_net"
+    LIBS ${base} "drivers/net|bimslam::algorithms_common"
+         "algorithms/pipeline|bimslam::drivers_net")
+run_case(pipeline_includes_net FAIL "algorithms/pipeline/use.cpp: '#include \"drivers/net/udp_source.hpp\"'"
+    LIBS ${base} "algorithms/pipeline"
+    INCLUDES "algorithms/pipeline|\"drivers/net/udp_source.hpp\"")
+run_case(other_algorithms_link_decoders FAIL "algorithms/odometry .*links bimslam_drivers_ouster"
+    LIBS ${base} "algorithms/odometry|bimslam::drivers_ouster")
 run_case(firmware_link_ifcpp FAIL "firmware/app .*brings ifcpp"
     LIBS ${base} "firmware/app|fake_ifcpp")
 run_case(firmware_link_host_tools FAIL "firmware/app .*links bimslam_host_tools_bim"

@@ -43,7 +43,8 @@ fs::path FixtureRoot() {
         fs::create_directories(base);
         const fs::path mine = base / std::to_string(stamp);
         for (const auto& e : fs::directory_iterator(base)) {  // other builds' fixtures
-            if (e.path() != mine) fs::remove_all(e.path());
+            std::error_code ec;  // another test process may be removing it too
+            if (e.path() != mine) fs::remove_all(e.path(), ec);
         }
         fs::create_directories(mine);
         return mine;

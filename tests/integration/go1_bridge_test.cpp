@@ -24,11 +24,12 @@
 #include "algorithms/common/can_frame.hpp"
 #include "drivers/can/candump.hpp"
 #include "drivers/can/go1_decoder.hpp"
-#include "firmware/go1_bridge/high_state.hpp"
+#include "drivers/go1/high_state.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::go1_bridge {
 namespace {
+using namespace ::bimslam::go1;  // the HighState codec (drivers/go1)
 
 using can::Go1Sample;
 using Clock = std::chrono::steady_clock;

@@ -8,6 +8,8 @@
 #   algorithms/common        nothing of ours
 #   algorithms/*             no LCM, IFC++, Embree; no drivers, firmware, host_tools, lcmtypes
 #   algorithms/simulation    the one algorithms library that may use Embree
+#   algorithms/pipeline      the one algorithms library that may use drivers: the decoders
+#                            drivers/ouster and drivers/can only (not drivers/net)
 #   drivers/*                no LCM, IFC++, Embree; of the algorithms only algorithms/common
 #   firmware/*               no IFC++, Embree; no host_tools
 #   host_tools/*             no firmware
@@ -127,6 +129,10 @@ function(_bimslam_rules folder caps_var folders_var allowed_var)
             set(caps lcm ifcpp)
         endif()
         set(folders drivers/ firmware/ host_tools/ lcmtypes)
+        if(folder STREQUAL "algorithms/pipeline")
+            # The per-scan join takes the decoders' outputs as they are; never sockets or files.
+            set(allowed drivers/ouster drivers/can)
+        endif()
     elseif(folder MATCHES "^drivers/")
         set(caps lcm ifcpp embree)
         set(folders algorithms/ firmware/ host_tools/ lcmtypes)

@@ -11,8 +11,8 @@
 #include <array>
 #include <memory>
 
+#include "drivers/go1/high_state.hpp"
 #include "firmware/go1_bridge/bridge.hpp"
-#include "firmware/go1_bridge/high_state.hpp"
 #include "firmware/go1_bridge/sinks.hpp"
 #include "firmware/go1_bridge/udp_client.hpp"
 #include "tests/support/allocation_counter.hpp"

@@ -1,6 +1,6 @@
 // HighState / HighCmd: layout facts of unitree_legged_sdk (go1 branch, comm.h), Unitree's CRC-32,
 // parse(serialize(x)) == x, rejection of wrong sizes and bad CRCs.
-#include "firmware/go1_bridge/high_state.hpp"
+#include "drivers/go1/high_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 
 namespace bimslam::go1_bridge {
 namespace {
+using namespace ::bimslam::go1;  // the HighState codec (drivers/go1)
 
 // CRC-32/MPEG-2 (poly 0x04C11DB7, init 0xFFFFFFFF, no reflection, no xorout), byte-wise: an
 // independent reference for Unitree's word-wise routine.

@@ -500,6 +500,8 @@ TEST(UdpExtractor, ChecksumsAndLengths) {
     SetBe16(short_udp, 14 + 20 + 4, 7);
     std::string padded = eth + std::string(20, '\0');  // Ethernet padding / FCS after the packet
     ExtractorConfig config;
+    EXPECT_FALSE(config.drop_bad_ip_checksum);  // counted, not dropped, by default (issue 16)
+    config.drop_bad_ip_checksum = true;
     config.check_udp_checksum = true;
     {
         UdpExtractor extractor(config);

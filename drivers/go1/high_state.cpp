@@ -1,8 +1,8 @@
-#include "firmware/go1_bridge/high_state.hpp"
+#include "drivers/go1/high_state.hpp"
 
 #include <bit>
 
-namespace bimslam::go1_bridge {
+namespace bimslam::go1 {
 namespace {
 
 // Little-endian field access at fixed offsets, independent of the host's byte order.
@@ -340,4 +340,4 @@ HighCmd MakeIdleHighCmd() {
     return cmd;
 }
 
-}  // namespace bimslam::go1_bridge
+}  // namespace bimslam::go1

@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <span>
 
-namespace bimslam::go1_bridge {
+namespace bimslam::go1 {
 
 inline constexpr uint8_t kHighLevel = 0xee;  // levelFlag HIGHLEVEL (comm.h)
 inline constexpr uint8_t kLowLevel = 0xff;   // levelFlag LOWLEVEL (comm.h); never sent here
@@ -243,4 +243,4 @@ uint32_t SerializeHighCmd(const HighCmd& cmd, std::span<uint8_t, kHighCmdSize> o
 // motion field zero. It asks for HighState and commands no motion.
 HighCmd MakeIdleHighCmd();
 
-}  // namespace bimslam::go1_bridge
+}  // namespace bimslam::go1

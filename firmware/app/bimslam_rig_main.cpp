@@ -1,0 +1,194 @@
+// bimslam-rig: the on-board firmware (firmware/app/README.md).
+//   bimslam-rig live --config rig.yaml [--handheld]
+//   bimslam-rig replay RECORDING [--can LOG] [--speed 1|2|max] [--config rig.yaml] [--handheld]
+// Exit codes (DESIGN.md): 0 success, 1 failure while working (a socket, LCM, the disk), 2 bad
+// usage, a bad configuration or a bad recording (the message names the file, line and key).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algorithms/common/status.hpp"
+#include "firmware/app/rig.hpp"
+#include "firmware/app/rig_config.hpp"
+
+namespace {
+using bimslam::common::StatusCode;
+
+constexpr int kExitOk = 0, kExitFailure = 1, kExitBadInput = 2;
+
+int ExitCodeFor(StatusCode code) {
+    switch (code) {
+        case StatusCode::kInvalidArgument:
+        case StatusCode::kParseError:
+        case StatusCode::kNotFound:
+        case StatusCode::kAlreadyExists:
+        case StatusCode::kOutOfRange:
+        case StatusCode::kDataLoss:
+            return kExitBadInput;
+        default:
+            return kExitFailure;
+    }
+}
+
+struct Args {
+    std::string config_file;
+    std::string recording;
+    std::string can_log;
+    std::string speed = "1";
+    std::string session_root;
+    bool handheld = false;
+    bool print_config = false;
+    bool no_record = false;
+    bool json = false;
+    double duration_s = 0;
+};
+
+void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
+    if (json) {
+        nlohmann::json j = {{"session", s.session_dir},
+                            {"scans", s.scans},
+                            {"keyframes", s.keyframes},
+                            {"keyframes_written", s.keyframes_written},
+                            {"keyframes_skipped_disk", s.keyframes_skipped_disk},
+                            {"scans_dropped", s.scans_dropped},
+                            {"deadline_misses", s.deadline_misses},
+                            {"lidar_packets", s.lidar_packets},
+                            {"imu_samples", s.imu_samples},
+                            {"go1_samples", s.go1_samples},
+                            {"frames_incomplete", s.frames_incomplete},
+                            {"columns_lost", s.columns_lost},
+                            {"crc_failures", s.crc_failures},
+                            {"silences", s.silences},
+                            {"sensor_restarts", s.sensor_restarts},
+                            {"clock_jumps", s.clock_jumps},
+                            {"can_timeouts", s.can_timeouts},
+                            {"can_e2e_errors", s.can_e2e_errors},
+                            {"can_late", s.can_late},
+                            {"queue_drops", s.queue_drops},
+                            {"lcm_failures", s.lcm_failures},
+                            {"write_errors", s.write_errors},
+                            {"latency_ms_p50", s.latency_p50_ms},
+                            {"latency_ms_p99", s.latency_p99_ms},
+                            {"latency_ms_max", s.latency_max_ms},
+                            {"cpu_percent", s.cpu_percent},
+                            {"rss_mb", s.rss_mb},
+                            {"wall_s", s.wall_s},
+                            {"stop_signal", s.stop_signal},
+                            {"warnings", s.warnings}};
+        std::cout << j.dump(2) << std::endl;
+        return;
+    }
+    std::printf(
+        "bimslam-rig: %llu scans, %llu keyframes (%llu written), %llu scans dropped, %llu "
+        "deadline misses in %.1f s\n",
+        (unsigned long long)s.scans, (unsigned long long)s.keyframes,
+        (unsigned long long)s.keyframes_written, (unsigned long long)s.scans_dropped,
+        (unsigned long long)s.deadline_misses, s.wall_s);
+    std::printf("  latency last packet -> odometry on LCM: p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
+                s.latency_p50_ms, s.latency_p99_ms, s.latency_max_ms);
+    std::printf("  CPU %.1f %% of one core, RSS %.0f MB\n", s.cpu_percent, s.rss_mb);
+    std::printf(
+        "  faults: %llu incomplete frames, %llu CRC failures, %llu silences, %llu sensor "
+        "restarts, %llu clock jumps, %llu CAN timeouts, %llu CAN E2E errors, %llu queue drops\n",
+        (unsigned long long)s.frames_incomplete, (unsigned long long)s.crc_failures,
+        (unsigned long long)s.silences, (unsigned long long)s.sensor_restarts,
+        (unsigned long long)s.clock_jumps, (unsigned long long)s.can_timeouts,
+        (unsigned long long)s.can_e2e_errors, (unsigned long long)s.queue_drops);
+    if (!s.session_dir.empty()) std::printf("  session %s\n", s.session_dir.c_str());
+    std::fflush(stdout);
+}
+
+int Run(const Args& a, bool live) {
+    bimslam::rig::RunOptions o;
+    try {
+        if (!a.config_file.empty()) bimslam::rig::LoadConfigFile(a.config_file, o.config);
+        o.config.handheld = a.handheld;
+        if (!a.can_log.empty()) {
+            o.config.can_source = "log";
+            o.config.can_log = a.can_log;
+        }
+        if (!a.session_root.empty()) o.config.session_root = a.session_root;
+        if (a.no_record) o.config.record = false;
+        if (a.print_config) {
+            std::cout << bimslam::rig::PrintConfig(o.config);
+            return kExitOk;
+        }
+        if (!live) {
+            o.recording = a.recording;
+            if (a.speed == "max") {
+                o.speed = 0;
+            } else {
+                try {
+                    o.speed = std::stod(a.speed);
+                } catch (const std::exception&) {
+                    o.speed = -1;
+                }
+                if (!(o.speed > 0 && o.speed <= 100)) {
+                    std::cerr << "bimslam-rig: --speed " << a.speed
+                              << ": expected a factor in (0, 100] or max\n";
+                    return kExitBadInput;
+                }
+            }
+        }
+        o.duration_s = a.duration_s;
+        const bimslam::rig::RunSummary s = bimslam::rig::RunRig(o);
+        PrintSummary(s, a.json);
+        return kExitOk;
+    } catch (const bimslam::common::Error& e) {
+        std::cerr << "bimslam-rig: " << e.what() << "\n";
+        return ExitCodeFor(e.code());
+    } catch (const std::exception& e) {
+        std::cerr << "bimslam-rig: " << e.what() << "\n";
+        return kExitFailure;
+    }
+}
+
+void CommonOptions(CLI::App* cmd, Args& a) {
+    cmd->add_option("--config", a.config_file, "YAML configuration (--print-config lists keys)");
+    cmd->add_flag("--handheld", a.handheld, "No CAN: LiDAR + Ouster IMU only");
+    cmd->add_flag("--print-config", a.print_config,
+                  "Print the effective configuration (every key, unit and range) and exit");
+    cmd->add_option("--session-root", a.session_root, "Overrides session.root");
+    cmd->add_flag("--no-record", a.no_record, "Write no session");
+    cmd->add_option("--duration", a.duration_s, "Stop after this many seconds (0: never)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--json", a.json, "Print the summary at exit as JSON");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "bimslam-rig: the on-board mapping firmware (Ouster OS1 + Go1 CAN -> LiDAR odometry, "
+        "keyframes, LCM, sessions).\nRun 'bimslam-rig <mode> --help' for the options."};
+    app.require_subcommand(1);
+    Args a;
+    int exit_code = kExitOk;
+    CLI::App* live = app.add_subcommand("live", "Run on the sensor's UDP stream and the CAN bus");
+    CommonOptions(live, a);
+    live->footer(
+        "Listens on sensor.lidar_port / sensor.imu_port (else the metadata's) for the Ouster,\n"
+        "reads the Go1 from can.source, publishes on LCM and writes a new session under\n"
+        "session.root. SIGINT/SIGTERM finish the session. Under systemd: Type=notify.");
+    live->callback([&] { exit_code = Run(a, true); });
+    CLI::App* rp = app.add_subcommand(
+        "replay", "Hardware-in-the-loop from a recording: the live ingest code, paced");
+    rp->add_option("recording", a.recording,
+                   "Capture folder (lidar.pcap, metadata.json, go1_can.log) or x.pcap with "
+                   "x.json beside it")
+        ->required();
+    rp->add_option("--can", a.can_log, "Go1 CAN log (candump -l or pcap) to use");
+    rp->add_option("--speed", a.speed, "1, 2, ... times real time, or max (lossless)")
+        ->capture_default_str();
+    CommonOptions(rp, a);
+    rp->callback([&] { exit_code = Run(a, false); });
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? kExitOk : kExitBadInput;
+    }
+    return exit_code;
+}

@@ -1,0 +1,294 @@
+#include "firmware/app/health.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+namespace bimslam::rig {
+namespace {
+const char* const kFaultNames[kNumFaults] = {
+    "LIDAR_TIMEOUT",  "LIDAR_REJECTS",       "LIDAR_INCOMPLETE",
+    "LIDAR_RESTART",  "IMU_TIMEOUT",         "CAN_TIMEOUT",
+    "CAN_E2E",        "GO1_BRIDGE",          "DEADLINE_MISS",
+    "QUEUE_OVERFLOW", "CPU_OVERLOAD",        "DISK_LOW",
+    "DISK_WRITE",     "ODOMETRY_DEGENERATE", "ODOMETRY_OVER_BUDGET",
+    "ODOMETRY_LOST",  "CLOCK_JUMP",          "CONFIG",
+    "LCM_PUBLISH"};
+enum Bit {
+    kLidarTimeout,
+    kLidarRejects,
+    kLidarIncomplete,
+    kLidarRestart,
+    kImuTimeout,
+    kCanTimeout,
+    kCanE2e,
+    kGo1Bridge,
+    kDeadlineMiss,
+    kQueueOverflow,
+    kCpuOverload,
+    kDiskLow,
+    kDiskWrite,
+    kDegenerate,
+    kOverBudget,
+    kLost,
+    kClockJump,
+    kConfig,
+    kLcmPublish
+};
+}  // namespace
+
+const char* FaultName(int bit) { return bit >= 0 && bit < kNumFaults ? kFaultNames[bit] : "?"; }
+
+bool HeartbeatsFresh(runtime::ThreadTable& threads, int64_t now_ns) {
+    for (size_t i = 0; i < threads.size(); ++i) {
+        const runtime::ThreadStats& s = threads.stats(i);
+        if (s.finished.load()) continue;
+        if (now_ns - s.heartbeat_ns.load() > threads.spec(i).stale_ns) return false;
+    }
+    return true;
+}
+
+Health::Health(HealthInputs inputs) : in_(std::move(inputs)) {
+    for (int i = 0; i < kNumFaults; ++i) {
+        limiters_.emplace_back(int64_t(in_.config.log_interval_s * 1e9));
+    }
+}
+
+void Health::Run(runtime::ThreadStats& stats) {
+    start_mono_ = last_mono_ = runtime::MonotonicNs();
+    start_rt_ = last_rt_ = runtime::RealtimeNs();
+    rt_minus_mono_ = start_rt_ - start_mono_;
+    last_cpu_ = runtime::ProcessCpuNs();
+    thread_cpu_.assign(in_.threads.size(), 0);
+    last_thread_misses_.assign(in_.threads.size(), 0);
+    for (size_t i = 0; i < in_.threads.size(); ++i) thread_cpu_[i] = in_.threads.CpuNs(i);
+    const int64_t period = int64_t(in_.config.health_period_s * 1e9);
+    // The watchdog wants a ping at least every WatchdogSec / 2; ping at a quarter.
+    const int64_t watchdog = in_.notifier.watchdog_ns();
+    const int64_t tick = watchdog > 0 ? std::min(period, watchdog / 4) : period;
+    int64_t next_period = last_mono_ + period;
+    while (!in_.stop.load()) {
+        const int64_t now = runtime::MonotonicNs();
+        stats.Beat();
+        if (now >= next_period) {
+            Period(now);
+            next_period += period;
+            if (next_period <= now) next_period = now + period;
+            stats.Cycle(runtime::MonotonicNs() - now, period);
+        }
+        if (watchdog > 0 && HeartbeatsFresh(in_.threads, now)) {
+            in_.notifier.Notify("WATCHDOG=1");
+        }
+        const int64_t sleep = std::min(tick, std::max<int64_t>(next_period - now, 1'000'000));
+        std::this_thread::sleep_for(
+            std::chrono::nanoseconds(std::min<int64_t>(sleep, 100'000'000)));
+    }
+}
+
+void Health::Period(int64_t now) {
+    const int64_t now_rt = runtime::RealtimeNs();
+    const IngestCounters ic = in_.ingest.counters();
+    const WorkerCounters wc = in_.worker.counters();
+    const LcmCounters lc = in_.publisher.counters();
+    const CanCounters cc = in_.can ? in_.can->counters() : CanCounters{};
+    const RecorderCounters rc = in_.recorder ? in_.recorder->counters() : RecorderCounters{};
+    uint64_t queue_drops = 0;
+    for (const runtime::QueueBase* q : in_.queues) queue_drops += q->Stats().drops;
+    const double interval_s = std::max(1e-9, double(now - last_mono_) * 1e-9);
+    const int64_t cpu = runtime::ProcessCpuNs();
+    const double cpu_percent = 100.0 * double(cpu - last_cpu_) * 1e-9 / interval_s;
+
+    uint64_t f = 0;
+    std::array<std::string, kNumFaults> why;
+    const auto set = [&](int bit, bool on, const std::string& text) {
+        if (!on) return;
+        f |= uint64_t(1) << bit;
+        why[size_t(bit)] = text;
+    };
+    const int64_t silent_ns =
+        ic.last_packet_mono_ns ? now - ic.last_packet_mono_ns : now - start_mono_;
+    set(kLidarTimeout,
+        (!ic.finished && silent_ns > int64_t(in_.config.sensor_timeout_s * 1e9)) ||
+            ic.silences > last_ingest_.silences,
+        "no lidar packet for " + std::to_string(silent_ns / 1'000'000) + " ms (" +
+            std::to_string(ic.silences) + " silences so far)");
+    const uint64_t rejected = ic.lidar.TotalRejected(),
+                   last_rejected = last_ingest_.lidar.TotalRejected();
+    set(kLidarRejects, rejected > last_rejected,
+        std::to_string(rejected - last_rejected) + " lidar packets rejected (" +
+            std::to_string(ic.lidar.Rejected(ouster::Reject::kCrc)) + " CRC failures in all)");
+    set(kLidarIncomplete, ic.lidar.frames_incomplete > last_ingest_.lidar.frames_incomplete,
+        std::to_string(ic.lidar.columns_lost - last_ingest_.lidar.columns_lost) +
+            " columns lost (packet loss)");
+    set(kLidarRestart, ic.init_id_changes > last_ingest_.init_id_changes,
+        "the sensor restarted: init_id " + std::to_string(ic.init_id));
+    set(kImuTimeout,
+        ic.lidar_datagrams > last_ingest_.lidar_datagrams &&
+            ic.imu_datagrams == last_ingest_.imu_datagrams && in_.config.use_imu,
+        "lidar packets but no IMU packet in the period");
+    if (in_.can) {
+        const bool stale = cc.frames == last_can_.frames && !cc.finished;
+        set(kCanTimeout,
+            cc.timed_out != 0 || cc.decoder.timeout > last_can_.decoder.timeout || stale,
+            stale ? "no CAN frame in the period"
+                  : std::to_string(cc.decoder.timeout - last_can_.decoder.timeout) +
+                        " Go1 CAN message timeouts");
+        const auto e2e = [](const CanCounters& c) {
+            return c.decoder.crc + c.decoder.counter_resync + c.decoder.counter_repeat +
+                   c.decoder.counter_invalid;
+        };
+        set(kCanE2e, e2e(cc) > e2e(last_can_),
+            std::to_string(e2e(cc) - e2e(last_can_)) + " Go1 CAN E2E errors (CRC, counter)");
+    }
+    set(kDeadlineMiss, wc.deadline_misses > last_worker_.deadline_misses,
+        std::to_string(wc.deadline_misses - last_worker_.deadline_misses) + " scans later than " +
+            std::to_string(int(in_.config.deadline_ms)) + " ms");
+    set(kQueueOverflow, queue_drops > last_queue_drops_,
+        std::to_string(queue_drops - last_queue_drops_) + " items dropped by full queues");
+    set(kCpuOverload, cpu_percent > 90.0, std::to_string(int(cpu_percent)) + " % CPU");
+    set(kDiskLow, rc.disk_low,
+        "disk almost full (" + std::to_string(rc.disk_free_bytes / 1'000'000) +
+            " MB free): keyframe clouds are no longer written");
+    set(kDiskWrite, rc.write_errors > last_recorder_.write_errors, "session write failed");
+    set(kDegenerate, wc.degenerate > last_worker_.degenerate, "degenerate registration");
+    set(kOverBudget, wc.over_budget > last_worker_.over_budget, "odometry over its budget");
+    set(kLost, wc.failed > last_worker_.failed, "registration failed");
+    // A wall clock step: CLOCK_REALTIME - CLOCK_MONOTONIC moved by more than 50 ms.
+    const int64_t offset = now_rt - now;
+    const bool step = std::llabs(offset - rt_minus_mono_) > 50'000'000;
+    rt_minus_mono_ = offset;
+    set(kClockJump,
+        step || wc.clock_jumps > last_worker_.clock_jumps ||
+            ic.clock_backwards > last_ingest_.clock_backwards,
+        step ? "the wall clock stepped" : "the sensor clock jumped (the odometry started again)");
+    set(kLcmPublish, lc.failures > last_lcm_.failures, "LCM publish failed");
+
+    for (int i = 0; i < kNumFaults; ++i) {
+        const uint64_t bit = uint64_t(1) << i;
+        if ((f & bit) && !(active_ & bit)) ++counts_[size_t(i)];
+        if ((f & bit) && limiters_[size_t(i)].Allow(now)) {
+            runtime::Log("fault", std::string(kFaultNames[i]) + ": " + why[size_t(i)]);
+        }
+    }
+    active_ = f;
+    latched_ |= f;
+
+    // rig_health_t.
+    if (bimslam::rig_health_t* h = in_.health_out.BeginPush()) {
+        h->schema_version = bimslam::rig_health_t::SCHEMA_VERSION;
+        h->sample_time_ns = now_rt;
+        h->publish_time_ns = now_rt;
+        h->interval_start_time_ns = last_rt_;
+        h->uptime_ns = now - start_mono_;
+        h->faults = int64_t(active_);
+        h->faults_latched = int64_t(latched_);
+        h->num_fault_counts = kNumFaults;
+        h->fault_counts.assign(counts_.begin(), counts_.end());
+        const size_t n = in_.threads.size();
+        h->num_threads = int32_t(n);
+        h->thread_name.resize(n);
+        h->thread_cycles.resize(n);
+        h->thread_deadline_misses.resize(n);
+        h->thread_deadline_ns.resize(n);
+        h->thread_max_cycle_ns.resize(n);
+        h->thread_cpu_percent.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+            runtime::ThreadStats& s = in_.threads.stats(i);
+            h->thread_name[i] = in_.threads.spec(i).name;
+            h->thread_cycles[i] = int64_t(s.cycles.load());
+            h->thread_deadline_misses[i] = int64_t(s.deadline_misses.load());
+            h->thread_deadline_ns[i] =
+                in_.threads.spec(i).deadline_ns > 0 ? in_.threads.spec(i).deadline_ns : -1;
+            h->thread_max_cycle_ns[i] = s.max_cycle_ns.exchange(-1);
+            const int64_t t = in_.threads.CpuNs(i);
+            h->thread_cpu_percent[i] =
+                t >= 0 && thread_cpu_[i] >= 0
+                    ? float(100.0 * double(t - thread_cpu_[i]) * 1e-9 / interval_s)
+                    : std::nanf("");
+            thread_cpu_[i] = t;
+        }
+        h->num_queues = int32_t(in_.queues.size());
+        h->queue_name.clear();
+        h->queue_depth.clear();
+        h->queue_max_depth.clear();
+        h->queue_capacity.clear();
+        h->queue_drops.clear();
+        for (const runtime::QueueBase* q : in_.queues) {
+            const runtime::QueueStats s = q->Stats();
+            h->queue_name.push_back(s.name);
+            h->queue_depth.push_back(int32_t(s.depth));
+            h->queue_max_depth.push_back(int32_t(s.max_depth));
+            h->queue_capacity.push_back(int32_t(s.capacity));
+            h->queue_drops.push_back(int64_t(s.drops));
+            const_cast<runtime::QueueBase*>(q)->ResetMaxDepth();
+        }
+        h->process_cpu_percent = float(cpu_percent);
+        h->process_rss_bytes = runtime::ResidentBytes();
+        h->disk_free_bytes =
+            in_.recorder ? runtime::FreeDiskBytes(in_.config.session_root) : int64_t(-1);
+        h->session_bytes_written = rc.bytes_written;
+        h->session_dir = in_.recorder ? in_.recorder->current_dir() : "";
+        in_.health_out.CommitPush();
+    } else {
+        in_.health_out.CountDrop();
+    }
+    // ouster_stats_t.
+    if (bimslam::ouster_stats_t* s = in_.stats_out.BeginPush()) {
+        const ouster::LidarStats& l = ic.lidar;
+        s->schema_version = bimslam::ouster_stats_t::SCHEMA_VERSION;
+        s->sample_time_ns = now_rt;
+        s->publish_time_ns = now_rt;
+        s->counting_since_ns = start_rt_;
+        s->interval_start_time_ns = last_rt_;
+        s->prod_sn = int64_t(in_.info.prod_sn);
+        s->init_id = int32_t(ic.init_id);
+        s->lidar_packets_received = int64_t(ic.lidar_datagrams);
+        s->lidar_packets_accepted = int64_t(l.accepted);
+        s->imu_packets_received = int64_t(ic.imu_datagrams);
+        uint64_t imu_rejected = 0;
+        for (uint64_t r : ic.imu.rejected) imu_rejected += r;
+        s->imu_packets_accepted = int64_t(ic.imu.packets - imu_rejected);
+        s->bytes_received = int64_t(ic.bytes);
+        s->frames_complete = int64_t(l.frames_complete);
+        s->frames_incomplete = int64_t(l.frames_incomplete);
+        s->columns_lost = int64_t(l.columns_lost);
+        const int cpp = std::max(1, in_.info.format.columns_per_packet);
+        s->packets_lost = int64_t(l.columns_lost / uint64_t(cpp));
+        s->sensor_restarts = int64_t(ic.init_id_changes + l.sensor_restarts);
+        s->rejected_wrong_size = int64_t(l.Rejected(ouster::Reject::kSize));
+        s->rejected_wrong_prod_sn = int64_t(l.Rejected(ouster::Reject::kProdSn));
+        s->rejected_wrong_init_id = int64_t(l.Rejected(ouster::Reject::kInitId));
+        s->rejected_crc = int64_t(l.Rejected(ouster::Reject::kCrc));
+        s->rejected_late = int64_t(l.Rejected(ouster::Reject::kLate));
+        s->rejected_unknown_port = int64_t(ic.other_datagrams);
+        s->rejected_not_ouster = int64_t(l.Rejected(ouster::Reject::kPacketType) +
+                                         l.Rejected(ouster::Reject::kMeasurementId));
+        s->crc_checked = int64_t(l.crc_checked);
+        s->crc_failures = int64_t(l.Rejected(ouster::Reject::kCrc));
+        s->latency_mean_ns = -1;
+        s->latency_max_ns = -1;
+        s->latency_frames = 0;
+        in_.stats_out.CommitPush();
+    }
+    // systemd's status line.
+    std::ostringstream status;
+    status << "scans " << wc.scans << ", keyframes " << wc.keyframes << ", CPU " << int(cpu_percent)
+           << " %, faults";
+    if (active_ == 0) status << " none";
+    for (int i = 0; i < kNumFaults; ++i) {
+        if (active_ & (uint64_t(1) << i)) status << " " << kFaultNames[i];
+    }
+    in_.notifier.Notify("STATUS=" + status.str());
+
+    last_ingest_ = ic;
+    last_can_ = cc;
+    last_worker_ = wc;
+    last_recorder_ = rc;
+    last_lcm_ = lc;
+    last_queue_drops_ = queue_drops;
+    last_mono_ = now;
+    last_rt_ = now_rt;
+    last_cpu_ = cpu;
+}
+
+}  // namespace bimslam::rig

@@ -1,0 +1,80 @@
+// The health thread: once a period it reads every module's counters and every thread's
+// heartbeat, turns them into the FAULT_* bits of rig_health_t (lcmtypes/bimslam/rig_health_t.lcm:
+// a bit is active when its counter grew during the period or its condition holds now), logs each
+// active fault at most once per log interval, queues rig_health_t and ouster_stats_t for the LCM
+// thread, and feeds the systemd watchdog (WATCHDOG=1) only while every thread's heartbeat is
+// fresh, with a STATUS line.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <bimslam/ouster_stats_t.hpp>
+#include <bimslam/rig_health_t.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "drivers/ouster/sensor_info.hpp"
+#include "firmware/app/rig_config.hpp"
+#include "firmware/modules/can_ingest.hpp"
+#include "firmware/modules/lcm_bridge.hpp"
+#include "firmware/modules/lidar_ingest.hpp"
+#include "firmware/modules/odometry_worker.hpp"
+#include "firmware/modules/session_recorder.hpp"
+#include "firmware/runtime/process_stats.hpp"
+#include "firmware/runtime/sd_notify.hpp"
+#include "firmware/runtime/thread_table.hpp"
+
+namespace bimslam::rig {
+
+inline constexpr int kNumFaults = 19;  // rig_health_t::NUM_FAULTS
+// "LIDAR_TIMEOUT", ... in bit order (the FAULT_* names without the prefix).
+const char* FaultName(int bit);
+
+// Whether every thread that has not finished beat within its stale time.
+bool HeartbeatsFresh(runtime::ThreadTable& threads, int64_t now_ns);
+
+struct HealthInputs {
+    runtime::ThreadTable& threads;
+    const LidarIngest& ingest;
+    const CanIngest* can;
+    const OdometryWorker& worker;
+    const SessionRecorder* recorder;
+    const LcmPublisher& publisher;
+    std::vector<const runtime::QueueBase*> queues;
+    runtime::SpscQueue<bimslam::rig_health_t>& health_out;
+    runtime::SpscQueue<bimslam::ouster_stats_t>& stats_out;
+    runtime::SdNotifier& notifier;
+    const RigConfig& config;
+    const ouster::SensorInfo& info;
+    const std::atomic<bool>& stop;
+    bool replay;
+};
+
+class Health {
+public:
+    explicit Health(HealthInputs inputs);
+    void Run(runtime::ThreadStats& stats);
+
+private:
+    void Period(int64_t now_mono);
+
+    HealthInputs in_;
+    int64_t start_mono_ = 0, start_rt_ = 0;
+    int64_t last_mono_ = 0, last_rt_ = 0, last_cpu_ = 0;
+    int64_t rt_minus_mono_ = 0;
+    uint64_t latched_ = 0, active_ = 0;
+    std::array<int64_t, kNumFaults> counts_{};
+    std::vector<runtime::RateLimiter> limiters_;
+    std::vector<int64_t> thread_cpu_;
+    // Counters at the previous period.
+    IngestCounters last_ingest_{};
+    CanCounters last_can_{};
+    WorkerCounters last_worker_{};
+    RecorderCounters last_recorder_{};
+    LcmCounters last_lcm_{};
+    uint64_t last_queue_drops_ = 0;
+    std::vector<uint64_t> last_thread_misses_;
+};
+
+}  // namespace bimslam::rig

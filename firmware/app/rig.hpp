@@ -1,0 +1,45 @@
+// bimslam-rig put together: the configuration turned into the modules, their queues and the
+// thread table; start-up (mlockall, scheduling, sd_notify READY), the health thread (faults,
+// rig_health_t, ouster_stats_t, rate-limited logs, the watchdog), and the orderly stop: the
+// sources stop first, every queue is drained, the session is finished.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "firmware/app/rig_config.hpp"
+
+namespace bimslam::rig {
+
+struct RunOptions {
+    RigConfig config;
+    // Replay: the recording (a capture folder or x.pcap + x.json); empty for live.
+    std::string recording;
+    double speed = 1.0;     // replay; 0: as fast as possible
+    double duration_s = 0;  // > 0: stop after this long (live) or this much capture (replay)
+};
+
+struct RunSummary {
+    std::string session_dir;  // the first session folder ("" without recording)
+    uint64_t scans = 0, keyframes = 0, scans_dropped = 0, deadline_misses = 0;
+    uint64_t keyframes_written = 0, keyframes_skipped_disk = 0;
+    uint64_t lidar_packets = 0, imu_samples = 0, go1_samples = 0;
+    uint64_t frames_incomplete = 0, columns_lost = 0, crc_failures = 0, silences = 0;
+    uint64_t sensor_restarts = 0, clock_jumps = 0, can_timeouts = 0, can_e2e_errors = 0;
+    uint64_t queue_drops = 0, can_late = 0, lcm_failures = 0, write_errors = 0;
+    double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;  // to LCM publication
+    double cpu_percent = 0;                                             // of one core, over the run
+    double rss_mb = 0;                                                  // at the end
+    double wall_s = 0;
+    std::vector<std::string> warnings;  // what was refused at start-up
+    int stop_signal = 0;
+};
+
+// Runs until SIGINT/SIGTERM, the end of the recording or the duration. Throws common::Error /
+// FileError for what cannot start (bad input: exit 2; resources: exit 1).
+RunSummary RunRig(const RunOptions& options);
+
+}  // namespace bimslam::rig

@@ -1,0 +1,270 @@
+#include "firmware/modules/lcm_bridge.hpp"
+
+#include <cmath>
+#include <lcm/lcm-cpp.hpp>
+#include <limits>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::rig {
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}
+
+void ToMessage(const OdometryItem& item, int64_t publish_ns, bimslam::odometry_t* m) {
+    using O = bimslam::odometry_t;
+    const odometry::OdometryResult& r = item.result;
+    m->schema_version = O::SCHEMA_VERSION;
+    m->sample_time_ns = r.stamp_ns;
+    m->publish_time_ns = publish_ns;
+    m->scan_start_time_ns = r.stamp_ns;
+    m->scan_end_time_ns = item.scan_end_ns > 0 ? item.scan_end_ns : 0;
+    m->scan_index = int64_t(item.scan_index);
+    const bool valid = (r.flags & odometry::kTooFewPoints) == 0 || (r.flags & odometry::kFirstScan);
+    int32_t status = 0;
+    if (valid) status |= O::STATUS_VALID;
+    if (r.flags & odometry::kDegenerate) status |= O::STATUS_DEGENERATE;
+    if (r.flags & odometry::kOverBudget) status |= O::STATUS_OVER_BUDGET;
+    if (r.flags & odometry::kImuUsed) status |= O::STATUS_PRIOR_USED_IMU;
+    if (r.flags & odometry::kBodyPriorUsed) status |= O::STATUS_PRIOR_USED_GO1;
+    if (r.flags & odometry::kFirstScan) status |= O::STATUS_INITIALISING;
+    if (item.reset) status |= O::STATUS_RESET;
+    if (r.preprocess.input > 0) status |= O::STATUS_DESKEWED;
+    if (!item.complete) status |= O::STATUS_SCAN_INCOMPLETE;
+    if (r.flags & odometry::kNotConverged) status |= O::STATUS_NOT_CONVERGED;
+    if (r.flags & odometry::kRegistrationFailed) status |= O::STATUS_FEW_CORRESPONDENCES;
+    if (item.keyframe) status |= O::STATUS_KEYFRAME;
+    m->status = status;
+    m->degenerate_directions = r.registration.degenerate_directions;
+    const Eigen::Vector3d t = r.T_odom_lidar.translation();
+    const Eigen::Quaterniond q(r.T_odom_lidar.linear());
+    for (int i = 0; i < 3; ++i) m->position[i] = valid ? t[i] : kNaN;
+    m->orientation_w = valid ? q.w() : kNaN;
+    m->orientation_x = valid ? q.x() : kNaN;
+    m->orientation_y = valid ? q.y() : kNaN;
+    m->orientation_z = valid ? q.z() : kNaN;
+    // The twist of the motion since the previous scan, over the time between the scans.
+    const common::Vector6d twist = common::LogSE3(r.T_prev_lidar);
+    const double dt = 0.1;  // the scan period at 10 Hz; a twist per scan otherwise
+    for (int i = 0; i < 3; ++i) {
+        m->linear_velocity[i] = valid ? twist[i] / dt : kNaN;
+        m->angular_velocity[i] = valid ? twist[3 + i] / dt : kNaN;
+    }
+    for (int i = 0; i < 36; ++i) m->pose_covariance[i] = valid ? r.covariance(i / 6, i % 6) : kNaN;
+    m->solve_time_ns = int64_t(r.total_ms * 1e6);
+    m->iterations = r.registration.iterations;
+    m->num_scan_points = int32_t(r.preprocess.registration_points);
+    m->num_correspondences = r.registration.correspondences;
+    m->num_map_points = int32_t(r.map_points);
+    m->residual_rms = float(r.registration.rms);
+    m->min_information_eigenvalue = float(r.registration.min_eigen_ratio);
+}
+
+void ToMessage(const KeyframeItem& item, const keyframes::KeyframeConfig& config,
+               int64_t publish_ns, bimslam::keyframe_t* m) {
+    const io::SessionKeyframe& k = item.keyframe;
+    m->schema_version = bimslam::keyframe_t::SCHEMA_VERSION;
+    m->sample_time_ns = k.stamp_ns;
+    m->publish_time_ns = publish_ns;
+    m->keyframe_id = int64_t(item.keyframe_index);
+    m->scan_index = int64_t(item.scan_index);
+    const Eigen::Isometry3d T = k.T_odom_lidar ? *k.T_odom_lidar : k.T_world_lidar;
+    const Eigen::Quaterniond q(T.linear());
+    for (int i = 0; i < 3; ++i) m->position[i] = T.translation()[i];
+    m->orientation_w = q.w();
+    m->orientation_x = q.x();
+    m->orientation_y = q.y();
+    m->orientation_z = q.z();
+    m->descriptor_kind = bimslam::keyframe_t::DESCRIPTOR_SCAN_CONTEXT_INDOOR;
+    m->num_rings = int32_t(k.descriptor.rows());
+    m->num_sectors = int32_t(k.descriptor.cols());
+    m->max_radius = float(config.descriptor.max_radius);
+    m->num_cells = m->num_rings * m->num_sectors;
+    m->cells.assign(k.descriptor.data(), k.descriptor.data() + k.descriptor.size());
+    m->voxel_size = 0;
+    const size_t n = k.cloud.size();
+    m->num_points = int32_t(n);
+    m->x.resize(n);
+    m->y.resize(n);
+    m->z.resize(n);
+    m->intensity.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        m->x[i] = k.cloud.xyz[i].x();
+        m->y[i] = k.cloud.xyz[i].y();
+        m->z[i] = k.cloud.xyz[i].z();
+        m->intensity[i] = k.cloud.HasIntensity() ? k.cloud.intensity[i] : 0.0f;
+    }
+}
+
+void ToMessage(const OusterImuItem& item, int64_t publish_ns, bimslam::imu_sample_t* m) {
+    using I = bimslam::imu_sample_t;
+    m->schema_version = I::SCHEMA_VERSION;
+    m->sample_time_ns = int64_t(item.sample.gyro_time_ns);
+    m->publish_time_ns = publish_ns;
+    m->accel_time_offset_ns = int64_t(item.sample.time_ns) - int64_t(item.sample.gyro_time_ns);
+    m->source = I::SOURCE_OUSTER;
+    m->sequence = int64_t(item.sequence);
+    m->flags = int32_t(I::FLAG_ANGULAR_VELOCITY_VALID) | int32_t(I::FLAG_LINEAR_ACCELERATION_VALID);
+    for (int i = 0; i < 3; ++i) {
+        m->angular_velocity[i] = item.sample.gyro[i];
+        m->linear_acceleration[i] = item.sample.accel[i];
+    }
+    m->orientation_w = m->orientation_x = m->orientation_y = m->orientation_z = kNaN;
+}
+
+void ToMessage(const Go1Item& item, int64_t publish_ns, bimslam::go1_state_t* m) {
+    using G = bimslam::go1_state_t;
+    const can::Go1Sample& s = item.sample;
+    const auto f = [](bool ok, double v) { return ok ? float(v) : std::nanf(""); };
+    m->schema_version = G::SCHEMA_VERSION;
+    m->sample_time_ns = s.bridge_time_ns;
+    m->publish_time_ns = publish_ns;
+    m->receive_time_ns = s.host_time_ns;
+    m->alive_counter = s.counter;
+    m->valid_groups = s.valid;
+    m->fresh_groups = s.fresh;
+    m->timed_out_groups = item.timed_out;
+    int32_t flags = 0;
+    if (s.udp_link_ok)
+        flags |= int32_t(G::FLAG_SYNC_UDP_LINK_OK) | int32_t(G::FLAG_STATUS_UDP_LINK_OK);
+    if (s.highstate_crc_ok)
+        flags |= int32_t(G::FLAG_SYNC_HIGHSTATE_CRC_OK) | int32_t(G::FLAG_STATUS_HIGHSTATE_CRC_OK);
+    if (s.gyro_saturated) flags |= G::FLAG_GYRO_SATURATED;
+    if (s.accel_saturated) flags |= G::FLAG_ACCEL_SATURATED;
+    if (s.odom_reset) flags |= G::FLAG_ODOM_RESET;
+    m->flags = flags;
+    m->bridge_time_raw_us = (s.bridge_time_ns / 1000) & 0xFFFFFFFFll;
+    m->sample_age_us = int32_t(s.sample_age_us);
+    const bool vel = s.valid & can::kGroupBodyVel, st = s.valid & can::kGroupBodyState;
+    m->velocity_x = f(vel, s.vx);
+    m->velocity_y = f(vel, s.vy);
+    m->yaw_rate = f(vel, s.yaw_rate);
+    m->velocity_z = f(st, s.vz);
+    m->body_height = f(st, s.body_height);
+    m->foot_raise_height = f(st, s.foot_raise_height);
+    for (int i = 0; i < 3; ++i) {
+        m->gyro[i] = f(s.valid & can::kGroupGyro, s.gyro[size_t(i)]);
+        m->accel[i] = f(s.valid & can::kGroupAccel, s.accel[size_t(i)]);
+    }
+    const bool quat = s.valid & can::kGroupQuat;
+    m->orientation_w = f(quat, s.quat_wxyz[0]);
+    m->orientation_x = f(quat, s.quat_wxyz[1]);
+    m->orientation_y = f(quat, s.quat_wxyz[2]);
+    m->orientation_z = f(quat, s.quat_wxyz[3]);
+    const bool foot = s.valid & can::kGroupFoot;
+    for (size_t i = 0; i < 4; ++i) {
+        m->foot_contact[i] = foot && s.foot_contact[i];
+        m->foot_force_raw[i] = foot ? int16_t(s.foot_force_raw[i]) : int16_t(-1);
+    }
+    const bool oxy = s.valid & can::kGroupOdomXy, ozy = s.valid & can::kGroupOdomZYaw;
+    m->odom_position[0] = oxy ? s.odom_x : kNaN;
+    m->odom_position[1] = oxy ? s.odom_y : kNaN;
+    m->odom_position[2] = ozy ? s.odom_z : kNaN;
+    m->odom_yaw = f(ozy, s.odom_yaw);
+    const bool sts = s.valid & can::kGroupStatus;
+    m->mode = sts ? s.mode : -1;
+    m->gait = sts ? s.gait : -1;
+    m->battery_soc_percent = sts ? s.battery_soc : -1;
+    m->imu_temperature_degc = sts ? s.imu_temperature_c : -128;
+    m->udp_rx_lost = sts ? s.udp_rx_lost : -1;
+    m->bridge_state = sts ? s.bridge_state : -1;
+    const can::Go1DecoderStats& d = item.stats;
+    m->frames_received = int64_t(d.frames - d.foreign_id);
+    m->frames_unknown_id = int64_t(d.foreign_id);
+    m->e2e_crc_errors = int64_t(d.crc);
+    m->e2e_counter_lost = int64_t(d.counter_lost);
+    m->e2e_counter_repeats = int64_t(d.counter_repeat);
+    m->e2e_counter_resyncs = int64_t(d.counter_resync);
+    m->e2e_timeouts = int64_t(d.timeout);
+}
+
+LcmPublisher::LcmPublisher(const std::string& url, const keyframes::KeyframeConfig& keyframes,
+                           LcmQueues queues)
+    : lcm_(std::make_unique<lcm::LCM>(url)), keyframes_(keyframes), q_(queues) {
+    if (!lcm_->good()) {
+        throw common::Error(common::StatusCode::kUnavailable,
+                            "LCM " + url +
+                                ": cannot open (UDP multicast needs a route: "
+                                "toolchain/setup-multicast.sh, or set lcm.url)");
+    }
+    latencies_.reserve(36000 * 4);
+    counters_.Store(c_);
+}
+
+LcmPublisher::~LcmPublisher() = default;
+
+template <typename Msg>
+void LcmPublisher::Publish(const char* channel, const Msg& msg) {
+    if (lcm_->publish(channel, &msg) == 0) {
+        ++c_.published;
+    } else {
+        ++c_.failures;
+    }
+}
+
+void LcmPublisher::Run(runtime::ThreadStats& stats, const std::atomic<bool>& producers_done) {
+    bimslam::odometry_t odometry;
+    bimslam::keyframe_t keyframe;
+    bimslam::imu_sample_t imu;
+    bimslam::go1_state_t go1;
+    for (;;) {
+        stats.Beat();
+        const uint32_t seen = q_.wakeup.Sequence();
+        const int64_t t0 = runtime::MonotonicNs();
+        bool worked = false;
+        while (OdometryItem* o = q_.odometry.Front()) {
+            ToMessage(*o, runtime::RealtimeNs(), &odometry);
+            Publish(kOdometryChannel, odometry);
+            if (latencies_.size() < latencies_.capacity()) {
+                latencies_.push_back(runtime::MonotonicNs() - o->last_packet_mono_ns);
+            }
+            q_.odometry.Pop();
+            ++c_.odometry;
+            worked = true;
+        }
+        while (OusterImuItem* i = q_.imu.Front()) {
+            ToMessage(*i, runtime::RealtimeNs(), &imu);
+            Publish(kImuChannel, imu);
+            q_.imu.Pop();
+            ++c_.imu;
+            worked = true;
+        }
+        while (Go1Item* g = q_.go1.Front()) {
+            ToMessage(*g, runtime::RealtimeNs(), &go1);
+            Publish(kGo1StateChannel, go1);
+            q_.go1.Pop();
+            ++c_.go1;
+            worked = true;
+        }
+        while (bimslam::rig_health_t* h = q_.health.Front()) {
+            h->publish_time_ns = runtime::RealtimeNs();
+            Publish(kRigHealthChannel, *h);
+            q_.health.Pop();
+            ++c_.health;
+            worked = true;
+        }
+        while (bimslam::ouster_stats_t* s = q_.ouster_stats.Front()) {
+            s->publish_time_ns = runtime::RealtimeNs();
+            Publish(kOusterStatsChannel, *s);
+            q_.ouster_stats.Pop();
+            worked = true;
+        }
+        // Keyframes last: the largest messages, one per turn, so that a burst of them does not
+        // hold up the next odometry message.
+        if (KeyframeItem* k = q_.keyframes.Front()) {
+            ToMessage(*k, keyframes_, runtime::RealtimeNs(), &keyframe);
+            Publish(kKeyframeChannel, keyframe);
+            q_.keyframes.Pop();
+            ++c_.keyframes;
+            worked = true;
+        }
+        if (worked) stats.Cycle(runtime::MonotonicNs() - t0, 0);
+        counters_.Store(c_);
+        if (!worked && producers_done.load(std::memory_order_acquire)) break;
+        if (!worked) q_.wakeup.Wait(seen, 100'000'000);
+    }
+    counters_.Store(c_);
+}
+
+}  // namespace bimslam::rig

@@ -1,0 +1,84 @@
+// The LCM publisher thread and the conversions to the messages of lcmtypes/ (channels and units:
+// lcmtypes/README.md): odometry_t per scan, keyframe_t per keyframe, imu_sample_t per Ouster IMU
+// sample, go1_state_t per Go1 sample, and the ouster_stats_t and rig_health_t the health thread
+// assembles once a period. Publishing (encode, sendmsg) happens here only, off the hot threads.
+#pragma once
+
+#include <atomic>
+#include <bimslam/go1_state_t.hpp>
+#include <bimslam/imu_sample_t.hpp>
+#include <bimslam/keyframe_t.hpp>
+#include <bimslam/odometry_t.hpp>
+#include <bimslam/ouster_stats_t.hpp>
+#include <bimslam/rig_health_t.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "firmware/modules/rig_types.hpp"
+#include "firmware/runtime/seqlock.hpp"
+#include "firmware/runtime/thread_table.hpp"
+
+namespace lcm {
+class LCM;
+}
+
+namespace bimslam::rig {
+
+inline constexpr char kOdometryChannel[] = "BIMSLAM_ODOMETRY";
+inline constexpr char kKeyframeChannel[] = "BIMSLAM_KEYFRAME";
+inline constexpr char kOusterStatsChannel[] = "BIMSLAM_OUSTER_STATS";
+inline constexpr char kGo1StateChannel[] = "BIMSLAM_GO1_STATE";
+inline constexpr char kImuChannel[] = "BIMSLAM_IMU";
+inline constexpr char kRigHealthChannel[] = "BIMSLAM_RIG_HEALTH";
+
+void ToMessage(const OdometryItem& item, int64_t publish_ns, bimslam::odometry_t* msg);
+void ToMessage(const KeyframeItem& item, const keyframes::KeyframeConfig& config,
+               int64_t publish_ns, bimslam::keyframe_t* msg);
+// The Ouster IMU sample in the IMU's own frame (the ingest rotates it back from the sensor frame).
+void ToMessage(const OusterImuItem& item, int64_t publish_ns, bimslam::imu_sample_t* msg);
+void ToMessage(const Go1Item& item, int64_t publish_ns, bimslam::go1_state_t* msg);
+
+struct LcmQueues {
+    runtime::SpscQueue<OdometryItem>& odometry;
+    runtime::SpscQueue<KeyframeItem>& keyframes;
+    runtime::SpscQueue<OusterImuItem>& imu;
+    runtime::SpscQueue<Go1Item>& go1;
+    runtime::SpscQueue<bimslam::rig_health_t>& health;
+    runtime::SpscQueue<bimslam::ouster_stats_t>& ouster_stats;
+    runtime::Wakeup& wakeup;
+};
+
+struct LcmCounters {
+    uint64_t published = 0;
+    uint64_t failures = 0;  // lcm publish returned an error
+    uint64_t odometry = 0, keyframes = 0, imu = 0, go1 = 0, health = 0;
+};
+
+class LcmPublisher {
+public:
+    // Throws common::Error (kUnavailable) naming the URL when LCM cannot be opened.
+    LcmPublisher(const std::string& url, const keyframes::KeyframeConfig& keyframes,
+                 LcmQueues queues);
+    ~LcmPublisher();
+
+    // Until `producers_done` and every queue is empty.
+    void Run(runtime::ThreadStats& stats, const std::atomic<bool>& producers_done);
+    LcmCounters counters() const { return counters_.Load(); }
+    // Each scan's latency from its last packet to its odometry_t being published (ns).
+    const std::vector<int64_t>& latencies() const { return latencies_; }
+
+private:
+    template <typename Msg>
+    void Publish(const char* channel, const Msg& msg);
+
+    std::unique_ptr<lcm::LCM> lcm_;
+    keyframes::KeyframeConfig keyframes_;
+    LcmQueues q_;
+    LcmCounters c_;
+    runtime::Seqlock<LcmCounters> counters_;
+    std::vector<int64_t> latencies_;
+};
+
+}  // namespace bimslam::rig

@@ -1,0 +1,297 @@
+#include "firmware/modules/lidar_ingest.hpp"
+
+#include <poll.h>
+
+#include <algorithm>
+#include <array>
+#include <ctime>
+#include <optional>
+#include <thread>
+
+#include "algorithms/common/status.hpp"
+#include "drivers/net/ipv4.hpp"
+#include "drivers/net/pcap_reader.hpp"
+#include "drivers/net/udp_source.hpp"
+
+namespace bimslam::rig {
+
+int64_t ReplayClock::WaitFor(int64_t capture_ns, const std::atomic<bool>& stop) const {
+    if (lossless()) return runtime::MonotonicNs();
+    const int64_t start = start_capture_ns.load(std::memory_order_acquire);
+    const int64_t due =
+        start_mono_ns + static_cast<int64_t>(double(capture_ns - start) / std::max(speed, 1e-9));
+    for (;;) {
+        const int64_t now = runtime::MonotonicNs();
+        if (now >= due || stop.load(std::memory_order_relaxed)) return now;
+        // Sleep in slices of at most 50 ms so that a stop is seen.
+        const int64_t wait = std::min<int64_t>(due - now, 50'000'000);
+        const timespec t{static_cast<time_t>(wait / 1'000'000'000),
+                         static_cast<long>(wait % 1'000'000'000)};
+        nanosleep(&t, nullptr);
+    }
+}
+
+namespace {
+constexpr int kAdoptInitIdAfter = 64;  // packets in a row with the same new init_id
+}
+
+struct LidarIngest::Impl {
+    LidarIngestConfig config;
+    ouster::SensorInfo info;
+    ouster::FrameBatcher batcher;
+    ouster::ImuDecoder imu_decoder;
+    runtime::SpscQueue<ScanSlot>& scans;
+    runtime::SpscQueue<ImuItem>& imu;
+    runtime::SpscQueue<OusterImuItem>& imu_lcm;
+    ReplayClock* replay;
+    // Live.
+    std::optional<net::UdpSource> lidar_socket, imu_socket;
+    // Replay.
+    std::optional<net::PcapReader> reader;
+    net::UdpExtractor extractor;
+    int64_t first_capture_ns = kEndOfStream;
+    bool have_first_record = false;
+    net::PcapRecord first_record;  // read ahead to learn the first capture time
+
+    // imu_sample_t carries the Ouster IMU in its own frame ("imu"); the decoder hands it over in
+    // the sensor frame.
+    Eigen::Matrix3d R_imu_sensor = Eigen::Matrix3d::Identity();
+    IngestCounters c;
+    uint64_t imu_pushed = 0;
+    uint64_t imu_sequence = 0;
+    int64_t last_arrival_ns = 0;        // of any datagram: the arrival clock never goes back
+    int64_t last_lidar_arrival_ns = 0;  // of the last lidar packet
+    uint32_t candidate_init_id = 0;
+    int candidate_count = 0;
+
+    Impl(const LidarIngestConfig& cfg, const ouster::SensorInfo& sensor,
+         runtime::SpscQueue<ScanSlot>& s, runtime::SpscQueue<ImuItem>& i,
+         runtime::SpscQueue<OusterImuItem>& il, ReplayClock* r)
+        : config(cfg),
+          info(sensor),
+          batcher(sensor),
+          imu_decoder(sensor),
+          scans(s),
+          imu(i),
+          imu_lcm(il),
+          replay(r) {
+        c.init_id = info.init_id;
+        R_imu_sensor = info.imu_to_sensor_transform.topLeftCorner<3, 3>().transpose();
+    }
+
+    // Waits for room in a queue in a lossless replay; false when the item must be dropped.
+    template <typename Q>
+    auto Slot(Q& q, const std::atomic<bool>& stop) -> decltype(q.BeginPush()) {
+        auto* slot = q.BeginPush();
+        while (slot == nullptr && replay != nullptr && replay->lossless() &&
+               !stop.load(std::memory_order_relaxed)) {
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            slot = q.BeginPush();
+        }
+        return slot;
+    }
+
+    void Emit(int64_t arrival_ns, int64_t mono_ns, const std::atomic<bool>& stop) {
+        for (const ouster::LidarFrame* frame : batcher.ready()) {
+            ScanSlot* slot = Slot(scans, stop);
+            if (slot == nullptr) {
+                scans.CountDrop();
+                ++c.scans_dropped;
+                continue;
+            }
+            pipeline::FrameToScan(*frame, arrival_ns, imu_pushed, &slot->scan);
+            slot->last_packet_mono_ns = mono_ns;
+            scans.CommitPush();
+            ++c.scans_queued;
+        }
+    }
+
+    void Lidar(const uint8_t* data, size_t size, int64_t arrival_ns, int64_t mono_ns,
+               const std::atomic<bool>& stop) {
+        ++c.lidar_datagrams;
+        c.bytes += size;
+        // A silence: the lidar's own packets stopped (the IMU port may have gone on).
+        if (c.last_packet_mono_ns != 0 &&
+            arrival_ns - last_lidar_arrival_ns > config.sensor_timeout_ns) {
+            ++c.silences;
+        }
+        last_arrival_ns = last_lidar_arrival_ns = arrival_ns;
+        c.last_packet_mono_ns = mono_ns;
+        const ouster::PacketResult r = batcher.AddPacket(data, size, arrival_ns);
+        if (r.rejected == ouster::Reject::kInitId) {
+            // Adopt a new init_id once it persists: the sensor restarted.
+            const uint32_t id = batcher.format().InitId(data);
+            candidate_count = id == candidate_init_id ? candidate_count + 1 : 1;
+            candidate_init_id = id;
+            if (candidate_count >= kAdoptInitIdAfter) {
+                batcher.SetExpectedInitId(id);
+                imu_decoder.SetExpectedInitId(id);
+                c.init_id = id;
+                ++c.init_id_changes;
+                candidate_count = 0;
+            }
+        } else if (!r.rejected) {
+            candidate_count = 0;
+        }
+        if (r.frames > 0) Emit(arrival_ns, mono_ns, stop);
+    }
+
+    void Imu(const uint8_t* data, size_t size, const std::atomic<bool>& stop) {
+        ++c.imu_datagrams;
+        c.bytes += size;
+        std::array<ouster::ImuSample, 64> samples;
+        const auto r = imu_decoder.Decode(data, size, samples);
+        for (size_t i = 0; i < r.samples; ++i) {
+            ImuItem* slot = Slot(imu, stop);
+            if (slot == nullptr) {
+                imu.CountDrop();
+                ++c.imu_dropped;
+            } else {
+                slot->measurement = pipeline::ImuFromOuster(samples[i]);
+                imu.CommitPush();
+                ++imu_pushed;
+            }
+            if (config.publish_imu) {
+                ouster::ImuSample in_imu = samples[i];
+                in_imu.gyro = R_imu_sensor * samples[i].gyro;
+                in_imu.accel = R_imu_sensor * samples[i].accel;
+                imu_lcm.TryPush({in_imu, imu_sequence});
+            }
+            ++imu_sequence;
+        }
+    }
+
+    void Route(uint16_t port, std::span<const uint8_t> payload, int64_t arrival_ns, int64_t mono_ns,
+               const std::atomic<bool>& stop) {
+        if (arrival_ns < last_arrival_ns) {  // keep the arrival clock monotonic
+            ++c.clock_backwards;
+            arrival_ns = last_arrival_ns;
+        }
+        if (port == config.lidar_port) {
+            Lidar(payload.data(), payload.size(), arrival_ns, mono_ns, stop);
+        } else if (port == config.imu_port) {
+            last_arrival_ns = arrival_ns;
+            Imu(payload.data(), payload.size(), stop);
+        } else {
+            ++c.other_datagrams;
+        }
+    }
+};
+
+LidarIngest::LidarIngest(const LidarIngestConfig& config, const ouster::SensorInfo& info,
+                         runtime::SpscQueue<ScanSlot>& scans, runtime::SpscQueue<ImuItem>& imu,
+                         runtime::SpscQueue<OusterImuItem>& imu_lcm, ReplayClock* replay)
+    : impl_(std::make_unique<Impl>(config, info, scans, imu, imu_lcm, replay)) {
+    Impl& m = *impl_;
+    if (!config.pcap.empty()) {
+        m.reader.emplace(config.pcap);
+        m.have_first_record = m.reader->Next(m.first_record);
+        if (m.have_first_record) m.first_capture_ns = m.first_record.timestamp_ns;
+        description_ = "lidar from " + config.pcap.string() + " (lidar port " +
+                       std::to_string(config.lidar_port) + ", IMU port " +
+                       std::to_string(config.imu_port) + ")";
+    } else {
+        net::UdpSourceConfig u;
+        u.bind_address = config.bind_address;
+        u.sensor_address = config.sensor_address;
+        u.receive_buffer_bytes = config.receive_buffer_bytes;
+        u.port = config.lidar_port;
+        m.lidar_socket.emplace(u);
+        u.port = config.imu_port;
+        u.batch_size = 16;
+        m.imu_socket.emplace(u);
+        description_ = "lidar on UDP " + config.bind_address + ":" +
+                       std::to_string(m.lidar_socket->port()) + ", IMU on port " +
+                       std::to_string(m.imu_socket->port()) +
+                       (config.sensor_address.empty() ? "" : " from " + config.sensor_address);
+    }
+    counters_.Store(m.c);
+}
+
+LidarIngest::~LidarIngest() = default;
+
+int64_t LidarIngest::first_capture_ns() const { return impl_->first_capture_ns; }
+
+std::string LidarIngest::receive_buffer_warning() const {
+    return impl_->lidar_socket ? impl_->lidar_socket->receive_buffer_warning() : "";
+}
+
+void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop) {
+    Impl& m = *impl_;
+    uint64_t since_publish = 0;
+    const auto publish = [&](bool force) {
+        if (force || ++since_publish >= 64) {
+            m.c.lidar = m.batcher.stats();
+            m.c.imu = m.imu_decoder.stats();
+            if (m.reader) {
+                m.c.ip_bad_checksum = m.extractor.stats().ip_bad_checksum;
+            }
+            counters_.Store(m.c);
+            since_publish = 0;
+        }
+    };
+    if (m.reader) {
+        // Replay: the recording's datagrams, paced by their capture times.
+        net::PcapRecord record;
+        net::UdpDatagram d;
+        bool have = m.have_first_record;
+        if (have) record = m.first_record;
+        try {
+            while (have && !stop.load(std::memory_order_relaxed)) {
+                const int64_t t0 = runtime::MonotonicNs();
+                stats.Beat();
+                const int64_t mono = m.replay->WaitFor(record.timestamp_ns, stop);
+                if (m.extractor.Feed(record, d)) {
+                    m.Route(d.dst_port, d.payload, d.timestamp_ns, mono, stop);
+                }
+                stats.Cycle(runtime::MonotonicNs() - std::max(t0, mono), 0);
+                publish(false);
+                have = m.reader->Next(record);
+            }
+        } catch (const common::FileError&) {
+            // A corrupt record header ends the recording here: what came before stands.
+            ++m.c.socket_errors;
+        }
+        if (!stop.load()) {
+            m.extractor.Finish();
+            m.batcher.Flush();
+            m.Emit(kEndOfStream, runtime::MonotonicNs(), stop);
+        }
+        m.c.finished = true;
+        publish(true);
+        return;
+    }
+    // Live: both sockets; each turn merges what both hold by receive time.
+    pollfd fds[2] = {{m.lidar_socket->fd(), POLLIN, 0}, {m.imu_socket->fd(), POLLIN, 0}};
+    while (!stop.load(std::memory_order_relaxed)) {
+        stats.Beat();
+        const int ready = ::poll(fds, 2, 100);
+        if (ready <= 0) {
+            publish(true);
+            continue;
+        }
+        const int64_t t0 = runtime::MonotonicNs();
+        // CLOCK_REALTIME kernel stamps to CLOCK_MONOTONIC with the offset of this moment.
+        const int64_t rt_minus_mono = runtime::RealtimeNs() - t0;
+        const net::UdpBatch lidar = m.lidar_socket->Receive(common::Duration{0});
+        const net::UdpBatch imu = m.imu_socket->Receive(common::Duration{0});
+        if (lidar.code == common::StatusCode::kIoError || imu.code == common::StatusCode::kIoError)
+            ++m.c.socket_errors;
+        size_t i = 0, j = 0;
+        while (i < lidar.datagrams.size() || j < imu.datagrams.size()) {
+            const bool take_lidar =
+                j >= imu.datagrams.size() ||
+                (i < lidar.datagrams.size() &&
+                 lidar.datagrams[i].timestamp_ns <= imu.datagrams[j].timestamp_ns);
+            const net::UdpDatagram& d = take_lidar ? lidar.datagrams[i++] : imu.datagrams[j++];
+            const int64_t arrival = d.timestamp_ns - rt_minus_mono;
+            m.Route(take_lidar ? m.config.lidar_port : m.config.imu_port, d.payload, arrival,
+                    arrival, stop);
+        }
+        stats.Cycle(runtime::MonotonicNs() - t0, 0);
+        publish(false);
+    }
+    publish(true);
+}
+
+}  // namespace bimslam::rig

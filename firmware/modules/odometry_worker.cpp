@@ -1,0 +1,127 @@
+#include "firmware/modules/odometry_worker.hpp"
+
+#include <thread>
+
+namespace bimslam::rig {
+
+OdometryWorker::OdometryWorker(const OdometryWorkerConfig& config, WorkerQueues queues,
+                               const CanIngest* can)
+    : config_(config), q_(queues), can_(can), pipeline_(config.pipeline) {
+    latencies_.reserve(36000 * 4);  // 4 hours at 10 Hz before it grows
+    counters_.Store(c_);
+}
+
+void OdometryWorker::DrainImu() {
+    while (ImuItem* item = q_.imu.Front()) {
+        pipeline_.AddImu(item->measurement);
+        q_.imu.Pop();
+    }
+}
+
+bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<bool>& stop) {
+    ScanSlot* slot = q_.scans.Front();
+    if (slot == nullptr) return false;
+    DrainImu();  // every IMU sample queued before the scan is visible now (same producer)
+    const int64_t arrival = slot->scan.emitted_arrival_ns;
+    if (can_ != nullptr && can_->progress_ns() < arrival) {
+        // Wait for the CAN ingest to pass the scan's arrival: bounded live, until the log has
+        // passed it in a lossless replay.
+        const int64_t give_up = runtime::MonotonicNs() + config_.can_wait_ns;
+        while (can_->progress_ns() < arrival && !stop.load(std::memory_order_relaxed) &&
+               (config_.lossless || runtime::MonotonicNs() < give_up)) {
+            stats.Beat();
+            std::this_thread::sleep_for(std::chrono::microseconds(100));
+        }
+        if (can_->progress_ns() < arrival) ++c_.can_late;
+    }
+    while (BodyItem* b = q_.bodies.Front()) {
+        if (b->body.received_ns > arrival) break;
+        pipeline_.AddBody(b->body);
+        q_.bodies.Pop();
+    }
+    const pipeline::ScanOutput& out = pipeline_.Process(slot->scan);
+    const odometry::OdometryResult& r = *out.odometry;
+    if (out.clock_jump) {
+        ++segment_;
+        ++c_.clock_jumps;
+    }
+    // Outputs. A full queue drops the item and counts it (the consumer is behind).
+    const auto push = [&](auto& queue, auto&& fill) {
+        auto* item = queue.BeginPush();
+        while (item == nullptr && config_.lossless && !stop.load(std::memory_order_relaxed)) {
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            item = queue.BeginPush();
+        }
+        if (item == nullptr) {
+            queue.CountDrop();
+            ++c_.outputs_dropped;
+            return;
+        }
+        fill(*item);
+        queue.CommitPush();
+    };
+    if (config_.record)
+        push(q_.poses, [&](PoseItem& p) {
+            p.pose = io::StampedPose::FromIsometry(out.stamp_ns, r.T_odom_lidar);
+            p.segment = segment_;
+        });
+    if (out.keyframe) {
+        const auto fill = [&](KeyframeItem& k) {
+            k.keyframe = *out.keyframe_data;  // copies into the slot's reserved buffers
+            k.edge.reset();
+            if (out.edge != nullptr) k.edge = *out.edge;
+            k.keyframe_index = out.keyframe_index;
+            k.scan_index = out.scan_index;
+            k.segment = segment_;
+        };
+        if (config_.record) push(q_.keyframes_session, fill);
+        push(q_.keyframes_lcm, fill);
+    }
+    const int64_t done = runtime::MonotonicNs();
+    push(q_.odometry_out, [&](OdometryItem& o) {
+        o.result = r;
+        o.scan_index = out.scan_index;
+        o.scan_end_ns = slot->scan.last_column_ns;
+        o.complete = out.complete;
+        o.keyframe = out.keyframe;
+        o.reset = out.clock_jump;
+        o.last_packet_mono_ns = slot->last_packet_mono_ns;
+        o.processed_mono_ns = done;
+    });
+    const int64_t latency = done - slot->last_packet_mono_ns;
+    if (latencies_.size() < latencies_.capacity()) latencies_.push_back(latency);
+    stats.Cycle(latency, config_.deadline_ns);
+    if (latency > config_.deadline_ns) ++c_.deadline_misses;
+    q_.scans.Pop();
+
+    ++c_.scans;
+    c_.keyframes += out.keyframe ? 1 : 0;
+    c_.incomplete += out.complete ? 0 : 1;
+    const pipeline::ScanPipelineStats& s = pipeline_.stats();
+    c_.over_budget = s.over_budget;
+    c_.degenerate = s.degenerate;
+    c_.failed = s.failed;
+    c_.distance_m = s.distance_m;
+    c_.last_solve_ns = int64_t(r.total_ms * 1e6);
+    c_.last_flags = r.flags;
+    counters_.Store(c_);
+    return true;
+}
+
+void OdometryWorker::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop,
+                         const std::atomic<bool>& inputs_done) {
+    for (;;) {
+        stats.Beat();
+        const uint32_t seen = q_.wakeup.Sequence();
+        if (ProcessOne(stats, stop)) continue;
+        DrainImu();
+        if (inputs_done.load(std::memory_order_acquire) && q_.scans.Front() == nullptr) break;
+        if (stop.load(std::memory_order_relaxed) && !config_.lossless) {
+            if (q_.scans.Front() == nullptr) break;
+        }
+        q_.wakeup.Wait(seen, 100'000'000);
+    }
+    counters_.Store(c_);
+}
+
+}  // namespace bimslam::rig

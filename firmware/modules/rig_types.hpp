@@ -1,0 +1,89 @@
+// What the rig's threads hand each other through their queues (firmware/runtime/spsc_queue.hpp),
+// and the replay clock they share. Every slot is constructed once at start-up with its buffers
+// reserved; the threads fill and read them in place.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include "algorithms/io/session.hpp"
+#include "algorithms/odometry/lidar_odometry.hpp"
+#include "algorithms/pipeline/scan_pipeline.hpp"
+#include "drivers/can/go1_decoder.hpp"
+#include "drivers/ouster/frame_batcher.hpp"
+#include "drivers/ouster/imu_packet.hpp"
+#include "firmware/runtime/spsc_queue.hpp"
+#include "firmware/runtime/wakeup.hpp"
+
+namespace bimslam::rig {
+
+inline constexpr int64_t kEndOfStream = std::numeric_limits<int64_t>::max();
+
+// A frame's points and what the join needs, plus when its last packet reached the rig
+// (CLOCK_MONOTONIC: the start of the latency to its odometry message).
+struct ScanSlot {
+    pipeline::ScanInput scan;
+    int64_t last_packet_mono_ns = 0;
+};
+
+struct ImuItem {
+    odometry::ImuMeasurement measurement;
+};
+
+struct BodyItem {
+    pipeline::BodyInput body;
+};
+
+// Pacing of a replay: capture time t is handed on at start_mono + (t - start_capture) / speed.
+// Lidar and CAN recordings share it (both are stamped by the capturing host's clock).
+struct ReplayClock {
+    double speed = 1.0;  // 0: as fast as possible (and lossless: producers wait for room)
+    std::atomic<int64_t> start_capture_ns{kEndOfStream};  // the earlier first stamp of the two
+    int64_t start_mono_ns = 0;
+    // Sleeps until capture time t is due; returns the monotonic time it handed on at.
+    int64_t WaitFor(int64_t capture_ns, const std::atomic<bool>& stop) const;
+    bool lossless() const { return speed <= 0; }
+};
+
+// A scan's odometry for the LCM thread.
+struct OdometryItem {
+    odometry::OdometryResult result;
+    uint64_t scan_index = 0;
+    int64_t scan_end_ns = 0;
+    bool complete = true;
+    bool keyframe = false;
+    bool reset = false;
+    int64_t last_packet_mono_ns = 0;
+    int64_t processed_mono_ns = 0;
+};
+
+// A keyframe for the session writer or the LCM thread.
+struct KeyframeItem {
+    io::SessionKeyframe keyframe;
+    std::optional<io::SessionEdge> edge;
+    uint64_t keyframe_index = 0;  // of the selector, in its segment
+    uint64_t scan_index = 0;
+    uint32_t segment = 0;  // a clock jump starts a new segment (a new session folder)
+};
+
+struct PoseItem {
+    io::StampedPose pose;
+    uint32_t segment = 0;
+};
+
+// The Go1 state for LCM: the sample and the decoder's counters when it was emitted.
+struct Go1Item {
+    can::Go1Sample sample;
+    can::Go1DecoderStats stats;
+    uint16_t timed_out = 0;
+};
+
+// The Ouster IMU sample for LCM (sensor frame, SI units).
+struct OusterImuItem {
+    ouster::ImuSample sample;
+    uint64_t sequence = 0;
+};
+
+}  // namespace bimslam::rig

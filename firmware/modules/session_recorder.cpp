@@ -1,0 +1,144 @@
+#include "firmware/modules/session_recorder.hpp"
+
+#include <ctime>
+#include <system_error>
+
+#include "algorithms/common/status.hpp"
+#include "firmware/runtime/process_stats.hpp"
+
+namespace bimslam::rig {
+namespace fs = std::filesystem;
+
+namespace {
+std::string StartName() {
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&now, &tm);
+    char buf[32];
+    std::strftime(buf, sizeof(buf), "%Y%m%d-%H%M%S", &tm);
+    return buf;
+}
+}  // namespace
+
+SessionRecorder::SessionRecorder(const SessionRecorderConfig& config,
+                                 runtime::SpscQueue<PoseItem>& poses,
+                                 runtime::SpscQueue<KeyframeItem>& keyframes,
+                                 runtime::Wakeup& wakeup)
+    : config_(config), poses_(poses), keyframes_(keyframes), wakeup_(wakeup) {
+    std::error_code ec;
+    fs::create_directories(config_.root, ec);
+    if (ec || !fs::is_directory(config_.root)) {
+        throw common::FileError(common::StatusCode::kIoError, config_.root.string(), 0,
+                                "cannot create the session folder: " + ec.message());
+    }
+    Open();
+    first_dir_ = dir_;
+}
+
+SessionRecorder::~SessionRecorder() = default;
+
+void SessionRecorder::Open() {
+    const std::string base = StartName();
+    fs::path dir = config_.root / base;
+    for (int n = 2; fs::exists(dir); ++n) dir = config_.root / (base + "-" + std::to_string(n));
+    io::SessionWriterOptions options;
+    options.flush_every = 1;  // a power loss loses at most the keyframe being written
+    options.sync_each_file = true;
+    writer_.reset();
+    writer_.emplace(dir, config_.manifest, options);
+    dir_ = dir;
+    last_written_selector_ = -1;
+    ++c_.sessions;
+    std::lock_guard<std::mutex> lock(dir_mutex_);
+    dir_text_ = dir.string();
+}
+
+std::string SessionRecorder::current_dir() const {
+    std::lock_guard<std::mutex> lock(dir_mutex_);
+    return dir_text_;
+}
+
+void SessionRecorder::Write(const KeyframeItem& k) {
+    c_.disk_free_bytes = runtime::FreeDiskBytes(config_.root.string());
+    c_.disk_low = c_.disk_free_bytes >= 0 && c_.disk_free_bytes < config_.min_free_bytes;
+    if (c_.disk_low) {
+        ++c_.keyframes_skipped_disk;
+        return;
+    }
+    // Written indices are contiguous; the selector's may have gaps (a full queue, a full disk).
+    io::SessionKeyframe kf = k.keyframe;  // NOLINT: the writer thread may allocate
+    const size_t index = writer_->AddKeyframe(kf);
+    if (k.edge && int64_t(k.edge->from) == last_written_selector_ && index > 0) {
+        io::SessionEdge e = *k.edge;
+        e.from = uint32_t(index - 1);
+        e.to = uint32_t(index);
+        writer_->AddEdge(e);
+    } else if (k.edge) {
+        ++c_.edges_dropped;
+    }
+    last_written_selector_ = int64_t(k.keyframe_index);
+    ++c_.keyframes;
+    c_.bytes_written += int64_t(k.keyframe.cloud.size()) * 22 + 8 * 1200;
+}
+
+void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& producer_done) {
+    int64_t last_flush = runtime::MonotonicNs();
+    bool dirty = false;
+    for (;;) {
+        stats.Beat();
+        const uint32_t seen = wakeup_.Sequence();
+        bool worked = false;
+        const int64_t t0 = runtime::MonotonicNs();
+        try {
+            while (PoseItem* p = poses_.Front()) {
+                if (p->segment != segment_) {
+                    // A clock jump: the next session; the keyframes of this one were queued
+                    // before the jump, so they go first.
+                    while (KeyframeItem* k = keyframes_.Front()) {
+                        if (k->segment != segment_) break;
+                        Write(*k);
+                        keyframes_.Pop();
+                    }
+                    writer_->Finish();
+                    segment_ = p->segment;
+                    Open();
+                }
+                writer_->AddScanPose(p->pose);
+                ++c_.poses;
+                dirty = true;
+                poses_.Pop();
+                worked = true;
+            }
+            while (KeyframeItem* k = keyframes_.Front()) {
+                if (k->segment != segment_) break;
+                Write(*k);
+                keyframes_.Pop();
+                dirty = false;  // AddKeyframe flushed the line files
+                worked = true;
+            }
+            if (dirty && runtime::MonotonicNs() - last_flush > config_.flush_period_ns) {
+                writer_->Flush();
+                dirty = false;
+                last_flush = runtime::MonotonicNs();
+            }
+        } catch (const std::exception& e) {
+            ++c_.write_errors;  // the health thread logs FAULT_DISK_WRITE
+            if (poses_.Front()) poses_.Pop();
+        }
+        if (worked) stats.Cycle(runtime::MonotonicNs() - t0, 0);
+        counters_.Store(c_);
+        if (!worked && producer_done.load(std::memory_order_acquire) && !poses_.Front() &&
+            !keyframes_.Front()) {
+            break;
+        }
+        if (!worked) wakeup_.Wait(seen, 100'000'000);
+    }
+    try {
+        writer_->Finish();
+    } catch (const std::exception&) {
+        ++c_.write_errors;
+    }
+    counters_.Store(c_);
+}
+
+}  // namespace bimslam::rig

@@ -1,0 +1,79 @@
+// The session writer thread: all disk I/O of the rig, off the hot path. Every scan's pose and
+// every keyframe go into a session folder (algorithms/io/session.hpp: each keyframe's cloud and
+// descriptor, then the line files, each written atomically and synced), so that after a SIGKILL
+// or a power loss `bimslam session info` recovers every keyframe that was complete. SIGINT and
+// SIGTERM end with Finish() (session.json).
+//
+// A new folder per start (the start time, UTC, plus -2, -3, ... when it exists): never
+// overwriting. A clock jump (the odometry started again) closes the session and opens the next.
+// Disk almost full: below min_free_bytes no keyframe is written any more (counted); the poses
+// still are, the odometry and LCM go on.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "algorithms/io/session.hpp"
+#include "firmware/modules/rig_types.hpp"
+#include "firmware/runtime/seqlock.hpp"
+#include "firmware/runtime/thread_table.hpp"
+
+namespace bimslam::rig {
+
+struct SessionRecorderConfig {
+    std::filesystem::path root;
+    io::SessionManifest manifest;
+    int64_t min_free_bytes = int64_t(1) << 30;
+    int64_t flush_period_ns = 2'000'000'000;  // trajectory.tum rewritten at least this often
+};
+
+struct RecorderCounters {
+    uint64_t poses = 0, keyframes = 0;
+    uint64_t keyframes_skipped_disk = 0;  // not written: disk almost full
+    uint64_t edges_dropped = 0;           // their keyframe was not written
+    uint64_t write_errors = 0;
+    uint64_t sessions = 0;
+    int64_t bytes_written = 0;
+    int64_t disk_free_bytes = -1;
+    bool disk_low = false;
+};
+
+class SessionRecorder {
+public:
+    // Creates the first session folder; throws common::FileError when it cannot.
+    SessionRecorder(const SessionRecorderConfig& config, runtime::SpscQueue<PoseItem>& poses,
+                    runtime::SpscQueue<KeyframeItem>& keyframes, runtime::Wakeup& wakeup);
+    ~SessionRecorder();
+
+    // Until `producer_done` and both queues are empty; then Finish().
+    void Run(runtime::ThreadStats& stats, const std::atomic<bool>& producer_done);
+
+    RecorderCounters counters() const { return counters_.Load(); }
+    // The folder being written (first session until a clock jump).
+    std::string current_dir() const;
+    const std::filesystem::path& first_dir() const { return first_dir_; }
+
+private:
+    void Open();
+    void Write(const KeyframeItem& k);
+
+    SessionRecorderConfig config_;
+    runtime::SpscQueue<PoseItem>& poses_;
+    runtime::SpscQueue<KeyframeItem>& keyframes_;
+    runtime::Wakeup& wakeup_;
+    std::optional<io::SessionWriter> writer_;
+    std::filesystem::path first_dir_;
+    std::filesystem::path dir_;
+    uint32_t segment_ = 0;
+    int64_t last_written_selector_ = -1;  // selector index of the last keyframe written
+    RecorderCounters c_;
+    runtime::Seqlock<RecorderCounters> counters_;
+    mutable std::mutex dir_mutex_;  // between two slow threads (writer, health)
+    std::string dir_text_;
+};
+
+}  // namespace bimslam::rig

@@ -1,0 +1,309 @@
+// bimslam-rig as it runs on the rig and on the bench: replay of simulated captures (the same
+// session as `bimslam odometry`), faults (packet loss, a corrupt stretch, the sensor silent and
+// restarting, a CAN outage, a full disk), signals (SIGTERM finishes the session, SIGKILL leaves
+// one `bimslam session info` recovers), the configuration (every shipped file loads; a wrong key,
+// type or value exits 2 naming it), live on loopback fed by `bimslam ouster replay`, scheduling
+// refused, SocketCAN absent. LCM and systemd: rig_lcm_test.cpp.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "tests/integration/rig_test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using test::rig::kCli;
+using test::rig::kRig;
+using test::rig::RigJson;
+using test::rig::Spawn;
+using test::rig::Wait;
+using test::rig::WriteConfig;
+
+std::string Slurp(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+class Rig : public test::rig::RigFixture {};
+
+TEST_F(Rig, ReplayWritesTheSessionOfBimslamOdometry) {
+    const fs::path cap = Capture("go1", 8);
+    const fs::path offline = Tmp() / "offline";
+    auto r = test::RunCommand(kCli + " odometry " + cap.string() + " -o " + offline.string() +
+                              " --budget-ms 1000 --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto odo = nlohmann::json::parse(r.out);
+    ASSERT_EQ(odo["over_budget"], 0) << "a scan over budget makes the comparison meaningless";
+    const fs::path config = WriteConfig(Tmp() / "same.yaml", "");
+    const nlohmann::json rig =
+        RigJson(kRig + " replay " + cap.string() + " --speed max --json --config " +
+                config.string() + " --session-root " + (Tmp() / "rig").string());
+    ASSERT_FALSE(rig.is_null());
+    EXPECT_EQ(rig["scans"], odo["scans"]);
+    EXPECT_EQ(rig["scans_dropped"], 0);
+    const fs::path session = rig["session"].get<std::string>();
+    for (const char* f : {"trajectory.tum", "optimized_poses.txt", "odom_poses.txt", "times.txt",
+                          "singlesession_posegraph.g2o"}) {
+        EXPECT_EQ(Slurp(session / f), Slurp(offline / f)) << f << " differs";
+    }
+    EXPECT_EQ(Slurp(session / "Scans" / "000003.pcd"), Slurp(offline / "Scans" / "000003.pcd"));
+    EXPECT_TRUE(fs::exists(session / "session.json"));
+}
+
+TEST_F(Rig, KeepsRunningThroughFaultsAndCountsThem) {
+    // 20 % of the datagrams lost (the simulator), then in the recording: a corrupt stretch
+    // (bytes flipped in 40 lidar packets at 2 s), the sensor silent for 3 s from 4 s, a restart
+    // (another init_id) from 8 s, and the Go1's CAN silent for 5 s from 1 s.
+    const fs::path cap = Capture("go1", 11, "network:\n  fragment: false\n  packet_loss: 0.2\n");
+    const fs::path faulty = Tmp() / "faulty";
+    fs::create_directories(faulty);
+    for (const char* f : {"metadata.json", "capture.json"}) fs::copy(cap / f, faulty / f);
+    const test::rig::PcapEdit edit = test::rig::EditLidarPcap(
+        cap / "lidar.pcap", faulty / "lidar.pcap", /*corrupt_from_s=*/2.0, /*corrupt_packets=*/40,
+        /*silent_from_s=*/4.0, /*silent_s=*/3.0, /*restart_from_s=*/8.0);
+    ASSERT_GT(edit.corrupted, 30u);
+    ASSERT_GT(edit.removed, 1000u);
+    ASSERT_GT(edit.restarted, 500u);
+    const size_t can_removed =
+        test::rig::DropCandump(cap / "go1_can.log", faulty / "go1_can.log", 1.0, 5.0);
+    ASSERT_GT(can_removed, 1000u);
+    const fs::path config = WriteConfig(Tmp() / "faults.yaml", "");
+    const nlohmann::json j =
+        RigJson(kRig + " replay " + faulty.string() + " --speed max --json --config " +
+                config.string() + " --session-root " + (Tmp() / "faults").string());
+    ASSERT_FALSE(j.is_null());
+    EXPECT_GT(j["scans"], 60);  // 11 s at 10 Hz less the 3 s of silence
+    EXPECT_GT(j["keyframes_written"], 2);
+    EXPECT_GT(j["frames_incomplete"], 10) << "packet loss not counted";
+    EXPECT_GT(j["crc_failures"], 20) << "the corrupt stretch was not counted";
+    EXPECT_GE(j["silences"], 1) << "the 3 s silence was not counted";
+    EXPECT_GE(j["sensor_restarts"], 1) << "the init_id change was not taken as a restart";
+    EXPECT_GT(j["can_timeouts"], 0) << "the CAN outage was not counted";
+    // The session stays intact: complete and readable.
+    const auto info =
+        test::RunCommand(kCli + " session info --json " + j["session"].get<std::string>());
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const auto s = nlohmann::json::parse(info.out);
+    EXPECT_TRUE(s["complete"].get<bool>()) << info.out;
+    EXPECT_EQ(s["keyframes"], j["keyframes_written"]);
+}
+
+TEST_F(Rig, DiskAlmostFullStopsKeyframesNotOdometry) {
+    const fs::path cap = Capture("handheld", 6);
+    const fs::path config = WriteConfig(Tmp() / "disk.yaml", "session:\n  min_free_mb: 1e9\n");
+    const nlohmann::json j =
+        RigJson(kRig + " replay " + cap.string() + " --speed max --json --config " +
+                config.string() + " --session-root " + (Tmp() / "disk").string());
+    ASSERT_FALSE(j.is_null());
+    EXPECT_GT(j["scans"], 50);
+    EXPECT_GT(j["keyframes"], 2);
+    EXPECT_EQ(j["keyframes_written"], 0);
+    EXPECT_EQ(j["keyframes_skipped_disk"], j["keyframes"]);
+    const auto info =
+        test::RunCommand(kCli + " session info --json " + j["session"].get<std::string>());
+    EXPECT_EQ(info.exit_code, 0) << info.err;  // complete, with every scan's pose and no keyframe
+}
+
+TEST_F(Rig, SigtermFinishesTheSession) {
+    const fs::path cap = Capture("handheld", 8);
+    const fs::path root = Tmp() / "term";
+    const fs::path config = WriteConfig(Tmp() / "term.yaml", "");
+    const pid_t pid = Spawn(kRig + " replay " + cap.string() + " --speed 1 --json --config " +
+                                config.string() + " --session-root " + root.string(),
+                            Tmp() / "term.out", Tmp() / "term.err");
+    std::this_thread::sleep_for(std::chrono::seconds(4));
+    ::kill(pid, SIGTERM);
+    EXPECT_EQ(Wait(pid), 0) << Slurp(Tmp() / "term.err");
+    const auto j = nlohmann::json::parse(Slurp(Tmp() / "term.out"));
+    EXPECT_EQ(j["stop_signal"], SIGTERM);
+    EXPECT_LT(j["scans"], 75);  // stopped part way
+    const fs::path session = j["session"].get<std::string>();
+    EXPECT_TRUE(fs::exists(session / "session.json"));
+    const auto info = test::RunCommand(kCli + " session info --json " + session.string());
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    EXPECT_TRUE(nlohmann::json::parse(info.out)["complete"].get<bool>());
+}
+
+TEST_F(Rig, SigkillLeavesARecoverableSession) {
+    const fs::path cap = Capture("handheld", 8);
+    const fs::path root = Tmp() / "kill";
+    const fs::path config = WriteConfig(Tmp() / "kill.yaml", "");
+    const pid_t pid = Spawn(kRig + " replay " + cap.string() + " --speed 1 --config " +
+                                config.string() + " --session-root " + root.string(),
+                            Tmp() / "kill.out", Tmp() / "kill.err");
+    std::this_thread::sleep_for(std::chrono::seconds(5));
+    ::kill(pid, SIGKILL);
+    EXPECT_EQ(Wait(pid), 128 + SIGKILL);
+    ASSERT_TRUE(fs::is_directory(root));
+    const fs::path session = fs::directory_iterator(root)->path();
+    EXPECT_FALSE(fs::exists(session / "session.json"));
+    const auto info = test::RunCommand(kCli + " session info --json " + session.string());
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const auto s = nlohmann::json::parse(info.out);
+    EXPECT_FALSE(s["complete"].get<bool>());
+    EXPECT_GE(s["keyframes"].get<int>(), 2) << info.out;
+}
+
+TEST_F(Rig, RecordingAsPcapWithItsJsonLikeTheOusterTools) {
+    const fs::path cap = Capture("handheld", 4);
+    const fs::path dir = Tmp() / "ouster_style";
+    fs::create_directories(dir);
+    fs::copy_file(cap / "lidar.pcap", dir / "walk.pcap", fs::copy_options::overwrite_existing);
+    fs::copy_file(cap / "metadata.json", dir / "walk.json", fs::copy_options::overwrite_existing);
+    const auto r = test::RunCommand(kCli + " odometry " + (dir / "walk.pcap").string() + " -o " +
+                                    (dir / "offline").string() + " --budget-ms 1000 --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const fs::path config = WriteConfig(Tmp() / "pcap.yaml", "");
+    const nlohmann::json j =
+        RigJson(kRig + " replay " + (dir / "walk.pcap").string() + " --speed max --json --config " +
+                config.string() + " --session-root " + (dir / "rig").string());
+    ASSERT_FALSE(j.is_null());
+    EXPECT_EQ(Slurp(fs::path(j["session"].get<std::string>()) / "trajectory.tum"),
+              Slurp(dir / "offline" / "trajectory.tum"));
+}
+
+TEST_F(Rig, ACaptureWithoutDatagramsSaysHowManyRecordsWereDroppedAndWhy) {
+    const fs::path cap = Capture("handheld", 4, "network:\n  fragment: false\n");
+    // Every IPv4 header's version nibble made 6: nothing is IPv4 any more.
+    std::ifstream f(cap / "lidar.pcap", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(f)), {});
+    for (size_t at = 24; at + 16 <= bytes.size();) {
+        uint32_t caplen;
+        std::memcpy(&caplen, bytes.data() + at + 8, 4);
+        if (caplen > 14) bytes[at + 16 + 14] = char(0x65);
+        at += 16 + caplen;
+    }
+    const fs::path dir = Tmp() / "broken";
+    fs::create_directories(dir);
+    std::ofstream(dir / "x.pcap", std::ios::binary) << bytes;
+    fs::copy_file(cap / "metadata.json", dir / "x.json", fs::copy_options::overwrite_existing);
+    const auto r = test::RunCommand(kCli + " odometry " + (dir / "x.pcap").string() + " -o " +
+                                    (dir / "s").string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("dropped: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("malformed IPv4"), std::string::npos) << r.err;
+}
+
+TEST_F(Rig, ShippedConfigurationsLoad) {
+    for (const char* name : {"go1.yaml", "handheld.yaml"}) {
+        const fs::path file = fs::path(BIMSLAM_SOURCE_ROOT) / "firmware/app/config" / name;
+        const auto r = test::RunCommand(kRig + " live --print-config --config " + file.string());
+        EXPECT_EQ(r.exit_code, 0) << name << ": " << r.err;
+        EXPECT_NE(r.out.find("budget_ms: 50"), std::string::npos) << r.out;
+    }
+}
+
+TEST_F(Rig, BadConfigurationExits2NamingFileLineAndKey) {
+    struct Case {
+        std::string text, expected;
+    };
+    const Case cases[] = {
+        {"sensor:\n  lidar_prot: 7502\n", "bad.yaml:2: sensor.lidar_prot: unknown key"},
+        {"odometry:\n  use_imu: maybe\n", "bad.yaml:2: odometry.use_imu: expected true or false"},
+        {"odometry:\n  budget_ms: fast\n", "bad.yaml:2: odometry.budget_ms: expected a number"},
+        {"queues:\n  scans: 0\n", "bad.yaml:2: queues.scans: 0 is out of range [1, 64]"},
+        {"can:\n  source: usb\n", "bad.yaml:2: can.source: 'usb' is not one of"},
+        {"odometry: 3\n", "bad.yaml:1: odometry: expected a map"},
+        {"sensor: [\n", "bad.yaml:"},
+    };
+    for (const Case& c : cases) {
+        const fs::path file = Tmp() / "bad.yaml";
+        std::ofstream(file) << c.text;
+        const auto r = test::RunCommand(kRig + " live --print-config --config " + file.string());
+        EXPECT_EQ(r.exit_code, 2) << c.text;
+        EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.text << "\n" << r.err;
+    }
+    const auto r = test::RunCommand(kRig + " replay " + (Tmp() / "nothing").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("nothing"), std::string::npos) << r.err;
+}
+
+TEST_F(Rig, LiveOnLoopbackFedByTheReplayerWritesTheReplaySession) {
+    const fs::path cap = Capture("handheld", 8);
+    const int port = test::rig::FreeUdpPortPair();
+    const fs::path config =
+        WriteConfig(Tmp() / "live.yaml",
+                    "sensor:\n  metadata: " + (cap / "metadata.json").string() +
+                        "\n  bind_address: 127.0.0.1\n  lidar_port: " + std::to_string(port) +
+                        "\n  imu_port: " + std::to_string(port + 1) + "\ncan:\n  source: none\n");
+    const pid_t rig = Spawn(kRig + " live --json --config " + config.string() + " --session-root " +
+                                (Tmp() / "live").string(),
+                            Tmp() / "live.out", Tmp() / "live.err");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // sockets bound
+    const auto sent = test::RunCommand(kCli + " ouster replay " + cap.string() +
+                                       " --to 127.0.0.1 --lidar-port " + std::to_string(port) +
+                                       " --imu-port " + std::to_string(port + 1) + " --json");
+    EXPECT_EQ(sent.exit_code, 0) << sent.err;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ::kill(rig, SIGINT);
+    ASSERT_EQ(Wait(rig), 0) << Slurp(Tmp() / "live.err");
+    const auto live = nlohmann::json::parse(Slurp(Tmp() / "live.out"));
+    const nlohmann::json replay =
+        RigJson(kRig + " replay " + cap.string() + " --handheld --speed max --json --config " +
+                config.string() + " --session-root " + (Tmp() / "replayed").string());
+    ASSERT_FALSE(replay.is_null());
+    EXPECT_EQ(live["scans"], replay["scans"]);
+    EXPECT_EQ(live["scans_dropped"], 0);
+    const fs::path a = live["session"].get<std::string>(), b = replay["session"].get<std::string>();
+    EXPECT_EQ(Slurp(a / "trajectory.tum"), Slurp(b / "trajectory.tum"));
+    EXPECT_EQ(Slurp(a / "optimized_poses.txt"), Slurp(b / "optimized_poses.txt"));
+    std::cout << "live on loopback: latency p50 " << live["latency_ms_p50"] << " ms, p99 "
+              << live["latency_ms_p99"] << " ms, CPU " << live["cpu_percent"] << " %\n";
+}
+
+TEST_F(Rig, RefusedSchedulingIsAWarningNotAFailure) {
+    if (::geteuid() != 0) {
+        GTEST_SKIP() << "runs the rig as nobody through setpriv, which needs root";
+    }
+    if (test::RunCommand("command -v setpriv").exit_code != 0) {
+        GTEST_SKIP() << "setpriv (util-linux) is absent";
+    }
+    const fs::path cap = Capture("handheld", 4);
+    const fs::path root = Tmp() / "nobody";
+    fs::create_directories(root);
+    fs::permissions(Tmp().path(), fs::perms::all, fs::perm_options::add);
+    fs::permissions(root, fs::perms::all, fs::perm_options::add);
+    const fs::path config = WriteConfig(Tmp() / "fifo.yaml",
+                                        "runtime:\n  lock_memory: true\nthreads:\n  ingest: "
+                                        "{priority: 80, cpu: 0}\n  odometry: {priority: 60}\n");
+    fs::permissions(config, fs::perms::all, fs::perm_options::add);
+    const auto r = test::RunCommand("setpriv --reuid=65534 --regid=65534 --clear-groups " + kRig +
+                                    " replay " + cap.string() + " --speed max --json --config " +
+                                    config.string() + " --session-root " + root.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const std::string warnings = j["warnings"].dump();
+    EXPECT_NE(warnings.find("thread ingest: SCHED_FIFO priority 80 refused"), std::string::npos)
+        << warnings;
+    EXPECT_NE(warnings.find("mlockall refused"), std::string::npos) << warnings;
+    EXPECT_GT(j["scans"], 30);
+}
+
+TEST_F(Rig, LiveWithoutCanInTheKernelSaysWhatToDo) {
+    if (test::rig::KernelHasCan()) GTEST_SKIP() << "this kernel has CAN: nothing to refuse";
+    const fs::path cap = Capture("handheld", 4);
+    const fs::path config =
+        WriteConfig(Tmp() / "socketcan.yaml",
+                    "sensor:\n  metadata: " + (cap / "metadata.json").string() +
+                        "\n  lidar_port: " + std::to_string(test::rig::FreeUdpPortPair()) +
+                        "\ncan:\n  source: socketcan\n  interface: can0\n");
+    const auto r = test::RunCommand(kRig + " live --config " + config.string() +
+                                    " --session-root " + (Tmp() / "nocan").string());
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("can0"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("can.source"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace bimslam

@@ -1,0 +1,65 @@
+// firmware/app/rig_config: the schema, the strict loader (file, line, key) and --print-config,
+// whose output loads back to the same configuration.
+#include "firmware/app/rig_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "algorithms/common/status.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::rig {
+namespace {
+
+TEST(RigConfig, SchemaNamesEveryKeyWithTypeAndRange) {
+    const auto& keys = ConfigSchema();
+    EXPECT_GT(keys.size(), 40u);
+    for (const ConfigKey& k : keys) {
+        EXPECT_FALSE(k.type.empty()) << k.path;
+        EXPECT_FALSE(k.range.empty()) << k.path;
+        EXPECT_FALSE(k.doc.empty()) << k.path;
+    }
+}
+
+TEST(RigConfig, LoadsValuesAndRejectsWithFileLineKey) {
+    test::TempDir dir;
+    const auto file = dir / "rig.yaml";
+    std::ofstream(file) << "sensor:\n  lidar_port: 7600\ncan:\n  source: none\n"
+                           "threads:\n  odometry: {priority: 42, cpu: 1}\n";
+    RigConfig c;
+    LoadConfigFile(file, c);
+    EXPECT_EQ(c.lidar_port, 7600);
+    EXPECT_EQ(c.can_source, "none");
+    EXPECT_EQ(c.odometry.priority, 42);
+    EXPECT_EQ(c.odometry.cpu, 1);
+    std::ofstream(file) << "sensor:\n  lidar_port: 7600\n  timeout_s: -1\n";
+    EXPECT_FILE_ERROR(LoadConfigFile(file, c), file.string(), 3);
+    std::ofstream(file) << "\n\nmystery: 1\n";
+    EXPECT_FILE_ERROR(LoadConfigFile(file, c), file.string(), 3);
+}
+
+TEST(RigConfig, PrintedConfigurationLoadsBackUnchanged) {
+    RigConfig c;
+    c.lidar_port = 1234;
+    c.mount = {0.1, 0.2, 0.3, 1, 2, 3};
+    c.can_source = "lcm";
+    const std::string printed = PrintConfig(c);
+    test::TempDir dir;
+    std::ofstream(dir / "p.yaml") << printed;
+    RigConfig back;
+    LoadConfigFile(dir / "p.yaml", back);
+    EXPECT_EQ(PrintConfig(back), printed);
+}
+
+TEST(RigConfig, RelationsBetweenKeys) {
+    RigConfig c;
+    c.budget_ms = 200;
+    EXPECT_THROW(ValidateConfig(c), common::Error);
+    c = RigConfig{};
+    c.can_source = "log";
+    EXPECT_THROW(ValidateConfig(c), common::Error);
+}
+
+}  // namespace
+}  // namespace bimslam::rig
