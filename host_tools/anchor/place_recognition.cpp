@@ -56,10 +56,11 @@ void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& tar
             r.reason.clear();
         }
         if (!r.registration.failed) {
-            r.seen_through = registration::CheckFreeSpace(
-                                 q.clouds[r.query_index], target.map().level(config.free_space_level),
-                                 r.registration.T_target_source, config.free_space)
-                                 .ratio();
+            r.seen_through =
+                registration::CheckFreeSpace(q.clouds[r.query_index],
+                                             target.map().level(config.free_space_level),
+                                             r.registration.T_target_source, config.free_space)
+                    .ratio();
         }
     });
     times->registration_s += Since(t0);
