@@ -33,14 +33,7 @@ std::vector<LoopRecord> ProximityLoops(const std::vector<AnchorSession>& session
         if (t == Target::kNone) continue;
         const TargetKeyframe& tk = target.keyframes()[t];
         if (use_target && !use_target(tk)) continue;
-        LoopRecord r;
-        r.query_session = q;
-        r.query_index = j;
-        r.target_session = tk.session;
-        r.target_index = tk.index;
-        r.T_world_target = tk.T_world_lidar;
-        r.source = LoopSource::kProximity;
-        jobs.push_back(r);
+        jobs.push_back(NewLoop(q, j, tk, LoopSource::kProximity));
         init.push_back(world[j]);
     }
     RegisterLoops(sessions, target, config, init, config.proximity_first_level, true, &jobs, times);
