@@ -19,6 +19,10 @@ struct Scene::Impl {
     RTCScene scene = nullptr;
     std::vector<uint32_t> ids;  // per triangle (primID of geometry 0)
     size_t triangles = 0;
+    // Embree's own vertex and index buffers of geometry 0 (the scene keeps them alive), read by
+    // closest-point queries; null for an empty scene.
+    const float* vertices = nullptr;    // x y z per vertex
+    const uint32_t* indices = nullptr;  // 3 per triangle
 
     // The last message Embree's error callback reported and how many it reported. The callback
     // may run on any thread (rtcGetDeviceError only sees the calling thread's error, so errors

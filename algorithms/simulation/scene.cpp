@@ -69,6 +69,82 @@ void Check(Scene::Impl& impl, const char* what) {
 void Require(bool ok, const std::string& message) {
     if (!ok) throw common::Error(StatusCode::kInvalidArgument, "Scene: " + message);
 }
+
+// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection" (2005),
+// section 5.1.5, by the Voronoi regions of the vertices, edges and face.
+Eigen::Vector3f ClosestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
+                                  const Eigen::Vector3f& b, const Eigen::Vector3f& c) {
+    const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Eigen::Vector3f bp = p - b;
+    const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+    const Eigen::Vector3f cp = p - c;
+    const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+    }
+    const float denom = 1.0f / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// The state of one closest-point query, shared by the hint and Embree's callback.
+struct PointQueryState {
+    const Scene::Impl* impl = nullptr;
+    Eigen::Vector3f query = Eigen::Vector3f::Zero();
+    float best_d2 = std::numeric_limits<float>::infinity();
+    float best_alignment = -1;  // ((query - point) . n)^2 / d^2 of the best triangle
+    uint32_t best = Scene::kNoHint;
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+
+    Eigen::Vector3f Vertex(uint32_t i) const {
+        return Eigen::Vector3f(impl->vertices[3 * i], impl->vertices[3 * i + 1],
+                               impl->vertices[3 * i + 2]);
+    }
+
+    // Takes triangle t when it is nearer, or as near (relative 1e-5: an edge or corner shared by
+    // several triangles) with a normal more aligned with query - point.
+    void Consider(uint32_t t) {
+        const uint32_t* tri = impl->indices + 3 * size_t(t);
+        const Eigen::Vector3f a = Vertex(tri[0]), b = Vertex(tri[1]), c = Vertex(tri[2]);
+        const Eigen::Vector3f q = ClosestOnTriangle(query, a, b, c);
+        const Eigen::Vector3f d = query - q;
+        const float d2 = d.squaredNorm();
+        const float tie = best_d2 * 1e-5f + 1e-12f;
+        if (d2 > best_d2 + tie) return;
+        Eigen::Vector3f n = (b - a).cross(c - a);
+        const float length = n.norm();
+        n = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
+        const float along = d.dot(n);
+        const float alignment = d2 > 0 ? along * along / d2 : 1.0f;
+        if (d2 >= best_d2 - tie && alignment <= best_alignment) return;
+        best_d2 = std::min(d2, best_d2);
+        best_alignment = alignment;
+        best = t;
+        point = q;
+        normal = n;
+    }
+};
+
+bool PointQueryCallback(RTCPointQueryFunctionArguments* args) {
+    auto* state = static_cast<PointQueryState*>(args->userPtr);
+    state->Consider(args->primID);
+    // Shrink the search to the best distance, keeping equally near triangles in it.
+    const float radius = std::sqrt(state->best_d2) * (1.0f + 1e-5f) + 1e-6f;
+    if (radius < args->query->radius) {
+        args->query->radius = radius;
+        return true;
+    }
+    return false;
+}
 }  // namespace
 
 void ThrowIfEmbreeFailed(const Scene::Impl& impl, uint64_t count_before, const char* what) {
@@ -138,6 +214,8 @@ Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_id
         }
         std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * 3 * sizeof(float));
         std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(uint32_t));
+        impl.vertices = vertices;
+        impl.indices = indices;
         rtcCommitGeometry(geometry);
         rtcAttachGeometryByID(impl.scene, geometry, 0);
         rtcReleaseGeometry(geometry);  // the scene holds it
@@ -196,6 +274,38 @@ std::optional<Scene::Hit> Scene::Intersect(const Eigen::Vector3f& origin,
     const float norm = n.norm();
     hit.normal = norm > 0 ? Eigen::Vector3f(n / norm) : Eigen::Vector3f::Zero();
     return hit;
+}
+
+std::optional<Scene::Closest> Scene::ClosestPoint(const Eigen::Vector3f& query, float max_distance,
+                                                  uint32_t hint) const {
+    if (impl_->triangles == 0 || !(max_distance >= 0)) return std::nullopt;
+    PointQueryState state;
+    state.impl = impl_.get();
+    state.query = query;
+    if (hint < impl_->triangles) state.Consider(hint);
+    const float bound = std::sqrt(state.best_d2) * (1.0f + 1e-5f) + 1e-6f;
+    RTCPointQuery q;
+    q.x = query.x();
+    q.y = query.y();
+    q.z = query.z();
+    q.time = 0.0f;
+    q.radius = std::min(max_distance, bound);
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    const uint64_t errors = impl_->error_count.load();
+    rtcPointQuery(impl_->scene, &q, &context, PointQueryCallback, &state);
+    ThrowIfEmbreeFailed(*impl_, errors, "rtcPointQuery");
+    if (state.best == kNoHint) return std::nullopt;
+    Closest out;
+    out.distance = std::sqrt(state.best_d2);
+    if (out.distance > max_distance) return std::nullopt;
+    out.triangle = state.best;
+    out.id = impl_->ids[state.best];
+    out.point = state.point;
+    out.normal = state.normal;
+    out.signed_distance =
+        (query - state.point).dot(state.normal) >= 0 ? out.distance : -out.distance;
+    return out;
 }
 
 }  // namespace bimslam::simulation
