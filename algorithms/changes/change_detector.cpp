@@ -283,7 +283,7 @@ ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe
                 obj.on_floor = true;
             }
         }
-        obj.solid = MakeVoxelSolid(pts, voxel, floor_z);
+        obj.solid = MakeVoxelSolid(pts, voxel, float(box.min().z()));
         obj.mesh = VoxelSurface(obj.solid);
         obj.box_min = box.min();
         obj.box_max = box.max();

@@ -44,34 +44,51 @@ Eigen::Vector3d VoxelSolid::centroid() const {
     return (sum / double(voxels.size()) + Eigen::Vector3d::Constant(0.5)) * double(voxel_m);
 }
 
-VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m,
-                          std::span<const float> floor_z) {
-    if (!(voxel_m > 0)) {
+VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m, float base_z) {
+    if (!(voxel_m > 0) || !std::isfinite(base_z)) {
         throw common::Error(common::StatusCode::kInvalidArgument,
-                            "voxel size must be > 0, not " + std::to_string(voxel_m));
+                            "voxel solid: voxel size must be > 0 and the base finite, not " +
+                                std::to_string(voxel_m) + " and " + std::to_string(base_z));
     }
-    if (!floor_z.empty() && floor_z.size() != points.size()) {
-        throw common::Error(common::StatusCode::kInvalidArgument,
-                            "floor_z must have one entry per point");
+    // Per (x, y) column its highest voxel.
+    std::map<std::pair<int, int>, int> top;
+    for (const Eigen::Vector3f& p : points) {
+        const Eigen::Vector3i v = VoxelOf(p, voxel_m);
+        const auto [it, fresh] = top.try_emplace({v.x(), v.y()}, v.z());
+        if (!fresh) it->second = std::max(it->second, v.z());
     }
-    // Per (x, y) column: the lowest and highest voxel.
-    std::map<std::pair<int, int>, std::pair<int, int>> columns;
-    for (size_t i = 0; i < points.size(); ++i) {
-        const Eigen::Vector3i v = VoxelOf(points[i], voxel_m);
-        int lo = v.z();
-        if (!floor_z.empty() && std::isfinite(floor_z[i])) {
-            lo = std::min(lo, int(std::floor(floor_z[i] / voxel_m + 0.5f)));
+    // Closing: dilate by one column (a new column takes the highest of its neighbours), then
+    // erode: keep a dilated column only when all its 8 neighbours are in the dilation.
+    std::map<std::pair<int, int>, int> dilated = top;
+    for (const auto& [xy, z] : top) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            for (int dy = -1; dy <= 1; ++dy) {
+                const auto [it, fresh] = dilated.try_emplace({xy.first + dx, xy.second + dy}, z);
+                if (!fresh) it->second = std::max(it->second, z);
+            }
         }
-        const auto [it, fresh] = columns.try_emplace({v.x(), v.y()}, lo, v.z());
-        if (!fresh) {
-            it->second.first = std::min(it->second.first, lo);
-            it->second.second = std::max(it->second.second, v.z());
+    }
+    std::map<std::pair<int, int>, int> closed;
+    for (const auto& [xy, z] : dilated) {
+        bool inner = true;
+        for (int dx = -1; dx <= 1 && inner; ++dx) {
+            for (int dy = -1; dy <= 1 && inner; ++dy) {
+                inner = dilated.count({xy.first + dx, xy.second + dy}) > 0;
+            }
+        }
+        const auto original = top.find(xy);
+        if (original != top.end()) {
+            closed.emplace(xy, original->second);
+        } else if (inner) {
+            closed.emplace(xy, z);
         }
     }
     VoxelSolid solid;
     solid.voxel_m = voxel_m;
-    for (const auto& [xy, z] : columns) {
-        for (int k = z.first; k <= z.second; ++k) solid.voxels.emplace_back(xy.first, xy.second, k);
+    const int base = int(std::floor(base_z / voxel_m + 0.5f));
+    for (const auto& [xy, z] : closed) {
+        for (int k = std::min(base, z); k <= z; ++k)
+            solid.voxels.emplace_back(xy.first, xy.second, k);
     }
     std::sort(solid.voxels.begin(), solid.voxels.end(), Less);
     return solid;

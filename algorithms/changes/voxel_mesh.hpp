@@ -24,13 +24,12 @@ struct VoxelSolid {
     Eigen::Vector3d centroid() const;  // of the solid (voxel centres, equally weighted)
 };
 
-// The voxels the points fall in, each (x, y) column then filled from its lowest to its highest
-// occupied voxel: a LiDAR sees the top and the sides of an object, never its inside, and the
-// objects of a building stand on something (2.5D: a table becomes a block down to its lowest
-// observed point). floor_z (optional, per point: NaN for none) extends the column of each point
-// down to that height: the floor the object stands on.
-VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m,
-                          std::span<const float> floor_z = {});
+// The solid of an object seen from its top and sides: the (x, y) columns of the voxels the points
+// fall in, holes of one column closed (a morphological closing of the footprint, 8-neighbours),
+// each column filled from base_z (the floor the object stands on, or its lowest point) up to its
+// highest voxel. A LiDAR never sees an object's inside or underside, and the objects of a building
+// stand on something: 2.5D (a table becomes a block down to the floor; README.md, "Limits").
+VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m, float base_z);
 
 // The exposed faces of the solid.
 common::TriangleMesh VoxelSurface(const VoxelSolid& solid);
