@@ -27,8 +27,11 @@ double Since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Unit normals of `points` from the covariance of their neighbours within `radius`; where fewer
-// than 5 neighbours exist, the direction towards `viewpoint[i]` (the sensor that saw the point).
+// Unit normals of `points` from the covariance of their neighbours within `radius` (the
+// eigenvector of its least eigenvalue) where the neighbourhood is a surface. Where it is a line
+// (one ring of a scan across a thin or distant object: the middle eigenvalue below 10 % of the
+// largest) the normal is the direction towards `viewpoint[i]` (the sensor that saw the point) made
+// perpendicular to the line; with fewer than 5 neighbours, that direction itself.
 std::vector<Eigen::Vector3f> EstimateNormals(std::span<const Eigen::Vector3f> points, float radius,
                                              std::span<const Eigen::Vector3f> viewpoint) {
     std::vector<Eigen::Vector3f> normals(points.size());
@@ -45,15 +48,20 @@ std::vector<Eigen::Vector3f> EstimateNormals(std::span<const Eigen::Vector3f> po
                 ++n;
             });
             const Eigen::Vector3f toward = (viewpoint[i] - points[i]).normalized();
-            if (n < 5) {
-                normals[i] = toward;
-                continue;
-            }
+            normals[i] = toward;
+            if (n < 5) continue;
             mean /= n;
             const Eigen::Matrix3d cov = second / n - mean * mean.transpose();
             const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-            normals[i] = eig.eigenvectors().col(0).cast<float>();
-            if (!normals[i].allFinite()) normals[i] = toward;
+            const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+            Eigen::Vector3f normal;
+            if (lambda[1] >= 0.1 * lambda[2]) {
+                normal = eig.eigenvectors().col(0).cast<float>();
+            } else {
+                const Eigen::Vector3f line = eig.eigenvectors().col(2).cast<float>();
+                normal = toward - toward.dot(line) * line;
+            }
+            if (normal.allFinite() && normal.norm() > 1e-3f) normals[i] = normal.normalized();
         }
     });
     return normals;
@@ -179,29 +187,33 @@ ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe
     }
     out.counts.candidates = candidates.size();
 
-    // 3. Transients among the off-model points.
+    // 3. Transients among the points that would start new objects (a person's lower 10 cm are
+    // band points: without transient seeds next to them they never become part of an object).
     t0 = Clock::now();
+    std::vector<uint32_t> far;
+    for (const uint32_t i : candidates) {
+        if (std::abs(out.signed_distance_m[i]) > high) far.push_back(i);
+    }
     std::vector<uint8_t> transient(n, 0);
-    if (config.detect_transients && !candidates.empty()) {
-        std::vector<Eigen::Vector3f> cxyz(candidates.size()), viewpoint(candidates.size());
-        for (size_t k = 0; k < candidates.size(); ++k) {
-            cxyz[k] = xyz[candidates[k]];
-            viewpoint[k] = keyframes[out.map.first_keyframe[candidates[k]]]
-                               .T_world_lidar.translation()
-                               .cast<float>();
+    if (config.detect_transients && !far.empty()) {
+        std::vector<Eigen::Vector3f> cxyz(far.size()), viewpoint(far.size());
+        for (size_t k = 0; k < far.size(); ++k) {
+            cxyz[k] = xyz[far[k]];
+            viewpoint[k] =
+                keyframes[out.map.first_keyframe[far[k]]].T_world_lidar.translation().cast<float>();
         }
         const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
         const std::vector<Eigen::Vector3f> normals = EstimateNormals(cxyz, radius, viewpoint);
         const FreeSpaceIndex index(keyframes, config.free_space);
-        const size_t chunk = std::max<size_t>(1024, candidates.size() / 20);
-        for (size_t first = 0; first < candidates.size(); first += chunk) {
-            const size_t last = std::min(candidates.size(), first + chunk);
+        const size_t chunk = std::max<size_t>(1024, far.size() / 20);
+        for (size_t first = 0; first < far.size(); first += chunk) {
+            const size_t last = std::min(far.size(), first + chunk);
             tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 256), [&](const auto& r) {
                 for (size_t k = r.begin(); k < r.end(); ++k) {
-                    transient[candidates[k]] = index.Transient(index.Vote(cxyz[k], normals[k]));
+                    transient[far[k]] = index.Transient(index.Vote(cxyz[k], normals[k]));
                 }
             });
-            report("transients", double(last) / double(candidates.size()));
+            report("transients", double(last) / double(far.size()));
         }
     }
     std::vector<uint32_t> transient_points, seeds, band;

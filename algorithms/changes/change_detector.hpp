@@ -92,7 +92,7 @@ struct ChangeResult {
     std::vector<TransientCluster> transients;
     std::vector<ElementReport> elements;  // per element of the model
     struct Counts {
-        size_t candidates = 0;  // off-model points looked at for transients
+        size_t candidates = 0;  // farther than band_threshold_m from the model, inside the region
         size_t transient_points = 0;
         size_t seed_points = 0;  // farther than new_object_threshold_m, not transient
         size_t clusters = 0;     // DBSCAN's, before min_object_points

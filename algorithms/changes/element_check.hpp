@@ -15,8 +15,8 @@
 //   missing        seen area < missing_seen_fraction x expected area: the beams went through it;
 //   deviating      |t| >= deviation_tolerance_m with at least min_support_points;
 //   confirmed      otherwise.
-// Elements beams pass (doors taken as open, glass) have no ray evidence: confirmed or deviating
-// when enough points support them, else not_observed; never missing.
+// Elements beams pass (doors taken as open, glass) are not judged: not_observed, with their
+// support numbers all the same (a door's points may be its frame's or the wall's reveal).
 #pragma once
 
 #include <Eigen/Core>

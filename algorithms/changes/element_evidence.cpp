@@ -14,7 +14,16 @@
 namespace bimslam::changes {
 namespace {
 
-constexpr uint32_t kAgree = 1, kThrough = 2;
+// A cell's value: its agree rays in the low 16 bits, its through rays in the high 16 (saturating).
+uint32_t AddRay(uint32_t cell, bool agree) {
+    const uint32_t a = cell & 0xFFFFu, t = cell >> 16;
+    return agree ? (t << 16) | std::min(a + 1, 0xFFFFu) : (std::min(t + 1, 0xFFFFu) << 16) | a;
+}
+uint32_t MergeCells(uint32_t x, uint32_t y) {
+    const uint32_t a = std::min((x & 0xFFFFu) + (y & 0xFFFFu), 0xFFFFu);
+    const uint32_t t = std::min((x >> 16) + (y >> 16), 0xFFFFu);
+    return (t << 16) | a;
+}
 constexpr int64_t kCellOffset = 1 << 19;
 
 [[noreturn]] void Fail(const std::string& what) {
@@ -34,7 +43,7 @@ PlaneAxes AxesOf(const Eigen::Vector3f& n) {
 }
 
 struct ThreadState {
-    VoxelHash cells{1 << 16};      // (triangle, i, j) -> kAgree | kThrough
+    VoxelHash cells{1 << 16};      // (plane, i, j) -> agree and through rays (AddRay)
     std::vector<uint32_t> counts;  // 3 per element
 };
 
@@ -130,8 +139,8 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
                         ++state.counts[3 * e + 2];
                         continue;
                     }
-                    const uint32_t kind = s > tolerance ? kThrough : kAgree;
-                    ++state.counts[3 * e + (kind == kAgree ? 0 : 1)];
+                    const bool agree = s <= tolerance;
+                    ++state.counts[3 * e + (agree ? 0 : 1)];
                     const uint32_t plane = plane_of[hit->triangle];
                     const Eigen::Vector3f h = origin + hit->t * d;
                     const int64_t ci =
@@ -141,7 +150,8 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
                     if (ci < 0 || cj < 0 || ci >= 2 * kCellOffset || cj >= 2 * kCellOffset)
                         continue;
                     const uint64_t key = uint64_t(plane) << 40 | uint64_t(ci) << 20 | uint64_t(cj);
-                    state.cells.FindOrInsert(key, 0) |= kind;
+                    uint32_t& value = state.cells.FindOrInsert(key, 0);
+                    value = AddRay(value, agree);
                 }
             }
         });
@@ -155,13 +165,18 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
             out[e].rays_through += s.counts[3 * e + 1];
             out[e].rays_occluded += s.counts[3 * e + 2];
         }
-        s.cells.ForEach([&](uint64_t key, uint32_t kind) { cells.FindOrInsert(key, 0) |= kind; });
+        s.cells.ForEach([&](uint64_t key, uint32_t value) {
+            uint32_t& merged = cells.FindOrInsert(key, 0);
+            merged = MergeCells(merged, value);
+        });
     }
     const double cell_area = double(cell) * double(cell);
-    cells.ForEach([&](uint64_t key, uint32_t kind) {
+    cells.ForEach([&](uint64_t key, uint32_t value) {
         ElementEvidence& ev = out[element_of_plane[size_t(key >> 40)]];
         ev.expected_area_m2 += cell_area;
-        if (kind & kAgree) ev.seen_area_m2 += cell_area;
+        // Seen: more beams confirmed the cell than went through it (a cell at the edge where a
+        // removed cabinet met the wall gets a few agreeing beams among many through it).
+        if ((value & 0xFFFFu) >= (value >> 16)) ev.seen_area_m2 += cell_area;
     });
     for (ElementEvidence& ev : out) {
         ev.expected_area_m2 = std::min(ev.expected_area_m2, ev.surface_area_m2);

@@ -12,9 +12,10 @@
 // deskewed) and without the pixels that returned nothing: the expected surface and the evidence
 // come from the same beams, so an element hidden behind a new object is "occluded", not missing.
 //
-// Areas: each hit is binned into square cells of cell_m on its triangle (in the triangle's own
-// plane); an element's expected area is the area of its cells hit by agree or through rays, its
-// seen area that of the cells hit by agree rays, capped at the element's surface area.
+// Areas: each hit is binned into square cells of cell_m in its face's plane (coplanar triangles of
+// an element share the cells); an element's expected area is the area of its cells hit by agree or
+// through rays, its seen area that of the cells with at least as many agree rays as through rays,
+// both capped at the element's surface area.
 #pragma once
 
 #include <cstdint>
@@ -42,7 +43,7 @@ struct ElementEvidence {
     uint32_t rays_through = 0;
     uint32_t rays_occluded = 0;
     double expected_area_m2 = 0;  // cells hit by agree or through rays
-    double seen_area_m2 = 0;      // cells hit by agree rays
+    double seen_area_m2 = 0;      // cells with agree rays >= through rays
     double surface_area_m2 = 0;   // of the element's triangles in the cast mesh
 };
 

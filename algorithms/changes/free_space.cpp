@@ -16,11 +16,6 @@ constexpr float kPi = float(M_PI);
     throw common::Error(common::StatusCode::kInvalidArgument, "free_space." + what);
 }
 
-Eigen::Vector3f Direction(float azimuth, float elevation) {
-    const float c = std::cos(elevation);
-    return {c * std::cos(azimuth), c * std::sin(azimuth), std::sin(elevation)};
-}
-
 }  // namespace
 
 void FreeSpaceConfig::Validate() const {
@@ -50,6 +45,11 @@ FreeSpaceIndex::FreeSpaceIndex(std::span<const MapKeyframe> keyframes,
     config.Validate();
     azimuth_bin_rad_ = float(config.azimuth_bin_deg * M_PI / 180.0);
     columns_ = int(std::ceil(2 * kPi / azimuth_bin_rad_));
+    for (int c = 0; c < columns_; ++c) {
+        const float azimuth = (float(c) + 0.5f) * azimuth_bin_rad_ - kPi;
+        column_cos_.push_back(std::cos(azimuth));
+        column_sin_.push_back(std::sin(azimuth));
+    }
     const float elevation_bin = float(config.elevation_bin_deg * M_PI / 180.0);
     images_.reserve(keyframes.size());
     for (const MapKeyframe& kf : keyframes) {
@@ -98,6 +98,10 @@ FreeSpaceIndex::FreeSpaceIndex(std::span<const MapKeyframe> keyframes,
                 row_of_point[i] = std::clamp(b, 0, bins - 1);
             }
         }
+        for (const float el : image.row_elevation) {
+            image.row_cos.push_back(std::cos(el));
+            image.row_sin.push_back(std::sin(el));
+        }
         image.range.assign(image.row_elevation.size() * size_t(columns_), 0.0f);
         for (size_t i = 0; i < cloud.size(); ++i) {
             if (row_of_point[i] < 0) continue;
@@ -132,8 +136,9 @@ void FreeSpaceIndex::VoteOne(const RangeImage& image, const Eigen::Vector3f& p_w
             const int col = ((center + dc) % columns_ + columns_) % columns_;
             const float measured = image.range[size_t(row) * size_t(columns_) + size_t(col)];
             if (measured <= 0) continue;
-            const Eigen::Vector3f d =
-                Direction((float(col) + 0.5f) * azimuth_bin_rad_ - kPi, rows[size_t(row)]);
+            const float rc = image.row_cos[size_t(row)];
+            const Eigen::Vector3f d(rc * column_cos_[size_t(col)], rc * column_sin_[size_t(col)],
+                                    image.row_sin[size_t(row)]);
             const float cosine = d.dot(n);
             if (std::abs(cosine) < float(config_.min_crossing_cos)) continue;
             const float t = pn / cosine;

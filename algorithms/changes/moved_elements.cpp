@@ -33,6 +33,39 @@ struct Inverse {
 
 }  // namespace
 
+common::TriangleMesh ElementMesh(const ChangeModel& model, uint32_t element,
+                                 Eigen::AlignedBox3d* box) {
+    common::TriangleMesh mesh;
+    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
+        if (model.triangle_element[t] != element) continue;
+        std::array<uint32_t, 3> tri;
+        for (int k = 0; k < 3; ++k) {
+            tri[k] = uint32_t(mesh.vertices.size());
+            mesh.vertices.push_back(model.mesh.vertices[model.mesh.triangles[t][k]]);
+            if (box) box->extend(mesh.vertices.back().cast<double>());
+        }
+        mesh.triangles.push_back(tri);
+    }
+    return mesh;
+}
+
+double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFit& motion,
+                      std::span<const Eigen::Vector3f> points, double inlier_m) {
+    Eigen::AlignedBox3d box;
+    const common::TriangleMesh mesh = ElementMesh(model, element, &box);
+    if (mesh.empty() || points.empty()) return 0;
+    const simulation::Scene scene(mesh);
+    const Eigen::Vector3d c = box.center();
+    // M^-1(p) = R(-yaw) (p - c - t) + c.
+    const Eigen::Matrix3d R = Yaw(-motion.yaw_rad);
+    size_t inliers = 0;
+    for (const auto& p : points) {
+        const Eigen::Vector3d q = R * (p.cast<double>() - c - motion.translation) + c;
+        inliers += scene.ClosestPoint(q.cast<float>(), float(inlier_m)).has_value();
+    }
+    return double(inliers) / double(points.size());
+}
+
 void MovedConfig::Validate() const {
     if (!(pair_radius_m >= 0)) Fail("pair_radius_m must be >= 0");
     if (!(inlier_m > 0)) Fail("inlier_m must be > 0");
@@ -46,18 +79,8 @@ void MovedConfig::Validate() const {
 
 MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
                            std::span<const Eigen::Vector3f> points, const MovedConfig& config) {
-    common::TriangleMesh mesh;
     Eigen::AlignedBox3d box;
-    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
-        if (model.triangle_element[t] != element) continue;
-        std::array<uint32_t, 3> tri;
-        for (int k = 0; k < 3; ++k) {
-            tri[k] = uint32_t(mesh.vertices.size());
-            mesh.vertices.push_back(model.mesh.vertices[model.mesh.triangles[t][k]]);
-            box.extend(mesh.vertices.back().cast<double>());
-        }
-        mesh.triangles.push_back(tri);
-    }
+    const common::TriangleMesh mesh = ElementMesh(model, element, &box);
     MotionFit best;
     if (mesh.empty() || points.empty()) return best;
     const simulation::Scene scene(mesh);
@@ -167,6 +190,21 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
             best = std::move(fit);
         }
         if (best_object < 0) continue;
+        explained[size_t(best_object)] = uint32_t(e);
+        // A moved element may have come apart into several clusters (a desk's two ends): the
+        // others nearby that the moved element explains are it too.
+        for (size_t o = 0; o < objects.size(); ++o) {
+            if (explained[o] != kNoElement ||
+                object_box[o].exteriorDistance(element_box[e]) > config.pair_radius_m) {
+                continue;
+            }
+            points.clear();
+            for (const uint32_t i : objects[o]) points.push_back(map_xyz[i]);
+            if (InlierFraction(model, uint32_t(e), best, points, config.inlier_m) >=
+                config.min_object_fraction) {
+                explained[o] = uint32_t(e);
+            }
+        }
         ElementReport& r = reports[e];
         r.moved = true;
         r.verdict = Verdict::kDeviating;
@@ -175,7 +213,6 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
         r.moved_yaw_deg = best.yaw_rad * 180.0 / M_PI;
         r.moved_inlier_fraction = best.inlier_fraction;
         r.moved_object = best_object;
-        explained[size_t(best_object)] = uint32_t(e);
     }
     return explained;
 }

@@ -6,10 +6,12 @@
 // on a floor), with Cauchy weights, from a few starting yaws. A fit that puts min_inlier_fraction
 // of those points within inlier_m of the moved surface, and explains min_object_fraction of the
 // object's own points, makes the element "moved": its verdict becomes deviating, its offset the
-// translation of its box centre, and the object is no longer a new object.
+// translation of its box centre, and the object is no longer a new object; nor are the other
+// objects within pair_radius_m of which the moved element explains min_object_fraction (a moved
+// desk may come apart into a cluster per end).
 #pragma once
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <span>
 #include <vector>
 
@@ -39,6 +41,13 @@ struct MotionFit {
 // through the points. Exposed for tests.
 MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
                            std::span<const Eigen::Vector3f> points, const MovedConfig& config);
+
+// The triangles of one element as a mesh of their own, and their box.
+common::TriangleMesh ElementMesh(const ChangeModel& model, uint32_t element,
+                                 Eigen::AlignedBox3d* box = nullptr);
+// The fraction of `points` within inlier_m of the element moved by `motion`.
+double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFit& motion,
+                      std::span<const Eigen::Vector3f> points, double inlier_m);
 
 // objects: the points (indices into map_xyz) of each new object; element_support: per element, the
 // indices of its support points. Updates `reports` of moved elements and returns, per object,
