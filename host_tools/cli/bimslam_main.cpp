@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddSimulateCommand(app, exit_code);
     bimslam::cli::AddOdometryCommand(app, exit_code);
     bimslam::cli::AddEvaluateCommand(app, exit_code);
+    bimslam::cli::AddChangesCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -29,5 +29,6 @@ void AddBim2SessionCommand(CLI::App& app, int& exit_code);
 void AddSimulateCommand(CLI::App& app, int& exit_code);
 void AddOdometryCommand(CLI::App& app, int& exit_code);
 void AddEvaluateCommand(CLI::App& app, int& exit_code);
+void AddChangesCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli
