@@ -4,14 +4,19 @@
 
 namespace bimslam::change_detection {
 
-SessionInput LoadAnchoredSession(const std::filesystem::path& dir,
-                                 const Eigen::Vector3d& origin_m) {
+SessionInput LoadAnchoredSession(const std::filesystem::path& dir, const Eigen::Vector3d& origin_m,
+                                 bool load_clouds) {
     SessionInput in;
     in.dir = dir;
-    in.session = io::ReadSession(dir);
+    io::SessionReadOptions options;
+    options.load_clouds = load_clouds;
+    in.session = io::ReadSession(dir, options);
     const auto fail = [&](const std::string& what) {
         throw common::FileError(common::StatusCode::kInvalidArgument, dir.string(), 0, what);
     };
+    if (!in.session.complete && in.session.keyframes.empty()) {
+        fail("not a session: no session.json and no keyframe in it");
+    }
     const std::string& frame = in.session.manifest.world_frame;
     if (frame != "bim") {
         fail("its poses are in the '" + frame +
@@ -25,7 +30,9 @@ SessionInput LoadAnchoredSession(const std::filesystem::path& dir,
         in.keyframes.push_back({&k.cloud, shift * k.T_world_lidar});
         in.points += k.cloud.size();
     }
-    if (in.points == 0) fail("the session's keyframes hold no points: nothing to compare");
+    if (load_clouds && in.points == 0) {
+        fail("the session's keyframes hold no points: nothing to compare");
+    }
     return in;
 }
 

@@ -25,9 +25,11 @@ struct SessionInput {
     size_t points = 0;
 };
 
-// Throws common::FileError (kInvalidArgument) naming the session when its world frame is not
-// "bim" (it has not been anchored: run `bimslam anchor` first) or it has no keyframes or no points,
-// and what io::ReadSession throws for a damaged one.
-SessionInput LoadAnchoredSession(const std::filesystem::path& dir, const Eigen::Vector3d& origin_m);
+// Throws common::FileError (kInvalidArgument) naming the session when it is not one, its world
+// frame is not "bim" (it has not been anchored: run `bimslam anchor` first) or it has no keyframes
+// or no points, and what io::ReadSession throws for a damaged one. load_clouds = false checks all
+// that but the points, quickly (before the model is loaded).
+SessionInput LoadAnchoredSession(const std::filesystem::path& dir, const Eigen::Vector3d& origin_m,
+                                 bool load_clouds = true);
 
 }  // namespace bimslam::change_detection

@@ -82,10 +82,9 @@ int Changes(ChangesArgs& a) {
         BadInput("--truth: give one per --session (" + std::to_string(a.sessions.size()) +
                  " sessions, " + std::to_string(a.truths.size()) + " truths)");
     }
+    // Every session checked before the model is loaded (which takes seconds for a big one).
     for (const std::string& s : a.sessions) {
-        if (!fs::is_directory(s)) {
-            throw common::FileError(common::StatusCode::kNotFound, s, 0, "no such session folder");
-        }
+        change_detection::LoadAnchoredSession(s, Eigen::Vector3d::Zero(), false);
     }
     if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
         throw common::Error(common::StatusCode::kAlreadyExists,
