@@ -43,6 +43,17 @@ uint64_t Morton(const Eigen::Vector3i& v) {
 
 }  // namespace
 
+std::vector<uint32_t> MortonOrder(std::span<const Eigen::Vector3f> points, float voxel_m) {
+    std::vector<std::pair<uint64_t, uint32_t>> keyed(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        keyed[i] = {Morton(VoxelOf(points[i], voxel_m)), uint32_t(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    std::vector<uint32_t> order(points.size());
+    for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+    return order;
+}
+
 void AlignedMapConfig::Validate() const {
     if (!(voxel_m > 0) || !std::isfinite(voxel_m)) {
         Fail("map.voxel_m must be > 0, not " + std::to_string(voxel_m));

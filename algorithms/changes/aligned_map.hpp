@@ -41,6 +41,11 @@ struct AlignedMap {
     size_t size() const { return xyz.size(); }
 };
 
+// The order of `points` along the Morton (z-order) curve of their voxels of `voxel_m`: spatial
+// neighbours close in the order, for queries whose answer for one point is a good start for the
+// next (model_distance.hpp).
+std::vector<uint32_t> MortonOrder(std::span<const Eigen::Vector3f> points, float voxel_m);
+
 // Throws common::Error (kInvalidArgument) for a null cloud, a non-finite pose or an invalid
 // config. Non-finite points are skipped (counted as cropped).
 AlignedMap BuildAlignedMap(std::span<const MapKeyframe> keyframes, const AlignedMapConfig& config);
