@@ -278,13 +278,15 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
     objects.vertex_properties = {red, green, blue, id};
     io::WritePly(dir / "new_objects.ply", objects);
 
-    // The map with its scalar fields.
+    // The map with its scalar fields, named scalar_* as CloudCompare writes (and, headless, only
+    // reads) them, and of types Open3D's reader takes (it skips ushort).
     io::PlyData map;
     map.vertices.reserve(r.map.size());
-    io::PlyProperty distance{"distance", io::PlyType::kFloat32, {}},
-        element{"element", io::PlyType::kInt32, {}},
-        keyframes{"keyframes", io::PlyType::kUint16, {}}, cls{"class", io::PlyType::kUint8, {}},
-        object{"object", io::PlyType::kInt32, {}};
+    io::PlyProperty distance{"scalar_distance", io::PlyType::kFloat32, {}},
+        element{"scalar_element", io::PlyType::kInt32, {}},
+        keyframes{"scalar_keyframes", io::PlyType::kInt32, {}},
+        cls{"scalar_class", io::PlyType::kUint8, {}},
+        object{"scalar_object", io::PlyType::kInt32, {}};
     for (auto* p : {&distance, &element, &keyframes, &cls, &object})
         p->values.reserve(r.map.size());
     for (size_t i = 0; i < r.map.size(); ++i) {

@@ -6,8 +6,10 @@
 // naming what is wrong.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -72,6 +74,44 @@ edits:
     - {from: [26.0, 6.6], to: [3.0, 6.6], speed_mps: 1.2}
 )";
 
+// The map as Open3D (tensor API) and CloudCompare (headless) read it, where they are installed:
+// every point and the scalar fields. Skipping one says so on stdout.
+void ReadMapWithOpen3dAndCloudCompare(const fs::path& file, const io::PlyData& ours) {
+    test::TempDir dir;
+    if (test::RunCommand("/usr/bin/python3 -c 'import open3d'").exit_code == 0) {
+        const auto r = test::RunCommand(
+            "/usr/bin/python3 -c \"import open3d as o3d, sys; "
+            "p = o3d.t.io.read_point_cloud(sys.argv[1]); "
+            "print('read', p.point.positions.shape[0], sorted(k for k in p.point))\" " +
+            Quote(file));
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        // Open3D prints warnings on stdout too: look for our line.
+        EXPECT_NE(r.out.find("read " + std::to_string(ours.vertices.size()) + " "),
+                  std::string::npos)
+            << r.out;
+        for (const char* field : {"scalar_distance", "scalar_element", "scalar_keyframes",
+                                  "scalar_class", "scalar_object"}) {
+            EXPECT_NE(r.out.find(field), std::string::npos) << r.out;
+        }
+    } else {
+        std::cout << "Open3D reading map_bim.ply: skipped, /usr/bin/python3 has no open3d\n";
+    }
+    if (fs::exists("/usr/bin/CloudCompare")) {
+        const auto r = test::RunCommand(
+            "cd " + Quote(dir.path()) + " && QT_QPA_PLATFORM=offscreen /usr/bin/CloudCompare " +
+            "-SILENT -AUTO_SAVE OFF -O " + Quote(file) +
+            " -C_EXPORT_FMT PLY -PLY_EXPORT_FMT BINARY_LE -SAVE_CLOUDS FILE cc.ply");
+        EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+        const io::PlyData back = io::ReadPly(dir / "cc.ply");
+        EXPECT_EQ(back.vertices.size(), ours.vertices.size());
+        const io::PlyProperty* d = back.Find("scalar_distance");
+        ASSERT_NE(d, nullptr) << "CloudCompare lost the distance field";
+        EXPECT_EQ(d->values, ours.Find("scalar_distance")->values);
+    } else {
+        std::cout << "CloudCompare reading map_bim.ply: skipped, /usr/bin/CloudCompare missing\n";
+    }
+}
+
 test::CommandResult Cli(const std::string& args) { return test::RunCommand(kCli + " " + args); }
 
 TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
@@ -109,9 +149,18 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
     EXPECT_EQ(changes["new_objects"].size(), s["new_objects"].get<size_t>());
     const io::PlyData map = io::ReadPly(out / "map_bim.ply");
     EXPECT_EQ(map.vertices.size(), changes["map"]["points"].get<size_t>());
-    for (const char* field : {"distance", "element", "keyframes", "class", "object"}) {
+    for (const char* field : {"scalar_distance", "scalar_element", "scalar_keyframes",
+                              "scalar_class", "scalar_object"}) {
         EXPECT_NE(map.Find(field), nullptr) << field;
     }
+    // The crate stands in its storey and in the corridor's IfcSpace.
+    for (const json& o : changes["new_objects"]) {
+        if (std::abs(o["centroid"][0].get<double>() - 14.0) > 0.3) continue;
+        EXPECT_EQ(o["storey"]["name"], "Ground Floor");
+        EXPECT_TRUE(o["space"].is_object()) << o.dump();
+        EXPECT_TRUE(o["on_floor"].get<bool>());
+    }
+    ReadMapWithOpen3dAndCloudCompare(out / "map_bim.ply", map);
     const io::PlyData objects = io::ReadPly(out / "new_objects.ply");
     EXPECT_GT(objects.triangles.size(), 0u);
     EXPECT_NE(objects.Find("red"), nullptr);
@@ -245,6 +294,37 @@ END-ISO-10303-21;
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
     EXPECT_EQ(Cli("changes --help").exit_code, 0);
+}
+
+TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {
+    test::TempDir tmp;
+    ASSERT_EQ(Cli("bim sample -o " + Quote(tmp / "building.ifc")).exit_code, 0);
+    io::SessionManifest manifest;
+    manifest.world_frame = "bim";
+    for (const char* name : {"monday", "tuesday"}) {
+        io::SessionWriter w(tmp / name, manifest);
+        io::SessionKeyframe k;
+        k.cloud = test::MakeRoomScan(16, 256, 2);
+        k.descriptor = io::DescriptorMatrix::Zero(20, 60);
+        k.T_odom_lidar = Eigen::Isometry3d::Identity();
+        k.T_world_lidar.translation() = Eigen::Vector3d(5, 7, 1);  // in the corridor
+        w.AddKeyframe(k);
+        w.Finish();
+    }
+    const auto r = Cli("changes --model " + Quote(tmp / "building.ifc") + " --session " +
+                       Quote(tmp / "monday") + " --session " + Quote(tmp / "tuesday") + " -o " +
+                       Quote(tmp / "out") + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    ASSERT_EQ(j["sessions"].size(), 2u);
+    for (const char* name : {"monday", "tuesday"}) {
+        for (const char* f : {"changes.json", "new_objects.ply", "map_bim.ply", "elements.csv",
+                              "model_updated.ifc"}) {
+            EXPECT_TRUE(fs::exists(tmp / "out" / name / f)) << name << "/" << f;
+        }
+        const json c = json::parse(io::ReadFileToString(tmp / "out" / name / "changes.json"));
+        EXPECT_EQ(c["session"]["label"], name);
+    }
 }
 
 }  // namespace
