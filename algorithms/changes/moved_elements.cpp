@@ -68,6 +68,9 @@ double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFi
 
 void MovedConfig::Validate() const {
     if (!(pair_radius_m >= 0)) Fail("pair_radius_m must be >= 0");
+    if (!(max_seen_fraction >= 0 && max_seen_fraction <= 1)) {
+        Fail("max_seen_fraction must be in [0, 1]");
+    }
     if (!(inlier_m > 0)) Fail("inlier_m must be > 0");
     if (!(min_inlier_fraction > 0 && min_inlier_fraction <= 1)) {
         Fail("min_inlier_fraction must be in (0, 1]");
@@ -167,7 +170,11 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
     for (size_t o = 0; o < objects.size(); ++o) object_box[o] = BoxOf(map_xyz, objects[o]);
     std::vector<Eigen::Vector3f> points;
     for (size_t e = 0; e < reports.size(); ++e) {
-        if (reports[e].verdict != Verdict::kMissing) continue;
+        const ElementEvidence& ev = reports[e].evidence;
+        const bool partly_missing =
+            reports[e].verdict != Verdict::kNotObserved && model.element_opaque[e] &&
+            ev.seen_area_m2 < config.max_seen_fraction * ev.expected_area_m2;
+        if (reports[e].verdict != Verdict::kMissing && !partly_missing) continue;
         int best_object = -1;
         MotionFit best;
         size_t best_inliers = 0;

@@ -1,5 +1,7 @@
-// Elements that were moved: the element is missing where the model has it, and a new object
-// nearby has its shape. For every element judged missing, each new object within pair_radius_m of
+// Elements that were moved: the element is (partly) missing where the model has it, and a new
+// object nearby has its shape. For every element judged missing, or seen over less than
+// max_seen_fraction of its expected area (a desk moved by less than its size still covers part of
+// its old place: its top's beams agree there), each new object within pair_radius_m of
 // the element's box is tried: the element's surface is fitted to the object's points (and to the
 // points still supporting the element, a move may overlap its old place) by point-to-plane ICP in
 // four degrees of freedom (translation and yaw about the element's box centre, as things are moved
@@ -22,6 +24,7 @@ namespace bimslam::changes {
 
 struct MovedConfig {
     bool enabled = true;
+    double max_seen_fraction = 0.6;
     double pair_radius_m = 1.5;
     double inlier_m = 0.05;
     double min_inlier_fraction = 0.7;

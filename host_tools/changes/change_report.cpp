@@ -201,6 +201,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"missing_seen_fraction", c.elements.missing_seen_fraction}}},
                        {"moved",
                         {{"enabled", c.moved.enabled},
+                         {"max_seen_fraction", c.moved.max_seen_fraction},
                          {"pair_radius_m", c.moved.pair_radius_m},
                          {"inlier_m", c.moved.inlier_m},
                          {"min_inlier_fraction", c.moved.min_inlier_fraction},
