@@ -70,26 +70,26 @@ void Require(bool ok, const std::string& message) {
     if (!ok) throw common::Error(StatusCode::kInvalidArgument, "Scene: " + message);
 }
 
-// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection" (2005),
-// section 5.1.5, by the Voronoi regions of the vertices, edges and face.
+// The point of triangle (a, a + ab, a + ac) nearest to p: Ericson, "Real-Time Collision
+// Detection" (2005), section 5.1.5, by the Voronoi regions of the vertices, edges and face.
 Eigen::Vector3f ClosestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
-                                  const Eigen::Vector3f& b, const Eigen::Vector3f& c) {
-    const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+                                  const Eigen::Vector3f& ab, const Eigen::Vector3f& ac) {
+    const Eigen::Vector3f ap = p - a;
     const float d1 = ab.dot(ap), d2 = ac.dot(ap);
     if (d1 <= 0 && d2 <= 0) return a;
-    const Eigen::Vector3f bp = p - b;
+    const Eigen::Vector3f bp = ap - ab;
     const float d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return b;
+    if (d3 >= 0 && d4 <= d3) return a + ab;
     const float vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-    const Eigen::Vector3f cp = p - c;
+    const Eigen::Vector3f cp = ap - ac;
     const float d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return c;
+    if (d6 >= 0 && d5 <= d6) return a + ac;
     const float vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
     const float va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+        return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
     }
     const float denom = 1.0f / (va + vb + vc);
     return a + ab * (vb * denom) + ac * (vc * denom);
@@ -103,34 +103,26 @@ struct PointQueryState {
     float best_alignment = -1;  // ((query - point) . n)^2 / d^2 of the best triangle
     uint32_t best = Scene::kNoHint;
     Eigen::Vector3f point = Eigen::Vector3f::Zero();
-    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
-
-    Eigen::Vector3f Vertex(uint32_t i) const {
-        return Eigen::Vector3f(impl->vertices[3 * i], impl->vertices[3 * i + 1],
-                               impl->vertices[3 * i + 2]);
-    }
 
     // Takes triangle t when it is nearer, or as near (relative 1e-5: an edge or corner shared by
     // several triangles) with a normal more aligned with query - point.
     void Consider(uint32_t t) {
-        const uint32_t* tri = impl->indices + 3 * size_t(t);
-        const Eigen::Vector3f a = Vertex(tri[0]), b = Vertex(tri[1]), c = Vertex(tri[2]);
-        const Eigen::Vector3f q = ClosestOnTriangle(query, a, b, c);
+        const Scene::Impl::TriangleData& tri = impl->triangle_data[t];
+        const float tie = best_d2 * 1e-5f + 1e-12f;
+        // The distance to the triangle's plane is a lower bound of the distance to it.
+        const float plane = (query - tri.a).dot(tri.normal);
+        if (plane * plane > best_d2 + tie) return;
+        const Eigen::Vector3f q = ClosestOnTriangle(query, tri.a, tri.ab, tri.ac);
         const Eigen::Vector3f d = query - q;
         const float d2 = d.squaredNorm();
-        const float tie = best_d2 * 1e-5f + 1e-12f;
         if (d2 > best_d2 + tie) return;
-        Eigen::Vector3f n = (b - a).cross(c - a);
-        const float length = n.norm();
-        n = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
-        const float along = d.dot(n);
+        const float along = d.dot(tri.normal);
         const float alignment = d2 > 0 ? along * along / d2 : 1.0f;
         if (d2 >= best_d2 - tie && alignment <= best_alignment) return;
         best_d2 = std::min(d2, best_d2);
         best_alignment = alignment;
         best = t;
         point = q;
-        normal = n;
     }
 };
 
@@ -214,8 +206,17 @@ Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_id
         }
         std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * 3 * sizeof(float));
         std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(uint32_t));
-        impl.vertices = vertices;
-        impl.indices = indices;
+        impl.triangle_data.resize(mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const auto& tri = mesh.triangles[t];
+            Impl::TriangleData& data = impl.triangle_data[t];
+            data.a = mesh.vertices[tri[0]];
+            data.ab = mesh.vertices[tri[1]] - data.a;
+            data.ac = mesh.vertices[tri[2]] - data.a;
+            const Eigen::Vector3f n = data.ab.cross(data.ac);
+            const float length = n.norm();
+            data.normal = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
+        }
         rtcCommitGeometry(geometry);
         rtcAttachGeometryByID(impl.scene, geometry, 0);
         rtcReleaseGeometry(geometry);  // the scene holds it
@@ -302,9 +303,8 @@ std::optional<Scene::Closest> Scene::ClosestPoint(const Eigen::Vector3f& query, 
     out.triangle = state.best;
     out.id = impl_->ids[state.best];
     out.point = state.point;
-    out.normal = state.normal;
-    out.signed_distance =
-        (query - state.point).dot(state.normal) >= 0 ? out.distance : -out.distance;
+    out.normal = impl_->triangle_data[state.best].normal;
+    out.signed_distance = (query - state.point).dot(out.normal) >= 0 ? out.distance : -out.distance;
     return out;
 }
 
