@@ -27,44 +27,67 @@ double Since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Unit normals of `points` from the covariance of their neighbours within `radius` (the
-// eigenvector of its least eigenvalue) where the neighbourhood is a surface. Where it is a line
-// (one ring of a scan across a thin or distant object: the middle eigenvalue below 10 % of the
-// largest) the normal is the direction towards `viewpoint[i]` (the sensor that saw the point) made
-// perpendicular to the line; with fewer than 5 neighbours, that direction itself.
-std::vector<Eigen::Vector3f> EstimateNormals(std::span<const Eigen::Vector3f> points, float radius,
-                                             std::span<const Eigen::Vector3f> viewpoint) {
-    std::vector<Eigen::Vector3f> normals(points.size());
+// The normal of the points within `radius` of p that `take` accepts: the eigenvector of the least
+// eigenvalue of their covariance where they form a surface (the middle eigenvalue at least 10 %
+// of the largest); where they form a line, `toward` (the direction to the sensor that saw p) made
+// perpendicular to the line when `line_ok`, else zero; with fewer than 5 points, `toward` when
+// `line_ok`, else zero.
+template <class Take>
+Eigen::Vector3f NormalAt(const PointGrid& grid, const Eigen::Vector3f& p, float radius,
+                         const Eigen::Vector3f& toward, bool line_ok, Take&& take) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    int n = 0;
+    grid.ForEachPointWithin(p, radius, [&](uint32_t j) {
+        if (!take(j)) return;
+        const Eigen::Vector3d q = (grid.points()[j] - p).cast<double>();
+        mean += q;
+        second += q * q.transpose();
+        ++n;
+    });
+    const Eigen::Vector3f none = line_ok ? toward : Eigen::Vector3f::Zero();
+    if (n < 5) return none;
+    mean /= n;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(second / n - mean * mean.transpose());
+    const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+    Eigen::Vector3f normal;
+    if (lambda[1] >= 0.1 * lambda[2]) {
+        normal = eig.eigenvectors().col(0).cast<float>();
+    } else {
+        if (!line_ok) return none;
+        const Eigen::Vector3f line = eig.eigenvectors().col(2).cast<float>();
+        normal = toward - toward.dot(line) * line;
+    }
+    return normal.allFinite() && normal.norm() > 1e-3f ? Eigen::Vector3f(normal.normalized())
+                                                       : none;
+}
+
+// Two normals per point for the free-space test. First, of all its neighbours: a static surface
+// seen by many keyframes. Where the neighbourhood is a line (one ring across a person), the
+// direction to the sensor that saw it, made perpendicular to the line. Second, of its neighbours
+// first seen by the same keyframe, where they form a surface, else zero: a person seen by several
+// keyframes in a row while walking is smeared along the walk, and the normal of the smear lies in
+// the walking direction's plane, along which the other keyframes' beams run.
+struct PointNormals {
+    std::vector<Eigen::Vector3f> all, same_keyframe;
+};
+PointNormals EstimateNormals(std::span<const Eigen::Vector3f> points, float radius,
+                             std::span<const Eigen::Vector3f> viewpoint,
+                             std::span<const uint32_t> keyframe) {
+    PointNormals out;
+    out.all.resize(points.size());
+    out.same_keyframe.resize(points.size());
     const PointGrid grid(points, radius);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 1024), [&](const auto& range) {
         for (size_t i = range.begin(); i < range.end(); ++i) {
-            Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-            Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-            int n = 0;
-            grid.ForEachPointWithin(points[i], radius, [&](uint32_t j) {
-                const Eigen::Vector3d q = (points[j] - points[i]).cast<double>();
-                mean += q;
-                second += q * q.transpose();
-                ++n;
-            });
             const Eigen::Vector3f toward = (viewpoint[i] - points[i]).normalized();
-            normals[i] = toward;
-            if (n < 5) continue;
-            mean /= n;
-            const Eigen::Matrix3d cov = second / n - mean * mean.transpose();
-            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-            const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
-            Eigen::Vector3f normal;
-            if (lambda[1] >= 0.1 * lambda[2]) {
-                normal = eig.eigenvectors().col(0).cast<float>();
-            } else {
-                const Eigen::Vector3f line = eig.eigenvectors().col(2).cast<float>();
-                normal = toward - toward.dot(line) * line;
-            }
-            if (normal.allFinite() && normal.norm() > 1e-3f) normals[i] = normal.normalized();
+            out.all[i] =
+                NormalAt(grid, points[i], radius, toward, true, [](uint32_t) { return true; });
+            out.same_keyframe[i] = NormalAt(grid, points[i], radius, toward, false,
+                                            [&](uint32_t j) { return keyframe[j] == keyframe[i]; });
         }
     });
-    return normals;
+    return out;
 }
 
 Eigen::AlignedBox3d BoxOf(std::span<const Eigen::Vector3f> xyz, std::span<const uint32_t> idx) {
@@ -197,20 +220,28 @@ ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe
     std::vector<uint8_t> transient(n, 0);
     if (config.detect_transients && !far.empty()) {
         std::vector<Eigen::Vector3f> cxyz(far.size()), viewpoint(far.size());
+        std::vector<uint32_t> seen_by(far.size());
         for (size_t k = 0; k < far.size(); ++k) {
             cxyz[k] = xyz[far[k]];
-            viewpoint[k] =
-                keyframes[out.map.first_keyframe[far[k]]].T_world_lidar.translation().cast<float>();
+            seen_by[k] = out.map.first_keyframe[far[k]];
+            viewpoint[k] = keyframes[seen_by[k]].T_world_lidar.translation().cast<float>();
         }
         const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
-        const std::vector<Eigen::Vector3f> normals = EstimateNormals(cxyz, radius, viewpoint);
+        const PointNormals normals = EstimateNormals(cxyz, radius, viewpoint, seen_by);
         const FreeSpaceIndex index(keyframes, config.free_space);
         const size_t chunk = std::max<size_t>(1024, far.size() / 20);
         for (size_t first = 0; first < far.size(); first += chunk) {
             const size_t last = std::min(far.size(), first + chunk);
             tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 256), [&](const auto& r) {
                 for (size_t k = r.begin(); k < r.end(); ++k) {
-                    transient[far[k]] = index.Transient(index.Vote(cxyz[k], normals[k]));
+                    bool is = index.Transient(index.Vote(cxyz[k], normals.all[k]));
+                    // The second normal where there is one: even 20 deg between the two can turn
+                    // the beams along a corridor from grazing to crossing.
+                    const Eigen::Vector3f& second = normals.same_keyframe[k];
+                    if (!is && second.squaredNorm() > 0) {
+                        is = index.Transient(index.Vote(cxyz[k], second));
+                    }
+                    transient[far[k]] = is;
                 }
             });
             report("transients", double(last) / double(far.size()));

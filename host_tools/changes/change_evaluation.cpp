@@ -5,6 +5,8 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
+#include "algorithms/simulation/scene.hpp"
 
 namespace bimslam::change_detection {
 namespace {
@@ -88,9 +90,17 @@ TruthChanges ReadTruthChanges(const std::filesystem::path& file) {
     TruthChanges t;
     try {
         for (const json& a : j.at("added")) {
-            t.added.push_back({a.at("name").get<std::string>(), a.at("kind").get<std::string>(),
-                               Eigen::AlignedBox3d(Vec3(file, a.at("box_min"), "added.box_min"),
-                                                   Vec3(file, a.at("box_max"), "added.box_max"))});
+            TruthChanges::Added added{
+                a.at("name").get<std::string>(),
+                a.at("kind").get<std::string>(),
+                Eigen::AlignedBox3d(Vec3(file, a.at("box_min"), "added.box_min"),
+                                    Vec3(file, a.at("box_max"), "added.box_max")),
+                {}};
+            if (a.contains("mesh")) {
+                added.mesh = io::MeshFromPly(
+                    io::ReadPly(file.parent_path() / a.at("mesh").get<std::string>()));
+            }
+            t.added.push_back(std::move(added));
         }
         for (const json& r : j.at("removed"))
             t.removed.push_back(r.at("global_id").get<std::string>());
@@ -179,19 +189,70 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
     return f;
 }
 
-ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,
-                                 const EvaluationConfig& config) {
-    ChangeEvaluation ev;
-    // Added objects: greedy one-to-one matching, best IoU (then nearest centre) first.
+namespace {
+
+// Points on a mesh's surface, every `step` metres or closer (its vertices, edge points, and points
+// inside its triangles on a barycentric grid).
+std::vector<Eigen::Vector3f> SurfacePoints(const common::TriangleMesh& m, float step) {
+    std::vector<Eigen::Vector3f> out;
+    for (const auto& t : m.triangles) {
+        const Eigen::Vector3f a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+        const float longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+        const int n = std::max(1, int(std::ceil(longest / step)));
+        for (int i = 0; i <= n; ++i) {
+            for (int k = 0; k <= n - i; ++k) {
+                out.push_back(a + (b - a) * (float(i) / float(n)) +
+                              (c - a) * (float(k) / float(n)));
+            }
+        }
+    }
+    return out;
+}
+
+// Groups of true objects whose surfaces come within touch_m of each other (union-find).
+std::vector<int> TouchingGroups(const TruthChanges& truth, double touch_m) {
+    const size_t n = truth.added.size();
+    std::vector<int> group(n);
+    for (size_t i = 0; i < n; ++i) group[i] = int(i);
+    const auto find = [&](int x) {
+        while (group[size_t(x)] != x) x = group[size_t(x)] = group[size_t(group[size_t(x)])];
+        return x;
+    };
+    for (size_t i = 0; i < n; ++i) {
+        if (truth.added[i].mesh.empty()) continue;
+        const simulation::Scene scene(truth.added[i].mesh);
+        for (size_t j = i + 1; j < n; ++j) {
+            if (truth.added[j].mesh.empty() ||
+                truth.added[i].box.exteriorDistance(truth.added[j].box) > touch_m) {
+                continue;
+            }
+            bool touch = false;
+            for (const Eigen::Vector3f& p : SurfacePoints(truth.added[j].mesh, 0.02f)) {
+                if (scene.ClosestPoint(p, float(touch_m))) {
+                    touch = true;
+                    break;
+                }
+            }
+            if (touch) group[size_t(find(int(j)))] = find(int(i));
+        }
+    }
+    for (size_t i = 0; i < n; ++i) group[i] = find(int(i));
+    return group;
+}
+
+// Precision, recall (all and large) of found boxes against true boxes, matched one to one.
+void ScoreBoxes(const std::vector<Eigen::AlignedBox3d>& truth,
+                const std::vector<Eigen::AlignedBox3d>& found, const EvaluationConfig& config,
+                DetectionScores* all, DetectionScores* large_only, std::vector<int>* found_match) {
     struct Pair {
         double iou, distance;
         size_t t, f;
     };
     std::vector<Pair> pairs;
-    for (size_t t = 0; t < truth.added.size(); ++t) {
-        for (size_t f = 0; f < found.objects.size(); ++f) {
-            const double iou = IoU(truth.added[t].box, found.objects[f].box);
-            const double d = (truth.added[t].box.center() - found.objects[f].box.center()).norm();
+    for (size_t t = 0; t < truth.size(); ++t) {
+        for (size_t f = 0; f < found.size(); ++f) {
+            const double iou = IoU(truth[t], found[f]);
+            const double d = (truth[t].center() - found[f].center()).norm();
             if (iou >= config.min_iou || d <= config.max_centroid_m)
                 pairs.push_back({iou, d, t, f});
         }
@@ -199,31 +260,60 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
     std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
         return a.iou != b.iou ? a.iou > b.iou : a.distance < b.distance;
     });
-    std::vector<int> truth_match(truth.added.size(), -1), found_match(found.objects.size(), -1);
+    std::vector<int> truth_match(truth.size(), -1);
+    found_match->assign(found.size(), -1);
     for (const Pair& p : pairs) {
-        if (truth_match[p.t] >= 0 || found_match[p.f] >= 0) continue;
+        if (truth_match[p.t] >= 0 || (*found_match)[p.f] >= 0) continue;
         truth_match[p.t] = int(p.f);
-        found_match[p.f] = int(p.t);
+        (*found_match)[p.f] = int(p.t);
     }
     const auto large = [&](const Eigen::AlignedBox3d& b) {
         return b.sizes().maxCoeff() >= config.large_object_m;
     };
-    for (size_t t = 0; t < truth.added.size(); ++t) {
-        ++ev.added.truth;
-        ev.added.truth_matched += truth_match[t] >= 0;
-        if (large(truth.added[t].box)) {
-            ++ev.added_large.truth;
-            ev.added_large.truth_matched += truth_match[t] >= 0;
+    for (size_t t = 0; t < truth.size(); ++t) {
+        ++all->truth;
+        all->truth_matched += truth_match[t] >= 0;
+        if (large(truth[t])) {
+            ++large_only->truth;
+            large_only->truth_matched += truth_match[t] >= 0;
         }
     }
-    for (size_t f = 0; f < found.objects.size(); ++f) {
-        ++ev.added.found;
-        ev.added.found_matched += found_match[f] >= 0;
-        if (large(found.objects[f].box)) {
-            ++ev.added_large.found;
-            ev.added_large.found_matched += found_match[f] >= 0;
+    for (size_t f = 0; f < found.size(); ++f) {
+        ++all->found;
+        all->found_matched += (*found_match)[f] >= 0;
+        if (large(found[f])) {
+            ++large_only->found;
+            large_only->found_matched += (*found_match)[f] >= 0;
         }
     }
+}
+
+}  // namespace
+
+ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,
+                                 const EvaluationConfig& config) {
+    ChangeEvaluation ev;
+    std::vector<Eigen::AlignedBox3d> truth_boxes, found_boxes;
+    for (const auto& a : truth.added) truth_boxes.push_back(a.box);
+    for (const auto& o : found.objects) found_boxes.push_back(o.box);
+    std::vector<int> found_match;
+    ScoreBoxes(truth_boxes, found_boxes, config, &ev.added, &ev.added_large, &found_match);
+    // The same with touching true objects as one.
+    const std::vector<int> group = TouchingGroups(truth, config.touch_m);
+    std::map<int, Eigen::AlignedBox3d> union_box;
+    std::map<int, size_t> members;
+    for (size_t i = 0; i < truth.added.size(); ++i) {
+        union_box[group[i]].extend(truth.added[i].box);
+        ++members[group[i]];
+    }
+    std::vector<Eigen::AlignedBox3d> grouped;
+    for (const auto& [g, box] : union_box) {
+        grouped.push_back(box);
+        ev.touching_groups += members[g] > 1;
+    }
+    std::vector<int> grouped_match;
+    ScoreBoxes(grouped, found_boxes, config, &ev.added_separable, &ev.added_separable_large,
+               &grouped_match);
 
     // Removed elements.
     const auto expected_area = [&](const std::string& id) {
@@ -289,7 +379,8 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
         ++ev.people;
         const double reach = p.radius_m + config.person_margin_m;
         for (size_t f = 0; f < found.objects.size(); ++f) {
-            if (found_match[f] >= 0) continue;  // a true added object, whoever walks by it
+            // A true added object, whoever walks by it.
+            if (found_match[f] >= 0 || grouped_match[f] >= 0) continue;
             const Eigen::AlignedBox3d& box = found.objects[f].box;
             const Eigen::Vector2d c = box.center().head<2>();
             const bool on_line = DistanceToSegment(c, p.from, p.to) <= reach;
@@ -329,6 +420,9 @@ json ChangeEvaluation::ToJson() const {
     }
     return {{"added", Scores(added)},
             {"added_large", Scores(added_large)},
+            {"added_separable", Scores(added_separable)},
+            {"added_separable_large", Scores(added_separable_large)},
+            {"touching_groups", touching_groups},
             {"removed", Scores(removed)},
             {"removed_large", Scores(removed_large)},
             {"moved", moved_json},

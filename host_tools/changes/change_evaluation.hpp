@@ -5,6 +5,10 @@
 //                     0.3 m. "large": true objects of at least 0.3 m (largest extent) for recall,
 //                     found objects of at least 0.3 m for precision (a small true object found
 //                     counts for neither; one found large but not true counts against).
+//                     "separable": the same with true objects whose surfaces come within
+//                     touch_m (one map voxel, 5 cm) of each other taken as one (their union box):
+//                     the simulator's clutter may interpenetrate, and no 5 cm map separates them.
+//                     Needs the truth's meshes (changes/*.ply beside its changes.json).
 //   removed elements  recall and precision by GlobalId against the elements found missing; "large":
 //                     those with at least 1 m^2 of expected visible surface (elements.csv).
 //   moved elements    found (deviating with a fitted motion), the error of the translation and yaw.
@@ -22,12 +26,15 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/triangle_mesh.hpp"
+
 namespace bimslam::change_detection {
 
 struct TruthChanges {
     struct Added {
         std::string name, kind;
         Eigen::AlignedBox3d box;
+        common::TriangleMesh mesh;  // empty when the file named none
     };
     struct Moved {
         std::string global_id, ifc_class, name, reason;  // reason: "moved" or "as_built"
@@ -43,7 +50,8 @@ struct TruthChanges {
     std::vector<Moved> moved;
     std::vector<Person> people;
 };
-// Throws common::FileError naming the file and the field on a missing or malformed one.
+// Reads the meshes the file names (relative to its folder). Throws common::FileError naming the
+// file and the field on a missing or malformed one.
 TruthChanges ReadTruthChanges(const std::filesystem::path& file);
 
 // What a run wrote (changes.json and elements.csv in `dir`).
@@ -72,6 +80,7 @@ struct EvaluationConfig {
     double large_area_m2 = 1.0;
     double person_margin_m = 0.3;
     size_t min_support_points = 30;
+    double touch_m = 0.05;
 };
 
 struct DetectionScores {
@@ -85,7 +94,9 @@ struct DetectionScores {
 };
 
 struct ChangeEvaluation {
-    DetectionScores added, added_large, removed, removed_large;
+    DetectionScores added, added_large, added_separable, added_separable_large, removed,
+        removed_large;
+    size_t touching_groups = 0;  // groups of true objects that touch (more than one object)
     struct MovedScore {
         std::string global_id;
         bool found = false;

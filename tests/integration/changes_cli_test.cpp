@@ -138,6 +138,7 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
     // The crate is found, the person is not an object, the wall's 3 cm are measured.
     EXPECT_EQ(ev["added"]["truth_matched"], 1);
     EXPECT_EQ(ev["people"]["reported_as_new_objects"], 0);
+    EXPECT_EQ(ev["people"]["with_transient_clusters"], 1);
     ASSERT_EQ(ev["as_built"]["observed"], 1);
     EXPECT_LT(ev["as_built"]["max_error_m"].get<double>(), 0.01);
     EXPECT_EQ(ev["as_built"]["walls"][0]["verdict"], "deviating");

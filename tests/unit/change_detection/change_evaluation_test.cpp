@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/unit/changes/change_scene.hpp"
 
 namespace bimslam::change_detection {
 namespace {
@@ -12,11 +14,16 @@ Eigen::AlignedBox3d Box(double x, double y, double size) {
     return {Eigen::Vector3d(x, y, 0), Eigen::Vector3d(x + size, y + size, size)};
 }
 
+TruthChanges::Added Added(const std::string& name, const Eigen::AlignedBox3d& box) {
+    return {name, "box", box, changes::test::SolidBox(box.min(), box.max())};
+}
+
 TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
     TruthChanges truth;
-    truth.added = {{"big", "box", Box(0, 0, 0.5)},
-                   {"small", "clutter", Box(5, 0, 0.2)},
-                   {"unseen", "box", Box(10, 0, 0.6)}};
+    truth.added = {Added("big", Box(0, 0, 0.5)), Added("small", Box(5, 0, 0.2)),
+                   Added("unseen", Box(10, 0, 0.6)),
+                   // Two boxes 2 cm apart: one lump in a 5 cm map.
+                   Added("pair a", Box(40, 0, 0.4)), Added("pair b", Box(40.42, 0, 0.4))};
     truth.removed = {"column", "far column"};
     truth.moved = {{"desk", "IfcFurniture", "Desk", "moved", {0.5, -0.3, 0}, 15},
                    {"wall", "IfcWall", "Wall", "as_built", {0, 0.03, 0}, 0},
@@ -24,9 +31,14 @@ TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
     truth.people = {{{20, 0}, {30, 0}, 0.25, 1.75, 0}};
 
     FoundChanges found;
-    found.objects = {{Box(0.02, 0.01, 0.5)},  // big: IoU ~0.9
-                     {Box(5.05, 0.05, 0.2)},  // small: centre 7 cm off
-                     {Box(25, -0.2, 0.4)}};   // on the person's line: a person as an object
+    found.objects = {
+        {Box(0.02, 0.01, 0.5)},  // big: IoU ~0.9
+        {Box(5.05, 0.05, 0.2)},  // small: centre 7 cm off
+        {Box(25, -0.2, 0.4)},    // on the person's line: a person as an object
+        {Eigen::AlignedBox3d(
+            Eigen::Vector3d(40, 0, 0),
+            Eigen::Vector3d(40.82, 0.4,
+                            0.4))}};  // the pair   // on the person's line: a person as an object
     found.transients = {{22, 0.1, 1}};
     found.elements["column"] = {"missing", 4.0, 0, {}, false, 0};
     found.elements["far column"] = {"not_observed", 0.0, 0, {}, false, 0};
@@ -36,16 +48,20 @@ TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
     found.elements["far wall"] = {"not_observed", 0.0, 0, {}, false, 0};
 
     const ChangeEvaluation ev = EvaluateChanges(truth, found);
-    EXPECT_EQ(ev.added.truth, 3u);
-    EXPECT_EQ(ev.added.truth_matched, 2u);
-    EXPECT_EQ(ev.added.found_matched, 2u);
-    EXPECT_NEAR(ev.added.precision(), 2.0 / 3, 1e-12);
-    // Large: "big" and "unseen" are true, "big" and the person are found large.
-    EXPECT_EQ(ev.added_large.truth, 2u);
-    EXPECT_EQ(ev.added_large.truth_matched, 1u);
-    EXPECT_EQ(ev.added_large.found, 2u);
-    EXPECT_EQ(ev.added_large.found_matched, 1u);
-    EXPECT_NEAR(ev.added_large.f1(), 0.5, 1e-12);
+    EXPECT_EQ(ev.added.truth, 5u);
+    EXPECT_EQ(ev.added.truth_matched, 3u);  // big, small, one of the pair
+    EXPECT_EQ(ev.added.found_matched, 3u);
+    EXPECT_NEAR(ev.added.precision(), 3.0 / 4, 1e-12);
+    // Large: "big", "unseen" and the pair are true, "big", the person and the lump found large.
+    EXPECT_EQ(ev.added_large.truth, 4u);
+    EXPECT_EQ(ev.added_large.truth_matched, 2u);
+    EXPECT_EQ(ev.added_large.found, 3u);
+    EXPECT_EQ(ev.added_large.found_matched, 2u);
+    // Separable: the pair is one true object, found.
+    EXPECT_EQ(ev.touching_groups, 1u);
+    EXPECT_EQ(ev.added_separable_large.truth, 3u);
+    EXPECT_EQ(ev.added_separable_large.truth_matched, 2u);
+    EXPECT_EQ(ev.added_separable_large.found_matched, 2u);
     // Removed: "column" found; "far column" was never in view (not large); "cabinet" a false alarm.
     EXPECT_EQ(ev.removed.truth, 2u);
     EXPECT_EQ(ev.removed.truth_matched, 1u);
@@ -68,6 +84,9 @@ TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
 
 TEST(ChangeEvaluation, ReadsTheSimulatorsTruthAndNamesTheFileWhenItIsBad) {
     test::TempDir tmp;
+    std::filesystem::create_directories(tmp / "changes");
+    io::WritePly(tmp / "changes" / "000_crate.ply",
+                 io::ToPly(changes::test::SolidBox({1, 2, 0}, {1.5, 2.5, 0.6})));
     io::WriteFileAtomic(tmp / "changes.json", R"({"frame": "bim",
         "added": [{"name": "crate", "kind": "box", "mesh": "changes/000_crate.ply",
                    "box_min": [1, 2, 0], "box_max": [1.5, 2.5, 0.6]}],
@@ -79,6 +98,7 @@ TEST(ChangeEvaluation, ReadsTheSimulatorsTruthAndNamesTheFileWhenItIsBad) {
     const TruthChanges t = ReadTruthChanges(tmp / "changes.json");
     ASSERT_EQ(t.added.size(), 1u);
     EXPECT_NEAR(t.added[0].box.sizes().z(), 0.6, 1e-12);
+    EXPECT_EQ(t.added[0].mesh.triangles.size(), 12u);
     EXPECT_EQ(t.removed, std::vector<std::string>{"abc"});
     EXPECT_EQ(t.moved[0].reason, "as_built");
     EXPECT_NEAR(t.people[0].to.x(), 5, 1e-12);

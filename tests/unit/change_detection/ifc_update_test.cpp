@@ -12,6 +12,7 @@
 #include "host_tools/bim/ifc_writer.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/changes/step_index.hpp"
+#include "tests/support/test_support.hpp"
 #include "tests/unit/change_detection/ifc_update_fixtures.hpp"
 
 namespace bimslam::change_detection {
@@ -141,6 +142,20 @@ TEST(StepIndex, SkipsStringsAndCommentsAndFindsTheEndOfData) {
     for (const char c : std::string(kTinyIfc2x3))
         crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
     EXPECT_EQ(StepIndex("crlf.ifc", crlf).newline(), "\r\n");
+}
+
+// Mutants of a real file: the index either reads them or throws FileError naming the file, never
+// anything else (what UpdateIfc sees has passed IFC++, but the index must not trust it).
+TEST(StepIndex, SurvivesMutatedFiles) {
+    const std::string sample = bim::SampleBuildingIfc(bim::SampleBuildingOptions{});
+    const auto counts = bimslam::test::FuzzReader(
+        "m.ifc", {{std::string(kTinyIfc2x3), 2048}, {sample.substr(0, 6000) + "ENDSEC;\n", 2048}},
+        1500, 17, "';()#=*/\n\r,$.ENDSECDATA", [](const std::string& text) {
+            const StepIndex index("m.ifc", text);
+            for (const StepEntity& e : index.entities()) StepIndex::SplitArgs(e.args);
+        });
+    EXPECT_GT(counts.accepted, 0u);
+    EXPECT_GT(counts.rejected, 0u);
 }
 
 TEST(StepIndex, RejectsFilesWithoutAClosedDataSection) {
