@@ -41,7 +41,7 @@ int AnchorMain(const AnchorArgs& a) {
         throw common::FileError(common::StatusCode::kAlreadyExists, a.out, 0,
                                 "exists and is not empty (--overwrite replaces it)");
     }
-    ProgressBar bar(!a.json && ::isatty(STDERR_FILENO));
+    ProgressBar bar(!a.json && ProgressBar::Terminal());
     anchor::LoadOptions lo;
     lo.cloud = config.cloud;
     lo.descriptor = config.descriptor;
@@ -51,7 +51,7 @@ int AnchorMain(const AnchorArgs& a) {
     std::vector<std::string> dirs{a.reference};
     dirs.insert(dirs.end(), a.queries.begin(), a.queries.end());
     for (size_t k = 0; k < dirs.size(); ++k) {
-        bar.Update("reading " + fs::path(dirs[k]).filename().string(), k, dirs.size());
+        bar.Update("reading " + fs::path(dirs[k]).filename().string(), double(k) / double(dirs.size()));
         sessions.push_back(anchor::LoadAnchorSession(dirs[k], lo));
     }
     // Two queries of one name would write to one folder: name them apart.
@@ -63,9 +63,9 @@ int AnchorMain(const AnchorArgs& a) {
     const double load_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     anchor::AnchorResult r = anchor::Anchor(
-        sessions, config, [&](const std::string& s, size_t d, size_t n) { bar.Update(s, d, n); });
+        sessions, config, [&](const std::string& s, size_t d, size_t n) { bar.Update(s, n ? double(d) / double(n) : 0.0); });
     r.times.descriptors_s = load_s;
-    bar.Update("writing " + a.out, 0, 1);
+    bar.Update("writing " + a.out, 0.0);
     const std::vector<fs::path> written =
         anchor::WriteAnchorOutput(a.out, sessions, r, config, a.overwrite);
     bar.Clear();
