@@ -17,20 +17,38 @@ std::vector<Eigen::Isometry3d> State::World() const {
 }
 
 PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions, const std::vector<State>& state,
-                     const std::vector<LoopRecord>& loops, double odometry_scale) {
+                     const std::vector<LoopRecord>& loops, const AnchorConfig& config) {
     PoseGraph g;
     for (size_t s = 0; s < sessions.size(); ++s) {
         g.AddSession(state[s].poses, state[s].anchor, state[s].fixed);
         if (state[s].fixed) continue;
         for (const io::SessionEdge& e : sessions[s].session.edges) {
-            g.AddOdometry({s, e.from, e.to, e.T_from_to, odometry_scale * e.information});
+            g.AddOdometry({s, e.from, e.to, e.T_from_to,
+                           config.odometry_information_scale * e.information});
         }
     }
     for (const LoopRecord& l : loops) {
+        const auto information =
+            l.target_session == 0 ? WithModelTolerance(l.registration.information,
+                                                       config.model_tolerance_m,
+                                                       config.model_tolerance_deg)
+                                  : l.registration.information;
         g.AddLoop({l.target_session, l.target_index, l.query_session, l.query_index,
-                   l.T_target_query, l.registration.information});
+                   l.T_target_query, information});
     }
     return g;
+}
+
+Eigen::Matrix<double, 6, 6> WithModelTolerance(const Eigen::Matrix<double, 6, 6>& information,
+                                               double sigma_m, double sigma_deg) {
+    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+    const double sigma_rad = sigma_deg * M_PI / 180.0;
+    Eigen::Matrix<double, 6, 1> variance;
+    variance << sigma_m * sigma_m, sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad,
+        sigma_rad * sigma_rad, sigma_rad * sigma_rad;
+    const Matrix6d lhs = Matrix6d::Identity() + information * variance.asDiagonal();
+    const Matrix6d out = lhs.partialPivLu().solve(information);
+    return 0.5 * (out + out.transpose());  // symmetric up to rounding
 }
 
 double OptimizeStates(const std::vector<AnchorSession>& sessions, std::vector<State>* state,
@@ -38,7 +56,7 @@ double OptimizeStates(const std::vector<AnchorSession>& sessions, std::vector<St
                       StageTimes* times, const std::vector<double>& weights,
                       const posegraph::PoseGraphConfig* graph_config, PoseGraph* out) {
     const auto t0 = Clock::now();
-    PoseGraph g = BuildGraph(sessions, *state, loops, config.odometry_information_scale);
+    PoseGraph g = BuildGraph(sessions, *state, loops, config);
     g.Optimize(graph_config ? *graph_config : config.graph, weights);
     double moved = 0;
     for (size_t s = 0; s < sessions.size(); ++s) {

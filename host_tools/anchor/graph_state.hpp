@@ -20,10 +20,17 @@ struct State {
 };
 
 // The graph of every session (fixed ones constant), the odometry edges of the free ones (their
-// information times odometry_scale) and the loops.
+// information times config.odometry_information_scale) and the loops (those to the reference,
+// session 0, with the model's tolerance added: WithModelTolerance).
 posegraph::PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions,
                                 const std::vector<State>& state,
-                                const std::vector<LoopRecord>& loops, double odometry_scale);
+                                const std::vector<LoopRecord>& loops, const AnchorConfig& config);
+
+// A loop's information with the model's covariance added: (H^+ + Sigma)^-1, computed as
+// (I + H Sigma)^-1 H so that directions the registration left unconstrained (H's null space)
+// stay without information.
+Eigen::Matrix<double, 6, 6> WithModelTolerance(const Eigen::Matrix<double, 6, 6>& information,
+                                               double sigma_m, double sigma_deg);
 
 // Optimises (config.graph unless graph_config) and reads the free sessions back; returns the
 // largest keyframe move (m). The graph goes to *out when given.

@@ -110,7 +110,7 @@ Evaluation FollowHypothesis(const std::vector<AnchorSession>& sessions, std::vec
         previous = covered;
     }
     // Loops the solution cannot explain are dropped, and the rest optimised once more.
-    PoseGraph g = BuildGraph(sessions, state, loops, config.odometry_information_scale);
+    PoseGraph g = BuildGraph(sessions, state, loops, config);
     std::vector<LoopRecord> kept;
     for (size_t k = 0; k < loops.size(); ++k) {
         const double chi2 = g.LoopChi2(k);

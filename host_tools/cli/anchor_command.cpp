@@ -1,5 +1,6 @@
 // bimslam anchor: query sessions moved into the BIM reference session's frame, with no initial
 // pose (host_tools/anchor: place recognition, registration, consistency, pose graph).
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -21,6 +22,7 @@ struct AnchorArgs {
     std::string out;
     std::string outliers = "pcm";
     double inject_false_loops = 0;
+    double model_tolerance_m = anchor::AnchorConfig{}.model_tolerance_m;
     int threads = 0;
     uint64_t seed = 1;
     bool overwrite = false;
@@ -34,6 +36,9 @@ int AnchorMain(const AnchorArgs& a) {
                             "--outliers " + a.outliers + ": expected pcm, gnc or none");
     }
     config.inject_false_loops = a.inject_false_loops;
+    // The rotation part: the angle the tolerance subtends over 6 m, a room's size.
+    config.model_tolerance_m = a.model_tolerance_m;
+    config.model_tolerance_deg = std::atan2(a.model_tolerance_m, 6.0) * 180.0 / M_PI;
     config.threads = a.threads;
     config.seed = a.seed;
     config.Validate();
@@ -131,6 +136,12 @@ void AddAnchorCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--outliers", args->outliers,
                     "How wrong loops are rejected: pcm (pairwise consistency), gnc (graduated "
                     "non-convexity) or none (the Cauchy loss only)")
+        ->capture_default_str();
+    cmd->add_option("--model-tolerance", args->model_tolerance_m,
+                    "How far (m) the building may stand from its model (construction "
+                    "tolerance): added to every loop's uncertainty so walls built off do not bend "
+                    "the trajectory; 0 trusts the model exactly")
+        ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_option("--inject-false-loops", args->inject_false_loops,
                     "Benchmarks: replace this share of the verified loops by wrong pairs")
