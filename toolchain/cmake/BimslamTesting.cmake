@@ -24,9 +24,11 @@ function(bimslam_test name)
 endfunction()
 
 # bimslam_benchmark(<name> SOURCES ... DEPS ...): Google Benchmark executable, label benchmark.
+# Not built by default (`make test` runs no benchmark; CI time): `make bench` or the target
+# `benchmarks` builds them all.
 function(bimslam_benchmark name)
     cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
-    add_executable(${name} ${ARG_SOURCES})
+    add_executable(${name} EXCLUDE_FROM_ALL ${ARG_SOURCES})
     target_link_libraries(${name} PRIVATE ${ARG_DEPS} bimslam::test_support benchmark::benchmark)
     bimslam_apply_warnings(${name})
     add_test(NAME ${name} COMMAND ${name} --benchmark_min_time=0.2)
