@@ -23,16 +23,16 @@ PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions, const std::vect
         g.AddSession(state[s].poses, state[s].anchor, state[s].fixed);
         if (state[s].fixed) continue;
         for (const io::SessionEdge& e : sessions[s].session.edges) {
-            g.AddOdometry({s, e.from, e.to, e.T_from_to,
-                           config.odometry_information_scale * e.information});
+            g.AddOdometry(
+                {s, e.from, e.to, e.T_from_to, config.odometry_information_scale * e.information});
         }
     }
     for (const LoopRecord& l : loops) {
         const auto information =
-            l.target_session == 0 ? WithModelTolerance(l.registration.information,
-                                                       config.model_tolerance_m,
-                                                       config.model_tolerance_deg)
-                                  : l.registration.information;
+            l.target_session == 0
+                ? WithModelTolerance(l.registration.information, config.model_tolerance_m,
+                                     config.model_tolerance_deg)
+                : l.registration.information;
         g.AddLoop({l.target_session, l.target_index, l.query_session, l.query_index,
                    l.T_target_query, information});
     }

@@ -56,7 +56,8 @@ int AnchorMain(const AnchorArgs& a) {
     std::vector<std::string> dirs{a.reference};
     dirs.insert(dirs.end(), a.queries.begin(), a.queries.end());
     for (size_t k = 0; k < dirs.size(); ++k) {
-        bar.Update("reading " + fs::path(dirs[k]).filename().string(), double(k) / double(dirs.size()));
+        bar.Update("reading " + fs::path(dirs[k]).filename().string(),
+                   double(k) / double(dirs.size()));
         sessions.push_back(anchor::LoadAnchorSession(dirs[k], lo));
     }
     // Two queries of one name would write to one folder: name them apart.
@@ -67,8 +68,10 @@ int AnchorMain(const AnchorArgs& a) {
     }
     const double load_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    anchor::AnchorResult r = anchor::Anchor(
-        sessions, config, [&](const std::string& s, size_t d, size_t n) { bar.Update(s, n ? double(d) / double(n) : 0.0); });
+    anchor::AnchorResult r =
+        anchor::Anchor(sessions, config, [&](const std::string& s, size_t d, size_t n) {
+            bar.Update(s, n ? double(d) / double(n) : 0.0);
+        });
     r.times.descriptors_s = load_s;
     bar.Update("writing " + a.out, 0.0);
     const std::vector<fs::path> written =

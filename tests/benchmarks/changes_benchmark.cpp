@@ -418,9 +418,8 @@ void BM_ChangeAccuracy(benchmark::State& state) {
     state.counters["moved_err_cm"] = 100 * moved_err;
     state.counters["detect_s"] = r.seconds.map_s + r.seconds.distance_s + r.seconds.transient_s +
                                  r.seconds.cluster_s + r.seconds.evidence_s + r.seconds.elements_s;
-    state.SetLabel(
-        std::string(handheld ? "handheld" : "go1") +
-        (on_truth ? ", ground-truth poses" : ", anchored"));
+    state.SetLabel(std::string(handheld ? "handheld" : "go1") +
+                   (on_truth ? ", ground-truth poses" : ", anchored"));
 }
 
 void AccuracyArgs(benchmark::internal::Benchmark* b) {

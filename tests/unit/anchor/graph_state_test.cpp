@@ -1,10 +1,10 @@
 // The model's tolerance added to a loop's information (host_tools/anchor/graph_state.hpp).
+#include "host_tools/anchor/graph_state.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
-
-#include "host_tools/anchor/graph_state.hpp"
 
 namespace bimslam::anchor {
 namespace {
