@@ -3,6 +3,7 @@
 include_guard(GLOBAL)
 
 set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
+set_property(GLOBAL PROPERTY BIMSLAM_INTEGRATION_TESTS "")
 
 # bimslam_test(<name> LABEL <label> SOURCES ... DEPS ... [TIMEOUT s])
 function(bimslam_test name)
@@ -20,6 +21,8 @@ function(bimslam_test name)
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
     if(ARG_LABEL STREQUAL "unit")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
+    else()
+        set_property(GLOBAL APPEND PROPERTY BIMSLAM_INTEGRATION_TESTS ${name})
     endif()
 endfunction()
 
