@@ -10,7 +10,8 @@
 //   same points and mesh through tests/benchmarks/changes_open3d_peer.py (Open3D's
 //   RaycastingScene.compute_signed_distance and cluster_dbscan, as the paper's Step 3) with
 //   Debian's python3; counters open3d_*_s and ratio_total (Open3D's time / ours). Skipped, saying
-//   so, where python3-open3d is missing.
+//   so, where python3-open3d is missing. BIMSLAM_BENCH_KEEP=DIR keeps the peer's input files in
+//   DIR/speed.
 //
 // BM_ChangeAccuracy/platform:P/seed:S  (P 0 = Go1, 1 = handheld)
 //   host_tools/simulate/scenarios/changed_building.yaml (boxes, a cylinder, clutter, removed
@@ -230,8 +231,14 @@ void BM_ChangeSpeed(benchmark::State& state) {
     state.counters["dbscan_s"] = dbscan_s;
     state.counters["total_s"] = distance_s + dbscan_s;
 
-    // The Open3D peer, same points, same mesh, same parameters.
-    test::TempDir tmp;
+    // The Open3D peer, same points, same mesh, same parameters. BIMSLAM_BENCH_KEEP=DIR keeps the
+    // files it reads (points.npy, mesh.ply, ours.npy) in DIR/speed, to study the differences.
+    test::TempDir scratch;
+    fs::path tmp = scratch.path();
+    if (const char* keep = std::getenv("BIMSLAM_BENCH_KEEP"); keep && *keep) {
+        tmp = fs::path(keep) / "speed";
+        fs::create_directories(tmp);
+    }
     io::WriteNpy(tmp / "points.npy",
                  io::NpyArray::From(map.points.front().data(), {map.points.size(), 3}));
     io::WriteNpy(tmp / "ours.npy", io::NpyArray::From(distances.data(), {distances.size()}));
