@@ -107,7 +107,14 @@ function polyline(xyz, storey, cls, parent, color) {
 }
 function buildPlans() {
   const body = document.getElementById('plans-body');
-  const bmin = D.bounds.min, bmax = D.bounds.max;
+  // The model's box, grown to hold the anchored trajectories (a walk may start outside).
+  const bmin = D.bounds.min.slice(), bmax = D.bounds.max.slice();
+  D.sessions.forEach(s => {
+    const t = s.trajectory || [];
+    for (let i = 0; i + 2 < t.length; i += 3) {
+      for (let k = 0; k < 2; ++k) { bmin[k] = Math.min(bmin[k], t[i + k]); bmax[k] = Math.max(bmax[k], t[i + k]); }
+    }
+  });
   const x0 = bmin[0] - 1.5, x1 = bmax[0] + 1.5, y0 = bmin[1] - 2.5, y1 = bmax[1] + 1.5;
   D.storeys.forEach((st, si) => {
     el('h3', {id: 'plan-' + si}, body, st.name + ' (cut ' + fmt(st.cut_z + O[2], 2) + ' m)');
