@@ -82,6 +82,7 @@ json PlanSections(const bim::BimModel& m, double cut_height_m) {
         }
         json seg = json::object();
         for (auto& [cls, v] : segments) {
+            if (v.empty()) continue;  // the class has elements on this storey, none cut
             for (float& x : v) x = std::round(x * 1000.0f) / 1000.0f;  // millimetres are enough
             seg[cls] = v;
         }
