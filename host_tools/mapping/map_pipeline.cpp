@@ -62,7 +62,7 @@ public:
     Stepper(const fs::path& out, bool force, MapRun* run) : out_(out), force_(force), run_(run) {
         fs::create_directories(out_ / "stamps");
     }
-    bool Run(const std::string& step, const std::string& stamp_name, const StepStamp& stamp,
+    bool Run(const std::string& step, const std::string& stamp_name, StepStamp& stamp,
              const std::string& file, const std::function<void()>& body) {
         const fs::path file_stamp = out_ / "stamps" / (stamp_name + ".json");
         const auto t0 = Clock::now();
@@ -79,6 +79,7 @@ public:
         } catch (const std::exception& e) {
             throw StepFailure(step, file, e.what());
         }
+        stamp.MarkMade();
         stamp.Write(file_stamp);
         run_->steps.push_back({step, false, Since(t0)});
         return true;

@@ -1,5 +1,6 @@
 #include "host_tools/mapping/step_stamp.hpp"
 
+#include <chrono>
 #include <system_error>
 
 #include "algorithms/io/file_util.hpp"
@@ -45,14 +46,26 @@ void StepStamp::AddParameter(const std::string& key, nlohmann::json value) {
 
 std::string StepStamp::Digest() const { return io::Sha256Hex(json_.dump()); }
 
-bool StepStamp::Matches(const fs::path& file) const {
+bool StepStamp::Matches(const fs::path& file) {
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) return false;
     try {
-        return nlohmann::json::parse(io::ReadFileToString(file)) == json_;
+        nlohmann::json stored = nlohmann::json::parse(io::ReadFileToString(file));
+        if (!stored.is_object() || !stored.contains("made")) return false;
+        const nlohmann::json made = stored["made"];
+        stored.erase("made");
+        nlohmann::json mine = json_;
+        mine.erase("made");
+        if (stored != mine) return false;
+        json_["made"] = made;
+        return true;
     } catch (const std::exception&) {
         return false;  // unreadable or not JSON: the step runs again and rewrites it
     }
+}
+
+void StepStamp::MarkMade() {
+    json_["made"] = std::chrono::system_clock::now().time_since_epoch().count();
 }
 
 void StepStamp::Write(const fs::path& file) const {

@@ -30,8 +30,13 @@ public:
     // SHA-256 of the stamp's text: what downstream stamps hold.
     std::string Digest() const;
 
-    // True when `file` holds this stamp. A missing or unreadable file is not up to date.
-    bool Matches(const std::filesystem::path& file) const;
+    // True when `file` holds this stamp (its "made" token aside). A missing or unreadable file is
+    // not up to date. When it matches, this stamp takes the file's token.
+    bool Matches(const std::filesystem::path& file);
+    // A new token: the step ran now. Downstream stamps hold it through Digest(), so a step that
+    // ran again (its stamp deleted, or it failed before) makes the steps after it run again too,
+    // even when its inputs are the same (the odometry's results depend on the machine's load).
+    void MarkMade();
     void Write(const std::filesystem::path& file) const;  // atomic
 
 private:

@@ -29,10 +29,12 @@ TEST(StepStamp, MatchesItselfAndNotAChangedInputUpstreamOrParameter) {
         s.AddParameter("budget_ms", budget);
         return s;
     };
-    const StepStamp a = make(50);
+    StepStamp a = make(50);
+    a.MarkMade();
     a.Write(tmp / "stamp.json");
     EXPECT_TRUE(make(50).Matches(tmp / "stamp.json"));
     EXPECT_FALSE(make(60).Matches(tmp / "stamp.json")) << "a parameter";
+    EXPECT_NE(make(60).Digest(), make(50).Digest());
 
     // The model by content: rewritten with the same bytes it still matches.
     io::WriteFileAtomic(tmp / "model.ifc", "model v1");
@@ -48,15 +50,24 @@ TEST(StepStamp, MatchesItselfAndNotAChangedInputUpstreamOrParameter) {
     fs::last_write_time(tmp / "lidar.pcap", t);
     EXPECT_TRUE(make(50).Matches(tmp / "stamp.json"));
 
-    // Upstream: a downstream stamp holds the upstream's digest.
+    // Upstream: a downstream stamp holds the upstream's digest, made token included: a stamp
+    // that matched its file takes the file's token, so it digests as the one written.
     StepStamp down("anchor");
     down.AddUpstream(a);
+    down.MarkMade();
     down.Write(tmp / "down.json");
-    StepStamp down2("anchor");
-    down2.AddUpstream(make(60));
-    EXPECT_FALSE(down2.Matches(tmp / "down.json"));
-    EXPECT_NE(a.Digest(), make(60).Digest());
-    EXPECT_EQ(a.Digest(), make(50).Digest());
+    StepStamp again = make(50);
+    ASSERT_TRUE(again.Matches(tmp / "stamp.json"));
+    EXPECT_EQ(again.Digest(), a.Digest());
+    StepStamp down_again("anchor");
+    down_again.AddUpstream(again);
+    EXPECT_TRUE(down_again.Matches(tmp / "down.json"));
+    // The upstream ran again with the same inputs (a new token): the downstream is out of date.
+    StepStamp rerun = make(50);
+    rerun.MarkMade();
+    StepStamp down_rerun("anchor");
+    down_rerun.AddUpstream(rerun);
+    EXPECT_FALSE(down_rerun.Matches(tmp / "down.json"));
 }
 
 TEST(StepStamp, AMissingDamagedOrForeignFileDoesNotMatch) {
@@ -69,6 +80,9 @@ TEST(StepStamp, AMissingDamagedOrForeignFileDoesNotMatch) {
     EXPECT_FALSE(s.Matches(tmp / "stamp.json"));
     io::WriteFileAtomic(tmp / "stamp.json", "[1, 2]\n");
     EXPECT_FALSE(s.Matches(tmp / "stamp.json"));
+    s.Write(tmp / "stamp.json");
+    EXPECT_FALSE(s.Matches(tmp / "stamp.json")) << "never made: not a finished step's stamp";
+    s.MarkMade();
     s.Write(tmp / "stamp.json");
     EXPECT_TRUE(s.Matches(tmp / "stamp.json"));
 }
