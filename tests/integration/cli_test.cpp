@@ -85,12 +85,17 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
 
 TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
     test::TempDir tmp;
-    const fs::path out = tmp / "demo";
-    // 30 s: a shorter walk has too few keyframes to anchor, and the demo then fails.
-    ASSERT_EQ(test::RunCommand(kCli + " demo --columns 512 --duration 30 --out " + out.string())
+    // A session of a short simulated walk (the demo now runs a whole map, longer than needed).
+    const fs::path session = tmp / "session";
+    ASSERT_EQ(test::RunCommand(kCli + " bim sample -o " + (tmp / "b.ifc").string()).exit_code, 0);
+    ASSERT_EQ(test::RunCommand(kCli + " simulate --model " + (tmp / "b.ifc").string() +
+                               " --duration 10 -o " + (tmp / "capture").string())
                   .exit_code,
               0);
-    const fs::path session = out / "session";
+    ASSERT_EQ(test::RunCommand(kCli + " odometry " + (tmp / "capture").string() + " -o " +
+                               session.string())
+                  .exit_code,
+              0);
     {
         std::ofstream f(session / "times.txt", std::ios::app);
         f << "12x\n";
