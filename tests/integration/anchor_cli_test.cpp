@@ -60,16 +60,7 @@ void MustRun(const std::string& args) {
 }
 
 fs::path Fixture(const std::string& name, const std::function<void(const fs::path&)>& make) {
-    const fs::path dir = FixtureRoot() / name;
-    if (fs::exists(dir)) return dir;
-    const fs::path tmp = FixtureRoot() / (name + ".tmp" + std::to_string(::getpid()));
-    fs::remove_all(tmp);
-    fs::create_directories(tmp);
-    make(tmp);
-    std::error_code ec;
-    fs::rename(tmp, dir, ec);  // fails when another process was first: use theirs
-    if (ec) fs::remove_all(tmp);
-    return dir;
+    return test::CachedFixture(FixtureRoot(), name, make);
 }
 
 // A building (`bim sample` with extra flags) and its BIM reference session.

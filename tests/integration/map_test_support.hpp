@@ -53,16 +53,7 @@ inline fs::path FixtureRoot() {
 }
 
 inline fs::path Fixture(const std::string& name, const std::function<void(const fs::path&)>& make) {
-    const fs::path dir = FixtureRoot() / name;
-    if (fs::exists(dir)) return dir;
-    const fs::path tmp = FixtureRoot() / (name + ".tmp" + std::to_string(::getpid()));
-    fs::remove_all(tmp);
-    fs::create_directories(tmp);
-    make(tmp);
-    std::error_code ec;
-    fs::rename(tmp, dir, ec);
-    if (ec) fs::remove_all(tmp);
-    return dir;
+    return test::CachedFixture(FixtureRoot(), name, make);
 }
 
 // The sample office building (the GlobalIds of changed_building.yaml are its).
