@@ -44,7 +44,6 @@
 #include "algorithms/changes/change_detector.hpp"
 #include "algorithms/changes/dbscan.hpp"
 #include "algorithms/changes/model_distance.hpp"
-#include "algorithms/changes/voxel_hash.hpp"
 #include "algorithms/io/npy.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/sha256.hpp"
@@ -418,9 +417,8 @@ void BM_ChangeAccuracy(benchmark::State& state) {
     state.counters["moved_err_cm"] = 100 * moved_err;
     state.counters["detect_s"] = r.seconds.map_s + r.seconds.distance_s + r.seconds.transient_s +
                                  r.seconds.cluster_s + r.seconds.evidence_s + r.seconds.elements_s;
-    state.SetLabel(
-        std::string(handheld ? "handheld" : "go1") +
-        (on_truth ? ", ground-truth poses" : ", anchored"));
+    state.SetLabel(std::string(handheld ? "handheld" : "go1") +
+                   (on_truth ? ", ground-truth poses" : ", anchored"));
 }
 
 void AccuracyArgs(benchmark::internal::Benchmark* b) {
