@@ -199,11 +199,23 @@ ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe
     out.point_class.assign(n, PointClass::kModel);
     out.object.assign(n, -1);
     std::vector<uint32_t> candidates;
+    // Off the model and inside the box, yet outside the building: the ground and what stands
+    // around the entrances, which a model does not hold. Such a point has no element below it.
+    const float depth = region.sizes().z();
+    const auto outside_footprint = [&](const Eigen::Vector3f& p) {
+        return config.crop_to_footprint &&
+               !scene.Intersect(p, -Eigen::Vector3f::UnitZ(), 0.0f, depth).has_value();
+    };
     for (size_t i = 0; i < n; ++i) {
         const float s = std::abs(out.signed_distance_m[i]);
         if (!region.contains(xyz[i])) {
             out.point_class[i] = PointClass::kOutside;
         } else if (s > low) {
+            if (outside_footprint(xyz[i])) {
+                out.point_class[i] = PointClass::kOutside;
+                ++out.counts.outside_footprint;
+                continue;
+            }
             if (s > high) out.point_class[i] = PointClass::kUnexplained;
             candidates.push_back(uint32_t(i));
         }

@@ -46,6 +46,9 @@ struct ChangeDetectorConfig {
     DbscanConfig dbscan;
     size_t min_object_points = 30;  // smaller clusters are not objects (noise, edges)
     double crop_margin_m = 0.5;     // map points outside the model's box + this are not compared
+    // Points off the model with no element below them (a ray straight down meets nothing: the
+    // ground outside, things around the entrances) are outside the building, not new objects.
+    bool crop_to_footprint = true;
     bool detect_transients = true;
     FreeSpaceConfig free_space;
     ElementEvidenceConfig evidence;
@@ -93,6 +96,7 @@ struct ChangeResult {
     std::vector<ElementReport> elements;  // per element of the model
     struct Counts {
         size_t candidates = 0;  // farther than band_threshold_m from the model, inside the region
+        size_t outside_footprint = 0;  // of the others that far, with no element below them
         size_t transient_points = 0;
         size_t seed_points = 0;  // farther than new_object_threshold_m, not transient
         size_t clusters = 0;     // DBSCAN's, before min_object_points

@@ -37,6 +37,7 @@ struct ChangesArgs {
     changes::ChangeDetectorConfig config;
     bool no_transients = false;
     bool no_moved = false;
+    bool keep_outside = false;
 };
 
 [[noreturn]] void BadInput(const std::string& what) {
@@ -77,6 +78,7 @@ std::string Fixed(double v, int digits) {
 int Changes(ChangesArgs& a) {
     a.config.detect_transients = !a.no_transients;
     a.config.moved.enabled = !a.no_moved;
+    a.config.crop_to_footprint = !a.keep_outside;
     a.config.Validate();
     if (!a.truths.empty() && a.truths.size() != a.sessions.size()) {
         BadInput("--truth: give one per --session (" + std::to_string(a.sessions.size()) +
@@ -283,6 +285,9 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--no-transients", a->no_transients, "skip the free-space check for transients");
     cmd->add_flag("--no-moved", a->no_moved, "do not pair missing elements with new objects");
+    cmd->add_flag("--keep-outside", a->keep_outside,
+                  "compare points with no element below them too (the ground outside, things at "
+                  "the entrances), which are otherwise outside the building");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return Changes(*a); }); });
 }
 

@@ -129,6 +129,41 @@ TEST(ChangeDetector, APersonCrossingTheRoomIsTransientNotANewObject) {
     EXPECT_GT(r.counts.transient_points, 50u);
 }
 
+TEST(ChangeDetector, AThingOutsideTheBuildingIsOutsideNotANewObject) {
+    // A 0.3 m crate on the ground outside the west wall, within the compared box (the model's
+    // box plus 0.5 m), seen by one more keyframe standing outside: no element is below it.
+    const test::ChangeScene& s = SharedChangeScene();
+    const Eigen::Vector3f sensor(-2.0f, 2.15f, 0.5f);
+    common::PointCloud crate;
+    for (float a = 0; a <= 0.3f; a += 0.025f) {
+        for (float b = 0; b <= 0.3f; b += 0.025f) {
+            crate.xyz.push_back(Eigen::Vector3f(-0.6f, 2.0f + a, b) - sensor);         // facing it
+            crate.xyz.push_back(Eigen::Vector3f(-0.6f + a, 2.0f + b, 0.3f) - sensor);  // top
+        }
+    }
+    std::vector<MapKeyframe> keyframes = s.keyframes;
+    MapKeyframe outside;
+    outside.cloud = &crate;
+    outside.T_world_lidar =
+        Eigen::Translation3d(sensor.cast<double>()) * Eigen::Isometry3d::Identity();
+    keyframes.push_back(outside);
+    const auto objects_outside = [](const ChangeResult& r) {
+        size_t n = 0;
+        for (const NewObject& obj : r.objects) n += obj.box_max.x() < -0.2;
+        return n;
+    };
+    const ChangeResult cropped = DetectChanges(s.model, keyframes, ChangeDetectorConfig{});
+    EXPECT_EQ(objects_outside(cropped), 0u) << Describe(cropped);
+    EXPECT_GT(cropped.counts.outside_footprint, 50u);  // 5 cm voxels of two 0.3 m faces
+    // The objects inside are unchanged by the check: the added box is still found.
+    EXPECT_EQ(cropped.objects.size(), SharedResult().objects.size()) << Describe(cropped);
+    ChangeDetectorConfig keep;
+    keep.crop_to_footprint = false;
+    const ChangeResult kept = DetectChanges(s.model, keyframes, keep);
+    EXPECT_EQ(objects_outside(kept), 1u) << Describe(kept);
+    EXPECT_EQ(kept.counts.outside_footprint, 0u);
+}
+
 TEST(ChangeDetector, RejectsAModelWithoutGeometryAndASessionWithoutKeyframes) {
     const test::ChangeScene& s = SharedChangeScene();
     try {
