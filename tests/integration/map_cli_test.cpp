@@ -24,6 +24,30 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
 
+// a and b have the same structure, strings and integers, and floating-point numbers within tol.
+// Ceres evaluates residual blocks on several threads and sums them in the order they finish, so
+// two runs of the same anchoring may differ in the last digits (an as-built wall's offset came
+// out 0.012134 m and 0.012142 m in two runs of 8).
+void ExpectJsonNear(const json& a, const json& b, double tol, const std::string& path = "") {
+    if (a.is_number_float() || b.is_number_float()) {
+        ASSERT_TRUE(a.is_number() && b.is_number()) << path;
+        EXPECT_NEAR(a.get<double>(), b.get<double>(), tol) << path;
+    } else if (a.is_object() && b.is_object()) {
+        ASSERT_EQ(a.size(), b.size()) << path;
+        for (const auto& [key, value] : a.items()) {
+            ASSERT_TRUE(b.contains(key)) << path << "/" << key;
+            ExpectJsonNear(value, b.at(key), tol, path + "/" + key);
+        }
+    } else if (a.is_array() && b.is_array()) {
+        ASSERT_EQ(a.size(), b.size()) << path;
+        for (size_t i = 0; i < a.size(); ++i) {
+            ExpectJsonNear(a[i], b[i], tol, path + "/" + std::to_string(i));
+        }
+    } else {
+        EXPECT_EQ(a, b) << path;
+    }
+}
+
 json Steps(const json& j) {
     json s = json::object();
     for (const json& step : j.at("steps"))
@@ -68,8 +92,8 @@ TEST(MapCli, EveryStepWritesItsFolderAndTheSummaryEqualsTheIndividualCommands) {
                 1e-9);
     EXPECT_EQ(acc.at("matched"), e.at("matched"));
     EXPECT_LT(acc.at("ape_trans_rmse_m").get<double>(), 0.05);
-    // The change scores and counts: the same files.
-    EXPECT_EQ(r.at("change_scores"), ReadJson(tmp / "changes" / "evaluation.json"));
+    // The change scores and counts: the same files (numbers to 0.1 mm: see ExpectJsonNear).
+    ExpectJsonNear(r.at("change_scores"), ReadJson(tmp / "changes" / "evaluation.json"), 1e-4);
     const json changes = ReadJson(tmp / "changes" / "changes.json");
     EXPECT_EQ(r.at("changes").at("new_objects"), changes.at("new_objects").size());
     EXPECT_EQ(r.at("changes").at("missing"), changes.at("missing").size());
