@@ -34,7 +34,7 @@ packages=(
 # The real readers our files must open in (tests/integration/io_interop_test.cpp): PCL's tools,
 # Open3D (with numpy) for Debian's python3, CloudCompare; Node.js for web-ifc, the second IFC
 # engine the sample building must open in (tests/tools/web_ifc, sample_building_test.cpp); and
-# clang with its libFuzzer runtime for the fuzz targets (preset `fuzz`).
+# clang with its libFuzzer runtime for the sanitizer build, unit tests and fuzz targets (preset `asan`).
 # systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
 # library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
 # report page headless (tests/integration/report_browser_test.cpp).
