@@ -50,8 +50,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     const auto wall_start = std::chrono::steady_clock::now();
     CaptureOdometryReport report;
     const io::CaptureFiles files = io::ResolveCapture(o.capture_dir);
-    const fs::path& pcap = files.pcap;
-    const fs::path& metadata = files.metadata;
+    const fs::path& pcap = files.packets;
     const fs::path can_log = o.can_log.empty() ? files.can_log : o.can_log;
     odometry::LidarOdometryConfig config = o.odometry;
     config.use_imu = config.use_imu && o.use_imu;
@@ -70,12 +69,15 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
         report.used_can = true;
     } else if (o.use_can) {
         report.notes.push_back(files.folder ? "no go1_can.log: no body-motion prior"
-                                            : "no CAN log (a pcap was given; --can LOG adds "
-                                              "one): no body-motion prior");
+                                            : "no CAN log (a recording without a capture folder; "
+                                              "--can LOG adds one): no body-motion prior");
     }
     config.use_body_motion = report.used_can && !body.empty();
 
-    const ouster::SensorInfo info = ouster::LoadMetadata(metadata);
+    const ouster::SensorInfo info = capture::LoadRecordingInfo(files);
+    // The session names its metadata file: the JSON's, or the bag's (whose metadata topic it is).
+    const std::string metadata_name =
+        (files.metadata.empty() ? files.packets : files.metadata).filename().string();
     capture::OusterCapture capture(pcap, info);
     pipeline::ScanPipelineConfig pc;
     pc.odometry = config;
@@ -85,11 +87,10 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
 
     std::optional<io::SessionWriter> writer;
     if (!o.session_dir.empty()) {
-        writer.emplace(
-            o.session_dir,
-            pipeline::MakeSessionManifest(info, metadata.filename().string(), o.keyframes),
-            io::SessionWriterOptions{
-                .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
+        writer.emplace(o.session_dir,
+                       pipeline::MakeSessionManifest(info, metadata_name, o.keyframes),
+                       io::SessionWriterOptions{
+                           .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
     }
 
     pipeline::ScanInput scan;
@@ -126,8 +127,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
                                        ": the odometry started again in " + next.string());
                 writer.reset();
                 writer.emplace(
-                    next,
-                    pipeline::MakeSessionManifest(info, metadata.filename().string(), o.keyframes),
+                    next, pipeline::MakeSessionManifest(info, metadata_name, o.keyframes),
                     io::SessionWriterOptions{
                         .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
             }
