@@ -18,6 +18,8 @@ packages=(
     zlib1g-dev
     # LCM messages: library, lcm-gen, and glib for lcm.pc
     liblcm-dev liblcm-bin libglib2.0-dev
+    # ROS 1 bags from ouster-ros (drivers/net): the ROS bag library and its serialization headers
+    librosbag-storage-dev libroscpp-core-dev
     # command-line tools
     libcli11-dev
     # scenario and configuration files
@@ -37,9 +39,10 @@ packages=(
 # clang with its libFuzzer runtime for the sanitizer build, unit tests and fuzz targets (preset `asan`).
 # systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
 # library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
-# report page headless (tests/integration/report_browser_test.cpp).
+# report page headless (tests/integration/report_browser_test.cpp); python3-rosbag writes the ROS
+# bags the bag tests read (tests/support/ouster_bag.py).
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
-    liblcm-java openjdk-17-jdk-headless chromium)
+    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
     # Debian's npm, unless npm is there already: a nodejs from NodeSource bundles its own and

@@ -13,17 +13,21 @@ namespace fs = std::filesystem;
 using common::FileError;
 using common::StatusCode;
 
-CaptureFiles ResolveCapture(const fs::path& recording) {
+CaptureFiles ResolveCapture(const fs::path& recording, const fs::path& metadata) {
+    if (!metadata.empty() && !fs::is_regular_file(metadata)) {
+        throw FileError(StatusCode::kNotFound, metadata.string(), 0, "no such metadata file");
+    }
     CaptureFiles f;
+    f.metadata = metadata;
     if (fs::is_directory(recording)) {
         f.folder = true;
-        f.pcap = recording / "lidar.pcap";
-        f.metadata = recording / "metadata.json";
-        for (const fs::path& p : {f.pcap, f.metadata}) {
+        f.packets = recording / "lidar.pcap";
+        if (f.metadata.empty()) f.metadata = recording / "metadata.json";
+        for (const fs::path& p : {f.packets, f.metadata}) {
             if (!fs::is_regular_file(p)) {
                 throw FileError(StatusCode::kNotFound, p.string(), 0,
                                 "missing (a capture folder holds lidar.pcap and metadata.json; "
-                                "or give a pcap with its metadata JSON beside it)");
+                                "or give a pcap with its metadata JSON beside it, or a ROS bag)");
             }
         }
         if (fs::is_regular_file(recording / "go1_can.log")) f.can_log = recording / "go1_can.log";
@@ -34,10 +38,13 @@ CaptureFiles ResolveCapture(const fs::path& recording) {
     }
     if (!fs::is_regular_file(recording)) {
         throw FileError(StatusCode::kNotFound, recording.string(), 0,
-                        "no such file or folder (expected a capture folder, or a pcap with its "
-                        "metadata JSON)");
+                        "no such file or folder (expected a capture folder, a pcap with its "
+                        "metadata JSON, or a ROS bag)");
     }
-    f.pcap = recording;
+    f.packets = recording;
+    // A bag carries its metadata as a topic (read by whoever opens the bag).
+    f.bag = recording.extension() == ".bag";
+    if (f.bag || !f.metadata.empty()) return f;
     // x.pcap -> x.json (x.pcap.gz -> x.json too), as the Ouster tools save them.
     fs::path stem = recording;
     if (stem.extension() == ".gz") stem.replace_extension();

@@ -176,8 +176,9 @@ int main(int argc, char** argv) {
     CLI::App* rp = app.add_subcommand(
         "replay", "Hardware-in-the-loop from a recording: the live ingest code, paced");
     rp->add_option("recording", a.recording,
-                   "Capture folder (lidar.pcap, metadata.json, go1_can.log) or x.pcap with "
-                   "x.json beside it")
+                   "Capture folder (lidar.pcap, metadata.json, go1_can.log), x.pcap with "
+                   "x.json beside it, or a ROS 1 bag from ouster-ros (.bag: packet topics and "
+                   "the metadata topic)")
         ->required();
     rp->add_option("--can", a.can_log, "Go1 CAN log (candump -l or pcap) to use");
     rp->add_option("--speed", a.speed, "1, 2, ... times real time, or max (lossless)")

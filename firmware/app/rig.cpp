@@ -8,6 +8,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
+#include "drivers/net/ros_packet_bag.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "firmware/app/health.hpp"
 #include "firmware/modules/can_ingest.hpp"
@@ -24,6 +25,14 @@ namespace fs = std::filesystem;
 using common::StatusCode;
 
 namespace {
+
+// The sensor of a ROS bag: its metadata topic (host tools: capture::LoadRecordingInfo, which the
+// firmware may not link).
+ouster::SensorInfo LoadBagMetadata(const fs::path& bag_path) {
+    const net::RosPacketBag bag(bag_path);
+    return ouster::ParseMetadata(bag_path.string() + ":" + bag.topics().metadata,
+                                 bag.ReadMetadata());
+}
 
 double Percentile(std::vector<int64_t> v, double p) {
     if (v.empty()) return 0;
@@ -86,8 +95,10 @@ RunSummary RunRig(const RunOptions& o) {
         throw common::Error(StatusCode::kInvalidArgument,
                             "sensor.metadata: live mode needs the sensor's metadata JSON");
     }
+    // A bag's metadata is one of its topics (unless sensor.metadata is set).
     const fs::path metadata_path = replay ? files.metadata : fs::path(cfg.metadata);
-    const ouster::SensorInfo info = ouster::LoadMetadata(metadata_path);
+    const ouster::SensorInfo info = !metadata_path.empty() ? ouster::LoadMetadata(metadata_path)
+                                                           : LoadBagMetadata(files.packets);
 
     // Queues, every slot allocated here.
     runtime::Wakeup worker_wakeup, writer_wakeup, lcm_wakeup;
@@ -132,7 +143,7 @@ RunSummary RunRig(const RunOptions& o) {
     li.receive_buffer_bytes = cfg.receive_buffer_bytes;
     li.sensor_timeout_ns = int64_t(cfg.sensor_timeout_s * 1e9);
     li.publish_imu = cfg.publish_imu;
-    if (replay) li.pcap = files.pcap;
+    if (replay) li.recording = files.packets;
     LidarIngest ingest(li, info, scans, imu, imu_lcm, replay ? &clock : nullptr);
 
     std::optional<CanIngest> can;

@@ -10,7 +10,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "drivers/net/ipv4.hpp"
-#include "drivers/net/pcap_reader.hpp"
+#include "drivers/net/packet_recording.hpp"
 #include "drivers/net/udp_source.hpp"
 
 namespace bimslam::rig {
@@ -47,11 +47,10 @@ struct LidarIngest::Impl {
     // Live.
     std::optional<net::UdpSource> lidar_socket, imu_socket;
     // Replay.
-    std::optional<net::PcapReader> reader;
-    net::UdpExtractor extractor;
+    std::optional<net::PacketRecording> reader;
     int64_t first_capture_ns = kEndOfStream;
-    bool have_first_record = false;
-    net::PcapRecord first_record;  // read ahead to learn the first capture time
+    bool have_first = false;
+    net::UdpDatagram first;  // read ahead to learn the first capture time
 
     // imu_sample_t carries the Ouster IMU in its own frame ("imu"); the decoder hands it over in
     // the sensor frame.
@@ -183,11 +182,14 @@ LidarIngest::LidarIngest(const LidarIngestConfig& config, const ouster::SensorIn
                          runtime::SpscQueue<OusterImuItem>& imu_lcm, ReplayClock* replay)
     : impl_(std::make_unique<Impl>(config, info, scans, imu, imu_lcm, replay)) {
     Impl& m = *impl_;
-    if (!config.pcap.empty()) {
-        m.reader.emplace(config.pcap);
-        m.have_first_record = m.reader->Next(m.first_record);
-        if (m.have_first_record) m.first_capture_ns = m.first_record.timestamp_ns;
-        description_ = "lidar from " + config.pcap.string() + " (lidar port " +
+    if (!config.recording.empty()) {
+        net::PacketRecordingOptions ro;
+        ro.bag_lidar_port = config.lidar_port;
+        ro.bag_imu_port = config.imu_port;
+        m.reader.emplace(config.recording, ro);
+        m.have_first = m.reader->Next(m.first);
+        if (m.have_first) m.first_capture_ns = m.first.timestamp_ns;
+        description_ = "lidar from " + config.recording.string() + " (lidar port " +
                        std::to_string(config.lidar_port) + ", IMU port " +
                        std::to_string(config.imu_port) + ")";
     } else {
@@ -224,7 +226,7 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
             m.c.lidar = m.batcher.stats();
             m.c.imu = m.imu_decoder.stats();
             if (m.reader) {
-                m.c.ip_bad_checksum = m.extractor.stats().ip_bad_checksum;
+                m.c.ip_bad_checksum = m.reader->extractor_stats().ip_bad_checksum;
             }
             counters_.Store(m.c);
             since_publish = 0;
@@ -232,28 +234,24 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
     };
     if (m.reader) {
         // Replay: the recording's datagrams, paced by their capture times.
-        net::PcapRecord record;
         net::UdpDatagram d;
-        bool have = m.have_first_record;
-        if (have) record = m.first_record;
+        bool have = m.have_first;
+        if (have) d = m.first;
         try {
             while (have && !stop.load(std::memory_order_relaxed)) {
                 const int64_t t0 = runtime::MonotonicNs();
                 stats.Beat();
-                const int64_t mono = m.replay->WaitFor(record.timestamp_ns, stop);
-                if (m.extractor.Feed(record, d)) {
-                    m.Route(d.dst_port, d.payload, d.timestamp_ns, mono, stop);
-                }
+                const int64_t mono = m.replay->WaitFor(d.timestamp_ns, stop);
+                m.Route(d.dst_port, d.payload, d.timestamp_ns, mono, stop);
                 stats.Cycle(runtime::MonotonicNs() - std::max(t0, mono), 0);
                 publish(false);
-                have = m.reader->Next(record);
+                have = m.reader->Next(d);
             }
         } catch (const common::FileError&) {
             // A corrupt record header ends the recording here: what came before stands.
             ++m.c.socket_errors;
         }
         if (!stop.load()) {
-            m.extractor.Finish();
             m.batcher.Flush();
             m.Emit(kEndOfStream, runtime::MonotonicNs(), stop);
         }

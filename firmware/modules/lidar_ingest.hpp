@@ -1,9 +1,9 @@
 // The lidar ingest thread: Ouster lidar and IMU datagrams -> FrameBatcher / ImuDecoder -> scans
 // (point clouds with their arrival times) and IMU samples for the odometry thread, IMU samples
 // for LCM. The datagrams come from the sensor's UDP ports (live: two net::UdpSource sockets) or
-// from a recording (replay: the pcap read by drivers/net and paced by its capture times); the
-// code after the source is the same. Per datagram nothing allocates, throws or logs: faults are
-// counted in IngestCounters, which the health thread reads.
+// from a recording (replay: a pcap or a ROS bag read by drivers/net's PacketRecording and paced
+// by its capture or record times); the code after the source is the same. Per datagram nothing
+// allocates, throws or logs: faults are counted in IngestCounters, which the health thread reads.
 //
 // Arrival clock: live, each datagram's kernel receive time (CLOCK_REALTIME) moved to
 // CLOCK_MONOTONIC, so that a step of the wall clock does not reorder anything; replay, its
@@ -27,13 +27,14 @@
 namespace bimslam::rig {
 
 struct LidarIngestConfig {
-    // Live: the sockets. Replay: the pcap (non-empty selects replay).
+    // Live: the sockets. Replay: the recording, a pcap or a ROS bag (non-empty selects replay);
+    // a bag's lidar and IMU topics are given lidar_port and imu_port.
     std::string bind_address = "0.0.0.0";
     std::string sensor_address;
     uint16_t lidar_port = 7502;
     uint16_t imu_port = 7503;
     int receive_buffer_bytes = 8 << 20;
-    std::filesystem::path pcap;
+    std::filesystem::path recording;
     int64_t sensor_timeout_ns = 500'000'000;
     bool publish_imu = true;
 };

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
+#include "drivers/ouster/metadata.hpp"
 
 namespace bimslam::capture {
 namespace {
@@ -24,22 +25,32 @@ std::string DescribePorts(const std::map<uint16_t, uint64_t>& ports) {
 }
 }  // namespace
 
-OusterCapture::OusterCapture(const std::filesystem::path& pcap, const ouster::SensorInfo& info,
+ouster::SensorInfo LoadRecordingInfo(const io::CaptureFiles& files) {
+    if (!files.metadata.empty()) return ouster::LoadMetadata(files.metadata);
+    const net::RosPacketBag bag(files.packets);
+    return ouster::ParseMetadata(files.packets.string() + ":" + bag.topics().metadata,
+                                 bag.ReadMetadata());
+}
+
+OusterCapture::OusterCapture(const std::filesystem::path& recording, const ouster::SensorInfo& info,
                              const OusterCaptureOptions& options)
-    : path_(pcap),
-      reader_(pcap),
-      extractor_(options.extractor),
-      batcher_(info, options.batcher),
-      imu_(info) {
+    : path_(recording), batcher_(info, options.batcher), imu_(info) {
     const size_t lidar_size = batcher_.format().lidar_packet_size();
     std::optional<uint16_t> lidar = options.lidar_port ? options.lidar_port : info.udp_port_lidar;
     imu_port_ = options.imu_port ? options.imu_port : info.udp_port_imu;
+    const bool bag = net::LooksLikeRosBag(recording);
+    if (bag) {
+        // The topics tell the packets apart; the ports only label them.
+        lidar = lidar.value_or(7502);
+        imu_port_ = imu_port_.value_or(uint16_t(*lidar == 7503 ? 7502 : 7503));
+    }
     if (!lidar) {
-        const net::PortGuess guess = net::GuessPortsInCapture(pcap, lidar_size, imu_.packet_size());
+        const net::PortGuess guess =
+            net::GuessPortsInCapture(recording, lidar_size, imu_.packet_size());
         ports_guessed_ = true;
         if (!guess.lidar_port) {
             const std::string drops = net::DescribeDrops(guess.extractor, false);
-            throw FileError(StatusCode::kParseError, pcap.string(), 0,
+            throw FileError(StatusCode::kParseError, recording.string(), 0,
                             "no Ouster lidar packets: none of its " +
                                 std::to_string(guess.datagrams) + " UDP datagrams (" +
                                 std::to_string(guess.records) + " records" +
@@ -53,6 +64,11 @@ OusterCapture::OusterCapture(const std::filesystem::path& pcap, const ouster::Se
         if (!imu_port_) imu_port_ = guess.imu_port;
     }
     lidar_port_ = *lidar;
+    net::PacketRecordingOptions ro;
+    ro.extractor = options.extractor;
+    ro.bag_lidar_port = lidar_port_;
+    ro.bag_imu_port = imu_port_.value_or(0);
+    recording_ = std::make_unique<net::PacketRecording>(recording, ro);
 }
 
 OusterCapture::~OusterCapture() = default;
@@ -82,20 +98,18 @@ const ouster::LidarFrame* OusterCapture::NextFrame() {
     for (;;) {
         if (ready_index_ < batcher_.ready().size()) return batcher_.ready()[ready_index_++];
         if (ended_) return nullptr;
-        net::PcapRecord record;
         net::UdpDatagram d;
-        if (reader_.Next(record)) {
-            if (extractor_.Feed(record, d)) Route(d);
+        if (recording_->Next(d)) {
+            Route(d);
             continue;
         }
         // End of file: a capture that holds Ouster-sized packets on no port is no Ouster capture.
         ended_ = true;
         last_arrival_ns_ = std::numeric_limits<int64_t>::max();
-        stats_.truncated = reader_.truncated();
-        extractor_.Finish();
+        stats_.truncated = recording_->truncated();
         batcher_.Flush();
         ready_index_ = 0;
-        const std::string drops = net::DescribeDrops(extractor_.stats(), false);
+        const std::string drops = net::DescribeDrops(recording_->extractor_stats(), false);
         if (stats_.lidar_packets == 0 && stats_.other_datagrams > 0) {
             throw FileError(StatusCode::kParseError, path_.string(), 0,
                             "no packets on the lidar port " + std::to_string(lidar_port_) +
@@ -105,7 +119,8 @@ const ouster::LidarFrame* OusterCapture::NextFrame() {
         }
         if (stats_.lidar_packets == 0 && !drops.empty()) {
             throw FileError(StatusCode::kParseError, path_.string(), 0,
-                            "0 UDP datagrams from " + std::to_string(extractor_.stats().records) +
+                            "0 UDP datagrams from " +
+                                std::to_string(recording_->extractor_stats().records) +
                                 " records: " + drops);
         }
     }

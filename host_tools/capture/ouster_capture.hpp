@@ -1,7 +1,8 @@
-// An Ouster recording read back as frames: pcap (drivers/net) -> UDP datagrams -> lidar packets
-// to FrameBatcher, IMU packets to ImuDecoder (drivers/ouster). The lidar and IMU ports come from
-// the options, else the metadata, else a first pass guesses them from payload sizes
-// (specs/ouster-lidar.md, "Capture files").
+// An Ouster recording read back as frames: a pcap or a ROS bag (drivers/net's PacketRecording)
+// -> UDP datagrams -> lidar packets to FrameBatcher, IMU packets to ImuDecoder (drivers/ouster).
+// The lidar and IMU ports come from the options, else the metadata, else a first pass over a
+// pcap guesses them from payload sizes (specs/ouster-lidar.md, "Capture files"); a bag's topics
+// say which packet is which, so its ports are only labels.
 #pragma once
 
 #include <filesystem>
@@ -11,8 +12,9 @@
 #include <optional>
 #include <string>
 
+#include "algorithms/io/capture_files.hpp"
 #include "drivers/net/ipv4.hpp"
-#include "drivers/net/pcap_reader.hpp"
+#include "drivers/net/packet_recording.hpp"
 #include "drivers/ouster/frame_batcher.hpp"
 #include "drivers/ouster/imu_packet.hpp"
 #include "drivers/ouster/sensor_info.hpp"
@@ -36,12 +38,17 @@ struct OusterCaptureStats {
     bool truncated = false;  // the file ends in the middle of a record
 };
 
+// The sensor of a recording (io::ResolveCapture): its metadata JSON, else (a bag) the bag's
+// metadata topic. Throws common::FileError naming the file and what is wrong.
+ouster::SensorInfo LoadRecordingInfo(const io::CaptureFiles& files);
+
 class OusterCapture {
 public:
-    // Opens the capture and resolves the ports. Throws common::FileError naming the pcap when it
-    // is unreadable or holds no packet of the metadata's lidar packet size on any port (a capture
-    // of another sensor, or metadata of another sensor mode).
-    OusterCapture(const std::filesystem::path& pcap, const ouster::SensorInfo& info,
+    // Opens the capture (a pcap or a ROS bag of packets) and resolves the ports. Throws
+    // common::FileError naming the file when it is unreadable or holds no packet of the
+    // metadata's lidar packet size on any port (a capture of another sensor, or metadata of
+    // another sensor mode).
+    OusterCapture(const std::filesystem::path& recording, const ouster::SensorInfo& info,
                   const OusterCaptureOptions& options = {});
     ~OusterCapture();
 
@@ -61,15 +68,18 @@ public:
     const OusterCaptureStats& stats() const { return stats_; }
     const ouster::LidarStats& lidar_stats() const { return batcher_.stats(); }
     const ouster::ImuStats& imu_stats() const { return imu_.stats(); }
-    const net::ExtractorStats& extractor_stats() const { return extractor_.stats(); }
+    const net::ExtractorStats& extractor_stats() const { return recording_->extractor_stats(); }
+    // The bag's topics, nullptr for a pcap.
+    const net::RosBagTopics* bag_topics() const {
+        return recording_->bag() ? &recording_->bag()->topics() : nullptr;
+    }
     const ouster::FrameBatcher& batcher() const { return batcher_; }
 
 private:
     void Route(const net::UdpDatagram& d);
 
     std::filesystem::path path_;
-    net::PcapReader reader_;
-    net::UdpExtractor extractor_;
+    std::unique_ptr<net::PacketRecording> recording_;  // opened once the ports are known
     ouster::FrameBatcher batcher_;
     ouster::ImuDecoder imu_;
     uint16_t lidar_port_ = 0;

@@ -5,15 +5,17 @@
 #include <thread>
 
 #include "drivers/net/ipv4.hpp"
-#include "drivers/net/pcap_reader.hpp"
+#include "drivers/net/packet_recording.hpp"
 #include "drivers/net/udp_sender.hpp"
 
 namespace bimslam::capture {
 
 UdpReplayReport ReplayUdp(const UdpReplayOptions& o) {
     using Clock = std::chrono::steady_clock;
-    net::PcapReader reader(o.pcap);
-    net::UdpExtractor extractor;
+    net::PacketRecordingOptions ro;
+    ro.bag_lidar_port = o.bag_lidar_port;
+    ro.bag_imu_port = o.bag_imu_port;
+    net::PacketRecording recording(o.recording, ro);
     net::UdpSenderConfig sc;
     sc.bind_address = o.bind_address;
     sc.bind_port = o.bind_port;
@@ -22,11 +24,8 @@ UdpReplayReport ReplayUdp(const UdpReplayOptions& o) {
     const Clock::time_point start = Clock::now();
     int64_t first_ns = -1;
     double next_progress = 1.0;
-    net::PcapRecord record;
     net::UdpDatagram d;
-    while (reader.Next(record)) {
-        ++report.records;
-        if (!extractor.Feed(record, d)) continue;
+    while (recording.Next(d)) {
         ++report.datagrams;
         const auto port = o.ports.find(d.dst_port);
         if (port == o.ports.end()) {
@@ -54,6 +53,7 @@ UdpReplayReport ReplayUdp(const UdpReplayOptions& o) {
         }
     }
     sender.Flush();
+    report.records = recording.records();
     report.sent = sender.stats().sent;
     report.failed = sender.stats().failed;
     report.bytes = sender.stats().bytes;

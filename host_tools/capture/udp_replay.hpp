@@ -1,9 +1,9 @@
 // A recording's UDP datagrams sent again on a real socket at the recorded pace: the bench
 // stand-in for a sensor (`bimslam ouster replay`: an Ouster's lidar and IMU packets to a rig
 // running `bimslam-rig live`). Datagrams are read from the pcap (drivers/net: any link layer,
-// IPv4 fragments reassembled), those of the selected destination ports are sent to `to`, each
-// at its capture time scaled by 1/speed from the start, in sendmmsg batches of the datagrams due
-// together.
+// IPv4 fragments reassembled) or ROS bag (its topics given the bag ports), those of the selected
+// destination ports are sent to `to`, each at its capture time scaled by 1/speed from the start, in
+// sendmmsg batches of the datagrams due together.
 #pragma once
 
 #include <cstdint>
@@ -15,8 +15,9 @@
 namespace bimslam::capture {
 
 struct UdpReplayOptions {
-    std::filesystem::path pcap;
-    uint32_t to_ip = 0x7F000001;  // host byte order
+    std::filesystem::path recording;  // a pcap, or a ROS bag of ouster-ros packet topics
+    uint16_t bag_lidar_port = 7502, bag_imu_port = 7503;  // the "recorded" ports of a bag's topics
+    uint32_t to_ip = 0x7F000001;                          // host byte order
     // Recorded destination port -> port to send to. Datagrams to other ports are skipped.
     std::map<uint16_t, uint16_t> ports;
     double speed = 1.0;  // 0: as fast as possible
@@ -32,7 +33,7 @@ struct UdpReplayReport {
     double max_late_ms = 0;  // the worst lag behind the recorded schedule
 };
 
-// Throws common::FileError for an unreadable pcap, common::Error for a socket that cannot be
+// Throws common::FileError for an unreadable recording, common::Error for a socket that cannot be
 // set up.
 UdpReplayReport ReplayUdp(const UdpReplayOptions& options);
 

@@ -17,6 +17,7 @@ namespace {
 struct EvaluateArgs {
     std::string est;
     std::string ref;
+    std::string est_times, ref_times;  // KITTI poses' times files
     std::string align = "se3";
     double max_dt_ms = 10.0;
     double rpe_delta_m = 1.0;
@@ -53,8 +54,13 @@ std::string Label(std::string label) {
 
 void PrintJson(const EvaluateArgs& a, const evaluation::EvaluationResult& r) {
     // NaN (no RPE pair, no drift segment) is written as null.
+    const auto or_null = [](const std::string& s) {
+        return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s);
+    };
     const nlohmann::json j = {{"est", a.est},
                               {"ref", a.ref},
+                              {"est_times", or_null(a.est_times)},
+                              {"ref_times", or_null(a.ref_times)},
                               {"est_poses", r.est_poses},
                               {"ref_poses", r.ref_poses},
                               {"matched", r.matched},
@@ -119,7 +125,8 @@ int Evaluate(const EvaluateArgs& a) {
     config.max_dt_ns = std::llround(a.max_dt_ms * 1e6);
     config.rpe_delta_m = a.rpe_delta_m;
     config.drift_segment_m = a.drift_segment_m;
-    const evaluation::EvaluationResult r = evaluation::EvaluateFiles(a.est, a.ref, config);
+    const evaluation::EvaluationResult r =
+        evaluation::EvaluateFiles(a.est, a.ref, config, a.est_times, a.ref_times);
     if (a.json) {
         PrintJson(a, r);
     } else {
@@ -134,12 +141,20 @@ void AddEvaluateCommand(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<EvaluateArgs>();
     CLI::App* cmd = app.add_subcommand(
         "evaluate",
-        "trajectory accuracy of an estimate against a reference (TUM files), as evo "
-        "(github.com/MichaelGrupp/evo) computes it. Exit 2 on a malformed file or fewer than 3 "
-        "poses matched in time");
-    cmd->add_option("--est", a->est, "estimated trajectory (TUM: t x y z qx qy qz qw)")->required();
-    cmd->add_option("--ref", a->ref, "reference trajectory, e.g. ground_truth.tum (TUM)")
+        "trajectory accuracy of an estimate against a reference (TUM files, or KITTI poses with "
+        "a times file), as evo (github.com/MichaelGrupp/evo) computes it. Exit 2 on a malformed "
+        "file or fewer than 3 poses matched in time");
+    cmd->add_option("--est", a->est,
+                    "estimated trajectory: TUM (t x y z qx qy qz qw), or KITTI (12 numbers a "
+                    "line, row-major 3x4) with --est-times")
         ->required();
+    cmd->add_option("--ref", a->ref,
+                    "reference trajectory, e.g. ground_truth.tum: TUM, or KITTI with --ref-times")
+        ->required();
+    cmd->add_option("--est-times", a->est_times,
+                    "times of --est's KITTI poses: one time (seconds) a line, line i for pose i, "
+                    "as KITTI's times.txt");
+    cmd->add_option("--ref-times", a->ref_times, "times of --ref's KITTI poses, as --est-times");
     cmd->add_option("--align", a->align,
                     "se3: rigid least-squares alignment of est onto ref first (Umeyama 1991, "
                     "evo's --align); none: compare as given")
@@ -168,7 +183,10 @@ void AddEvaluateCommand(CLI::App& app, int& exit_code) {
         "--delta_unit m)\n"
         "  drift      relative translation error over --drift-segment-m of path, in % of the "
         "path travelled, mean over every start (KITTI odometry, Geiger et al. 2012)\n"
-        "  distance   path length and duration of the matched reference poses\n");
+        "  distance   path length and duration of the matched reference poses\n"
+        "KITTI poses are given times (evo_ape kitti pairs two KITTI files by line instead) and\n"
+        "are then associated in time like TUM poses, e.g. a KITTI sequence's ground truth:\n"
+        "  bimslam evaluate --est est.tum --ref poses/00.txt --ref-times sequences/00/times.txt\n");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return Evaluate(*a); }); });
 }
 

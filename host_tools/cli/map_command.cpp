@@ -151,8 +151,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "re-runs skip what is up to date");
     cmd->add_option("model", a->model, "the IFC model (IFC2X3 or IFC4)")->required();
     cmd->add_option("recordings", a->recordings,
-                    "recordings: capture folders (lidar.pcap, metadata.json, go1_can.log ...) or "
-                    "x.pcap with x.json beside it")
+                    "recordings: capture folders (lidar.pcap, metadata.json, go1_can.log ...), "
+                    "x.pcap with x.json beside it, or ROS 1 bags from ouster-ros (.bag)")
         ->required();
     cmd->add_option("-o,--output", a->out, "output folder (kept between runs)")->required();
     cmd->add_option("--outliers", a->outliers, "anchoring's outlier rejection: pcm, gnc or none")

@@ -106,14 +106,20 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
         "Runs algorithms/odometry and algorithms/keyframes, the code the rig runs on board.\n"
         "Reads CAPTURE_DIR/lidar.pcap and metadata.json, the Ouster IMU packets in the pcap,\n"
         "CAPTURE_DIR/go1_can.log when present (the Go1 motion prior) and capture.json's lidar\n"
-        "mount when present; or X.pcap with X.json (else metadata.json) beside it.\n"
+        "mount when present; or X.pcap with X.json (else metadata.json) beside it; or a ROS 1\n"
+        "bag recorded by ouster-ros (X.bag: <ns>/lidar_packets, <ns>/imu_packets, <ns>/metadata);\n"
+        "or a folder of per-scan clouds (all .pcd, .ply or KITTI .bin, in name order) with\n"
+        "times.txt (one scan start in seconds a line) in it or in its parent: per-point time\n"
+        "(PCD/PLY field t) deskews; without it deskew is off, and the output says so.\n"
         "Writes SESSION/trajectory.tum (every scan, sensor clock) and the\n"
         "keyframes (Scans/, SCDs/, poses, singlesession_posegraph.g2o, session.json).\n"
         "Compare with ground truth:\n"
         "  bimslam evaluate --est SESSION/trajectory.tum --ref CAPTURE_DIR/ground_truth.tum");
     cmd->add_option("capture", args->capture,
-                    "Capture folder (from the rig or bimslam simulate), or a pcap with its "
-                    "metadata JSON beside it (x.pcap + x.json, as the Ouster tools save them)")
+                    "Capture folder (from the rig or bimslam simulate), a pcap with its "
+                    "metadata JSON beside it (x.pcap + x.json, as the Ouster tools save them), "
+                    "a ROS 1 bag from ouster-ros (.bag), or a folder of per-scan .pcd/.ply/.bin "
+                    "clouds with times.txt")
         ->required();
     cmd->add_option("--can", args->can_log,
                     "Go1 CAN log (candump -l or pcap) to use instead of the folder's go1_can.log");

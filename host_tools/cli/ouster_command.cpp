@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/io/capture_files.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/npy.hpp"
 #include "algorithms/io/pcd.hpp"
@@ -28,18 +29,15 @@ struct OusterOptions {
     bool overwrite = false;
 };
 
-// --meta, else the capture's name with .json (the Ouster tools' habit), else metadata.json in
-// the capture's folder (the layout of our capture folders).
-ouster::SensorInfo LoadInfo(const OusterOptions& o) {
-    if (!o.meta.empty()) return ouster::LoadMetadata(o.meta);
-    const fs::path beside = fs::path(o.pcap).replace_extension(".json");
-    const fs::path folder = fs::path(o.pcap).parent_path() / "metadata.json";
-    for (const fs::path& candidate : {beside, folder}) {
-        if (fs::exists(candidate)) return ouster::LoadMetadata(candidate);
+// The recording as every command takes it (io::ResolveCapture: a capture folder, x.pcap with
+// x.json or metadata.json beside it, a ROS bag), --meta overriding its metadata.
+io::CaptureFiles Files(const OusterOptions& o) {
+    try {
+        return io::ResolveCapture(o.pcap, o.meta);
+    } catch (const FileError& e) {
+        if (!o.meta.empty() || e.path() != o.pcap) throw;
+        throw FileError(e.code(), e.path(), e.line(), e.detail() + "; pass --meta JSON");
     }
-    throw FileError(StatusCode::kNotFound, o.pcap, 0,
-                    "no metadata: pass --meta JSON (looked for " + beside.string() + " and " +
-                        folder.string() + ")");
 }
 
 capture::OusterCaptureOptions CaptureOptions(const OusterOptions& o) {
@@ -50,8 +48,9 @@ capture::OusterCaptureOptions CaptureOptions(const OusterOptions& o) {
 }
 
 int Info(const OusterOptions& o) {
-    const ouster::SensorInfo info = LoadInfo(o);
-    capture::OusterCapture cap(o.pcap, info, CaptureOptions(o));
+    const io::CaptureFiles files = Files(o);
+    const ouster::SensorInfo info = capture::LoadRecordingInfo(files);
+    capture::OusterCapture cap(files.packets, info, CaptureOptions(o));
     uint64_t first_id = 0, last_id = 0, n = 0;
     while (const ouster::LidarFrame* f = cap.NextFrame()) {
         if (n++ == 0) first_id = f->frame_id;
@@ -69,8 +68,10 @@ int Info(const OusterOptions& o) {
             cap.imu_stats().rejected[r];
     }
     const auto& es = cap.extractor_stats();
+    const net::RosBagTopics* bag = cap.bag_topics();
     nlohmann::json j = {
-        {"file", o.pcap},
+        {"file", files.packets.string()},
+        {"format", bag ? "rosbag" : "pcap"},
         {"metadata", info.source},
         {"prod_line", info.prod_line},
         {"prod_sn", info.prod_sn},
@@ -103,18 +104,32 @@ int Info(const OusterOptions& o) {
                               es.evicted_datagrams_limit + es.evicted_datagrams_bytes},
         {"truncated", cs.truncated},
     };
+    if (bag) {
+        const auto topic = [](const std::string& t) {
+            return t.empty() ? nlohmann::json(nullptr) : nlohmann::json(t);
+        };
+        j["bag_topics"] = {
+            {"lidar", bag->lidar}, {"imu", topic(bag->imu)}, {"metadata", topic(bag->metadata)}};
+    }
     if (o.json) {
         std::cout << j.dump(2) << "\n";
         return kExitOk;
     }
-    std::cout << "capture     " << o.pcap << (cs.truncated ? "  (cut off mid-packet)" : "") << "\n"
-              << "sensor      " << info.prod_line << " sn " << info.prod_sn << " " << info.build_rev
+    std::cout << "capture     " << files.packets.string()
+              << (cs.truncated ? "  (cut off mid-packet)" : "") << "\n";
+    if (bag) {
+        std::cout << "ROS bag     lidar " << bag->lidar << ", imu "
+                  << (bag->imu.empty() ? "none" : bag->imu) << ", metadata "
+                  << (bag->metadata.empty() ? "none" : bag->metadata) << "\n";
+    }
+    std::cout << "sensor      " << info.prod_line << " sn " << info.prod_sn << " " << info.build_rev
               << ", " << ToString(info.format.lidar_profile) << ", "
               << info.format.pixels_per_column << " x " << info.format.columns_per_frame
               << "  (metadata " << info.source << ")\n"
               << "ports       lidar " << cap.lidar_port() << ", imu "
               << (cap.imu_port() ? std::to_string(*cap.imu_port()) : "none")
-              << (cap.ports_guessed() ? " (guessed from packet sizes)" : "") << "\n"
+              << (cap.ports_guessed() ? " (guessed from packet sizes)" : "")
+              << (bag ? " (labels given to the bag's topics)" : "") << "\n"
               << "datagrams   " << cs.datagrams << ": " << cs.lidar_packets << " lidar, "
               << cs.imu_packets << " imu, " << cs.other_datagrams << " other";
     if (es.reassembled > 0) std::cout << " (" << es.reassembled << " from IPv4 fragments)";
@@ -141,21 +156,22 @@ void WriteArray(const fs::path& dir, const std::string& name, const T* data,
 }
 
 int Export(const OusterOptions& o) {
-    const ouster::SensorInfo info = LoadInfo(o);
+    const io::CaptureFiles files = Files(o);
+    const ouster::SensorInfo info = capture::LoadRecordingInfo(files);
     const fs::path out = o.out;
     if (fs::exists(out) && !fs::is_empty(out) && !o.overwrite) {
         throw FileError(
             StatusCode::kAlreadyExists, out.string(), 0,
             "already exists and is not empty; pass --overwrite or choose another --out");
     }
-    capture::OusterCapture cap(o.pcap, info, CaptureOptions(o));
+    capture::OusterCapture cap(files.packets, info, CaptureOptions(o));
     int seen = 0;
     const ouster::LidarFrame* frame = nullptr;
     while ((frame = cap.NextFrame()) != nullptr) {
         if (frame->complete && seen++ == o.frame) break;
     }
     if (frame == nullptr) {
-        throw FileError(StatusCode::kNotFound, o.pcap, 0,
+        throw FileError(StatusCode::kNotFound, files.packets.string(), 0,
                         seen == 0 ? std::string("no frames: the capture holds no complete frame")
                                   : "has " + std::to_string(seen) + " complete frames; --frame " +
                                         std::to_string(o.frame) + " is beyond them");
@@ -192,7 +208,7 @@ int Export(const OusterOptions& o) {
     common::PointCloud cloud;
     ouster::ToPointCloud(*frame, &cloud);
     io::WritePcd(out / "cloud.pcd", cloud);
-    const nlohmann::json j = {{"source", o.pcap},
+    const nlohmann::json j = {{"source", files.packets.string()},
                               {"metadata", info.source},
                               {"frame_index", o.frame},
                               {"frame_id", frame->frame_id},
@@ -213,10 +229,13 @@ int Export(const OusterOptions& o) {
 }
 
 void AddCommon(CLI::App* cmd, OusterOptions& o) {
-    cmd->add_option("PCAP", o.pcap, "capture (.pcap, .pcapng, optionally .gz)")->required();
-    cmd->add_option(
-        "--meta", o.meta,
-        "sensor metadata JSON (default: PCAP with .json, else metadata.json beside it)");
+    cmd->add_option("RECORDING", o.pcap,
+                    "a capture (.pcap, .pcapng, optionally .gz), a capture folder, or a ROS 1 bag "
+                    "from ouster-ros (.bag: lidar/IMU packet topics and the metadata topic)")
+        ->required();
+    cmd->add_option("--meta", o.meta,
+                    "sensor metadata JSON (default: RECORDING with .json, else metadata.json "
+                    "beside it; a bag's own metadata topic)");
     cmd->add_option("--lidar-port", o.lidar_port, "lidar UDP port (default: metadata, or guessed)");
     cmd->add_option("--imu-port", o.imu_port, "IMU UDP port (default: metadata, or guessed)");
 }

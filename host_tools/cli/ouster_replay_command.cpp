@@ -13,6 +13,7 @@
 #include "drivers/ouster/frame_batcher.hpp"
 #include "drivers/ouster/imu_packet.hpp"
 #include "drivers/ouster/metadata.hpp"
+#include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/capture/udp_replay.hpp"
 #include "host_tools/cli/command.hpp"
 
@@ -30,14 +31,14 @@ struct ReplayArgs {
 
 int Replay(const ReplayArgs& a) {
     const io::CaptureFiles files = io::ResolveCapture(a.recording);
-    const ouster::SensorInfo info = ouster::LoadMetadata(files.metadata);
+    const ouster::SensorInfo info = capture::LoadRecordingInfo(files);
     const auto to = net::ParseIpv4(a.to);
     if (!to) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "--to: '" + a.to + "' is not a dotted IPv4 address");
     }
     capture::UdpReplayOptions o;
-    o.pcap = files.pcap;
+    o.recording = files.packets;
     o.to_ip = *to;
     if (a.speed == "max") {
         o.speed = 0;
@@ -54,16 +55,21 @@ int Replay(const ReplayArgs& a) {
     }
     // The recorded ports: the metadata's, else guessed from the packet sizes.
     std::optional<uint16_t> lidar = info.udp_port_lidar, imu = info.udp_port_imu;
+    if (files.bag) {
+        // A bag's topics say which packet is which: its "recorded" ports are labels.
+        lidar = o.bag_lidar_port = lidar.value_or(7502);
+        imu = o.bag_imu_port = imu.value_or(uint16_t(*lidar == 7503 ? 7502 : 7503));
+    }
     if (!lidar) {
         const ouster::FrameBatcher batcher(info);
         const ouster::ImuDecoder decoder(info);
         const net::PortGuess g = net::GuessPortsInCapture(
-            files.pcap, batcher.format().lidar_packet_size(), decoder.packet_size());
+            files.packets, batcher.format().lidar_packet_size(), decoder.packet_size());
         lidar = g.lidar_port;
         if (!imu) imu = g.imu_port;
     }
     if (!lidar) {
-        throw common::FileError(common::StatusCode::kParseError, files.pcap.string(), 0,
+        throw common::FileError(common::StatusCode::kParseError, files.packets.string(), 0,
                                 "no Ouster lidar packets found (no port in the metadata)");
     }
     o.ports[*lidar] = a.lidar_port.value_or(*lidar);
@@ -86,8 +92,8 @@ int Replay(const ReplayArgs& a) {
     } else {
         std::cout << std::fixed << std::setprecision(1) << "sent " << r.sent << " datagrams ("
                   << r.bytes / 1e6 << " MB, " << r.failed << " failed) to " << a.to << " ports "
-                  << o.ports.begin()->second << (imu ? "/" + std::to_string(o.ports[*imu]) : "")
-                  << ": " << r.capture_s << " s of capture in " << r.wall_s << " s, at most "
+                  << o.ports[*lidar] << (imu ? "/" + std::to_string(o.ports[*imu]) : "") << ": "
+                  << r.capture_s << " s of capture in " << r.wall_s << " s, at most "
                   << std::setprecision(2) << r.max_late_ms << " ms behind schedule\n";
     }
     return r.failed == 0 ? kExitOk : kExitFailure;
@@ -100,7 +106,8 @@ void AddOusterReplayCommand(CLI::App& ouster, int& exit_code) {
     CLI::App* cmd = ouster.add_subcommand(
         "replay", "Send a recording's lidar and IMU packets to a rig at the recorded pace");
     cmd->add_option("recording", a->recording,
-                    "Capture folder, or x.pcap with x.json (else metadata.json) beside it")
+                    "Capture folder, x.pcap with x.json (else metadata.json) beside it, or a "
+                    "ROS 1 bag from ouster-ros (.bag)")
         ->required();
     cmd->add_option("--to", a->to, "IPv4 address of the rig")->capture_default_str();
     cmd->add_option("--speed", a->speed, "1, 2, ... times real time, or max")

@@ -11,6 +11,7 @@
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/io/session.hpp"
 
 namespace bimslam::evaluation {
 namespace {
@@ -249,11 +250,54 @@ EvaluationResult Evaluate(const std::vector<io::StampedPose>& est,
     return r;
 }
 
+std::vector<io::StampedPose> ReadTrajectory(const std::filesystem::path& poses,
+                                            const std::filesystem::path& times,
+                                            const std::string& times_option) {
+    if (times.empty()) {
+        try {
+            return io::ReadTum(poses);
+        } catch (const common::FileError& e) {
+            // A KITTI file read as TUM fails on its first line with 12 numbers: say what it is.
+            std::vector<Eigen::Isometry3d> kitti;
+            try {
+                kitti = io::ReadKitti(poses);
+            } catch (const common::FileError&) {
+                throw e;
+            }
+            throw common::FileError(common::StatusCode::kInvalidArgument, poses.string(), 0,
+                                    "holds KITTI poses (12 numbers a line, " +
+                                        std::to_string(kitti.size()) +
+                                        " poses) and KITTI poses carry no time: give " +
+                                        times_option + " (one time in seconds a line)");
+        }
+    }
+    const std::vector<Eigen::Isometry3d> kitti = io::ReadKitti(poses);
+    const std::vector<int64_t> stamps = io::ReadTimes(times);
+    if (stamps.size() != kitti.size()) {
+        throw common::FileError(common::StatusCode::kParseError, times.string(), 0,
+                                std::to_string(stamps.size()) + " times for the " +
+                                    std::to_string(kitti.size()) + " poses of " + poses.string() +
+                                    ": expected one time a pose");
+    }
+    std::vector<io::StampedPose> out;
+    out.reserve(kitti.size());
+    for (size_t i = 0; i < kitti.size(); ++i) {
+        if (i > 0 && stamps[i] < stamps[i - 1]) {
+            throw common::FileError(common::StatusCode::kParseError, times.string(), i + 1,
+                                    "times must not decrease");
+        }
+        out.push_back(io::StampedPose::FromIsometry(stamps[i], kitti[i]));
+    }
+    return out;
+}
+
 EvaluationResult EvaluateFiles(const std::filesystem::path& est_path,
                                const std::filesystem::path& ref_path,
-                               const EvaluationConfig& config) {
-    const std::vector<io::StampedPose> est = io::ReadTum(est_path);
-    const std::vector<io::StampedPose> ref = io::ReadTum(ref_path);
+                               const EvaluationConfig& config,
+                               const std::filesystem::path& est_times,
+                               const std::filesystem::path& ref_times) {
+    const std::vector<io::StampedPose> est = ReadTrajectory(est_path, est_times, "--est-times");
+    const std::vector<io::StampedPose> ref = ReadTrajectory(ref_path, ref_times, "--ref-times");
     return Evaluate(est, ref, config, est_path.string(), ref_path.string());
 }
 

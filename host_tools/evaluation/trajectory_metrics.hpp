@@ -90,9 +90,22 @@ EvaluationResult Evaluate(const std::vector<io::StampedPose>& est,
                           const std::string& est_name = "estimate",
                           const std::string& ref_name = "reference");
 
-// Reads both TUM files (io::ReadTum: common::FileError naming file and line) and evaluates.
+// A trajectory file: TUM (`times` empty), or KITTI poses (12 numbers a line, row-major 3x4) with
+// a times file (one time in seconds a line, as KITTI's sequences/NN/times.txt), line i of one
+// with line i of the other. evo's `evo_ape kitti` has no times and pairs two KITTI files by line
+// index; with times, KITTI poses go through the same time association as TUM (evo's `tum`
+// reading), so an estimate and a reference of different rates or starts still pair correctly.
+// Throws common::FileError naming the file and line; a KITTI file given without times says so
+// and names `times_option`.
+std::vector<io::StampedPose> ReadTrajectory(const std::filesystem::path& poses,
+                                            const std::filesystem::path& times,
+                                            const std::string& times_option = "a times file");
+
+// Reads both trajectories (ReadTrajectory) and evaluates.
 EvaluationResult EvaluateFiles(const std::filesystem::path& est_path,
                                const std::filesystem::path& ref_path,
-                               const EvaluationConfig& config);
+                               const EvaluationConfig& config,
+                               const std::filesystem::path& est_times = {},
+                               const std::filesystem::path& ref_times = {});
 
 }  // namespace bimslam::evaluation

@@ -48,33 +48,32 @@ std::vector<RecordingInput> CheckRecordings(const std::vector<fs::path>& recordi
         RecordingInput in;
         in.path = r;
         in.files = io::ResolveCapture(r);
-        const ouster::SensorInfo info = ouster::LoadMetadata(in.files.metadata);
+        const ouster::SensorInfo info = capture::LoadRecordingInfo(in.files);
         // Throws naming the pcap when it holds no packet of this sensor's lidar packet size; and
         // a recording must give at least one frame (read up to the first, or to the end of a pcap
         // with none).
-        capture::OusterCapture probe(in.files.pcap, info);
+        capture::OusterCapture probe(in.files.packets, info);
         if (probe.NextFrame() == nullptr) {
             std::string ports;
             for (const auto& [port, n] : probe.stats().other_ports) {
                 ports += (ports.empty() ? "" : ", ") + std::to_string(n) + " on port " +
                          std::to_string(port);
             }
-            throw FileError(StatusCode::kParseError, in.files.pcap.string(), 0,
-                            "not an Ouster recording of the sensor in " +
-                                in.files.metadata.string() + ": no lidar frame on port " +
-                                std::to_string(probe.lidar_port()) +
+            throw FileError(StatusCode::kParseError, in.files.packets.string(), 0,
+                            "not an Ouster recording of the sensor in " + info.source +
+                                ": no lidar frame on port " + std::to_string(probe.lidar_port()) +
                                 (ports.empty() ? "" : " (UDP datagrams: " + ports + ")"));
         }
         const fs::path norm = r.lexically_normal();
         std::string name = in.files.folder
                                ? (norm.has_filename() ? norm.filename().string()
                                                       : norm.parent_path().filename().string())
-                               : in.files.pcap.stem().string();
+                               : in.files.packets.stem().string();
         if (name.empty() || name == "." || name == "reference") name = "recording";
         std::string unique = name;
         for (int k = 2; !used.insert(unique).second; ++k) unique = name + "_" + std::to_string(k);
         in.name = unique;
-        const fs::path dir = in.files.pcap.parent_path();
+        const fs::path dir = in.files.packets.parent_path();
         std::error_code ec;
         if (fs::is_regular_file(dir / "ground_truth.tum", ec))
             in.ground_truth = dir / "ground_truth.tum";

@@ -167,13 +167,13 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
     std::vector<StepStamp> odometry;
     for (const RecordingInput& r : recordings) {
         StepStamp s("odometry_" + r.name);
-        s.AddFileTime("pcap", r.files.pcap);
-        s.AddFileTime("metadata", r.files.metadata);
+        s.AddFileTime("pcap", r.files.packets);  // a pcap or a bag
+        if (!r.files.metadata.empty()) s.AddFileTime("metadata", r.files.metadata);
         if (!r.files.can_log.empty()) s.AddFileTime("can_log", r.files.can_log);
         if (!r.files.capture_json.empty()) s.AddFileTime("capture_json", r.files.capture_json);
         s.AddParameter("budget_ms", config.odometry_budget_ms);
         const std::string step = "odometry " + r.name;
-        stepper.Run(step, "odometry_" + r.name, s, r.files.pcap.string(), [&] {
+        stepper.Run(step, "odometry_" + r.name, s, r.files.packets.string(), [&] {
             replay::CaptureOdometryOptions o;
             o.capture_dir = r.path;
             o.session_dir = out / "odometry" / r.name;
@@ -190,7 +190,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
             fs::create_directories(out / "odometry");
             const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);
             const json stats = {{"recording", r.path.string()},
-                                {"pcap", r.files.pcap.string()},
+                                {"pcap", r.files.packets.string()},
                                 {"scans", rep.scans},
                                 {"keyframes", rep.keyframes},
                                 {"incomplete_frames", rep.incomplete_frames},

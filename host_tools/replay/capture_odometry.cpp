@@ -15,6 +15,7 @@
 #include "drivers/ouster/metadata.hpp"
 #include "host_tools/capture/can_log.hpp"
 #include "host_tools/capture/ouster_capture.hpp"
+#include "host_tools/replay/cloud_folder.hpp"
 
 namespace bimslam::replay {
 namespace fs = std::filesystem;
@@ -49,9 +50,16 @@ double Percentile(std::vector<double> v, double p) {
 CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     const auto wall_start = std::chrono::steady_clock::now();
     CaptureOdometryReport report;
-    const io::CaptureFiles files = io::ResolveCapture(o.capture_dir);
-    const fs::path& pcap = files.pcap;
-    const fs::path& metadata = files.metadata;
+    // A folder of per-scan clouds (cloud_folder.hpp), or an Ouster recording.
+    std::optional<CloudFolder> clouds;
+    io::CaptureFiles files;
+    if (IsCloudFolder(o.capture_dir)) {
+        clouds = ResolveCloudFolder(o.capture_dir);
+        files.packets = clouds->dir;
+    } else {
+        files = io::ResolveCapture(o.capture_dir);
+    }
+    const fs::path& pcap = files.packets;
     const fs::path can_log = o.can_log.empty() ? files.can_log : o.can_log;
     odometry::LidarOdometryConfig config = o.odometry;
     config.use_imu = config.use_imu && o.use_imu;
@@ -68,28 +76,70 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
         }
         body = ReadGo1(can_log);
         report.used_can = true;
+    } else if (o.use_can && clouds) {
+        report.notes.push_back("a folder of point clouds: no IMU, no CAN (--can LOG adds one)");
     } else if (o.use_can) {
         report.notes.push_back(files.folder ? "no go1_can.log: no body-motion prior"
-                                            : "no CAN log (a pcap was given; --can LOG adds "
-                                              "one): no body-motion prior");
+                                            : "no CAN log (a recording without a capture folder; "
+                                              "--can LOG adds one): no body-motion prior");
     }
     config.use_body_motion = report.used_can && !body.empty();
 
-    const ouster::SensorInfo info = ouster::LoadMetadata(metadata);
-    capture::OusterCapture capture(pcap, info);
+    ouster::SensorInfo info;
+    if (clouds) {
+        info.prod_line = "point clouds (" + clouds->extension + ")";
+        info.format.pixels_per_column = info.format.columns_per_frame = 0;
+    } else {
+        info = capture::LoadRecordingInfo(files);
+    }
+    // The session names its metadata file: the JSON's, the bag's (whose metadata topic it is),
+    // or a cloud folder's times file.
+    const std::string metadata_name =
+        clouds ? clouds->times.filename().string()
+               : (files.metadata.empty() ? files.packets : files.metadata).filename().string();
+    std::optional<capture::OusterCapture> capture;
+    if (!clouds) capture.emplace(pcap, info);
     pipeline::ScanPipelineConfig pc;
     pc.odometry = config;
     pc.keyframes = o.keyframes;
     pipeline::ScanPipeline join(pc);
-    capture.OnImu([&](const ouster::ImuSample& s) { join.AddImu(pipeline::ImuFromOuster(s)); });
+    if (capture) {
+        capture->OnImu(
+            [&](const ouster::ImuSample& s) { join.AddImu(pipeline::ImuFromOuster(s)); });
+    }
+    // The next scan into `scan`: a frame of the recording, or the folder's next cloud.
+    size_t next_cloud = 0;
+    const auto next_scan = [&](pipeline::ScanInput* scan) {
+        if (capture) {
+            const ouster::LidarFrame* frame = capture->NextFrame();
+            if (frame == nullptr) return false;
+            // The packet that emitted the frame: the last one read (the end of the file for the
+            // frame Flush emits, after every record).
+            pipeline::FrameToScan(*frame, capture->last_arrival_ns(), join.imu_added(), scan);
+            return true;
+        }
+        if (next_cloud == clouds->scans.size()) return false;
+        scan->cloud = ReadScanCloud(*clouds, next_cloud);
+        if (next_cloud == 0 && !scan->cloud.HasTime()) {
+            report.notes.push_back("the scans of " + clouds->dir.string() +
+                                   " carry no per-point time: deskew is off (each scan is taken "
+                                   "as if captured at one instant)");
+        }
+        scan->complete = true;
+        scan->frame_id = int64_t(next_cloud++);
+        scan->last_column_ns = -1;
+        scan->last_arrival_ns = 0;
+        scan->emitted_arrival_ns = scan->cloud.stamp.ns;
+        scan->imu_before = 0;
+        return true;
+    };
 
     std::optional<io::SessionWriter> writer;
     if (!o.session_dir.empty()) {
-        writer.emplace(
-            o.session_dir,
-            pipeline::MakeSessionManifest(info, metadata.filename().string(), o.keyframes),
-            io::SessionWriterOptions{
-                .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
+        writer.emplace(o.session_dir,
+                       pipeline::MakeSessionManifest(info, metadata_name, o.keyframes),
+                       io::SessionWriterOptions{
+                           .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
     }
 
     pipeline::ScanInput scan;
@@ -99,10 +149,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     // session so far stays on disk without session.json (SessionWriter's destructor flushes it),
     // recoverable up to its last complete keyframe, and the message says so.
     try {
-        while (const ouster::LidarFrame* frame = capture.NextFrame()) {
-            // The packet that emitted the frame: the last one read (the end of the file for the
-            // frame Flush emits, after every record).
-            pipeline::FrameToScan(*frame, capture.last_arrival_ns(), join.imu_added(), &scan);
+        while (next_scan(&scan)) {
             const int64_t stamp = scan.cloud.stamp.ns;
             if (first_stamp < 0) first_stamp = stamp;
             if (o.max_duration_s > 0 && double(stamp - first_stamp) * 1e-9 > o.max_duration_s)
@@ -126,8 +173,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
                                        ": the odometry started again in " + next.string());
                 writer.reset();
                 writer.emplace(
-                    next,
-                    pipeline::MakeSessionManifest(info, metadata.filename().string(), o.keyframes),
+                    next, pipeline::MakeSessionManifest(info, metadata_name, o.keyframes),
                     io::SessionWriterOptions{
                         .overwrite = o.overwrite, .flush_every = 50, .sync_each_file = false});
             }

@@ -92,6 +92,58 @@ TEST(EvaluateCli, ReportsTheErrorOfAnOffsetTrajectory) {
     EXPECT_NE(table.out.find("rmse 50.00 cm"), std::string::npos) << table.out;
 }
 
+// KITTI poses with a times file (KITTI's times.txt layout: seconds in exponent notation) give the
+// figures of the same poses as TUM; without times, or with a times file of another length, exit 2
+// naming the file.
+TEST(EvaluateCli, KittiPosesWithATimesFileEvaluateAsTum) {
+    test::TempDir tmp;
+    const auto ref = Walk();
+    std::vector<io::StampedPose> est(ref.begin() + 10, ref.end());
+    std::vector<Eigen::Isometry3d> kitti;
+    std::string times;
+    for (auto& p : est) {
+        p.translation += Eigen::Vector3d(0.3, 0.4, 0.0);
+        p.rotation =
+            Eigen::Quaterniond(Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX())) * p.rotation;
+    }
+    for (const auto& p : ref) {
+        kitti.push_back(p.Pose());
+        char line[64];
+        std::snprintf(line, sizeof(line), "%.6e\n", double(p.stamp_ns) * 1e-9);
+        times += line;
+    }
+    io::WriteTum(tmp / "ref.tum", ref);
+    io::WriteTum(tmp / "est.tum", est);
+    io::WriteKitti(tmp / "ref_kitti.txt", kitti);
+    test::WriteBytes(tmp / "times.txt", times);
+    const std::string est_arg = "--est " + (tmp / "est.tum").string();
+    const nlohmann::json tum = EvaluateJson(est_arg + " --ref " + (tmp / "ref.tum").string());
+    const nlohmann::json k = EvaluateJson(est_arg + " --ref " + (tmp / "ref_kitti.txt").string() +
+                                          " --ref-times " + (tmp / "times.txt").string());
+    EXPECT_EQ(k.at("matched"), 190);
+    EXPECT_EQ(k.at("ref_times"), (tmp / "times.txt").string());
+    for (const char* key : {"ape_trans_rmse_m", "ape_rot_rmse_deg", "rpe_trans_rmse_m"}) {
+        EXPECT_NEAR(k.at(key).get<double>(), tum.at(key).get<double>(), 1e-9) << key;
+    }
+    EXPECT_GT(tum.at("ape_rot_rmse_deg").get<double>(), 0.5);
+
+    // No times: the message says what the file holds and which option to give.
+    const auto no_times = test::RunCommand(kCli + " evaluate " + est_arg + " --ref " +
+                                           (tmp / "ref_kitti.txt").string());
+    EXPECT_EQ(no_times.exit_code, 2);
+    EXPECT_NE(no_times.err.find((tmp / "ref_kitti.txt").string()), std::string::npos);
+    EXPECT_NE(no_times.err.find("KITTI poses"), std::string::npos) << no_times.err;
+    EXPECT_NE(no_times.err.find("--ref-times"), std::string::npos) << no_times.err;
+    // One time short.
+    test::WriteBytes(tmp / "short.txt", times.substr(0, times.rfind('\n', times.size() - 2) + 1));
+    const auto short_times = test::RunCommand(kCli + " evaluate " + est_arg + " --ref " +
+                                              (tmp / "ref_kitti.txt").string() + " --ref-times " +
+                                              (tmp / "short.txt").string());
+    EXPECT_EQ(short_times.exit_code, 2);
+    EXPECT_NE(short_times.err.find("199 times for the 200 poses"), std::string::npos)
+        << short_times.err;
+}
+
 TEST(EvaluateCli, BadInputExits2NamingTheFile) {
     test::TempDir tmp;
     io::WriteTum(tmp / "ref.tum", Walk());

@@ -191,7 +191,7 @@ TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
         Tmp() / "bridge.out", Tmp() / "bridge.err");
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     capture::UdpReplayOptions go1;
-    go1.pcap = cap / "go1_highstate.pcap";
+    go1.recording = cap / "go1_highstate.pcap";
     go1.ports[8090] = uint16_t(go1_port + 1);
     go1.bind_address = "127.0.0.1";
     go1.bind_port = uint16_t(go1_port);

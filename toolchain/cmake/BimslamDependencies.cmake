@@ -27,6 +27,29 @@ target_include_directories(bimslam_flann SYSTEM INTERFACE "${FLANN_INCLUDE_DIR}"
 target_link_libraries(bimslam_flann INTERFACE PkgConfig::LZ4)
 add_library(bimslam::flann ALIAS bimslam_flann)
 
+# ROS 1 bags (ouster-ros recordings): Debian's rosbag_storage (librosbag-storage-dev), the ROS
+# library itself. Its CMake package pulls in catkin/ament machinery that runs Python at configure
+# time, and its pkg-config file requires pluginlib.pc, which Debian does not ship; so the library
+# and the header folders its headers include (pluginlib, class_loader, rcutils, rcpputils,
+# ament_index_cpp under /usr/include/<name>) are found by hand. Used by drivers/net only.
+find_path(ROSBAG_INCLUDE_DIR rosbag/bag.h REQUIRED)
+find_path(ROSCPP_SERIALIZATION_INCLUDE_DIR ros/serialization.h REQUIRED)
+find_library(ROSBAG_STORAGE_LIBRARY rosbag_storage REQUIRED)
+add_library(bimslam_rosbag INTERFACE)
+target_include_directories(bimslam_rosbag SYSTEM INTERFACE "${ROSBAG_INCLUDE_DIR}"
+                                                           "${ROSCPP_SERIALIZATION_INCLUDE_DIR}")
+foreach(sub pluginlib class_loader rcutils rcpputils ament_index_cpp)
+    find_path(ROSBAG_${sub}_DIR NAMES ${sub} PATHS "${ROSBAG_INCLUDE_DIR}/${sub}" NO_DEFAULT_PATH
+              REQUIRED)
+    target_include_directories(bimslam_rosbag SYSTEM INTERFACE "${ROSBAG_${sub}_DIR}")
+endforeach()
+foreach(lib roscpp_serialization rostime cpp_common console_bridge boost_filesystem)
+    find_library(ROSBAG_DEP_${lib} ${lib} REQUIRED)
+    list(APPEND _rosbag_deps "${ROSBAG_DEP_${lib}}")
+endforeach()
+target_link_libraries(bimslam_rosbag INTERFACE "${ROSBAG_STORAGE_LIBRARY}" ${_rosbag_deps})
+add_library(bimslam::rosbag ALIAS bimslam_rosbag)
+
 # Host-only dependencies (host_tools/, and algorithms/simulation for Embree); the layer rules
 # keep them out of firmware/ and drivers/.
 # Embree 3: ray casting for the LiDAR simulation.
