@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::registration {
 using common::Require;
@@ -38,8 +39,9 @@ void SurfelMap::Add(const OrientedCloud& cloud, const Eigen::Isometry3d& T_map_c
         if (!p.allFinite() || !n.allFinite()) continue;
         const int bin = NormalBin(n);
         const uint64_t key = common::VoxelKey(p, inv_size_);
-        const int32_t i = tables_[bin].Insert(key, static_cast<int32_t>(sums_.size()));
-        if (size_t(i) == sums_.size()) {
+        bool fresh = false;
+        const uint32_t i = tables_[bin].FindOrInsert(key, uint32_t(sums_.size()), &fresh);
+        if (fresh) {
             sums_.emplace_back();
             sums_.back().origin = p.cast<double>();
             sums_.back().key = key;
@@ -77,7 +79,7 @@ void SurfelMap::Build() {
         f.spread[0] = static_cast<float>(std::sqrt(lambda(2)));
         f.spread[1] = static_cast<float>(std::sqrt(lambda(1)));
         f.points = static_cast<uint32_t>(s.n);
-        tables_[s.bin].Insert(s.key, static_cast<int32_t>(surfels_.size()));
+        tables_[s.bin].FindOrInsert(s.key, uint32_t(surfels_.size()));
         surfels_.push_back(f);
     }
     sums_.clear();
@@ -85,21 +87,15 @@ void SurfelMap::Build() {
     built_ = true;
 }
 
-namespace {
-// A voxel and its 6 face neighbours.
-const std::array<Eigen::Vector3i, 7> kNeighbours = {
-    Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
-    Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
-    Eigen::Vector3i(0, 0, -1)};
-}  // namespace
+using common::kVoxelAndFaceNeighbours;
 
 const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
                               float min_cos_angle, float* distance) const {
-    const Eigen::Vector3i v = common::VoxelOf(p, inv_size_);
+    const Eigen::Vector3i v = common::VoxelOf(p * inv_size_);
     const Surfel* best = nullptr;
     auto look = [&](int bin, const Eigen::Vector3i& d) {
-        const int32_t i = tables_[bin].Find(common::PackVoxel(v + d));
-        if (i < 0) return;
+        const uint32_t i = tables_[bin].Find(common::PackVoxel(v + d));
+        if (i == common::VoxelHash::kAbsent) return;
         const Surfel& s = surfels_[size_t(i)];
         if (s.normal.dot(n) < min_cos_angle) return;
         const float r = s.normal.dot(p) - s.offset;
@@ -116,12 +112,12 @@ const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n
     int second = 0;
     if (a.maxCoeff(&second) > 0.5f) bins[1] = 2 * second + (n[second] < 0 ? 1 : 0);
     // Most points lie on the plane of their own voxel: then the neighbours cannot be nearer.
-    look(bins[0], kNeighbours[0]);
+    look(bins[0], kVoxelAndFaceNeighbours[0]);
     if (best && std::abs(*distance) < 0.1f / inv_size_) return best;
     for (const int bin : bins) {
         if (bin < 0) continue;
-        for (size_t k = (bin == bins[0] ? 1 : 0); k < kNeighbours.size(); ++k)
-            look(bin, kNeighbours[k]);
+        for (size_t k = (bin == bins[0] ? 1 : 0); k < kVoxelAndFaceNeighbours.size(); ++k)
+            look(bin, kVoxelAndFaceNeighbours[k]);
     }
     return best;
 }
@@ -130,8 +126,8 @@ int SurfelMap::InVoxel(const Eigen::Vector3f& p, const Surfel* out[kNormalBins])
     const uint64_t key = common::VoxelKey(p, inv_size_);
     int n = 0;
     for (int bin = 0; bin < kNormalBins; ++bin) {
-        const int32_t i = tables_[bin].Find(key);
-        if (i >= 0) out[n++] = &surfels_[size_t(i)];
+        const uint32_t i = tables_[bin].Find(key);
+        if (i != common::VoxelHash::kAbsent) out[n++] = &surfels_[size_t(i)];
     }
     return n;
 }

@@ -69,6 +69,83 @@ void Check(Scene::Impl& impl, const char* what) {
 void Require(bool ok, const std::string& message) {
     if (!ok) throw common::Error(StatusCode::kInvalidArgument, "Scene: " + message);
 }
+
+// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection" (2005),
+// section 5.1.5, by the Voronoi regions of the vertices, edges and face. In double: the region
+// tests and barycentrics are differences of products of dot products (vc = d1 d4 - d3 d2 ...),
+// of the order of |ab|^2 |ap|^2, divided by |ab x ac|^2. On a sliver triangle (the building's wall
+// faces beside openings are 27 m long and 2-9 cm high) float32 loses the barycentrics to
+// cancellation and puts the point 20 mm off; double leaves nanometres
+// (algorithms/changes/README.md).
+Eigen::Vector3d ClosestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Eigen::Vector3d bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+    const Eigen::Vector3d cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+    }
+    const double denom = 1.0 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// The state of one closest-point query, shared by the hint and Embree's callback.
+struct PointQueryState {
+    const Scene::Impl* impl = nullptr;
+    Eigen::Vector3f query = Eigen::Vector3f::Zero();
+    float best_d2 = std::numeric_limits<float>::infinity();
+    float best_alignment = -1;  // ((query - point) . n)^2 / d^2 of the best triangle
+    uint32_t best = Scene::kNoHint;
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+
+    // Takes triangle t when it is nearer, or as near (relative 1e-5: an edge or corner shared by
+    // several triangles) with a normal more aligned with query - point.
+    void Consider(uint32_t t) {
+        const Scene::Impl::TriangleData& tri = impl->triangle_data[t];
+        const float tie = best_d2 * 1e-5f + 1e-12f;
+        // The distance to the triangle's plane is a lower bound of the distance to it.
+        const float plane = (query - tri.a).dot(tri.normal);
+        if (plane * plane > best_d2 + tie) return;
+        // The exact test in double (see ClosestOnTriangle); the vertices are floats, so their
+        // differences there are exact.
+        const Eigen::Vector3d p = query.cast<double>();
+        const Eigen::Vector3d q =
+            ClosestOnTriangle(p, tri.a.cast<double>(), tri.b.cast<double>(), tri.c.cast<double>());
+        const Eigen::Vector3d d = p - q;
+        const auto d2 = float(d.squaredNorm());
+        if (d2 > best_d2 + tie) return;
+        const auto along = float(d.dot(tri.normal.cast<double>()));
+        const float alignment = d2 > 0 ? along * along / d2 : 1.0f;
+        if (d2 >= best_d2 - tie && alignment <= best_alignment) return;
+        best_d2 = std::min(d2, best_d2);
+        best_alignment = alignment;
+        best = t;
+        point = q.cast<float>();
+    }
+};
+
+bool PointQueryCallback(RTCPointQueryFunctionArguments* args) {
+    auto* state = static_cast<PointQueryState*>(args->userPtr);
+    state->Consider(args->primID);
+    // Shrink the search to the best distance, keeping equally near triangles in it.
+    const float radius = std::sqrt(state->best_d2) * (1.0f + 1e-5f) + 1e-6f;
+    if (radius < args->query->radius) {
+        args->query->radius = radius;
+        return true;
+    }
+    return false;
+}
 }  // namespace
 
 void ThrowIfEmbreeFailed(const Scene::Impl& impl, uint64_t count_before, const char* what) {
@@ -138,6 +215,17 @@ Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_id
         }
         std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * 3 * sizeof(float));
         std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(uint32_t));
+        impl.triangle_data.resize(mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const auto& tri = mesh.triangles[t];
+            Impl::TriangleData& data = impl.triangle_data[t];
+            data.a = mesh.vertices[tri[0]];
+            data.b = mesh.vertices[tri[1]];
+            data.c = mesh.vertices[tri[2]];
+            const Eigen::Vector3f n = (data.b - data.a).cross(data.c - data.a);
+            const float length = n.norm();
+            data.normal = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
+        }
         rtcCommitGeometry(geometry);
         rtcAttachGeometryByID(impl.scene, geometry, 0);
         rtcReleaseGeometry(geometry);  // the scene holds it
@@ -196,6 +284,37 @@ std::optional<Scene::Hit> Scene::Intersect(const Eigen::Vector3f& origin,
     const float norm = n.norm();
     hit.normal = norm > 0 ? Eigen::Vector3f(n / norm) : Eigen::Vector3f::Zero();
     return hit;
+}
+
+std::optional<Scene::Closest> Scene::ClosestPoint(const Eigen::Vector3f& query, float max_distance,
+                                                  uint32_t hint) const {
+    if (impl_->triangles == 0 || !(max_distance >= 0)) return std::nullopt;
+    PointQueryState state;
+    state.impl = impl_.get();
+    state.query = query;
+    if (hint < impl_->triangles) state.Consider(hint);
+    const float bound = std::sqrt(state.best_d2) * (1.0f + 1e-5f) + 1e-6f;
+    RTCPointQuery q;
+    q.x = query.x();
+    q.y = query.y();
+    q.z = query.z();
+    q.time = 0.0f;
+    q.radius = std::min(max_distance, bound);
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    const uint64_t errors = impl_->error_count.load();
+    rtcPointQuery(impl_->scene, &q, &context, PointQueryCallback, &state);
+    ThrowIfEmbreeFailed(*impl_, errors, "rtcPointQuery");
+    if (state.best == kNoHint) return std::nullopt;
+    Closest out;
+    out.distance = std::sqrt(state.best_d2);
+    if (out.distance > max_distance) return std::nullopt;
+    out.triangle = state.best;
+    out.id = impl_->ids[state.best];
+    out.point = state.point;
+    out.normal = impl_->triangle_data[state.best].normal;
+    out.signed_distance = (query - state.point).dot(out.normal) >= 0 ? out.distance : -out.distance;
+    return out;
 }
 
 }  // namespace bimslam::simulation
