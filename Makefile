@@ -6,7 +6,7 @@
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
-.PHONY: all demo test deps configure build test-release test-asan test-fuzz bench fuzz format clean
+.PHONY: all demo test deps configure build deb test-release test-asan test-fuzz bench fuzz format clean
 
 all: build
 
@@ -27,6 +27,12 @@ build: configure
 demo: configure
 	@cmake --build --preset release -j $(JOBS) --target bimslam bimslam-rig
 	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
+
+# Debian packages of the Release build in build/release/packages (toolchain/debian/README.md):
+# bimslam-rig and bimslam-tools, for this machine's architecture. Builds only what they hold.
+deb: configure
+	@cmake --build --preset release -j $(JOBS) --target deb_contents
+	@cd build/release && cpack -G DEB
 
 test: DEPS_FLAGS = --test
 test: test-release test-asan test-fuzz

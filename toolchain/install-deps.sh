@@ -8,8 +8,8 @@
 set -euo pipefail
 
 packages=(
-    # build
-    cmake ninja-build g++ make pkg-config
+    # build; dpkg-dev (dpkg-shlibdeps) and file for `make deb` (CPack)
+    cmake ninja-build g++ make pkg-config dpkg-dev file
     # algorithms: Eigen (common), FLANN and its lz4 headers (scancontext), JSON (io)
     libeigen3-dev libflann-dev liblz4-dev nlohmann-json3-dev
     # LiDAR odometry: Ceres (scan-to-map registration)
@@ -37,9 +37,10 @@ packages=(
 # clang with its libFuzzer runtime for the fuzz targets (preset `fuzz`).
 # systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
 # library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
-# report page headless (tests/integration/report_browser_test.cpp).
+# report page headless (tests/integration/report_browser_test.cpp); lintian checks the Debian
+# packages (tests/integration/deb_package_test.cpp).
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
-    liblcm-java openjdk-17-jdk-headless chromium)
+    liblcm-java openjdk-17-jdk-headless chromium lintian)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
     # Debian's npm, unless npm is there already: a nodejs from NodeSource bundles its own and
