@@ -6,7 +6,7 @@
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
-.PHONY: all demo test deps configure build deb test-release test-asan test-fuzz bench fuzz format clean
+.PHONY: all demo test deps configure build deb cross test-cross test-release test-asan test-fuzz bench fuzz format clean
 
 all: build
 
@@ -33,6 +33,17 @@ demo: configure
 deb: configure
 	@cmake --build --preset release -j $(JOBS) --target deb_contents
 	@cd build/release && cpack -G DEB
+
+# The aarch64 cross-build (preset aarch64, toolchain/aarch64-linux-gnu.cmake): bimslam-rig,
+# bimslam-go1-bridge and the unit tests of the libraries they link, into build/aarch64;
+# test-cross runs those tests under qemu-user (CMake's cross-compiling emulator).
+cross:
+	@bash toolchain/install-deps.sh --cross
+	@cmake --preset aarch64 >/dev/null
+	@cmake --build --preset aarch64 -j $(JOBS)
+
+test-cross: cross
+	@ctest --preset aarch64 -j $(JOBS)
 
 test: DEPS_FLAGS = --test
 test: test-release test-asan test-fuzz
