@@ -5,7 +5,7 @@
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
-.PHONY: all demo test deps configure build test-release test-asan bench fuzz format clean
+.PHONY: all demo test deps configure build deb cross test-cross test-release test-asan bench fuzz format clean
 
 all: build
 
@@ -26,6 +26,23 @@ build: configure
 demo: configure
 	@cmake --build --preset release -j $(JOBS) --target bimslam bimslam-rig
 	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
+
+# Debian packages of the Release build in build/release/packages (toolchain/debian/README.md):
+# bimslam-rig and bimslam-tools, for this machine's architecture. Builds only what they hold.
+deb: configure
+	@cmake --build --preset release -j $(JOBS) --target deb_contents
+	@cd build/release && cpack -G DEB
+
+# The aarch64 cross-build (preset aarch64, toolchain/aarch64-linux-gnu.cmake): bimslam-rig,
+# bimslam-go1-bridge and the unit tests of the libraries they link, into build/aarch64;
+# test-cross runs those tests under qemu-user (CMake's cross-compiling emulator).
+cross:
+	@bash toolchain/install-deps.sh --cross
+	@cmake --preset aarch64 >/dev/null
+	@cmake --build --preset aarch64 -j $(JOBS)
+
+test-cross: cross
+	@ctest --preset aarch64 -j $(JOBS)
 
 test: DEPS_FLAGS = --test
 test: test-release test-asan

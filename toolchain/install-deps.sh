@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages bimslam needs (and, with --test, the npm package of a test tool).
 # Idempotent: when everything is present it only asks dpkg (about a second) and changes nothing.
-# Usage: sudo toolchain/install-deps.sh [--test]
+# Usage: sudo toolchain/install-deps.sh [--test|--cross]
 #   (no flag)  what building and running need (`make demo`)
 #   --test     also the third-party tools the tests run against our files (`make test`), and
 #              web-ifc (npm ci in tests/tools/web_ifc) when its node_modules is missing
+#   --cross    also the aarch64 cross-build (`make cross`, `make test-cross`): Debian's cross
+#              compiler, qemu-user, the arm64 -dev packages that install beside the amd64 ones,
+#              and the others unpacked into /opt/bimslam-cross/arm64 (toolchain/stage-arm64.sh)
 set -euo pipefail
 
 packages=(
-    # build
-    cmake ninja-build g++ make pkg-config
+    # build; dpkg-dev (dpkg-shlibdeps) and file for `make deb` (CPack)
+    cmake ninja-build g++ make pkg-config dpkg-dev file
     # algorithms: Eigen (common), FLANN and its lz4 headers (scancontext), JSON (io)
     libeigen3-dev libflann-dev liblz4-dev nlohmann-json3-dev
     # LiDAR odometry: Ceres (scan-to-map registration)
@@ -40,16 +43,35 @@ packages=(
 # systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
 # library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
 # report page headless (tests/integration/report_browser_test.cpp); python3-rosbag writes the ROS
-# bags the bag tests read (tests/support/ouster_bag.py).
+# bags the bag tests read (tests/support/ouster_bag.py); lintian checks the Debian packages
+# (tests/integration/deb_package_test.cpp).
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
-    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag)
-if [[ "${1:-}" == "--test" ]]; then
+    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian)
+# The aarch64 cross-build: packages that are Multi-Arch: same (or arch all, as Eigen, CLI11 and
+# nlohmann-json above) install for arm64 beside amd64; Ceres, glog, gflags, LCM and yaml-cpp do
+# not, and are staged instead (toolchain/stage-arm64.sh says why). FLANN's arm64 package pulls in
+# an MPI HDF5 that conflicts with the amd64 one: its headers, the same for every architecture, are
+# used (toolchain/cmake/BimslamDependencies.cmake).
+cross_packages=(crossbuild-essential-arm64 qemu-user-static libc6-dev:arm64 zlib1g-dev:arm64
+    liblz4-dev:arm64 libglib2.0-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64
+    libsuitesparse-dev:arm64 libatlas-base-dev:arm64)
+if [[ "${1:-}" == "--cross" ]]; then
+    if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+        if [[ $EUID -ne 0 ]]; then
+            echo "install-deps: adding the arm64 architecture needs root: sudo $0 --cross" >&2
+            exit 1
+        fi
+        dpkg --add-architecture arm64
+        apt-get update -qq
+    fi
+    packages+=("${cross_packages[@]}")
+elif [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
     # Debian's npm, unless npm is there already: a nodejs from NodeSource bundles its own and
     # conflicts with Debian's package.
     command -v npm >/dev/null 2>&1 || packages+=(npm)
 elif [[ $# -gt 0 ]]; then
-    echo "usage: $0 [--test]" >&2
+    echo "usage: $0 [--test|--cross]" >&2
     exit 2
 fi
 
@@ -81,4 +103,9 @@ web_ifc="$(cd "$(dirname "$0")/.." && pwd)/tests/tools/web_ifc"
 if [[ "${1:-}" == "--test" && ! -d "$web_ifc/node_modules/web-ifc" ]]; then
     echo "install-deps: installing web-ifc (npm ci in tests/tools/web_ifc)"
     npm ci --prefix "$web_ifc" --no-audit --no-fund --loglevel=error
+fi
+
+# The arm64 packages that cannot be installed beside their amd64 versions, unpacked.
+if [[ "${1:-}" == "--cross" ]]; then
+    bash "$(dirname "$0")/stage-arm64.sh"
 fi

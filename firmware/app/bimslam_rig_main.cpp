@@ -164,6 +164,8 @@ int main(int argc, char** argv) {
         "bimslam-rig: the on-board mapping firmware (Ouster OS1 + Go1 CAN -> LiDAR odometry, "
         "keyframes, LCM, sessions).\nRun 'bimslam-rig <mode> --help' for the options."};
     app.require_subcommand(1);
+    // BIMSLAM_VERSION and BIMSLAM_ARCH from CMake (the project's version, the target's processor).
+    app.set_version_flag("--version", "bimslam-rig " BIMSLAM_VERSION " (" BIMSLAM_ARCH ")");
     Args a;
     int exit_code = kExitOk;
     CLI::App* live = app.add_subcommand("live", "Run on the sensor's UDP stream and the CAN bus");

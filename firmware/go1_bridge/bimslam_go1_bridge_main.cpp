@@ -311,6 +311,7 @@ int main(int argc, char** argv) {
         "cycle times on SocketCAN, into a candump log or over LCM. Exactly one of --can, "
         "--candump, --lcm.\n"
         "Exit codes: 0 ok, 1 failure while working (e.g. no CAN in the kernel), 2 bad usage."};
+    app.set_version_flag("--version", "bimslam-go1-bridge " BIMSLAM_VERSION " (" BIMSLAM_ARCH ")");
     app.add_option("--go1", o.go1, "The Go1 sport-mode computer's HighState endpoint, IP:PORT")
         ->capture_default_str();
     app.add_option("--local-address", o.local_address, "Local IPv4 address to bind")

@@ -31,3 +31,10 @@ function(bimslam_apply_warnings target)
         target_compile_options(${target} PRIVATE -Werror)
     endif()
 endfunction()
+
+# --version of the programs: the project's version and the processor it was built for (aarch64
+# in the cross-build), so that a copied binary says what it is.
+function(bimslam_version_definitions target)
+    target_compile_definitions(${target} PRIVATE BIMSLAM_VERSION="${PROJECT_VERSION}"
+                               BIMSLAM_ARCH="${CMAKE_SYSTEM_PROCESSOR}")
+endfunction()

@@ -19,7 +19,9 @@ bimslam_tag_capability(PkgConfig::LCM lcm)
 find_program(LCM_GEN_EXECUTABLE lcm-gen REQUIRED)
 
 # FLANN is used header-only (its KD-tree); flann.pc drags in HDF5 and MPI we do not need, but the
-# headers include lz4.
+# headers include lz4. The aarch64 cross-build uses the same /usr/include/flann: libflann-dev is
+# Multi-Arch: same, so its headers are identical for every architecture (its arm64 package cannot
+# be installed here: it pulls in an MPI HDF5 that conflicts with the amd64 one).
 find_path(FLANN_INCLUDE_DIR flann/flann.hpp REQUIRED)
 pkg_check_modules(LZ4 REQUIRED IMPORTED_TARGET liblz4)
 add_library(bimslam_flann INTERFACE)
@@ -51,25 +53,30 @@ target_link_libraries(bimslam_rosbag INTERFACE "${ROSBAG_STORAGE_LIBRARY}" ${_ro
 add_library(bimslam::rosbag ALIAS bimslam_rosbag)
 
 # Host-only dependencies (host_tools/, and algorithms/simulation for Embree); the layer rules
-# keep them out of firmware/ and drivers/.
-# Embree 3: ray casting for the LiDAR simulation.
-find_package(embree 3 REQUIRED)
-bimslam_tag_capability(embree embree)
-# TBB: host-side parallelism.
-find_package(TBB REQUIRED)
-# IFC++ (libifcplusplus-dev) has no CMake package: its libraries and headers by hand. Its headers
-# are included as system headers (they are not -Wall clean).
-find_library(IFCPP_LIBRARY IfcPlusPlus PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)
-find_library(CARVE_LIBRARY carve PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)
-find_path(IFCPP_INCLUDE_DIR ifcpp/model/BuildingModel.h REQUIRED)
-add_library(bimslam_ifcpp INTERFACE)
-target_include_directories(bimslam_ifcpp SYSTEM INTERFACE "${IFCPP_INCLUDE_DIR}")
-target_link_libraries(bimslam_ifcpp INTERFACE ${IFCPP_LIBRARY} ${CARVE_LIBRARY})
-add_library(bimslam::ifcpp ALIAS bimslam_ifcpp)
-bimslam_tag_capability(bimslam_ifcpp ifcpp)
+# keep them out of firmware/ and drivers/, and a firmware-only build (the aarch64 cross-build,
+# BIMSLAM_HOST_TOOLS=OFF) does not look for them.
+if(BIMSLAM_HOST_TOOLS)
+    # Embree 3: ray casting for the LiDAR simulation.
+    find_package(embree 3 REQUIRED)
+    bimslam_tag_capability(embree embree)
+    # TBB: host-side parallelism.
+    find_package(TBB REQUIRED)
+    # IFC++ (libifcplusplus-dev) has no CMake package: its libraries and headers by hand. Its headers
+    # are included as system headers (they are not -Wall clean).
+    find_library(IFCPP_LIBRARY IfcPlusPlus PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)
+    find_library(CARVE_LIBRARY carve PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)
+    find_path(IFCPP_INCLUDE_DIR ifcpp/model/BuildingModel.h REQUIRED)
+    add_library(bimslam_ifcpp INTERFACE)
+    target_include_directories(bimslam_ifcpp SYSTEM INTERFACE "${IFCPP_INCLUDE_DIR}")
+    target_link_libraries(bimslam_ifcpp INTERFACE ${IFCPP_LIBRARY} ${CARVE_LIBRARY})
+    add_library(bimslam::ifcpp ALIAS bimslam_ifcpp)
+    bimslam_tag_capability(bimslam_ifcpp ifcpp)
+endif()
 
 if(BUILD_TESTING)
     find_package(GTest REQUIRED)
-    find_package(benchmark REQUIRED)
+    if(BIMSLAM_HOST_TOOLS)
+        find_package(benchmark REQUIRED)
+    endif()
     include(GoogleTest)
 endif()
