@@ -1,7 +1,8 @@
 # The two commands of the README, and a few more for developers.
 #   make demo   install what is missing, build, run the main job end to end
-#   make test   install what is missing, build, run the whole test suite (Release; the unit tests
-#               under ASan+UBSan; the fuzz targets briefly under clang + libFuzzer)
+#   make test   install what is missing, build, run the whole test suite (Release: integration and
+#               data tests; the unit tests under ASan+UBSan; the fuzz targets briefly under
+#               clang + libFuzzer)
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
@@ -22,14 +23,19 @@ configure: deps
 build: configure
 	@cmake --build --preset release -j $(JOBS)
 
-demo: build
+# The demo needs the two programs only, not the tests.
+demo: configure
+	@cmake --build --preset release -j $(JOBS) --target bimslam bimslam-rig
 	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
 
 test: DEPS_FLAGS = --test
 test: test-release test-asan test-fuzz
 
-test-release: build
-	@ctest --preset release -j $(JOBS)
+# The unit tests run in test-asan; Release builds and runs the rest (`make build` and
+# `ctest --preset release` build and run everything, unit tests included).
+test-release: configure
+	@cmake --build --preset release -j $(JOBS) --target integration_tests
+	@ctest --preset integration -j $(JOBS)
 
 # The unit tests again, built with AddressSanitizer and UndefinedBehaviorSanitizer.
 test-asan: deps

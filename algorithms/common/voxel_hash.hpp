@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -30,6 +31,12 @@ inline uint64_t PackVoxel(const Eigen::Vector3i& v) {
 inline uint64_t VoxelKey(const Eigen::Vector3f& p, float inv_voxel) {
     return PackVoxel(VoxelOf(p, inv_voxel));
 }
+
+// A voxel and its 6 face neighbours: where voxel maps look for the plane nearest a point.
+inline const std::array<Eigen::Vector3i, 7> kVoxelAndFaceNeighbours = {
+    Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
+    Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
+    Eigen::Vector3i(0, 0, -1)};
 
 // splitmix64's finaliser, so that neighbouring voxels spread over a table.
 inline uint64_t MixKey(uint64_t x) {

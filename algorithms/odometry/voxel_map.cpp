@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::odometry {
 using common::Require;
@@ -143,18 +144,12 @@ void VoxelMap::Fit(Voxel& v) const {
     v.plane.valid = true;
 }
 
-namespace {
-// A voxel and its 6 face neighbours: where FindPlane and FindLine look.
-const std::array<Eigen::Vector3i, 7> kNeighbours = {
-    Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
-    Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
-    Eigen::Vector3i(0, 0, -1)};
-}  // namespace
+using common::kVoxelAndFaceNeighbours;  // where FindPlane and FindLine look
 
 const VoxelLine* VoxelMap::FindLine(const Eigen::Vector3f& p, float* distance) const {
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelLine* best = nullptr;
-    for (const Eigen::Vector3i& d : kNeighbours) {
+    for (const Eigen::Vector3i& d : kVoxelAndFaceNeighbours) {
         const int32_t i = Find(key + d);
         if (i < 0) continue;
         const VoxelLine& line = voxels_[size_t(i)].line;
@@ -173,7 +168,7 @@ const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance)
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelPlane* best = nullptr;
     float best_abs = 0;
-    for (const Eigen::Vector3i& d : kNeighbours) {
+    for (const Eigen::Vector3i& d : kVoxelAndFaceNeighbours) {
         const int32_t i = Find(key + d);
         if (i < 0) continue;
         const VoxelPlane& plane = voxels_[size_t(i)].plane;

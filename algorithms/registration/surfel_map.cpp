@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::registration {
 using common::Require;
@@ -85,13 +86,7 @@ void SurfelMap::Build() {
     built_ = true;
 }
 
-namespace {
-// A voxel and its 6 face neighbours.
-const std::array<Eigen::Vector3i, 7> kNeighbours = {
-    Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(-1, 0, 0),
-    Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, -1, 0), Eigen::Vector3i(0, 0, 1),
-    Eigen::Vector3i(0, 0, -1)};
-}  // namespace
+using common::kVoxelAndFaceNeighbours;
 
 const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
                               float min_cos_angle, float* distance) const {
@@ -116,12 +111,12 @@ const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n
     int second = 0;
     if (a.maxCoeff(&second) > 0.5f) bins[1] = 2 * second + (n[second] < 0 ? 1 : 0);
     // Most points lie on the plane of their own voxel: then the neighbours cannot be nearer.
-    look(bins[0], kNeighbours[0]);
+    look(bins[0], kVoxelAndFaceNeighbours[0]);
     if (best && std::abs(*distance) < 0.1f / inv_size_) return best;
     for (const int bin : bins) {
         if (bin < 0) continue;
-        for (size_t k = (bin == bins[0] ? 1 : 0); k < kNeighbours.size(); ++k)
-            look(bin, kNeighbours[k]);
+        for (size_t k = (bin == bins[0] ? 1 : 0); k < kVoxelAndFaceNeighbours.size(); ++k)
+            look(bin, kVoxelAndFaceNeighbours[k]);
     }
     return best;
 }

@@ -4,6 +4,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <Eigen/Core>
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -19,6 +20,13 @@ struct Scene::Impl {
     RTCScene scene = nullptr;
     std::vector<uint32_t> ids;  // per triangle (primID of geometry 0)
     size_t triangles = 0;
+    // Per triangle, for closest-point queries: its first vertex, its two edges from it and its
+    // unit normal (zero when degenerate), 12 floats together: no index lookups, and the plane
+    // distance rejects most triangles before the exact test.
+    struct TriangleData {
+        Eigen::Vector3f a, ab, ac, normal;
+    };
+    std::vector<TriangleData> triangle_data;
 
     // The last message Embree's error callback reported and how many it reported. The callback
     // may run on any thread (rtcGetDeviceError only sees the calling thread's error, so errors

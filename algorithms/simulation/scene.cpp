@@ -69,6 +69,74 @@ void Check(Scene::Impl& impl, const char* what) {
 void Require(bool ok, const std::string& message) {
     if (!ok) throw common::Error(StatusCode::kInvalidArgument, "Scene: " + message);
 }
+
+// The point of triangle (a, a + ab, a + ac) nearest to p: Ericson, "Real-Time Collision
+// Detection" (2005), section 5.1.5, by the Voronoi regions of the vertices, edges and face.
+Eigen::Vector3f ClosestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
+                                  const Eigen::Vector3f& ab, const Eigen::Vector3f& ac) {
+    const Eigen::Vector3f ap = p - a;
+    const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    const Eigen::Vector3f bp = ap - ab;
+    const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return a + ab;
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+    const Eigen::Vector3f cp = ap - ac;
+    const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return a + ac;
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
+    }
+    const float denom = 1.0f / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// The state of one closest-point query, shared by the hint and Embree's callback.
+struct PointQueryState {
+    const Scene::Impl* impl = nullptr;
+    Eigen::Vector3f query = Eigen::Vector3f::Zero();
+    float best_d2 = std::numeric_limits<float>::infinity();
+    float best_alignment = -1;  // ((query - point) . n)^2 / d^2 of the best triangle
+    uint32_t best = Scene::kNoHint;
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+
+    // Takes triangle t when it is nearer, or as near (relative 1e-5: an edge or corner shared by
+    // several triangles) with a normal more aligned with query - point.
+    void Consider(uint32_t t) {
+        const Scene::Impl::TriangleData& tri = impl->triangle_data[t];
+        const float tie = best_d2 * 1e-5f + 1e-12f;
+        // The distance to the triangle's plane is a lower bound of the distance to it.
+        const float plane = (query - tri.a).dot(tri.normal);
+        if (plane * plane > best_d2 + tie) return;
+        const Eigen::Vector3f q = ClosestOnTriangle(query, tri.a, tri.ab, tri.ac);
+        const Eigen::Vector3f d = query - q;
+        const float d2 = d.squaredNorm();
+        if (d2 > best_d2 + tie) return;
+        const float along = d.dot(tri.normal);
+        const float alignment = d2 > 0 ? along * along / d2 : 1.0f;
+        if (d2 >= best_d2 - tie && alignment <= best_alignment) return;
+        best_d2 = std::min(d2, best_d2);
+        best_alignment = alignment;
+        best = t;
+        point = q;
+    }
+};
+
+bool PointQueryCallback(RTCPointQueryFunctionArguments* args) {
+    auto* state = static_cast<PointQueryState*>(args->userPtr);
+    state->Consider(args->primID);
+    // Shrink the search to the best distance, keeping equally near triangles in it.
+    const float radius = std::sqrt(state->best_d2) * (1.0f + 1e-5f) + 1e-6f;
+    if (radius < args->query->radius) {
+        args->query->radius = radius;
+        return true;
+    }
+    return false;
+}
 }  // namespace
 
 void ThrowIfEmbreeFailed(const Scene::Impl& impl, uint64_t count_before, const char* what) {
@@ -138,6 +206,17 @@ Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_id
         }
         std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * 3 * sizeof(float));
         std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(uint32_t));
+        impl.triangle_data.resize(mesh.triangles.size());
+        for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const auto& tri = mesh.triangles[t];
+            Impl::TriangleData& data = impl.triangle_data[t];
+            data.a = mesh.vertices[tri[0]];
+            data.ab = mesh.vertices[tri[1]] - data.a;
+            data.ac = mesh.vertices[tri[2]] - data.a;
+            const Eigen::Vector3f n = data.ab.cross(data.ac);
+            const float length = n.norm();
+            data.normal = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
+        }
         rtcCommitGeometry(geometry);
         rtcAttachGeometryByID(impl.scene, geometry, 0);
         rtcReleaseGeometry(geometry);  // the scene holds it
@@ -196,6 +275,37 @@ std::optional<Scene::Hit> Scene::Intersect(const Eigen::Vector3f& origin,
     const float norm = n.norm();
     hit.normal = norm > 0 ? Eigen::Vector3f(n / norm) : Eigen::Vector3f::Zero();
     return hit;
+}
+
+std::optional<Scene::Closest> Scene::ClosestPoint(const Eigen::Vector3f& query, float max_distance,
+                                                  uint32_t hint) const {
+    if (impl_->triangles == 0 || !(max_distance >= 0)) return std::nullopt;
+    PointQueryState state;
+    state.impl = impl_.get();
+    state.query = query;
+    if (hint < impl_->triangles) state.Consider(hint);
+    const float bound = std::sqrt(state.best_d2) * (1.0f + 1e-5f) + 1e-6f;
+    RTCPointQuery q;
+    q.x = query.x();
+    q.y = query.y();
+    q.z = query.z();
+    q.time = 0.0f;
+    q.radius = std::min(max_distance, bound);
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    const uint64_t errors = impl_->error_count.load();
+    rtcPointQuery(impl_->scene, &q, &context, PointQueryCallback, &state);
+    ThrowIfEmbreeFailed(*impl_, errors, "rtcPointQuery");
+    if (state.best == kNoHint) return std::nullopt;
+    Closest out;
+    out.distance = std::sqrt(state.best_d2);
+    if (out.distance > max_distance) return std::nullopt;
+    out.triangle = state.best;
+    out.id = impl_->ids[state.best];
+    out.point = state.point;
+    out.normal = impl_->triangle_data[state.best].normal;
+    out.signed_distance = (query - state.point).dot(out.normal) >= 0 ? out.distance : -out.distance;
+    return out;
 }
 
 }  // namespace bimslam::simulation

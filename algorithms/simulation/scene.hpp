@@ -1,5 +1,5 @@
-// A triangle mesh made ready for ray casting (an Embree 3 BVH), with one id per triangle (for a
-// BIM model the index of the element the triangle belongs to).
+// A triangle mesh made ready for ray casting and closest-point queries (an Embree 3 BVH), with one
+// id per triangle (for a BIM model the index of the element the triangle belongs to).
 //
 // Built and committed once in the constructor, read-only afterwards: every query is thread-safe.
 // The Embree device and scene are owned here (RAII) and never appear in this header, so users of
@@ -61,6 +61,30 @@ public:
     std::optional<Hit> Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
                                  float t_near = 0.0f,
                                  float t_far = std::numeric_limits<float>::infinity()) const;
+
+    struct Closest {
+        float distance = 0;     // Euclidean, from the query point to `point`
+        uint32_t triangle = 0;  // index into the mesh's triangles
+        uint32_t id = 0;        // TriangleId(triangle)
+        Eigen::Vector3f point = Eigen::Vector3f::Zero();  // the nearest point of the mesh
+        // Unit geometric normal of `triangle` (its counter-clockwise side), as Hit::normal.
+        Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+        // (query - point) . normal: > 0 in front of the triangle, < 0 behind it. Where several
+        // triangles are equally near (an edge or corner of a solid), the one whose normal is most
+        // aligned with query - point is taken, so that a point outside a closed mesh is in front
+        // of it and a point inside behind it at convex and concave edges alike.
+        float signed_distance = 0;
+    };
+    static constexpr uint32_t kNoHint = std::numeric_limits<uint32_t>::max();
+    // The nearest point of the mesh to `query` no farther than max_distance, or nullopt (an empty
+    // scene, or nothing that near). `hint`: a triangle likely to be near (the previous answer of
+    // a neighbouring query); its distance bounds the search from the start, which makes queries
+    // in spatial order several times faster. The answer does not depend on the hint. Embree's
+    // rtcPointQuery (BVH traversal) with the closest point on a triangle of Ericson, "Real-Time
+    // Collision Detection" 5.1.5. Thread-safe.
+    std::optional<Closest> ClosestPoint(const Eigen::Vector3f& query,
+                                        float max_distance = std::numeric_limits<float>::infinity(),
+                                        uint32_t hint = kNoHint) const;
 
     // The Embree objects, for the simulation's own sources (embree_scene.hpp defines it).
     struct Impl;

@@ -43,6 +43,10 @@ void AnchorConfig::Validate() const {
             "must be in [0, 1]");
     Require(odometry_information_scale > 0, c, "odometry_information_scale",
             odometry_information_scale, "must be positive");
+    Require(model_tolerance_m >= 0 && model_tolerance_m <= 1, c, "model_tolerance_m",
+            model_tolerance_m, "must be in [0, 1] m");
+    Require(model_tolerance_deg >= 0 && model_tolerance_deg <= 10, c, "model_tolerance_deg",
+            model_tolerance_deg, "must be in [0, 10] degrees");
     Require(max_inlier_rmse > 0, c, "max_inlier_rmse", max_inlier_rmse, "must be positive");
     Require(consistency_m > 0, c, "consistency_m", consistency_m, "must be positive");
     Require(consistency_deg > 0, c, "consistency_deg", consistency_deg, "must be positive");

@@ -47,6 +47,15 @@ struct AnchorConfig {
     // the rig's odometry states its per-scan registration covariance, which the same calibration
     // measured to be about 3x too small in sigma (median |e|/sigma 2.0).
     double odometry_information_scale = 0.1;
+    // The model is not the building: walls stand within construction tolerances of where they
+    // are drawn (DIN 18202 allows about 1-2 cm over a room's size), and a loop registered to the
+    // model inherits the deviation of the walls it saw, the same for every loop that saw them.
+    // Its covariance therefore gets this much added (Sigma_loop = H^-1 + Sigma_model, isotropic
+    // in translation and rotation), so a few walls built off cannot bend the trajectory against
+    // its odometry; the deviations average out over the walk and stay visible to change
+    // detection. Loops between query sessions get none (neither side is the model). 0 turns it off.
+    double model_tolerance_m = 0.02;
+    double model_tolerance_deg = 0.2;
     double min_inlier_ratio = 0.5;  // of the query's planar points within 5 cm of the model
     double max_inlier_rmse = 0.03;  // m
     // Place-recognition loops must be well constrained in every direction: one that is not (a

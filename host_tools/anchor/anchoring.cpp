@@ -12,6 +12,8 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/registration/free_space.hpp"
+#include "host_tools/anchor/graph_state.hpp"
+#include "host_tools/anchor/hypothesis.hpp"
 #include "host_tools/anchor/place_recognition.hpp"
 #include "host_tools/anchor/target.hpp"
 
@@ -22,244 +24,6 @@ using posegraph::PoseGraph;
 
 double Since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-// Where each session is: its anchor and keyframe poses, and whether it may move.
-struct State {
-    Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
-    std::vector<Eigen::Isometry3d> poses;
-    bool fixed = true;
-    std::vector<Eigen::Isometry3d> World() const {
-        std::vector<Eigen::Isometry3d> w;
-        for (const auto& x : poses) w.push_back(anchor * x);
-        return w;
-    }
-};
-
-PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions, const std::vector<State>& state,
-                     const std::vector<LoopRecord>& loops, double odometry_scale) {
-    PoseGraph g;
-    for (size_t s = 0; s < sessions.size(); ++s) {
-        g.AddSession(state[s].poses, state[s].anchor, state[s].fixed);
-        if (state[s].fixed) continue;
-        for (const io::SessionEdge& e : sessions[s].session.edges) {
-            g.AddOdometry({s, e.from, e.to, e.T_from_to, odometry_scale * e.information});
-        }
-    }
-    for (const LoopRecord& l : loops) {
-        g.AddLoop({l.target_session, l.target_index, l.query_session, l.query_index,
-                   l.T_target_query, l.registration.information});
-    }
-    return g;
-}
-
-// Optimises and reads the free sessions back; returns the largest keyframe move (m).
-double Optimize(const std::vector<AnchorSession>& sessions, std::vector<State>* state,
-                const std::vector<LoopRecord>& loops, const AnchorConfig& config, StageTimes* times,
-                const std::vector<double>& weights = {},
-                const posegraph::PoseGraphConfig* graph_config = nullptr,
-                PoseGraph* out = nullptr) {
-    const auto t0 = Clock::now();
-    PoseGraph g = BuildGraph(sessions, *state, loops, config.odometry_information_scale);
-    g.Optimize(graph_config ? *graph_config : config.graph, weights);
-    double moved = 0;
-    for (size_t s = 0; s < sessions.size(); ++s) {
-        State& st = (*state)[s];
-        if (st.fixed) continue;
-        for (size_t k = 0; k < st.poses.size(); ++k) {
-            moved = std::max(
-                moved,
-                (g.WorldPose(s, k).translation() - (st.anchor * st.poses[k]).translation()).norm());
-        }
-        st.anchor = g.anchor(s);
-        for (size_t k = 0; k < st.poses.size(); ++k) st.poses[k] = g.pose(s, k);
-    }
-    times->optimisation_s += Since(t0);
-    if (out) *out = std::move(g);
-    return moved;
-}
-
-// Whether two poses differ by more than (m, deg).
-bool Apart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double m, double deg) {
-    const Eigen::Isometry3d d = a.inverse() * b;
-    return d.translation().norm() > m || common::RotationAngle(d) > deg * M_PI / 180;
-}
-
-// The result of following one hypothesis through the proximity rounds.
-struct Evaluation {
-    Hypothesis hypothesis;
-    int clique = -1;  // the clique (place-recognition hypothesis) it started from
-    State query;
-    std::vector<LoopRecord> accepted;
-    std::vector<LoopRecord> rejected;  // the last round's rejected proximity candidates
-};
-
-// GNC with a truncated least squares cost (Yang, Antonante, Tzoumas, Carlone, "Graduated
-// Non-Convexity for Robust Spatial Perception", RA-L 2020, Prop. 4): the loops' weights go from
-// the convex surrogate (all in) to TLS (0 or 1) as mu grows; returns the final weights.
-std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
-                               std::vector<State>* state, const std::vector<LoopRecord>& loops,
-                               const AnchorConfig& config, StageTimes* times) {
-    posegraph::PoseGraphConfig plain = config.graph;
-    plain.robust_loops = false;
-    std::vector<double> w(loops.size(), 1.0);
-    const double c2 = config.max_loop_chi2;
-    PoseGraph g;
-    Optimize(sessions, state, loops, config, times, w, &plain, &g);
-    double max_r2 = 0;
-    for (size_t k = 0; k < loops.size(); ++k) max_r2 = std::max(max_r2, g.LoopChi2(k));
-    if (max_r2 <= c2) return w;
-    double mu = c2 / (2 * max_r2 - c2);
-    for (int it = 0; it < 100 && mu < 1e4; ++it) {
-        bool binary = true;
-        for (size_t k = 0; k < loops.size(); ++k) {
-            const double r2 = g.LoopChi2(k);
-            if (r2 >= (mu + 1) / mu * c2) {
-                w[k] = 0;
-            } else if (r2 <= mu / (mu + 1) * c2) {
-                w[k] = 1;
-            } else {
-                w[k] = std::sqrt(c2 * mu * (mu + 1) / r2) - mu;
-                binary = false;
-            }
-        }
-        Optimize(sessions, state, loops, config, times, w, &plain, &g);
-        if (binary && it > 0) break;
-        mu *= 1.4;
-    }
-    return w;
-}
-
-// Follows a hypothesis: the graph from its loops, then proximity rounds until the accepted loops
-// stop changing; the query's state starts at its odometry, placed by `anchor`.
-Evaluation Evaluate(const std::vector<AnchorSession>& sessions, std::vector<State> state, size_t q,
-                    const Target& target, std::vector<LoopRecord> seed_loops,
-                    const Eigen::Isometry3d& anchor, const AnchorConfig& config,
-                    StageTimes* times) {
-    const AnchorSession& query = sessions[q];
-    const size_t n = query.keyframes();
-    state[q] = {anchor, query.poses, false};
-    Optimize(sessions, &state, seed_loops, config, times);
-
-    // The place-recognition loop of each keyframe, used where proximity finds none.
-    std::vector<std::optional<LoopRecord>> seed(n), near(n);
-    for (const LoopRecord& l : seed_loops) {
-        if (!seed[l.query_index] || l.registration.fitness.inlier_ratio >
-                                        seed[l.query_index]->registration.fitness.inlier_ratio) {
-            seed[l.query_index] = l;
-        }
-    }
-    std::vector<Eigen::Isometry3d> registered_at(n);
-    std::set<size_t> previous;
-    std::vector<LoopRecord> loops = seed_loops;
-    Evaluation ev;
-    for (int round = 1; round <= config.max_rounds; ++round) {
-        ev.hypothesis.rounds = round;
-        std::vector<LoopRecord> jobs;
-        std::vector<Eigen::Isometry3d> init;
-        for (size_t j = 0; j < n; ++j) {
-            const Eigen::Isometry3d T = state[q].anchor * state[q].poses[j];
-            const size_t t = target.Nearest(T.translation(), config.proximity_radius_m,
-                                            config.proximity_height_m);
-            if (t == Target::kNone) {
-                near[j].reset();
-                continue;
-            }
-            // A keyframe that has not moved since its last registration keeps its result.
-            if (near[j] && !Apart(T, registered_at[j], 0.02, 0.2)) continue;
-            const TargetKeyframe& tk = target.keyframes()[t];
-            LoopRecord r;
-            r.query_session = q;
-            r.query_index = j;
-            r.target_session = tk.session;
-            r.target_index = tk.index;
-            r.T_world_target = tk.T_world_lidar;
-            r.source = LoopSource::kProximity;
-            jobs.push_back(r);
-            init.push_back(T);
-            registered_at[j] = T;
-        }
-        RegisterLoops(sessions, target, config, init, config.proximity_first_level, true, &jobs,
-                      times);
-        for (size_t k = 0; k < jobs.size(); ++k) {
-            LoopRecord& r = jobs[k];
-            if (r.verified && Apart(r.registration.T_target_source, init[k],
-                                    config.proximity_gate_m, config.proximity_gate_deg)) {
-                r.verified = false;
-                const Eigen::Isometry3d d = init[k].inverse() * r.registration.T_target_source;
-                r.reason = "moved " + std::to_string(d.translation().norm()).substr(0, 4) +
-                           " m / " +
-                           std::to_string(common::RotationAngle(d) * 180 / M_PI).substr(0, 4) +
-                           " deg from the estimate (gate " +
-                           std::to_string(config.proximity_gate_m).substr(0, 4) + " m)";
-            }
-            near[r.query_index] = r;
-        }
-        loops.clear();
-        std::set<size_t> covered;
-        for (size_t j = 0; j < n; ++j) {
-            if (near[j] && near[j]->verified) {
-                loops.push_back(*near[j]);
-            } else if (seed[j]) {
-                loops.push_back(*seed[j]);
-            } else {
-                continue;
-            }
-            covered.insert(j);
-        }
-        const double moved = Optimize(sessions, &state, loops, config, times);
-        if (covered == previous && moved < config.converged_m) break;
-        previous = covered;
-    }
-    // Loops the solution cannot explain are dropped, and the rest optimised once more.
-    PoseGraph g = BuildGraph(sessions, state, loops, config.odometry_information_scale);
-    std::vector<LoopRecord> kept;
-    for (size_t k = 0; k < loops.size(); ++k) {
-        const double chi2 = g.LoopChi2(k);
-        if (chi2 > config.max_loop_chi2) {
-            LoopRecord r = loops[k];
-            r.reason = "inconsistent with the solution: chi2 " + std::to_string(chi2).substr(0, 6);
-            ev.rejected.push_back(r);
-        } else {
-            kept.push_back(loops[k]);
-        }
-    }
-    if (kept.size() != loops.size()) Optimize(sessions, &state, kept, config, times);
-    for (size_t j = 0; j < n; ++j) {
-        if (near[j] && !near[j]->verified) ev.rejected.push_back(*near[j]);
-    }
-    // Negative evidence: the query's rays through the target's surfaces, where it is near.
-    std::vector<registration::FreeSpaceResult> fs(n);
-    const registration::SurfelMap& fs_map = target.map().level(config.free_space_level);
-    tbb::parallel_for(size_t(0), n, [&](size_t j) {
-        const Eigen::Isometry3d T = state[q].anchor * state[q].poses[j];
-        if (target.Nearest(T.translation(), config.proximity_radius_m, config.proximity_height_m) ==
-            Target::kNone) {
-            return;
-        }
-        fs[j] = registration::CheckFreeSpace(query.clouds[j], fs_map, T, config.free_space);
-    });
-    std::vector<double> ratios;
-    for (const auto& f : fs) {
-        if (f.rays > 0) ratios.push_back(f.ratio());
-    }
-    if (!ratios.empty()) {
-        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-        ev.hypothesis.seen_through = ratios[ratios.size() / 2];
-    }
-    for (LoopRecord& l : kept) l.seen_through = fs[l.query_index].ratio();
-    double inliers = 0;
-    for (const LoopRecord& l : kept) inliers += l.registration.fitness.inlier_ratio;
-    ev.hypothesis.anchor = state[q].anchor;
-    ev.hypothesis.clique = seed_loops.size();
-    ev.hypothesis.loops = kept.size();
-    std::set<size_t> covered;
-    for (const LoopRecord& l : kept) covered.insert(l.query_index);
-    ev.hypothesis.covered = covered.size();
-    ev.hypothesis.mean_inlier_ratio = kept.empty() ? 0 : inliers / double(kept.size());
-    ev.query = state[q];
-    ev.accepted = std::move(kept);
-    return ev;
 }
 
 // The loop whose registration fits best.
@@ -345,9 +109,10 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
             }
             if (int(kept.size()) < config.min_clique) continue;
             evals.push_back(
-                Evaluate(sessions, state, q, target, kept, st[q].anchor, config, times));
+                FollowHypothesis(sessions, state, q, target, kept, st[q].anchor, config, times));
         } else {
-            evals.push_back(Evaluate(sessions, state, q, target, seeds, anchor, config, times));
+            evals.push_back(
+                FollowHypothesis(sessions, state, q, target, seeds, anchor, config, times));
         }
         evals.back().clique = int(h);
         evals.back().hypothesis.clique_index = int(h);
@@ -555,35 +320,11 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
             }
             const Target target(sessions, others, config);
             times.map_s += Since(t0);
-            std::vector<LoopRecord> jobs;
-            std::vector<Eigen::Isometry3d> init;
-            for (size_t j = 0; j < sessions[q].keyframes(); ++j) {
-                const Eigen::Isometry3d T = state[q].anchor * state[q].poses[j];
-                const size_t t = target.Nearest(T.translation(), config.proximity_radius_m,
-                                                config.proximity_height_m);
-                if (t == Target::kNone) continue;
-                const TargetKeyframe& tk = target.keyframes()[t];
-                // Each pair of sessions once: from the later session to the earlier.
-                if (tk.session > q) continue;
-                LoopRecord r;
-                r.query_session = q;
-                r.query_index = j;
-                r.target_session = tk.session;
-                r.target_index = tk.index;
-                r.T_world_target = tk.T_world_lidar;
-                r.source = LoopSource::kProximity;
-                jobs.push_back(r);
-                init.push_back(T);
-            }
-            RegisterLoops(sessions, target, config, init, config.proximity_first_level, true, &jobs,
-                          &times);
-            for (size_t k = 0; k < jobs.size(); ++k) {
-                LoopRecord& r = jobs[k];
-                if (r.verified && Apart(r.registration.T_target_source, init[k],
-                                        config.proximity_gate_m, config.proximity_gate_deg)) {
-                    r.verified = false;
-                    r.reason = "outside the gate of the estimate";
-                }
+            // Each pair of sessions once: from the later session to the earlier.
+            const std::vector<LoopRecord> loops = ProximityLoops(
+                sessions, target, state[q].World(), q, {},
+                [q](const TargetKeyframe& tk) { return tk.session < q; }, config, &times);
+            for (LoopRecord r : loops) {
                 if (r.verified) {
                     r.accepted = true;
                     r.reason = "accepted";
@@ -594,7 +335,8 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
         }
     }
     for (size_t q : now) state[q].fixed = false;
-    if (!now.empty()) Optimize(sessions, &state, joint, config, &times, {}, nullptr, &result.graph);
+    if (!now.empty())
+        OptimizeStates(sessions, &state, joint, config, &times, {}, nullptr, &result.graph);
     for (size_t q = 1; q < sessions.size(); ++q) {
         QueryOutcome& o = outcomes[q - 1];
         if (o.result.verdict == Verdict::kAnchored) {

@@ -65,8 +65,8 @@ struct Hypothesis {
     Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();  // T_world_local
     int clique_index = -1;  // the clique it grew from (LoopRecord::hypothesis)
     size_t clique = 0;      // mutually consistent place-recognition loops in it
-    size_t loops = 0;    // accepted after the proximity rounds
-    size_t covered = 0;  // query keyframes with an accepted loop
+    size_t loops = 0;       // accepted after the proximity rounds
+    size_t covered = 0;     // query keyframes with an accepted loop
     double mean_inlier_ratio = 0;
     // The median over the query's keyframes near the target of the share of their rays that pass
     // through a target surface before reaching their point (registration::CheckFreeSpace):

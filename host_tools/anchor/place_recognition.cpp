@@ -27,6 +27,17 @@ Eigen::Isometry3d Yaw(double yaw) {
 
 }  // namespace
 
+LoopRecord NewLoop(size_t query, size_t index, const TargetKeyframe& target, LoopSource source) {
+    LoopRecord r;
+    r.query_session = query;
+    r.query_index = index;
+    r.target_session = target.session;
+    r.target_index = target.index;
+    r.T_world_target = target.T_world_lidar;
+    r.source = source;
+    return r;
+}
+
 void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& target,
                    const AnchorConfig& config, const std::vector<Eigen::Isometry3d>& init,
                    size_t first_level, bool proximity, std::vector<LoopRecord>* records,
@@ -56,10 +67,11 @@ void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& tar
             r.reason.clear();
         }
         if (!r.registration.failed) {
-            r.seen_through = registration::CheckFreeSpace(
-                                 q.clouds[r.query_index], target.map().level(config.free_space_level),
-                                 r.registration.T_target_source, config.free_space)
-                                 .ratio();
+            r.seen_through =
+                registration::CheckFreeSpace(q.clouds[r.query_index],
+                                             target.map().level(config.free_space_level),
+                                             r.registration.T_target_source, config.free_space)
+                    .ratio();
         }
     });
     times->registration_s += Since(t0);
@@ -84,13 +96,7 @@ std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& session
             if (cand.scan_context.distance > config.max_sc_distance) break;
             if (target.keyframes()[cand.index].session == query) continue;
             const TargetKeyframe& tk = target.keyframes()[cand.index];
-            LoopRecord r;
-            r.query_session = query;
-            r.query_index = j;
-            r.target_session = tk.session;
-            r.target_index = tk.index;
-            r.T_world_target = tk.T_world_lidar;
-            r.source = LoopSource::kScanContext;
+            LoopRecord r = NewLoop(query, j, tk, LoopSource::kScanContext);
             r.sc_distance = cand.scan_context.distance;
             r.sc_yaw = cand.scan_context.yaw;  // yaw of T_target_query
             per_keyframe[j].push_back(r);
@@ -120,15 +126,11 @@ void InjectFalseLoops(const std::vector<AnchorSession>& sessions, size_t query,
     std::vector<LoopRecord> fake(n);
     std::vector<Eigen::Isometry3d> init(n);
     for (size_t k = 0; k < n; ++k) {
-        LoopRecord& r = fake[k];
-        r.query_session = query;
-        r.query_index = pick_q(rng);
+        const size_t j = pick_q(rng);
         const size_t t = pick_t(rng);
         const TargetKeyframe& tk = target.keyframes()[t];
-        r.target_session = tk.session;
-        r.target_index = tk.index;
-        r.T_world_target = tk.T_world_lidar;
-        r.source = LoopSource::kInjected;
+        LoopRecord& r = fake[k];
+        r = NewLoop(query, j, tk, LoopSource::kInjected);
         const auto d = scancontext::Distance(sessions[query].descriptors[r.query_index],
                                              target.index().descriptor(t), 1.0);
         r.sc_distance = d.distance;

@@ -10,6 +10,9 @@
 
 namespace bimslam::anchor {
 
+// The loop of query keyframe (query, index) at a target keyframe, not registered yet.
+LoopRecord NewLoop(size_t query, size_t index, const TargetKeyframe& target, LoopSource source);
+
 // Registers each record's query keyframe to the target's map from `init[k]` (world frame) and
 // fills its registration, T_target_query and verified (the place-recognition test unless
 // `proximity`). Parallel; adds the wall time and the count to *times.

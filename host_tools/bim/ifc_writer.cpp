@@ -61,6 +61,19 @@ IfcWriter::IfcWriter(double length_unit_m, uint64_t seed)
     }
 }
 
+IfcWriter::IfcWriter(AnyUnit, double length_unit_m, uint64_t seed, int first_id)
+    : length_unit_m_(length_unit_m), seed_(seed), next_id_(first_id) {
+    if (!(length_unit_m > 0) || !std::isfinite(length_unit_m) || first_id < 1) {
+        throw Error(StatusCode::kInvalidArgument, "IfcWriter: length unit " + Real(length_unit_m) +
+                                                      " m or first id " + std::to_string(first_id) +
+                                                      " out of range");
+    }
+}
+
+IfcWriter IfcWriter::Appending(double length_unit_m, uint64_t seed, int first_id) {
+    return IfcWriter(AnyUnit{}, length_unit_m, seed, first_id);
+}
+
 int IfcWriter::Add(std::string_view name, std::string_view args) {
     const int id = next_id_++;
     data_ += '#';

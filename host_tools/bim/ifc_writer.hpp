@@ -20,6 +20,12 @@ public:
     // length_unit_m: the file's length unit in metres (1, 0.01 or 0.001). seed: mixed into every
     // GlobalId.
     IfcWriter(double length_unit_m, uint64_t seed);
+    // A writer of entities to append to an existing file (host_tools/changes, the updated IFC):
+    // numbering starts at first_id (above the file's largest), any positive length unit is
+    // accepted (the file's own, e.g. 0.3048 for feet), and Data() gives the "#n=...;" lines to
+    // insert before the DATA section's ENDSEC. Throws common::Error (kInvalidArgument) for a
+    // first_id < 1 or a unit that is not positive and finite.
+    static IfcWriter Appending(double length_unit_m, uint64_t seed, int first_id);
 
     // Appends "#n=NAME(args);" (NAME upper-cased as STEP wants) and returns n (1, 2, ...).
     int Add(std::string_view name, std::string_view args);
@@ -75,8 +81,13 @@ public:
 
     double length_unit_m() const { return length_unit_m_; }
     int entities() const { return next_id_ - 1; }
+    // The "#n=NAME(...);" lines added so far, one per line.
+    const std::string& Data() const { return data_; }
 
 private:
+    struct AnyUnit {};
+    IfcWriter(AnyUnit, double length_unit_m, uint64_t seed, int first_id);
+
     double length_unit_m_;
     uint64_t seed_;
     int next_id_ = 1;

@@ -1,5 +1,6 @@
 // bimslam anchor: query sessions moved into the BIM reference session's frame, with no initial
 // pose (host_tools/anchor: place recognition, registration, consistency, pose graph).
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -21,6 +22,7 @@ struct AnchorArgs {
     std::string out;
     std::string outliers = "pcm";
     double inject_false_loops = 0;
+    double model_tolerance_m = anchor::AnchorConfig{}.model_tolerance_m;
     int threads = 0;
     uint64_t seed = 1;
     bool overwrite = false;
@@ -34,6 +36,9 @@ int AnchorMain(const AnchorArgs& a) {
                             "--outliers " + a.outliers + ": expected pcm, gnc or none");
     }
     config.inject_false_loops = a.inject_false_loops;
+    // The rotation part: the angle the tolerance subtends over 6 m, a room's size.
+    config.model_tolerance_m = a.model_tolerance_m;
+    config.model_tolerance_deg = std::atan2(a.model_tolerance_m, 6.0) * 180.0 / M_PI;
     config.threads = a.threads;
     config.seed = a.seed;
     config.Validate();
@@ -41,7 +46,7 @@ int AnchorMain(const AnchorArgs& a) {
         throw common::FileError(common::StatusCode::kAlreadyExists, a.out, 0,
                                 "exists and is not empty (--overwrite replaces it)");
     }
-    ProgressBar bar(!a.json && ::isatty(STDERR_FILENO));
+    ProgressBar bar(!a.json && ProgressBar::Terminal());
     anchor::LoadOptions lo;
     lo.cloud = config.cloud;
     lo.descriptor = config.descriptor;
@@ -51,7 +56,8 @@ int AnchorMain(const AnchorArgs& a) {
     std::vector<std::string> dirs{a.reference};
     dirs.insert(dirs.end(), a.queries.begin(), a.queries.end());
     for (size_t k = 0; k < dirs.size(); ++k) {
-        bar.Update("reading " + fs::path(dirs[k]).filename().string(), k, dirs.size());
+        bar.Update("reading " + fs::path(dirs[k]).filename().string(),
+                   double(k) / double(dirs.size()));
         sessions.push_back(anchor::LoadAnchorSession(dirs[k], lo));
     }
     // Two queries of one name would write to one folder: name them apart.
@@ -62,10 +68,12 @@ int AnchorMain(const AnchorArgs& a) {
     }
     const double load_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    anchor::AnchorResult r = anchor::Anchor(
-        sessions, config, [&](const std::string& s, size_t d, size_t n) { bar.Update(s, d, n); });
+    anchor::AnchorResult r =
+        anchor::Anchor(sessions, config, [&](const std::string& s, size_t d, size_t n) {
+            bar.Update(s, n ? double(d) / double(n) : 0.0);
+        });
     r.times.descriptors_s = load_s;
-    bar.Update("writing " + a.out, 0, 1);
+    bar.Update("writing " + a.out, 0.0);
     const std::vector<fs::path> written =
         anchor::WriteAnchorOutput(a.out, sessions, r, config, a.overwrite);
     bar.Clear();
@@ -131,6 +139,12 @@ void AddAnchorCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--outliers", args->outliers,
                     "How wrong loops are rejected: pcm (pairwise consistency), gnc (graduated "
                     "non-convexity) or none (the Cauchy loss only)")
+        ->capture_default_str();
+    cmd->add_option("--model-tolerance", args->model_tolerance_m,
+                    "How far (m) the building may stand from its model (construction "
+                    "tolerance): added to every loop's uncertainty so walls built off do not bend "
+                    "the trajectory; 0 trusts the model exactly")
+        ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_option("--inject-false-loops", args->inject_false_loops,
                     "Benchmarks: replace this share of the verified loops by wrong pairs")

@@ -32,5 +32,6 @@ void AddSimulateCommand(CLI::App& app, int& exit_code);
 void AddOdometryCommand(CLI::App& app, int& exit_code);
 void AddEvaluateCommand(CLI::App& app, int& exit_code);
 void AddAnchorCommand(CLI::App& app, int& exit_code);
+void AddChangesCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

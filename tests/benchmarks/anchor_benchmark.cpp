@@ -142,8 +142,11 @@ std::vector<Eigen::Isometry3d> TruthAtKeyframes(const anchor::AnchorSession& q,
 }
 
 // Simulates, runs the odometry, anchors; scores against the truth.
-Outcome RunOne(const fs::path& dir, const Building& b, simulate::Scenario s,
+Outcome RunOne(const fs::path& tmp_dir, const Building& b, simulate::Scenario s,
                const anchor::AnchorConfig& config, const anchor::LoadOptions& load) {
+    // BIMSLAM_ANCHOR_KEEP=DIR: the last run's capture, session and truth stay in DIR.
+    const char* keep = std::getenv("BIMSLAM_ANCHOR_KEEP");
+    const fs::path dir = keep ? fs::path(keep) : tmp_dir;
     // BIMSLAM_ANCHOR_CAUCHY: the finest registration level's Cauchy scale (experiments).
     anchor::AnchorConfig c = config;
     if (const char* e = std::getenv("BIMSLAM_ANCHOR_CAUCHY")) {
@@ -156,7 +159,7 @@ Outcome RunOne(const fs::path& dir, const Building& b, simulate::Scenario s,
     oo.capture_dir = dir / "capture";
     oo.session_dir = dir / "session";
     replay::RunCaptureOdometry(oo);
-    fs::remove(dir / "capture" / "lidar.pcap");
+    if (!keep) fs::remove(dir / "capture" / "lidar.pcap");
 
     const auto t0 = Clock::now();
     std::vector<anchor::AnchorSession> sessions;

@@ -79,6 +79,15 @@ run_case(algorithms_link_raw_lcm FAIL "algorithms/io .*links lcm, which brings l
 run_case(algorithms_embree_transitively FAIL "algorithms/odometry .*brings embree"
     LIBS ${base} "algorithms/simulation|fake_embree"
          "algorithms/odometry|bimslam::algorithms_simulation")
+run_case(changes_links_simulation PASS "layering rules hold"
+    LIBS ${base} "algorithms/simulation|fake_embree"
+         "algorithms/changes|bimslam::algorithms_simulation")
+run_case(changes_includes_embree FAIL "algorithms/changes/use.cpp: '#include <embree3/rtcore.h>'"
+    LIBS ${base} "algorithms/simulation|fake_embree"
+         "algorithms/changes|bimslam::algorithms_simulation"
+    INCLUDES "algorithms/changes|<embree3/rtcore.h>")
+run_case(changes_link_ifcpp FAIL "algorithms/changes .*brings ifcpp"
+    LIBS ${base} "algorithms/changes|fake_ifcpp")
 run_case(common_links_other_algorithms FAIL "algorithms/common .*links bimslam_algorithms_io"
     LIBS "algorithms/io" "algorithms/common|bimslam::algorithms_io")
 run_case(drivers_link_other_algorithms FAIL "drivers/ouster .*links bimslam_algorithms_io"

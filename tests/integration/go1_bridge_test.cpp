@@ -381,9 +381,30 @@ TEST(Go1BridgeProgram, LcmSinkPublishesEveryFrame) {
         const auto ready = decoder.ready();
         for (int i = 0; i < n; ++i) samples.push_back(ready[ready.size() - n + i]);
     }
-    // About 960 frames a second; multicast on loopback loses none in practice, but a loss is
-    // the transport's, not the bridge's: allow a few.
-    EXPECT_GT(frames.size(), 900u);
+    // The bridge published every frame it made (its summary: "N frames, N to lcm ..., 0
+    // failed"). About 960 a second; UDP multicast on loopback loses none on an idle machine,
+    // but under load the receiving socket's buffer overflows while this process is not
+    // scheduled (825 of 960 arrived at load 9): a loss is the transport's, so the share
+    // received is only checked to be most of them.
+    const std::string summary =
+        result.out.substr(std::min(result.out.find("summary:"), result.out.size()));
+    const auto number_before = [&](const std::string& key) -> uint64_t {
+        const size_t at = summary.find(key);
+        if (at == std::string::npos || at == 0) return 0;
+        const size_t start = summary.rfind(' ', at - 1) + 1;
+        const std::string digits = summary.substr(start, at - start);
+        return digits.find_first_not_of("0123456789") == std::string::npos && !digits.empty()
+                   ? std::stoull(digits)
+                   : 0;
+    };
+    const uint64_t made = number_before(" frames, ");
+    const uint64_t sent = number_before(" to LCM " + url);
+    // Made: about 960 in the second, fewer when the loaded machine skipped the bridge's ticks
+    // (which it reports, and the candump test bounds).
+    EXPECT_GT(made, 500u) << result.out;
+    EXPECT_EQ(sent, made) << result.out;
+    EXPECT_NE(result.out.find(channel + ", 0 failed"), std::string::npos) << result.out;
+    EXPECT_GT(frames.size(), made / 2) << result.out;
     EXPECT_LE(decoder.stats().crc, 0u);
     const Checked c = CheckSamples(samples);
     EXPECT_GT(c.with_data, 50);

@@ -10,6 +10,8 @@
 #   algorithms/simulation    the one algorithms library that may use Embree
 #   algorithms/pipeline      the one algorithms library that may use drivers: the decoders
 #                            drivers/ouster and drivers/can only (not drivers/net)
+#   algorithms/changes       may link algorithms/simulation (and so Embree behind its Scene), but
+#                            not include Embree: change detection ray-casts through Scene only
 #   drivers/*                no LCM, IFC++, Embree; of the algorithms only algorithms/common
 #   firmware/*               no IFC++, Embree; no host_tools
 #   host_tools/*             no firmware
@@ -114,9 +116,10 @@ function(_bimslam_capability_of item out_var)
     set(${out_var} ${cap} PARENT_SCOPE)
 endfunction()
 
-# What the folder may not use: capabilities, and folder prefixes of other libraries, with
-# exceptions (folders it may use although a prefix forbids them).
-function(_bimslam_rules folder caps_var folders_var allowed_var)
+# What the folder may not use: capabilities it may not link, capabilities it may not include,
+# and folder prefixes of other libraries, with exceptions (folders it may use although a prefix
+# forbids them).
+function(_bimslam_rules folder caps_var include_caps_var folders_var allowed_var)
     set(caps "")
     set(folders "")
     set(allowed "")
@@ -125,7 +128,7 @@ function(_bimslam_rules folder caps_var folders_var allowed_var)
         set(folders algorithms/ drivers/ firmware/ host_tools/ lcmtypes)
     elseif(folder MATCHES "^algorithms/")
         set(caps lcm ifcpp embree)
-        if(folder STREQUAL "algorithms/simulation")
+        if(folder STREQUAL "algorithms/simulation" OR folder STREQUAL "algorithms/changes")
             set(caps lcm ifcpp)
         endif()
         set(folders drivers/ firmware/ host_tools/ lcmtypes)
@@ -146,7 +149,12 @@ function(_bimslam_rules folder caps_var folders_var allowed_var)
         set(caps ifcpp embree)
         set(folders algorithms/ drivers/ firmware/ host_tools/)
     endif()
+    set(include_caps ${caps})
+    if(folder STREQUAL "algorithms/changes")
+        set(include_caps lcm ifcpp embree)
+    endif()
     set(${caps_var} ${caps} PARENT_SCOPE)
+    set(${include_caps_var} ${include_caps} PARENT_SCOPE)
     set(${folders_var} ${folders} PARENT_SCOPE)
     set(${allowed_var} ${allowed} PARENT_SCOPE)
 endfunction()
@@ -175,7 +183,8 @@ function(bimslam_check_layers)
     set(errors "")
     foreach(lib ${libraries})
         get_target_property(folder ${lib} BIMSLAM_FOLDER)
-        _bimslam_rules("${folder}" forbidden_caps forbidden_folders allowed_folders)
+        _bimslam_rules("${folder}" forbidden_caps forbidden_include_caps forbidden_folders
+                       allowed_folders)
         _bimslam_link_closure(${lib} closure)
         foreach(dep ${closure})
             _bimslam_capability_of(${dep} cap)
@@ -197,7 +206,7 @@ function(bimslam_check_layers)
         file(GLOB_RECURSE sources "${BIMSLAM_ROOT}/${folder}/*.hpp" "${BIMSLAM_ROOT}/${folder}/*.h"
              "${BIMSLAM_ROOT}/${folder}/*.cpp")
         set(patterns "")
-        foreach(cap ${forbidden_caps})
+        foreach(cap ${forbidden_include_caps})
             list(APPEND patterns ${_bimslam_cap_${cap}_includes})
         endforeach()
         foreach(src ${sources})

@@ -3,6 +3,7 @@
 include_guard(GLOBAL)
 
 set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
+set_property(GLOBAL PROPERTY BIMSLAM_INTEGRATION_TESTS "")
 
 # bimslam_test(<name> LABEL <label> SOURCES ... DEPS ... [TIMEOUT s])
 function(bimslam_test name)
@@ -20,13 +21,17 @@ function(bimslam_test name)
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
     if(ARG_LABEL STREQUAL "unit")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
+    else()
+        set_property(GLOBAL APPEND PROPERTY BIMSLAM_INTEGRATION_TESTS ${name})
     endif()
 endfunction()
 
 # bimslam_benchmark(<name> SOURCES ... DEPS ...): Google Benchmark executable, label benchmark.
+# Not built by default (`make test` runs no benchmark; CI time): `make bench` or the target
+# `benchmarks` builds them all.
 function(bimslam_benchmark name)
     cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
-    add_executable(${name} ${ARG_SOURCES})
+    add_executable(${name} EXCLUDE_FROM_ALL ${ARG_SOURCES})
     target_link_libraries(${name} PRIVATE ${ARG_DEPS} bimslam::test_support benchmark::benchmark)
     bimslam_apply_warnings(${name})
     add_test(NAME ${name} COMMAND ${name} --benchmark_min_time=0.2)

@@ -1,7 +1,7 @@
 // Reads an IFC file with web-ifc (That Open Company's IFC engine, independent of IFC++) and prints
 // what it found as JSON: the schema, counts per class, the meshes, vertices and triangles of all
-// geometry, and their bounding box. Used by tests/integration/sample_building_test.cpp to check
-// that another viewer opens the files bimslam writes.
+// geometry, and their bounding box. Used by tests/integration/sample_building_test.cpp and
+// changes_cli_test.cpp to check that another viewer opens the files bimslam writes.
 //
 //   node check.mjs FILE.ifc
 //
@@ -13,7 +13,8 @@ import * as WebIFC from "web-ifc";
 const CLASSES = [
     "IFCWALL", "IFCWALLSTANDARDCASE", "IFCDOOR", "IFCWINDOW", "IFCSLAB", "IFCCOLUMN", "IFCSTAIR",
     "IFCSTAIRFLIGHT", "IFCRAILING", "IFCFURNITURE", "IFCSPACE", "IFCOPENINGELEMENT",
-    "IFCBUILDINGSTOREY",
+    "IFCBUILDINGSTOREY", "IFCBUILDINGELEMENTPROXY", "IFCPROPERTYSET", "IFCRELDEFINESBYPROPERTIES",
+    "IFCTRIANGULATEDFACESET", "IFCFACETEDBREP",
 ];
 
 if (process.argv.length !== 3) {

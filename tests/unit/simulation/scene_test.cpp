@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 #include <string>
+#include <utility>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/simulation/lidar_simulator.hpp"
@@ -123,6 +127,89 @@ TEST(Scene, MovesKeepTheScene) {
     c = std::move(b);
     EXPECT_EQ(c.triangle_count(), 1u);
     EXPECT_TRUE(c.Intersect({0, 0, 0}, {1, 0, 0}));
+}
+
+// The closest point by brute force over every triangle (sampling each triangle densely would be
+// approximate; the exact answer is the minimum over the triangle's plane, edges and corners).
+float BruteForceDistance(const common::TriangleMesh& m, const Eigen::Vector3f& p) {
+    float best = std::numeric_limits<float>::infinity();
+    for (const auto& t : m.triangles) {
+        const Eigen::Vector3f a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+        const Eigen::Vector3f n = (b - a).cross(c - a).normalized();
+        const Eigen::Vector3f q = p - (p - a).dot(n) * n;  // projection on the plane
+        // Inside the triangle: barycentric signs.
+        const bool inside = (b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
+                            (a - c).cross(q - c).dot(n) >= 0;
+        if (inside) best = std::min(best, (p - q).norm());
+        for (const auto& [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+            const float f = std::clamp((p - u).dot(v - u) / (v - u).squaredNorm(), 0.0f, 1.0f);
+            best = std::min(best, (p - (u + f * (v - u))).norm());
+        }
+    }
+    return best;
+}
+
+TEST(SceneClosestPoint, MatchesBruteForceAndNeverDependsOnTheHint) {
+    // A box room with a pillar of random triangles in it.
+    test::BoxRoom room({0, 0, 0}, {6, 4, 3});
+    common::TriangleMesh m = room.mesh;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.5f, 3.0f);
+    for (int k = 0; k < 40; ++k) {
+        const auto base = static_cast<uint32_t>(m.vertices.size());
+        for (int c = 0; c < 3; ++c) m.vertices.emplace_back(u(rng) * 2, u(rng), u(rng));
+        m.triangles.push_back({base, base + 1, base + 2});
+    }
+    const Scene scene(m);
+    std::uniform_real_distribution<float> x(-1, 7);
+    uint32_t previous = Scene::kNoHint;
+    for (int i = 0; i < 2000; ++i) {
+        const Eigen::Vector3f p(x(rng), x(rng) * 0.7f, x(rng) * 0.5f);
+        const auto c = scene.ClosestPoint(p, std::numeric_limits<float>::infinity(), previous);
+        ASSERT_TRUE(c);
+        const float expected = BruteForceDistance(m, p);
+        EXPECT_NEAR(c->distance, expected, 1e-5f) << p.transpose();
+        EXPECT_NEAR((p - c->point).norm(), c->distance, 1e-5f);
+        EXPECT_NEAR(std::abs(c->signed_distance), c->distance, 1e-6f);
+        const auto unhinted = scene.ClosestPoint(p);
+        ASSERT_TRUE(unhinted);
+        EXPECT_NEAR(unhinted->distance, c->distance, 1e-6f);
+        previous = c->triangle;
+    }
+}
+
+TEST(SceneClosestPoint, SignsTellInsideFromOutsideOfAClosedBoxAtFacesEdgesAndCorners) {
+    // BoxMesh-like solid: the room's triangles face inwards, so flip them to face out.
+    test::BoxRoom solid({0, 0, 0}, {1, 2, 3});
+    for (auto& t : solid.mesh.triangles) std::swap(t[1], t[2]);
+    const Scene scene(solid.mesh, solid.ids);
+    const struct {
+        Eigen::Vector3f p;
+        float signed_distance;
+    } cases[] = {
+        {{0.5f, 1.0f, 1.0f}, -0.5f},                             // inside, nearest the x faces
+        {{0.5f, 0.1f, 1.5f}, -0.1f},                             // inside, near the y = 0 face
+        {{-0.2f, 1.0f, 1.0f}, 0.2f},                             // outside a face
+        {{-0.3f, -0.4f, 1.0f}, 0.5f},                            // outside an edge (3-4-5)
+        {{1.2f, 2.3f, 3.6f}, std::sqrt(0.04f + 0.09f + 0.36f)},  // outside a corner
+    };
+    for (const auto& c : cases) {
+        const auto r = scene.ClosestPoint(c.p);
+        ASSERT_TRUE(r);
+        EXPECT_NEAR(r->signed_distance, c.signed_distance, 1e-5f) << c.p.transpose();
+    }
+}
+
+TEST(SceneClosestPoint, RespectsTheMaximumDistanceAndEmptyScenes) {
+    const Scene scene(OneTriangle(), {7});
+    const auto near = scene.ClosestPoint({1, 0, 0}, 1.5f);
+    ASSERT_TRUE(near);
+    EXPECT_NEAR(near->distance, 1.0f, 1e-6f);
+    EXPECT_EQ(near->id, 7u);
+    EXPECT_NEAR(near->signed_distance, -1.0f, 1e-6f);  // behind the counter-clockwise side
+    EXPECT_FALSE(scene.ClosestPoint({1, 0, 0}, 0.5f));
+    const Scene empty(common::TriangleMesh{});
+    EXPECT_FALSE(empty.ClosestPoint({0, 0, 0}));
 }
 
 }  // namespace

@@ -1,0 +1,411 @@
+#include "algorithms/changes/change_detector.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <string>
+
+#include "algorithms/changes/model_distance.hpp"
+#include "algorithms/changes/point_grid.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/simulation/scene.hpp"
+
+namespace bimslam::changes {
+namespace {
+using Clock = std::chrono::steady_clock;
+
+[[noreturn]] void Fail(const std::string& what) {
+    throw common::Error(common::StatusCode::kInvalidArgument, what);
+}
+
+double Since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The normal of the points within `radius` of p that `take` accepts: the eigenvector of the least
+// eigenvalue of their covariance where they form a surface (the middle eigenvalue at least 10 %
+// of the largest); where they form a line, `toward` (the direction to the sensor that saw p) made
+// perpendicular to the line when `line_ok`, else zero; with fewer than 5 points, `toward` when
+// `line_ok`, else zero.
+template <class Take>
+Eigen::Vector3f NormalAt(const PointGrid& grid, const Eigen::Vector3f& p, float radius,
+                         const Eigen::Vector3f& toward, bool line_ok, Take&& take) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+    int n = 0;
+    grid.ForEachPointWithin(p, radius, [&](uint32_t j) {
+        if (!take(j)) return;
+        const Eigen::Vector3d q = (grid.points()[j] - p).cast<double>();
+        mean += q;
+        second += q * q.transpose();
+        ++n;
+    });
+    const Eigen::Vector3f none = line_ok ? toward : Eigen::Vector3f::Zero();
+    if (n < 5) return none;
+    mean /= n;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(second / n - mean * mean.transpose());
+    const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+    Eigen::Vector3f normal;
+    if (lambda[1] >= 0.1 * lambda[2]) {
+        normal = eig.eigenvectors().col(0).cast<float>();
+    } else {
+        if (!line_ok) return none;
+        const Eigen::Vector3f line = eig.eigenvectors().col(2).cast<float>();
+        normal = toward - toward.dot(line) * line;
+    }
+    return normal.allFinite() && normal.norm() > 1e-3f ? Eigen::Vector3f(normal.normalized())
+                                                       : none;
+}
+
+// Two normals per point for the free-space test. First, of all its neighbours: a static surface
+// seen by many keyframes. Where the neighbourhood is a line (one ring across a person), the
+// direction to the sensor that saw it, made perpendicular to the line. Second, of its neighbours
+// first seen by the same keyframe, where they form a surface, else zero: a person seen by several
+// keyframes in a row while walking is smeared along the walk, and the normal of the smear lies in
+// the walking direction's plane, along which the other keyframes' beams run.
+struct PointNormals {
+    std::vector<Eigen::Vector3f> all, same_keyframe;
+};
+PointNormals EstimateNormals(std::span<const Eigen::Vector3f> points, float radius,
+                             std::span<const Eigen::Vector3f> viewpoint,
+                             std::span<const uint32_t> keyframe) {
+    PointNormals out;
+    out.all.resize(points.size());
+    out.same_keyframe.resize(points.size());
+    const PointGrid grid(points, radius);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 1024), [&](const auto& range) {
+        for (size_t i = range.begin(); i < range.end(); ++i) {
+            const Eigen::Vector3f toward = (viewpoint[i] - points[i]).normalized();
+            out.all[i] =
+                NormalAt(grid, points[i], radius, toward, true, [](uint32_t) { return true; });
+            out.same_keyframe[i] = NormalAt(grid, points[i], radius, toward, false,
+                                            [&](uint32_t j) { return keyframe[j] == keyframe[i]; });
+        }
+    });
+    return out;
+}
+
+Eigen::AlignedBox3d BoxOf(std::span<const Eigen::Vector3f> xyz, std::span<const uint32_t> idx) {
+    Eigen::AlignedBox3d box;
+    for (const uint32_t i : idx) box.extend(xyz[i].cast<double>());
+    return box;
+}
+
+}  // namespace
+
+std::string_view ToString(PointClass c) {
+    switch (c) {
+        case PointClass::kModel:
+            return "model";
+        case PointClass::kNewObject:
+            return "new_object";
+        case PointClass::kTransient:
+            return "transient";
+        case PointClass::kUnexplained:
+            return "unexplained";
+        case PointClass::kOutside:
+            return "outside";
+        case PointClass::kMoved:
+            return "moved";
+    }
+    return "?";
+}
+
+void ChangeDetectorConfig::Validate() const {
+    map.Validate();
+    dbscan.Validate();
+    free_space.Validate();
+    evidence.Validate();
+    elements.Validate();
+    moved.Validate();
+    if (!(new_object_threshold_m > 0)) {
+        Fail("new_object_threshold_m must be > 0, not " + std::to_string(new_object_threshold_m));
+    }
+    if (!(band_threshold_m > 0 && band_threshold_m <= new_object_threshold_m)) {
+        Fail("band_threshold_m must be in (0, new_object_threshold_m], not " +
+             std::to_string(band_threshold_m));
+    }
+    if (!(crop_margin_m >= 0)) Fail("crop_margin_m must be >= 0");
+}
+
+void ChangeModel::Validate() const {
+    if (triangle_element.size() != mesh.triangles.size()) {
+        Fail("model: " + std::to_string(mesh.triangles.size()) + " triangles but " +
+             std::to_string(triangle_element.size()) + " triangle elements");
+    }
+    if (!mesh.IndicesValid()) Fail("model: a triangle index is out of range");
+    for (size_t t = 0; t < triangle_element.size(); ++t) {
+        if (triangle_element[t] >= element_count()) {
+            Fail("model: triangle " + std::to_string(t) + " has element " +
+                 std::to_string(triangle_element[t]) + " of " + std::to_string(element_count()));
+        }
+    }
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+        if (!mesh.vertices[v].allFinite())
+            Fail("model: vertex " + std::to_string(v) + " is not finite");
+    }
+}
+
+ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           const ChangeDetectorConfig& config, const ChangeProgress& progress) {
+    config.Validate();
+    model.Validate();
+    if (model.mesh.empty()) Fail("the model has no geometry to compare with");
+    if (keyframes.empty()) Fail("the session has no keyframes");
+    const auto report = [&](std::string_view stage, double f) {
+        if (progress) progress(stage, f);
+    };
+    ChangeResult out;
+
+    // 1. The aligned map.
+    auto t0 = Clock::now();
+    out.map = BuildAlignedMap(keyframes, config.map);
+    ChangeResult::Timings& sec = out.seconds;
+    sec.map_s = Since(t0);
+    report("map", 1.0);
+    if (out.map.size() == 0) {
+        Fail("the session's keyframes hold no points between " +
+             std::to_string(config.map.min_range_m) + " and " +
+             std::to_string(config.map.max_range_m) + " m");
+    }
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
+    const size_t n = xyz.size();
+
+    // 2. Signed distances to the whole model.
+    t0 = Clock::now();
+    const simulation::Scene scene(model.mesh);
+    PointDistances d = ComputeDistances(scene, xyz, std::numeric_limits<float>::infinity(),
+                                        [&](double f) { report("distances", f); });
+    out.signed_distance_m = std::move(d.signed_m);
+    out.element.assign(n, kNoElement);
+    for (size_t i = 0; i < n; ++i) {
+        if (d.triangle[i] != kNoElement) out.element[i] = model.triangle_element[d.triangle[i]];
+    }
+    sec.distance_s = Since(t0);
+
+    // The compared region: the model's box plus a margin (the outdoors seen through windows and
+    // doors is not the building's).
+    Eigen::AlignedBox3f region;
+    for (const auto& v : model.mesh.vertices) region.extend(v);
+    region.min().array() -= float(config.crop_margin_m);
+    region.max().array() += float(config.crop_margin_m);
+    const float high = float(config.new_object_threshold_m);
+    const float low = float(config.band_threshold_m);
+    out.point_class.assign(n, PointClass::kModel);
+    out.object.assign(n, -1);
+    std::vector<uint32_t> candidates;
+    for (size_t i = 0; i < n; ++i) {
+        const float s = std::abs(out.signed_distance_m[i]);
+        if (!region.contains(xyz[i])) {
+            out.point_class[i] = PointClass::kOutside;
+        } else if (s > low) {
+            if (s > high) out.point_class[i] = PointClass::kUnexplained;
+            candidates.push_back(uint32_t(i));
+        }
+    }
+    out.counts.candidates = candidates.size();
+
+    // 3. Transients among the points that would start new objects (a person's lower 10 cm are
+    // band points: without transient seeds next to them they never become part of an object).
+    t0 = Clock::now();
+    std::vector<uint32_t> far;
+    for (const uint32_t i : candidates) {
+        if (std::abs(out.signed_distance_m[i]) > high) far.push_back(i);
+    }
+    std::vector<uint8_t> transient(n, 0);
+    if (config.detect_transients && !far.empty()) {
+        std::vector<Eigen::Vector3f> cxyz(far.size()), viewpoint(far.size());
+        std::vector<uint32_t> seen_by(far.size());
+        for (size_t k = 0; k < far.size(); ++k) {
+            cxyz[k] = xyz[far[k]];
+            seen_by[k] = out.map.first_keyframe[far[k]];
+            viewpoint[k] = keyframes[seen_by[k]].T_world_lidar.translation().cast<float>();
+        }
+        const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
+        const PointNormals normals = EstimateNormals(cxyz, radius, viewpoint, seen_by);
+        const FreeSpaceIndex index(keyframes, config.free_space);
+        const size_t chunk = std::max<size_t>(1024, far.size() / 20);
+        for (size_t first = 0; first < far.size(); first += chunk) {
+            const size_t last = std::min(far.size(), first + chunk);
+            tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 256), [&](const auto& r) {
+                for (size_t k = r.begin(); k < r.end(); ++k) {
+                    bool is = index.Transient(index.Vote(cxyz[k], normals.all[k]));
+                    // The second normal where there is one: even 20 deg between the two can turn
+                    // the beams along a corridor from grazing to crossing.
+                    const Eigen::Vector3f& second = normals.same_keyframe[k];
+                    if (!is && second.squaredNorm() > 0) {
+                        is = index.Transient(index.Vote(cxyz[k], second));
+                    }
+                    transient[far[k]] = is;
+                }
+            });
+            report("transients", double(last) / double(far.size()));
+        }
+    }
+    std::vector<uint32_t> transient_points, seeds, band;
+    for (const uint32_t i : candidates) {
+        if (transient[i]) {
+            transient_points.push_back(i);
+            out.point_class[i] = PointClass::kTransient;
+        } else if (std::abs(out.signed_distance_m[i]) > high) {
+            seeds.push_back(i);
+        } else {
+            band.push_back(i);
+        }
+    }
+    out.counts.transient_points = transient_points.size();
+    out.counts.seed_points = seeds.size();
+    sec.transient_s = Since(t0);
+
+    // 4. New objects: DBSCAN over the seeds, grown into the band.
+    t0 = Clock::now();
+    std::vector<Eigen::Vector3f> seed_xyz(seeds.size());
+    for (size_t k = 0; k < seeds.size(); ++k) seed_xyz[k] = xyz[seeds[k]];
+    const DbscanResult clusters = Dbscan(seed_xyz, config.dbscan);
+    out.counts.clusters = size_t(clusters.clusters);
+    std::vector<std::vector<uint32_t>> members(size_t(clusters.clusters));
+    for (size_t k = 0; k < seeds.size(); ++k) {
+        if (clusters.labels[k] >= 0) members[size_t(clusters.labels[k])].push_back(seeds[k]);
+    }
+    {
+        std::vector<Eigen::Vector3f> band_xyz(band.size());
+        for (size_t k = 0; k < band.size(); ++k) band_xyz[k] = xyz[band[k]];
+        const float eps = float(config.dbscan.eps_m);
+        const PointGrid band_grid(band_xyz, eps);
+        std::vector<uint8_t> taken(band.size(), 0);
+        for (auto& cluster : members) {
+            Eigen::AlignedBox3f limit;
+            for (const uint32_t i : cluster) limit.extend(xyz[i]);
+            limit.min().array() -= high;
+            limit.max().array() += high;
+            std::deque<uint32_t> queue(cluster.begin(), cluster.end());
+            while (!queue.empty()) {
+                const uint32_t i = queue.front();
+                queue.pop_front();
+                band_grid.ForEachPointWithin(xyz[i], eps, [&](uint32_t k) {
+                    if (taken[k] || !limit.contains(band_xyz[k])) return;
+                    taken[k] = 1;
+                    cluster.push_back(band[k]);
+                    queue.push_back(band[k]);
+                });
+            }
+        }
+    }
+    std::vector<std::vector<uint32_t>> object_points;
+    for (auto& cluster : members) {
+        if (cluster.size() >= config.min_object_points) object_points.push_back(std::move(cluster));
+    }
+    const float voxel = float(config.map.voxel_m);
+    const float floor_reach = high + 2 * voxel;
+    for (size_t o = 0; o < object_points.size(); ++o) {
+        NewObject obj;
+        obj.points = std::move(object_points[o]);
+        std::sort(obj.points.begin(), obj.points.end());
+        std::vector<Eigen::Vector3f> pts(obj.points.size());
+        std::vector<float> floor_z(obj.points.size(), std::numeric_limits<float>::quiet_NaN());
+        Eigen::AlignedBox3d box;
+        for (size_t k = 0; k < obj.points.size(); ++k) {
+            pts[k] = xyz[obj.points[k]];
+            box.extend(pts[k].cast<double>());
+        }
+        // The floor under the object: a surface facing up within reach below its points.
+        const float bottom = float(box.min().z());
+        for (size_t k = 0; k < pts.size(); ++k) {
+            if (pts[k].z() > bottom + floor_reach) continue;
+            const auto hit = scene.Intersect(pts[k], -Eigen::Vector3f::UnitZ(), 0.0f, floor_reach);
+            if (hit && hit->normal.z() > 0.7f) floor_z[k] = pts[k].z() - hit->t;
+        }
+        for (const float z : floor_z) {
+            if (std::isfinite(z) && z < box.min().z()) {
+                box.min().z() = z;
+                obj.on_floor = true;
+            }
+        }
+        obj.solid = MakeVoxelSolid(pts, voxel, float(box.min().z()));
+        obj.mesh = VoxelSurface(obj.solid);
+        obj.box_min = box.min();
+        obj.box_max = box.max();
+        obj.centroid = obj.solid.centroid();
+        obj.volume_m3 = obj.solid.volume_m3();
+        for (const uint32_t i : obj.points) {
+            out.point_class[i] = PointClass::kNewObject;
+            out.object[i] = int32_t(o);
+        }
+        out.objects.push_back(std::move(obj));
+    }
+    report("objects", 0.5);
+
+    // Transient clusters, reported apart.
+    std::vector<Eigen::Vector3f> transient_xyz(transient_points.size());
+    for (size_t k = 0; k < transient_points.size(); ++k) {
+        transient_xyz[k] = xyz[transient_points[k]];
+    }
+    const DbscanResult tc = Dbscan(transient_xyz, config.dbscan);
+    out.transients.resize(size_t(tc.clusters));
+    for (size_t k = 0; k < transient_points.size(); ++k) {
+        if (tc.labels[k] >= 0)
+            out.transients[size_t(tc.labels[k])].points.push_back(transient_points[k]);
+    }
+    for (TransientCluster& c : out.transients) {
+        const Eigen::AlignedBox3d box = BoxOf(xyz, c.points);
+        c.box_min = box.min();
+        c.box_max = box.max();
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        c.first_keyframe = UINT32_MAX;
+        for (const uint32_t i : c.points) {
+            sum += xyz[i].cast<double>();
+            c.first_keyframe = std::min(c.first_keyframe, out.map.first_keyframe[i]);
+            c.last_keyframe = std::max(c.last_keyframe, out.map.first_keyframe[i]);
+        }
+        c.centroid = sum / double(c.points.size());
+    }
+    sec.cluster_s = Since(t0);
+    report("objects", 1.0);
+
+    // 5. The beams' evidence on the opaque elements.
+    t0 = Clock::now();
+    common::TriangleMesh opaque;
+    std::vector<uint32_t> opaque_element;
+    opaque.vertices = model.mesh.vertices;  // unused vertices cost Embree nothing
+    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
+        if (!model.element_opaque[model.triangle_element[t]]) continue;
+        opaque.triangles.push_back(model.mesh.triangles[t]);
+        opaque_element.push_back(model.triangle_element[t]);
+    }
+    const simulation::Scene opaque_scene(opaque);
+    const std::vector<ElementEvidence> evidence = CollectElementEvidence(
+        opaque_scene, opaque, opaque_element, model.element_count(), keyframes, config.evidence,
+        [&](double f) { report("elements", 0.9 * f); });
+    sec.evidence_s = Since(t0);
+
+    // 6. Verdicts and deviations, then moved elements.
+    t0 = Clock::now();
+    std::vector<uint8_t> usable(n, 0);
+    for (size_t i = 0; i < n; ++i) {
+        usable[i] = out.point_class[i] == PointClass::kModel ||
+                    out.point_class[i] == PointClass::kUnexplained;
+    }
+    const std::vector<std::vector<uint32_t>> support = ElementSupport(
+        model, out.signed_distance_m, d.triangle, usable, config.elements.support_distance_m);
+    out.elements =
+        CheckElements(model, out.signed_distance_m, d.triangle, support, evidence, config.elements);
+    std::vector<std::vector<uint32_t>> objects_points(out.objects.size());
+    for (size_t o = 0; o < out.objects.size(); ++o) objects_points[o] = out.objects[o].points;
+    const std::vector<uint32_t> explained =
+        FindMovedElements(model, xyz, objects_points, support, out.elements, config.moved);
+    for (size_t o = 0; o < out.objects.size(); ++o) {
+        out.objects[o].moved_element = explained[o];
+        if (explained[o] == kNoElement) continue;
+        for (const uint32_t i : out.objects[o].points) out.point_class[i] = PointClass::kMoved;
+    }
+    sec.elements_s = Since(t0);
+    report("elements", 1.0);
+    return out;
+}
+
+}  // namespace bimslam::changes

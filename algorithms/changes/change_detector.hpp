@@ -1,0 +1,114 @@
+// Change detection of one session against the building model: Step 3 of the paper plus its
+// future work (README.md in this folder has the method, the defaults and why).
+//
+//   1. the aligned map: keyframe clouds at their poses, voxel-filtered (aligned_map.hpp);
+//   2. the signed distance of every map point to the nearest element (model_distance.hpp);
+//   3. transient points, by free-space evidence from the keyframes' range images (free_space.hpp);
+//   4. new objects: points farther than new_object_threshold_m from the model, clustered with
+//      DBSCAN (dbscan.hpp), grown into the band down to band_threshold_m (so the part of an object
+//      near the floor or a wall is not cut off), turned into voxel solids and meshes
+//      (voxel_mesh.hpp);
+//   5. missing, deviating and unobserved elements from the beams (element_evidence.hpp,
+//      element_check.hpp), moved elements paired with the new objects they became
+//      (moved_elements.hpp);
+//   6. the as-built deviation of every element (element_check.hpp).
+// The storey and the IfcSpace of a new object, the files and the IFC are the host tool's
+// (host_tools/changes), which knows the BIM.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "algorithms/changes/aligned_map.hpp"
+#include "algorithms/changes/change_model.hpp"
+#include "algorithms/changes/dbscan.hpp"
+#include "algorithms/changes/element_check.hpp"
+#include "algorithms/changes/element_evidence.hpp"
+#include "algorithms/changes/free_space.hpp"
+#include "algorithms/changes/moved_elements.hpp"
+#include "algorithms/changes/voxel_mesh.hpp"
+
+namespace bimslam::changes {
+
+struct ChangeDetectorConfig {
+    AlignedMapConfig map;
+    // Points farther than this from every element start a new object. 0.10 m: about twice the
+    // combined 1-sigma error of a map point, sqrt(range noise 1 cm^2 + anchoring 3 cm^2 +
+    // 0.2 deg at 10 m 3.5 cm^2) ~ 4.7 cm (README.md, "Thresholds").
+    double new_object_threshold_m = 0.10;
+    // A new object grows into the points between this and new_object_threshold_m that touch it:
+    // its lower 10 cm above a floor is then kept. ~4 sigma of a voxel centroid's noise.
+    double band_threshold_m = 0.05;
+    DbscanConfig dbscan;
+    size_t min_object_points = 30;  // smaller clusters are not objects (noise, edges)
+    double crop_margin_m = 0.5;     // map points outside the model's box + this are not compared
+    bool detect_transients = true;
+    FreeSpaceConfig free_space;
+    ElementEvidenceConfig evidence;
+    ElementCheckConfig elements;
+    MovedConfig moved;
+    void Validate() const;
+};
+
+// What each map point turned out to be (the "class" field of map_bim.ply).
+enum class PointClass : uint8_t {
+    kModel = 0,        // within new_object_threshold_m of an element
+    kNewObject = 1,    // part of a new object
+    kTransient = 2,    // seen where other keyframes looked through
+    kUnexplained = 3,  // off the model but in no object (too small a cluster, noise)
+    kOutside = 4,      // outside the compared region
+    kMoved = 5,        // part of an object that is a moved element of the model
+};
+std::string_view ToString(PointClass c);
+
+struct NewObject {
+    std::vector<uint32_t> points;  // indices into the map
+    VoxelSolid solid;
+    common::TriangleMesh mesh;         // the solid's exposed faces
+    Eigen::Vector3d box_min, box_max;  // of the points, the bottom extended to the floor
+    Eigen::Vector3d centroid;          // of the solid
+    double volume_m3 = 0;
+    bool on_floor = false;                // its bottom was extended to a surface below
+    uint32_t moved_element = kNoElement;  // when it is that element, moved
+};
+
+struct TransientCluster {
+    std::vector<uint32_t> points;
+    Eigen::Vector3d box_min, box_max, centroid;
+    uint32_t first_keyframe = 0, last_keyframe = 0;  // the keyframes that first saw its points
+};
+
+struct ChangeResult {
+    AlignedMap map;
+    std::vector<float> signed_distance_m;  // per map point (+inf: nothing near)
+    std::vector<uint32_t> element;         // per map point: nearest element, or kNoElement
+    std::vector<PointClass> point_class;
+    std::vector<int32_t> object;     // per map point: its new object (or -1)
+    std::vector<NewObject> objects;  // moved elements' objects included (moved_element set)
+    std::vector<TransientCluster> transients;
+    std::vector<ElementReport> elements;  // per element of the model
+    struct Counts {
+        size_t candidates = 0;  // farther than band_threshold_m from the model, inside the region
+        size_t transient_points = 0;
+        size_t seed_points = 0;  // farther than new_object_threshold_m, not transient
+        size_t clusters = 0;     // DBSCAN's, before min_object_points
+    } counts;
+    struct Timings {
+        double map_s = 0, distance_s = 0, transient_s = 0, cluster_s = 0, evidence_s = 0,
+               elements_s = 0;
+    } seconds;
+};
+
+// progress(stage, fraction): stage names "map", "distances", "transients", "objects", "elements".
+using ChangeProgress = std::function<void(std::string_view stage, double fraction)>;
+
+// Throws common::Error (kInvalidArgument) for a model without geometry or inconsistent, no
+// keyframes, an invalid config.
+ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           const ChangeDetectorConfig& config, const ChangeProgress& progress = {});
+
+}  // namespace bimslam::changes

@@ -1,0 +1,32 @@
+// The building model as change detection sees it: one triangle mesh in the model's frame (metres)
+// with the element of every triangle, and per element whether a LiDAR beam stops at it. Neutral
+// (no IFC): host_tools/changes fills it from a bim::BimModel, tests from synthetic rooms.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/triangle_mesh.hpp"
+
+namespace bimslam::changes {
+
+inline constexpr uint32_t kNoElement = 0xFFFFFFFFu;
+
+struct ChangeModel {
+    // Every physical element (walls, slabs, columns, doors, windows, furniture, ...; not spaces or
+    // openings): what "in the model" means for the signed distance.
+    common::TriangleMesh mesh;
+    std::vector<uint32_t> triangle_element;  // per triangle: element index
+    // Per element: 1 when beams stop at it (structure, furniture, closed doors' frames...), 0 when
+    // they pass (doors taken as open, glass). Opaque elements are what the rays of the element
+    // check are cast against, and the only ones it judges.
+    std::vector<uint8_t> element_opaque;
+
+    size_t element_count() const { return element_opaque.size(); }
+    // Throws common::Error (kInvalidArgument) naming what is inconsistent: a triangle without an
+    // element or with an element out of range, invalid indices, non-finite vertices.
+    void Validate() const;
+};
+
+}  // namespace bimslam::changes

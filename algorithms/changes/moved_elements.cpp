@@ -1,0 +1,227 @@
+#include "algorithms/changes/moved_elements.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/simulation/scene.hpp"
+
+namespace bimslam::changes {
+namespace {
+
+[[noreturn]] void Fail(const std::string& what) {
+    throw common::Error(common::StatusCode::kInvalidArgument, "moved." + what);
+}
+
+Eigen::Matrix3d Yaw(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).matrix(); }
+
+Eigen::AlignedBox3d BoxOf(std::span<const Eigen::Vector3f> points,
+                          std::span<const uint32_t> indices) {
+    Eigen::AlignedBox3d box;
+    for (const uint32_t i : indices) box.extend(points[i].cast<double>());
+    return box;
+}
+
+// G(p) = R(theta) (p - c) + c + t maps observed points onto the element as the model has it.
+struct Inverse {
+    double theta = 0;
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+};
+
+}  // namespace
+
+common::TriangleMesh ElementMesh(const ChangeModel& model, uint32_t element,
+                                 Eigen::AlignedBox3d* box) {
+    common::TriangleMesh mesh;
+    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
+        if (model.triangle_element[t] != element) continue;
+        std::array<uint32_t, 3> tri;
+        for (int k = 0; k < 3; ++k) {
+            tri[k] = uint32_t(mesh.vertices.size());
+            mesh.vertices.push_back(model.mesh.vertices[model.mesh.triangles[t][k]]);
+            if (box) box->extend(mesh.vertices.back().cast<double>());
+        }
+        mesh.triangles.push_back(tri);
+    }
+    return mesh;
+}
+
+double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFit& motion,
+                      std::span<const Eigen::Vector3f> points, double inlier_m) {
+    Eigen::AlignedBox3d box;
+    const common::TriangleMesh mesh = ElementMesh(model, element, &box);
+    if (mesh.empty() || points.empty()) return 0;
+    const simulation::Scene scene(mesh);
+    const Eigen::Vector3d c = box.center();
+    // M^-1(p) = R(-yaw) (p - c - t) + c.
+    const Eigen::Matrix3d R = Yaw(-motion.yaw_rad);
+    size_t inliers = 0;
+    for (const auto& p : points) {
+        const Eigen::Vector3d q = R * (p.cast<double>() - c - motion.translation) + c;
+        inliers += scene.ClosestPoint(q.cast<float>(), float(inlier_m)).has_value();
+    }
+    return double(inliers) / double(points.size());
+}
+
+void MovedConfig::Validate() const {
+    if (!(pair_radius_m >= 0)) Fail("pair_radius_m must be >= 0");
+    if (!(max_seen_fraction >= 0 && max_seen_fraction <= 1)) {
+        Fail("max_seen_fraction must be in [0, 1]");
+    }
+    if (!(inlier_m > 0)) Fail("inlier_m must be > 0");
+    if (!(min_inlier_fraction > 0 && min_inlier_fraction <= 1)) {
+        Fail("min_inlier_fraction must be in (0, 1]");
+    }
+    if (!(min_object_fraction > 0 && min_object_fraction <= 1)) {
+        Fail("min_object_fraction must be in (0, 1]");
+    }
+}
+
+MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
+                           std::span<const Eigen::Vector3f> points, const MovedConfig& config) {
+    Eigen::AlignedBox3d box;
+    const common::TriangleMesh mesh = ElementMesh(model, element, &box);
+    MotionFit best;
+    if (mesh.empty() || points.empty()) return best;
+    const simulation::Scene scene(mesh);
+    const Eigen::Vector3d c = box.center();
+    Eigen::AlignedBox3d seen;
+    for (const auto& p : points) seen.extend(p.cast<double>());
+    Eigen::Vector3d m = seen.center();
+    m.z() = c.z();
+    const double inlier = config.inlier_m;
+    const double search = std::max(0.5, 4 * inlier);
+    const double cauchy2 = 4 * inlier * inlier;
+
+    const auto score = [&](const Inverse& g, MotionFit* fit) {
+        const Eigen::Matrix3d R = Yaw(g.theta);
+        size_t inliers = 0;
+        fit->inlier.assign(points.size(), 0);
+        for (size_t i = 0; i < points.size(); ++i) {
+            const Eigen::Vector3d q = R * (points[i].cast<double>() - c) + c + g.t;
+            const auto hit = scene.ClosestPoint(q.cast<float>(), float(inlier));
+            if (hit) fit->inlier[i] = 1, ++inliers;
+        }
+        fit->inlier_fraction = double(inliers) / double(points.size());
+    };
+
+    for (const double yaw_deg : {0.0, 15.0, -15.0, 35.0, -35.0, 90.0, -90.0, 180.0}) {
+        for (const bool centred : {false, true}) {
+            Inverse g;
+            g.theta = yaw_deg * M_PI / 180.0;
+            if (centred) g.t = -Yaw(g.theta) * (m - c);
+            if (!centred && yaw_deg != 0.0) continue;
+            for (int iteration = 0; iteration < 30; ++iteration) {
+                const Eigen::Matrix3d R = Yaw(g.theta);
+                Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
+                Eigen::Vector4d b = Eigen::Vector4d::Zero();
+                for (const auto& p : points) {
+                    const Eigen::Vector3d q = R * (p.cast<double>() - c) + c + g.t;
+                    const auto hit = scene.ClosestPoint(q.cast<float>(), float(search));
+                    if (!hit) continue;
+                    const Eigen::Vector3d n = hit->normal.cast<double>();
+                    const double res = n.dot(q - hit->point.cast<double>());
+                    const double w = 1.0 / (1.0 + res * res / cauchy2);
+                    Eigen::Vector4d J;
+                    J.head<3>() = n;
+                    J[3] = n.dot(Eigen::Vector3d::UnitZ().cross(q - c));
+                    H += w * J * J.transpose();
+                    b += w * J * res;
+                }
+                H.diagonal().array() += 1e-6;
+                const Eigen::Vector4d delta = -H.ldlt().solve(b);
+                if (!delta.allFinite()) break;
+                g.t = Yaw(delta[3]) * g.t + delta.head<3>();
+                g.theta += delta[3];
+                if (delta.head<3>().norm() < 1e-5 && std::abs(delta[3]) < 1e-6) break;
+            }
+            MotionFit fit;
+            score(g, &fit);
+            if (fit.inlier_fraction > best.inlier_fraction) {
+                // M = G^-1: M(x) = R(-theta) (x - c - t) + c.
+                fit.yaw_rad = std::remainder(-g.theta, 2 * M_PI);
+                fit.translation = -(Yaw(-g.theta) * g.t);
+                best = std::move(fit);
+            }
+        }
+    }
+    return best;
+}
+
+std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
+                                        std::span<const Eigen::Vector3f> map_xyz,
+                                        const std::vector<std::vector<uint32_t>>& objects,
+                                        const std::vector<std::vector<uint32_t>>& element_support,
+                                        std::vector<ElementReport>& reports,
+                                        const MovedConfig& config) {
+    config.Validate();
+    std::vector<uint32_t> explained(objects.size(), kNoElement);
+    if (!config.enabled) return explained;
+    std::vector<Eigen::AlignedBox3d> element_box(model.element_count());
+    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
+        for (const uint32_t v : model.mesh.triangles[t]) {
+            element_box[model.triangle_element[t]].extend(model.mesh.vertices[v].cast<double>());
+        }
+    }
+    std::vector<Eigen::AlignedBox3d> object_box(objects.size());
+    for (size_t o = 0; o < objects.size(); ++o) object_box[o] = BoxOf(map_xyz, objects[o]);
+    std::vector<Eigen::Vector3f> points;
+    for (size_t e = 0; e < reports.size(); ++e) {
+        const ElementEvidence& ev = reports[e].evidence;
+        const bool partly_missing =
+            reports[e].verdict != Verdict::kNotObserved && model.element_opaque[e] &&
+            ev.seen_area_m2 < config.max_seen_fraction * ev.expected_area_m2;
+        if (reports[e].verdict != Verdict::kMissing && !partly_missing) continue;
+        int best_object = -1;
+        MotionFit best;
+        size_t best_inliers = 0;
+        for (size_t o = 0; o < objects.size(); ++o) {
+            if (explained[o] != kNoElement) continue;
+            if (object_box[o].exteriorDistance(element_box[e]) > config.pair_radius_m) continue;
+            points.clear();
+            for (const uint32_t i : objects[o]) points.push_back(map_xyz[i]);
+            for (const uint32_t i : element_support[e]) points.push_back(map_xyz[i]);
+            MotionFit fit = FitElementMotion(model, uint32_t(e), points, config);
+            size_t object_inliers = 0;
+            for (size_t k = 0; k < objects[o].size(); ++k) object_inliers += fit.inlier[k];
+            const double object_fraction = double(object_inliers) / double(objects[o].size());
+            if (fit.inlier_fraction < config.min_inlier_fraction ||
+                object_fraction < config.min_object_fraction || object_inliers <= best_inliers) {
+                continue;
+            }
+            best_inliers = object_inliers;
+            best_object = int(o);
+            best = std::move(fit);
+        }
+        if (best_object < 0) continue;
+        explained[size_t(best_object)] = uint32_t(e);
+        // A moved element may have come apart into several clusters (a desk's two ends): the
+        // others nearby that the moved element explains are it too.
+        for (size_t o = 0; o < objects.size(); ++o) {
+            if (explained[o] != kNoElement ||
+                object_box[o].exteriorDistance(element_box[e]) > config.pair_radius_m) {
+                continue;
+            }
+            points.clear();
+            for (const uint32_t i : objects[o]) points.push_back(map_xyz[i]);
+            if (InlierFraction(model, uint32_t(e), best, points, config.inlier_m) >=
+                config.min_object_fraction) {
+                explained[o] = uint32_t(e);
+            }
+        }
+        ElementReport& r = reports[e];
+        r.moved = true;
+        r.verdict = Verdict::kDeviating;
+        r.offset = best.translation;
+        r.constrained_axes = 3;
+        r.moved_yaw_deg = best.yaw_rad * 180.0 / M_PI;
+        r.moved_inlier_fraction = best.inlier_fraction;
+        r.moved_object = best_object;
+    }
+    return explained;
+}
+
+}  // namespace bimslam::changes

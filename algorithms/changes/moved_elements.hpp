@@ -1,0 +1,65 @@
+// Elements that were moved: the element is (partly) missing where the model has it, and a new
+// object nearby has its shape. For every element judged missing, or seen over less than
+// max_seen_fraction of its expected area (a desk moved by less than its size still covers part of
+// its old place: its top's beams agree there), each new object within pair_radius_m of
+// the element's box is tried: the element's surface is fitted to the object's points (and to the
+// points still supporting the element, a move may overlap its old place) by point-to-plane ICP in
+// four degrees of freedom (translation and yaw about the element's box centre, as things are moved
+// on a floor), with Cauchy weights, from a few starting yaws. A fit that puts min_inlier_fraction
+// of those points within inlier_m of the moved surface, and explains min_object_fraction of the
+// object's own points, makes the element "moved": its verdict becomes deviating, its offset the
+// translation of its box centre, and the object is no longer a new object; nor are the other
+// objects within pair_radius_m of which the moved element explains min_object_fraction (a moved
+// desk may come apart into a cluster per end).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <span>
+#include <vector>
+
+#include "algorithms/changes/change_model.hpp"
+#include "algorithms/changes/element_check.hpp"
+
+namespace bimslam::changes {
+
+struct MovedConfig {
+    bool enabled = true;
+    double max_seen_fraction = 0.6;
+    double pair_radius_m = 1.5;
+    double inlier_m = 0.05;
+    double min_inlier_fraction = 0.7;
+    double min_object_fraction = 0.6;
+    void Validate() const;
+};
+
+// A rigid motion in the floor plane fitted to points.
+struct MotionFit {
+    Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // of the element's box centre
+    double yaw_rad = 0;                                     // about that centre
+    double inlier_fraction = 0;
+    std::vector<uint8_t> inlier;  // per point given
+};
+
+// Fits the element (its triangles in model.mesh) to `points`: returns the motion M with M(element)
+// through the points. Exposed for tests.
+MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
+                           std::span<const Eigen::Vector3f> points, const MovedConfig& config);
+
+// The triangles of one element as a mesh of their own, and their box.
+common::TriangleMesh ElementMesh(const ChangeModel& model, uint32_t element,
+                                 Eigen::AlignedBox3d* box = nullptr);
+// The fraction of `points` within inlier_m of the element moved by `motion`.
+double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFit& motion,
+                      std::span<const Eigen::Vector3f> points, double inlier_m);
+
+// objects: the points (indices into map_xyz) of each new object; element_support: per element, the
+// indices of its support points. Updates `reports` of moved elements and returns, per object,
+// the element it is explained by (or kNoElement).
+std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
+                                        std::span<const Eigen::Vector3f> map_xyz,
+                                        const std::vector<std::vector<uint32_t>>& objects,
+                                        const std::vector<std::vector<uint32_t>>& element_support,
+                                        std::vector<ElementReport>& reports,
+                                        const MovedConfig& config);
+
+}  // namespace bimslam::changes

@@ -1,0 +1,37 @@
+// New objects as voxel solids and their surface meshes. A solid is a set of cubic voxels (indices
+// on a lattice of voxel_m); its mesh has the faces between an occupied and an empty voxel only,
+// two triangles each, counter-clockwise seen from outside, with the lattice corners as shared
+// vertices: every edge of the mesh is used once in each direction, so the surface is closed
+// (watertight) and consistently oriented, and its volume is the voxel count times voxel_m^3.
+#pragma once
+
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+#include "algorithms/common/triangle_mesh.hpp"
+
+namespace bimslam::changes {
+
+struct VoxelSolid {
+    float voxel_m = 0.05f;
+    std::vector<Eigen::Vector3i> voxels;  // sorted by (x, y, z), unique
+
+    double volume_m3() const;
+    // Of the voxels' cubes, in metres.
+    Eigen::Vector3d box_min() const;
+    Eigen::Vector3d box_max() const;
+    Eigen::Vector3d centroid() const;  // of the solid (voxel centres, equally weighted)
+};
+
+// The solid of an object seen from its top and sides: the (x, y) columns of the voxels the points
+// fall in, holes of one column closed (a morphological closing of the footprint, 8-neighbours),
+// each column filled from base_z (the floor the object stands on, or its lowest point) up to its
+// highest voxel. A LiDAR never sees an object's inside or underside, and the objects of a building
+// stand on something: 2.5D (a table becomes a block down to the floor; README.md, "Limits").
+VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m, float base_z);
+
+// The exposed faces of the solid.
+common::TriangleMesh VoxelSurface(const VoxelSolid& solid);
+
+}  // namespace bimslam::changes

@@ -1,0 +1,50 @@
+// The sessions' state during anchoring and the pose graph built from it (internal to
+// host_tools/anchor): where each session is, the graph of its odometry and the given loops,
+// optimisation that reads the free sessions back, and graduated non-convexity's loop weights.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "algorithms/posegraph/pose_graph.hpp"
+#include "host_tools/anchor/anchoring.hpp"
+
+namespace bimslam::anchor {
+
+// Where a session is: its anchor and keyframe poses, and whether it may move.
+struct State {
+    Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
+    std::vector<Eigen::Isometry3d> poses;
+    bool fixed = true;
+    std::vector<Eigen::Isometry3d> World() const;
+};
+
+// The graph of every session (fixed ones constant), the odometry edges of the free ones (their
+// information times config.odometry_information_scale) and the loops (those to the reference,
+// session 0, with the model's tolerance added: WithModelTolerance).
+posegraph::PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions,
+                                const std::vector<State>& state,
+                                const std::vector<LoopRecord>& loops, const AnchorConfig& config);
+
+// A loop's information with the model's covariance added: (H^+ + Sigma)^-1, computed as
+// (I + H Sigma)^-1 H so that directions the registration left unconstrained (H's null space)
+// stay without information.
+Eigen::Matrix<double, 6, 6> WithModelTolerance(const Eigen::Matrix<double, 6, 6>& information,
+                                               double sigma_m, double sigma_deg);
+
+// Optimises (config.graph unless graph_config) and reads the free sessions back; returns the
+// largest keyframe move (m). The graph goes to *out when given.
+double OptimizeStates(const std::vector<AnchorSession>& sessions, std::vector<State>* state,
+                      const std::vector<LoopRecord>& loops, const AnchorConfig& config,
+                      StageTimes* times, const std::vector<double>& weights = {},
+                      const posegraph::PoseGraphConfig* graph_config = nullptr,
+                      posegraph::PoseGraph* out = nullptr);
+
+// GNC with a truncated least squares cost (Yang, Antonante, Tzoumas, Carlone, "Graduated
+// Non-Convexity for Robust Spatial Perception", RA-L 2020, Prop. 4): the loops' weights go from
+// the convex surrogate (all in) to TLS (0 or 1) as mu grows; returns the final weights.
+std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
+                               std::vector<State>* state, const std::vector<LoopRecord>& loops,
+                               const AnchorConfig& config, StageTimes* times);
+
+}  // namespace bimslam::anchor

@@ -1,0 +1,88 @@
+#include "host_tools/changes/bim_change_model.hpp"
+
+#include <map>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/simulation/scene.hpp"
+
+namespace bimslam::change_detection {
+
+bool Physical(const bim::BimElement& element) {
+    for (const char* prefix :
+         {"IfcSpace", "IfcOpeningElement", "IfcVirtualElement", "IfcAnnotation"}) {
+        if (element.ifc_class.starts_with(prefix)) return false;
+    }
+    return true;
+}
+
+changes::ChangeModel ToChangeModel(const bim::BimModel& model) {
+    changes::ChangeModel out;
+    out.element_opaque.assign(model.elements.size(), 0);
+    out.mesh.vertices = model.mesh.vertices;
+    for (size_t e = 0; e < model.elements.size(); ++e) {
+        const bim::BimElement& el = model.elements[e];
+        if (!Physical(el)) continue;
+        out.element_opaque[e] = !bim::PassThrough(el.ifc_class);
+        for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
+            out.mesh.triangles.push_back(model.mesh.triangles[t]);
+            out.triangle_element.push_back(uint32_t(e));
+        }
+    }
+    if (out.mesh.empty()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            model.file + ": the model has no element with geometry to compare " +
+                                "with (" + std::to_string(model.elements.size()) +
+                                " elements with geometry, none of them built: spaces, openings)");
+    }
+    return out;
+}
+
+std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
+                                      const std::vector<changes::NewObject>& objects) {
+    // The spaces' meshes, ids = element index.
+    common::TriangleMesh spaces;
+    std::vector<uint32_t> ids;
+    spaces.vertices = model.mesh.vertices;
+    for (size_t e = 0; e < model.elements.size(); ++e) {
+        const bim::BimElement& el = model.elements[e];
+        if (!el.ifc_class.starts_with("IfcSpace")) continue;
+        for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
+            spaces.triangles.push_back(model.mesh.triangles[t]);
+            ids.push_back(uint32_t(e));
+        }
+    }
+    const simulation::Scene scene(spaces, ids);
+    std::vector<ObjectPlace> out(objects.size());
+    for (size_t o = 0; o < objects.size(); ++o) {
+        const changes::NewObject& obj = objects[o];
+        const double bottom = obj.box_min.z() + model.origin_m.z();
+        ObjectPlace& place = out[o];
+        for (size_t s = 0; s < model.storeys.size(); ++s) {
+            if (model.storeys[s].elevation_m <= bottom + 0.3 || place.storey < 0) {
+                place.storey = int(s);
+            }
+        }
+        if (spaces.empty()) continue;
+        // Count the crossings of a ray going up, per space: odd means inside.
+        const Eigen::Vector3f start(float(0.5 * (obj.box_min.x() + obj.box_max.x())),
+                                    float(0.5 * (obj.box_min.y() + obj.box_max.y())),
+                                    float(obj.box_min.z() + 0.1));
+        std::map<uint32_t, int> crossings;
+        float t = 0;
+        for (int guard = 0; guard < 1000; ++guard) {
+            const auto hit = scene.Intersect(start, Eigen::Vector3f::UnitZ(), t);
+            if (!hit) break;
+            ++crossings[hit->id];
+            t = hit->t + 1e-4f;
+        }
+        for (const auto& [space, n] : crossings) {
+            if (n % 2 == 1) {
+                place.space = int(space);
+                break;
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace bimslam::change_detection

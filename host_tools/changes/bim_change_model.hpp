@@ -1,0 +1,34 @@
+// The BIM model as change detection sees it (algorithms/changes/change_model.hpp), and where a new
+// object is in the building: its storey and the IfcSpace it stands in.
+#pragma once
+
+#include <vector>
+
+#include "algorithms/changes/change_detector.hpp"
+#include "host_tools/bim/bim_model.hpp"
+
+namespace bimslam::change_detection {
+
+// Physical elements: all but spaces, openings, virtual elements and annotations (not built).
+bool Physical(const bim::BimElement& element);
+
+// Elements keep their BimModel index. The mesh holds the physical elements' triangles; an element
+// is opaque unless beams pass it (bim::PassThrough: doors taken as open, windows, curtain walls).
+// Throws common::Error (kInvalidArgument) naming the model when it has no physical element with
+// geometry: there is nothing to compare with.
+changes::ChangeModel ToChangeModel(const bim::BimModel& model);
+
+struct ObjectPlace {
+    int storey = -1;  // index into BimModel::storeys, -1 without storeys
+    int space = -1;   // element index of the IfcSpace it stands in, -1 for none
+};
+
+// The storey of an object whose bottom is at bottom_z (model frame): the highest storey whose
+// elevation is at most bottom_z + 0.3 m (a floor's finish lies above the storey's elevation),
+// else the lowest. Its space: the IfcSpace whose volume holds the point 0.1 m above the centre of
+// its base (ray parity against the space's closed mesh; spaces need
+// IfcLoadOptions::space_geometry).
+std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
+                                      const std::vector<changes::NewObject>& objects);
+
+}  // namespace bimslam::change_detection

@@ -1,0 +1,442 @@
+#include "host_tools/changes/change_evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
+#include "algorithms/simulation/scene.hpp"
+
+namespace bimslam::change_detection {
+namespace {
+using nlohmann::json;
+
+[[noreturn]] void Bad(const std::filesystem::path& file, const std::string& what) {
+    throw common::FileError(common::StatusCode::kParseError, file.string(), 0, what);
+}
+
+json ParseJson(const std::filesystem::path& file) {
+    try {
+        return json::parse(io::ReadFileToString(file));
+    } catch (const json::exception& e) {
+        Bad(file, std::string("not JSON: ") + e.what());
+    }
+}
+
+Eigen::Vector3d Vec3(const std::filesystem::path& file, const json& j, const std::string& field) {
+    if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() ||
+        !j[2].is_number()) {
+        Bad(file, field + ": expected 3 numbers");
+    }
+    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+}
+
+// The fields of one CSV line (RFC 4180 quoting).
+std::vector<std::string> CsvFields(std::string_view line) {
+    std::vector<std::string> out(1);
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+                out.back() += '"';
+                ++i;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                out.back() += c;
+            }
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            out.emplace_back();
+        } else if (c != '\r') {
+            out.back() += c;
+        }
+    }
+    return out;
+}
+
+double IoU(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
+    const Eigen::AlignedBox3d i = a.intersection(b);
+    if (i.isEmpty()) return 0;
+    const double vi = i.volume();
+    return vi / (a.volume() + b.volume() - vi);
+}
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b) {
+    const Eigen::Vector2d d = b - a;
+    const double f =
+        d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0;
+    return (a + f * d - p).norm();
+}
+
+json Scores(const DetectionScores& s) {
+    return {{"truth", s.truth},
+            {"found", s.found},
+            {"truth_matched", s.truth_matched},
+            {"found_matched", s.found_matched},
+            {"precision", s.precision()},
+            {"recall", s.recall()},
+            {"f1", s.f1()}};
+}
+
+}  // namespace
+
+TruthChanges ReadTruthChanges(const std::filesystem::path& file) {
+    const json j = ParseJson(file);
+    TruthChanges t;
+    try {
+        for (const json& a : j.at("added")) {
+            TruthChanges::Added added{
+                a.at("name").get<std::string>(),
+                a.at("kind").get<std::string>(),
+                Eigen::AlignedBox3d(Vec3(file, a.at("box_min"), "added.box_min"),
+                                    Vec3(file, a.at("box_max"), "added.box_max")),
+                {}};
+            if (a.contains("mesh")) {
+                added.mesh = io::MeshFromPly(
+                    io::ReadPly(file.parent_path() / a.at("mesh").get<std::string>()));
+            }
+            t.added.push_back(std::move(added));
+        }
+        for (const json& r : j.at("removed"))
+            t.removed.push_back(r.at("global_id").get<std::string>());
+        for (const json& m : j.at("moved")) {
+            TruthChanges::Moved mv;
+            mv.global_id = m.at("global_id").get<std::string>();
+            mv.ifc_class = m.value("class", "");
+            mv.name = m.value("name", "");
+            mv.reason = m.at("reason").get<std::string>();
+            mv.translation = Vec3(file, m.at("translation"), "moved.translation");
+            mv.yaw_deg = m.value("yaw_deg", 0.0);
+            t.moved.push_back(mv);
+        }
+        for (const json& p : j.at("people")) {
+            TruthChanges::Person person;
+            person.from = {p.at("from").at(0).get<double>(), p.at("from").at(1).get<double>()};
+            person.to = {p.at("to").at(0).get<double>(), p.at("to").at(1).get<double>()};
+            person.radius_m = p.at("radius_m").get<double>();
+            person.height_m = p.at("height_m").get<double>();
+            person.floor_z = p.value("floor_z", 0.0);
+            t.people.push_back(person);
+        }
+    } catch (const json::exception& e) {
+        Bad(file,
+            std::string("not a changes truth file (added, removed, moved, people): ") + e.what());
+    }
+    return t;
+}
+
+FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
+    const std::filesystem::path file = dir / "changes.json";
+    const json j = ParseJson(file);
+    FoundChanges f;
+    try {
+        if (j.at("format") != "bimslam-changes") Bad(file, "format is not bimslam-changes");
+        for (const json& o : j.at("new_objects")) {
+            f.objects.push_back({Eigen::AlignedBox3d(Vec3(file, o.at("box_min"), "box_min"),
+                                                     Vec3(file, o.at("box_max"), "box_max"))});
+        }
+        for (const json& t : j.at("transients")) {
+            f.transients.push_back(Vec3(file, t.at("centroid"), "transients.centroid"));
+        }
+    } catch (const json::exception& e) {
+        Bad(file, std::string("malformed: ") + e.what());
+    }
+    const std::filesystem::path csv = dir / "elements.csv";
+    const std::string text = io::ReadFileToString(csv);
+    size_t line_start = 0, line_number = 0;
+    std::map<std::string, size_t> column;
+    while (line_start < text.size()) {
+        size_t end = text.find('\n', line_start);
+        if (end == std::string::npos) end = text.size();
+        const std::vector<std::string> fields =
+            CsvFields(std::string_view(text).substr(line_start, end - line_start));
+        line_start = end + 1;
+        ++line_number;
+        if (line_number == 1) {
+            for (size_t k = 0; k < fields.size(); ++k) column[fields[k]] = k;
+            for (const char* need :
+                 {"global_id", "verdict", "expected_area_m2", "support_points", "offset_x_m",
+                  "offset_y_m", "offset_z_m", "moved", "moved_yaw_deg"}) {
+                if (!column.count(need)) Bad(csv, std::string("no column ") + need);
+            }
+            continue;
+        }
+        if (fields.size() != column.size()) {
+            throw common::FileError(common::StatusCode::kParseError, csv.string(), line_number,
+                                    "expected " + std::to_string(column.size()) + " fields");
+        }
+        try {
+            const auto get = [&](const char* name) { return fields[column.at(name)]; };
+            FoundChanges::Element e;
+            e.verdict = get("verdict");
+            e.expected_area_m2 = std::stod(get("expected_area_m2"));
+            e.support_points = std::stoul(get("support_points"));
+            e.offset = {std::stod(get("offset_x_m")), std::stod(get("offset_y_m")),
+                        std::stod(get("offset_z_m"))};
+            e.moved = get("moved") == "1";
+            e.moved_yaw_deg = std::stod(get("moved_yaw_deg"));
+            f.elements[get("global_id")] = e;
+        } catch (const std::exception&) {
+            throw common::FileError(common::StatusCode::kParseError, csv.string(), line_number,
+                                    "a malformed number");
+        }
+    }
+    return f;
+}
+
+namespace {
+
+// Points on a mesh's surface, every `step` metres or closer (its vertices, edge points, and points
+// inside its triangles on a barycentric grid).
+std::vector<Eigen::Vector3f> SurfacePoints(const common::TriangleMesh& m, float step) {
+    std::vector<Eigen::Vector3f> out;
+    for (const auto& t : m.triangles) {
+        const Eigen::Vector3f a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+        const float longest = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+        const int n = std::max(1, int(std::ceil(longest / step)));
+        for (int i = 0; i <= n; ++i) {
+            for (int k = 0; k <= n - i; ++k) {
+                out.push_back(a + (b - a) * (float(i) / float(n)) +
+                              (c - a) * (float(k) / float(n)));
+            }
+        }
+    }
+    return out;
+}
+
+// Groups of true objects whose surfaces come within touch_m of each other (union-find).
+std::vector<int> TouchingGroups(const TruthChanges& truth, double touch_m) {
+    const size_t n = truth.added.size();
+    std::vector<int> group(n);
+    for (size_t i = 0; i < n; ++i) group[i] = int(i);
+    const auto find = [&](int x) {
+        while (group[size_t(x)] != x) x = group[size_t(x)] = group[size_t(group[size_t(x)])];
+        return x;
+    };
+    for (size_t i = 0; i < n; ++i) {
+        if (truth.added[i].mesh.empty()) continue;
+        const simulation::Scene scene(truth.added[i].mesh);
+        for (size_t j = i + 1; j < n; ++j) {
+            if (truth.added[j].mesh.empty() ||
+                truth.added[i].box.exteriorDistance(truth.added[j].box) > touch_m) {
+                continue;
+            }
+            bool touch = false;
+            for (const Eigen::Vector3f& p : SurfacePoints(truth.added[j].mesh, 0.02f)) {
+                if (scene.ClosestPoint(p, float(touch_m))) {
+                    touch = true;
+                    break;
+                }
+            }
+            if (touch) group[size_t(find(int(j)))] = find(int(i));
+        }
+    }
+    for (size_t i = 0; i < n; ++i) group[i] = find(int(i));
+    return group;
+}
+
+// Precision, recall (all and large) of found boxes against true boxes, matched one to one.
+void ScoreBoxes(const std::vector<Eigen::AlignedBox3d>& truth,
+                const std::vector<Eigen::AlignedBox3d>& found, const EvaluationConfig& config,
+                DetectionScores* all, DetectionScores* large_only, std::vector<int>* found_match) {
+    struct Pair {
+        double iou, distance;
+        size_t t, f;
+    };
+    std::vector<Pair> pairs;
+    for (size_t t = 0; t < truth.size(); ++t) {
+        for (size_t f = 0; f < found.size(); ++f) {
+            const double iou = IoU(truth[t], found[f]);
+            const double d = (truth[t].center() - found[f].center()).norm();
+            if (iou >= config.min_iou || d <= config.max_centroid_m)
+                pairs.push_back({iou, d, t, f});
+        }
+    }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+        return a.iou != b.iou ? a.iou > b.iou : a.distance < b.distance;
+    });
+    std::vector<int> truth_match(truth.size(), -1);
+    found_match->assign(found.size(), -1);
+    for (const Pair& p : pairs) {
+        if (truth_match[p.t] >= 0 || (*found_match)[p.f] >= 0) continue;
+        truth_match[p.t] = int(p.f);
+        (*found_match)[p.f] = int(p.t);
+    }
+    const auto large = [&](const Eigen::AlignedBox3d& b) {
+        return b.sizes().maxCoeff() >= config.large_object_m;
+    };
+    for (size_t t = 0; t < truth.size(); ++t) {
+        ++all->truth;
+        all->truth_matched += truth_match[t] >= 0;
+        if (large(truth[t])) {
+            ++large_only->truth;
+            large_only->truth_matched += truth_match[t] >= 0;
+        }
+    }
+    for (size_t f = 0; f < found.size(); ++f) {
+        ++all->found;
+        all->found_matched += (*found_match)[f] >= 0;
+        if (large(found[f])) {
+            ++large_only->found;
+            large_only->found_matched += (*found_match)[f] >= 0;
+        }
+    }
+}
+
+}  // namespace
+
+ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,
+                                 const EvaluationConfig& config) {
+    ChangeEvaluation ev;
+    std::vector<Eigen::AlignedBox3d> truth_boxes, found_boxes;
+    for (const auto& a : truth.added) truth_boxes.push_back(a.box);
+    for (const auto& o : found.objects) found_boxes.push_back(o.box);
+    std::vector<int> found_match;
+    ScoreBoxes(truth_boxes, found_boxes, config, &ev.added, &ev.added_large, &found_match);
+    // The same with touching true objects as one.
+    const std::vector<int> group = TouchingGroups(truth, config.touch_m);
+    std::map<int, Eigen::AlignedBox3d> union_box;
+    std::map<int, size_t> members;
+    for (size_t i = 0; i < truth.added.size(); ++i) {
+        union_box[group[i]].extend(truth.added[i].box);
+        ++members[group[i]];
+    }
+    std::vector<Eigen::AlignedBox3d> grouped;
+    for (const auto& [g, box] : union_box) {
+        grouped.push_back(box);
+        ev.touching_groups += members[g] > 1;
+    }
+    std::vector<int> grouped_match;
+    ScoreBoxes(grouped, found_boxes, config, &ev.added_separable, &ev.added_separable_large,
+               &grouped_match);
+
+    // Removed elements.
+    const auto expected_area = [&](const std::string& id) {
+        const auto it = found.elements.find(id);
+        return it == found.elements.end() ? 0.0 : it->second.expected_area_m2;
+    };
+    for (const std::string& id : truth.removed) {
+        const auto it = found.elements.find(id);
+        const bool hit = it != found.elements.end() && it->second.verdict == "missing";
+        ++ev.removed.truth;
+        ev.removed.truth_matched += hit;
+        if (expected_area(id) >= config.large_area_m2) {
+            ++ev.removed_large.truth;
+            ev.removed_large.truth_matched += hit;
+        }
+    }
+    for (const auto& [id, e] : found.elements) {
+        if (e.verdict != "missing") continue;
+        const bool true_removed =
+            std::find(truth.removed.begin(), truth.removed.end(), id) != truth.removed.end();
+        ++ev.removed.found;
+        ev.removed.found_matched += true_removed;
+        if (e.expected_area_m2 >= config.large_area_m2) {
+            ++ev.removed_large.found;
+            ev.removed_large.found_matched += true_removed;
+        }
+    }
+
+    // Moved elements and as-built walls.
+    for (const TruthChanges::Moved& m : truth.moved) {
+        const auto it = found.elements.find(m.global_id);
+        if (m.reason == "moved") {
+            ChangeEvaluation::MovedScore s;
+            s.global_id = m.global_id;
+            s.true_translation_m = m.translation.norm();
+            if (it != found.elements.end() && it->second.moved) {
+                s.found = true;
+                s.translation_error_m = (it->second.offset - m.translation).norm();
+                s.yaw_error_deg =
+                    std::abs(std::remainder(it->second.moved_yaw_deg - m.yaw_deg, 360.0));
+            }
+            ev.moved.push_back(s);
+            continue;
+        }
+        if (it == found.elements.end() || it->second.support_points < config.min_support_points) {
+            ++ev.walls_unobserved;
+            continue;
+        }
+        ChangeEvaluation::WallScore w;
+        w.global_id = m.global_id;
+        const double norm = m.translation.norm();
+        const Eigen::Vector3d dir =
+            norm > 0 ? Eigen::Vector3d(m.translation / norm) : Eigen::Vector3d::UnitX();
+        w.true_offset_m = norm;
+        w.measured_offset_m = it->second.offset.dot(dir);
+        w.error_m = (it->second.offset - m.translation).norm();
+        w.verdict = it->second.verdict;
+        ev.walls.push_back(w);
+    }
+
+    // People.
+    for (const TruthChanges::Person& p : truth.people) {
+        ++ev.people;
+        const double reach = p.radius_m + config.person_margin_m;
+        for (size_t f = 0; f < found.objects.size(); ++f) {
+            // A true added object, whoever walks by it.
+            if (found_match[f] >= 0 || grouped_match[f] >= 0) continue;
+            const Eigen::AlignedBox3d& box = found.objects[f].box;
+            const Eigen::Vector2d c = box.center().head<2>();
+            const bool on_line = DistanceToSegment(c, p.from, p.to) <= reach;
+            const bool in_height =
+                box.max().z() > p.floor_z && box.min().z() < p.floor_z + p.height_m;
+            ev.people_as_objects += on_line && in_height;
+        }
+        bool transient = false;
+        for (const Eigen::Vector3d& c : found.transients) {
+            transient |= DistanceToSegment(c.head<2>(), p.from, p.to) <= reach;
+        }
+        ev.people_with_transients += transient;
+    }
+    return ev;
+}
+
+json ChangeEvaluation::ToJson() const {
+    json moved_json = json::array(), walls_json = json::array();
+    for (const MovedScore& m : moved) {
+        moved_json.push_back({{"global_id", m.global_id},
+                              {"found", m.found},
+                              {"true_translation_m", m.true_translation_m},
+                              {"translation_error_m", m.translation_error_m},
+                              {"yaw_error_deg", m.yaw_error_deg}});
+    }
+    double max_error = 0, sum_error = 0;
+    size_t within_1cm = 0;
+    for (const WallScore& w : walls) {
+        walls_json.push_back({{"global_id", w.global_id},
+                              {"true_offset_m", w.true_offset_m},
+                              {"measured_offset_m", w.measured_offset_m},
+                              {"error_m", w.error_m},
+                              {"verdict", w.verdict}});
+        max_error = std::max(max_error, w.error_m);
+        sum_error += w.error_m;
+        within_1cm += w.error_m <= 0.01;
+    }
+    return {{"added", Scores(added)},
+            {"added_large", Scores(added_large)},
+            {"added_separable", Scores(added_separable)},
+            {"added_separable_large", Scores(added_separable_large)},
+            {"touching_groups", touching_groups},
+            {"removed", Scores(removed)},
+            {"removed_large", Scores(removed_large)},
+            {"moved", moved_json},
+            {"as_built",
+             {{"walls", walls_json},
+              {"observed", walls.size()},
+              {"unobserved", walls_unobserved},
+              {"within_1cm", within_1cm},
+              {"mean_error_m", walls.empty() ? 0.0 : sum_error / double(walls.size())},
+              {"max_error_m", max_error}}},
+            {"people",
+             {{"people", people},
+              {"reported_as_new_objects", people_as_objects},
+              {"with_transient_clusters", people_with_transients}}}};
+}
+
+}  // namespace bimslam::change_detection

@@ -1,0 +1,332 @@
+// `bimslam changes` as a user runs it: the sample building, a simulated handheld walk along its
+// ground-floor corridor past an added crate, a wall built 3 cm off and a person walking the other
+// way; the odometry session placed on the capture's ground truth (what `bimslam anchor` will
+// write); then the command with --truth. The updated IFC is read back with IFC++ and, where node
+// and web-ifc are installed (toolchain/install-deps.sh --test), with web-ifc. Bad input exits 2
+// naming what is wrong.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
+#include "algorithms/io/session.hpp"
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/bim/sample_building.hpp"
+#include "host_tools/changes/ifc_update.hpp"
+#include "tests/support/ground_truth_session.hpp"
+#include "tests/support/test_support.hpp"
+#include "tests/unit/change_detection/ifc_update_fixtures.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::string kCli = BIMSLAM_CLI_PATH;
+
+std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+fs::path WebIfcTool() {
+    const char* env = std::getenv("BIMSLAM_SOURCE_DIR");  // set by ctest
+    const fs::path root = env && *env ? fs::path(env) : fs::path(BIMSLAM_SOURCE_ROOT);
+    return root / "tests" / "tools" / "web_ifc";
+}
+
+// Why web-ifc cannot run here, or "" when it can.
+std::string WebIfcMissing() {
+    if (test::RunCommand("node --version").exit_code != 0) {
+        return "node is not installed: run toolchain/install-deps.sh --test";
+    }
+    if (!fs::exists(WebIfcTool() / "node_modules" / "web-ifc")) {
+        return (WebIfcTool() / "node_modules").string() +
+               " is missing: run toolchain/install-deps.sh --test";
+    }
+    return "";
+}
+
+json WebIfc(const fs::path& file) {
+    const test::CommandResult r =
+        test::RunCommand("node " + Quote(WebIfcTool() / "check.mjs") + " " + Quote(file));
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    return r.exit_code == 0 ? json::parse(r.out) : json();
+}
+
+// The corridor runs x 0.3 .. 29.7 between y 6.15 and 8.15 (host_tools/bim/sample_building.hpp);
+// the GlobalId is the corridor's north wall in the sample building of seed 1.
+const char* const kScenario = R"(platform: handheld
+path:
+  mode: waypoints
+  waypoints: [[1.5, 7.2], [28.0, 7.2]]
+seed: 3
+edits:
+  boxes:
+    - {name: crate, center: [14.0, 7.75, 0.3], size: [0.6, 0.5, 0.6]}
+  as_built:
+    walls:
+      - {global_id: "0EF31bAGn7cY_UpbsCA2np", offset_m: 0.03}
+  people:
+    - {from: [26.0, 6.6], to: [3.0, 6.6], speed_mps: 1.2}
+)";
+
+// The map as Open3D (tensor API) and CloudCompare (headless) read it, where they are installed:
+// every point and the scalar fields. Skipping one says so on stdout.
+void ReadMapWithOpen3dAndCloudCompare(const fs::path& file, const io::PlyData& ours) {
+    test::TempDir dir;
+    if (test::RunCommand("/usr/bin/python3 -c 'import open3d'").exit_code == 0) {
+        const auto r = test::RunCommand(
+            "/usr/bin/python3 -c \"import open3d as o3d, sys; "
+            "p = o3d.t.io.read_point_cloud(sys.argv[1]); "
+            "print('read', p.point.positions.shape[0], sorted(k for k in p.point))\" " +
+            Quote(file));
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        // Open3D prints warnings on stdout too: look for our line.
+        EXPECT_NE(r.out.find("read " + std::to_string(ours.vertices.size()) + " "),
+                  std::string::npos)
+            << r.out;
+        for (const char* field : {"scalar_distance", "scalar_element", "scalar_keyframes",
+                                  "scalar_class", "scalar_object"}) {
+            EXPECT_NE(r.out.find(field), std::string::npos) << r.out;
+        }
+    } else {
+        std::cout << "Open3D reading map_bim.ply: skipped, /usr/bin/python3 has no open3d\n";
+    }
+    if (fs::exists("/usr/bin/CloudCompare")) {
+        const auto r = test::RunCommand(
+            "cd " + Quote(dir.path()) + " && QT_QPA_PLATFORM=offscreen /usr/bin/CloudCompare " +
+            "-SILENT -AUTO_SAVE OFF -O " + Quote(file) +
+            " -C_EXPORT_FMT PLY -PLY_EXPORT_FMT BINARY_LE -SAVE_CLOUDS FILE cc.ply");
+        EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+        const io::PlyData back = io::ReadPly(dir / "cc.ply");
+        EXPECT_EQ(back.vertices.size(), ours.vertices.size());
+        const io::PlyProperty* d = back.Find("scalar_distance");
+        ASSERT_NE(d, nullptr) << "CloudCompare lost the distance field";
+        EXPECT_EQ(d->values, ours.Find("scalar_distance")->values);
+    } else {
+        std::cout << "CloudCompare reading map_bim.ply: skipped, /usr/bin/CloudCompare missing\n";
+    }
+}
+
+test::CommandResult Cli(const std::string& args) { return test::RunCommand(kCli + " " + args); }
+
+TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
+    test::TempDir tmp;
+    ASSERT_EQ(Cli("bim sample -o " + Quote(tmp / "building.ifc")).exit_code, 0);
+    io::WriteFileAtomic(tmp / "scenario.yaml", kScenario);
+    auto r = Cli("simulate --model " + Quote(tmp / "building.ifc") + " --scenario " +
+                 Quote(tmp / "scenario.yaml") + " -o " + Quote(tmp / "capture"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = Cli("odometry " + Quote(tmp / "capture") + " -o " + Quote(tmp / "session"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    test::PlaceSessionOnGroundTruth(tmp / "session", tmp / "capture" / "ground_truth.tum",
+                                    tmp / "anchored");
+    r = Cli("changes --model " + Quote(tmp / "building.ifc") + " --session " +
+            Quote(tmp / "anchored") + " -o " + Quote(tmp / "out") + " --truth " +
+            Quote(tmp / "capture" / "changes.json") + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json summary = json::parse(r.out);
+    ASSERT_EQ(summary["sessions"].size(), 1u);
+    const json& s = summary["sessions"][0];
+    const json& ev = s["evaluation"];
+    std::cout << ev.dump(1) << "\n";
+
+    // The crate is found, the person is not an object, the wall's 3 cm are measured.
+    EXPECT_EQ(ev["added"]["truth_matched"], 1);
+    EXPECT_EQ(ev["people"]["reported_as_new_objects"], 0);
+    EXPECT_EQ(ev["people"]["with_transient_clusters"], 1);
+    ASSERT_EQ(ev["as_built"]["observed"], 1);
+    EXPECT_LT(ev["as_built"]["max_error_m"].get<double>(), 0.01);
+    EXPECT_EQ(ev["as_built"]["walls"][0]["verdict"], "deviating");
+
+    // The files.
+    const fs::path out = tmp / "out";
+    const json changes = json::parse(io::ReadFileToString(out / "changes.json"));
+    EXPECT_EQ(changes["format"], "bimslam-changes");
+    EXPECT_EQ(changes["new_objects"].size(), s["new_objects"].get<size_t>());
+    const io::PlyData map = io::ReadPly(out / "map_bim.ply");
+    EXPECT_EQ(map.vertices.size(), changes["map"]["points"].get<size_t>());
+    for (const char* field : {"scalar_distance", "scalar_element", "scalar_keyframes",
+                              "scalar_class", "scalar_object"}) {
+        EXPECT_NE(map.Find(field), nullptr) << field;
+    }
+    // The crate stands in its storey and in the corridor's IfcSpace.
+    for (const json& o : changes["new_objects"]) {
+        if (std::abs(o["centroid"][0].get<double>() - 14.0) > 0.3) continue;
+        EXPECT_EQ(o["storey"]["name"], "Ground Floor");
+        EXPECT_TRUE(o["space"].is_object()) << o.dump();
+        EXPECT_TRUE(o["on_floor"].get<bool>());
+    }
+    ReadMapWithOpen3dAndCloudCompare(out / "map_bim.ply", map);
+    const io::PlyData objects = io::ReadPly(out / "new_objects.ply");
+    EXPECT_GT(objects.triangles.size(), 0u);
+    EXPECT_NE(objects.Find("red"), nullptr);
+    const std::string csv = io::ReadFileToString(out / "elements.csv");
+    EXPECT_EQ(csv.find("index,global_id,class,name,storey,verdict"), 0u);
+
+    // The updated IFC: the original elements and a proxy per new object, in IFC++ ...
+    const bim::BimModel original = bim::LoadIfc(tmp / "building.ifc");
+    const bim::BimModel updated = bim::LoadIfc(out / "model_updated.ifc");
+    const size_t objects_found = s["new_objects"].get<size_t>();
+    ASSERT_GT(objects_found, 0u);
+    EXPECT_EQ(updated.elements.size(), original.elements.size() + objects_found);
+    EXPECT_EQ(updated.class_counts.at("IfcBuildingElementProxy"), objects_found);
+    // ... and in web-ifc, where it is installed.
+    if (const std::string why = WebIfcMissing(); !why.empty()) {
+        GTEST_SKIP() << "the web-ifc half of this test: " << why;
+    }
+    const json w = WebIfc(out / "model_updated.ifc");
+    EXPECT_EQ(w["counts"]["IFCBUILDINGELEMENTPROXY"].get<size_t>(), objects_found);
+    EXPECT_EQ(w["mesh_classes"]["IfcBuildingElementProxy"].get<size_t>(), objects_found);
+    EXPECT_EQ(w["counts"]["IFCTRIANGULATEDFACESET"].get<size_t>(), objects_found);
+}
+
+// The second reader on both geometries the update writes (IFC4 tessellated, IFC2X3 B-rep).
+TEST(ChangesCli, UpdatedIfc4AndIfc2x3OpenInWebIfc) {
+    if (const std::string why = WebIfcMissing(); !why.empty()) GTEST_SKIP() << why;
+    test::TempDir tmp;
+    const std::string sample = bim::SampleBuildingIfc(bim::SampleBuildingOptions{});
+    const bim::BimModel model4 = bim::ParseIfc("building.ifc", sample);
+    const change_detection::IfcUpdate u4 = change_detection::UpdateIfc(
+        "building.ifc", sample, model4,
+        change_detection::test::Found(model4, {3, 2, 0}, 0, changes::Verdict::kMissing), 7);
+    io::WriteFileAtomic(tmp / "updated4.ifc", u4.text);
+    const bim::BimModel model2 = bim::ParseIfc("tiny.ifc", change_detection::test::kTinyIfc2x3);
+    const change_detection::IfcUpdate u2 = change_detection::UpdateIfc(
+        "tiny.ifc", change_detection::test::kTinyIfc2x3, model2,
+        change_detection::test::Found(model2, {1, 1, 0}, 0, changes::Verdict::kDeviating), 7);
+    io::WriteFileAtomic(tmp / "updated2x3.ifc", u2.text);
+    const json w4 = WebIfc(tmp / "updated4.ifc");
+    EXPECT_EQ(w4["schema"], "IFC4");
+    EXPECT_EQ(w4["mesh_classes"]["IfcBuildingElementProxy"], 1);
+    EXPECT_EQ(w4["counts"]["IFCTRIANGULATEDFACESET"], 1);
+    const json w2 = WebIfc(tmp / "updated2x3.ifc");
+    EXPECT_EQ(w2["schema"], "IFC2X3");
+    EXPECT_EQ(w2["mesh_classes"]["IfcBuildingElementProxy"], 1);
+    EXPECT_EQ(w2["counts"]["IFCFACETEDBREP"], 1);
+    EXPECT_EQ(w2["counts"]["IFCPROPERTYSET"], 2);  // the proxy's and the wall's verdict
+    // The proxy's box in metres, web-ifc's own coordinates turned back to the model's.
+    const auto& obj =
+        change_detection::test::Found(model2, {1, 1, 0}, 0, changes::Verdict::kDeviating)
+            .result.objects[0];
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(w2["bbox_ifc_m"]["min"][k].get<double>(),
+                    std::min(obj.box_min[k], k == 1 ? -0.1 : 0.0), 1e-4)
+            << k;  // the wall spans x 0..4, y -0.1..0.1, z 0..3
+    }
+}
+
+TEST(ChangesCli, BadInputExits2WithAClearMessage) {
+    test::TempDir tmp;
+    ASSERT_EQ(Cli("bim sample -o " + Quote(tmp / "building.ifc")).exit_code, 0);
+    const std::string model = " --model " + Quote(tmp / "building.ifc");
+
+    // An empty session: anchored, but no keyframe. (Source "simulation": a rig session without
+    // keyframes has no odom_poses.txt, which the reader then asks for.)
+    io::SessionManifest manifest;
+    manifest.source = "simulation";
+    manifest.world_frame = "bim";
+    io::SessionWriter(tmp / "empty", manifest).Finish();
+    auto r = Cli("changes" + model + " --session " + Quote(tmp / "empty") + " -o " +
+                 Quote(tmp / "out1"));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("no keyframes"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find((tmp / "empty").string()), std::string::npos) << r.err;
+
+    // A session of one keyframe in the odometry frame (not anchored), and the same anchored.
+    for (const std::string frame : {"odom", "bim"}) {
+        manifest.world_frame = frame;
+        io::SessionWriter w(tmp / frame, manifest);
+        io::SessionKeyframe k;
+        k.cloud = test::MakeRoomScan(8, 64, 1);
+        k.descriptor = io::DescriptorMatrix::Zero(20, 60);
+        k.T_odom_lidar = Eigen::Isometry3d::Identity();
+        w.AddKeyframe(k);
+        w.Finish();
+    }
+    r = Cli("changes" + model + " --session " + Quote(tmp / "odom") + " -o " + Quote(tmp / "out2"));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("bimslam anchor"), std::string::npos) << r.err;
+
+    // A model with no geometry: a project and a storey, no element.
+    io::WriteFileAtomic(tmp / "bare.ifc", R"(ISO-10303-21;
+HEADER;
+FILE_DESCRIPTION((''),'2;1');
+FILE_NAME('bare.ifc','2024-01-01T00:00:00',(''),(''),'','','');
+FILE_SCHEMA(('IFC4'));
+ENDSEC;
+DATA;
+#1=IFCSIUNIT(*,.LENGTHUNIT.,$,.METRE.);
+#2=IFCUNITASSIGNMENT((#1));
+#3=IFCCARTESIANPOINT((0.,0.,0.));
+#4=IFCAXIS2PLACEMENT3D(#3,$,$);
+#5=IFCGEOMETRICREPRESENTATIONCONTEXT($,'Model',3,1.E-05,#4,$);
+#6=IFCPROJECT('0YvctVUKr0kugbFTf53O9L',$,'bare',$,$,$,$,(#5),#2);
+#7=IFCLOCALPLACEMENT($,#4);
+#8=IFCBUILDINGSTOREY('3YvctVUKr0kugbFTf53O9L',$,'Ground',$,$,#7,$,$,.ELEMENT.,0.);
+#9=IFCRELAGGREGATES('0AvctVUKr0kugbFTf53O9L',$,$,$,#6,(#8));
+ENDSEC;
+END-ISO-10303-21;
+)");
+    r = Cli("changes --model " + Quote(tmp / "bare.ifc") + " --session " + Quote(tmp / "bim") +
+            " -o " + Quote(tmp / "out3"));
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("no element with geometry"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("bare.ifc"), std::string::npos) << r.err;
+
+    // A missing session folder, a missing option, a truth per session, an output in the way.
+    r = Cli("changes" + model + " --session " + Quote(tmp / "nowhere") + " -o " + Quote(tmp / "o"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
+    EXPECT_EQ(Cli("changes" + model + " -o " + Quote(tmp / "o")).exit_code, 2);
+    r = Cli("changes" + model + " --session " + Quote(tmp / "empty") +
+            " --truth a.json --truth "
+            "b.json -o " +
+            Quote(tmp / "o"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--truth"), std::string::npos) << r.err;
+    fs::create_directories(tmp / "taken");
+    io::WriteFileAtomic(tmp / "taken" / "x", "");
+    r = Cli("changes" + model + " --session " + Quote(tmp / "bim") + " -o " + Quote(tmp / "taken"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
+    EXPECT_EQ(Cli("changes --help").exit_code, 0);
+}
+
+TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {
+    test::TempDir tmp;
+    ASSERT_EQ(Cli("bim sample -o " + Quote(tmp / "building.ifc")).exit_code, 0);
+    io::SessionManifest manifest;
+    manifest.world_frame = "bim";
+    for (const char* name : {"monday", "tuesday"}) {
+        io::SessionWriter w(tmp / name, manifest);
+        io::SessionKeyframe k;
+        k.cloud = test::MakeRoomScan(16, 256, 2);
+        k.descriptor = io::DescriptorMatrix::Zero(20, 60);
+        k.T_odom_lidar = Eigen::Isometry3d::Identity();
+        k.T_world_lidar.translation() = Eigen::Vector3d(5, 7, 1);  // in the corridor
+        w.AddKeyframe(k);
+        w.Finish();
+    }
+    const auto r = Cli("changes --model " + Quote(tmp / "building.ifc") + " --session " +
+                       Quote(tmp / "monday") + " --session " + Quote(tmp / "tuesday") + " -o " +
+                       Quote(tmp / "out") + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json j = json::parse(r.out);
+    ASSERT_EQ(j["sessions"].size(), 2u);
+    for (const char* name : {"monday", "tuesday"}) {
+        for (const char* f : {"changes.json", "new_objects.ply", "map_bim.ply", "elements.csv",
+                              "model_updated.ifc"}) {
+            EXPECT_TRUE(fs::exists(tmp / "out" / name / f)) << name << "/" << f;
+        }
+        const json c = json::parse(io::ReadFileToString(tmp / "out" / name / "changes.json"));
+        EXPECT_EQ(c["session"]["label"], name);
+    }
+}
+
+}  // namespace
+}  // namespace bimslam

@@ -1,0 +1,58 @@
+// A small building for the change-detection tests, simulated with the project's own LiDAR
+// simulator (algorithms/simulation, the OS1-32 beam pattern, 1 cm range noise): two rooms side by
+// side with no door between them, and keyframes walked around room A only.
+//
+//   model (the BIM)                          world (as built)
+//   floor, ceiling, six walls                the same, except:
+//   column A in room A at (5.0, 3.5)         column A removed
+//   column C in room A at (2.0, 4.5)         the north wall of room A built 3 cm further north
+//   column B in room B at (10.0, 3.0)        column B removed (out of view: not judged)
+//                                            a box 0.8 x 0.5 x 0.6 m on the floor at (3.0, 1.5)
+//                                            a person crossing in two keyframes only
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "algorithms/changes/aligned_map.hpp"
+#include "algorithms/changes/change_model.hpp"
+#include "algorithms/common/point_cloud.hpp"
+#include "algorithms/common/triangle_mesh.hpp"
+
+namespace bimslam::changes::test {
+
+// Element indices of the model.
+enum Element : uint32_t {
+    kFloor,
+    kCeiling,
+    kWallSouth,
+    kWallNorthA,
+    kWallNorthB,
+    kWallWest,
+    kWallEast,
+    kWallDivider,
+    kColumnA,
+    kColumnC,
+    kColumnB,
+    kElementCount
+};
+
+struct ChangeScene {
+    ChangeModel model;
+    common::TriangleMesh world;              // as built, people excluded
+    std::vector<common::PointCloud> clouds;  // per keyframe, lidar frame
+    std::vector<Eigen::Isometry3d> poses;    // T_world_lidar per keyframe
+    std::vector<MapKeyframe> keyframes;      // views of the two above
+    Eigen::AlignedBox3d added_box;           // truth of the added box
+    std::vector<Eigen::Vector2d> person_at;  // where the person stood, per keyframe it is in
+    double wall_offset_m = 0.03;             // north wall of room A, +y
+};
+
+// An axis-aligned solid box, faces counter-clockwise seen from outside.
+common::TriangleMesh SolidBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
+void Append(common::TriangleMesh* to, const common::TriangleMesh& m);
+
+// The scene above, simulated (deterministic). Built once and shared: the tests only read it.
+const ChangeScene& SharedChangeScene();
+
+}  // namespace bimslam::changes::test

@@ -1,0 +1,90 @@
+#include "algorithms/changes/voxel_mesh.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+#include "algorithms/changes/aligned_map.hpp"
+#include "tests/unit/changes/change_scene.hpp"
+
+namespace bimslam::changes {
+namespace {
+
+// Every directed edge (a, b) has its reverse (b, a) as often: a closed, consistently oriented
+// surface (watertight).
+void ExpectWatertight(const common::TriangleMesh& m) {
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (const auto& t : m.triangles) {
+        for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
+    }
+    for (const auto& [e, n] : edges) {
+        const auto it = edges.find({e.second, e.first});
+        ASSERT_TRUE(it != edges.end()) << e.first << " " << e.second;
+        EXPECT_EQ(it->second, n);
+    }
+}
+
+// Volume by the divergence theorem: positive for outward faces.
+double SignedVolume(const common::TriangleMesh& m) {
+    double v = 0;
+    for (const auto& t : m.triangles) {
+        v += m.vertices[t[0]].cast<double>().dot(
+                 m.vertices[t[1]].cast<double>().cross(m.vertices[t[2]].cast<double>())) /
+             6.0;
+    }
+    return v;
+}
+
+TEST(VoxelMesh, ExposedFacesOnlyClosedAndOutward) {
+    VoxelSolid solid;
+    solid.voxel_m = 0.1f;
+    solid.voxels = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {3, 3, 3}};  // an L and a lone voxel
+    const common::TriangleMesh m = VoxelSurface(solid);
+    // The L: 3 cubes with 2 shared faces -> 18 - 4 = 14 faces; the lone one 6.
+    EXPECT_EQ(m.triangles.size(), 2u * 20u);
+    ExpectWatertight(m);
+    EXPECT_NEAR(SignedVolume(m), solid.volume_m3(), 1e-9);
+    EXPECT_NEAR(solid.volume_m3(), 4e-3, 1e-9);
+    EXPECT_NEAR((solid.box_min() - Eigen::Vector3d(0, 0, 0)).norm(), 0, 1e-6);
+    EXPECT_NEAR((solid.box_max() - Eigen::Vector3d(0.4, 0.4, 0.4)).norm(), 0, 1e-6);
+}
+
+TEST(VoxelMesh, ASolidFromPointsOnTopAndSidesOfABoxIsFilledDownToTheFloor) {
+    // Points on the top (z = 0.6) and one side of a 0.8 x 0.5 x 0.6 box, none near the floor, and
+    // a hole of a missing beam in the top.
+    std::vector<Eigen::Vector3f> p;
+    for (float x = 0.01f; x < 0.8f; x += 0.03f) {
+        for (float y = 0.01f; y < 0.5f; y += 0.03f) {
+            if (y < 0.2f || y > 0.25f) p.emplace_back(x, y, 0.599f);
+        }
+        for (float z = 0.15f; z < 0.6f; z += 0.03f) p.emplace_back(x, 0.001f, z);
+    }
+    const VoxelSolid solid = MakeVoxelSolid(p, 0.05f, 0.0f);
+    EXPECT_NEAR(solid.volume_m3(), 0.8 * 0.5 * 0.6, 1e-6);
+    const common::TriangleMesh m = VoxelSurface(solid);
+    ExpectWatertight(m);
+    EXPECT_NEAR(SignedVolume(m), solid.volume_m3(), 1e-6);
+    EXPECT_NEAR(solid.box_min().z(), 0.0, 1e-6);
+}
+
+TEST(AlignedMap, MergesKeyframesCountingTheKeyframesThatSawEachVoxel) {
+    common::PointCloud a, b;
+    a.PushBack({2.0f, 0.01f, 0.01f});
+    a.PushBack({2.02f, 0.02f, 0.02f});  // same voxel, same keyframe
+    a.PushBack({50.0f, 0, 0});          // beyond max range
+    b.PushBack({1.01f, 0.01f, 0.01f});  // at x = 2 in the world: the same voxel
+    Eigen::Isometry3d Tb = Eigen::Isometry3d::Identity();
+    Tb.translation().x() = 1.0;
+    const std::vector<MapKeyframe> kf = {{&a, Eigen::Isometry3d::Identity()}, {&b, Tb}};
+    const AlignedMap map = BuildAlignedMap(kf, AlignedMapConfig{});
+    ASSERT_EQ(map.size(), 1u);
+    EXPECT_EQ(map.points[0], 3u);
+    EXPECT_EQ(map.keyframes[0], 2u);
+    EXPECT_EQ(map.first_keyframe[0], 0u);
+    EXPECT_EQ(map.cropped_points, 1u);
+    EXPECT_NEAR(map.xyz[0].x(), (2.0 + 2.02 + 2.01) / 3, 1e-5);
+}
+
+}  // namespace
+}  // namespace bimslam::changes
