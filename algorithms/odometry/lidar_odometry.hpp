@@ -117,7 +117,7 @@ struct LidarOdometryConfig {
     double model_error_scans = 50;
     // A start in motion (header, step 3): times the first scan is deskewed again and the second
     // registered again; 0 turns it off.
-    int start_refinements = 2;
+    int start_refinements = 0;
     // The map's radius follows the scene's extent: map_extent_factor x the scans' 90th range
     // percentile, within [min_map_radius, map.max_distance].
     double map_extent_factor = 1.5;

@@ -330,14 +330,22 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
             cov += (s2 / lambda(k)) * v * v.transpose();
             continue;
         }
-        // A weak direction: the scan's estimate along it (variance s2 / lambda) and the initial
-        // guess's (variance v^T P v, P the prior's diagonal) are fused by their information. The
-        // guess wins only where it knows the direction better than the scan: a corridor's axis
-        // against the Go1's leg odometry or the constant velocity, yes; a rotation against a
-        // constant-velocity guess that cannot follow the trot's wobble, no (README.md, "LiDAR
-        // only": keeping that guess outright made the wobble's error stay in the pose).
+        // A weak direction. Mostly translation (a corridor's axis, a tunnel): the scan's
+        // information along it comes from noise and discretisation, so it keeps the initial
+        // guess (Zhang et al.). Mostly rotation: indoors every rotation is seen by some surface
+        // at range, so the scan's estimate (variance s2 / lambda) and the guess's (variance
+        // v^T P v, P the prior's diagonal) are fused by their information; the guess wins only
+        // where it knows more. Keeping a constant-velocity guess outright there put the Go1
+        // trot's wobble into the pose (README.md, "LiDAR only").
+        const double prior_var_v = std::max(v.cwiseAbs2().dot(prior_var), 1e-12);
+        if (v.head<3>().squaredNorm() >= 0.5) {
+            ++result_.degenerate_directions;
+            scaled -= v * v.dot(scaled);  // this direction keeps the initial guess
+            cov += prior_var_v * v * v.transpose();
+            continue;
+        }
         const double data_info = std::max(lambda(k), 0.0) / s2;
-        const double prior_info = 1.0 / std::max(v.cwiseAbs2().dot(prior_var), 1e-12);
+        const double prior_info = 1.0 / prior_var_v;
         const double keep = data_info / (data_info + prior_info);  // the scan's share
         if (keep < 0.5) ++result_.degenerate_directions;
         scaled -= (1.0 - keep) * v * v.dot(scaled);
