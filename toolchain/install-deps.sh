@@ -24,6 +24,8 @@ packages=(
     libyaml-cpp-dev
     # host tools: IFC++ (BIM ingest), Embree 3 (LiDAR simulation), TBB (parallelism)
     libifcplusplus-dev libembree-dev libtbb-dev
+    # the report page's 3D view: three.js r111 and OrbitControls, embedded at build time
+    libjs-three
     # tests and benchmarks
     libgtest-dev libgmock-dev libbenchmark-dev
     # `ip`, for the loopback multicast route the LCM tests need (toolchain/setup-multicast.sh)
@@ -34,9 +36,10 @@ packages=(
 # engine the sample building must open in (tests/tools/web_ifc, sample_building_test.cpp); and
 # clang with its libFuzzer runtime for the fuzz targets (preset `fuzz`).
 # systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
-# library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt).
+# library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
+# report page headless (tests/integration/report_browser_test.cpp).
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
-    liblcm-java openjdk-17-jdk-headless)
+    liblcm-java openjdk-17-jdk-headless chromium)
 if [[ "${1:-}" == "--test" ]]; then
     packages+=("${test_packages[@]}")
     # Debian's npm, unless npm is there already: a nodejs from NodeSource bundles its own and

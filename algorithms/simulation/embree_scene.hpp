@@ -20,11 +20,11 @@ struct Scene::Impl {
     RTCScene scene = nullptr;
     std::vector<uint32_t> ids;  // per triangle (primID of geometry 0)
     size_t triangles = 0;
-    // Per triangle, for closest-point queries: its first vertex, its two edges from it and its
-    // unit normal (zero when degenerate), 12 floats together: no index lookups, and the plane
-    // distance rejects most triangles before the exact test.
+    // Per triangle, for closest-point queries: its vertices and its unit normal (zero when
+    // degenerate), 12 floats together: no index lookups, and the plane distance rejects most
+    // triangles before the exact test (in double, from the vertices: scene.cpp).
     struct TriangleData {
-        Eigen::Vector3f a, ab, ac, normal;
+        Eigen::Vector3f a, b, c, normal;
     };
     std::vector<TriangleData> triangle_data;
 

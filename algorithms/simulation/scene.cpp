@@ -70,28 +70,33 @@ void Require(bool ok, const std::string& message) {
     if (!ok) throw common::Error(StatusCode::kInvalidArgument, "Scene: " + message);
 }
 
-// The point of triangle (a, a + ab, a + ac) nearest to p: Ericson, "Real-Time Collision
-// Detection" (2005), section 5.1.5, by the Voronoi regions of the vertices, edges and face.
-Eigen::Vector3f ClosestOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
-                                  const Eigen::Vector3f& ab, const Eigen::Vector3f& ac) {
-    const Eigen::Vector3f ap = p - a;
-    const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+// The point of triangle abc nearest to p: Ericson, "Real-Time Collision Detection" (2005),
+// section 5.1.5, by the Voronoi regions of the vertices, edges and face. In double: the region
+// tests and barycentrics are differences of products of dot products (vc = d1 d4 - d3 d2 ...),
+// of the order of |ab|^2 |ap|^2, divided by |ab x ac|^2. On a sliver triangle (the building's wall
+// faces beside openings are 27 m long and 2-9 cm high) float32 loses the barycentrics to
+// cancellation and puts the point 20 mm off; double leaves nanometres
+// (algorithms/changes/README.md).
+Eigen::Vector3d ClosestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = ab.dot(ap), d2 = ac.dot(ap);
     if (d1 <= 0 && d2 <= 0) return a;
-    const Eigen::Vector3f bp = ap - ab;
-    const float d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return a + ab;
-    const float vc = d1 * d4 - d3 * d2;
+    const Eigen::Vector3d bp = p - b;
+    const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    const double vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-    const Eigen::Vector3f cp = ap - ac;
-    const float d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return a + ac;
-    const float vb = d5 * d2 - d1 * d6;
+    const Eigen::Vector3d cp = p - c;
+    const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-    const float va = d3 * d6 - d5 * d4;
+    const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-        return a + ab + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (ac - ab);
+        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
     }
-    const float denom = 1.0f / (va + vb + vc);
+    const double denom = 1.0 / (va + vb + vc);
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
@@ -112,17 +117,21 @@ struct PointQueryState {
         // The distance to the triangle's plane is a lower bound of the distance to it.
         const float plane = (query - tri.a).dot(tri.normal);
         if (plane * plane > best_d2 + tie) return;
-        const Eigen::Vector3f q = ClosestOnTriangle(query, tri.a, tri.ab, tri.ac);
-        const Eigen::Vector3f d = query - q;
-        const float d2 = d.squaredNorm();
+        // The exact test in double (see ClosestOnTriangle); the vertices are floats, so their
+        // differences there are exact.
+        const Eigen::Vector3d p = query.cast<double>();
+        const Eigen::Vector3d q =
+            ClosestOnTriangle(p, tri.a.cast<double>(), tri.b.cast<double>(), tri.c.cast<double>());
+        const Eigen::Vector3d d = p - q;
+        const auto d2 = float(d.squaredNorm());
         if (d2 > best_d2 + tie) return;
-        const float along = d.dot(tri.normal);
+        const auto along = float(d.dot(tri.normal.cast<double>()));
         const float alignment = d2 > 0 ? along * along / d2 : 1.0f;
         if (d2 >= best_d2 - tie && alignment <= best_alignment) return;
         best_d2 = std::min(d2, best_d2);
         best_alignment = alignment;
         best = t;
-        point = q;
+        point = q.cast<float>();
     }
 };
 
@@ -211,9 +220,9 @@ Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_id
             const auto& tri = mesh.triangles[t];
             Impl::TriangleData& data = impl.triangle_data[t];
             data.a = mesh.vertices[tri[0]];
-            data.ab = mesh.vertices[tri[1]] - data.a;
-            data.ac = mesh.vertices[tri[2]] - data.a;
-            const Eigen::Vector3f n = data.ab.cross(data.ac);
+            data.b = mesh.vertices[tri[1]];
+            data.c = mesh.vertices[tri[2]];
+            const Eigen::Vector3f n = (data.b - data.a).cross(data.c - data.a);
             const float length = n.norm();
             data.normal = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
         }

@@ -48,14 +48,15 @@ struct AnchorConfig {
     // measured to be about 3x too small in sigma (median |e|/sigma 2.0).
     double odometry_information_scale = 0.1;
     // The model is not the building: walls stand within construction tolerances of where they
-    // are drawn (DIN 18202 allows about 1-2 cm over a room's size), and a loop registered to the
-    // model inherits the deviation of the walls it saw, the same for every loop that saw them.
-    // Its covariance therefore gets this much added (Sigma_loop = H^-1 + Sigma_model, isotropic
-    // in translation and rotation), so a few walls built off cannot bend the trajectory against
-    // its odometry; the deviations average out over the walk and stay visible to change
-    // detection. Loops between query sessions get none (neither side is the model). 0 turns it off.
-    double model_tolerance_m = 0.02;
-    double model_tolerance_deg = 0.2;
+    // are drawn, and a loop registered to the model inherits the deviation of the walls it saw,
+    // the same for every loop that saw them. This much covariance can be added to each loop to
+    // the reference (Sigma_loop = H^-1 + Sigma_model), so that walls built off bend the
+    // trajectory less. Off by default: measured, 2 cm helped a little where walls were built
+    // off (APE 2.02 -> 1.91 cm) and hurt where the odometry made an excursion the weakened
+    // loops no longer corrected (a clean handheld walk: 1.00 -> 1.78 cm, max 5.1 -> 9.5 cm)
+    // (README.md, "The model's tolerance"). Loops between query sessions never get it.
+    double model_tolerance_m = 0.0;
+    double model_tolerance_deg = 0.0;
     double min_inlier_ratio = 0.5;  // of the query's planar points within 5 cm of the model
     double max_inlier_rmse = 0.03;  // m
     // Place-recognition loops must be well constrained in every direction: one that is not (a

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddEvaluateCommand(app, exit_code);
     bimslam::cli::AddAnchorCommand(app, exit_code);
     bimslam::cli::AddChangesCommand(app, exit_code);
+    bimslam::cli::AddMapCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

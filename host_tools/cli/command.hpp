@@ -33,5 +33,7 @@ void AddOdometryCommand(CLI::App& app, int& exit_code);
 void AddEvaluateCommand(CLI::App& app, int& exit_code);
 void AddAnchorCommand(CLI::App& app, int& exit_code);
 void AddChangesCommand(CLI::App& app, int& exit_code);
+// `bimslam map` and `bimslam report`.
+void AddMapCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

@@ -10,14 +10,15 @@
 //   same points and mesh through tests/benchmarks/changes_open3d_peer.py (Open3D's
 //   RaycastingScene.compute_signed_distance and cluster_dbscan, as the paper's Step 3) with
 //   Debian's python3; counters open3d_*_s and ratio_total (Open3D's time / ours). Skipped, saying
-//   so, where python3-open3d is missing.
+//   so, where python3-open3d is missing. BIMSLAM_BENCH_KEEP=DIR keeps the peer's input files in
+//   DIR/speed.
 //
 // BM_ChangeAccuracy/platform:P/seed:S  (P 0 = Go1, 1 = handheld)
 //   host_tools/simulate/scenarios/changed_building.yaml (boxes, a cylinder, clutter, removed
 //   columns and a cabinet, a moved desk, walls built off, two people) with seed S, simulated in the
 //   sample building over its whole coverage walk, replayed through the odometry into a session,
 //   the session anchored to the building's BIM reference session (host_tools/anchor, as
-//   `bimslam anchor`: no initial pose) and then `bimslam changes` as a library call (timed) and
+//   `bimslam anchor --model-tolerance 0.02`: no initial pose) and then `bimslam changes` as a library call (timed) and
 //   its files scored against the capture's changes.json (host_tools/changes/
 //   change_evaluation.hpp): large_* counts every true object, sep_large_* takes true objects
 //   touching within 5 cm as one (the scenario's random clutter may interpenetrate); anchor_*_cm,
@@ -230,8 +231,14 @@ void BM_ChangeSpeed(benchmark::State& state) {
     state.counters["dbscan_s"] = dbscan_s;
     state.counters["total_s"] = distance_s + dbscan_s;
 
-    // The Open3D peer, same points, same mesh, same parameters.
-    test::TempDir tmp;
+    // The Open3D peer, same points, same mesh, same parameters. BIMSLAM_BENCH_KEEP=DIR keeps the
+    // files it reads (points.npy, mesh.ply, ours.npy) in DIR/speed, to study the differences.
+    test::TempDir scratch;
+    fs::path tmp = scratch.path();
+    if (const char* keep = std::getenv("BIMSLAM_BENCH_KEEP"); keep && *keep) {
+        tmp = fs::path(keep) / "speed";
+        fs::create_directories(tmp);
+    }
     io::WriteNpy(tmp / "points.npy",
                  io::NpyArray::From(map.points.front().data(), {map.points.size(), 3}));
     io::WriteNpy(tmp / "ours.npy", io::NpyArray::From(distances.data(), {distances.size()}));
@@ -285,7 +292,11 @@ std::pair<double, double> AnchorSession(const fs::path& ifc, const bim::BimModel
     bim::ReferenceSessionOptions ro;
     ro.overwrite = true;
     bim::WriteReferenceSession(model, io::Sha256File(ifc), reference, ro);
+    // As `bimslam anchor --model-tolerance 0.02`: the scenario's walls are built N(0, 2 cm) off,
+    // and change detection measures them (host_tools/anchor/README.md, "The model's tolerance").
     anchor::AnchorConfig config;
+    config.model_tolerance_m = 0.02;
+    config.model_tolerance_deg = 0.2;
     anchor::LoadOptions lo;
     lo.cloud = config.cloud;
     lo.descriptor = config.descriptor;

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "algorithms/io/file_util.hpp"
 #include "algorithms/io/npy.hpp"
 #include "algorithms/io/ply.hpp"
 #include "drivers/can/candump.hpp"
@@ -34,15 +35,25 @@ TEST(Cli, HelpListsCommandsAndBadUsageExits2) {
     EXPECT_EQ(test::RunCommand(kCli + " demo --columns 7").exit_code, 2);
 }
 
+// The demo as `make demo` runs it (512 columns to be quicker): from outside into the changed
+// building, anchored, changes scored, the report written; the rig's session reads back.
 TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     test::TempDir tmp;
     const fs::path out = tmp / "demo";
-    const auto demo =
-        test::RunCommand(kCli + " demo --columns 512 --duration 30 --out " + out.string());
+    const auto demo = test::RunCommand(kCli + " demo --columns 512 --out " + out.string());
     ASSERT_EQ(demo.exit_code, 0) << demo.out << demo.err;
     EXPECT_NE(demo.out.find("demo finished"), std::string::npos) << demo.out;
-    EXPECT_NE(demo.out.find("complete"), std::string::npos) << demo.out;
-    EXPECT_NE(demo.out.find("accuracy APE"), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find("accuracy in BIM coordinates APE"), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find("scores    added objects"), std::string::npos) << demo.out;
+    const fs::path report = out / "map" / "report" / "report.html";
+    EXPECT_NE(demo.out.find("report: " + fs::absolute(report).string()), std::string::npos)
+        << demo.out;
+    EXPECT_GT(fs::file_size(report), 100000u);
+    const auto summary = nlohmann::json::parse(io::ReadFileToString(out / "map" / "summary.json"));
+    const auto& rec = summary.at("recordings").at(0);
+    EXPECT_EQ(rec.at("anchor").at("verdict"), "anchored");
+    EXPECT_LT(rec.at("accuracy").at("ape_trans_rmse_m").get<double>(), 0.10);
+    EXPECT_FALSE(rec.at("change_scores").is_null());
 
     const auto info = test::RunCommand(kCli + " session info --json " + (out / "session").string());
     ASSERT_EQ(info.exit_code, 0) << info.err;
@@ -74,12 +85,17 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
 
 TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
     test::TempDir tmp;
-    const fs::path out = tmp / "demo";
-    // 30 s: a shorter walk has too few keyframes to anchor, and the demo then fails.
-    ASSERT_EQ(test::RunCommand(kCli + " demo --columns 512 --duration 30 --out " + out.string())
+    // A session of a short simulated walk (the demo now runs a whole map, longer than needed).
+    const fs::path session = tmp / "session";
+    ASSERT_EQ(test::RunCommand(kCli + " bim sample -o " + (tmp / "b.ifc").string()).exit_code, 0);
+    ASSERT_EQ(test::RunCommand(kCli + " simulate --model " + (tmp / "b.ifc").string() +
+                               " --duration 10 -o " + (tmp / "capture").string())
                   .exit_code,
               0);
-    const fs::path session = out / "session";
+    ASSERT_EQ(test::RunCommand(kCli + " odometry " + (tmp / "capture").string() + " -o " +
+                               session.string())
+                  .exit_code,
+              0);
     {
         std::ofstream f(session / "times.txt", std::ios::app);
         f << "12x\n";

@@ -158,4 +158,19 @@ common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed) {
     return cloud;
 }
 
+std::filesystem::path CachedFixture(const std::filesystem::path& root, const std::string& name,
+                                    const std::function<void(const std::filesystem::path&)>& make) {
+    namespace fs = std::filesystem;
+    const fs::path dir = root / name;
+    if (fs::exists(dir)) return dir;
+    const fs::path tmp = root / (name + ".tmp" + std::to_string(::getpid()));
+    fs::remove_all(tmp);
+    fs::create_directories(tmp);
+    make(tmp);
+    std::error_code ec;
+    fs::rename(tmp, dir, ec);  // fails when another process was first: use theirs
+    if (ec) fs::remove_all(tmp);
+    return dir;
+}
+
 }  // namespace bimslam::test

@@ -100,4 +100,10 @@ FuzzCounts FuzzReader(const std::string& name, const std::vector<FuzzSeed>& seed
 // seen from its centre, with intensity, ring and per-column time offsets. Deterministic in seed.
 common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed);
 
+// A test fixture made once and shared by later tests and test processes: `make` fills a
+// private temporary folder beside `root / name`, which is then renamed into place. When another
+// process got there first the rename fails and theirs is used.
+std::filesystem::path CachedFixture(const std::filesystem::path& root, const std::string& name,
+                                    const std::function<void(const std::filesystem::path&)>& make);
+
 }  // namespace bimslam::test

@@ -1,0 +1,209 @@
+// bimslam map: an IFC model and rig recordings to an anchored map, changes and a report, every
+// step in-process with a stamp so that a re-run skips what is up to date
+// (host_tools/mapping/README.md); bimslam report: the page of such an output folder alone.
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "algorithms/common/status.hpp"
+#include "host_tools/cli/command.hpp"
+#include "host_tools/cli/progress.hpp"
+#include "host_tools/mapping/map_pipeline.hpp"
+#include "host_tools/report/report_page.hpp"
+
+namespace bimslam::cli {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct MapArgs {
+    std::string model;
+    std::vector<std::string> recordings;
+    std::string out;
+    std::string outliers = "pcm";
+    bool force = false;
+    bool no_report = false;
+    bool json = false;
+    mapping::MapConfig config;
+};
+
+std::string Fixed(double v, int digits) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(digits) << v;
+    return s.str();
+}
+
+// The summary as the user reads it: per recording what each step found.
+void PrintSummary(const mapping::MapRun& run) {
+    std::cout << "steps     ";
+    for (size_t k = 0; k < run.steps.size(); ++k) {
+        const mapping::StepRun& s = run.steps[k];
+        std::cout << (k ? ", " : "") << s.step << " "
+                  << (s.skipped ? "up to date" : Fixed(s.seconds, 1) + " s");
+    }
+    std::cout << "\n";
+    const json& S = run.summary;
+    std::cout << "model     " << S["model"]["file"].get<std::string>();
+    if (S.contains("reference")) {
+        std::cout << " (reference session: " << S["reference"]["keyframes"] << " keyframes)";
+    }
+    std::cout << "\n";
+    for (const json& r : S["recordings"]) {
+        std::cout << "recording " << r["name"].get<std::string>() << " ("
+                  << r["path"].get<std::string>() << ")\n";
+        if (!r["odometry"].is_null()) {
+            const json& o = r["odometry"];
+            std::cout << "  odometry  " << o["scans"] << " scans, " << o["keyframes"]
+                      << " keyframes, " << Fixed(o["distance_m"], 1) << " m, p50 "
+                      << Fixed(o["scan_ms_p50"], 1) << " ms per scan\n";
+        }
+        if (!r["anchor"].is_null()) {
+            const json& a = r["anchor"];
+            std::cout << "  anchoring " << a["verdict"].get<std::string>() << ": "
+                      << a["reason"].get<std::string>() << "\n";
+        }
+        if (!r["accuracy"].is_null()) {
+            const json& a = r["accuracy"];
+            std::cout << "  accuracy  APE " << Fixed(a["ape_trans_rmse_m"].get<double>() * 100, 2)
+                      << " cm RMSE (max " << Fixed(a["ape_trans_max_m"].get<double>() * 100, 1)
+                      << "), " << Fixed(a["ape_rot_rmse_deg"], 2)
+                      << " deg in BIM coordinates, no alignment (" << a["matched"] << " poses)\n";
+        }
+        if (!r["changes"].is_null()) {
+            const json& c = r["changes"];
+            std::cout << "  changes   " << c["new_objects"] << " new objects, " << c["missing"]
+                      << " missing, " << c["deviating"] << " deviating (" << c["moved"]
+                      << " moved), " << c["confirmed"] << " confirmed, " << c["not_observed"]
+                      << " not observed, " << c["transients"] << " transients\n";
+        }
+        if (!r["change_scores"].is_null()) {
+            const json& e = r["change_scores"];
+            std::cout << "  scores    added >= 0.3 m: P " << Fixed(e["added_large"]["precision"], 2)
+                      << " R " << Fixed(e["added_large"]["recall"], 2) << " F1 "
+                      << Fixed(e["added_large"]["f1"], 2) << "; removed >= 1 m2: P "
+                      << Fixed(e["removed_large"]["precision"], 2) << " R "
+                      << Fixed(e["removed_large"]["recall"], 2)
+                      << "; walls within 1 cm: " << e["as_built"]["within_1cm"] << "/"
+                      << e["as_built"]["observed"]
+                      << "; people as objects: " << e["people"]["reported_as_new_objects"] << "\n";
+        }
+    }
+    if (S.contains("report")) std::cout << "report    " << S["report"].get<std::string>() << "\n";
+}
+
+int MapMain(MapArgs& a) {
+    mapping::MapConfig& c = a.config;
+    if (!anchor::ParseOutlierMethod(a.outliers, &c.anchor.outliers)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "--outliers " + a.outliers + ": expected pcm, gnc or none");
+    }
+    c.model = a.model;
+    c.recordings.assign(a.recordings.begin(), a.recordings.end());
+    c.out = a.out;
+    c.force = a.force;
+    c.report = !a.no_report;
+    ProgressBar bar(!a.json && ProgressBar::Terminal());
+    const mapping::MapRun run =
+        mapping::RunMap(c, [&](const std::string& step, double f) { bar.Update(step, f); });
+    bar.Clear();
+    bool anchored = true;
+    for (const json& r : run.summary["recordings"]) {
+        anchored = anchored && !r["anchor"].is_null() && r["anchor"]["verdict"] == "anchored";
+    }
+    if (a.json) {
+        json j = run.summary;
+        j["steps"] = json::array();
+        for (const auto& s : run.steps) {
+            j["steps"].push_back(
+                {{"step", s.step}, {"skipped", s.skipped}, {"seconds", s.seconds}});
+        }
+        std::cout << j.dump(2) << "\n";
+    } else {
+        PrintSummary(run);
+        if (!anchored) {
+            std::cout << "NOT ANCHORED: a recording could not be placed in BIM coordinates (see "
+                         "above); the report shows its odometry map in its own frame\n";
+        }
+    }
+    return anchored ? kExitOk : kExitFailure;
+}
+
+int ReportMain(const std::string& out, std::string html) {
+    if (html.empty()) html = (fs::path(out) / "report" / "report.html").string();
+    ProgressBar bar(ProgressBar::Terminal());
+    fs::create_directories(fs::absolute(html).parent_path());
+    report::WriteReport(out, html, [&](const std::string& s, double f) { bar.Update(s, f); });
+    bar.Clear();
+    std::cout << "report    " << html << " (" << fs::file_size(html) / 1024 << " kB)\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void AddMapCommand(CLI::App& app, int& exit_code) {
+    auto a = std::make_shared<MapArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "map",
+        "an IFC model and rig recordings to an anchored map, changes and a report: every step, "
+        "re-runs skip what is up to date");
+    cmd->add_option("model", a->model, "the IFC model (IFC2X3 or IFC4)")->required();
+    cmd->add_option("recordings", a->recordings,
+                    "recordings: capture folders (lidar.pcap, metadata.json, go1_can.log ...) or "
+                    "x.pcap with x.json beside it")
+        ->required();
+    cmd->add_option("-o,--output", a->out, "output folder (kept between runs)")->required();
+    cmd->add_option("--outliers", a->outliers, "anchoring's outlier rejection: pcm, gnc or none")
+        ->capture_default_str();
+    cmd->add_option("--threads", a->config.threads, "anchoring threads (0: all cores)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--keyframe-gap", a->config.keyframe_gap_m,
+                    "the reference session's keyframe spacing, m")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_option("--budget-ms", a->config.odometry_budget_ms,
+                    "odometry time budget per scan, ms (as bimslam odometry; the odometry stops "
+                    "refining a scan at it, so a loaded machine may give other results)")
+        ->check(CLI::Range(1.0, 100000.0))
+        ->capture_default_str();
+    cmd->add_option("--threshold", a->config.changes.new_object_threshold_m,
+                    "change detection: distance from the model that starts a new object, m")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd->add_flag("--force", a->force, "run every step again, up to date or not");
+    cmd->add_flag("--no-report", a->no_report, "skip the HTML report");
+    cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");
+    cmd->footer(
+        "Steps, each into its own folder of OUT with a stamp in OUT/stamps/:\n"
+        "  reference  OUT/reference/   the BIM reference session (Step 1), cached by the model's "
+        "SHA-256\n"
+        "  odometry   OUT/odometry/<recording>/ and <recording>.json (figures, time per scan)\n"
+        "  anchor     OUT/anchor/      anchor.json, loops.json, sessions in BIM coordinates\n"
+        "  changes    OUT/changes/<recording>/ as `bimslam changes` writes them (+ "
+        "evaluation.json)\n"
+        "  report     OUT/report/report.html (`bimslam report`)\n"
+        "OUT/summary.json gathers the figures; with a simulated capture's ground_truth.tum and "
+        "changes.json beside the recording, the APE in BIM coordinates (no alignment) and the "
+        "change scores. Exit 0 when every recording is anchored, 1 when one is not (its report "
+        "still written) or a step failed (the message names the step and the file), 2 for a model "
+        "that is not IFC or a recording that is not an Ouster capture, before any step.");
+    cmd->callback([a, &exit_code] { exit_code = Run([&] { return MapMain(*a); }); });
+
+    auto out = std::make_shared<std::string>();
+    auto html = std::make_shared<std::string>();
+    CLI::App* rep = app.add_subcommand(
+        "report", "one self-contained HTML page (no network) of a `bimslam map` output folder");
+    rep->add_option("out", *out, "the output folder of `bimslam map`")->required();
+    rep->add_option("-o,--output", *html, "the page to write (default OUT/report/report.html)");
+    rep->footer(
+        "The page holds the summary, a floor plan per storey (walls, doors, the reference walk, "
+        "trajectories, loops, new objects, missing elements, a scale bar), plots, the change list "
+        "and a 3D view (three.js r111 from Debian's libjs-three, embedded). Opens offline. "
+        "host_tools/report/README.md.");
+    rep->callback(
+        [out, html, &exit_code] { exit_code = Run([&] { return ReportMain(*out, *html); }); });
+}
+
+}  // namespace bimslam::cli

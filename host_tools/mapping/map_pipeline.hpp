@@ -1,0 +1,76 @@
+// `bimslam map`: an IFC model and rig recordings to an anchored map, a change report and one
+// HTML page, in-process, step by step (README.md of this folder):
+//   reference  the BIM reference session (Step 1), OUT/reference/; reused while the model's
+//              SHA-256 and the parameters are the same
+//   odometry   each recording through the on-board odometry, OUT/odometry/<name>/ (+ <name>.json:
+//              the run's figures and every scan's time)
+//   anchor     every session into BIM coordinates (Step 2), OUT/anchor/
+//   changes    each anchored session against the model (Step 3), OUT/changes/<name>/
+//   report     OUT/report/report.html (host_tools/report)
+// OUT/stamps/<step>.json records what each step was made from (StepStamp); a re-run skips the
+// steps whose stamp still holds. OUT/summary.json gathers the figures from the steps' files, and,
+// for simulated captures (ground_truth.tum, changes.json beside the pcap), the APE in BIM
+// coordinates with no alignment and the change scores.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "algorithms/changes/change_detector.hpp"
+#include "host_tools/anchor/anchor_config.hpp"
+#include "host_tools/mapping/map_inputs.hpp"
+
+namespace bimslam::mapping {
+
+struct MapConfig {
+    std::filesystem::path model;
+    std::vector<std::filesystem::path> recordings;
+    std::filesystem::path out;
+    bool force = false;           // run every step, stamps or not
+    bool report = true;           // the report step
+    int threads = 0;              // anchoring (0: all cores)
+    double keyframe_gap_m = 1.0;  // the reference session's
+    double odometry_budget_ms = 50;
+    anchor::AnchorConfig anchor;
+    changes::ChangeDetectorConfig changes;
+    void Validate() const;  // throws common::Error (kInvalidArgument) naming the field
+};
+
+// A step that failed while working: which step, on which file, why. The steps before it keep
+// their files and stamps.
+class StepFailure : public std::runtime_error {
+public:
+    StepFailure(const std::string& step, const std::string& file, const std::string& why);
+    const std::string& step() const { return step_; }
+
+private:
+    std::string step_;
+};
+
+struct StepRun {
+    std::string step;  // "reference", "odometry <name>", "anchor", "changes", "report"
+    bool skipped = false;
+    double seconds = 0;
+};
+
+struct MapRun {
+    std::vector<StepRun> steps;
+    nlohmann::json summary;  // what OUT/summary.json holds
+};
+
+// (step, fraction done of that step).
+using MapProgress = std::function<void(const std::string&, double)>;
+
+// Checks the inputs (throws common::FileError, exit-2 material, before any step), then runs the
+// steps. Throws StepFailure when a step fails.
+MapRun RunMap(const MapConfig& config, const MapProgress& progress = {});
+
+// OUT/summary.json from the files the steps wrote (also read by `bimslam report`).
+nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& model,
+                            const std::vector<RecordingInput>& recordings);
+
+}  // namespace bimslam::mapping

@@ -1,0 +1,107 @@
+// BuildSummary: OUT/summary.json, gathered from the files the steps wrote, so that a run that
+// skipped every step prints the same figures as the run that made them.
+#include <system_error>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/mapping/map_pipeline.hpp"
+
+namespace bimslam::mapping {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json ReadJsonIf(const fs::path& file) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) return nullptr;
+    return json::parse(io::ReadFileToString(file));
+}
+
+json ChangeCounts(const json& c) {
+    size_t moved = 0;
+    for (const json& d : c.at("deviating")) moved += !d.at("moved").is_null();
+    return {{"new_objects", c.at("new_objects").size()},
+            {"missing", c.at("missing").size()},
+            {"deviating", c.at("deviating").size()},
+            {"moved", moved},
+            {"confirmed", c.at("confirmed")},
+            {"not_observed", c.at("not_observed")},
+            {"transients", c.at("transients").size()},
+            {"map_points", c.at("map").at("points")}};
+}
+
+}  // namespace
+
+json BuildSummary(const fs::path& out, const fs::path& model,
+                  const std::vector<RecordingInput>& recordings) {
+    json s = {{"format", "bimslam-map-summary"},
+              {"version", 1},
+              {"output", out.string()},
+              {"model", {{"file", model.string()}}}};
+    const json session = ReadJsonIf(out / "reference" / "session.json");
+    if (!session.is_null()) {
+        s["model"]["sha256"] = session.value("/model/sha256"_json_pointer, std::string());
+        s["reference"] = {
+            {"dir", (out / "reference").string()},
+            {"keyframes", session.value("/counts/keyframes"_json_pointer, size_t(0))}};
+    }
+    const json anchor = ReadJsonIf(out / "anchor" / "anchor.json");
+    if (!anchor.is_null()) s["anchor_times_s"] = anchor.at("times_s");
+    json recs = json::array();
+    for (const RecordingInput& r : recordings) {
+        json j = {{"name", r.name},
+                  {"path", r.path.string()},
+                  {"ground_truth",
+                   r.ground_truth.empty() ? json(nullptr) : json(r.ground_truth.string())},
+                  {"truth_changes",
+                   r.truth_changes.empty() ? json(nullptr) : json(r.truth_changes.string())},
+                  {"odometry", nullptr},
+                  {"anchor", nullptr},
+                  {"accuracy", nullptr},
+                  {"changes", nullptr},
+                  {"change_scores", nullptr}};
+        json odo = ReadJsonIf(out / "odometry" / (r.name + ".json"));
+        if (!odo.is_null()) {
+            odo.erase(
+                "scan_ms");  // per scan: the report plots it, the summary needs only quantiles
+            j["odometry"] = odo;
+        }
+        if (!anchor.is_null()) {
+            for (const json& q : anchor.at("sessions")) {
+                if (q.at("name") != r.name) continue;
+                j["anchor"] = {{"verdict", q.at("verdict")},
+                               {"reason", q.at("reason")},
+                               {"keyframes", q.at("keyframes")},
+                               {"candidates", q.at("candidates")},
+                               {"verified", q.at("verified")},
+                               {"accepted_loops", q.at("accepted_loops")},
+                               {"covered_keyframes", q.at("covered_keyframes")}};
+            }
+        }
+        const fs::path trajectory = out / "anchor" / r.name / "trajectory_bim.tum";
+        std::error_code ec;
+        if (!r.ground_truth.empty() && fs::is_regular_file(trajectory, ec)) {
+            // In BIM coordinates with no alignment: what anchoring alone achieved.
+            evaluation::EvaluationConfig none;
+            none.align = evaluation::Alignment::kNone;
+            const evaluation::EvaluationResult e =
+                evaluation::EvaluateFiles(trajectory, r.ground_truth, none);
+            j["accuracy"] = {{"align", "none"},
+                             {"matched", e.matched},
+                             {"ape_trans_rmse_m", e.ape_trans_m.rmse},
+                             {"ape_trans_max_m", e.ape_trans_m.max},
+                             {"ape_rot_rmse_deg", e.ape_rot_deg.rmse},
+                             {"ape_rot_max_deg", e.ape_rot_deg.max}};
+        }
+        const json changes = ReadJsonIf(out / "changes" / r.name / "changes.json");
+        if (!changes.is_null()) j["changes"] = ChangeCounts(changes);
+        j["change_scores"] = ReadJsonIf(out / "changes" / r.name / "evaluation.json");
+        recs.push_back(j);
+    }
+    s["recordings"] = recs;
+    return s;
+}
+
+}  // namespace bimslam::mapping

@@ -1,0 +1,508 @@
+// The bimslam map report: builds the summary, the floor plans, the plots, the change list and the
+// 3D view from the JSON embedded in the page (host_tools/report/README.md lists its fields).
+// Plain ES2017 and three.js r111 (Debian's libjs-three); no network.
+'use strict';
+
+const D = JSON.parse(document.getElementById('report-data').textContent);
+const O = D.origin || [0, 0, 0];  // the model's local origin: data is in the mesh's frame
+const SVGNS = 'http://www.w3.org/2000/svg';
+const COLORS = ['#1f77b4', '#9467bd', '#17becf', '#8c564b', '#e377c2', '#bcbd22'];
+
+function el(tag, attrs, parent, text) {
+  const e = tag.startsWith('svg:') ? document.createElementNS(SVGNS, tag.slice(4))
+                                   : document.createElement(tag);
+  for (const k in attrs || {}) e.setAttribute(k, attrs[k]);
+  if (text !== undefined) e.textContent = text;
+  if (parent) parent.appendChild(e);
+  return e;
+}
+function b64(s, Type) {
+  if (!s) return new Type(0);
+  const bin = atob(s);
+  const bytes = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
+  return new Type(bytes.buffer);
+}
+function fmt(v, d) { return v === null || v === undefined ? '–' : Number(v).toFixed(d); }
+function local(p) { return [p[0] - O[0], p[1] - O[1], p[2] - O[2]]; }
+// The storey a point at height z (local frame) stands on: the highest whose elevation is at most
+// z - 0.1 m, else the lowest (as the report's C++ side decides).
+function storeyAt(z) {
+  let s = 0;
+  D.storeys.forEach((st, i) => { if (st.elevation <= z - 0.1) s = i; });
+  return s;
+}
+function storeyIndex(row) {
+  const i = D.storeys.findIndex(s => s.name === row.storey);
+  return i >= 0 ? i : storeyAt(local(row.min)[2] + 0.2);
+}
+
+// ---- summary -------------------------------------------------------------------------------
+function buildSummary() {
+  const S = D.summary, body = document.getElementById('summary-body');
+  el('p', {}, body, 'Model ' + D.model.file + ' (' + D.model.schema + ', ' + D.model.elements +
+     ' elements, ' + D.storeys.length + ' storeys); reference session of ' +
+     (S.reference ? S.reference.keyframes : '?') + ' keyframes along a walk through every room.');
+  const t = el('table', {}, body);
+  const h = el('tr', {}, t);
+  ['recording', 'odometry', 'anchoring', 'loops', 'accuracy (BIM, no alignment)', 'changes',
+   'change scores'].forEach(x => el('th', {}, h, x));
+  S.recordings.forEach(r => {
+    const tr = el('tr', {}, t);
+    el('td', {}, tr, r.name).title = r.path;
+    const o = r.odometry;
+    el('td', {}, tr, o ? o.scans + ' scans, ' + o.keyframes + ' keyframes, ' + fmt(o.distance_m, 1) +
+       ' m; ' + fmt(o.scan_ms_p50, 1) + ' ms per scan (p50)' : '–');
+    const a = r.anchor;
+    const td = el('td', {}, tr);
+    if (a) {
+      el('span', {class: 'verdict-' + a.verdict}, td, a.verdict);
+      td.appendChild(document.createTextNode(': ' + a.reason));
+    } else td.textContent = '–';
+    el('td', {}, tr, a ? a.accepted_loops + ' accepted of ' + a.verified + ' verified, ' +
+       a.candidates + ' candidates; ' + a.covered_keyframes + '/' + a.keyframes + ' keyframes' : '–');
+    const acc = r.accuracy;
+    el('td', {}, tr, acc ? 'APE ' + fmt(acc.ape_trans_rmse_m * 100, 2) + ' cm RMSE (max ' +
+       fmt(acc.ape_trans_max_m * 100, 1) + '), ' + fmt(acc.ape_rot_rmse_deg, 2) + '° over ' +
+       acc.matched + ' poses' : (r.ground_truth ? '–' : 'no ground truth'));
+    const c = r.changes;
+    el('td', {}, tr, c ? c.new_objects + ' new objects, ' + c.missing + ' missing, ' + c.deviating +
+       ' deviating (' + c.moved + ' moved), ' + c.confirmed + ' confirmed, ' + c.transients +
+       ' transients' : '–');
+    const sc = r.change_scores;
+    el('td', {}, tr, sc ? 'added ≥ 0.3 m: P ' + fmt(sc.added_large.precision, 2) + ' R ' +
+       fmt(sc.added_large.recall, 2) + '; removed ≥ 1 m²: R ' + fmt(sc.removed_large.recall, 2) +
+       '; people as objects ' + sc.people.reported_as_new_objects : '–');
+    if (!a || a.verdict !== 'anchored') {
+      const b = el('div', {class: 'banner'}, body);
+      el('strong', {}, b, 'Recording ' + r.name + ' is not anchored' + (a ? ' (' + a.verdict + ')' : '') + '. ');
+      b.appendChild(document.createTextNode((a ? a.reason + '. ' : '') +
+        'It is not placed in BIM coordinates and has no change detection; its odometry map is ' +
+        'shown in its own frame below.'));
+    }
+  });
+}
+
+// ---- floor plans -----------------------------------------------------------------------------
+const planMarks = {};  // change row index -> [svg elements]
+function niceLength(w) {
+  for (const v of [0.5, 1, 2, 5, 10, 20, 50, 100]) if (v >= w / 8) return v;
+  return 200;
+}
+function polyline(xyz, storey, cls, parent, color) {
+  // The part of a trajectory (flat xyz, local) on this storey, as separate runs.
+  let pts = [];
+  const flush = () => {
+    if (pts.length > 1) {
+      const p = el('svg:polyline', {class: cls, points: pts.join(' ')}, parent);
+      if (color) p.setAttribute('stroke', color);
+    }
+    pts = [];
+  };
+  for (let i = 0; i + 2 < xyz.length; i += 3) {
+    if (storeyAt(xyz[i + 2]) === storey) pts.push(xyz[i].toFixed(2) + ',' + xyz[i + 1].toFixed(2));
+    else flush();
+  }
+  flush();
+}
+function buildPlans() {
+  const body = document.getElementById('plans-body');
+  // The model's box, grown to hold the anchored trajectories (a walk may start outside).
+  const bmin = D.bounds.min.slice(), bmax = D.bounds.max.slice();
+  D.sessions.forEach(s => {
+    const t = s.trajectory || [];
+    for (let i = 0; i + 2 < t.length; i += 3) {
+      for (let k = 0; k < 2; ++k) { bmin[k] = Math.min(bmin[k], t[i + k]); bmax[k] = Math.max(bmax[k], t[i + k]); }
+    }
+  });
+  const x0 = bmin[0] - 1.5, x1 = bmax[0] + 1.5, y0 = bmin[1] - 2.5, y1 = bmax[1] + 1.5;
+  D.storeys.forEach((st, si) => {
+    el('h3', {id: 'plan-' + si}, body, st.name + ' (cut ' + fmt(st.cut_z + O[2], 2) + ' m)');
+    const div = el('div', {class: 'plan'}, body);
+    const svg = el('svg:svg', {viewBox: [x0, -y1, x1 - x0, y1 - y0].join(' '),
+                               'data-storey': st.name}, div);
+    const g = el('svg:g', {transform: 'scale(1,-1)'}, svg);
+    for (const cls of ['other', 'window', 'door', 'column', 'wall']) {
+      const s = st.segments[cls];
+      if (!s) continue;
+      let d = '';
+      for (let i = 0; i + 3 < s.length; i += 4) d += 'M' + s[i] + ' ' + s[i + 1] + 'L' + s[i + 2] + ' ' + s[i + 3];
+      el('svg:path', {class: cls, d: d}, g);
+    }
+    if (D.reference_walk) polyline(D.reference_walk, si, 'walk', g);
+    D.sessions.forEach((s, k) => { if (s.trajectory) polyline(s.trajectory, si, 'traj', g, COLORS[k % COLORS.length]); });
+    D.loops.forEach(l => {
+      if (storeyAt(l.a[2]) !== si) return;
+      el('svg:line', {class: l.accepted ? 'loop-ok' : 'loop-no', x1: l.a[0], y1: l.a[1], x2: l.b[0], y2: l.b[1]}, g);
+      el('svg:circle', {class: l.accepted ? 'loop-ok' : 'loop-no', cx: l.b[0], cy: l.b[1], r: 0.06}, g);
+    });
+    D.changes.forEach((c, i) => {
+      if (storeyIndex(c) !== si) return;
+      const a = local(c.min), b = local(c.max);
+      const cls = c.kind === 'new object' ? 'newobj' : c.kind;
+      const r = el('svg:rect', {class: cls, x: a[0], y: a[1], width: Math.max(b[0] - a[0], 0.05),
+                                height: Math.max(b[1] - a[1], 0.05), 'data-change': i}, g);
+      el('svg:title', {}, r, c.name + ': ' + c.verdict);
+      r.addEventListener('click', () => select(i, false));
+      (planMarks[i] = planMarks[i] || []).push(r);
+    });
+    // Scale bar, bottom left (outside the flipped group so that its text reads).
+    const L = niceLength(x1 - x0), sx = x0 + 0.8, sy = -y0 - 0.9;
+    el('svg:rect', {x: sx, y: sy, width: L, height: 0.18, fill: '#222'}, svg);
+    el('svg:rect', {x: sx + L / 2, y: sy, width: L / 2, height: 0.18, fill: '#fff', stroke: '#222', 'stroke-width': 0.03}, svg);
+    el('svg:text', {x: sx, y: sy - 0.15}, svg, '0');
+    el('svg:text', {x: sx + L, y: sy - 0.15}, svg, L + ' m');
+  });
+  D.sessions.forEach(s => {
+    if (!s.own_frame) return;
+    el('h3', {}, body, s.name + ': odometry map in its own frame (not anchored)');
+    const pts = b64(s.own_frame.points, Float32Array), tr = s.own_frame.trajectory;
+    let lo = [1e9, 1e9], hi = [-1e9, -1e9];
+    for (let i = 0; i < tr.length; i += 3) for (let k = 0; k < 2; ++k) { lo[k] = Math.min(lo[k], tr[i + k]); hi[k] = Math.max(hi[k], tr[i + k]); }
+    lo = [lo[0] - 12, lo[1] - 12]; hi = [hi[0] + 12, hi[1] + 12];
+    const div = el('div', {class: 'plan own-frame'}, body);
+    const svg = el('svg:svg', {viewBox: [lo[0], -hi[1], hi[0] - lo[0], hi[1] - lo[1]].join(' ')}, div);
+    const g = el('svg:g', {transform: 'scale(1,-1)'}, svg);
+    let d = '';
+    const zmin = tr.length ? tr[2] - 0.3 : 0;
+    for (let i = 0; i < pts.length; i += 3 * 2) {
+      if (pts[i] < lo[0] || pts[i] > hi[0] || pts[i + 1] < lo[1] || pts[i + 1] > hi[1] || pts[i + 2] < zmin) continue;
+      d += 'M' + pts[i].toFixed(2) + ' ' + pts[i + 1].toFixed(2) + 'h0.08';
+    }
+    el('svg:path', {d: d, stroke: '#777', 'stroke-width': 0.08}, g);
+    let p = '';
+    for (let i = 0; i + 2 < tr.length; i += 3) p += tr[i].toFixed(2) + ',' + tr[i + 1].toFixed(2) + ' ';
+    el('svg:polyline', {class: 'traj', points: p, stroke: '#d62728'}, g);
+  });
+}
+
+// ---- plots -----------------------------------------------------------------------------------
+function chart(title, series, xlabel, ylabel, opts) {
+  opts = opts || {};
+  const W = 440, H = 250, l = 48, r = 10, t = 10, b = 36;
+  const div = el('div', {class: 'plot'}, document.getElementById('plots-body'));
+  el('h3', {}, div, title);
+  const svg = el('svg:svg', {viewBox: '0 0 ' + W + ' ' + H, 'data-plot': title}, div);
+  let xmin = Infinity, xmax = -Infinity, ymin = opts.ymin !== undefined ? opts.ymin : Infinity, ymax = -Infinity;
+  series.forEach(s => s.x.forEach((x, i) => {
+    xmin = Math.min(xmin, x); xmax = Math.max(xmax, x);
+    if (opts.ymin === undefined) ymin = Math.min(ymin, s.y[i]);
+    ymax = Math.max(ymax, s.y[i]);
+  }));
+  if (!isFinite(xmin)) { xmin = 0; xmax = 1; ymin = 0; ymax = 1; }
+  if (opts.xmin !== undefined) { xmin = opts.xmin; xmax = opts.xmax; }
+  if (xmax === xmin) xmax = xmin + 1;
+  if (ymax <= ymin) ymax = ymin + 1;
+  const X = x => l + (x - xmin) / (xmax - xmin) * (W - l - r);
+  const Y = y => H - b - (y - ymin) / (ymax - ymin) * (H - t - b);
+  for (let k = 0; k <= 4; ++k) {
+    const y = ymin + (ymax - ymin) * k / 4, x = xmin + (xmax - xmin) * k / 4;
+    el('svg:line', {class: 'grid', x1: l, x2: W - r, y1: Y(y), y2: Y(y)}, svg);
+    el('svg:text', {x: l - 4, y: Y(y) + 4, 'text-anchor': 'end'}, svg, +y.toPrecision(3));
+    if (!opts.noXTicks) el('svg:text', {x: X(x), y: H - b + 14, 'text-anchor': 'middle'}, svg, +x.toPrecision(3));
+  }
+  el('svg:line', {class: 'axis', x1: l, x2: l, y1: t, y2: H - b}, svg);
+  el('svg:line', {class: 'axis', x1: l, x2: W - r, y1: H - b, y2: H - b}, svg);
+  el('svg:text', {x: (l + W - r) / 2, y: H - 4, 'text-anchor': 'middle'}, svg, xlabel);
+  el('svg:text', {x: 12, y: (t + H - b) / 2, transform: 'rotate(-90 12 ' + (t + H - b) / 2 + ')', 'text-anchor': 'middle'}, svg, ylabel);
+  series.forEach((s, k) => {
+    if (s.mode === 'dots') {
+      s.x.forEach((x, i) => el('svg:circle', {cx: X(x), cy: Y(s.y[i]), r: 2.5, fill: s.color}, svg));
+    } else if (s.mode === 'bars') {
+      const w = (W - l - r) / Math.max(s.x.length, 1) * 0.7;
+      s.x.forEach((x, i) => el('svg:rect', {x: X(x) - w / 2, y: Y(s.y[i]), width: w, height: Y(ymin) - Y(s.y[i]), fill: s.color}, svg));
+    } else {
+      el('svg:polyline', {points: s.x.map((x, i) => X(x).toFixed(1) + ',' + Y(s.y[i]).toFixed(1)).join(' '),
+                          fill: 'none', stroke: s.color, 'stroke-width': 1.5}, svg);
+    }
+    el('svg:text', {x: W - r - 4, y: t + 12 + 13 * k, 'text-anchor': 'end', fill: s.color}, svg, s.name);
+  });
+  return svg;
+}
+function buildPlots() {
+  const ape = D.sessions.filter(s => s.ape);
+  if (ape.length) {
+    chart('APE over time, BIM coordinates, no alignment', ape.map((s, k) => ({
+      name: s.name, x: s.ape.t, y: s.ape.e.map(e => e * 100), color: COLORS[k % COLORS.length]})),
+      'time since the first scan (s)', 'position error (cm)', {ymin: 0});
+  }
+  const ms = D.sessions.filter(s => s.scan_ms);
+  chart('Odometry time per scan', ms.map((s, k) => ({
+    name: s.name, x: s.scan_ms.map((_, i) => i), y: s.scan_ms, color: COLORS[k % COLORS.length]})),
+    'scan', 'LidarOdometry::Process (ms)', {ymin: 0});
+  const ok = D.loops.filter(l => l.accepted), no = D.loops.filter(l => !l.accepted);
+  chart('Registration fitness of the loop candidates', [
+    {name: 'accepted (' + ok.length + ')', x: ok.map(l => l.inlier_ratio), y: ok.map(l => l.inlier_rmse_m * 100), color: '#1a9c3a', mode: 'dots'},
+    {name: 'rejected (' + no.length + ')', x: no.map(l => l.inlier_ratio), y: no.map(l => l.inlier_rmse_m * 100), color: '#d62728', mode: 'dots'}],
+    'inlier ratio', 'inlier RMSE (cm)', {ymin: 0});
+  // Loop statistics: accepted, then the rejections by reason (their first words), most first.
+  const reasons = {};
+  no.forEach(l => { const r = String(l.reason).split(/[:(,;]/)[0].trim().slice(0, 40); reasons[r] = (reasons[r] || 0) + 1; });
+  const keys = Object.keys(reasons).sort((a, b) => reasons[b] - reasons[a]).slice(0, 5);
+  const names = ['accepted'].concat(keys), counts = [ok.length].concat(keys.map(k => reasons[k]));
+  const svg = chart('Loop statistics: accepted, and rejected by reason', [
+    {name: 'loops', x: names.map((_, i) => i + 0.5), y: counts, color: '#4c78a8', mode: 'bars'}],
+    'the numbers below', 'loops', {ymin: 0, noXTicks: true, xmin: 0, xmax: names.length});
+  names.forEach((n, i) => {
+    const x = 48 + (i + 0.5) / names.length * 382;
+    el('svg:text', {x: x, y: 228, 'text-anchor': 'middle'}, svg, (i + 1) + '');
+  });
+  const list = el('ol', {style: 'font-size:12px;margin:4px 0 0 16px'}, svg.parentNode);
+  names.forEach((n, i) => el('li', {}, list, n + ': ' + counts[i]));
+}
+
+// ---- change list and selection ----------------------------------------------------------------
+let selected = -1;
+function select(i, fly) {
+  selected = i;
+  document.querySelectorAll('#changes-body tr.row').forEach(r => r.classList.toggle('selected', +r.dataset.change === i));
+  document.querySelectorAll('.plan .selected').forEach(e => e.classList.remove('selected'));
+  (planMarks[i] || []).forEach(e => e.classList.add('selected'));
+  if (view) view.highlight(D.changes[i], fly);
+}
+function buildChanges() {
+  const body = document.getElementById('changes-body');
+  if (!D.changes.length) { el('p', {}, body, 'No changes (or no anchored recording to compare).'); return; }
+  const t = el('table', {}, body);
+  const h = el('tr', {}, t);
+  ['#', 'kind', 'element / object', 'size (m)', 'position (m)', 'storey', 'room', 'verdict', 'show']
+    .forEach(x => el('th', {}, h, x));
+  D.changes.forEach((c, i) => {
+    const tr = el('tr', {class: 'row', 'data-change': i}, t);
+    el('td', {class: 'num'}, tr, i + 1);
+    el('td', {}, tr, c.kind);
+    el('td', {}, tr, c.name + (c.global_id ? ' ' + c.global_id : ''));
+    el('td', {class: 'num'}, tr, c.size.map(v => fmt(v, 2)).join(' × '));
+    el('td', {class: 'num'}, tr, c.position.map(v => fmt(v, 2)).join(', '));
+    el('td', {}, tr, c.storey || '');
+    el('td', {}, tr, c.room || '');
+    el('td', {}, tr, c.verdict);
+    const td = el('td', {}, tr);
+    const ap = el('a', {href: '#plan-' + storeyIndex(c)}, td, 'plan');
+    td.appendChild(document.createTextNode(' '));
+    const a3 = el('a', {href: '#view3d'}, td, '3D');
+    ap.addEventListener('click', e => { e.stopPropagation(); select(i, false); });
+    a3.addEventListener('click', e => { e.stopPropagation(); select(i, true); });
+    tr.addEventListener('click', () => select(i, true));
+  });
+}
+
+// ---- 3D view ---------------------------------------------------------------------------------
+let view = null;
+function distanceColor(d) {  // |distance to the model|: 0 blue, 5 cm green, 15 cm yellow, 30 cm+ red
+  const a = Math.min(Math.abs(d) / 0.3, 1);
+  const stops = [[0, [0.1, 0.3, 1]], [0.17, [0.1, 0.8, 0.3]], [0.5, [1, 0.85, 0.1]], [1, [0.9, 0.1, 0.1]]];
+  for (let k = 1; k < stops.length; ++k) {
+    if (a <= stops[k][0]) {
+      const f = (a - stops[k - 1][0]) / (stops[k][0] - stops[k - 1][0]);
+      return stops[k - 1][1].map((c, j) => c + f * (stops[k][1][j] - c));
+    }
+  }
+  return stops[3][1];
+}
+function buildView() {
+  const host = document.getElementById('viewer-canvas');
+  const note = document.getElementById('viewer-note');
+  const renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+  const W = host.clientWidth || 800, H = host.clientHeight || 560;
+  renderer.setSize(W, H);
+  renderer.setClearColor(0xf0f2f5);
+  host.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.add(new THREE.AmbientLight(0xffffff, 0.6));
+  const sun = new THREE.DirectionalLight(0xffffff, 0.6);
+  sun.position.set(1, -2, 3);
+  scene.add(sun);
+  const camera = new THREE.PerspectiveCamera(50, W / H, 0.05, 2000);
+  camera.up.set(0, 0, 1);
+  const lo = D.bounds.min, hi = D.bounds.max;
+  const centre = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
+  const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], 5);
+  camera.position.set(centre.x - 0.2 * size, centre.y - 1.1 * size, centre.z + 0.8 * size);
+  const controls = new THREE.OrbitControls(camera, renderer.domElement);
+  controls.target.copy(centre);
+  controls.update();
+  const layers = document.getElementById('layers');
+  const pickable = [];
+  function layer(name, obj, on) {
+    obj.visible = on;
+    scene.add(obj);
+    const lab = el('label', {}, layers);
+    const cb = el('input', {type: 'checkbox'}, lab);
+    cb.checked = on;
+    lab.appendChild(document.createTextNode(' ' + name));
+    cb.addEventListener('change', () => { obj.visible = cb.checked; render(); });
+    return obj;
+  }
+  el('strong', {}, layers, 'Model (per class)');
+  const palette = {IfcWall: 0xb0b0b0, IfcWallStandardCase: 0xb0b0b0, IfcSlab: 0xd8d0c0, IfcDoor: 0xb8860b,
+                   IfcWindow: 0x3a8fd6, IfcColumn: 0x909090, IfcStair: 0xa08060, IfcFurnishingElement: 0x7fa07f};
+  D.model3d.classes.forEach(c => {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(b64(c.positions, Float32Array), 3));
+    g.setIndex(new THREE.BufferAttribute(b64(c.indices, Uint32Array), 1));
+    g.computeVertexNormals();
+    const m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({color: palette[c.name] || 0xc0c0c0,
+      transparent: true, opacity: 0.28, depthWrite: false, side: THREE.DoubleSide}));
+    m.userData = {kind: 'model', element: b64(c.element, Uint32Array)};
+    const slab = c.name === 'IfcSlab' || c.name === 'IfcRoof' || c.name === 'IfcCovering';
+    layer(c.name + ' (' + c.triangles + ')', m, !slab);
+    pickable.push(m);
+  });
+  el('strong', {}, layers, 'Results');
+  if (D.map) {
+    D.map.sessions.forEach(s => {
+      const p = b64(s.points, Float32Array), d = b64(s.distance, Float32Array);
+      const col = new Float32Array(p.length);
+      for (let i = 0; i < d.length; ++i) col.set(distanceColor(d[i]), 3 * i);
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(p, 3));
+      g.setAttribute('color', new THREE.BufferAttribute(col, 3));
+      const pts = new THREE.Points(g, new THREE.PointsMaterial({size: 0.05, vertexColors: THREE.VertexColors}));
+      pts.userData = {kind: 'map', distance: d, session: s.name};
+      layer('map of ' + s.name + ' by distance', pts, true);
+      pickable.push(pts);
+    });
+    note.textContent = 'The map is shown decimated: ' + D.map.shown.toLocaleString() + ' of ' +
+      D.map.total.toLocaleString() + ' points (at most ' + D.config.max_map_points.toLocaleString() +
+      ', so that a laptop browser renders it smoothly); colour = distance to the model: blue 0, ' +
+      'green 5 cm, yellow 15 cm, red 30 cm or more.';
+  } else {
+    note.textContent = 'No map in BIM coordinates: no recording was anchored.';
+  }
+  D.objects.forEach(o => {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(b64(o.positions, Float32Array), 3));
+    const c8 = b64(o.colors, Uint8Array), c = new Float32Array(c8.length);
+    for (let i = 0; i < c8.length; ++i) c[i] = c8[i] / 255;
+    g.setAttribute('color', new THREE.BufferAttribute(c, 3));
+    g.setIndex(new THREE.BufferAttribute(b64(o.indices, Uint32Array), 1));
+    g.computeVertexNormals();
+    const m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({vertexColors: THREE.VertexColors}));
+    m.userData = {kind: 'object', object: b64(o.object, Int32Array), session: o.session};
+    layer('new objects of ' + o.session, m, true);
+    pickable.push(m);
+  });
+  const miss = b64(D.missing3d, Float32Array);
+  if (miss.length) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(miss, 3));
+    g.computeVertexNormals();
+    layer('missing elements (red)', new THREE.Mesh(g, new THREE.MeshLambertMaterial({color: 0xe02020,
+      transparent: true, opacity: 0.85, side: THREE.DoubleSide})), true);
+  }
+  function line(xyz, color) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(xyz), 3));
+    return new THREE.Line(g, new THREE.LineBasicMaterial({color: color}));
+  }
+  if (D.reference_walk) layer('reference walk', line(D.reference_walk, 0x666666), true);
+  D.sessions.forEach((s, k) => {
+    if (s.trajectory) layer('trajectory ' + s.name, line(s.trajectory, COLORS[k % COLORS.length]), true);
+    if (s.own_frame) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.BufferAttribute(b64(s.own_frame.points, Float32Array), 3));
+      const grp = new THREE.Group();
+      grp.add(new THREE.Points(g, new THREE.PointsMaterial({size: 0.05, color: 0x777777})));
+      grp.add(line(s.own_frame.trajectory, 0xd62728));
+      layer(s.name + ': NOT anchored, odometry map in its own frame', grp, false);
+    }
+  });
+  let box = null;
+  function render() { renderer.render(scene, camera); }
+  controls.addEventListener('change', render);
+  // Click-to-inspect (a click, not the end of a drag).
+  const ray = new THREE.Raycaster();
+  ray.params.Points.threshold = 0.06;
+  let down = null;
+  renderer.domElement.addEventListener('pointerdown', e => { down = [e.clientX, e.clientY]; });
+  renderer.domElement.addEventListener('pointerup', e => {
+    if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+    const r = renderer.domElement.getBoundingClientRect();
+    ray.setFromCamera(new THREE.Vector2((e.clientX - r.left) / r.width * 2 - 1, -(e.clientY - r.top) / r.height * 2 + 1), camera);
+    const hit = ray.intersectObjects(pickable.filter(o => o.visible), false)[0];
+    inspect(hit);
+  });
+  function inspect(hit) {
+    const box_ = document.getElementById('inspect');
+    if (!hit) { box_.textContent = 'Nothing there.'; return; }
+    const u = hit.object.userData, p = hit.point;
+    const at = 'at (' + [p.x + O[0], p.y + O[1], p.z + O[2]].map(v => v.toFixed(2)).join(', ') + ') m';
+    if (u.kind === 'model') {
+      const e = D.model3d.elements[u.element[hit.faceIndex]];
+      box_.textContent = e.c + ' "' + e.n + '" ' + e.g + (e.s ? ', ' + e.s : '') + ', ' + at;
+    } else if (u.kind === 'map') {
+      box_.textContent = 'map point of ' + u.session + ', ' + fmt(u.distance[hit.index] * 100, 1) + ' cm from the model, ' + at;
+    } else if (u.kind === 'object') {
+      const id = u.object[hit.face.a];
+      const i = D.changes.findIndex(c => c.kind === 'new object' && c.id === id && c.session === u.session);
+      box_.textContent = 'new object ' + id + ' of ' + u.session + ', ' + at;
+      if (i >= 0) select(i, false);
+    }
+  }
+  function highlight(c, fly) {
+    if (box) scene.remove(box);
+    const a = local(c.min), b = local(c.max);
+    box = new THREE.Box3Helper(new THREE.Box3(new THREE.Vector3(a[0] - 0.05, a[1] - 0.05, a[2] - 0.05),
+      new THREE.Vector3(b[0] + 0.05, b[1] + 0.05, b[2] + 0.05)), 0x0050ff);
+    scene.add(box);
+    if (fly) {
+      const m = new THREE.Vector3((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
+      camera.position.copy(m).add(new THREE.Vector3(-3, -5, 4));
+      controls.target.copy(m);
+      controls.update();
+    }
+    document.getElementById('inspect').textContent = c.kind + ': ' + c.name + ', ' + c.verdict;
+    render();
+  }
+  // Pixels that differ from the background: the self-test's "the 3D view is not blank".
+  function drawnPixels() {
+    render();
+    const gl = renderer.getContext(), w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const px = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    let n = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      if (Math.abs(px[i] - 0xf0) + Math.abs(px[i + 1] - 0xf2) + Math.abs(px[i + 2] - 0xf5) > 24) ++n;
+    }
+    return {drawn: n, total: w * h};
+  }
+  render();
+  return {highlight: highlight, drawnPixels: drawnPixels, render: render};
+}
+
+// ---- start -----------------------------------------------------------------------------------
+const timings = {start_ms: Math.round(performance.now())};
+function section(name, build) {
+  const t0 = performance.now();
+  try { build(); } catch (e) { window.reportErrors.push(name + ': ' + (e && e.stack || e)); console.log(e); }
+  timings[name] = Math.round(performance.now() - t0);
+}
+section('summary', buildSummary);
+section('plans', buildPlans);
+section('plots', buildPlots);
+section('changes', buildChanges);
+section('3D view', () => { view = buildView(); });
+
+// #selftest: what tests/integration/report_browser_test.cpp checks, written into the page.
+if (location.hash === '#selftest') {
+  requestAnimationFrame(() => {
+    const r = {errors: window.reportErrors.slice(), timings_ms: timings};
+    r.plans = document.querySelectorAll('#plans-body svg').length;
+    r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
+    r.plots = document.querySelectorAll('#plots-body svg').length;
+    r.changes = D.changes.length;
+    r.not_anchored_banners = document.querySelectorAll('#summary .banner').length;
+    r.own_frame_plans = document.querySelectorAll('.plan.own-frame svg').length;
+    r.pixels = view ? view.drawnPixels() : null;
+    const row = document.querySelector('#changes-body tr.row');
+    if (row) {
+      row.click();
+      r.selected_row = row.classList.contains('selected');
+      r.selected_plan = document.querySelectorAll('.plan .selected').length;
+      r.selected_change = selected;
+    }
+    el('pre', {id: 'selftest'}, document.body, JSON.stringify(r));
+    document.title = 'selftest done';
+  });
+}

@@ -1,0 +1,337 @@
+#include "host_tools/report/report_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <system_error>
+#include <unordered_set>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
+#include "algorithms/io/session.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/report/report_geometry.hpp"
+
+namespace bimslam::report {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+void ReportConfig::Validate() const {
+    auto bad = [](const std::string& w) {
+        throw common::Error(common::StatusCode::kInvalidArgument, w);
+    };
+    if (max_map_points < 1000) bad("max_map_points " + std::to_string(max_map_points) + " < 1000");
+    if (!(plan_cut_height_m > 0 && plan_cut_height_m < 3)) bad("plan_cut_height_m out of (0, 3)");
+    if (max_trajectory_points < 10) bad("max_trajectory_points < 10");
+}
+
+namespace {
+
+bool Exists(const fs::path& p) {
+    std::error_code ec;
+    return fs::exists(p, ec);
+}
+
+json ReadJson(const fs::path& file) {
+    try {
+        return json::parse(io::ReadFileToString(file));
+    } catch (const json::exception& e) {
+        throw common::FileError(common::StatusCode::kParseError, file.string(), 0, e.what());
+    }
+}
+
+// Positions minus `origin` (the mesh's frame), every k-th so that at most `max` remain (the last
+// always).
+std::vector<float> Thin(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& origin,
+                        size_t max) {
+    std::vector<float> out;
+    const size_t step = std::max<size_t>(1, (p.size() + max - 1) / max);
+    for (size_t i = 0; i < p.size(); ++i) {
+        if (i % step != 0 && i + 1 != p.size()) continue;
+        const Eigen::Vector3d q = p[i] - origin;
+        for (int k = 0; k < 3; ++k) out.push_back(std::round(float(q[k]) * 1000.0f) / 1000.0f);
+    }
+    return out;
+}
+
+std::vector<Eigen::Vector3d> Positions(const std::vector<io::StampedPose>& poses) {
+    std::vector<Eigen::Vector3d> p;
+    for (const auto& s : poses) p.push_back(s.translation);
+    return p;
+}
+
+// APE over time, no alignment: the anchored trajectory against the truth, as `bimslam evaluate
+// --align none` pairs them (evaluation::Associate).
+json ApeOverTime(const fs::path& est_file, const fs::path& ref_file) {
+    const auto est = io::ReadTum(est_file);
+    const auto ref = io::ReadTum(ref_file);
+    const auto pairs = evaluation::Associate(est, ref);
+    json t = json::array(), e = json::array();
+    const size_t step = std::max<size_t>(1, pairs.size() / 2000);
+    for (size_t i = 0; i < pairs.size(); i += step) {
+        const auto& a = est[pairs[i].est];
+        const auto& b = ref[pairs[i].ref];
+        t.push_back(double(a.stamp_ns - est.front().stamp_ns) * 1e-9);
+        e.push_back((a.translation - b.translation).norm());
+    }
+    return {{"t", t}, {"e", e}};
+}
+
+// The map of a session that was not anchored, in its own (odometry) frame: keyframe clouds at
+// their poses, one point per 10 cm voxel, at most max_points.
+json OwnFrameMap(const fs::path& session_dir, size_t max_points) {
+    const io::Session s = io::ReadSession(session_dir);
+    std::vector<float> xyz;
+    std::unordered_set<uint64_t> voxels;
+    for (const io::SessionKeyframe& k : s.keyframes) {
+        for (size_t i = 0; i < k.cloud.size(); ++i) {
+            const Eigen::Vector3d p = k.T_world_lidar * k.cloud.xyz[i].cast<double>();
+            const auto key = [](double v) {
+                return uint64_t(int64_t(std::floor(v / 0.1)) & 0x1FFFFF);
+            };
+            if (!voxels.insert(key(p.x()) | key(p.y()) << 21 | key(p.z()) << 42).second) continue;
+            xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
+            if (xyz.size() / 3 >= max_points) break;
+        }
+    }
+    return {{"points", Base64(xyz)},
+            {"shown", xyz.size() / 3},
+            {"trajectory", Thin(Positions(s.trajectory), Eigen::Vector3d::Zero(), 4000)}};
+}
+
+std::vector<Eigen::Vector3d> Translations(const std::vector<Eigen::Isometry3d>& poses) {
+    std::vector<Eigen::Vector3d> p;
+    for (const auto& T : poses) p.push_back(T.translation());
+    return p;
+}
+
+// A storey in changes.json: a name, an object with a name, or null.
+json StoreyName(const json& e) {
+    const json s = e.value("storey", json(nullptr));
+    if (s.is_string()) return s;
+    if (s.is_object()) return s.value("name", json(""));
+    return "";
+}
+
+}  // namespace
+
+json CollectReportData(const fs::path& out, const ReportConfig& config,
+                       const ReportProgress& progress_in) {
+    config.Validate();
+    const ReportProgress progress = progress_in ? progress_in : [](const std::string&, double) {};
+    const fs::path summary_file = out / "summary.json";
+    if (!Exists(summary_file)) {
+        throw common::FileError(common::StatusCode::kNotFound, out.string(), 0,
+                                "not an output of `bimslam map`: no summary.json");
+    }
+    json data;
+    data["summary"] = ReadJson(summary_file);
+    const json& summary = data["summary"];
+    const fs::path model_file = summary.at("model").at("file").get<std::string>();
+
+    progress("reading the model", 0.0);
+    const bim::BimModel model = bim::LoadIfc(model_file);
+    const Eigen::Vector3d origin = model.origin_m;
+    data["origin"] = {origin.x(), origin.y(), origin.z()};
+    const Eigen::AlignedBox3d box = model.Bounds();
+    data["bounds"] = {
+        {"min",
+         {box.min().x() - origin.x(), box.min().y() - origin.y(), box.min().z() - origin.z()}},
+        {"max",
+         {box.max().x() - origin.x(), box.max().y() - origin.y(), box.max().z() - origin.z()}}};
+    data["model"] = {{"file", model_file.string()},
+                     {"schema", model.schema},
+                     {"elements", model.elements.size()},
+                     {"triangles", model.mesh.triangles.size()}};
+    progress("floor plans", 0.2);
+    data["storeys"] = PlanSections(model, config.plan_cut_height_m);
+    progress("model buffers", 0.3);
+    data["model3d"] = ModelBuffers(model);
+
+    // The reference walk (its keyframes, world frame = bim).
+    std::map<std::string, std::vector<Eigen::Isometry3d>> keyframes;  // world poses by session
+    if (Exists(out / "reference" / "optimized_poses.txt")) {
+        keyframes["reference"] = io::ReadKitti(out / "reference" / "optimized_poses.txt");
+        data["reference_walk"] =
+            Thin(Translations(keyframes["reference"]), origin, config.max_trajectory_points);
+    }
+
+    // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored.
+    const json loops = Exists(out / "anchor" / "loops.json")
+                           ? ReadJson(out / "anchor" / "loops.json")
+                           : json::array();
+    json sessions = json::array();
+    std::vector<size_t> missing_elements;
+    json changes_rows = json::array();
+    json map = nullptr, objects = json::array();
+    const auto& recordings = summary.at("recordings");
+    for (size_t r = 0; r < recordings.size(); ++r) {
+        const json& rec = recordings[r];
+        const std::string name = rec.at("name");
+        progress("session " + name, 0.4 + 0.5 * double(r) / double(recordings.size()));
+        const bool anchored = !rec.at("anchor").is_null() && rec["anchor"]["verdict"] == "anchored";
+        json s = {{"name", name}, {"anchored", anchored}, {"anchor", rec.at("anchor")}};
+        const fs::path anchored_dir = out / "anchor" / name;
+        if (anchored) {
+            keyframes[name] = io::ReadKitti(anchored_dir / "optimized_poses.txt");
+            s["trajectory"] = Thin(Positions(io::ReadTum(anchored_dir / "trajectory_bim.tum")),
+                                   origin, config.max_trajectory_points);
+            if (rec.at("ground_truth").is_string()) {
+                s["ape"] = ApeOverTime(anchored_dir / "trajectory_bim.tum",
+                                       rec["ground_truth"].get<std::string>());
+            }
+        } else if (Exists(out / "odometry" / name / "session.json")) {
+            s["own_frame"] = OwnFrameMap(out / "odometry" / name, config.max_map_points / 4);
+        }
+        const fs::path odo = out / "odometry" / (name + ".json");
+        if (Exists(odo)) {
+            const json o = ReadJson(odo);
+            s["scan_ms"] = o.at("scan_ms");
+        }
+        sessions.push_back(s);
+
+        const fs::path cdir = out / "changes" / name;
+        if (!Exists(cdir / "changes.json")) continue;
+        const json c = ReadJson(cdir / "changes.json");
+        for (const json& o : c.at("new_objects")) {
+            changes_rows.push_back(
+                {{"kind", "new object"},
+                 {"session", name},
+                 {"id", o.at("id")},
+                 {"name", "new object " + std::to_string(o.at("id").get<int>())},
+                 {"min", o.at("box_min")},
+                 {"max", o.at("box_max")},
+                 {"size", o.at("size_m")},
+                 {"position", o.at("centroid")},
+                 {"storey", StoreyName(o)},
+                 {"room", o.at("space").is_null() ? json("") : o["space"]["name"]},
+                 {"verdict", "new"},
+                 {"color", o.at("color")}});
+        }
+        for (const char* kind : {"missing", "deviating"}) {
+            for (const json& e : c.at(kind)) {
+                const size_t index = e.at("index");
+                const bim::BimElement& el = model.elements.at(index);
+                Eigen::AlignedBox3f b;
+                for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count;
+                     ++t) {
+                    for (uint32_t v : model.mesh.triangles[t]) b.extend(model.mesh.vertices[v]);
+                }
+                const Eigen::Vector3d lo = b.min().cast<double>() + origin;
+                const Eigen::Vector3d hi = b.max().cast<double>() + origin;
+                const Eigen::Vector3d size = hi - lo, mid = (lo + hi) / 2;
+                std::string verdict = kind;
+                if (std::string(kind) == "deviating") {
+                    verdict +=
+                        e.at("moved").is_null()
+                            ? " by " +
+                                  std::to_string(
+                                      int(std::round(e.at("offset_norm_m").get<double>() * 1000))) +
+                                  " mm"
+                            : " (moved)";
+                }
+                changes_rows.push_back({{"kind", kind},
+                                        {"session", name},
+                                        {"id", index},
+                                        {"name", e.at("name").get<std::string>() + " (" +
+                                                     e.at("class").get<std::string>() + ")"},
+                                        {"global_id", e.at("global_id")},
+                                        {"min", {lo.x(), lo.y(), lo.z()}},
+                                        {"max", {hi.x(), hi.y(), hi.z()}},
+                                        {"size", {size.x(), size.y(), size.z()}},
+                                        {"position", {mid.x(), mid.y(), mid.z()}},
+                                        {"storey", StoreyName(e)},
+                                        {"room", ""},
+                                        {"verdict", verdict}});
+                if (std::string(kind) == "missing") missing_elements.push_back(index);
+            }
+        }
+        // The map coloured by distance and the new objects' meshes (the first anchored session's
+        // map, or each, thinned together).
+        if (Exists(cdir / "map_bim.ply")) {
+            const io::PlyData ply = io::ReadPly(cdir / "map_bim.ply");
+            const io::PlyProperty* d = ply.Find("scalar_distance");
+            const size_t step = std::max<size_t>(
+                1, (ply.vertices.size() + config.max_map_points - 1) / config.max_map_points);
+            std::vector<float> xyz, dist;
+            for (size_t i = 0; i < ply.vertices.size(); i += step) {
+                const Eigen::Vector3f p = ply.vertices[i] - origin.cast<float>();
+                xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+                dist.push_back(d ? float(d->values[i]) : 0.0f);
+            }
+            if (map.is_null()) map = {{"sessions", json::array()}, {"total", 0}, {"shown", 0}};
+            map["sessions"].push_back(
+                {{"name", name}, {"points", Base64(xyz)}, {"distance", Base64(dist)}});
+            map["total"] = map["total"].get<size_t>() + ply.vertices.size();
+            map["shown"] = map["shown"].get<size_t>() + xyz.size() / 3;
+        }
+        if (Exists(cdir / "new_objects.ply")) {
+            const io::PlyData ply = io::ReadPly(cdir / "new_objects.ply");
+            std::vector<float> xyz;
+            std::vector<uint8_t> rgb;
+            std::vector<uint32_t> idx;
+            std::vector<int32_t> obj;
+            const auto* red = ply.Find("red");
+            const auto* green = ply.Find("green");
+            const auto* blue = ply.Find("blue");
+            const auto* object = ply.Find("object");
+            for (size_t i = 0; i < ply.vertices.size(); ++i) {
+                const Eigen::Vector3f p = ply.vertices[i] - origin.cast<float>();
+                xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+                rgb.insert(rgb.end(), {uint8_t(red ? red->values[i] : 200),
+                                       uint8_t(green ? green->values[i] : 120),
+                                       uint8_t(blue ? blue->values[i] : 0)});
+                obj.push_back(object ? int32_t(object->values[i]) : -1);
+            }
+            for (const auto& t : ply.triangles) idx.insert(idx.end(), t.begin(), t.end());
+            objects.push_back({{"session", name},
+                               {"positions", Base64(xyz)},
+                               {"colors", Base64(rgb)},
+                               {"indices", Base64(idx)},
+                               {"object", Base64(obj)}});
+        }
+    }
+    data["sessions"] = sessions;
+    data["changes"] = changes_rows;
+    data["map"] = map;
+    data["objects"] = objects;
+    data["missing3d"] = ElementTriangles(model, missing_elements);
+
+    // Loops: from the target keyframe to where registration put the query keyframe
+    // (T_world_target * T_target_query), accepted or rejected.
+    json loop_rows = json::array();
+    for (const json& l : loops) {
+        const auto it = keyframes.find(l.at("target").get<std::string>());
+        const size_t ti = l.at("target_index");
+        if (it == keyframes.end() || ti >= it->second.size()) continue;
+        const Eigen::Isometry3d& T_world_target = it->second[ti];
+        const auto& c = l.at("T_target_query");  // x y z qx qy qz qw
+        Eigen::Isometry3d T_target_query = Eigen::Isometry3d::Identity();
+        T_target_query.linear() = Eigen::Quaterniond(c[6].get<double>(), c[3].get<double>(),
+                                                     c[4].get<double>(), c[5].get<double>())
+                                      .normalized()
+                                      .toRotationMatrix();
+        T_target_query.translation() =
+            Eigen::Vector3d(c[0].get<double>(), c[1].get<double>(), c[2].get<double>());
+        const Eigen::Vector3d target = T_world_target.translation();
+        const Eigen::Vector3d query = (T_world_target * T_target_query).translation();
+        loop_rows.push_back({{"query", l.at("query")},
+                             {"accepted", l.at("accepted")},
+                             {"source", l.at("source")},
+                             {"inlier_ratio", l.at("inlier_ratio")},
+                             {"inlier_rmse_m", l.at("inlier_rmse_m")},
+                             {"reason", l.at("reason")},
+                             {"a", Thin({target}, origin, 1)},
+                             {"b", Thin({query}, origin, 1)}});
+    }
+    data["loops"] = loop_rows;
+    data["config"] = {{"max_map_points", config.max_map_points},
+                      {"plan_cut_height_m", config.plan_cut_height_m}};
+    progress("done", 1.0);
+    return data;
+}
+
+}  // namespace bimslam::report

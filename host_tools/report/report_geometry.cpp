@@ -1,0 +1,151 @@
+#include "host_tools/report/report_geometry.hpp"
+
+#include <map>
+
+namespace bimslam::report {
+using nlohmann::json;
+
+std::string Base64(const void* data, size_t bytes) {
+    static constexpr char kAlphabet[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const auto* p = static_cast<const uint8_t*>(data);
+    std::string out;
+    out.reserve((bytes + 2) / 3 * 4);
+    for (size_t i = 0; i < bytes; i += 3) {
+        const uint32_t b0 = p[i], b1 = i + 1 < bytes ? p[i + 1] : 0,
+                       b2 = i + 2 < bytes ? p[i + 2] : 0;
+        const uint32_t v = (b0 << 16) | (b1 << 8) | b2;
+        out += kAlphabet[(v >> 18) & 63];
+        out += kAlphabet[(v >> 12) & 63];
+        out += i + 1 < bytes ? kAlphabet[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes ? kAlphabet[v & 63] : '=';
+    }
+    return out;
+}
+
+std::string PlanClass(const std::string& c) {
+    if (c.starts_with("IfcWall") || c == "IfcCurtainWall") return "wall";
+    if (c == "IfcDoor") return "door";
+    if (c == "IfcWindow") return "window";
+    if (c == "IfcColumn") return "column";
+    return "other";
+}
+
+namespace {
+
+bool Drawn(const bim::BimElement& e) {
+    return e.ifc_class != "IfcSpace" && e.ifc_class != "IfcOpeningElement" &&
+           e.ifc_class != "IfcVirtualElement" && e.triangle_count > 0;
+}
+
+// The storey whose elevation range [elevation, next elevation) holds z.
+int StoreyOfHeight(const bim::BimModel& m, double z) {
+    int s = m.storeys.empty() ? -1 : 0;
+    for (size_t k = 0; k < m.storeys.size(); ++k) {
+        if (m.storeys[k].elevation_m - m.origin_m.z() <= z) s = int(k);
+    }
+    return s;
+}
+
+}  // namespace
+
+int StoreyAt(const bim::BimModel& model, double z) { return StoreyOfHeight(model, z - 0.1); }
+
+json PlanSections(const bim::BimModel& m, double cut_height_m) {
+    json storeys = json::array();
+    for (size_t s = 0; s < m.storeys.size(); ++s) {
+        const double cut = m.storeys[s].elevation_m - m.origin_m.z() + cut_height_m;
+        std::map<std::string, std::vector<float>> segments;
+        for (const bim::BimElement& e : m.elements) {
+            if (!Drawn(e)) continue;
+            const int storey = e.storey >= 0 ? e.storey : StoreyOfHeight(m, cut);
+            if (storey != int(s)) continue;
+            std::vector<float>& out = segments[PlanClass(e.ifc_class)];
+            for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+                // A triangle crossing the plane contributes the segment between its two crossing
+                // edges (vertices exactly on the plane count as above).
+                const auto& tri = m.mesh.triangles[t];
+                float pts[4];
+                int n = 0;
+                for (int k = 0; k < 3 && n < 4; ++k) {
+                    const Eigen::Vector3f& a = m.mesh.vertices[tri[k]];
+                    const Eigen::Vector3f& b = m.mesh.vertices[tri[(k + 1) % 3]];
+                    const bool a_above = a.z() >= cut, b_above = b.z() >= cut;
+                    if (a_above == b_above) continue;
+                    const float f = float((cut - a.z()) / (b.z() - a.z()));
+                    const Eigen::Vector3f p = a + f * (b - a);
+                    pts[n++] = p.x();
+                    pts[n++] = p.y();
+                }
+                if (n == 4) out.insert(out.end(), pts, pts + 4);
+            }
+        }
+        json seg = json::object();
+        for (auto& [cls, v] : segments) {
+            if (v.empty()) continue;  // the class has elements on this storey, none cut
+            for (float& x : v) x = std::round(x * 1000.0f) / 1000.0f;  // millimetres are enough
+            seg[cls] = v;
+        }
+        storeys.push_back({{"name", m.storeys[s].name},
+                           {"elevation", m.storeys[s].elevation_m - m.origin_m.z()},
+                           {"cut_z", cut},
+                           {"segments", seg}});
+    }
+    return storeys;
+}
+
+json ModelBuffers(const bim::BimModel& m) {
+    struct Buffers {
+        std::vector<float> positions;
+        std::vector<uint32_t> indices, element;
+    };
+    std::map<std::string, Buffers> by_class;
+    json elements = json::array();
+    for (size_t i = 0; i < m.elements.size(); ++i) {
+        const bim::BimElement& e = m.elements[i];
+        elements.push_back({{"g", e.global_id},
+                            {"c", e.ifc_class},
+                            {"n", e.name},
+                            {"s", e.storey >= 0 ? m.storeys[size_t(e.storey)].name : ""}});
+        if (!Drawn(e)) continue;
+        Buffers& b = by_class[e.ifc_class];
+        // Elements share no vertices (BimModel): copy the element's vertex range once.
+        std::map<uint32_t, uint32_t> local;
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (uint32_t v : m.mesh.triangles[t]) {
+                auto [it, fresh] = local.emplace(v, uint32_t(b.positions.size() / 3));
+                if (fresh) {
+                    const Eigen::Vector3f& p = m.mesh.vertices[v];
+                    b.positions.insert(b.positions.end(), {p.x(), p.y(), p.z()});
+                }
+                b.indices.push_back(it->second);
+            }
+            b.element.push_back(uint32_t(i));
+        }
+    }
+    json classes = json::array();
+    for (const auto& [name, b] : by_class) {
+        classes.push_back({{"name", name},
+                           {"triangles", b.element.size()},
+                           {"positions", Base64(b.positions)},
+                           {"indices", Base64(b.indices)},
+                           {"element", Base64(b.element)}});
+    }
+    return {{"classes", classes}, {"elements", elements}};
+}
+
+std::string ElementTriangles(const bim::BimModel& m, const std::vector<size_t>& elements) {
+    std::vector<float> xyz;
+    for (const size_t i : elements) {
+        const bim::BimElement& e = m.elements.at(i);
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (uint32_t v : m.mesh.triangles[t]) {
+                const Eigen::Vector3f& p = m.mesh.vertices[v];
+                xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+            }
+        }
+    }
+    return Base64(xyz);
+}
+
+}  // namespace bimslam::report

@@ -1,0 +1,43 @@
+// The model's geometry as the report draws it: floor-plan sections per storey (the mesh cut by a
+// horizontal plane, as an architect's plan is) and the model's triangles per IFC class for the 3D
+// view, with the element of each triangle for click-to-inspect. Coordinates are the mesh's
+// (bim::BimModel: the model's frame minus origin_m); the page adds origin_m back where it prints
+// coordinates.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "host_tools/bim/bim_model.hpp"
+
+namespace bimslam::report {
+
+// Base64 (RFC 4648) of raw bytes: typed arrays in the page's JSON.
+std::string Base64(const void* data, size_t bytes);
+template <class T>
+std::string Base64(const std::vector<T>& v) {
+    return Base64(v.data(), v.size() * sizeof(T));
+}
+
+// What a floor plan shows of an element class: "wall", "door", "window", "column" or "other".
+std::string PlanClass(const std::string& ifc_class);
+
+// Per storey: {name, elevation, cut_z, segments: {wall: [x0,y0,x1,y1,...], door, ...}}: the
+// triangles of the storey's elements cut at elevation + cut_height_m. Elements of no storey go to
+// the storey whose elevation range holds the cut.
+nlohmann::json PlanSections(const bim::BimModel& model, double cut_height_m);
+
+// {classes: [{name, triangles, positions (b64 float32 xyz), indices (b64 uint32), element
+// (b64 uint32 per triangle)}], elements: [{g, c, n, s}]} for the 3D view, spaces and openings
+// left out.
+nlohmann::json ModelBuffers(const bim::BimModel& model);
+
+// Non-indexed triangles of the given elements (b64 float32 xyz): missing elements in red.
+std::string ElementTriangles(const bim::BimModel& model, const std::vector<size_t>& elements);
+
+// The storey (index) a point at height z stands on: the highest whose elevation is at most
+// z - 0.1 m (a sensor is above its floor), else the lowest; -1 without storeys.
+int StoreyAt(const bim::BimModel& model, double z);
+
+}  // namespace bimslam::report

@@ -1,0 +1,179 @@
+// `bimslam map` and `bimslam report` as a user runs them, on a short simulated capture of the
+// changed sample building (host_tools/simulate/scenarios/changed_building.yaml):
+// - every step's output exists, and the summary's figures equal those of the individual commands
+//   (bim2session, odometry, anchor, changes --truth, evaluate --align none) run on the same input;
+// - a second run skips every step; touching the recording re-runs odometry and what follows;
+// - a recording that cannot be anchored (another building) still gets a report that says so,
+//   with its odometry map in its own frame;
+// - a model that is not IFC or a recording that is not Ouster exits 2 naming the file, before
+//   any step (nothing written).
+// The browser test of the page is report_browser_test.cpp (same fixtures).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algorithms/io/file_util.hpp"
+#include "tests/integration/map_test_support.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace map_test;
+
+json Steps(const json& j) {
+    json s = json::object();
+    for (const json& step : j.at("steps"))
+        s[step.at("step").get<std::string>()] = step.at("skipped");
+    return s;
+}
+
+TEST(MapCli, EveryStepWritesItsFolderAndTheSummaryEqualsTheIndividualCommands) {
+    const fs::path m = Mapped();
+    for (const char* f :
+         {"reference/session.json", "odometry/capture/session.json", "odometry/capture.json",
+          "anchor/anchor.json", "anchor/loops.json", "anchor/capture/trajectory_bim.tum",
+          "changes/capture/changes.json", "changes/capture/evaluation.json",
+          "changes/capture/model_updated.ifc", "report/report.html", "summary.json",
+          "stamps/reference.json", "stamps/odometry_capture.json", "stamps/anchor.json",
+          "stamps/changes.json", "stamps/report.json"}) {
+        EXPECT_TRUE(fs::exists(m / "out" / f)) << f;
+    }
+    const json summary = ReadJson(m / "out" / "summary.json");
+    const json& r = summary.at("recordings").at(0);
+    ASSERT_EQ(r.at("anchor").at("verdict"), "anchored") << summary.dump(1);
+
+    // The same steps, one command each, into another folder.
+    test::TempDir tmp;
+    const fs::path b = Building(), c = m / "capture";
+    MustRun("bim2session " + (b / "building.ifc").string() + " -o " + (tmp / "reference").string());
+    MustRun("odometry " + c.string() + " -o " + (tmp / "capture").string() + kBudget);
+    MustRun("anchor --reference " + (tmp / "reference").string() + " --query " +
+            (tmp / "capture").string() + " -o " + (tmp / "anchor").string());
+    MustRun("changes --model " + (b / "building.ifc").string() + " --session " +
+            (tmp / "anchor" / "capture").string() + " --truth " + (c / "changes.json").string() +
+            " -o " + (tmp / "changes").string());
+    const auto ev = Cli("evaluate --align none --json --est " +
+                        (tmp / "anchor" / "capture" / "trajectory_bim.tum").string() + " --ref " +
+                        (c / "ground_truth.tum").string());
+    ASSERT_EQ(ev.exit_code, 0) << ev.err;
+    const json e = json::parse(ev.out);
+    const json& acc = r.at("accuracy");
+    EXPECT_NEAR(acc.at("ape_trans_rmse_m").get<double>(), e.at("ape_trans_rmse_m").get<double>(),
+                1e-9);
+    EXPECT_NEAR(acc.at("ape_rot_rmse_deg").get<double>(), e.at("ape_rot_rmse_deg").get<double>(),
+                1e-9);
+    EXPECT_EQ(acc.at("matched"), e.at("matched"));
+    EXPECT_LT(acc.at("ape_trans_rmse_m").get<double>(), 0.05);
+    // The change scores and counts: the same files.
+    EXPECT_EQ(r.at("change_scores"), ReadJson(tmp / "changes" / "evaluation.json"));
+    const json changes = ReadJson(tmp / "changes" / "changes.json");
+    EXPECT_EQ(r.at("changes").at("new_objects"), changes.at("new_objects").size());
+    EXPECT_EQ(r.at("changes").at("missing"), changes.at("missing").size());
+    EXPECT_EQ(r.at("changes").at("deviating"), changes.at("deviating").size());
+    const json anchor = ReadJson(tmp / "anchor" / "anchor.json");
+    EXPECT_EQ(r.at("anchor").at("accepted_loops"),
+              anchor.at("sessions").at(0).at("accepted_loops"));
+    EXPECT_EQ(r.at("odometry").at("keyframes"),
+              ReadJson(tmp / "capture" / "session.json").at("counts").at("keyframes"));
+}
+
+TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAfter) {
+    test::TempDir tmp;
+    // A copy of the mapped fixture: the recording is touched here, not in the shared one. The
+    // stamps name the recording's absolute path, so the copy keeps the layout (capture/, out/)
+    // and the run below takes the copy's capture: odometry is redone once for the move...
+    fs::copy(Mapped(), tmp.path(), fs::copy_options::recursive);
+    const std::string args = MapArgs(tmp / "capture", tmp / "out") + " --json";
+    const auto first = Cli(args);
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    EXPECT_EQ(Steps(json::parse(first.out)).at("reference"), true)
+        << "the model's SHA-256 is unchanged";
+    // ... and now nothing.
+    const auto second = Cli(args);
+    ASSERT_EQ(second.exit_code, 0) << second.err;
+    const json steps = Steps(json::parse(second.out));
+    for (const auto& [step, skipped] : steps.items()) EXPECT_TRUE(skipped.get<bool>()) << step;
+    EXPECT_EQ(steps.size(), 5u) << steps.dump();
+    EXPECT_EQ(json::parse(second.out).at("recordings"), json::parse(first.out).at("recordings"));
+
+    const fs::path pcap = tmp / "capture" / "lidar.pcap";
+    fs::last_write_time(pcap, fs::last_write_time(pcap) + std::chrono::seconds(5));
+    const auto third = Cli(args);
+    ASSERT_EQ(third.exit_code, 0) << third.err;
+    const json again = Steps(json::parse(third.out));
+    EXPECT_EQ(again.at("reference"), true);
+    for (const char* s : {"odometry capture", "anchor", "changes", "report"}) {
+        EXPECT_EQ(again.at(s), false) << s;
+    }
+}
+
+TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {
+    const fs::path f = Unanchorable();
+    const json summary = ReadJson(f / "out" / "summary.json");
+    const json& r = summary.at("recordings").at(0);
+    EXPECT_NE(r.at("anchor").at("verdict"), "anchored");
+    EXPECT_TRUE(r.at("changes").is_null());
+    ASSERT_TRUE(fs::exists(f / "out" / "report" / "report.html"));
+    const std::string html = io::ReadFileToString(f / "out" / "report" / "report.html");
+    // The page's data (the browser test checks what it shows: report_browser_test.cpp).
+    EXPECT_NE(html.find("\"own_frame\":{"), std::string::npos) << "the odometry map in its frame";
+    EXPECT_NE(html.find("\"anchored\":false"), std::string::npos);
+    EXPECT_NE(io::ReadFileToString(f / "map.out").find("NOT ANCHORED"), std::string::npos);
+}
+
+TEST(MapCli, AModelThatIsNotIfcOrARecordingThatIsNotOusterExits2BeforeAnyStep) {
+    test::TempDir tmp;
+    const fs::path c = Mapped() / "capture";
+    io::WriteFileAtomic(tmp / "model.ifc", "solid cube\nendsolid cube\n");
+    auto r = Cli("map " + (tmp / "model.ifc").string() + " " + c.string() + " -o " +
+                 (tmp / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("model.ifc"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("not an IFC model"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(tmp / "out"));
+
+    // A capture folder whose pcap holds the Go1's UDP stream, not an Ouster's packets.
+    fs::create_directories(tmp / "not_ouster");
+    fs::copy_file(c / "metadata.json", tmp / "not_ouster" / "metadata.json");
+    fs::copy_file(c / "go1_highstate.pcap", tmp / "not_ouster" / "lidar.pcap");
+    const fs::path model = Building() / "building.ifc";
+    r = Cli("map " + model.string() + " " + (tmp / "not_ouster").string() + " -o " +
+            (tmp / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find((tmp / "not_ouster" / "lidar.pcap").string()), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(tmp / "out"));
+
+    // x.pcap with an x.json that is no Ouster metadata.
+    fs::copy_file(c / "lidar.pcap", tmp / "walk.pcap");
+    io::WriteFileAtomic(tmp / "walk.json", "{\"hello\": 1}\n");
+    r = Cli("map " + model.string() + " " + (tmp / "walk.pcap").string() + " -o " +
+            (tmp / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("walk.json"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(tmp / "out"));
+
+    r = Cli("map " + model.string() + " " + (tmp / "nowhere").string() + " -o " +
+            (tmp / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("nowhere"), std::string::npos) << r.err;
+}
+
+TEST(MapCli, HelpNamesTheStepsAndReportNeedsAMapOutput) {
+    const auto h = Cli("map --help");
+    EXPECT_EQ(h.exit_code, 0);
+    for (const char* s : {"reference", "odometry", "anchor", "changes", "report.html", "stamps"}) {
+        EXPECT_NE(h.out.find(s), std::string::npos) << s;
+    }
+    EXPECT_EQ(Cli("report --help").exit_code, 0);
+    test::TempDir tmp;
+    const auto r = Cli("report " + tmp.path().string());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("summary.json"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace bimslam

@@ -1,0 +1,98 @@
+// Fixtures of the `bimslam map` tests (map_cli_test.cpp, report_browser_test.cpp), made once per
+// build of `bimslam` in the build folder and shared by the test processes (made in a temporary
+// sibling and renamed into place: two processes that race each make it and one rename wins).
+#pragma once
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "algorithms/io/file_util.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::map_test {
+namespace fs = std::filesystem;
+
+inline const std::string kCli = BIMSLAM_CLI_PATH;
+inline const std::string kScenarios = BIMSLAM_SCENARIO_DIR;
+// A 40 s Go1 walk: long enough to anchor (the anchor tests' walks) and to pass the scenario's
+// crate, cabinet, clutter and people; short enough for CI.
+inline constexpr int kSeconds = 40;
+
+inline test::CommandResult Cli(const std::string& args) {
+    return test::RunCommand(kCli + " " + args);
+}
+
+inline void MustRun(const std::string& args) {
+    const auto r = Cli(args);
+    ASSERT_EQ(r.exit_code, 0) << "bimslam " << args << "\n" << r.out << r.err;
+}
+
+inline nlohmann::json ReadJson(const fs::path& file) {
+    return nlohmann::json::parse(io::ReadFileToString(file));
+}
+
+inline fs::path FixtureRoot() {
+    static const fs::path root = [] {
+        const auto stamp = fs::last_write_time(kCli).time_since_epoch().count();
+        const fs::path base = BIMSLAM_FIXTURE_DIR;
+        fs::create_directories(base);
+        const fs::path mine = base / std::to_string(stamp);
+        for (const auto& e : fs::directory_iterator(base)) {  // other builds' fixtures
+            std::error_code ec;
+            if (e.path() != mine) fs::remove_all(e.path(), ec);
+        }
+        fs::create_directories(mine);
+        return mine;
+    }();
+    return root;
+}
+
+inline fs::path Fixture(const std::string& name, const std::function<void(const fs::path&)>& make) {
+    return test::CachedFixture(FixtureRoot(), name, make);
+}
+
+// The sample office building (the GlobalIds of changed_building.yaml are its).
+inline fs::path Building() {
+    return Fixture("office", [](const fs::path& d) {
+        MustRun("bim sample -o " + (d / "building.ifc").string());
+    });
+}
+
+// The odometry stops refining a scan at its time budget: on a loaded machine (ctest -j2, other
+// engineers) two runs could differ. A budget no scan reaches makes the runs comparable.
+inline const std::string kBudget = " --budget-ms 10000";
+
+inline std::string MapArgs(const fs::path& capture, const fs::path& out) {
+    return "map " + (Building() / "building.ifc").string() + " " + capture.string() + " -o " +
+           out.string() + kBudget;
+}
+
+// capture/: the changed building walked for kSeconds; out/: `bimslam map` of it.
+inline fs::path Mapped() {
+    return Fixture("mapped", [](const fs::path& d) {
+        MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
+                kScenarios + "/changed_building.yaml --duration " + std::to_string(kSeconds) +
+                " -o " + (d / "capture").string());
+        MustRun(MapArgs(d / "capture", d / "out"));
+    });
+}
+
+// A walk through another building (the hall) mapped against the office: it cannot be anchored.
+// map.out holds what `bimslam map` printed; its exit code must be 1.
+inline fs::path Unanchorable() {
+    return Fixture("unanchorable", [](const fs::path& d) {
+        MustRun("bim sample --layout hall -o " + (d / "hall.ifc").string());
+        MustRun("simulate --model " + (d / "hall.ifc").string() + " --duration 30 -o " +
+                (d / "capture").string());
+        const auto r = Cli(MapArgs(d / "capture", d / "out"));
+        EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+        io::WriteFileAtomic(d / "map.out", r.out + r.err);
+    });
+}
+
+}  // namespace bimslam::map_test

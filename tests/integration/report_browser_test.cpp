@@ -1,0 +1,133 @@
+// The report page of `bimslam map` opened in a real browser: Debian's chromium, headless, WebGL
+// through SwiftShader (no GPU here: --use-angle=swiftshader --enable-unsafe-swiftshader). The page
+// runs its self-test when opened as report.html#selftest (assets/report.js, at its end) and
+// writes the result into <pre id="selftest">; chromium --dump-dom prints the DOM after the virtual
+// time budget, and --screenshot saves the page as PNG in the same run. Checked:
+// - no console errors: none caught by the page (window 'error' events, console.error) and no
+//   console line in chromium's own log (--enable-logging=stderr);
+// - the floor plans (with walls) and the four plots are present;
+// - the 3D canvas is not blank: pixels of its WebGL drawing buffer differ from the background;
+// - clicking a change row selects it (the row, and its mark in the plan).
+// Skips, saying so, when chromium is not installed (make test installs it:
+// toolchain/install-deps.sh --test).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "algorithms/io/file_util.hpp"
+#include "tests/integration/map_test_support.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace map_test;
+
+// chromium on PATH, or empty.
+fs::path Chromium() {
+    const char* path = std::getenv("PATH");
+    std::stringstream dirs(path ? path : "");
+    for (std::string d; std::getline(dirs, d, ':');) {
+        for (const char* name : {"chromium", "chromium-browser"}) {
+            std::error_code ec;
+            if (!d.empty() && fs::is_regular_file(fs::path(d) / name, ec))
+                return fs::path(d) / name;
+        }
+    }
+    return {};
+}
+
+struct PageRun {
+    json selftest;
+    std::string console;  // chromium's console lines
+    fs::path screenshot;
+};
+
+// One headless run: the DOM after the self-test, and a screenshot of the whole page.
+PageRun OpenPage(const fs::path& html, const std::string& shot_name) {
+    PageRun run;
+    const fs::path shots = BIMSLAM_SCREENSHOT_DIR;
+    fs::create_directories(shots);
+    run.screenshot = shots / shot_name;
+    fs::remove(run.screenshot);
+    test::TempDir profile;
+    const test::CommandResult r = test::RunCommand(
+        Chromium().string() + " --headless --no-sandbox --use-angle=swiftshader " +
+        "--enable-unsafe-swiftshader --user-data-dir=" + profile.path().string() +
+        " --window-size=1400,5200 --virtual-time-budget=3000 --enable-logging=stderr --v=0" +
+        " --screenshot=" + run.screenshot.string() + " --dump-dom 'file://" +
+        fs::absolute(html).string() + "#selftest'");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    const std::string open = "<pre id=\"selftest\">", close = "</pre>";
+    const size_t a = r.out.find(open);
+    const size_t b = r.out.find(close, a);
+    if (a == std::string::npos || b == std::string::npos) {
+        ADD_FAILURE() << "no self-test result in the DOM (did the page's script run?):\n"
+                      << r.out.substr(0, 2000) << r.err.substr(0, 4000);
+        return run;
+    }
+    run.selftest = json::parse(r.out.substr(a + open.size(), b - a - open.size()));
+    std::stringstream lines(r.err);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.find(":CONSOLE") != std::string::npos) run.console += line + "\n";
+    }
+    std::cout << "self-test: " << run.selftest.dump() << "\nscreenshot: " << run.screenshot << "\n";
+    return run;
+}
+
+bool IsPng(const fs::path& file) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec) || fs::file_size(file) < 10000) return false;
+    return io::ReadFileToString(file).substr(0, 8) == "\x89PNG\r\n\x1a\n";
+}
+
+TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClickSelects) {
+    if (Chromium().empty()) {
+        GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
+                        "installs it through toolchain/install-deps.sh --test)";
+    }
+    const PageRun run = OpenPage(Mapped() / "out" / "report" / "report.html", "report.png");
+    const json& t = run.selftest;
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
+    EXPECT_TRUE(run.console.empty()) << run.console;
+    EXPECT_EQ(t.at("plans"), 2) << "one floor plan per storey of the office";
+    EXPECT_EQ(t.at("not_anchored_banners"), 0);
+    EXPECT_EQ(t.at("plan_paths"), 2) << "walls in each plan";
+    EXPECT_EQ(t.at("plots"), 4) << "APE, time per scan, fitness, loop statistics";
+    const json& px = t.at("pixels");
+    ASSERT_TRUE(px.is_object()) << "no WebGL view";
+    EXPECT_GT(px.at("drawn").get<double>(), 0.05 * px.at("total").get<double>())
+        << "the 3D view is (nearly) blank";
+    ASSERT_GT(t.at("changes").get<int>(), 0);
+    EXPECT_EQ(t.at("selected_row"), true);
+    EXPECT_EQ(t.at("selected_change"), 0);
+    EXPECT_GE(t.at("selected_plan").get<int>(), 1);
+    EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
+}
+
+TEST(ReportBrowser, ANotAnchoredRecordingIsShownAsSuchWithoutErrors) {
+    if (Chromium().empty()) {
+        GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
+                        "installs it through toolchain/install-deps.sh --test)";
+    }
+    const fs::path html = Unanchorable() / "out" / "report" / "report.html";
+    const PageRun run = OpenPage(html, "report_not_anchored.png");
+    const json& t = run.selftest;
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
+    EXPECT_TRUE(run.console.empty()) << run.console;
+    EXPECT_EQ(t.at("changes"), 0);
+    EXPECT_EQ(t.at("not_anchored_banners"), 1) << "the summary says so";
+    EXPECT_EQ(t.at("own_frame_plans"), 1) << "the odometry map in its own frame";
+    EXPECT_EQ(t.at("plans"), 3) << "the model's two storeys and the own-frame map";
+    EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
+}
+
+}  // namespace
+}  // namespace bimslam

@@ -1,0 +1,111 @@
+// StepStamp: what decides whether `bimslam map` re-runs a step. A stamp matches its own file, and
+// stops matching when an input's content (by SHA-256), size or mtime, an upstream stamp or a
+// parameter changes; a missing, damaged or foreign file never matches. CheckModelFile refuses
+// what is not IFC.
+#include "host_tools/mapping/step_stamp.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "host_tools/mapping/map_inputs.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::mapping {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(StepStamp, MatchesItselfAndNotAChangedInputUpstreamOrParameter) {
+    test::TempDir tmp;
+    io::WriteFileAtomic(tmp / "model.ifc", "model v1");
+    io::WriteFileAtomic(tmp / "lidar.pcap", "packets");
+    auto make = [&](double budget) {
+        StepStamp s("odometry");
+        s.AddFileContent("model", tmp / "model.ifc");
+        s.AddFileTime("pcap", tmp / "lidar.pcap");
+        s.AddParameter("budget_ms", budget);
+        return s;
+    };
+    StepStamp a = make(50);
+    a.MarkMade();
+    a.Write(tmp / "stamp.json");
+    EXPECT_TRUE(make(50).Matches(tmp / "stamp.json"));
+    EXPECT_FALSE(make(60).Matches(tmp / "stamp.json")) << "a parameter";
+    EXPECT_NE(make(60).Digest(), make(50).Digest());
+
+    // The model by content: rewritten with the same bytes it still matches.
+    io::WriteFileAtomic(tmp / "model.ifc", "model v1");
+    EXPECT_TRUE(make(50).Matches(tmp / "stamp.json"));
+    io::WriteFileAtomic(tmp / "model.ifc", "model v2");
+    EXPECT_FALSE(make(50).Matches(tmp / "stamp.json")) << "the model's content";
+    io::WriteFileAtomic(tmp / "model.ifc", "model v1");
+
+    // The recording by size and mtime: touched, it does not.
+    const auto t = fs::last_write_time(tmp / "lidar.pcap");
+    fs::last_write_time(tmp / "lidar.pcap", t + std::chrono::seconds(1));
+    EXPECT_FALSE(make(50).Matches(tmp / "stamp.json")) << "the recording touched";
+    fs::last_write_time(tmp / "lidar.pcap", t);
+    EXPECT_TRUE(make(50).Matches(tmp / "stamp.json"));
+
+    // Upstream: a downstream stamp holds the upstream's digest, made token included: a stamp
+    // that matched its file takes the file's token, so it digests as the one written.
+    StepStamp down("anchor");
+    down.AddUpstream(a);
+    down.MarkMade();
+    down.Write(tmp / "down.json");
+    StepStamp again = make(50);
+    ASSERT_TRUE(again.Matches(tmp / "stamp.json"));
+    EXPECT_EQ(again.Digest(), a.Digest());
+    StepStamp down_again("anchor");
+    down_again.AddUpstream(again);
+    EXPECT_TRUE(down_again.Matches(tmp / "down.json"));
+    // The upstream ran again with the same inputs (a new token): the downstream is out of date.
+    StepStamp rerun = make(50);
+    rerun.MarkMade();
+    StepStamp down_rerun("anchor");
+    down_rerun.AddUpstream(rerun);
+    EXPECT_FALSE(down_rerun.Matches(tmp / "down.json"));
+}
+
+TEST(StepStamp, AMissingDamagedOrForeignFileDoesNotMatch) {
+    test::TempDir tmp;
+    StepStamp s("report");
+    s.AddFileTime("absent", tmp / "absent.json");  // noted as missing: appearing changes it
+    EXPECT_TRUE(s.json()["inputs"]["absent"]["missing"].get<bool>());
+    EXPECT_FALSE(s.Matches(tmp / "stamp.json"));
+    io::WriteFileAtomic(tmp / "stamp.json", "{\"format\": ");
+    EXPECT_FALSE(s.Matches(tmp / "stamp.json"));
+    io::WriteFileAtomic(tmp / "stamp.json", "[1, 2]\n");
+    EXPECT_FALSE(s.Matches(tmp / "stamp.json"));
+    s.Write(tmp / "stamp.json");
+    EXPECT_FALSE(s.Matches(tmp / "stamp.json")) << "never made: not a finished step's stamp";
+    s.MarkMade();
+    s.Write(tmp / "stamp.json");
+    EXPECT_TRUE(s.Matches(tmp / "stamp.json"));
+}
+
+TEST(MapInputs, AModelThatIsNotIfcIsRefusedNamingTheFile) {
+    test::TempDir tmp;
+    auto refused = [&](const std::string& text) {
+        io::WriteFileAtomic(tmp / "m.ifc", text);
+        try {
+            CheckModelFile(tmp / "m.ifc");
+        } catch (const common::FileError& e) {
+            EXPECT_EQ(e.path(), (tmp / "m.ifc").string());
+            return true;
+        }
+        return false;
+    };
+    EXPECT_TRUE(refused(""));
+    EXPECT_TRUE(refused("solid x\nendsolid x\n"));
+    EXPECT_TRUE(refused("ISO-10303-21;\nHEADER;\nFILE_SCHEMA(('AP214'));\nENDSEC;\n"));
+    EXPECT_FALSE(refused("ISO-10303-21;\nHEADER;\nFILE_SCHEMA(('IFC4'));\nENDSEC;\n"));
+    EXPECT_FALSE(refused("\xEF\xBB\xBF ISO-10303-21;\nHEADER;\nFILE_SCHEMA (('IFC2X3'));\n"));
+    EXPECT_THROW(CheckModelFile(tmp / "absent.ifc"), common::FileError);
+}
+
+}  // namespace
+}  // namespace bimslam::mapping
