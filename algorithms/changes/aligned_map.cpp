@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include "algorithms/changes/voxel_hash.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::changes {
 namespace {
@@ -46,7 +46,7 @@ uint64_t Morton(const Eigen::Vector3i& v) {
 std::vector<uint32_t> MortonOrder(std::span<const Eigen::Vector3f> points, float voxel_m) {
     std::vector<std::pair<uint64_t, uint32_t>> keyed(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
-        keyed[i] = {Morton(VoxelOf(points[i], voxel_m)), uint32_t(i)};
+        keyed[i] = {Morton(common::VoxelOf(points[i] / voxel_m)), uint32_t(i)};
     }
     std::sort(keyed.begin(), keyed.end());
     std::vector<uint32_t> order(points.size());
@@ -79,7 +79,7 @@ AlignedMap BuildAlignedMap(std::span<const MapKeyframe> keyframes, const Aligned
     const float voxel = float(config.voxel_m);
     const double min2 = config.min_range_m * config.min_range_m;
     const double max2 = config.max_range_m * config.max_range_m;
-    VoxelHash index(total / 8 + 16);
+    common::VoxelHash index(total / 8 + 16);
     std::vector<Accumulator> acc;
     for (size_t k = 0; k < keyframes.size(); ++k) {
         const Eigen::Isometry3d& T = keyframes[k].T_world_lidar;
@@ -90,9 +90,9 @@ AlignedMap BuildAlignedMap(std::span<const MapKeyframe> keyframes, const Aligned
                 continue;
             }
             const Eigen::Vector3d w = T * p.cast<double>();
-            const Eigen::Vector3i v = VoxelOf(w.cast<float>(), voxel);
+            const Eigen::Vector3i v = common::VoxelOf(w.cast<float>() / voxel);
             bool fresh = false;
-            const uint64_t key = PackVoxel(v.x(), v.y(), v.z());
+            const uint64_t key = common::PackVoxel(v);
             const uint32_t slot = index.FindOrInsert(key, uint32_t(acc.size()), &fresh);
             if (fresh) {
                 Accumulator a;
@@ -112,7 +112,7 @@ AlignedMap BuildAlignedMap(std::span<const MapKeyframe> keyframes, const Aligned
     }
     std::vector<std::pair<uint64_t, uint32_t>> order(acc.size());
     for (size_t i = 0; i < acc.size(); ++i)
-        order[i] = {Morton(UnpackVoxel(acc[i].key)), uint32_t(i)};
+        order[i] = {Morton(common::UnpackVoxel(acc[i].key)), uint32_t(i)};
     std::sort(order.begin(), order.end());
     map.xyz.resize(acc.size());
     map.points.resize(acc.size());
@@ -120,7 +120,7 @@ AlignedMap BuildAlignedMap(std::span<const MapKeyframe> keyframes, const Aligned
     map.first_keyframe.resize(acc.size());
     for (size_t i = 0; i < order.size(); ++i) {
         const Accumulator& a = acc[order[i].second];
-        const Eigen::Vector3d corner = UnpackVoxel(a.key).cast<double>() * double(voxel);
+        const Eigen::Vector3d corner = common::UnpackVoxel(a.key).cast<double>() * double(voxel);
         map.xyz[i] = (corner + (a.sum / float(a.points)).cast<double>()).cast<float>();
         map.points[i] = a.points;
         map.keyframes[i] = a.keyframes;

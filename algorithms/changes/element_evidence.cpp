@@ -8,8 +8,8 @@
 #include <cmath>
 #include <string>
 
-#include "algorithms/changes/voxel_hash.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::changes {
 namespace {
@@ -43,8 +43,8 @@ PlaneAxes AxesOf(const Eigen::Vector3f& n) {
 }
 
 struct ThreadState {
-    VoxelHash cells{1 << 16};      // (plane, i, j) -> agree and through rays (AddRay)
-    std::vector<uint32_t> counts;  // 3 per element
+    common::VoxelHash cells{1 << 16};  // (plane, i, j) -> agree and through rays (AddRay)
+    std::vector<uint32_t> counts;      // 3 per element
 };
 
 }  // namespace
@@ -79,7 +79,7 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
     // plane id, the first 24 bits of a cell's key.
     std::vector<uint32_t> plane_of(mesh.triangles.size());
     std::vector<PlaneAxes> planes;
-    VoxelHash plane_ids(1024);
+    common::VoxelHash plane_ids(1024);
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& tri = mesh.triangles[t];
         const Eigen::Vector3f a = mesh.vertices[tri[0]], b = mesh.vertices[tri[1]],
@@ -158,7 +158,7 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
         if (progress) progress(double(last) / double(keyframes.size()));
     }
 
-    VoxelHash cells(1 << 16);
+    common::VoxelHash cells(1 << 16);
     for (ThreadState& s : states) {
         for (size_t e = 0; e < element_count; ++e) {
             out[e].rays_agree += s.counts[3 * e];

@@ -18,8 +18,7 @@ PointGrid::PointGrid(std::span<const Eigen::Vector3f> points, float cell_m)
     // indices by a key looked up elsewhere.
     std::vector<std::pair<uint64_t, uint32_t>> keyed(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
-        const Eigen::Vector3i v = VoxelOf(points[i], cell_m);
-        keyed[i] = {PackVoxel(v.x(), v.y(), v.z()), uint32_t(i)};
+        keyed[i] = {common::PackVoxel(common::VoxelOf(points[i] / cell_m)), uint32_t(i)};
     }
     std::sort(keyed.begin(), keyed.end());
     order_.resize(points.size());

@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "algorithms/changes/voxel_hash.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::changes {
 
@@ -28,7 +28,7 @@ public:
     std::span<const uint32_t> CellPoints(size_t c) const {
         return {order_.data() + begin_[c], begin_[c + 1] - begin_[c]};
     }
-    Eigen::Vector3i CellIndex(size_t c) const { return UnpackVoxel(keys_[c]); }
+    Eigen::Vector3i CellIndex(size_t c) const { return common::UnpackVoxel(keys_[c]); }
     // The cell holding point i.
     uint32_t CellOfPoint(uint32_t i) const { return cell_of_point_[i]; }
 
@@ -38,8 +38,9 @@ public:
     void ForEachCellNear(const Eigen::Vector3i& center, int reach, F&& f) const {
         for (int dx = -reach; dx <= reach; ++dx) {
             for (int dy = -reach; dy <= reach; ++dy) {
-                const uint64_t lo = PackVoxel(center.x() + dx, center.y() + dy, center.z() - reach);
-                const uint64_t hi = PackVoxel(center.x() + dx, center.y() + dy, center.z() + reach);
+                const Eigen::Vector3i column(center.x() + dx, center.y() + dy, center.z());
+                const uint64_t lo = common::PackVoxel(column - Eigen::Vector3i(0, 0, reach));
+                const uint64_t hi = common::PackVoxel(column + Eigen::Vector3i(0, 0, reach));
                 for (size_t c = LowerBound(lo); c < keys_.size() && keys_[c] <= hi; ++c) f(c);
             }
         }
@@ -50,7 +51,7 @@ public:
     void ForEachPointWithin(const Eigen::Vector3f& p, float radius, F&& f) const {
         const int reach = int(std::ceil(radius / cell_));
         const float r2 = radius * radius;
-        ForEachCellNear(VoxelOf(p, cell_), reach, [&](size_t c) {
+        ForEachCellNear(common::VoxelOf(p / cell_), reach, [&](size_t c) {
             for (const uint32_t j : CellPoints(c)) {
                 if ((points_[j] - p).squaredNorm() <= r2) f(j);
             }

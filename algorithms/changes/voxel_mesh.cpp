@@ -7,8 +7,8 @@
 #include <string>
 #include <tuple>
 
-#include "algorithms/changes/voxel_hash.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::changes {
 namespace {
@@ -53,7 +53,7 @@ VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m
     // Per (x, y) column its highest voxel.
     std::map<std::pair<int, int>, int> top;
     for (const Eigen::Vector3f& p : points) {
-        const Eigen::Vector3i v = VoxelOf(p, voxel_m);
+        const Eigen::Vector3i v = common::VoxelOf(p / voxel_m);
         const auto [it, fresh] = top.try_emplace({v.x(), v.y()}, v.z());
         if (!fresh) it->second = std::max(it->second, v.z());
     }
@@ -95,14 +95,14 @@ VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m
 }
 
 common::TriangleMesh VoxelSurface(const VoxelSolid& solid) {
-    VoxelHash occupied(solid.voxels.size() + 16);
-    for (const auto& v : solid.voxels) occupied.FindOrInsert(PackVoxel(v.x(), v.y(), v.z()), 1);
+    common::VoxelHash occupied(solid.voxels.size() + 16);
+    for (const auto& v : solid.voxels) occupied.FindOrInsert(common::PackVoxel(v), 1);
     common::TriangleMesh mesh;
-    VoxelHash corner_index(4 * solid.voxels.size() + 16);
+    common::VoxelHash corner_index(4 * solid.voxels.size() + 16);
     const auto corner = [&](const Eigen::Vector3i& c) {
         bool fresh = false;
-        const uint32_t i = corner_index.FindOrInsert(PackVoxel(c.x(), c.y(), c.z()),
-                                                     uint32_t(mesh.vertices.size()), &fresh);
+        const uint32_t i =
+            corner_index.FindOrInsert(common::PackVoxel(c), uint32_t(mesh.vertices.size()), &fresh);
         if (fresh) mesh.vertices.push_back(c.cast<float>() * solid.voxel_m);
         return i;
     };
@@ -115,7 +115,7 @@ common::TriangleMesh VoxelSurface(const VoxelSolid& solid) {
             for (int s = 0; s < 2; ++s) {
                 Eigen::Vector3i n = v;
                 n[a] += s ? 1 : -1;
-                if (occupied.Find(PackVoxel(n.x(), n.y(), n.z())) != VoxelHash::kAbsent) continue;
+                if (occupied.Find(common::PackVoxel(n)) != common::VoxelHash::kAbsent) continue;
                 std::array<Eigen::Vector3i, 4> q;
                 for (int k = 0; k < 4; ++k) {
                     q[k] = v;

@@ -49,9 +49,7 @@ VoxelMap::VoxelMap(const VoxelMapConfig& config) : config_(config) {
 }
 
 Eigen::Vector3i VoxelMap::KeyOf(const Eigen::Vector3f& p) const {
-    return {static_cast<int>(std::floor(p.x() * inv_size_)),
-            static_cast<int>(std::floor(p.y() * inv_size_)),
-            static_cast<int>(std::floor(p.z() * inv_size_))};
+    return common::VoxelOf(p * inv_size_);
 }
 
 int32_t VoxelMap::Find(const Eigen::Vector3i& key) const {

@@ -29,7 +29,7 @@ FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map
         bool through = false;
         for (float s = step; s < length - margin && !through; s += step) {
             const Eigen::Vector3f x = o + s * dir;
-            const Eigen::Vector3i v = common::VoxelOf(x, inv);
+            const Eigen::Vector3i v = common::VoxelOf(x * inv);
             const int n = map.InVoxel(x, found);
             for (int i = 0; i < n && !through; ++i) {
                 const Surfel& f = *found[i];
@@ -39,7 +39,7 @@ FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map
                 const float t = (f.offset - f.normal.dot(o)) / cos_in;
                 if (t < margin || t > length - margin) continue;
                 const Eigen::Vector3f c = o + t * dir;
-                if (common::VoxelOf(c, inv) == v && f.Covers(c)) through = true;
+                if (common::VoxelOf(c * inv) == v && f.Covers(c)) through = true;
             }
         }
         out.seen_through += through;

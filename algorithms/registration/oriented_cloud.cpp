@@ -40,12 +40,14 @@ void VoxelNormals(const std::vector<Eigen::Vector3f>& pts, double voxel, int min
         Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
     };
     const float inv = static_cast<float>(1.0 / voxel);
-    common::VoxelTable table(pts.size() / 4 + 16);
+    common::VoxelHash table(pts.size() / 4 + 16);
     std::vector<Sums> sums;
-    std::vector<int32_t> voxel_of(pts.size());
+    std::vector<uint32_t> voxel_of(pts.size());
     for (size_t k = 0; k < pts.size(); ++k) {
-        const int32_t i = table.Insert(common::VoxelKey(pts[k], inv), int32_t(sums.size()));
-        if (size_t(i) == sums.size()) sums.push_back({0, pts[k].cast<double>()});
+        bool fresh = false;
+        const uint32_t i =
+            table.FindOrInsert(common::VoxelKey(pts[k], inv), uint32_t(sums.size()), &fresh);
+        if (fresh) sums.push_back({0, pts[k].cast<double>()});
         Sums& s = sums[size_t(i)];
         const Eigen::Vector3d q = pts[k].cast<double>() - s.origin;
         ++s.n;
@@ -99,12 +101,13 @@ OrientedCloud MakeOrientedCloud(const std::vector<Eigen::Vector3f>& points,
     // First point per thin_voxel_size voxel: a 32 x 1024 scan has 30 000 points, several per
     // few centimetres near the sensor, which add nothing to a plane fitted over 0.4 m.
     const float inv_thin = static_cast<float>(1.0 / config.thin_voxel_size);
-    common::VoxelTable thin(points.size() / 4 + 16);
+    common::VoxelHash thin(points.size() / 4 + 16);
     for (const Eigen::Vector3f& p : points) {
         const float r2 = p.squaredNorm();
         if (!p.allFinite() || r2 < min2 || r2 > max2) continue;
-        const int32_t slot = static_cast<int32_t>(pts.size());
-        if (thin.Insert(common::VoxelKey(p, inv_thin), slot) == slot) pts.push_back(p);
+        bool fresh = false;
+        thin.FindOrInsert(common::VoxelKey(p, inv_thin), 0, &fresh);
+        if (fresh) pts.push_back(p);
     }
     std::vector<Eigen::Vector3f> fine, coarse;
     VoxelNormals(pts, config.normal_voxel_size, config.min_plane_points, config.max_thickness,
@@ -114,12 +117,13 @@ OrientedCloud MakeOrientedCloud(const std::vector<Eigen::Vector3f>& points,
 
     // One point per sample voxel: the first one on a plane.
     const float inv = static_cast<float>(1.0 / config.sample_voxel_size);
-    common::VoxelTable taken(pts.size() / 4 + 16);
+    common::VoxelHash taken(pts.size() / 4 + 16);
     for (size_t k = 0; k < pts.size(); ++k) {
         const Eigen::Vector3f& n = fine[k].squaredNorm() > 0 ? fine[k] : coarse[k];
         if (n.squaredNorm() == 0) continue;
-        const int32_t slot = static_cast<int32_t>(out.points.size());
-        if (taken.Insert(common::VoxelKey(pts[k], inv), slot) != slot) continue;
+        bool fresh = false;
+        taken.FindOrInsert(common::VoxelKey(pts[k], inv), 0, &fresh);
+        if (!fresh) continue;
         out.points.push_back(pts[k]);
         out.normals.push_back(n);
     }

@@ -39,8 +39,9 @@ void SurfelMap::Add(const OrientedCloud& cloud, const Eigen::Isometry3d& T_map_c
         if (!p.allFinite() || !n.allFinite()) continue;
         const int bin = NormalBin(n);
         const uint64_t key = common::VoxelKey(p, inv_size_);
-        const int32_t i = tables_[bin].Insert(key, static_cast<int32_t>(sums_.size()));
-        if (size_t(i) == sums_.size()) {
+        bool fresh = false;
+        const uint32_t i = tables_[bin].FindOrInsert(key, uint32_t(sums_.size()), &fresh);
+        if (fresh) {
             sums_.emplace_back();
             sums_.back().origin = p.cast<double>();
             sums_.back().key = key;
@@ -78,7 +79,7 @@ void SurfelMap::Build() {
         f.spread[0] = static_cast<float>(std::sqrt(lambda(2)));
         f.spread[1] = static_cast<float>(std::sqrt(lambda(1)));
         f.points = static_cast<uint32_t>(s.n);
-        tables_[s.bin].Insert(s.key, static_cast<int32_t>(surfels_.size()));
+        tables_[s.bin].FindOrInsert(s.key, uint32_t(surfels_.size()));
         surfels_.push_back(f);
     }
     sums_.clear();
@@ -90,11 +91,11 @@ using common::kVoxelAndFaceNeighbours;
 
 const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n,
                               float min_cos_angle, float* distance) const {
-    const Eigen::Vector3i v = common::VoxelOf(p, inv_size_);
+    const Eigen::Vector3i v = common::VoxelOf(p * inv_size_);
     const Surfel* best = nullptr;
     auto look = [&](int bin, const Eigen::Vector3i& d) {
-        const int32_t i = tables_[bin].Find(common::PackVoxel(v + d));
-        if (i < 0) return;
+        const uint32_t i = tables_[bin].Find(common::PackVoxel(v + d));
+        if (i == common::VoxelHash::kAbsent) return;
         const Surfel& s = surfels_[size_t(i)];
         if (s.normal.dot(n) < min_cos_angle) return;
         const float r = s.normal.dot(p) - s.offset;
@@ -125,8 +126,8 @@ int SurfelMap::InVoxel(const Eigen::Vector3f& p, const Surfel* out[kNormalBins])
     const uint64_t key = common::VoxelKey(p, inv_size_);
     int n = 0;
     for (int bin = 0; bin < kNormalBins; ++bin) {
-        const int32_t i = tables_[bin].Find(key);
-        if (i >= 0) out[n++] = &surfels_[size_t(i)];
+        const uint32_t i = tables_[bin].Find(key);
+        if (i != common::VoxelHash::kAbsent) out[n++] = &surfels_[size_t(i)];
     }
     return n;
 }

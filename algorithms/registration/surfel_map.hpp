@@ -92,8 +92,8 @@ private:
     };
     SurfelMapConfig config_;
     float inv_size_;
-    std::array<common::VoxelTable, kNormalBins> tables_;  // voxel key -> index into surfels_
-    std::vector<Sums> sums_;                              // while building
+    std::array<common::VoxelHash, kNormalBins> tables_;  // voxel key -> index into surfels_
+    std::vector<Sums> sums_;                             // while building
     std::vector<Surfel> surfels_;
     bool built_ = false;
 };

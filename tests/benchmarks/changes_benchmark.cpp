@@ -45,7 +45,6 @@
 #include "algorithms/changes/change_detector.hpp"
 #include "algorithms/changes/dbscan.hpp"
 #include "algorithms/changes/model_distance.hpp"
-#include "algorithms/changes/voxel_hash.hpp"
 #include "algorithms/io/npy.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/sha256.hpp"
