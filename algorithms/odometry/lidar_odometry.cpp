@@ -189,6 +189,8 @@ ScanMotion LidarOdometry::MotionFor(const common::Vector6d& twist, double durati
 
 const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const Clock::time_point start = Clock::now();
+    const bool cpu_clock = config_.registration.cpu_time_budget;
+    const Clock::time_point budget_start = BudgetNow(cpu_clock);
     const int64_t stamp = scan.stamp.ns;
     if (initialized_ && stamp <= last_stamp_ns_) {
         result_.flags = kTooFewPoints;
@@ -249,9 +251,10 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     r.registration = RegistrationResult{};
     Eigen::Isometry3d T = T_pred;
     r.covariance = sigma.cwiseAbs2().asDiagonal();
-    const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double, std::milli>(
-                                          config_.budget_ms * (1 - config_.map_update_share)));
+    const auto deadline =
+        budget_start +
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(
+            config_.budget_ms * (1 - config_.map_update_share)));
     // The adaptive threshold (header of the configuration).
     r.correspondence_distance =
         model_error_count_ < 3
@@ -307,7 +310,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         // smear is in the map. With the velocity from the first two poses, deskew it again,
         // rebuild the map from it and register this scan again.
         const double first_duration = Duration(first_scan_);
-        for (int k = 0; k < config_.start_refinements && Clock::now() < deadline; ++k) {
+        for (int k = 0; k < config_.start_refinements && BudgetNow(cpu_clock) < deadline; ++k) {
             const common::Vector6d v = common::LogSE3(T) / dt;  // the first pose is the identity
             map_.Clear();
             if (edge_map_) edge_map_->Clear();
@@ -330,7 +333,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
             MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
         const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
         const double moved = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
-        if (moved > config_.redeskew_threshold && Clock::now() < deadline) {
+        if (moved > config_.redeskew_threshold && BudgetNow(cpu_clock) < deadline) {
             preprocess(scan, estimated);
             if (align(T)) r.flags |= kDeskewedAgain;
         }

@@ -81,6 +81,8 @@ Preprocessor::Preprocessor(const PreprocessConfig& config) : config_(config) {
     alpha_.reserve(config_.max_points);
     map_points_.reserve(config_.max_points);
     map_alpha_.reserve(config_.max_points);
+    refilter_points_.reserve(config_.max_points);
+    refilter_alpha_.reserve(config_.max_points);
     registration_points_.reserve(config_.max_points);
     registration_alpha_.reserve(config_.max_points);
     range_sample_.reserve(kRangeSamples);
@@ -238,9 +240,21 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
         stats_.range_p90 = range_sample_[k];
     }
 
+    VoxelFilter(deskewed_.xyz, alpha_, map_voxel_, &map_points_, &map_alpha_);
+    const size_t map_target = config_.target_map_points;
+    if (map_target > 0 && map_points_.size() > 2 * map_target) {
+        const double v =
+            std::min(map_voxel_ * std::sqrt(double(map_points_.size()) / double(map_target)),
+                     config_.max_map_voxel);
+        if (v > map_voxel_) {
+            map_voxel_ = v;
+            map_points_.swap(refilter_points_);  // both reserved: no allocation
+            map_alpha_.swap(refilter_alpha_);
+            VoxelFilter(refilter_points_, refilter_alpha_, map_voxel_, &map_points_, &map_alpha_);
+        }
+    }
     stats_.map_voxel = map_voxel_;
     stats_.registration_voxel = registration_voxel_;
-    VoxelFilter(deskewed_.xyz, alpha_, map_voxel_, &map_points_, &map_alpha_);
     VoxelFilter(map_points_, map_alpha_, std::max(registration_voxel_, map_voxel_),
                 &registration_points_, &registration_alpha_);
     const size_t found = registration_points_.size();

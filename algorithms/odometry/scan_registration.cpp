@@ -1,6 +1,7 @@
 #include "algorithms/odometry/scan_registration.hpp"
 
 #include <ceres/ceres.h>
+#include <time.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -188,6 +189,14 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
     return n;
 }
 
+std::chrono::steady_clock::time_point BudgetNow(bool cpu_time) {
+    if (!cpu_time) return std::chrono::steady_clock::now();
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return std::chrono::steady_clock::time_point(std::chrono::seconds(t.tv_sec) +
+                                                 std::chrono::nanoseconds(t.tv_nsec));
+}
+
 const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3f> points,
                                                   const VoxelMap& map, const Eigen::Isometry3d& T0,
                                                   const common::Vector6d& prior_sigma,
@@ -233,7 +242,8 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     double kernel = std::max(config_.cauchy_scale_initial, max_distance / 6);
     for (int it = 0; it < config_.max_iterations;
          ++it, kernel = std::max(config_.cauchy_scale, kernel / 2)) {
-        const double remaining = std::chrono::duration<double>(deadline - Clock::now()).count();
+        const double remaining =
+            std::chrono::duration<double>(deadline - BudgetNow(config_.cpu_time_budget)).count();
         if (remaining <= 0) {
             result_.over_budget = true;
             break;

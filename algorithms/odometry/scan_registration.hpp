@@ -57,6 +57,10 @@
 namespace bimslam::odometry {
 
 struct RegistrationConfig {
+    // The clock of the time budget (the deadline): wall time, or this thread's CPU time, so that
+    // on a machine shared with other work (offline replay, CI) what the budget cuts is the
+    // odometry's own work, not the time other processes took (LidarOdometry uses it too).
+    bool cpu_time_budget = false;
     int max_iterations = 20;                   // outer: correspondences found again
     int max_solver_iterations = 4;             // Ceres iterations per outer iteration
     double max_correspondence_distance = 0.5;  // m
@@ -117,6 +121,10 @@ inline Eigen::Vector3f CorrectPoint(const Eigen::Vector3f& q, float alpha,
     const Eigen::Vector3f aq = a.cross(q);
     return q + aq + 0.5f * a.cross(aq) + alpha * rho;
 }
+
+// Now on the budget's clock: steady_clock, or the calling thread's CPU time expressed as a
+// steady_clock time point (only ever compared with others of the same clock).
+std::chrono::steady_clock::time_point BudgetNow(bool cpu_time);
 
 class ScanRegistration {
 public:

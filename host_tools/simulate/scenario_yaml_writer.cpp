@@ -154,6 +154,7 @@ std::string ScenarioToYaml(const Scenario& s) {
 
     w.BeginMap("sensor");
     w.Str("metadata", s.sensor.metadata.string());
+    w.Str("model", s.sensor.model);
     w.Str("lidar_mode", s.sensor.lidar_mode);
     w.Str("udp_profile", s.sensor.udp_profile);
     w.Vec("mount_xyz", s.sensor.mount_xyz);

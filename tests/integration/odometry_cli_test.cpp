@@ -243,6 +243,45 @@ TEST_F(OdometryCli, Go1LidarOnlyHoldsTheTrotsWobble) {
     EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 2.0);
 }
 
+// Dense sensors (issue 17, item 1): a 128-beam OS1 and a 64-beam OS0 (the simulator's built-in
+// ones, 1024x10) give 4x and 2x the OS1-32's points; the voxel sizes adapt to the count, so every
+// scan fits the default 50 ms budget (p99 measured 24 ms of CPU time for the OS1-128 on a shared
+// machine, odometry_benchmark BM_OdometrySensor). --budget-cpu counts the odometry's own CPU
+// time, so the over-budget count does not depend on the machine's load. The first second is in
+// these 10 s: the map is empty and the sizes not yet adapted there. (5 s walk too little of a
+// curve for the se3 alignment to fix the rotation about it: 13 deg APE rotation for 0.7 cm.)
+class OdometryCliSensor : public OdometryCli, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(OdometryCliSensor, StaysWithinTheBudgetWithNoScanOverIt) {
+    const std::string sensor = GetParam();
+    const fs::path cap = Tmp() / ("capture_" + sensor);
+    const auto sim = test::RunCommand(kCli + " simulate --model " + Model().string() +
+                                      " --platform go1 --sensor " + sensor + " --duration 10 -o " +
+                                      cap.string());
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    EXPECT_NE(io::ReadFileToString(cap / "metadata.json").find("OS-" + sensor.substr(2)),
+              std::string::npos);
+    const fs::path ses = Tmp() / ("session_" + sensor);
+    const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
+                                       " --budget-cpu --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_EQ(odo.at("over_budget").get<size_t>(), 0u);
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+    EXPECT_NEAR(odo.at("scans").get<double>(), 100.0, 2.0);
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report(sensor + ", go1 with CAN", odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.03);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Dense, OdometryCliSensor, ::testing::Values("OS1-128", "OS0-64"),
+                         [](const auto& param_info) {
+                             std::string name = param_info.param;
+                             name.erase(std::remove(name.begin(), name.end(), '-'), name.end());
+                             return name;
+                         });
+
 // Every file in a folder (relative path) with its bytes.
 std::map<std::string, std::string> Contents(const fs::path& dir) {
     std::map<std::string, std::string> out;
