@@ -43,6 +43,9 @@ struct SpeedSpec {
     double max_accel_mps2 = 0.5;       // start, stop and braking before turns
     double max_yaw_rate_deg_s = 57.3;  // turns are slowed to this (1 rad/s)
     double max_lateral_accel_mps2 = 0.5;
+    // The capture starts where the walk first reaches its cruise speed, not standing still: a
+    // recording started in motion (simulation::PathTiming::start_at_speed).
+    bool start_at_speed = false;
 
     bool operator==(const SpeedSpec&) const = default;
 };

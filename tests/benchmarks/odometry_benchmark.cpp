@@ -105,6 +105,8 @@ void BM_OdometryAccuracy(benchmark::State& state) {
     o.use_can = !handheld;  // as `bimslam odometry --no-can` for a handheld capture
     o.use_imu = state.range(3) == 1;
     o.odometry.edge_features = state.range(2) == 1;
+    // The budget in CPU time: the accuracy must not depend on what else the machine runs.
+    o.odometry.registration.cpu_time_budget = true;
     CaptureOdometryReport rep;
     for (auto _ : state) rep = RunCaptureOdometry(o);
 

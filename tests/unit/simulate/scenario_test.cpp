@@ -241,7 +241,7 @@ Scenario Everything() {
     s.path.mode = PathMode::kWaypoints;
     s.path.waypoints = {{1.5, 7.2}, {0.1, -3e-7}};
     s.path.start = Pose2d{{-5, 7.5}, 12.25};
-    s.speed = {0.7, 0.4, 45, 0.3};
+    s.speed = {0.7, 0.4, 45, 0.3, true};
     s.duration_s = 600.5;
     s.sensor.metadata = "/data/os1 metadata.json";
     s.sensor.model = "OS0-128";
