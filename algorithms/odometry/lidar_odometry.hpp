@@ -1,17 +1,25 @@
 // LiDAR odometry: one scan in, its pose in the odometry frame out, in bounded time. No thread and
 // no I/O of its own: the rig's odometry module and `bimslam odometry` run this same code.
 //
-// Per scan (README.md, "LiDAR odometry"):
+// Per scan (README.md, "Per scan"):
 // 1. Prediction of the motion since the previous scan: constant velocity by default; the Go1's
 //    body motion (MotionPrior, moved into the lidar frame by T_base_lidar) replaces it when
 //    present; the Ouster IMU's integrated gyro replaces its rotation when present.
 // 2. Preprocessing: range crop, self-filter, deskew with that motion (the gyro's rotation inside
-//    the scan when present), voxel downsampling (Preprocessor).
+//    the scan when present), voxel downsampling at sizes adapted to the point count
+//    (Preprocessor).
 // 3. Registration of the downsampled scan to the local map from the prediction (ScanRegistration,
-//    Ceres), with degenerate directions kept at the prediction. When the motion it implies
-//    differs from the one the scan was deskewed with, the scan is deskewed again with it and
-//    registered once more.
-// 4. The map gets the scan's fine points at the estimated pose and forgets what lies far behind.
+//    Ceres): the pose at the scan start and a correction of the motion during the sweep, with
+//    degenerate directions kept at the prediction, and correspondences within a distance adapted
+//    to how far the predictions have been off (KISS-ICP's adaptive threshold).
+//    Without the correction (its default), when the motion the estimate implies differs from
+//    the one the scan was deskewed with, the scan is deskewed again with it and registered once
+//    more. A start in motion: the first scan was deskewed with no motion; at the second scan, once
+//    the velocity is known, the first scan is deskewed again with it, the map rebuilt from it, and
+//    the second scan registered again (start_refinements, once; not when that registration
+//    was degenerate).
+// 4. The map gets the scan's fine points, corrected, at the estimated pose and forgets what lies
+//    beyond the scene's extent.
 //
 // Time. The whole call is budgeted (budget_ms): registration stops at its share of the budget
 // with its best estimate and the kOverBudget flag. Frames: `lidar` is the Ouster sensor frame of
@@ -87,8 +95,42 @@ struct LidarOdometryConfig {
     int velocity_window = 4;
     // A scan is deskewed again with its estimated motion when that differs from the predicted
     // one by more than this over the sweep (metres of translation + 10 m x radians of rotation:
-    // the displacement of a point 10 m away).
+    // the displacement of a point 10 m away). Not with the sweep's motion correction, which
+    // estimates that motion itself.
     double redeskew_threshold = 0.02;
+    // The prior of the sweep's motion correction (scan_registration.hpp) [m m m rad rad rad] over
+    // one sweep: how far the predicted motion during a scan may be off. Without the IMU the trot's
+    // wobble puts the rotation up to 2 deg off; with it, the gyro's rotation is good to a few
+    // hundredths of a degree (imu_correction_sigma). Zero turns the correction off.
+    common::Vector6d correction_sigma = common::Vector6d::Zero();
+    double imu_correction_sigma = 0.002;  // rad over a sweep, with the gyro
+    // kMotionCorrected when the correction moves a point 10 m away by more than this at the end
+    // of the sweep (m).
+    double correction_flag_m = 0.02;
+    // Correspondences: within 3 sigma of how far the predictions have been off (KISS-ICP, Vizzo
+    // et al., RA-L 2023): sigma^2 is the mean over recent scans (exponential, model_error_scans)
+    // of (|translation error| + extent * rotation error)^2 of the prediction against the
+    // estimate, extent being the scene's (the 90th percentile of the range, at most 60 m). Clamped
+    // to [min, max]; initial_correspondence_distance until a few scans have been seen.
+    double min_correspondence_distance = 0.5;  // m
+    double max_correspondence_distance = 2.0;  // m
+    double initial_correspondence_distance = 1.0;
+    double model_error_scans = 50;
+    // A start in motion (header, step 3): times the first scan is deskewed again and the second
+    // registered again; 0 turns it off. Once: a handheld capture starting at 1.5 m/s had its
+    // first scan-to-scan motion 4.5 cm for 14.5 cm true without it (the 0.13 for 0.245 m)
+    // and 14.8 cm with it; APE 1.95 -> 0.97 cm over its 10 s (README "Start in motion").
+    int start_refinements = 1;
+    // The map's radius follows the scene's extent: map_extent_factor x the scans' 90th range
+    // percentile, within [min_map_radius, map.max_distance].
+    double map_extent_factor = 1.5;
+    double min_map_radius = 35.0;  // m
+    // The self-filter box in the platform's base frame (T_base_lidar moves it into the lidar
+    // frame: a rotated mount keeps it where the body is), used when self_box_in_base. The default
+    // is the Go1's trunk and legs (0.65 x 0.28 m trunk, standing 0.32 m above the floor).
+    bool self_box_in_base = true;
+    Eigen::Vector3d self_box_base_min = {-0.40, -0.25, -0.37};
+    Eigen::Vector3d self_box_base_max = {0.40, 0.25, 0.18};
 
     void Validate() const;
 };
@@ -101,8 +143,10 @@ enum OdometryFlag : uint32_t {
     kNotConverged = 1u << 4,
     kBodyPriorUsed = 1u << 5,
     kImuUsed = 1u << 6,
-    kTooFewPoints = 1u << 7,   // the scan kept fewer points than registration needs
-    kDeskewedAgain = 1u << 8,  // deskewed and registered a second time (step 3b)
+    kTooFewPoints = 1u << 7,      // the scan kept fewer points than registration needs
+    kDeskewedAgain = 1u << 8,     // deskewed and registered a second time (step 3)
+    kStartRefined = 1u << 9,      // the second scan: the first deskewed again (a start in motion)
+    kMotionCorrected = 1u << 10,  // the sweep's motion correction exceeded correction_flag_m
 };
 
 struct OdometryResult {
@@ -116,7 +160,9 @@ struct OdometryResult {
     RegistrationResult registration;
     size_t map_voxels = 0;
     size_t map_points = 0;
-    size_t edge_points = 0;  // with edge_features: LOAM edge points of this scan
+    size_t edge_points = 0;              // with edge_features: LOAM edge points of this scan
+    double correspondence_distance = 0;  // m, the adaptive threshold this scan used
+    double map_radius = 0;               // m, the map kept around the sensor
     double preprocess_ms = 0, register_ms = 0, map_ms = 0, total_ms = 0;
 };
 
@@ -148,7 +194,13 @@ private:
     // not cover [t0, t1].
     bool IntegrateGyro(int64_t t0_ns, int64_t t1_ns, Eigen::Quaterniond* q) const;
     // The motion during a scan: constant velocity `twist`, the gyro's rotation when it covers it.
-    ScanMotion MotionFor(const common::Vector6d& twist, double duration, int64_t stamp) const;
+    // *used_gyro (optional): whether the gyro covered it.
+    ScanMotion MotionFor(const common::Vector6d& twist, double duration, int64_t stamp,
+                         bool* used_gyro = nullptr) const;
+    // The sweep's correction prior for this scan (gyro or not).
+    common::Vector6d CorrectionSigma(bool gyro) const;
+    // The scan's duration: its largest time offset (1 ms at least).
+    static double Duration(const common::PointCloud& scan);
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 
     LidarOdometryConfig config_;
@@ -162,6 +214,10 @@ private:
     std::vector<ImuMeasurement> imu_;         // ring buffer
     size_t imu_head_ = 0, imu_count_ = 0;
     std::vector<Eigen::Vector3f> world_points_;  // scratch: map points at the estimated pose
+    common::PointCloud first_scan_;              // kept for a start in motion (step 3)
+    double model_error_sq_ = 0;                  // mean of the squared prediction errors
+    size_t model_error_count_ = 0;
+    double extent_ = 0;  // the scene's extent (smoothed 90th range percentile), m
 
     OdometryResult result_;
     bool initialized_ = false;

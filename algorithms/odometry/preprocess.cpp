@@ -10,6 +10,8 @@ namespace bimslam::odometry {
 using common::Require;
 namespace {
 
+constexpr size_t kRangeSamples = 4096;
+
 size_t NextPowerOfTwo(size_t n) {
     size_t p = 1;
     while (p < n) p <<= 1;
@@ -53,6 +55,18 @@ void PreprocessConfig::Validate() const {
             "must be in [0.01, 5] m");
     Require(registration_voxel >= map_voxel && registration_voxel <= 5, c, "registration_voxel",
             registration_voxel, "must be in [map_voxel, 5] m");
+    Require(max_map_voxel >= map_voxel && max_map_voxel <= 5, c, "max_map_voxel", max_map_voxel,
+            "must be in [map_voxel, 5] m");
+    Require(max_registration_voxel >= registration_voxel && max_registration_voxel <= 10, c,
+            "max_registration_voxel", max_registration_voxel,
+            "must be in [registration_voxel, 10] m");
+    Require(target_map_points == 0 || target_map_points >= 1000, c, "target_map_points",
+            double(target_map_points), "must be 0 (fixed voxels) or >= 1000");
+    Require(
+        target_registration_points == 0 || (target_registration_points >= 100 &&
+                                            target_registration_points <= max_registration_points),
+        c, "target_registration_points", double(target_registration_points),
+        "must be 0 (fixed voxels) or in [100, max_registration_points]");
     Require(max_registration_points >= 100, c, "max_registration_points",
             double(max_registration_points), "must be >= 100");
     Require(max_points >= 1024, c, "max_points", double(max_points), "must be >= 1024");
@@ -64,29 +78,82 @@ Preprocessor::Preprocessor(const PreprocessConfig& config) : config_(config) {
     deskewed_.intensity.reserve(config_.max_points);
     deskewed_.ring.reserve(config_.max_points);
     deskewed_.time_offset_ns.reserve(config_.max_points);
+    alpha_.reserve(config_.max_points);
     map_points_.reserve(config_.max_points);
+    map_alpha_.reserve(config_.max_points);
+    refilter_points_.reserve(config_.max_points);
+    refilter_alpha_.reserve(config_.max_points);
     registration_points_.reserve(config_.max_points);
+    registration_alpha_.reserve(config_.max_points);
+    range_sample_.reserve(kRangeSamples);
     const size_t slots = NextPowerOfTwo(2 * config_.max_points);
     table_keys_.assign(slots, 0);
     table_generation_.assign(slots, 0);
+    ResetVoxels();
 }
 
-void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, double voxel,
-                               std::vector<Eigen::Vector3f>* out) {
+void Preprocessor::ResetVoxels() {
+    map_voxel_ = config_.map_voxel;
+    registration_voxel_ = config_.registration_voxel;
+}
+
+namespace {
+// q -> M q + b for the correction at fraction alpha (CorrectPoint as a matrix: I + A + A^2 / 2,
+// A = [alpha phi]x), applied to points in column order (consecutive points share alpha).
+void Correct(std::span<Eigen::Vector3f> points, std::span<const float> alpha,
+             const Eigen::Vector3f& rho, const Eigen::Vector3f& phi) {
+    float last = -1;
+    Eigen::Matrix3f M = Eigen::Matrix3f::Identity();
+    Eigen::Vector3f b = Eigen::Vector3f::Zero();
+    for (size_t i = 0; i < points.size(); ++i) {
+        if (alpha[i] != last) {
+            last = alpha[i];
+            const Eigen::Vector3f a = last * phi;
+            Eigen::Matrix3f A;
+            A << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+            M = Eigen::Matrix3f::Identity() + A + 0.5f * A * A;
+            b = last * rho;
+        }
+        points[i] = M * points[i] + b;
+    }
+}
+}  // namespace
+
+void Preprocessor::ApplyCorrection(const common::Vector6d& xi) {
+    if (xi.isZero()) return;
+    const Eigen::Vector3f rho = xi.head<3>().cast<float>(), phi = xi.tail<3>().cast<float>();
+    Correct(deskewed_.xyz, alpha_, rho, phi);
+    Correct(map_points_, map_alpha_, rho, phi);
+}
+
+double Preprocessor::Adapt(double voxel, size_t count, size_t target, double finest,
+                           double coarsest) {
+    if (target == 0 || count == 0) return voxel;
+    // Damped (the square root of the ratio's square root) so that one odd scan does not swing it.
+    const double ratio = std::sqrt(double(count) / double(target));
+    return std::clamp(voxel * std::sqrt(ratio), finest, coarsest);
+}
+
+void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
+                               double voxel, std::vector<Eigen::Vector3f>* out,
+                               std::vector<float>* out_alpha) {
     out->clear();
+    out_alpha->clear();
     if (++generation_ == 0) {  // wrapped: forget every old tag
         std::fill(table_generation_.begin(), table_generation_.end(), 0u);
         generation_ = 1;
     }
     const float inv = static_cast<float>(1.0 / voxel);
     const size_t mask = table_keys_.size() - 1;
-    for (const Eigen::Vector3f& p : in) {
+    for (size_t i = 0; i < in.size(); ++i) {
+        const Eigen::Vector3f& p = in[i];
         const uint64_t key = common::VoxelKey(p, inv);
         for (size_t slot = common::MixKey(key) & mask;; slot = (slot + 1) & mask) {
             if (table_generation_[slot] != generation_) {
                 table_generation_[slot] = generation_;
                 table_keys_[slot] = key;
                 out->push_back(p);
+                out_alpha->push_back(in_alpha[i]);
                 break;
             }
             if (table_keys_[slot] == key) break;
@@ -99,6 +166,7 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
     const size_t n = std::min(scan.size(), config_.max_points);
     stats_.input = scan.size();
     deskewed_.Clear();
+    alpha_.clear();
     deskewed_.stamp = scan.stamp;
     deskewed_.frame = scan.frame;
     const bool with_i = scan.HasIntensity(), with_r = scan.HasRing(), with_t = scan.HasTime();
@@ -108,6 +176,15 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
     const Eigen::Vector3f box_min = config_.self_box_min.cast<float>();
     const Eigen::Vector3f box_max = config_.self_box_max.cast<float>();
     const bool box = (box_min.array() <= box_max.array()).all();
+    uint32_t max_offset = 0;
+    if (with_t) {
+        for (size_t i = 0; i < n; ++i) max_offset = std::max(max_offset, scan.time_offset_ns[i]);
+    }
+    duration_s_ = max_offset * 1e-9;
+    const float inv_duration = max_offset > 0 ? 1.0f / float(max_offset) : 0.0f;
+    // Every k-th point's range, for the extent (a sample keeps this cheap).
+    range_sample_.clear();
+    const size_t sample_step = std::max<size_t>(1, n / kRangeSamples);
 
     // Points come column by column, so consecutive points share a time: the pose is looked up
     // once per distinct time offset.
@@ -134,6 +211,9 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
             ++stats_.self;
             continue;
         }
+        if (i % sample_step == 0 && range_sample_.size() < kRangeSamples) {
+            range_sample_.push_back(static_cast<float>(std::sqrt(r2)));
+        }
         Eigen::Vector3f q = p;
         if (deskew) {
             const uint32_t tau = scan.time_offset_ns[i];
@@ -147,25 +227,55 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
             q = R * p + t;
         }
         deskewed_.xyz.push_back(q);
+        alpha_.push_back(with_t ? float(scan.time_offset_ns[i]) * inv_duration : 0.0f);
         if (with_i) deskewed_.intensity.push_back(scan.intensity[i]);
         if (with_r) deskewed_.ring.push_back(scan.ring[i]);
         if (with_t) deskewed_.time_offset_ns.push_back(scan.time_offset_ns[i]);
     }
     stats_.kept = deskewed_.size();
+    if (!range_sample_.empty()) {
+        const size_t k = range_sample_.size() * 9 / 10;
+        std::nth_element(range_sample_.begin(), range_sample_.begin() + long(k),
+                         range_sample_.end());
+        stats_.range_p90 = range_sample_[k];
+    }
 
-    VoxelFilter(deskewed_.xyz, config_.map_voxel, &map_points_);
-    VoxelFilter(map_points_, config_.registration_voxel, &registration_points_);
+    VoxelFilter(deskewed_.xyz, alpha_, map_voxel_, &map_points_, &map_alpha_);
+    const size_t map_target = config_.target_map_points;
+    if (map_target > 0 && map_points_.size() > 2 * map_target) {
+        const double v =
+            std::min(map_voxel_ * std::sqrt(double(map_points_.size()) / double(map_target)),
+                     config_.max_map_voxel);
+        if (v > map_voxel_) {
+            map_voxel_ = v;
+            map_points_.swap(refilter_points_);  // both reserved: no allocation
+            map_alpha_.swap(refilter_alpha_);
+            VoxelFilter(refilter_points_, refilter_alpha_, map_voxel_, &map_points_, &map_alpha_);
+        }
+    }
+    stats_.map_voxel = map_voxel_;
+    stats_.registration_voxel = registration_voxel_;
+    VoxelFilter(map_points_, map_alpha_, std::max(registration_voxel_, map_voxel_),
+                &registration_points_, &registration_alpha_);
+    const size_t found = registration_points_.size();
     // Cap: keep every k-th point (they are in column order, so this thins evenly in azimuth).
     const size_t cap = config_.max_registration_points;
     if (registration_points_.size() > cap) {
         const double step = double(registration_points_.size()) / double(cap);
         for (size_t k = 0; k < cap; ++k) {
             registration_points_[k] = registration_points_[size_t(k * step)];
+            registration_alpha_[k] = registration_alpha_[size_t(k * step)];
         }
         registration_points_.resize(cap);
+        registration_alpha_.resize(cap);
     }
     stats_.map_points = map_points_.size();
     stats_.registration_points = registration_points_.size();
+    // The next scan's sizes.
+    map_voxel_ = Adapt(map_voxel_, map_points_.size(), config_.target_map_points, config_.map_voxel,
+                       config_.max_map_voxel);
+    registration_voxel_ = Adapt(registration_voxel_, found, config_.target_registration_points,
+                                config_.registration_voxel, config_.max_registration_voxel);
     return stats_;
 }
 

@@ -52,18 +52,31 @@ private:
 };
 
 struct PreprocessConfig {
-    double min_range = 0.5;   // m: closer returns are the rig itself or noise
-    double max_range = 60.0;  // m
+    double min_range = 0.5;    // m: closer returns are the rig itself or noise
+    double max_range = 100.0;  // m
     // The rig's self-filter: points inside this box of the lidar frame are dropped. The default
     // holds a Go1's trunk and legs under a lidar mounted 5 cm ahead of the trunk's centre and
-    // 28 cm above it (the trunk is 0.65 x 0.28 m). Empty when any min > max.
+    // 28 cm above it (the trunk is 0.65 x 0.28 m). Empty when any min > max. LidarOdometry sets
+    // it from the box in the base frame and the mount when given one (LidarOdometryConfig).
     Eigen::Vector3d self_box_min = {-0.45, -0.25, -0.65};
     Eigen::Vector3d self_box_max = {0.35, 0.25, -0.10};
     bool deskew = true;
     // Two resolutions, as KISS-ICP (Vizzo et al., RA-L 2023): a fine one for the map, a coarse one
-    // for registration, whose points are then capped (every k-th is kept) to bound the time.
+    // for registration. These are the finest sizes. A dense sensor (128 beams) or a large scene
+    // (outdoors, ranges to 100 m) gives many more points at the same voxel size, so each size
+    // adapts from scan to scan to keep its count near a target (a count well under the target
+    // keeps the finest size): v <- v * sqrt(count / target), because points on surfaces scale with
+    // 1 / v^2. A 32-beam sensor indoors stays at the finest sizes. A map count over twice its
+    // target (the first scans of a 128-beam sensor, a step outdoors) is filtered again at once at
+    // v * sqrt(count / target) rather than over the next scans: a 128-beam scan at the finest size
+    // gave ~50 000 map points and 24-33 ms scans before the damped adaptation caught up.
     double map_voxel = 0.10;           // m
     double registration_voxel = 0.35;  // m
+    size_t target_map_points = 20000;  // 0: fixed sizes
+    size_t target_registration_points = 2500;
+    double max_map_voxel = 0.5;           // m, the coarsest the adaptation goes
+    double max_registration_voxel = 1.5;  // m
+    // A hard cap after the voxel filter: every k-th point is kept (the adaptation's first scans).
     size_t max_registration_points = 4000;
     size_t max_points = 262144;  // input points per scan the buffers are sized for
 
@@ -80,6 +93,9 @@ struct PreprocessStats {
     size_t kept = 0;        // deskewed points (the keyframe cloud)
     size_t map_points = 0;  // after the map voxel filter
     size_t registration_points = 0;
+    double map_voxel = 0, registration_voxel = 0;  // m, the sizes this scan used
+    // Of the kept points: the 90th percentile of the range (m), the scene's extent.
+    double range_p90 = 0;
 };
 
 class Preprocessor {
@@ -94,19 +110,43 @@ public:
     const common::PointCloud& deskewed() const { return deskewed_; }  // every kept point
     std::span<const Eigen::Vector3f> map_points() const { return map_points_; }
     std::span<const Eigen::Vector3f> registration_points() const { return registration_points_; }
+    // Per map and registration point, its time in the sweep as a fraction of the scan's duration
+    // (0 at the start, 1 at the last point; all 0 without per-point time): what the registration's
+    // motion correction (scan_registration.hpp) scales with.
+    std::span<const float> map_alpha() const { return map_alpha_; }
+    std::span<const float> registration_alpha() const { return registration_alpha_; }
+    // The scan's duration the fractions are of (s): its largest time offset.
+    double duration_s() const { return duration_s_; }
     const PreprocessConfig& config() const { return config_; }
+    // Back to the finest voxel sizes (the odometry starts again).
+    void ResetVoxels();
+    // Moves the last Run()'s kept points and map points by a correction xi = [rho; phi] of the
+    // sweep's motion: a point at fraction alpha goes to Exp(alpha phi) q + alpha rho (to second
+    // order, scan_registration.hpp CorrectPoint), so the keyframe cloud and the map get it where
+    // the registration found it belongs.
+    void ApplyCorrection(const common::Vector6d& xi);
 
 private:
-    // First point per voxel of `in` into `out`, using the preallocated hash table.
-    void VoxelFilter(std::span<const Eigen::Vector3f> in, double voxel,
-                     std::vector<Eigen::Vector3f>* out);
+    // First point per voxel of `in` into `out` (with its alpha), using the preallocated table.
+    void VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
+                     double voxel, std::vector<Eigen::Vector3f>* out,
+                     std::vector<float>* out_alpha);
+    // The next scan's voxel size from this scan's count (header of PreprocessConfig).
+    static double Adapt(double voxel, size_t count, size_t target, double finest, double coarsest);
 
     PreprocessConfig config_;
     PreprocessStats stats_;
     common::PointCloud deskewed_;
+    std::vector<float> alpha_;  // of deskewed_
     std::vector<Eigen::Vector3f> map_points_;
     std::vector<Eigen::Vector3f> registration_points_;
-    std::vector<uint64_t> table_keys_;  // open addressing, tagged with generation_
+    std::vector<float> map_alpha_, registration_alpha_;
+    std::vector<Eigen::Vector3f> refilter_points_;  // scratch for a second map filter
+    std::vector<float> refilter_alpha_;
+    std::vector<float> range_sample_;  // scratch for the range percentile
+    double duration_s_ = 0;
+    double map_voxel_ = 0, registration_voxel_ = 0;  // the current (adapted) sizes
+    std::vector<uint64_t> table_keys_;               // open addressing, tagged with generation_
     std::vector<uint32_t> table_generation_;
     uint32_t generation_ = 0;
 };

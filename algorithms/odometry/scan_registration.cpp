@@ -1,6 +1,7 @@
 #include "algorithms/odometry/scan_registration.hpp"
 
 #include <ceres/ceres.h>
+#include <time.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -39,42 +40,68 @@ Eigen::Isometry3d ApplyPerturbation(const Eigen::Isometry3d& T0, const common::V
 }
 
 namespace {
-// One residual and its Jacobian row (header comment); J may be null.
+// The pose and correction of one evaluation (header comment).
 struct RowModel {
     Eigen::Matrix3d R0, R, Jr;
-    Eigen::Vector3d t;
-    RowModel(const Eigen::Isometry3d& T0, const double* delta) {
+    Eigen::Vector3d t, rho_x, phi_x;
+    RowModel(const Eigen::Isometry3d& T0, const double* delta, const double* xi) {
         const Eigen::Map<const common::Vector6d> x(delta);
         R0 = T0.linear();
         R = R0 * common::ExpSO3(x.tail<3>());
         t = T0.translation() + R0 * x.head<3>();
         Jr = common::LeftJacobianSO3(-x.tail<3>());
+        const Eigen::Map<const common::Vector6d> c(xi);
+        rho_x = c.head<3>();
+        phi_x = c.tail<3>();
+    }
+    // L = Exp(alpha phi_x) q + alpha rho_x, second order (CorrectPoint).
+    Eigen::Vector3d Local(const Eigen::Vector3d& q, double alpha) const {
+        const Eigen::Vector3d a = alpha * phi_x;
+        const Eigen::Vector3d aq = a.cross(q);
+        return q + aq + 0.5 * a.cross(aq) + alpha * rho_x;
+    }
+    // E^T v for E = Exp(alpha phi_x), second order.
+    Eigen::Vector3d LocalRotationTransposed(const Eigen::Vector3d& v, double alpha) const {
+        const Eigen::Vector3d a = -alpha * phi_x;
+        const Eigen::Vector3d av = a.cross(v);
+        return v + av + 0.5 * a.cross(av);
     }
 };
 }  // namespace
 
-// The whole scan as one residual block of n residuals (the IRLS weights are inside), so that
-// Ceres's overhead is per scan, not per point.
+// The whole scan as one residual block of n residuals over [delta, xi] (the IRLS weights are
+// inside), so that Ceres's overhead is per scan, not per point.
 class ScanRegistration::Cost final : public ceres::CostFunction {
 public:
     Cost(const std::vector<Correspondence>* corr, const Eigen::Isometry3d& T0)
         : corr_(corr), T0_(T0) {
+        mutable_parameter_block_sizes()->push_back(6);
         mutable_parameter_block_sizes()->push_back(6);
     }
     void SetCount(int n) { set_num_residuals(n); }
 
     bool Evaluate(double const* const* parameters, double* residuals,
                   double** jacobians) const override {
-        const RowModel m(T0_, parameters[0]);
+        const RowModel m(T0_, parameters[0], parameters[1]);
         const int n = num_residuals();
         for (int i = 0; i < n; ++i) {
             const Correspondence& c = (*corr_)[size_t(i)];
-            residuals[i] = c.sqrt_w * (c.n.dot(m.R * c.p + m.t) - c.d);
-            if (jacobians && jacobians[0]) {
+            const Eigen::Vector3d L = m.Local(c.p, c.alpha);
+            residuals[i] = c.sqrt_w * (c.n.dot(m.R * L + m.t) - c.d);
+            if (!jacobians) continue;
+            const Eigen::Vector3d Rn = m.R.transpose() * c.n;
+            if (jacobians[0]) {
                 double* J = jacobians[0] + 6 * i;
                 const Eigen::Vector3d jt = c.sqrt_w * (m.R0.transpose() * c.n);
-                const Eigen::Vector3d jr =
-                    c.sqrt_w * (m.Jr.transpose() * c.p.cross(m.R.transpose() * c.n));
+                const Eigen::Vector3d jr = c.sqrt_w * (m.Jr.transpose() * L.cross(Rn));
+                J[0] = jt.x(), J[1] = jt.y(), J[2] = jt.z();
+                J[3] = jr.x(), J[4] = jr.y(), J[5] = jr.z();
+            }
+            if (jacobians[1]) {
+                double* J = jacobians[1] + 6 * i;
+                const double s = c.sqrt_w * c.alpha;
+                const Eigen::Vector3d jt = s * Rn;
+                const Eigen::Vector3d jr = s * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha));
                 J[0] = jt.x(), J[1] = jt.y(), J[2] = jt.z();
                 J[3] = jr.x(), J[4] = jr.y(), J[5] = jr.z();
             }
@@ -87,6 +114,25 @@ private:
     Eigen::Isometry3d T0_;
 };
 
+// The correction's prior: r = s * xi / sigma (componentwise), s the point residuals' scale, so
+// that it weighs as one correspondence per unit of sigma.
+class ScanRegistration::CorrectionPrior final : public ceres::SizedCostFunction<6, 6> {
+public:
+    explicit CorrectionPrior(const common::Vector6d& scale_over_sigma) : k_(scale_over_sigma) {}
+    bool Evaluate(double const* const* parameters, double* residuals,
+                  double** jacobians) const override {
+        for (int k = 0; k < 6; ++k) residuals[k] = k_(k) * parameters[0][k];
+        if (jacobians && jacobians[0]) {
+            for (int k = 0; k < 36; ++k) jacobians[0][k] = 0;
+            for (int k = 0; k < 6; ++k) jacobians[0][7 * k] = k_(k);
+        }
+        return true;
+    }
+
+private:
+    common::Vector6d k_;
+};
+
 ScanRegistration::ScanRegistration(const RegistrationConfig& config, size_t max_points)
     : config_(config) {
     config_.Validate();
@@ -95,30 +141,36 @@ ScanRegistration::ScanRegistration(const RegistrationConfig& config, size_t max_
 
 ScanRegistration::~ScanRegistration() = default;
 
-int ScanRegistration::Associate(std::span<const Eigen::Vector3f> points, const VoxelMap& map,
-                                std::span<const Eigen::Vector3f> edges, const VoxelMap* edge_map,
-                                const Eigen::Isometry3d& T, double cauchy_scale) {
+int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
+                                const Eigen::Isometry3d& T, const common::Vector6d& xi,
+                                double max_distance, double cauchy_scale) {
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
-    const float max_d = static_cast<float>(config_.max_correspondence_distance);
+    const Eigen::Vector3f rho = xi.head<3>().cast<float>(), phi = xi.tail<3>().cast<float>();
+    const bool correct = !xi.isZero();
+    const float max_d = static_cast<float>(max_distance);
     const double inv_c2 = 1.0 / (cauchy_scale * cauchy_scale);
     int n = 0;
-    for (const Eigen::Vector3f& p : points) {
+    for (size_t k = 0; k < in.points.size(); ++k) {
         if (size_t(n) >= corr_.size()) break;
+        const Eigen::Vector3f& q = in.points[k];
+        const float alpha = in.alpha.empty() ? 0.0f : in.alpha[k];
+        const Eigen::Vector3f L = correct ? CorrectPoint(q, alpha, rho, phi) : q;
         float r = 0;
-        const VoxelPlane* plane = map.FindPlane(R * p + t, &r);
+        const VoxelPlane* plane = map.FindPlane(R * L + t, &r);
         if (!plane || std::abs(r) > max_d) continue;
         Correspondence& c = corr_[size_t(n++)];
-        c.p = p.cast<double>();
+        c.p = q.cast<double>();
         c.n = plane->normal.cast<double>();
         c.d = plane->offset;
+        c.alpha = alpha;
         c.sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));  // Cauchy IRLS weight
     }
-    if (!edge_map) return n;
-    for (const Eigen::Vector3f& p : edges) {
+    if (!in.edge_map) return n;
+    for (const Eigen::Vector3f& p : in.edges) {
         if (size_t(n) + 2 > corr_.size()) break;
         float r = 0;
-        const VoxelLine* line = edge_map->FindLine(R * p + t, &r);
+        const VoxelLine* line = in.edge_map->FindLine(R * p + t, &r);
         if (!line || r > max_d) continue;
         // The distance to a line with direction u through c is that to two planes through c,
         // with normals e1, e2 orthogonal to u and to each other.
@@ -131,9 +183,18 @@ int ScanRegistration::Associate(std::span<const Eigen::Vector3f> points, const V
             c.n = e;
             c.d = e.dot(line->point.cast<double>());
             c.sqrt_w = sqrt_w;
+            c.alpha = 0;
         }
     }
     return n;
+}
+
+std::chrono::steady_clock::time_point BudgetNow(bool cpu_time) {
+    if (!cpu_time) return std::chrono::steady_clock::now();
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return std::chrono::steady_clock::time_point(std::chrono::seconds(t.tv_sec) +
+                                                 std::chrono::nanoseconds(t.tv_nsec));
 }
 
 const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3f> points,
@@ -142,10 +203,31 @@ const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3
                                                   Clock::time_point deadline,
                                                   std::span<const Eigen::Vector3f> edges,
                                                   const VoxelMap* edge_map) {
+    AlignInput in;
+    in.points = points;
+    in.T0 = T0;
+    in.prior_sigma = prior_sigma;
+    in.edges = edges;
+    in.edge_map = edge_map;
+    return Align(in, map, deadline);
+}
+
+const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const VoxelMap& map,
+                                                  Clock::time_point deadline) {
+    const Eigen::Isometry3d& T0 = in.T0;
     result_ = RegistrationResult{};
     result_.T_map_lidar = T0;
-    common::Vector6d delta = common::Vector6d::Zero();
+    const bool correcting =
+        config_.motion_correction && (in.correction_sigma.array() > 0).all() && !in.alpha.empty();
+    const double max_distance = in.max_correspondence_distance > 0
+                                    ? in.max_correspondence_distance
+                                    : config_.max_correspondence_distance;
+    common::Vector6d delta = common::Vector6d::Zero(), xi = common::Vector6d::Zero();
     Cost cost(&corr_, T0);
+    // The prior weighs like a correspondence at the final Cauchy scale per sigma of correction.
+    common::Vector6d prior_k = common::Vector6d::Zero();
+    if (correcting) prior_k = in.correction_sigma.cwiseInverse() * config_.cauchy_scale;
+    CorrectionPrior prior(prior_k);
     ceres::Problem::Options problem_options;
     problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Solver::Options options;
@@ -156,16 +238,18 @@ const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3
     options.minimizer_progress_to_stdout = false;
 
     int n = 0;
-    double kernel = config_.cauchy_scale_initial;
+    // A wide threshold (a poor prediction) starts the kernel wider too.
+    double kernel = std::max(config_.cauchy_scale_initial, max_distance / 6);
     for (int it = 0; it < config_.max_iterations;
          ++it, kernel = std::max(config_.cauchy_scale, kernel / 2)) {
-        const double remaining = std::chrono::duration<double>(deadline - Clock::now()).count();
+        const double remaining =
+            std::chrono::duration<double>(deadline - BudgetNow(config_.cpu_time_budget)).count();
         if (remaining <= 0) {
             result_.over_budget = true;
             break;
         }
         const Eigen::Isometry3d T = ApplyPerturbation(T0, delta);
-        const int found = Associate(points, map, edges, edge_map, T, kernel);
+        const int found = Associate(in, map, T, xi, max_distance, kernel);
         if (found < config_.min_correspondences) {
             if (it == 0) {
                 result_.failed = true;
@@ -176,46 +260,78 @@ const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3
         }
         n = found;
         cost.SetCount(n);
+        const common::Vector6d xi_before = xi;
         ceres::Problem problem(problem_options);
-        problem.AddResidualBlock(&cost, nullptr, delta.data());
+        problem.AddResidualBlock(&cost, nullptr, delta.data(), xi.data());
+        if (correcting) {
+            problem.AddResidualBlock(&prior, nullptr, xi.data());
+        } else {
+            problem.SetParameterBlockConstant(xi.data());
+        }
         options.max_solver_time_in_seconds = remaining;
         ceres::Solver::Summary summary;
         ceres::Solve(options, &problem, &summary);
         ++result_.iterations;
         const Eigen::Isometry3d step = common::Between(T, ApplyPerturbation(T0, delta));
+        // The correction's step, as the displacement it makes at the end of the sweep 10 m out.
+        const common::Vector6d dxi = xi - xi_before;
+        const double xi_step = dxi.head<3>().norm() + 10.0 * dxi.tail<3>().norm();
         if (kernel <= config_.cauchy_scale &&
             step.translation().norm() < config_.converged_translation &&
-            common::RotationAngle(step) < config_.converged_rotation) {
+            common::RotationAngle(step) < config_.converged_rotation &&
+            xi_step < 10.0 * config_.converged_translation) {
             result_.converged = true;
             break;
         }
     }
 
-    // The normal equations at the solution, with rotation scaled to metres (header comment).
-    const RowModel m(T0, delta.data());
+    // The normal equations at the solution, with rotation scaled to metres (header comment):
+    // H over [delta, xi], the correction's prior added to its block.
+    const RowModel m(T0, delta.data(), xi.data());
     double mean_range = 0, weight_sum = 0, weighted_sq = 0;
     for (int i = 0; i < n; ++i) mean_range += corr_[size_t(i)].p.norm();
     mean_range = n > 0 ? std::max(1.0, mean_range / n) : 1.0;
-    common::Matrix6d H = common::Matrix6d::Zero();
+    using Matrix12d = Eigen::Matrix<double, 12, 12>;
+    using Vector12d = Eigen::Matrix<double, 12, 1>;
+    Matrix12d H = Matrix12d::Zero();
     for (int i = 0; i < n; ++i) {
         const Correspondence& c = corr_[size_t(i)];
-        common::Vector6d J;
-        J.head<3>() = m.R0.transpose() * c.n;
-        J.tail<3>() = m.Jr.transpose() * c.p.cross(m.R.transpose() * c.n) / mean_range;
+        const Eigen::Vector3d L = m.Local(c.p, c.alpha);
+        const Eigen::Vector3d Rn = m.R.transpose() * c.n;
+        Vector12d J;
+        J.segment<3>(0) = m.R0.transpose() * c.n;
+        J.segment<3>(3) = m.Jr.transpose() * L.cross(Rn) / mean_range;
+        J.segment<3>(6) = c.alpha * Rn;
+        J.segment<3>(9) = c.alpha * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha)) / mean_range;
         const double w = c.sqrt_w * c.sqrt_w;
-        const double r = c.n.dot(m.R * c.p + m.t) - c.d;
-        H += w * J * J.transpose();
+        const double r = c.n.dot(m.R * L + m.t) - c.d;
+        H.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
         weight_sum += w;
         weighted_sq += w * r * r;
     }
+    H = H.selfadjointView<Eigen::Lower>();
     common::Vector6d scale;
-    scale << 1, 1, 1, 1 / mean_range, 1 / mean_range, 1 / mean_range;  // delta = S delta'
-    Eigen::SelfAdjointEigenSolver<common::Matrix6d> eig(H);
+    scale << 1, 1, 1, 1 / mean_range, 1 / mean_range, 1 / mean_range;  // x = S x'
+    // The correction's block: its prior (in scaled units), or pinned when not estimated.
+    common::Matrix6d Hxx = H.block<6, 6>(6, 6);
+    const common::Matrix6d Hdx = H.block<6, 6>(0, 6);
+    if (correcting) {
+        Hxx += prior_k.cwiseProduct(scale).cwiseAbs2().asDiagonal();
+    } else {
+        Hxx = common::Matrix6d::Identity();
+    }
+    const Eigen::LDLT<common::Matrix6d> Hxx_ldlt(Hxx);
+    // The information about delta with the correction marginalised out (Schur complement).
+    const common::Matrix6d S =
+        correcting ? common::Matrix6d(H.block<6, 6>(0, 0) - Hdx * Hxx_ldlt.solve(Hdx.transpose()))
+                   : common::Matrix6d(H.block<6, 6>(0, 0));
+    Eigen::SelfAdjointEigenSolver<common::Matrix6d> eig(S);
     const common::Vector6d lambda = eig.eigenvalues();
     const common::Matrix6d V = eig.eigenvectors();
-    common::Vector6d scaled = delta.cwiseQuotient(scale);
+    const common::Vector6d scaled_before = delta.cwiseQuotient(scale);
+    common::Vector6d scaled = scaled_before;
     const double s2 = std::max(weighted_sq / std::max(1.0, weight_sum - 6), 0.005 * 0.005);
-    const common::Vector6d prior_var = prior_sigma.cwiseQuotient(scale).cwiseAbs2();
+    const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(scale).cwiseAbs2();
     common::Matrix6d cov = common::Matrix6d::Zero();
     result_.min_eigen_ratio = weight_sum > 0 ? lambda(0) / weight_sum : 0;
     for (int k = 0; k < 6; ++k) {
@@ -224,12 +340,36 @@ const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3
             cov += (s2 / lambda(k)) * v * v.transpose();
             continue;
         }
-        ++result_.degenerate_directions;
-        scaled -= v * v.dot(scaled);  // this direction keeps the initial guess
-        cov += v.cwiseAbs2().dot(prior_var) * v * v.transpose();
+        // A weak direction. Mostly translation (a corridor's axis, a tunnel): the scan's
+        // information along it comes from noise and discretisation, so it keeps the initial
+        // guess (Zhang et al.). Mostly rotation: indoors every rotation is seen by some surface
+        // at range, so the scan's estimate (variance s2 / lambda) and the guess's (variance
+        // v^T P v, P the prior's diagonal) are fused by their information; the guess wins only
+        // where it knows more. Keeping a constant-velocity guess outright there put the Go1
+        // trot's wobble into the pose (README.md, "LiDAR only").
+        const double prior_var_v = std::max(v.cwiseAbs2().dot(prior_var), 1e-12);
+        if (v.head<3>().squaredNorm() >= 0.5) {
+            ++result_.degenerate_directions;
+            scaled -= v * v.dot(scaled);  // this direction keeps the initial guess
+            cov += prior_var_v * v * v.transpose();
+            continue;
+        }
+        const double data_info = std::max(lambda(k), 0.0) / s2;
+        const double prior_info = 1.0 / prior_var_v;
+        const double keep = data_info / (data_info + prior_info);  // the scan's share
+        if (keep < 0.5) ++result_.degenerate_directions;
+        scaled -= (1.0 - keep) * v * v.dot(scaled);
+        cov += 1.0 / (data_info + prior_info) * v * v.transpose();
+    }
+    if (correcting && result_.degenerate_directions > 0) {
+        // The correction's optimum given the delta kept: xi' += -Hxx^-1 Hxd (delta' - delta).
+        const common::Vector6d scaled_xi =
+            xi.cwiseQuotient(scale) - Hxx_ldlt.solve(Hdx.transpose() * (scaled - scaled_before));
+        xi = scaled_xi.cwiseProduct(scale);
     }
     delta = scaled.cwiseProduct(scale);
     result_.T_map_lidar = ApplyPerturbation(T0, delta);
+    result_.correction = xi;
     result_.covariance = scale.asDiagonal() * cov * scale.asDiagonal();
     result_.correspondences = n;
     result_.rms = weight_sum > 0 ? std::sqrt(weighted_sq / weight_sum) : 0;

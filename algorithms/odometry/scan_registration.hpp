@@ -6,24 +6,41 @@
 // lowered the error by 4 % (0.4 mm); without the IMU, on a hand-held walk, it diverged once.
 // The planes of 0.6 m voxels already give every wall, floor and ceiling point a correspondence.
 //
-// The unknown is a perturbation delta = [rho; phi] of the initial guess T0 on the right
-// (the lidar frame): R = R0 Exp(phi), t = t0 + R0 rho. Each correspondence i (scan point p_i,
-// plane n_i . x = d_i) gives the residual r_i = sqrt(w_i) (n_i . (R p_i + t) - d_i) with the
-// exact Jacobian dr/drho = sqrt(w_i) n_i^T R0, dr/dphi = sqrt(w_i) (p_i x R^T n_i)^T J_r(phi)
-// (Barfoot, "State Estimation for Robotics", eq. 7.77; J_r(phi) = J_l(-phi)).
+// Unknowns. A perturbation delta = [rho; phi] of the initial guess T0 on the right (the lidar
+// frame at the scan start): R = R0 Exp(phi), t = t0 + R0 rho; and a correction xi = [rho_x;
+// phi_x] of the motion during the sweep the points were deskewed with (continuous time, as
+// CT-ICP, Dellenbach et al., ICRA 2022, with the end pose written relative to the start). A
+// point q_i deskewed to the scan start with the predicted motion, taken at the fraction alpha_i
+// of the sweep, lies at
+//   L_i = Exp(alpha_i phi_x) q_i + alpha_i rho_x      (the corrected deskew)
+// and each correspondence (plane n_i . x = d_i) gives r_i = sqrt(w_i) (n_i . (R L_i + t) - d_i).
+// Exact Jacobians: dr/drho = sqrt(w) n^T R0, dr/dphi = sqrt(w) (L x R^T n)^T J_r(phi) (Barfoot,
+// "State Estimation for Robotics", eq. 7.77; J_r(phi) = J_l(-phi)); dr/drho_x = alpha sqrt(w)
+// n^T R, dr/dphi_x = alpha sqrt(w) (q x E^T R^T n)^T J_r(alpha phi_x) with E = Exp(alpha
+// phi_x), J_r taken as I (phi_x is a correction of a few degrees at most: only the convergence
+// rate depends on it, not the solution). Exp(alpha phi_x) is evaluated to second order
+// (I + [a]x + [a]x^2 / 2, a = alpha phi_x): its error, |a|^3 / 6, is 0.07 mm at 10 m for 2 deg.
+// Why the correction: a scan deskewed with a motion that is wrong keeps the error in its shape,
+// and no rigid pose fits it. Without the IMU the constant-velocity prediction cannot follow a
+// Go1's trot (1.5 deg of roll at 2 Hz, 19 deg/s at its peak, lags a tenth of a second, so a
+// sweep's rotation is off by up to 2 deg, 35 cm at 10 m); estimating the sweep's motion with the
+// pose is what lets the scan fit (README.md, "LiDAR only"). The correction has a prior: zero
+// with correction_sigma (over the sweep), so that it stays put where the scene cannot see it.
 //
 // Robust loss: Cauchy, applied by iteratively reweighted least squares: each outer iteration
 // finds correspondences at the current pose and sets w_i = 1 / (1 + (r_i / c)^2); Ceres then
 // solves the weighted problem. c is annealed from coarse to fine (graduated non-convexity, as in
-// Yang et al., "GNC", RA-L 2020). Correspondences farther than max_correspondence_distance are not
-// made at all.
+// Yang et al., "GNC", RA-L 2020). Correspondences farther than the correspondence distance are
+// not made at all; the caller adapts that distance to how good its predictions have been
+// (KISS-ICP's adaptive threshold, lidar_odometry.hpp).
 //
 // Degeneracy (Zhang, Kaess, Singh, "On Degeneracy of Optimization-based State Estimation
-// Problems", ICRA 2016): the eigenvalues of the normal equations H = J^T W J, with rotation
-// scaled by the mean range so that both halves are in metres, divided by the weight sum: a
-// direction whose share of the constraints is below degenerate_ratio (a long corridor's axis)
-// takes its value from the initial guess (the motion prior) instead of the scan:
-// delta <- (I - V_d V_d^T) delta.
+// Problems", ICRA 2016): the information about delta with the correction marginalised out (the
+// Schur complement of the normal equations H = J^T W J plus the correction's prior), with
+// rotation scaled by the mean range so that both halves are in metres, divided by the weight
+// sum: a direction whose share of the constraints is below degenerate_ratio (a long corridor's
+// axis) takes its value from the initial guess (the motion prior) instead of the scan:
+// delta <- (I - V_d V_d^T) delta, and the correction follows (its conditional optimum).
 #pragma once
 
 #include <Eigen/Core>
@@ -40,6 +57,10 @@
 namespace bimslam::odometry {
 
 struct RegistrationConfig {
+    // The clock of the time budget (the deadline): wall time, or this thread's CPU time, so that
+    // on a machine shared with other work (offline replay, CI) what the budget cuts is the
+    // odometry's own work, not the time other processes took (LidarOdometry uses it too).
+    bool cpu_time_budget = false;
     int max_iterations = 20;                   // outer: correspondences found again
     int max_solver_iterations = 4;             // Ceres iterations per outer iteration
     double max_correspondence_distance = 0.5;  // m
@@ -53,8 +74,26 @@ struct RegistrationConfig {
     double converged_translation = 1e-3;  // m
     double converged_rotation = 1e-4;     // rad
     double degenerate_ratio = 0.01;
+    // Estimate the correction of the sweep's motion (header); off: a rigid scan.
+    bool motion_correction = true;
 
     void Validate() const;
+};
+
+// What one registration is given besides the map.
+struct AlignInput {
+    std::span<const Eigen::Vector3f> points;  // lidar frame at the scan start (deskewed)
+    std::span<const float> alpha;             // per point, its fraction of the sweep; empty: 0
+    Eigen::Isometry3d T0 = Eigen::Isometry3d::Identity();
+    // The initial guess's standard deviations [m, m, m, rad, rad, rad] (the covariance along
+    // degenerate directions).
+    common::Vector6d prior_sigma = common::Vector6d::Constant(0.05);
+    // The prior of the motion correction over the sweep [m, m, m, rad, rad, rad]; zero: none
+    // estimated.
+    common::Vector6d correction_sigma = common::Vector6d::Zero();
+    double max_correspondence_distance = 0;  // m; 0: the configuration's
+    std::span<const Eigen::Vector3f> edges;  // LOAM edge points (alpha 0), with edge_map
+    const VoxelMap* edge_map = nullptr;
 };
 
 struct RegistrationResult {
@@ -70,7 +109,22 @@ struct RegistrationResult {
     bool converged = false;
     bool over_budget = false;  // stopped by the deadline; the best estimate so far
     bool failed = false;       // too few correspondences: T_map_lidar is the initial guess
+    // The correction xi of the sweep's motion (header): a point at fraction alpha of the sweep
+    // belongs at CorrectPoint(q, alpha, correction) in the lidar frame at the scan start.
+    common::Vector6d correction = common::Vector6d::Zero();
 };
+
+// Exp(alpha phi) q + alpha rho to second order in alpha phi (header).
+inline Eigen::Vector3f CorrectPoint(const Eigen::Vector3f& q, float alpha,
+                                    const Eigen::Vector3f& rho, const Eigen::Vector3f& phi) {
+    const Eigen::Vector3f a = alpha * phi;
+    const Eigen::Vector3f aq = a.cross(q);
+    return q + aq + 0.5f * a.cross(aq) + alpha * rho;
+}
+
+// Now on the budget's clock: steady_clock, or the calling thread's CPU time expressed as a
+// steady_clock time point (only ever compared with others of the same clock).
+std::chrono::steady_clock::time_point BudgetNow(bool cpu_time);
 
 class ScanRegistration {
 public:
@@ -80,11 +134,13 @@ public:
     explicit ScanRegistration(const RegistrationConfig& config = {}, size_t max_points = 8192);
     ~ScanRegistration();
 
-    // Registers `points` (lidar frame) to `map` starting from T0. Returns at the deadline with
-    // what it has. prior_sigma: the initial guess's standard deviations [m, m, m, rad, rad, rad]
-    // (the covariance along degenerate directions).
-    // With `edges` and an `edge_map` (fit_lines), LOAM's edge points join in: point-to-line,
-    // as two point-to-plane residuals on planes through the line, orthogonal to each other.
+    // Registers in.points to `map` starting from in.T0, with the motion correction when
+    // in.correction_sigma is not zero. Returns at the deadline with what it has. With edges and
+    // an edge_map (fit_lines), LOAM's edge points join in: point-to-line, as two point-to-plane
+    // residuals on planes through the line, orthogonal to each other.
+    const RegistrationResult& Align(const AlignInput& in, const VoxelMap& map,
+                                    Clock::time_point deadline);
+    // A rigid scan (no correction), the configuration's correspondence distance.
     const RegistrationResult& Align(std::span<const Eigen::Vector3f> points, const VoxelMap& map,
                                     const Eigen::Isometry3d& T0,
                                     const common::Vector6d& prior_sigma, Clock::time_point deadline,
@@ -95,15 +151,16 @@ public:
 
 private:
     struct Correspondence {
-        Eigen::Vector3d p;  // lidar frame
+        Eigen::Vector3d p;  // lidar frame at the scan start, as deskewed (q)
         Eigen::Vector3d n;  // map frame
         double d = 0;
         double sqrt_w = 1;
+        double alpha = 0;
     };
     class Cost;
-    int Associate(std::span<const Eigen::Vector3f> points, const VoxelMap& map,
-                  std::span<const Eigen::Vector3f> edges, const VoxelMap* edge_map,
-                  const Eigen::Isometry3d& T, double cauchy_scale);
+    class CorrectionPrior;
+    int Associate(const AlignInput& in, const VoxelMap& map, const Eigen::Isometry3d& T,
+                  const common::Vector6d& xi, double max_distance, double cauchy_scale);
 
     RegistrationConfig config_;
     std::vector<Correspondence> corr_;

@@ -191,9 +191,10 @@ void VoxelMap::RebuildSlots() {
     }
 }
 
-void VoxelMap::Prune(const Eigen::Vector3d& sensor) {
+void VoxelMap::Prune(const Eigen::Vector3d& sensor, double max_radius) {
     const Eigen::Vector3f c = ((sensor.cast<float>() * inv_size_).array() - 0.5f).matrix();
-    double radius = config_.max_distance;
+    double radius =
+        max_radius > 0 ? std::min(max_radius, config_.max_distance) : config_.max_distance;
     const size_t before = voxels_.size();
     bool shrinking = false;
     for (;;) {

@@ -25,9 +25,9 @@ struct VoxelMapConfig {
     double voxel_size = 0.6;        // m
     int max_points_per_voxel = 24;  // <= kMaxPointsPerVoxel
     double min_point_spacing =
-        0.08;                    // m: a new point closer than this to one in its voxel is dropped
-    size_t max_voxels = 40000;   // about 40 MB at 24 points per voxel
-    double max_distance = 35.0;  // m from the sensor
+        0.08;                     // m: a new point closer than this to one in its voxel is dropped
+    size_t max_voxels = 40000;    // about 40 MB at 24 points per voxel
+    double max_distance = 100.0;  // m from the sensor (LidarOdometry prunes to the extent)
     // Plane test: at least min_plane_points, and the standard deviation across the plane at most
     // max_plane_thickness while the spread within it is at least three times that.
     int min_plane_points = 5;
@@ -58,8 +58,9 @@ public:
 
     // Adds points (map frame), then refits the planes of the voxels that changed.
     void Insert(std::span<const Eigen::Vector3f> points);
-    // Drops the voxels beyond max_distance of `sensor` (map frame), then more if still full.
-    void Prune(const Eigen::Vector3d& sensor);
+    // Drops the voxels beyond `radius` (at most max_distance; <= 0: max_distance) of `sensor`
+    // (map frame), then more if still full.
+    void Prune(const Eigen::Vector3d& sensor, double radius = 0);
     void Clear();
 
     // The plane for a point (map frame): of its voxel and its 6 face neighbours, the valid plane

@@ -183,6 +183,7 @@ BodyTrajectory::BodyTrajectory(const std::vector<Eigen::Vector2d>& path_in, doub
             std::max(ds[i] / std::max(mean_v, 1e-3),
                      std::abs(heading[i] - heading[i - 1]) / timing.max_yaw_rate_radps);
         t += dt;
+        if (timing.start_at_speed && start_s_ == 0 && v[i] >= 0.95 * timing.speed_mps) start_s_ = t;
         length_m_ += ds[i];
         keys.push_back({t, Eigen::Vector3d(path[i].x(), path[i].y(), heading[i])});
     }
@@ -241,6 +242,7 @@ Eigen::Vector3d BodyTrajectory::SplineAt(double t, int derivative) const {
 }
 
 Eigen::Isometry3d BodyTrajectory::Pose(double t) const {
+    t += start_s_;
     const Eigen::Vector3d q = SplineAt(t, 0);
     const double phase = 2 * M_PI * gait_.frequency_hz * t;
     const double deg = kDegToRad;
@@ -271,6 +273,7 @@ Eigen::Isometry3d BodyTrajectory::Pose(double t) const {
 }
 
 BodyTrajectory::Planar BodyTrajectory::PlanarAt(double t) const {
+    t += start_s_;
     const Eigen::Vector3d q = SplineAt(t, 0), dq = SplineAt(t, 1);
     Planar p;
     p.xy = q.head<2>();
@@ -284,7 +287,7 @@ BodyTrajectory::Planar BodyTrajectory::PlanarAt(double t) const {
 FootContacts BodyTrajectory::ContactsAt(double t) const {
     // Trot: FR with RL, FL with RR, half a cycle apart; each foot on the ground duty_factor of
     // its cycle, starting at its pair's phase.
-    const double cycle = t * gait_.frequency_hz;
+    const double cycle = (t + start_s_) * gait_.frequency_hz;
     auto on = [&](double offset) {
         const double phase = cycle + offset - std::floor(cycle + offset);
         return phase < gait_.duty_factor;

@@ -38,6 +38,9 @@ struct PathTiming {
     double max_yaw_rate_radps = 1.0;
     double max_lateral_accel_mps2 = 0.5;
     double stand_s = 1.0;  // standing still before and after the walk
+    // Time 0 is where the walk first reaches 95 % of its cruise speed instead of standing still
+    // before it: a recording that starts in motion (issue 17, item 2).
+    bool start_at_speed = false;
 
     // Throws common::Error (kInvalidArgument) naming the field and value.
     void Validate() const;
@@ -74,7 +77,9 @@ public:
     BodyTrajectory(const std::vector<Eigen::Vector2d>& path, double start_yaw, double floor_z,
                    const PathTiming& timing, const GaitConfig& gait, uint64_t seed = 0);
 
-    double duration_s() const { return duration_s_; }
+    double duration_s() const { return duration_s_ - start_s_; }
+    // Where time 0 lies in the walk (PathTiming::start_at_speed; else 0).
+    double start_s() const { return start_s_; }
     double length_m() const { return length_m_; }
     double floor_z() const { return floor_z_; }
 
@@ -109,7 +114,8 @@ private:
 
     GaitConfig gait_;
     double floor_z_ = 0;
-    double duration_s_ = 0;
+    double duration_s_ = 0;  // of the whole walk, standing included
+    double start_s_ = 0;
     double length_m_ = 0;
     double knot_s_ = 0.01;
     std::vector<Eigen::Vector3d> control_;  // (x, y, yaw) every knot_s_

@@ -71,6 +71,9 @@ void AnchorConfig::Validate() const {
             double(free_space_level), "must name a registration level");
     Require(max_seen_through > 0 && max_seen_through <= 1, c, "max_seen_through", max_seen_through,
             "must be in (0, 1]");
+    Require(outweigh_ratio >= 1, c, "outweigh_ratio", outweigh_ratio, "must be at least 1");
+    Require(outweigh_gap > 0 && outweigh_gap <= 1, c, "outweigh_gap", outweigh_gap,
+            "must be in (0, 1]");
     Require(min_loops >= 1, c, "min_loops", min_loops, "must be at least 1");
     Require(min_coverage >= 0 && min_coverage <= 1, c, "min_coverage", min_coverage,
             "must be in [0, 1]");

@@ -52,6 +52,7 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
                             {"mean_inlier_ratio", h.mean_inlier_ratio},
                             {"seen_through", h.seen_through},
                             {"contradicted", h.contradicted},
+                            {"outweighed", h.outweighed},
                             {"rounds", h.rounds}});
         }
         json e = {{"name", s.name},

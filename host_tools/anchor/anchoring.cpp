@@ -118,15 +118,27 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
         evals.back().hypothesis.clique_index = int(h);
         if (progress) progress("hypotheses: " + query.name, h + 1, cliques.size());
     }
-    // Hypotheses that free space contradicts rank last; then by the keyframes they explain.
+    // Hypotheses that free space contradicts rank last, then those it outweighs (a hypothesis
+    // explaining nearly as many keyframes sees through the model decisively less: two storeys
+    // alike but for a few partitions); then by the keyframes they explain.
     for (Evaluation& e : evals) {
         e.hypothesis.contradicted = e.hypothesis.seen_through > config.max_seen_through;
     }
-    std::sort(evals.begin(), evals.end(), [](const Evaluation& a, const Evaluation& b) {
-        return std::make_tuple(!a.hypothesis.contradicted, a.hypothesis.covered,
-                               a.hypothesis.loops) > std::make_tuple(!b.hypothesis.contradicted,
-                                                                     b.hypothesis.covered,
-                                                                     b.hypothesis.loops);
+    for (Evaluation& b : evals) {
+        for (const Evaluation& a : evals) {
+            if (&a == &b || a.hypothesis.contradicted || b.hypothesis.contradicted) continue;
+            if (double(a.hypothesis.covered) >=
+                    config.ambiguity_ratio * double(b.hypothesis.covered) &&
+                FreeSpacePrefers(a.hypothesis, b.hypothesis, config)) {
+                b.hypothesis.outweighed = true;
+            }
+        }
+    }
+    const auto rank = [](const Hypothesis& h) {
+        return std::make_tuple(!h.contradicted, !h.outweighed, h.covered, h.loops);
+    };
+    std::sort(evals.begin(), evals.end(), [&](const Evaluation& a, const Evaluation& b) {
+        return rank(a.hypothesis) > rank(b.hypothesis);
     });
     for (const Evaluation& e : evals) res.hypotheses.push_back(e.hypothesis);
 
@@ -157,7 +169,7 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
         return out;
     }
     const Evaluation& best = evals[0];
-    if (evals.size() > 1 && !evals[1].hypothesis.contradicted) {
+    if (evals.size() > 1 && !evals[1].hypothesis.contradicted && !evals[1].hypothesis.outweighed) {
         const Evaluation& rival = evals[1];
         const double dist =
             MeanDistance(query.poses, best.hypothesis.anchor, rival.hypothesis.anchor);
@@ -194,6 +206,8 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
         res.reason +=
             "the next hypothesis explains " + std::to_string(next.covered) +
             (next.contradicted ? " and is contradicted (" + percent(next.seen_through) + ")"
+             : next.outweighed ? " and is outweighed by free space (" + percent(next.seen_through) +
+                                     " of rays through the model)"
                                : std::string());
     }
     out.state = best.query;
@@ -222,6 +236,11 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
 }
 
 }  // namespace
+
+bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config) {
+    return a.seen_through * config.outweigh_ratio <= b.seen_through &&
+           b.seen_through - a.seen_through >= config.outweigh_gap;
+}
 
 std::string_view ToString(Verdict v) {
     switch (v) {

@@ -73,6 +73,9 @@ struct Hypothesis {
     // evidence against the placement.
     double seen_through = 0;
     bool contradicted = false;  // seen_through over AnchorConfig::max_seen_through
+    // Another uncontradicted hypothesis explains nearly as many keyframes and free space prefers
+    // it decisively (FreeSpacePrefers): not a rival.
+    bool outweighed = false;
     int rounds = 0;
 };
 
@@ -111,6 +114,10 @@ struct AnchorResult {
 
 // Progress: (stage name, done, total).
 using Progress = std::function<void(const std::string&, size_t, size_t)>;
+
+// Whether the free-space evidence prefers hypothesis a to b decisively: a's keyframes see
+// through the model at most 1/outweigh_ratio as often as b's, and by at least outweigh_gap less.
+bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
 
 // sessions[0] is the reference (held fixed, its frame is the world's); the rest are queries.
 // Every session must have been loaded with clouds. Throws common::Error for a bad config.

@@ -24,6 +24,7 @@ struct OdometryArgs {
     bool no_deskew = false;
     bool edge_features = false;
     double budget_ms = 50;
+    bool budget_cpu = false;
     double duration_s = 0;
     bool overwrite = false;
     bool json = false;
@@ -38,6 +39,7 @@ int Odometry(const OdometryArgs& a) {
     o.use_can = !a.no_can;
     o.use_imu = !a.no_imu;
     o.odometry.budget_ms = a.budget_ms;
+    o.odometry.registration.cpu_time_budget = a.budget_cpu;
     o.odometry.preprocess.deskew = !a.no_deskew;
     o.odometry.edge_features = a.edge_features;
     o.max_duration_s = a.duration_s;
@@ -69,6 +71,15 @@ int Odometry(const OdometryArgs& a) {
                             {"scan_ms_p50", p50},
                             {"scan_ms_p99", p99},
                             {"scan_ms_max", max},
+                            {"preprocess_ms_p50", replay::Percentile(rep.preprocess_ms, 0.5)},
+                            {"preprocess_ms_p99", replay::Percentile(rep.preprocess_ms, 0.99)},
+                            {"register_ms_p50", replay::Percentile(rep.register_ms, 0.5)},
+                            {"register_ms_p99", replay::Percentile(rep.register_ms, 0.99)},
+                            {"map_ms_p50", replay::Percentile(rep.map_ms, 0.5)},
+                            {"map_ms_p99", replay::Percentile(rep.map_ms, 0.99)},
+                            {"mean_registration_points", rep.mean_registration_points},
+                            {"mean_iterations", rep.mean_iterations},
+                            {"mean_map_points", rep.mean_map_points},
                             {"over_budget", rep.over_budget},
                             {"degenerate", rep.degenerate},
                             {"failed", rep.failed},
@@ -133,6 +144,10 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--budget-ms", args->budget_ms, "Time budget per scan")
         ->check(CLI::Range(1.0, 10000.0))
         ->capture_default_str();
+    cmd->add_flag("--budget-cpu", args->budget_cpu,
+                  "Count the budget in this thread's CPU time instead of wall time: on a machine "
+                  "shared with other work the session then depends on the work, not on the load "
+                  "(the rig counts wall time)");
     cmd->add_option("--duration", args->duration_s, "Stop after this many seconds of capture")
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--overwrite", args->overwrite, "Replace an existing session");

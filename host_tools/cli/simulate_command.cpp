@@ -23,6 +23,7 @@ struct SimulateArgs {
     std::string storey;
     std::string scenario;
     std::string platform;
+    std::string sensor;
     double duration_s = -1;
     int64_t seed = -1;
     std::string out;
@@ -45,6 +46,10 @@ int Simulate(const SimulateArgs& a) {
     if (!a.model.empty()) s.model = a.model;
     if (!a.storey.empty()) s.storey = a.storey;
     if (a.duration_s >= 0) s.duration_s = a.duration_s;
+    if (!a.sensor.empty()) {
+        s.sensor.model = a.sensor;
+        s.sensor.metadata.clear();
+    }
     if (a.seed >= 0) s.seed = uint64_t(a.seed);
     if (s.model.empty()) {
         throw common::Error(common::StatusCode::kInvalidArgument,
@@ -118,6 +123,9 @@ void AddSimulateCommand(CLI::App& app, int& exit_code) {
                     "coverage walk with default noise)");
     cmd->add_option("--platform", a->platform, "go1 or handheld, without a scenario file")
         ->check(CLI::IsMember({"go1", "handheld"}));
+    cmd->add_option("--sensor", a->sensor,
+                    "built-in sensor: OS0, OS1 or OS2 with 16, 32, 64 or 128 beams, e.g. OS0-64, "
+                    "OS1-128 (overrides the scenario's sensor.model and metadata; default OS1-32)");
     cmd->add_option("--duration", a->duration_s,
                     "seconds to capture (default: the walk once; longer repeats the walk)")
         ->check(CLI::NonNegativeNumber);

@@ -160,7 +160,14 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
                 join.AddBody(body[next_body]);
             }
             const pipeline::ScanOutput& out = join.Process(scan);
-            report.scan_ms.push_back(out.odometry->total_ms);
+            const odometry::OdometryResult& r = *out.odometry;
+            report.scan_ms.push_back(r.total_ms);
+            report.preprocess_ms.push_back(r.preprocess_ms);
+            report.register_ms.push_back(r.register_ms);
+            report.map_ms.push_back(r.map_ms);
+            report.mean_registration_points += double(r.preprocess.registration_points);
+            report.mean_iterations += double(r.registration.iterations);
+            report.mean_map_points += double(r.preprocess.map_points);
             report.capture_s = double(stamp - first_stamp) * 1e-9;
             if (writer && out.clock_jump) {
                 // A sensor restart or clock step: a new odometry frame, so a new session next
@@ -204,6 +211,9 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
                                 "no lidar frame in the capture");
     }
     report.keyframes = st.keyframes;
+    report.mean_registration_points /= double(report.scans);
+    report.mean_iterations /= double(report.scans);
+    report.mean_map_points /= double(report.scans);
     report.host_minus_sensor_ns = st.host_minus_sensor_ns;
     if (writer) writer->Finish();
     report.wall_s =

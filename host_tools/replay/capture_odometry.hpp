@@ -47,6 +47,10 @@ struct CaptureOdometryReport {
     bool used_can = false;            // go1_can.log present and read
     bool mount_from_capture = false;  // T_base_lidar from capture.json
     std::vector<double> scan_ms;      // per scan, total time in LidarOdometry::Process
+    // Per scan, the stages of that time (OdometryResult::preprocess_ms, register_ms, map_ms) and
+    // the work: registration points, outer iterations, map points inserted.
+    std::vector<double> preprocess_ms, register_ms, map_ms;
+    double mean_registration_points = 0, mean_iterations = 0, mean_map_points = 0;
     size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
     double distance_m = 0;  // along the odometry trajectory
     double capture_s = 0;   // sensor time from the first to the last scan

@@ -40,9 +40,10 @@ ouster::SensorInfo SensorFor(const SensorSpec& spec) {
                                     "': must be LEGACY, RNG19, RNG15 or DUAL");
         }
         try {
-            info = ouster::BuiltinOs1_32(profile, columns, rate);
+            info = ouster::BuiltinOuster(spec.model, profile, columns, rate);
         } catch (const common::Error& e) {
-            throw common::Error(e.code(), "sensor.lidar_mode = '" + m + "': " + e.what());
+            throw common::Error(e.code(), "sensor.model = '" + spec.model + "', lidar_mode = '" +
+                                              m + "': " + e.what());
         }
         // Firmware 3.x: the newer profiles' packets carry a CRC-64 footer.
         info.build_rev = "v3.0.1";

@@ -63,7 +63,7 @@ private:
     OusterWriterStats stats_;
 };
 
-// The sensor the scenario asks for: its metadata file, or the built-in OS1-32 in the scenario's
+// The sensor the scenario asks for: its metadata file, or the built-in `model` in the scenario's
 // lidar mode and UDP profile, reporting firmware 3.0.1 (so that packets of the newer profiles
 // carry a CRC-64). Throws common::Error naming the field for a mode or profile it cannot make,
 // common::FileError for a bad metadata file, and for an IMU profile other than LEGACY.

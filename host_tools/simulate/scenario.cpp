@@ -14,6 +14,9 @@ using common::StatusCode;
 
 constexpr std::array<std::string_view, 4> kLidarModes = {"512x10", "1024x10", "2048x10", "1024x20"};
 constexpr std::array<std::string_view, 4> kUdpProfiles = {"LEGACY", "RNG19", "RNG15", "DUAL"};
+constexpr std::array<std::string_view, 12> kSensorModels = {
+    "OS0-16", "OS0-32",  "OS0-64", "OS0-128", "OS1-16", "OS1-32",
+    "OS1-64", "OS1-128", "OS2-16", "OS2-32",  "OS2-64", "OS2-128"};
 
 // Shortest text that reads back to the same double, so a message shows what the file said.
 std::string Num(double x) {
@@ -112,6 +115,7 @@ void ValidatePath(const PathSpec& p) {
 }
 
 void ValidateSensor(const SensorSpec& s) {
+    RequireOneOf("sensor.model", s.model, kSensorModels);
     RequireOneOf("sensor.lidar_mode", s.lidar_mode, kLidarModes);
     RequireOneOf("sensor.udp_profile", s.udp_profile, kUdpProfiles);
     // Within a few metres of the base: a rig, not a crane.

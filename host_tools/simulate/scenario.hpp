@@ -43,13 +43,17 @@ struct SpeedSpec {
     double max_accel_mps2 = 0.5;       // start, stop and braking before turns
     double max_yaw_rate_deg_s = 57.3;  // turns are slowed to this (1 rad/s)
     double max_lateral_accel_mps2 = 0.5;
+    // The capture starts where the walk first reaches its cruise speed, not standing still: a
+    // recording started in motion (simulation::PathTiming::start_at_speed).
+    bool start_at_speed = false;
 
     bool operator==(const SpeedSpec&) const = default;
 };
 
-// The sensor: the built-in OS1-32 (drivers/ouster BuiltinOs1_32) or a metadata file.
+// The sensor: a built-in one (drivers/ouster BuiltinOuster) or a metadata file.
 struct SensorSpec {
-    std::filesystem::path metadata;      // empty: built-in OS1-32
+    std::filesystem::path metadata;      // empty: the built-in `model`
+    std::string model = "OS1-32";        // built-in: OS0, OS1 or OS2 with 16, 32, 64 or 128 beams
     std::string lidar_mode = "1024x10";  // 512x10, 1024x10, 2048x10, 1024x20
     std::string udp_profile = "RNG19";   // LEGACY, RNG19, RNG15, DUAL
     // T_base_sensor: the sensor on the platform's base (the Go1 trunk centre, or the handheld

@@ -327,17 +327,20 @@ Scenario ReadScenario(Reader& r, const Node& root) {
 
     const Node speed = Reader::At(root, "speed");
     r.Keys(speed, "speed",
-           {"speed_mps", "max_accel_mps2", "max_yaw_rate_deg_s", "max_lateral_accel_mps2"});
+           {"speed_mps", "max_accel_mps2", "max_yaw_rate_deg_s", "max_lateral_accel_mps2",
+            "start_at_speed"});
     r.Get(speed, "speed", "speed_mps", s.speed.speed_mps);
     r.Get(speed, "speed", "max_accel_mps2", s.speed.max_accel_mps2);
     r.Get(speed, "speed", "max_yaw_rate_deg_s", s.speed.max_yaw_rate_deg_s);
     r.Get(speed, "speed", "max_lateral_accel_mps2", s.speed.max_lateral_accel_mps2);
+    r.Get(speed, "speed", "start_at_speed", s.speed.start_at_speed);
     r.Get(root, "", "duration_s", s.duration_s);
 
     const Node sensor = Reader::At(root, "sensor");
     r.Keys(sensor, "sensor",
-           {"metadata", "lidar_mode", "udp_profile", "mount_xyz", "mount_rpy_deg"});
+           {"metadata", "model", "lidar_mode", "udp_profile", "mount_xyz", "mount_rpy_deg"});
     r.Get(sensor, "sensor", "metadata", s.sensor.metadata);
+    r.Get(sensor, "sensor", "model", s.sensor.model);
     r.Get(sensor, "sensor", "lidar_mode", s.sensor.lidar_mode);
     r.Get(sensor, "sensor", "udp_profile", s.sensor.udp_profile);
     r.Get(sensor, "sensor", "mount_xyz", s.sensor.mount_xyz);

@@ -149,11 +149,13 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.Num("max_accel_mps2", s.speed.max_accel_mps2);
     w.Num("max_yaw_rate_deg_s", s.speed.max_yaw_rate_deg_s);
     w.Num("max_lateral_accel_mps2", s.speed.max_lateral_accel_mps2);
+    w.Key("start_at_speed").out() << (s.speed.start_at_speed ? "true" : "false");
     w.EndMap();
     w.Num("duration_s", s.duration_s);
 
     w.BeginMap("sensor");
     w.Str("metadata", s.sensor.metadata.string());
+    w.Str("model", s.sensor.model);
     w.Str("lidar_mode", s.sensor.lidar_mode);
     w.Str("udp_profile", s.sensor.udp_profile);
     w.Vec("mount_xyz", s.sensor.mount_xyz);

@@ -56,6 +56,7 @@ simulation::BodyTrajectory MakeTrajectory(const Walk& walk, const Scenario& s, s
     timing.max_accel_mps2 = s.speed.max_accel_mps2;
     timing.max_yaw_rate_radps = s.speed.max_yaw_rate_deg_s * kDeg;
     timing.max_lateral_accel_mps2 = s.speed.max_lateral_accel_mps2;
+    timing.start_at_speed = s.speed.start_at_speed;
     *laps = 1;
     for (;;) {
         simulation::BodyTrajectory t(RepeatWalk(walk, s.path.mode, *laps), walk.start_yaw,

@@ -12,6 +12,17 @@
 //   time p50/p99/max (ms), scans over budget and degenerate, and realtime_x (capture seconds per
 //   second of replay, session writing included).
 //
+// BM_OdometryAccuracy/.../imu:I  (I 0 = without the Ouster IMU, as `bimslam odometry --no-imu`;
+//   the Go1 then keeps its CAN prior, the handheld has none: LiDAR only)
+//
+// BM_OdometrySensor/sensor:K/platform:P/seconds:S  (K 0 = OS1-32, 1 = OS0-64, 2 = OS1-128, the
+// simulator's built-in sensors (drivers/ouster BuiltinOuster), 1024x10)
+//   Time per scan for each sensor, with the accuracy kept: the same counters, plus the thread's
+//   CPU time between consecutive scans (cpu_ms_*: packet decoding and the odometry, measured with
+//   CLOCK_THREAD_CPUTIME_ID, so a machine shared with other work inflates it less than the wall
+//   time) and the worst scan of the first second (first_s_ms_max, wall: the map is empty and the
+//   voxel sizes not yet adapted there).
+//
 // BM_OdometryMemory/seconds:S  (opt-in: BIMSLAM_BENCH_LONG=1)
 //   A long Go1 capture (the coverage walk repeated; ~4.3 MB of pcap per captured second, so ~7.7 GB
 //   for 30 min) replayed without writing a session: the process's resident memory after 5 minutes
@@ -19,6 +30,7 @@
 //   also the accuracy over the whole walk (se3 alignment), from the poses kept in memory.
 #include <benchmark/benchmark.h>
 #include <malloc.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -42,35 +54,26 @@ using simulate::Platform;
 
 // The default scenario of `platform`, `seconds` long (the walk repeats when it is shorter),
 // simulated in the sample building into dir/capture. The model is freed before returning.
-simulate::CaptureReport Simulate(const test::TempDir& dir, Platform platform, double seconds) {
+simulate::CaptureReport Simulate(const test::TempDir& dir, Platform platform, double seconds,
+                                 const std::string& sensor = "OS1-32") {
     const fs::path ifc = dir / "building.ifc";
     bim::WriteSampleBuilding(ifc);
     const bim::BimModel model = bim::LoadIfc(ifc);
     simulate::Scenario s = simulate::DefaultScenario(platform);
     s.duration_s = seconds;
+    s.sensor.model = sensor;
     return simulate::SimulateCapture(s, model, "", dir / "capture");
 }
 
-void BM_OdometryAccuracy(benchmark::State& state) {
-    const bool handheld = state.range(0) == 1;
-    test::TempDir tmp;
-    const simulate::CaptureReport sim =
-        Simulate(tmp, handheld ? Platform::kHandheld : Platform::kGo1, double(state.range(1)));
+double ThreadCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 
-    CaptureOdometryOptions o;
-    o.capture_dir = sim.dir;
-    o.session_dir = tmp / "session";
-    o.overwrite = true;
-    o.use_can = !handheld;  // as `bimslam odometry --no-can` for a handheld capture
-    o.odometry.edge_features = state.range(2) == 1;
-    CaptureOdometryReport rep;
-    for (auto _ : state) rep = RunCaptureOdometry(o);
-
-    evaluation::EvaluationConfig config;
-    config.align = evaluation::Alignment::kSe3;
-    const evaluation::EvaluationResult e = evaluation::EvaluateFiles(
-        o.session_dir / "trajectory.tum", sim.dir / "ground_truth.tum", config);
-
+// The accuracy and time counters every case reports.
+void SetCounters(benchmark::State& state, const CaptureOdometryReport& rep,
+                 const evaluation::EvaluationResult& e) {
     state.counters["ape_trans_rmse_cm"] = 100.0 * e.ape_trans_m.rmse;
     state.counters["ape_trans_max_cm"] = 100.0 * e.ape_trans_m.max;
     state.counters["ape_rot_rmse_deg"] = e.ape_rot_deg.rmse;
@@ -87,15 +90,92 @@ void BM_OdometryAccuracy(benchmark::State& state) {
     state.counters["matched"] = double(e.matched);
     state.counters["keyframes"] = double(rep.keyframes);
     state.counters["realtime_x"] = rep.capture_s / std::max(rep.wall_s, 1e-9);
-    state.SetLabel(std::string(handheld ? "handheld" : "go1+can") +
+}
+
+void BM_OdometryAccuracy(benchmark::State& state) {
+    const bool handheld = state.range(0) == 1;
+    test::TempDir tmp;
+    const simulate::CaptureReport sim =
+        Simulate(tmp, handheld ? Platform::kHandheld : Platform::kGo1, double(state.range(1)));
+
+    CaptureOdometryOptions o;
+    o.capture_dir = sim.dir;
+    o.session_dir = tmp / "session";
+    o.overwrite = true;
+    o.use_can = !handheld;  // as `bimslam odometry --no-can` for a handheld capture
+    o.use_imu = state.range(3) == 1;
+    o.odometry.edge_features = state.range(2) == 1;
+    // The budget in CPU time: the accuracy must not depend on what else the machine runs.
+    o.odometry.registration.cpu_time_budget = true;
+    CaptureOdometryReport rep;
+    for (auto _ : state) rep = RunCaptureOdometry(o);
+
+    evaluation::EvaluationConfig config;
+    config.align = evaluation::Alignment::kSe3;
+    SetCounters(state, rep,
+                evaluation::EvaluateFiles(o.session_dir / "trajectory.tum",
+                                          sim.dir / "ground_truth.tum", config));
+    state.SetLabel(std::string(handheld ? "handheld" : "go1+can") + (o.use_imu ? "" : ", no imu") +
                    (o.odometry.edge_features ? ", edge features" : ""));
 }
 BENCHMARK(BM_OdometryAccuracy)
-    ->Args({0, 180, 0})
-    ->Args({1, 180, 0})
-    ->Args({0, 180, 1})
-    ->Args({1, 180, 1})
-    ->ArgNames({"platform", "seconds", "edges"})
+    ->Args({0, 180, 0, 1})
+    ->Args({1, 180, 0, 1})
+    ->Args({0, 180, 1, 1})
+    ->Args({1, 180, 1, 1})
+    ->Args({0, 180, 0, 0})
+    ->Args({1, 180, 0, 0})
+    ->Args({1, 180, 1, 0})
+    ->ArgNames({"platform", "seconds", "edges", "imu"})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+void BM_OdometrySensor(benchmark::State& state) {
+    static const char* const kSensors[] = {"OS1-32", "OS0-64", "OS1-128"};
+    const char* sensor = kSensors[state.range(0)];
+    const bool handheld = state.range(1) == 1;
+    test::TempDir tmp;
+    const simulate::CaptureReport sim = Simulate(
+        tmp, handheld ? Platform::kHandheld : Platform::kGo1, double(state.range(2)), sensor);
+
+    CaptureOdometryOptions o;
+    o.capture_dir = sim.dir;
+    o.session_dir = tmp / "session";
+    o.overwrite = true;
+    o.use_can = !handheld;
+    std::vector<double> cpu_ms;
+    double last = 0, first_s_max = 0;
+    int64_t first_ns = -1;
+    o.on_scan = [&](const odometry::OdometryResult& r) {
+        const double now = ThreadCpuMs();
+        if (first_ns < 0) {
+            first_ns = r.stamp_ns;
+        } else {
+            cpu_ms.push_back(now - last);
+        }
+        last = now;
+        if (double(r.stamp_ns - first_ns) < 1e9) first_s_max = std::max(first_s_max, r.total_ms);
+    };
+    CaptureOdometryReport rep;
+    for (auto _ : state) {
+        cpu_ms.clear();
+        first_ns = -1;
+        rep = RunCaptureOdometry(o);
+    }
+    evaluation::EvaluationConfig config;
+    config.align = evaluation::Alignment::kSe3;
+    SetCounters(state, rep,
+                evaluation::EvaluateFiles(o.session_dir / "trajectory.tum",
+                                          sim.dir / "ground_truth.tum", config));
+    state.counters["cpu_ms_p50"] = Percentile(cpu_ms, 0.5);
+    state.counters["cpu_ms_p99"] = Percentile(cpu_ms, 0.99);
+    state.counters["cpu_ms_max"] = Percentile(cpu_ms, 1.0);
+    state.counters["first_s_ms_max"] = first_s_max;
+    state.SetLabel(std::string(sensor) + (handheld ? ", handheld" : ", go1+can"));
+}
+BENCHMARK(BM_OdometrySensor)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}, {60}})
+    ->ArgNames({"sensor", "platform", "seconds"})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

@@ -52,7 +52,16 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     const auto summary = nlohmann::json::parse(io::ReadFileToString(out / "map" / "summary.json"));
     const auto& rec = summary.at("recordings").at(0);
     EXPECT_EQ(rec.at("anchor").at("verdict"), "anchored");
-    EXPECT_LT(rec.at("accuracy").at("ape_trans_rmse_m").get<double>(), 0.10);
+    // The accuracy line's value is the summary's, and within about twice what the demo measures
+    // (3.6 cm / 0.17 deg on the shared machine; README "about 4 cm"): a 2x regression fails.
+    const std::string line = "accuracy in BIM coordinates APE ";
+    const size_t at = demo.out.find(line);
+    ASSERT_NE(at, std::string::npos) << demo.out;
+    const double printed_cm = std::stod(demo.out.substr(at + line.size()));
+    const double rmse_cm = 100 * rec.at("accuracy").at("ape_trans_rmse_m").get<double>();
+    EXPECT_NEAR(printed_cm, rmse_cm, 0.006) << demo.out;
+    EXPECT_LT(printed_cm, 7.5) << demo.out;
+    EXPECT_LT(rec.at("accuracy").at("ape_rot_rmse_deg").get<double>(), 0.4);
     EXPECT_FALSE(rec.at("change_scores").is_null());
 
     const auto info = test::RunCommand(kCli + " session info --json " + (out / "session").string());

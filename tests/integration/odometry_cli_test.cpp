@@ -25,6 +25,9 @@ namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
 constexpr int kCaptureSeconds = 20;
+// The accuracy tests count the budget in CPU time (--budget-cpu): their bounds are about twice
+// the measured error, and scans cut short by other processes' load would be another run.
+const std::string kBudget = " --budget-cpu";
 
 // The sample buildings and the captures simulated in them, made once per test process (ctest runs
 // every test in a process of its own, so only what a test asks for is simulated).
@@ -64,12 +67,11 @@ protected:
     }
 
     static fs::path Simulate(const fs::path& model, const std::string& platform,
-                             const fs::path& dir) {
+                             const fs::path& dir, int seconds = kCaptureSeconds) {
         if (!fs::exists(dir / "ground_truth.tum")) {
-            const auto r =
-                test::RunCommand(kCli + " simulate --model " + model.string() + " --platform " +
-                                 platform + " --duration " + std::to_string(kCaptureSeconds) +
-                                 " -o " + dir.string() + " --overwrite");
+            const auto r = test::RunCommand(
+                kCli + " simulate --model " + model.string() + " --platform " + platform +
+                " --duration " + std::to_string(seconds) + " -o " + dir.string() + " --overwrite");
             EXPECT_EQ(r.exit_code, 0) << r.err;
         }
         return dir;
@@ -123,7 +125,7 @@ TEST_F(OdometryCli, Go1WithCanTracksTheGroundTruth) {
     ASSERT_NEAR(double(frames), 10.0 * kCaptureSeconds, 5.0);  // 10 Hz
     const fs::path ses = Tmp() / "session_go1";
     const nlohmann::json odo =
-        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + " --json");
+        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + kBudget + " --json");
     ASSERT_TRUE(odo.is_object());
     EXPECT_TRUE(odo.at("used_can").get<bool>());
     EXPECT_GT(odo.at("body_samples").get<size_t>(), 0u);
@@ -143,8 +145,9 @@ TEST_F(OdometryCli, Go1WithCanTracksTheGroundTruth) {
     ASSERT_TRUE(eval.is_object());
     Report("go1 with CAN", odo, eval);
     EXPECT_EQ(eval.at("matched"), odo.at("scans"));
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
-    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+    // About twice the measured 0.76-0.82 cm, 0.12-0.13 deg (seeds 1-3).
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.016);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.25);
 
     const nlohmann::json info = RunJson(kCli + " session info " + ses.string() + " --json");
     ASSERT_TRUE(info.is_object());
@@ -159,8 +162,8 @@ TEST_F(OdometryCli, HandheldWithoutCanTracksTheGroundTruth) {
     EXPECT_FALSE(fs::exists(cap / "go1_can.log"));
     const size_t frames = io::ReadTum(cap / "ground_truth.tum").size();
     const fs::path ses = Tmp() / "session_handheld";
-    const nlohmann::json odo =
-        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + " --no-can --json");
+    const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
+                                       " --no-can" + kBudget + " --json");
     ASSERT_TRUE(odo.is_object());
     EXPECT_FALSE(odo.at("used_can").get<bool>());
     EXPECT_EQ(odo.at("body_samples").get<size_t>(), 0u);
@@ -173,8 +176,9 @@ TEST_F(OdometryCli, HandheldWithoutCanTracksTheGroundTruth) {
     ASSERT_TRUE(eval.is_object());
     Report("handheld, --no-can", odo, eval);
     EXPECT_EQ(eval.at("matched"), odo.at("scans"));
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
-    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+    // About twice the measured 0.78-0.79 cm, 0.06-0.07 deg (seeds 1-3).
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.016);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.15);
 }
 
 // --edge-features (LOAM edges, off by default): the same capture, as accurate.
@@ -182,24 +186,26 @@ TEST_F(OdometryCli, Go1WithEdgeFeaturesTracksTheGroundTruth) {
     const fs::path cap = Capture("go1");
     const fs::path ses = Tmp() / "session_go1_edges";
     const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
-                                       " --edge-features --json");
+                                       " --edge-features" + kBudget + " --json");
     ASSERT_TRUE(odo.is_object());
     EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
     const nlohmann::json eval = Evaluate(ses, cap);
     ASSERT_TRUE(eval.is_object());
     Report("go1 with CAN, --edge-features", odo, eval);
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
-    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+    // About twice the measured 0.79 cm, 0.12 deg.
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.016);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.25);
 }
 
 // The hall: a building the odometry was not tuned on (other footprint, heights, walls, rooms,
-// columns in a central hall); the same bounds as in the office.
+// columns in a central hall). Bounds about twice the measured: Go1 0.61 cm, 0.09-0.10 deg;
+// handheld 0.67-0.72 cm, 0.06-0.13 deg (seeds 1-3).
 void ExpectTracksTheGroundTruth(const std::string& what, const fs::path& cap, const fs::path& ses,
                                 bool go1) {
     const size_t frames = io::ReadTum(cap / "ground_truth.tum").size();
     ASSERT_NEAR(double(frames), 10.0 * kCaptureSeconds, 5.0);
     const nlohmann::json odo =
-        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + " --json");
+        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + kBudget + " --json");
     ASSERT_TRUE(odo.is_object());
     EXPECT_EQ(odo.at("used_can").get<bool>(), go1);
     EXPECT_EQ(odo.at("scans").get<size_t>(), frames);
@@ -210,8 +216,8 @@ void ExpectTracksTheGroundTruth(const std::string& what, const fs::path& cap, co
     ASSERT_TRUE(eval.is_object());
     Report(what, odo, eval);
     EXPECT_EQ(eval.at("matched"), odo.at("scans"));
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
-    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 1.0);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), go1 ? 0.013 : 0.0145);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), go1 ? 0.2 : 0.26);
 }
 
 TEST_F(OdometryCli, Go1TracksTheGroundTruthInTheHall) {
@@ -221,6 +227,118 @@ TEST_F(OdometryCli, Go1TracksTheGroundTruthInTheHall) {
 TEST_F(OdometryCli, HandheldTracksTheGroundTruthInTheHall) {
     ExpectTracksTheGroundTruth("hall, handheld", HallCapture("handheld"), Tmp() / "hall_handheld",
                                false);
+}
+
+// LiDAR only on a Go1 walk: the trot rolls the body by 1.5 deg at 2 Hz, which a constant velocity
+// neither predicts nor deskews. Before issue 17 the directions the registration found weak kept
+// that prediction outright and the roll drifted: 64 cm / 27 deg on this minute (seed 1), 96 cm
+// over three minutes. Now 5.5 cm / 1.0 deg (algorithms/odometry/README.md, "LiDAR only"). No
+// budget, so that the result does not depend on the machine's load.
+TEST_F(OdometryCli, Go1LidarOnlyHoldsTheTrotsWobble) {
+    const fs::path cap = Simulate(Model(), "go1", Tmp() / "capture_go1_60s", 60);
+    const fs::path ses = Tmp() / "session_go1_lidar_only";
+    const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
+                                       " --no-imu --no-can --budget-ms 10000 --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_EQ(odo.at("imu_samples").get<size_t>(), 0u);
+    EXPECT_EQ(odo.at("body_samples").get<size_t>(), 0u);
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report("go1, 60 s, --no-imu --no-can", odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.08);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 2.0);
+}
+
+// Dense sensors (issue 17, item 1): a 128-beam OS1 and a 64-beam OS0 (the simulator's built-in
+// ones, 1024x10) give 4x and 2x the OS1-32's points; the voxel sizes adapt to the count, so every
+// scan fits the default 50 ms budget (p99 measured 24 ms of CPU time for the OS1-128 on a shared
+// machine, odometry_benchmark BM_OdometrySensor). --budget-cpu counts the odometry's own CPU
+// time, so the over-budget count does not depend on the machine's load. The first second is in
+// these 10 s: the map is empty and the sizes not yet adapted there. (5 s walk too little of a
+// curve for the se3 alignment to fix the rotation about it: 13 deg APE rotation for 0.7 cm.)
+class OdometryCliSensor : public OdometryCli, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(OdometryCliSensor, StaysWithinTheBudgetWithNoScanOverIt) {
+    const std::string sensor = GetParam();
+    const fs::path cap = Tmp() / ("capture_" + sensor);
+    const auto sim = test::RunCommand(kCli + " simulate --model " + Model().string() +
+                                      " --platform go1 --sensor " + sensor + " --duration 10 -o " +
+                                      cap.string());
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    EXPECT_NE(io::ReadFileToString(cap / "metadata.json").find("OS-" + sensor.substr(2)),
+              std::string::npos);
+    const fs::path ses = Tmp() / ("session_" + sensor);
+    const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
+                                       " --budget-cpu --json");
+    ASSERT_TRUE(odo.is_object());
+    EXPECT_EQ(odo.at("over_budget").get<size_t>(), 0u);
+    EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
+    EXPECT_NEAR(odo.at("scans").get<double>(), 100.0, 2.0);
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report(sensor + ", go1 with CAN", odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.03);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Dense, OdometryCliSensor, ::testing::Values("OS1-128", "OS0-64"),
+                         [](const auto& param_info) {
+                             std::string name = param_info.param;
+                             name.erase(std::remove(name.begin(), name.end(), '-'), name.end());
+                             return name;
+                         });
+
+// Issue 17, item 2: a recording that starts at walking speed (the scenario's
+// speed.start_at_speed; handheld at 1.5 m/s). The first scan is deskewed with no motion known;
+// once the second gives the velocity, the first is deskewed again and the second registered
+// again (LidarOdometryConfig::start_refinements). Without it the first scan-to-scan motion came
+// out 4.5 cm for 14.5 cm true and the first second's per-scan error was 11x the rest's.
+TEST_F(OdometryCli, AStartAtWalkingSpeedGetsItsFirstScansRight) {
+    const fs::path scenario = Tmp() / "start_at_speed.yaml";
+    io::WriteFileAtomic(scenario,
+                        "platform: handheld\n"
+                        "speed: {speed_mps: 1.5, max_accel_mps2: 1.0, start_at_speed: true}\n");
+    const fs::path cap = Tmp() / "capture_start_at_speed";
+    const auto sim =
+        test::RunCommand(kCli + " simulate --model " + Model().string() + " --scenario " +
+                         scenario.string() + " --duration 10 -o " + cap.string());
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    const fs::path ses = Tmp() / "session_start_at_speed";
+    const nlohmann::json odo =
+        RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() + kBudget + " --json");
+    ASSERT_TRUE(odo.is_object());
+    const auto est = io::ReadTum(ses / "trajectory.tum");
+    const auto truth = io::ReadTum(cap / "ground_truth.tum");
+    ASSERT_EQ(est.size(), truth.size());
+    ASSERT_GT(est.size(), 50u);
+    // It does start in motion: 15 cm between the first two scans.
+    const double first_true = (truth[1].translation - truth[0].translation).norm();
+    EXPECT_GT(first_true, 0.12);
+    // Per scan: how far the estimated motion's length is from the true one.
+    double first_sum = 0, rest_sum = 0;
+    size_t first_n = 0, rest_n = 0;
+    for (size_t k = 1; k < est.size(); ++k) {
+        ASSERT_EQ(est[k].stamp_ns, truth[k].stamp_ns);
+        const double e = std::abs((est[k].translation - est[k - 1].translation).norm() -
+                                  (truth[k].translation - truth[k - 1].translation).norm());
+        const bool first_second = truth[k].stamp_ns - truth[0].stamp_ns <= 1'000'000'000;
+        (first_second ? first_sum : rest_sum) += e;
+        ++(first_second ? first_n : rest_n);
+    }
+    const double first_cm = 100 * first_sum / double(first_n);
+    const double rest_cm = 100 * rest_sum / double(rest_n);
+    std::cout << "start at 1.5 m/s: per-scan motion error, first second " << first_cm
+              << " cm, the rest " << rest_cm << " cm; first step "
+              << 100 * (est[1].translation - est[0].translation).norm() << " cm for "
+              << 100 * first_true << " cm\n";
+    // No worse than the rest (measured 0.27 and 0.25 cm; without the fix 2.75 cm).
+    EXPECT_LT(first_cm, 2 * rest_cm);
+    EXPECT_NEAR((est[1].translation - est[0].translation).norm(), first_true, 0.02);
+    const nlohmann::json eval = Evaluate(ses, cap);
+    ASSERT_TRUE(eval.is_object());
+    Report("handheld starting at 1.5 m/s", odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.02);  // measured 0.97 cm
 }
 
 // Every file in a folder (relative path) with its bytes.

@@ -90,6 +90,8 @@ TEST(Preprocessor, VoxelFiltersKeepOnePointPerVoxelAndTheCap) {
     config.map_voxel = 0.1;
     config.registration_voxel = 0.5;
     config.max_registration_points = 100;
+    config.target_map_points = 0;  // fixed sizes: the filters themselves are under test
+    config.target_registration_points = 0;
     Preprocessor pre(config);
     std::vector<Eigen::Vector3f> grid;  // a 10 x 10 m wall sampled every 2 cm
     for (int i = 0; i < 500; ++i) {

@@ -626,5 +626,28 @@ TEST(BuiltinSensor, IsAValidOs132InEveryMode) {
     EXPECT_THROW(BuiltinOs1_32(LidarProfile::kLegacy, 4096, 10), common::Error);
 }
 
+TEST(BuiltinSensor, EveryProductAndBeamCountIsValidWithItsFieldOfView) {
+    const std::pair<const char*, double> products[] = {{"OS0", 90.0}, {"OS1", 45.0}, {"OS2", 22.5}};
+    for (const auto& [product, fov] : products) {
+        for (const int beams : {16, 32, 64, 128}) {
+            const std::string model = std::string(product) + "-" + std::to_string(beams);
+            const SensorInfo s = BuiltinOuster(model, LidarProfile::kRng19Rfl8Sig16Nir16, 1024, 10);
+            fixtures::ExpectSameSensor(s, ParseMetadata("builtin.json", SerializeMetadata(s)));
+            EXPECT_EQ(s.format.pixels_per_column, beams) << model;
+            ASSERT_EQ(s.beam_altitude_angles_deg.size(), size_t(beams)) << model;
+            EXPECT_DOUBLE_EQ(s.beam_altitude_angles_deg.front() - s.beam_altitude_angles_deg.back(),
+                             fov)
+                << model;
+            EXPECT_EQ(s.prod_line,
+                      "OS-" + std::string(1, product[2]) + "-" + std::to_string(beams) + "-U0");
+        }
+    }
+    // OS1-32 is the original built-in sensor, unchanged.
+    EXPECT_EQ(SerializeMetadata(BuiltinOuster("OS1-32")), SerializeMetadata(BuiltinOs1_32()));
+    for (const char* bad : {"OS3-64", "OS1-48", "OS1", "os1-32", ""}) {
+        EXPECT_THROW(BuiltinOuster(bad), common::Error) << bad;
+    }
+}
+
 }  // namespace
 }  // namespace bimslam::ouster

@@ -138,6 +138,7 @@ TEST(ScenarioTest, WrongValueNamesTheField) {
         {"speed: {speed_mps: [1]}", "speed.speed_mps: expected a number, got a sequence"},
         {"sensor: {lidar_mode: 999x10}", "sensor.lidar_mode = '999x10': must be one of"},
         {"sensor: {udp_profile: FOO}", "sensor.udp_profile = 'FOO'"},
+        {"sensor: {model: OS3-64}", "sensor.model = 'OS3-64': must be one of"},
         {"sensor: {mount_xyz: [1, 2]}",
          "sensor.mount_xyz: expected [x, y, z], got a sequence of 2"},
         {"sensor: {mount_xyz: [0, 0, x]}", "sensor.mount_xyz[2]: expected a number, got 'x'"},
@@ -240,9 +241,10 @@ Scenario Everything() {
     s.path.mode = PathMode::kWaypoints;
     s.path.waypoints = {{1.5, 7.2}, {0.1, -3e-7}};
     s.path.start = Pose2d{{-5, 7.5}, 12.25};
-    s.speed = {0.7, 0.4, 45, 0.3};
+    s.speed = {0.7, 0.4, 45, 0.3, true};
     s.duration_s = 600.5;
     s.sensor.metadata = "/data/os1 metadata.json";
+    s.sensor.model = "OS0-128";
     s.sensor.lidar_mode = "2048x10";
     s.sensor.udp_profile = "LEGACY";
     s.sensor.mount_xyz = {0.1, -0.02, 0.3};

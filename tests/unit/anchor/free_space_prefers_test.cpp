@@ -1,0 +1,54 @@
+// The free-space rule between hypotheses that explain the loops about equally well
+// (host_tools/anchor/anchoring.hpp, FreeSpacePrefers; AnchorConfig::outweigh_ratio, _gap).
+#include <gtest/gtest.h>
+
+#include "host_tools/anchor/anchoring.hpp"
+
+namespace bimslam::anchor {
+namespace {
+
+Hypothesis SeenThrough(double share) {
+    Hypothesis h;
+    h.seen_through = share;
+    return h;
+}
+
+TEST(FreeSpacePrefers, AWrongStoreyUnderTheContradictionThresholdIsOutweighed) {
+    // The handheld walk's two storeys (README.md): 0.66 % right, 4.4 % one storey up.
+    const AnchorConfig config;
+    EXPECT_TRUE(FreeSpacePrefers(SeenThrough(0.0066), SeenThrough(0.044), config));
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.044), SeenThrough(0.0066), config));
+}
+
+TEST(FreeSpacePrefers, RightPlacementsSpreadIsNoEvidence) {
+    // Right placements measured 0.6-1.7 %: the ratio alone (2.8x) is not enough, nor is a
+    // large ratio with a small gap.
+    const AnchorConfig config;
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.006), SeenThrough(0.017), config));
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.0), SeenThrough(0.015), config));
+    // Alike placements (a mirror-symmetric building) never decide, either way.
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.01), SeenThrough(0.011), config));
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.011), SeenThrough(0.01), config));
+}
+
+TEST(FreeSpacePrefers, TheRatioAndTheGapBothHold) {
+    AnchorConfig config;
+    // A gap of 3 points but only 1.75x as often: no decision.
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.04), SeenThrough(0.07), config));
+    config.outweigh_ratio = 1.5;
+    EXPECT_TRUE(FreeSpacePrefers(SeenThrough(0.04), SeenThrough(0.07), config));
+    config.outweigh_gap = 0.05;
+    EXPECT_FALSE(FreeSpacePrefers(SeenThrough(0.04), SeenThrough(0.07), config));
+}
+
+TEST(FreeSpacePrefers, ConfigRejectsARatioUnderOneAndAZeroGap) {
+    AnchorConfig config;
+    config.outweigh_ratio = 0.5;
+    EXPECT_ANY_THROW(config.Validate());
+    config = AnchorConfig{};
+    config.outweigh_gap = 0;
+    EXPECT_ANY_THROW(config.Validate());
+}
+
+}  // namespace
+}  // namespace bimslam::anchor
