@@ -106,11 +106,16 @@ struct PointQueryState {
     Eigen::Vector3f query = Eigen::Vector3f::Zero();
     float best_d2 = std::numeric_limits<float>::infinity();
     float best_alignment = -1;  // ((query - point) . n)^2 / d^2 of the best triangle
+    bool best_front = false;    // the query is in front of the best triangle
     uint32_t best = Scene::kNoHint;
     Eigen::Vector3f point = Eigen::Vector3f::Zero();
 
     // Takes triangle t when it is nearer, or as near (relative 1e-5: an edge or corner shared by
-    // several triangles) with a normal more aligned with query - point.
+    // several triangles) with a normal more aligned with query - point; among those equally
+    // aligned (two elements touching face to face: opposite normals, the same plane), the one the
+    // query is in front of, then the lower index. So the answer does not depend on the order in
+    // which Embree's traversal visits the triangles, which varies with its BVH build: without the
+    // last two rules the sign and the element of such points changed from run to run.
     void Consider(uint32_t t) {
         const Scene::Impl::TriangleData& tri = impl->triangle_data[t];
         const float tie = best_d2 * 1e-5f + 1e-12f;
@@ -127,9 +132,17 @@ struct PointQueryState {
         if (d2 > best_d2 + tie) return;
         const auto along = float(d.dot(tri.normal.cast<double>()));
         const float alignment = d2 > 0 ? along * along / d2 : 1.0f;
-        if (d2 >= best_d2 - tie && alignment <= best_alignment) return;
-        best_d2 = std::min(d2, best_d2);
+        const bool front = along > 0;
+        if (d2 >= best_d2 - tie) {  // as near as the best: the rules above decide
+            constexpr float kSame = 1e-6f;
+            if (alignment < best_alignment - kSame) return;
+            if (alignment <= best_alignment + kSame) {
+                if (front != best_front ? !front : t > best) return;
+            }
+        }
+        best_d2 = d2;  // the chosen triangle's own: the distance reported is its distance
         best_alignment = alignment;
+        best_front = front;
         best = t;
         point = q.cast<float>();
     }
