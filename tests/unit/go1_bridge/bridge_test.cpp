@@ -26,10 +26,10 @@ constexpr int64_t kMs = 1'000'000;
 constexpr int64_t kT0 = 1'000 * kMs;     // a multiple of every period
 constexpr int64_t kRxDelayNs = 150'000;  // poll to HighState receive
 
-// Go1 identifiers and their Valid bit (byte 1, bit 4) where the message has one.
-constexpr uint32_t kSync = 0x0F0, kBodyVel = 0x100, kBodyState = 0x101, kGyro = 0x110,
-                   kAccel = 0x111, kQuat = 0x112, kFoot = 0x120, kOdomXy = 0x130, kOdomZYaw = 0x131,
-                   kStatus = 0x140;
+// The Go1 identifiers the tests look at, and the Valid bit (byte 1, bit 4) where the message has
+// one (specs/go1-can.md).
+constexpr uint32_t kSync = 0x0F0, kBodyVel = 0x100, kGyro = 0x110, kQuat = 0x112, kFoot = 0x120,
+                   kOdomXy = 0x130, kStatus = 0x140;
 bool HasValidBit(uint32_t id) { return id != kSync && id != kFoot && id != kStatus; }
 bool ValidBit(const CanFrame& f) { return (f.data[1] & 0x10) != 0; }
 uint8_t Counter(const CanFrame& f) { return f.data[1] & 0x0f; }
