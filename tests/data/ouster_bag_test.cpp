@@ -70,15 +70,13 @@ TEST(RealBag, FramesDecodeIdenticallyToTheSamePacketsAsAPcap) {
     BIMSLAM_REQUIRE_SHARED_DATA(dir, "ouster");
     const fs::path bag = dir / "512x10_raw.bag";
     if (!fs::exists(bag)) GTEST_SKIP() << bag << " is absent from the shared data folder";
-    if (test::RunCommand("/usr/bin/python3 -c 'import rosbag, genpy'").exit_code != 0) {
-        GTEST_SKIP() << "/usr/bin/python3 cannot import rosbag: install the Debian package "
-                        "python3-rosbag (toolchain/install-deps.sh --test)";
+    if (const std::string missing = test::OusterBagToolMissing(); !missing.empty()) {
+        GTEST_SKIP() << missing;
     }
     test::TempDir tmp;
     const fs::path pcap = tmp / "bag.pcap";
-    const auto py = test::RunCommand(std::string("/usr/bin/python3 '") + BIMSLAM_SOURCE_ROOT +
-                                     "/tests/support/ouster_bag.py' topcap '" + bag.string() +
-                                     "' '" + pcap.string() + "'");
+    const auto py = test::RunCommand(test::OusterBagTool() + " topcap '" + bag.string() + "' '" +
+                                     pcap.string() + "'");
     ASSERT_EQ(py.exit_code, 0) << py.err;
 
     // The bag as every command opens it: io::ResolveCapture, its metadata topic.

@@ -26,16 +26,13 @@ namespace fs = std::filesystem;
 
 using test::rig::kCli;
 using test::rig::kRig;
-const std::string kBagTool =
-    std::string("/usr/bin/python3 '") + BIMSLAM_SOURCE_ROOT + "/tests/support/ouster_bag.py'";
+const std::string kBagTool = test::OusterBagTool();
 
 class Formats : public test::rig::RigFixture {
 protected:
     void SetUp() override {
-        if (test::RunCommand("/usr/bin/python3 -c 'import rosbag, genpy, std_msgs.msg'")
-                .exit_code != 0) {
-            GTEST_SKIP() << "/usr/bin/python3 cannot import rosbag: install the Debian package "
-                            "python3-rosbag (toolchain/install-deps.sh --test)";
+        if (const std::string missing = test::OusterBagToolMissing(); !missing.empty()) {
+            GTEST_SKIP() << missing;
         }
     }
 

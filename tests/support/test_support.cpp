@@ -65,6 +65,19 @@ CommandResult RunCommand(const std::string& command) {
     return r;
 }
 
+std::string OusterBagTool() {
+    return std::string("/usr/bin/python3 '") + BIMSLAM_OUSTER_BAG_TOOL + "'";
+}
+
+std::string OusterBagToolMissing() {
+    // The tool's own imports: a missing one would fail the test instead of skipping it.
+    if (RunCommand("/usr/bin/python3 -c 'import rosbag, genpy, std_msgs.msg'").exit_code == 0) {
+        return "";
+    }
+    return "/usr/bin/python3 cannot import rosbag: install the Debian package python3-rosbag "
+           "(toolchain/install-deps.sh --test)";
+}
+
 std::string Mutate(std::string s, std::mt19937& rng, size_t hot_prefix,
                    std::string_view interesting) {
     const int edits = 1 + static_cast<int>(rng() % 3);

@@ -71,6 +71,12 @@ struct CommandResult {
 };
 CommandResult RunCommand(const std::string& command);
 
+// tests/support/ouster_bag.py run by Debian's python3 (which has python3-rosbag; plain `python3`
+// may be another interpreter), ready for its arguments.
+std::string OusterBagTool();
+// Why OusterBagTool() cannot run here (a skip message), or "" when it can.
+std::string OusterBagToolMissing();
+
 // Bytes that readers of numbers and text headers react to (digits, separators, NUL, 0xff, DEL).
 inline constexpr std::string_view kMutationBytes{"0123456789 \n-.e+n\0\xff\x7f", 20};
 static_assert(kMutationBytes.back() == '\x7f');

@@ -35,10 +35,8 @@ std::vector<Packet> MakePackets() {
 class RosBagTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (test::RunCommand("/usr/bin/python3 -c 'import rosbag, genpy, std_msgs.msg'")
-                .exit_code != 0) {
-            GTEST_SKIP() << "/usr/bin/python3 cannot import rosbag: install the Debian package "
-                            "python3-rosbag (toolchain/install-deps.sh --test)";
+        if (const std::string missing = test::OusterBagToolMissing(); !missing.empty()) {
+            GTEST_SKIP() << missing;
         }
     }
     fs::path Write(const std::string& name, const std::string& flags) {
@@ -54,8 +52,7 @@ protected:
         test::WriteBytes(tmp_ / "meta.json", kMeta);
         const fs::path bag = tmp_ / (name + ".bag");
         const auto r = test::RunCommand(
-            std::string("/usr/bin/python3 '") + BIMSLAM_SOURCE_ROOT +
-            "/tests/support/ouster_bag.py' write " + (tmp_ / "packets.bin").string() + " " +
+            test::OusterBagTool() + " write " + (tmp_ / "packets.bin").string() + " " +
             (tmp_ / "meta.json").string() + " " + bag.string() + " " + flags);
         EXPECT_EQ(r.exit_code, 0) << r.err;
         return bag;
