@@ -45,6 +45,21 @@ json ElementJson(const bim::BimModel& model, size_t e) {
 
 }  // namespace
 
+// What the joint refinement of the poses did (algorithms/changes/pose_refinement.hpp).
+json RefinementJson(const changes::PoseRefinement& p, bool enabled) {
+    if (!enabled) return {{"enabled", false}};
+    return {{"enabled", true},
+            {"keyframes", p.T_world_lidar.size()},
+            {"edges", p.edges},
+            {"held", p.held},
+            {"correspondences", p.correspondences},
+            {"poses_moved_1cm", p.moved_1cm},
+            {"mean_correction_m", p.mean_correction_m},
+            {"max_correction_m", p.max_correction_m},
+            {"max_correction_deg", p.max_correction_deg},
+            {"iterations", p.iterations}};
+}
+
 std::array<uint8_t, 3> ObjectColor(size_t i) {
     // Hue by the golden angle, full saturation, value 0.9: neighbouring indices differ most.
     const double h = std::fmod(double(i) * 137.50776405, 360.0) / 60.0;
@@ -206,7 +221,13 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"pair_radius_m", c.moved.pair_radius_m},
                          {"inlier_m", c.moved.inlier_m},
                          {"min_inlier_fraction", c.moved.min_inlier_fraction},
-                         {"min_object_fraction", c.moved.min_object_fraction}}}};
+                         {"min_object_fraction", c.moved.min_object_fraction}}},
+                       {"refinement",
+                        {{"enabled", c.refinement.enabled},
+                         {"element_sigma_m", c.refinement.element_sigma_m},
+                         {"point_sigma_m", c.refinement.point_sigma_m},
+                         {"points_per_keyframe", c.refinement.points_per_keyframe},
+                         {"gates_m", c.refinement.gates_m}}}};
 
     return {{"format", "bimslam-changes"},
             {"version", 1},
@@ -240,9 +261,11 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
               {"outside_footprint", r.counts.outside_footprint},
               {"transient_points", r.counts.transient_points},
               {"seed_points", r.counts.seed_points},
-              {"clusters", r.counts.clusters}}},
+              {"clusters", r.counts.clusters},
+              {"refinement", RefinementJson(r.refinement, c.refinement.enabled)}}},
             {"seconds",
-             {{"map", r.seconds.map_s},
+             {{"refinement", r.seconds.refinement_s},
+              {"map", r.seconds.map_s},
               {"distances", r.seconds.distance_s},
               {"transients", r.seconds.transient_s},
               {"clusters", r.seconds.cluster_s},
