@@ -30,8 +30,8 @@
 // keyframe's pose, the prior holds it. What the data cannot tell apart is a shift of the whole
 // session from the same shift of every element seen along that direction: it is resolved by the
 // priors, i.e. to the weighted mean of the true offsets (about sigma_element / sqrt(elements seen
-// along that direction); README.md, "Pose refinement"). A keyframe with no edge and too few
-// points to register keeps its pose.
+// along that direction); README.md, "Pose refinement"). A keyframe whose points the model does
+// not explain at its anchored pose is moved by its edges only, and kept where it is without any.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -78,8 +78,12 @@ struct PoseRefinementConfig {
     // reach of the gate, then narrow, so that an edge that lost track can give (graduated
     // non-convexity, as posegraph's annealing).
     std::vector<double> edge_loss_annealing = {16.0, 4.0, 1.0};
-    // A keyframe without edges needs this many correspondences to move.
+    // A keyframe is registered to the model (its points become factors) when, at its anchored
+    // pose, at least this many of its points and this fraction of them are within the first
+    // gate; otherwise only its edges move it (a nearly empty scan, a garbled one, a view of
+    // things not in the model), and without edges it keeps its pose.
     size_t min_points = 30;
+    double min_explained_fraction = 0.3;
     int max_iterations = 25;  // per round
     int threads = 2;
     void Validate() const;
@@ -93,7 +97,8 @@ struct PoseRefinement {
     std::vector<uint32_t> element_points;          // per element: correspondences, last round
     size_t correspondences = 0;                    // last round
     size_t edges = 0;
-    size_t held = 0;  // keyframes kept as they were (no edge, too few points)
+    size_t unexplained = 0;  // keyframes not registered to the model (moved by edges only)
+    size_t held = 0;         // of those, kept as they were (no edge)
     int iterations = 0;
     double seconds = 0;
     // Summary of correction_m: keyframes moved by more than 1 cm, mean and max.

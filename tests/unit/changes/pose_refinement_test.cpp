@@ -133,7 +133,7 @@ TEST_P(PoseRefinementTest, PutsPerturbedKeyframesBackAndMeasuresEveryWallOffsetW
     const std::vector<MapKeyframe> keyframes = h.Keyframes(h.perturbed);
     const PoseRefinement r = RefinePoses(h.model, keyframes, h.edges, PoseRefinementConfig{});
     ASSERT_EQ(r.T_world_lidar.size(), h.truth.size());
-    EXPECT_EQ(r.held, 0u);
+    EXPECT_EQ(r.unexplained, 0u);
     double before = 0, after = 0;
     for (size_t k = 0; k < h.truth.size(); ++k) {
         before += TranslationError(h.perturbed[k], h.truth[k]) / double(h.truth.size());
@@ -185,6 +185,8 @@ TEST(PoseRefinement, AKeyframeWithNearlyNoPointsFollowsItsEdges) {
     h.perturbed[kEmpty] = off * h.truth[kEmpty];
     const PoseRefinement r =
         RefinePoses(h.model, h.Keyframes(h.perturbed), h.edges, PoseRefinementConfig{});
+    EXPECT_EQ(r.unexplained, 1u);
+    EXPECT_EQ(r.held, 0u);
     // Its neighbours are registered to the model; the edges put it between them.
     EXPECT_LT(TranslationError(r.T_world_lidar[kEmpty], h.truth[kEmpty]), 0.015);
     EXPECT_GT(r.correction_m[kEmpty], 0.10);
