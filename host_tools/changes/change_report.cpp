@@ -6,6 +6,7 @@
 
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
+#include "algorithms/io/trajectory.hpp"
 
 namespace bimslam::change_detection {
 namespace {
@@ -51,6 +52,7 @@ json RefinementJson(const changes::PoseRefinement& p, bool enabled) {
     return {{"enabled", true},
             {"keyframes", p.T_world_lidar.size()},
             {"edges", p.edges},
+            {"unexplained", p.unexplained},
             {"held", p.held},
             {"correspondences", p.correspondences},
             {"poses_moved_1cm", p.moved_1cm},
@@ -351,6 +353,20 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
             << Num(rep.moved_yaw_deg) << '\n';
     }
     io::WriteFileAtomic(dir / "elements.csv", csv.str());
+
+    // The poses everything above was measured on, when the refinement moved them: T_bim_lidar in
+    // the model's file coordinates, stamped as the session's keyframes (comparable with
+    // the session's trajectory_bim.tum keyframe by keyframe, or a ground truth).
+    if (!r.refinement.T_world_lidar.empty()) {
+        std::vector<io::StampedPose> poses;
+        for (size_t k = 0; k < r.refinement.T_world_lidar.size(); ++k) {
+            Eigen::Isometry3d T = r.refinement.T_world_lidar[k];
+            T.translation() += model.origin_m;
+            poses.push_back(
+                io::StampedPose::FromIsometry(found.input->session.keyframes[k].stamp_ns, T));
+        }
+        io::WriteTum(dir / "keyframes_refined.tum", poses);
+    }
 }
 
 }  // namespace bimslam::change_detection

@@ -216,7 +216,9 @@ int Changes(ChangesArgs& a) {
                       << Fixed(r.seconds.evidence_s, 1) << ")\n"
                       << "written   " << dir.string()
                       << "/: changes.json, new_objects.ply, map_bim.ply, elements.csv, "
-                         "model_updated.ifc\n";
+                         "model_updated.ifc"
+                      << (r.refinement.T_world_lidar.empty() ? "" : ", keyframes_refined.tum")
+                      << "\n";
         }
         if (!a.truths.empty()) {
             const change_detection::ChangeEvaluation ev =

@@ -16,6 +16,7 @@
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/session.hpp"
+#include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/changes/ifc_update.hpp"
@@ -146,6 +147,8 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
     const json& refined = s["refinement"];
     EXPECT_TRUE(refined["enabled"].get<bool>());
     EXPECT_LT(refined["mean_correction_m"].get<double>(), 0.01) << refined.dump();
+    EXPECT_EQ(io::ReadTum(tmp / "out" / "keyframes_refined.tum").size(),
+              s["keyframes"].get<size_t>());
 
     // The files.
     const fs::path out = tmp / "out";
@@ -340,6 +343,8 @@ TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {
     EXPECT_FALSE(c["parameters"]["refinement"]["enabled"].get<bool>());
     EXPECT_FALSE(c["counts"]["refinement"]["enabled"].get<bool>());
     EXPECT_EQ(off.out.find("refined"), std::string::npos) << off.out;
+    EXPECT_FALSE(fs::exists(tmp / "off" / "keyframes_refined.tum"));
+    EXPECT_TRUE(fs::exists(tmp / "out" / "monday" / "keyframes_refined.tum"));
 }
 
 }  // namespace
