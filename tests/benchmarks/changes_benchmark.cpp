@@ -23,6 +23,9 @@
 //   (host_tools/changes/ change_evaluation.hpp): large_* counts every true object, sep_large_*
 //   takes true objects touching within 5 cm as one (the scenario's random clutter may
 //   interpenetrate); anchor_*_cm, the anchored keyframes' APE against the truth with no alignment.
+//   The detection runs twice on the same anchored session: with the refinement of the poses (the
+//   default, timed; refine_s, refine_*_cm its corrections, refined_*_cm the refined keyframes'
+//   APE) and without it (the counters ending in _norefine).
 //   Seeds 7 (the scenario's own) by default; BIMSLAM_BENCH_LONG=1 adds seeds 11, 23, 42, 97 (a
 //   spread; 10 runs). BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
 //   DIR/<platform>_<seed>. BIMSLAM_BENCH_GROUND_TRUTH=1 places the session on the ground truth
