@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "algorithms/common/status.hpp"
@@ -141,8 +142,9 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
         });
 
         ceres::Problem problem;
-        // One loss for every point's block: the problem owns it and deletes it once.
-        auto* point_loss = new ceres::CauchyLoss(config.point_loss_sigmas);
+        // One loss for every point's block: the problem owns it (and deletes it once) as soon as
+        // a block uses it; until then the unique_ptr does.
+        auto point_loss = std::make_unique<ceres::CauchyLoss>(config.point_loss_sigmas);
         std::vector<uint32_t> per_element(model.element_count(), 0);
         out.correspondences = 0;
         if (round == 0) {
@@ -163,13 +165,14 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
             for (const Correspondence& c : found[k]) {
                 auto* cost = new ceres::AutoDiffCostFunction<PointPlaneCost, 1, 4, 3, 3>(
                     new PointPlaneCost{c.p, c.n, c.c, 1.0 / config.point_sigma_m});
-                problem.AddResidualBlock(cost, point_loss, poses[k].q, poses[k].t,
+                problem.AddResidualBlock(cost, point_loss.get(), poses[k].q, poses[k].t,
                                          offsets[c.element].data());
                 ++per_element[c.element];
             }
             out.correspondences += found[k].size();
             in_problem[k] = 1;
         }
+        if (out.correspondences > 0) (void)point_loss.release();  // now the problem's
         for (const KeyframeEdge& e : edges) {
             auto* cost = new ceres::AutoDiffCostFunction<posegraph::BetweenCost, 6, 4, 3, 4, 3>(
                 new posegraph::BetweenCost{
