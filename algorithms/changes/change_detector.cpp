@@ -123,6 +123,7 @@ void ChangeDetectorConfig::Validate() const {
     evidence.Validate();
     elements.Validate();
     moved.Validate();
+    refinement.Validate();
     if (!(new_object_threshold_m > 0)) {
         Fail("new_object_threshold_m must be > 0, not " + std::to_string(new_object_threshold_m));
     }
@@ -151,12 +152,11 @@ void ChangeModel::Validate() const {
     }
 }
 
-ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+namespace {
+
+// Steps 1-6 on the keyframes' poses as given (checked by DetectChanges).
+ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
                            const ChangeDetectorConfig& config, const ChangeProgress& progress) {
-    config.Validate();
-    model.Validate();
-    if (model.mesh.empty()) Fail("the model has no geometry to compare with");
-    if (keyframes.empty()) Fail("the session has no keyframes");
     const auto report = [&](std::string_view stage, double f) {
         if (progress) progress(stage, f);
     };
@@ -418,6 +418,37 @@ ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe
     sec.elements_s = Since(t0);
     report("elements", 1.0);
     return out;
+}
+
+}  // namespace
+
+ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           std::span<const KeyframeEdge> edges, const ChangeDetectorConfig& config,
+                           const ChangeProgress& progress) {
+    config.Validate();
+    model.Validate();
+    if (model.mesh.empty()) Fail("the model has no geometry to compare with");
+    if (keyframes.empty()) Fail("the session has no keyframes");
+    if (!config.refinement.enabled) return DetectOnPoses(model, keyframes, config, progress);
+
+    // 0. The keyframe poses and the elements' offsets estimated jointly (pose_refinement.hpp);
+    // everything after, deviations included, is measured on the refined poses.
+    if (progress) progress("refinement", 0.0);
+    PoseRefinement refinement = RefinePoses(model, keyframes, edges, config.refinement);
+    if (progress) progress("refinement", 1.0);
+    std::vector<MapKeyframe> refined(keyframes.begin(), keyframes.end());
+    for (size_t k = 0; k < refined.size(); ++k) {
+        refined[k].T_world_lidar = refinement.T_world_lidar[k];
+    }
+    ChangeResult out = DetectOnPoses(model, refined, config, progress);
+    out.seconds.refinement_s = refinement.seconds;
+    out.refinement = std::move(refinement);
+    return out;
+}
+
+ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           const ChangeDetectorConfig& config, const ChangeProgress& progress) {
+    return DetectChanges(model, keyframes, {}, config, progress);
 }
 
 }  // namespace bimslam::changes

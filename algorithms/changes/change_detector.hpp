@@ -1,6 +1,9 @@
 // Change detection of one session against the building model: Step 3 of the paper plus its
 // future work (README.md in this folder has the method, the defaults and why).
 //
+//   0. the keyframe poses refined jointly with every element's as-built offset, against the
+//      model, with the session's own edges (pose_refinement.hpp; `refinement.enabled` = false
+//      keeps the anchored poses);
 //   1. the aligned map: keyframe clouds at their poses, voxel-filtered (aligned_map.hpp);
 //   2. the signed distance of every map point to the nearest element (model_distance.hpp);
 //   3. transient points, by free-space evidence from the keyframes' range images (free_space.hpp);
@@ -30,6 +33,7 @@
 #include "algorithms/changes/element_evidence.hpp"
 #include "algorithms/changes/free_space.hpp"
 #include "algorithms/changes/moved_elements.hpp"
+#include "algorithms/changes/pose_refinement.hpp"
 #include "algorithms/changes/voxel_mesh.hpp"
 
 namespace bimslam::changes {
@@ -54,6 +58,7 @@ struct ChangeDetectorConfig {
     ElementEvidenceConfig evidence;
     ElementCheckConfig elements;
     MovedConfig moved;
+    PoseRefinementConfig refinement;
     void Validate() const;
 };
 
@@ -101,17 +106,27 @@ struct ChangeResult {
         size_t seed_points = 0;  // farther than new_object_threshold_m, not transient
         size_t clusters = 0;     // DBSCAN's, before min_object_points
     } counts;
+    // The refined poses the result was measured on and what the refinement did (its vectors are
+    // empty when it was off: the result is then on the poses as given).
+    PoseRefinement refinement;
     struct Timings {
         double map_s = 0, distance_s = 0, transient_s = 0, cluster_s = 0, evidence_s = 0,
-               elements_s = 0;
+               elements_s = 0, refinement_s = 0;
     } seconds;
 };
 
-// progress(stage, fraction): stage names "map", "distances", "transients", "objects", "elements".
+// progress(stage, fraction): stage names "refinement" (when on), "map", "distances",
+// "transients", "objects", "elements".
 using ChangeProgress = std::function<void(std::string_view stage, double fraction)>;
 
-// Throws common::Error (kInvalidArgument) for a model without geometry or inconsistent, no
-// keyframes, an invalid config.
+// `edges` are the session's own odometry and loop edges (io::SessionEdge), which hold the
+// keyframes together in the refinement. Throws common::Error (kInvalidArgument) for a model without
+// geometry or inconsistent, no keyframes, an invalid config, an edge to a keyframe that does not
+// exist.
+ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           std::span<const KeyframeEdge> edges, const ChangeDetectorConfig& config,
+                           const ChangeProgress& progress = {});
+// Without edges: the refinement (when on) holds each keyframe by its points only.
 ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
                            const ChangeDetectorConfig& config, const ChangeProgress& progress = {});
 

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/posegraph/relative_pose_cost.hpp"
 
 namespace bimslam::posegraph {
 using common::Matrix6d;
@@ -26,53 +27,6 @@ void PoseGraphConfig::Validate() const {
 }
 
 namespace {
-
-template <typename T>
-using Quat = Eigen::Quaternion<T>;
-template <typename T>
-using Vec3 = Eigen::Matrix<T, 3, 1>;
-
-// [t; 2 vec(q)] of z^-1 * (qa, ta)^-1 * (qb, tb).
-template <typename T>
-void Relative(const Eigen::Quaterniond& qz, const Eigen::Vector3d& tz, const Quat<T>& qa,
-              const Vec3<T>& ta, const Quat<T>& qb, const Vec3<T>& tb, T* r) {
-    const Quat<T> qa_inv = qa.conjugate();
-    const Quat<T> q_ab = qa_inv * qb;
-    const Vec3<T> t_ab = qa_inv * (tb - ta);
-    const Quat<T> qz_inv = qz.conjugate().cast<T>();
-    Quat<T> q_err = qz_inv * q_ab;
-    const Vec3<T> t_err = qz_inv * (t_ab - tz.cast<T>());
-    if (q_err.w() < T(0)) q_err.coeffs() = -q_err.coeffs();  // the shorter way round
-    r[0] = t_err.x();
-    r[1] = t_err.y();
-    r[2] = t_err.z();
-    r[3] = T(2) * q_err.x();
-    r[4] = T(2) * q_err.y();
-    r[5] = T(2) * q_err.z();
-}
-
-template <typename T>
-void Whiten(const Matrix6d& S, T* r) {
-    T w[6];
-    for (int i = 0; i < 6; ++i) {
-        w[i] = T(0);
-        for (int j = 0; j < 6; ++j) w[i] += S(i, j) * r[j];
-    }
-    for (int i = 0; i < 6; ++i) r[i] = w[i];
-}
-
-// Between two poses of one frame (odometry; a loop within one session).
-struct BetweenCost {
-    Eigen::Quaterniond qz;
-    Eigen::Vector3d tz;
-    Matrix6d S;
-    template <typename T>
-    bool operator()(const T* qa, const T* ta, const T* qb, const T* tb, T* r) const {
-        Relative(qz, tz, Quat<T>(qa), Vec3<T>(ta), Quat<T>(qb), Vec3<T>(tb), r);
-        Whiten(S, r);
-        return true;
-    }
-};
 
 // Between keyframes of two sessions, each placed by its anchor (eq. 2 of the paper).
 struct AnchoredCost {
@@ -93,20 +47,7 @@ struct AnchoredCost {
     }
 };
 
-// A pose as Ceres' parameter blocks: quaternion x y z w (EigenQuaternionManifold) and translation.
-struct Block {
-    double q[4];
-    double t[3];
-    void Set(const Eigen::Isometry3d& T) {
-        const Eigen::Quaterniond qq = common::Rotation(T);
-        q[0] = qq.x(), q[1] = qq.y(), q[2] = qq.z(), q[3] = qq.w();
-        for (int i = 0; i < 3; ++i) t[i] = T.translation()(i);
-    }
-    Eigen::Isometry3d Get() const {
-        return common::FromQuaternionTranslation(Eigen::Quaterniond(q[3], q[0], q[1], q[2]),
-                                                 Eigen::Vector3d(t[0], t[1], t[2]));
-    }
-};
+using Block = PoseBlock;
 
 }  // namespace
 

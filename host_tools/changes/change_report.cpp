@@ -6,6 +6,7 @@
 
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
+#include "algorithms/io/trajectory.hpp"
 
 namespace bimslam::change_detection {
 namespace {
@@ -44,6 +45,22 @@ json ElementJson(const bim::BimModel& model, size_t e) {
 }
 
 }  // namespace
+
+// What the joint refinement of the poses did (algorithms/changes/pose_refinement.hpp).
+json RefinementJson(const changes::PoseRefinement& p, bool enabled) {
+    if (!enabled) return {{"enabled", false}};
+    return {{"enabled", true},
+            {"keyframes", p.T_world_lidar.size()},
+            {"edges", p.edges},
+            {"unexplained", p.unexplained},
+            {"held", p.held},
+            {"correspondences", p.correspondences},
+            {"poses_moved_1cm", p.moved_1cm},
+            {"mean_correction_m", p.mean_correction_m},
+            {"max_correction_m", p.max_correction_m},
+            {"max_correction_deg", p.max_correction_deg},
+            {"iterations", p.iterations}};
+}
 
 std::array<uint8_t, 3> ObjectColor(size_t i) {
     // Hue by the golden angle, full saturation, value 0.9: neighbouring indices differ most.
@@ -206,7 +223,13 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"pair_radius_m", c.moved.pair_radius_m},
                          {"inlier_m", c.moved.inlier_m},
                          {"min_inlier_fraction", c.moved.min_inlier_fraction},
-                         {"min_object_fraction", c.moved.min_object_fraction}}}};
+                         {"min_object_fraction", c.moved.min_object_fraction}}},
+                       {"refinement",
+                        {{"enabled", c.refinement.enabled},
+                         {"element_sigma_m", c.refinement.element_sigma_m},
+                         {"point_sigma_m", c.refinement.point_sigma_m},
+                         {"points_per_keyframe", c.refinement.points_per_keyframe},
+                         {"gates_m", c.refinement.gates_m}}}};
 
     return {{"format", "bimslam-changes"},
             {"version", 1},
@@ -240,9 +263,11 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
               {"outside_footprint", r.counts.outside_footprint},
               {"transient_points", r.counts.transient_points},
               {"seed_points", r.counts.seed_points},
-              {"clusters", r.counts.clusters}}},
+              {"clusters", r.counts.clusters},
+              {"refinement", RefinementJson(r.refinement, c.refinement.enabled)}}},
             {"seconds",
-             {{"map", r.seconds.map_s},
+             {{"refinement", r.seconds.refinement_s},
+              {"map", r.seconds.map_s},
               {"distances", r.seconds.distance_s},
               {"transients", r.seconds.transient_s},
               {"clusters", r.seconds.cluster_s},
@@ -328,6 +353,20 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
             << Num(rep.moved_yaw_deg) << '\n';
     }
     io::WriteFileAtomic(dir / "elements.csv", csv.str());
+
+    // The poses everything above was measured on, when the refinement moved them: T_bim_lidar in
+    // the model's file coordinates, stamped as the session's keyframes (comparable with
+    // the session's trajectory_bim.tum keyframe by keyframe, or a ground truth).
+    if (!r.refinement.T_world_lidar.empty()) {
+        std::vector<io::StampedPose> poses;
+        for (size_t k = 0; k < r.refinement.T_world_lidar.size(); ++k) {
+            Eigen::Isometry3d T = r.refinement.T_world_lidar[k];
+            T.translation() += model.origin_m;
+            poses.push_back(
+                io::StampedPose::FromIsometry(found.input->session.keyframes[k].stamp_ns, T));
+        }
+        io::WriteTum(dir / "keyframes_refined.tum", poses);
+    }
 }
 
 }  // namespace bimslam::change_detection

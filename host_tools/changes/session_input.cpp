@@ -1,5 +1,7 @@
 #include "host_tools/changes/session_input.hpp"
 
+#include <string>
+
 #include "algorithms/common/status.hpp"
 
 namespace bimslam::change_detection {
@@ -29,6 +31,18 @@ SessionInput LoadAnchoredSession(const std::filesystem::path& dir, const Eigen::
     for (const io::SessionKeyframe& k : in.session.keyframes) {
         in.keyframes.push_back({&k.cloud, shift * k.T_world_lidar});
         in.points += k.cloud.size();
+    }
+    // The session's own graph, for the refinement (algorithms/changes/pose_refinement.hpp). A
+    // recovered session (no session.json) may name keyframes it lost: those edges are dropped.
+    for (const io::SessionEdge& e : in.session.edges) {
+        const size_t n = in.keyframes.size();
+        if (e.from >= n || e.to >= n || e.from == e.to) {
+            if (!in.session.complete) continue;
+            fail("singlesession_posegraph.g2o: the edge " + std::to_string(e.from) + " -> " +
+                 std::to_string(e.to) + " joins keyframes that do not exist (" + std::to_string(n) +
+                 " keyframes)");
+        }
+        in.edges.push_back({e.from, e.to, e.T_from_to, e.information});
     }
     if (load_clouds && in.points == 0) {
         fail("the session's keyframes hold no points: nothing to compare");

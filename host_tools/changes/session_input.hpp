@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "algorithms/changes/aligned_map.hpp"
+#include "algorithms/changes/pose_refinement.hpp"
 #include "algorithms/io/session.hpp"
 
 namespace bimslam::change_detection {
@@ -22,6 +23,9 @@ struct SessionInput {
     // Views into session.keyframes, with the poses moved by -origin_m (the model's local origin,
     // bim::BimModel::origin_m), so that they are in the frame of the model's mesh.
     std::vector<changes::MapKeyframe> keyframes;
+    // The session's odometry and loop edges (singlesession_posegraph.g2o), which hold the
+    // keyframes together when change detection refines their poses.
+    std::vector<changes::KeyframeEdge> edges;
     size_t points = 0;
 };
 

@@ -38,6 +38,7 @@ struct ChangesArgs {
     bool no_transients = false;
     bool no_moved = false;
     bool keep_outside = false;
+    bool no_refine = false;
 };
 
 [[noreturn]] void BadInput(const std::string& what) {
@@ -79,6 +80,7 @@ int Changes(ChangesArgs& a) {
     a.config.detect_transients = !a.no_transients;
     a.config.moved.enabled = !a.no_moved;
     a.config.crop_to_footprint = !a.keep_outside;
+    a.config.refinement.enabled = !a.no_refine;
     a.config.Validate();
     if (!a.truths.empty() && a.truths.size() != a.sessions.size()) {
         BadInput("--truth: give one per --session (" + std::to_string(a.sessions.size()) +
@@ -124,7 +126,7 @@ int Changes(ChangesArgs& a) {
         change_detection::SessionChanges found;
         found.label = label;
         found.input = &input;
-        found.result = changes::DetectChanges(change_model, input.keyframes, a.config,
+        found.result = changes::DetectChanges(change_model, input.keyframes, input.edges, a.config,
                                               [&](std::string_view stage, double f) {
                                                   bar.Update(label + ": " + std::string(stage), f);
                                               });
@@ -172,6 +174,11 @@ int Changes(ChangesArgs& a) {
                    {"deviating", deviating},
                    {"confirmed", confirmed},
                    {"not_observed", unseen},
+                   {"refinement",
+                    {{"enabled", a.config.refinement.enabled},
+                     {"poses_moved_1cm", r.refinement.moved_1cm},
+                     {"mean_correction_m", r.refinement.mean_correction_m},
+                     {"max_correction_m", r.refinement.max_correction_m}}},
                    {"ifc",
                     {{"file", (dir / "model_updated.ifc").string()},
                      {"proxies", ifc.proxies},
@@ -182,8 +189,17 @@ int Changes(ChangesArgs& a) {
         if (!a.json) {
             std::cout << "session   " << label << ": " << input.session.keyframes.size()
                       << " keyframes, " << input.points << " points -> map of " << r.map.size()
-                      << " points (" << a.config.map.voxel_m * 100 << " cm voxels)\n"
-                      << "objects   " << objects << " new (" << Fixed(volume, 2) << " m3), "
+                      << " points (" << a.config.map.voxel_m * 100 << " cm voxels)\n";
+            if (a.config.refinement.enabled) {
+                const changes::PoseRefinement& p = r.refinement;
+                std::cout << "refined   " << p.moved_1cm << " of " << p.T_world_lidar.size()
+                          << " keyframes moved by more than 1 cm (mean "
+                          << Fixed(100 * p.mean_correction_m, 2) << " cm, max "
+                          << Fixed(100 * p.max_correction_m, 2) << " cm, "
+                          << Fixed(p.max_correction_deg, 2) << " deg), " << input.edges.size()
+                          << " edges, " << Fixed(p.seconds, 1) << " s\n";
+            }
+            std::cout << "objects   " << objects << " new (" << Fixed(volume, 2) << " m3), "
                       << moved << " moved elements, " << r.transients.size()
                       << " transient clusters (" << r.counts.transient_points << " points)\n"
                       << "elements  " << missing << " missing, " << deviating << " deviating, "
@@ -192,15 +208,17 @@ int Changes(ChangesArgs& a) {
                       << " verdict property sets added (" << ifc.entities << " entities)\n";
             for (const std::string& note : ifc.notes)
                 std::cout << "          note: " << note << "\n";
-            std::cout << "time      " << Fixed(seconds, 1) << " s (map "
-                      << Fixed(r.seconds.map_s, 1) << ", distances "
-                      << Fixed(r.seconds.distance_s, 1) << ", transients "
+            std::cout << "time      " << Fixed(seconds, 1) << " s (refinement "
+                      << Fixed(r.seconds.refinement_s, 1) << ", map " << Fixed(r.seconds.map_s, 1)
+                      << ", distances " << Fixed(r.seconds.distance_s, 1) << ", transients "
                       << Fixed(r.seconds.transient_s, 1) << ", objects "
                       << Fixed(r.seconds.cluster_s, 1) << ", rays "
                       << Fixed(r.seconds.evidence_s, 1) << ")\n"
                       << "written   " << dir.string()
                       << "/: changes.json, new_objects.ply, map_bim.ply, elements.csv, "
-                         "model_updated.ifc\n";
+                         "model_updated.ifc"
+                      << (r.refinement.T_world_lidar.empty() ? "" : ", keyframes_refined.tum")
+                      << "\n";
         }
         if (!a.truths.empty()) {
             const change_detection::ChangeEvaluation ev =
@@ -285,6 +303,12 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--no-transients", a->no_transients, "skip the free-space check for transients");
     cmd->add_flag("--no-moved", a->no_moved, "do not pair missing elements with new objects");
+    cmd->add_flag("--no-refine", a->no_refine,
+                  "compare on the anchored poses as they are, without refining them jointly with "
+                  "the elements' as-built offsets first");
+    cmd->add_option("--refine-sigma", c.refinement.element_sigma_m,
+                    "the refinement's prior on an element's as-built offset, m (0.02)")
+        ->check(CLI::PositiveNumber);
     cmd->add_flag("--keep-outside", a->keep_outside,
                   "compare points with no element below them too (the ground outside, things at "
                   "the entrances), which are otherwise outside the building");

@@ -26,6 +26,7 @@ struct MapArgs {
     std::string outliers = "pcm";
     bool force = false;
     bool no_report = false;
+    bool no_refine = false;
     bool json = false;
     mapping::MapConfig config;
 };
@@ -105,6 +106,7 @@ int MapMain(MapArgs& a) {
     c.out = a.out;
     c.force = a.force;
     c.report = !a.no_report;
+    c.changes.refinement.enabled = !a.no_refine;
     ProgressBar bar(!a.json && ProgressBar::Terminal());
     const mapping::MapRun run =
         mapping::RunMap(c, [&](const std::string& step, double f) { bar.Update(step, f); });
@@ -172,6 +174,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
                     "change detection: distance from the model that starts a new object, m")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    cmd->add_flag("--no-refine", a->no_refine,
+                  "change detection: compare on the anchored poses as they are, without refining "
+                  "them jointly with the elements' as-built offsets first");
     cmd->add_flag("--force", a->force, "run every step again, up to date or not");
     cmd->add_flag("--no-report", a->no_report, "skip the HTML report");
     cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");

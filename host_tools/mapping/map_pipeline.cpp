@@ -112,7 +112,9 @@ json ChangeParameters(const changes::ChangeDetectorConfig& c) {
             {"deviation_tolerance_m", c.elements.deviation_tolerance_m},
             {"min_judged_area_m2", c.elements.min_judged_area_m2},
             {"transients", c.detect_transients},
-            {"moved", c.moved.enabled}};
+            {"moved", c.moved.enabled},
+            {"refine", c.refinement.enabled},
+            {"refine_sigma_m", c.refinement.element_sigma_m}};
 }
 
 // The anchored sessions in anchor.json (those with a folder in OUT/anchor).
@@ -267,7 +269,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
             found.label = label;
             found.input = &input;
             found.result = changes::DetectChanges(
-                change_model, input.keyframes, config.changes,
+                change_model, input.keyframes, input.edges, config.changes,
                 [&](std::string_view stage, double f) {
                     progress("changes " + label + ": " + std::string(stage), f);
                 });

@@ -18,13 +18,16 @@
 //   columns and a cabinet, a moved desk, walls built off, two people) with seed S, simulated in the
 //   sample building over its whole coverage walk, replayed through the odometry into a session,
 //   the session anchored to the building's BIM reference session (host_tools/anchor, as
-//   `bimslam anchor --model-tolerance 0.02`: no initial pose) and then `bimslam changes` as a library call (timed) and
-//   its files scored against the capture's changes.json (host_tools/changes/
-//   change_evaluation.hpp): large_* counts every true object, sep_large_* takes true objects
-//   touching within 5 cm as one (the scenario's random clutter may interpenetrate); anchor_*_cm,
-//   the anchored keyframes' APE against the truth with no alignment. Seeds 7 (the scenario's own)
-//   by default; BIMSLAM_BENCH_LONG=1 adds seeds 11, 23, 42, 97 (a spread; 10 runs).
-//   BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
+//   `bimslam anchor --model-tolerance 0.02`: no initial pose) and then `bimslam changes` as a
+//   library call (timed) and its files scored against the capture's changes.json
+//   (host_tools/changes/ change_evaluation.hpp): large_* counts every true object, sep_large_*
+//   takes true objects touching within 5 cm as one (the scenario's random clutter may
+//   interpenetrate); anchor_*_cm, the anchored keyframes' APE against the truth with no alignment.
+//   The detection runs twice on the same anchored session: with the refinement of the poses (the
+//   default, timed; refine_s, refine_*_cm its corrections, refined_*_cm the refined keyframes'
+//   APE) and without it (the counters ending in _norefine).
+//   Seeds 7 (the scenario's own) by default; BIMSLAM_BENCH_LONG=1 adds seeds 11, 23, 42, 97 (a
+//   spread; 10 runs). BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
 //   DIR/<platform>_<seed>. BIMSLAM_BENCH_GROUND_TRUTH=1 places the session on the ground truth
 //   instead of anchoring it (tests/support/ground_truth_session.hpp), to tell the anchoring's
 //   share of an error from the change detection's.
@@ -377,57 +380,98 @@ void BM_ChangeAccuracy(benchmark::State& state) {
     const changes::ChangeModel change_model = change_detection::ToChangeModel(model);
     const change_detection::SessionInput input =
         change_detection::LoadAnchoredSession(tmp / "anchored", model.origin_m);
-    const changes::ChangeDetectorConfig config;
-    change_detection::SessionChanges found;
-    found.label = "anchored";
-    found.input = &input;
-    for (auto _ : state)
-        found.result = changes::DetectChanges(change_model, input.keyframes, config);
-    found.places = change_detection::PlaceObjects(model, found.result.objects);
-    found.object_global_ids.assign(found.result.objects.size(), "0000000000000000000000");
-    fs::create_directories(tmp / "out");
-    change_detection::WriteChangeFiles(tmp / "out", model, {ifc, ""}, found, config);
-    const change_detection::ChangeEvaluation ev = change_detection::EvaluateChanges(
-        change_detection::ReadTruthChanges(tmp / "capture" / "changes.json"),
-        change_detection::ReadFoundChanges(tmp / "out"));
-
-    const changes::ChangeResult& r = found.result;
     state.counters["keyframes"] = double(input.session.keyframes.size());
     if (!on_truth) {
         state.counters["anchor_rmse_cm"] = anchor_rmse_cm;
         state.counters["anchor_max_cm"] = anchor_max_cm;
     }
-    state.counters["map_points"] = double(r.map.size());
-    state.counters["added_truth"] = double(ev.added.truth);
-    state.counters["large_f1"] = ev.added_large.f1();
-    state.counters["large_precision"] = ev.added_large.precision();
-    state.counters["large_recall"] = ev.added_large.recall();
-    state.counters["all_f1"] = ev.added.f1();
-    state.counters["sep_large_f1"] = ev.added_separable_large.f1();
-    state.counters["sep_large_precision"] = ev.added_separable_large.precision();
-    state.counters["sep_large_recall"] = ev.added_separable_large.recall();
-    state.counters["touching_groups"] = double(ev.touching_groups);
-    state.counters["removed_large"] = double(ev.removed_large.truth);
-    state.counters["removed_recall"] = ev.removed_large.recall();
-    state.counters["removed_precision"] = ev.removed_large.precision();
-    double wall_max = 0;
-    size_t within = 0;
-    for (const auto& w : ev.walls) {
-        wall_max = std::max(wall_max, w.error_m);
-        within += w.error_m <= 0.01;
-    }
-    state.counters["walls"] = double(ev.walls.size());
-    state.counters["walls_within_1cm"] = double(within);
-    state.counters["wall_max_err_cm"] = 100 * wall_max;
-    state.counters["people_as_objects"] = double(ev.people_as_objects);
-    state.counters["people_transient"] = double(ev.people_with_transients);
-    double moved_err = 0, moved_found = 0;
-    for (const auto& m : ev.moved)
-        moved_found += m.found, moved_err = std::max(moved_err, m.translation_error_m);
-    state.counters["moved_found"] = moved_found;
-    state.counters["moved_err_cm"] = 100 * moved_err;
-    state.counters["detect_s"] = r.seconds.map_s + r.seconds.distance_s + r.seconds.transient_s +
-                                 r.seconds.cluster_s + r.seconds.evidence_s + r.seconds.elements_s;
+    // The detection with the refinement of the poses (the default; timed) and without it
+    // (counters ending in _norefine), on the same anchored session.
+    const auto score = [&](bool refine, const std::string& suffix) {
+        changes::ChangeDetectorConfig config;
+        config.refinement.enabled = refine;
+        change_detection::SessionChanges found;
+        found.label = "anchored";
+        found.input = &input;
+        if (refine) {
+            for (auto _ : state) {
+                found.result =
+                    changes::DetectChanges(change_model, input.keyframes, input.edges, config);
+            }
+        } else {
+            found.result =
+                changes::DetectChanges(change_model, input.keyframes, input.edges, config);
+        }
+        found.places = change_detection::PlaceObjects(model, found.result.objects);
+        found.object_global_ids.assign(found.result.objects.size(), "0000000000000000000000");
+        const fs::path out = tmp / ("out" + suffix);
+        fs::create_directories(out);
+        change_detection::WriteChangeFiles(out, model, {ifc, ""}, found, config);
+        const change_detection::ChangeEvaluation ev = change_detection::EvaluateChanges(
+            change_detection::ReadTruthChanges(tmp / "capture" / "changes.json"),
+            change_detection::ReadFoundChanges(out));
+        const changes::ChangeResult& r = found.result;
+        auto counter = [&](const std::string& name, double v) {
+            state.counters[name + suffix] = v;
+        };
+        if (refine) counter("map_points", double(r.map.size()));
+        counter("added_truth", double(ev.added.truth));
+        counter("large_f1", ev.added_large.f1());
+        counter("large_precision", ev.added_large.precision());
+        counter("large_recall", ev.added_large.recall());
+        counter("all_f1", ev.added.f1());
+        counter("sep_large_f1", ev.added_separable_large.f1());
+        counter("sep_large_precision", ev.added_separable_large.precision());
+        counter("sep_large_recall", ev.added_separable_large.recall());
+        counter("touching_groups", double(ev.touching_groups));
+        counter("removed_large", double(ev.removed_large.truth));
+        counter("removed_recall", ev.removed_large.recall());
+        counter("removed_precision", ev.removed_large.precision());
+        double wall_max = 0;
+        size_t within = 0;
+        for (const auto& w : ev.walls) {
+            wall_max = std::max(wall_max, w.error_m);
+            within += w.error_m <= 0.01;
+        }
+        counter("walls", double(ev.walls.size()));
+        counter("walls_within_1cm", double(within));
+        counter("wall_max_err_cm", 100 * wall_max);
+        counter("people_as_objects", double(ev.people_as_objects));
+        counter("people_transient", double(ev.people_with_transients));
+        double moved_err = 0, moved_found = 0;
+        for (const auto& m : ev.moved)
+            moved_found += m.found, moved_err = std::max(moved_err, m.translation_error_m);
+        counter("moved_found", moved_found);
+        counter("moved_err_cm", 100 * moved_err);
+        counter("detect_s", r.seconds.map_s + r.seconds.distance_s + r.seconds.transient_s +
+                                r.seconds.cluster_s + r.seconds.evidence_s + r.seconds.elements_s);
+        if (refine) {
+            const changes::PoseRefinement& p = r.refinement;
+            counter("refine_s", r.seconds.refinement_s);
+            counter("refine_moved_1cm", double(p.moved_1cm));
+            counter("refine_mean_cm", 100 * p.mean_correction_m);
+            counter("refine_max_cm", 100 * p.max_correction_m);
+            if (!on_truth) {
+                // The refined keyframes' APE, as anchor_*_cm (the poses are in the model's local
+                // frame here, the truth in the IFC's: shifted back by the model's origin).
+                std::vector<io::StampedPose> kfs;
+                for (size_t k = 0; k < p.T_world_lidar.size(); ++k) {
+                    Eigen::Isometry3d T = p.T_world_lidar[k];
+                    T.translation() += model.origin_m;
+                    kfs.push_back(
+                        io::StampedPose::FromIsometry(input.session.keyframes[k].stamp_ns, T));
+                }
+                evaluation::EvaluationConfig ec;
+                ec.align = evaluation::Alignment::kNone;
+                const auto e = evaluation::Evaluate(
+                    kfs, io::ReadTum(tmp / "capture" / "ground_truth.tum"), ec);
+                counter("refined_rmse_cm", 100 * e.ape_trans_m.rmse);
+                counter("refined_max_cm", 100 * e.ape_trans_m.max);
+            }
+        }
+    };
+    score(true, "");
+    score(false, "_norefine");
     state.SetLabel(std::string(handheld ? "handheld" : "go1") +
                    (on_truth ? ", ground-truth poses" : ", anchored"));
 }

@@ -16,6 +16,7 @@
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/session.hpp"
+#include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/changes/ifc_update.hpp"
@@ -142,6 +143,12 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
     ASSERT_EQ(ev["as_built"]["observed"], 1);
     EXPECT_LT(ev["as_built"]["max_error_m"].get<double>(), 0.01);
     EXPECT_EQ(ev["as_built"]["walls"][0]["verdict"], "deviating");
+    // The poses were refined (on by default) and, being the truth, stayed within a centimetre.
+    const json& refined = s["refinement"];
+    EXPECT_TRUE(refined["enabled"].get<bool>());
+    EXPECT_LT(refined["mean_correction_m"].get<double>(), 0.01) << refined.dump();
+    EXPECT_EQ(io::ReadTum(tmp / "out" / "keyframes_refined.tum").size(),
+              s["keyframes"].get<size_t>());
 
     // The files.
     const fs::path out = tmp / "out";
@@ -325,7 +332,19 @@ TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {
         }
         const json c = json::parse(io::ReadFileToString(tmp / "out" / name / "changes.json"));
         EXPECT_EQ(c["session"]["label"], name);
+        EXPECT_TRUE(c["parameters"]["refinement"]["enabled"].get<bool>());
+        EXPECT_EQ(c["counts"]["refinement"]["keyframes"], 1);
     }
+    // --no-refine: the poses as they are, and changes.json says so.
+    const auto off = Cli("changes --model " + Quote(tmp / "building.ifc") + " --session " +
+                         Quote(tmp / "monday") + " -o " + Quote(tmp / "off") + " --no-refine");
+    ASSERT_EQ(off.exit_code, 0) << off.err;
+    const json c = json::parse(io::ReadFileToString(tmp / "off" / "changes.json"));
+    EXPECT_FALSE(c["parameters"]["refinement"]["enabled"].get<bool>());
+    EXPECT_FALSE(c["counts"]["refinement"]["enabled"].get<bool>());
+    EXPECT_EQ(off.out.find("refined"), std::string::npos) << off.out;
+    EXPECT_FALSE(fs::exists(tmp / "off" / "keyframes_refined.tum"));
+    EXPECT_TRUE(fs::exists(tmp / "out" / "monday" / "keyframes_refined.tum"));
 }
 
 }  // namespace

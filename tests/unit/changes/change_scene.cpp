@@ -31,6 +31,8 @@ common::TriangleMesh Cylinder(const Eigen::Vector2d& at, double radius, double h
     return m;
 }
 
+}  // namespace
+
 // The decoded points of a simulated scan, in the sensor's (lidar) frame, as the driver gives them.
 common::PointCloud ToCloud(const simulation::ScanImage& image,
                            const simulation::LidarModel& lidar) {
@@ -46,6 +48,8 @@ common::PointCloud ToCloud(const simulation::ScanImage& image,
     }
     return cloud;
 }
+
+namespace {
 
 ChangeScene Build() {
     ChangeScene s;

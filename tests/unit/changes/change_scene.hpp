@@ -19,6 +19,11 @@
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/triangle_mesh.hpp"
 
+namespace bimslam::simulation {
+struct ScanImage;
+struct LidarModel;
+}  // namespace bimslam::simulation
+
 namespace bimslam::changes::test {
 
 // Element indices of the model.
@@ -51,6 +56,8 @@ struct ChangeScene {
 // An axis-aligned solid box, faces counter-clockwise seen from outside.
 common::TriangleMesh SolidBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 void Append(common::TriangleMesh* to, const common::TriangleMesh& m);
+// The decoded points of a simulated scan, in the sensor's (lidar) frame, as the driver gives them.
+common::PointCloud ToCloud(const simulation::ScanImage& image, const simulation::LidarModel& lidar);
 
 // The scene above, simulated (deterministic). Built once and shared: the tests only read it.
 const ChangeScene& SharedChangeScene();
