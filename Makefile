@@ -5,7 +5,7 @@
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
-.PHONY: all demo test deps configure build deb cross test-cross test-release test-asan bench fuzz format clean
+.PHONY: all demo test deps configure build deb deb-arm64 cross test-cross test-release test-asan bench fuzz format clean
 
 all: build
 
@@ -43,6 +43,14 @@ cross:
 
 test-cross: cross
 	@ctest --preset aarch64 -j $(JOBS)
+
+# bimslam-rig for arm64 from the cross-build, into build/aarch64/packages: only the two programs
+# are built; dpkg-shlibdeps reads the staged libraries' shlibs/symbols (toolchain/README.md).
+deb-arm64:
+	@bash toolchain/install-deps.sh --cross
+	@cmake --preset aarch64 >/dev/null
+	@cmake --build build/aarch64 -j $(JOBS) --target deb_contents
+	@cd build/aarch64 && cpack -G DEB
 
 test: DEPS_FLAGS = --test
 test: test-release test-asan

@@ -33,9 +33,16 @@ set(ENV{PKG_CONFIG_PATH} "${_staging_lib}/pkgconfig")
 # Programs (lcm-gen, qemu) are the build machine's; libraries, headers and packages the target's.
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 
-# The tests run under qemu-user. Its aarch64 loader is Debian's (libc6:arm64, /lib); the staged
-# libraries are found through LD_LIBRARY_PATH, which -E sets for the emulated program only.
+# The tests run under qemu-user. Its aarch64 loader is Debian's (libc6:arm64, /lib); -E sets,
+# for the emulated program only:
+# - LD_LIBRARY_PATH: the staged libraries;
+# - CMAKE_PREFIX_PATH: where pluginlib looks for the ROS bag library's encryption plugin
+#   (<prefix>/lib/librosbag_default_encryption_plugins.so; stage-arm64.sh links ros/lib to it).
+#   Installed, it is in /usr/lib/aarch64-linux-gnu/ros, pluginlib's default, not in the staging;
+# - BIMSLAM_EMULATOR: tests::Emulator() (tests/support), for what qemu-user cannot do.
 find_program(BIMSLAM_QEMU_AARCH64 qemu-aarch64-static qemu-aarch64)
 if(BIMSLAM_QEMU_AARCH64)
-    set(CMAKE_CROSSCOMPILING_EMULATOR "${BIMSLAM_QEMU_AARCH64};-E;LD_LIBRARY_PATH=${_staging_lib}")
+    set(CMAKE_CROSSCOMPILING_EMULATOR
+        "${BIMSLAM_QEMU_AARCH64};-E;LD_LIBRARY_PATH=${_staging_lib}"
+        "-E;CMAKE_PREFIX_PATH=${BIMSLAM_ARM64_STAGING}/ros;-E;BIMSLAM_EMULATOR=qemu-aarch64")
 endif()

@@ -48,13 +48,20 @@ packages=(
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
     liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian)
 # The aarch64 cross-build: packages that are Multi-Arch: same (or arch all, as Eigen, CLI11 and
-# nlohmann-json above) install for arm64 beside amd64; Ceres, glog, gflags, LCM and yaml-cpp do
-# not, and are staged instead (toolchain/stage-arm64.sh says why). FLANN's arm64 package pulls in
+# nlohmann-json above) install for arm64 beside amd64; Ceres, glog, gflags, LCM, yaml-cpp and
+# the ROS bag library do not, and are staged instead (toolchain/stage-arm64.sh says why). The ROS
+# bag library's own libraries that do install are listed here (its -dev package would pull them
+# in, but cannot be installed), with gpgme and OpenSSL for its encryption plugin, which it loads
+# when it opens a bag. FLANN's arm64 package pulls in
 # an MPI HDF5 that conflicts with the amd64 one: its headers, the same for every architecture, are
 # used (toolchain/cmake/BimslamDependencies.cmake).
 cross_packages=(crossbuild-essential-arm64 qemu-user-static libc6-dev:arm64 zlib1g-dev:arm64
     liblz4-dev:arm64 libglib2.0-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64
-    libsuitesparse-dev:arm64 libatlas-base-dev:arm64)
+    libsuitesparse-dev:arm64 libatlas-base-dev:arm64
+    libroscpp-core-dev:arm64 libconsole-bridge-dev:arm64 libboost-filesystem-dev:arm64
+    libbz2-1.0:arm64 libtinyxml2-9:arm64 libament-index-cpp0d:arm64 libclass-loader3d:arm64
+    librcpputils1d:arm64 librcutils1d:arm64 libroslz4-1d:arm64 libboost-program-options1.74.0:arm64
+    libgpgme11:arm64 libssl3:arm64)
 if [[ "${1:-}" == "--cross" ]]; then
     if ! dpkg --print-foreign-architectures | grep -qx arm64; then
         if [[ $EUID -ne 0 ]]; then

@@ -34,6 +34,11 @@ std::optional<std::filesystem::path> SharedDataDir() {
     return std::nullopt;
 }
 
+const char* Emulator() {
+    const char* emulator = std::getenv("BIMSLAM_EMULATOR");
+    return emulator && *emulator ? emulator : nullptr;
+}
+
 void WriteBytes(const std::filesystem::path& path, const std::string& bytes) {
     std::ofstream f(path, std::ios::binary | std::ios::trunc);
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));

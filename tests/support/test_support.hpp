@@ -33,6 +33,12 @@ private:
 // ../shared/data next to the project root (BIMSLAM_SOURCE_DIR, set by ctest), or nullopt.
 std::optional<std::filesystem::path> SharedDataDir();
 
+// The emulator the test program runs under, or nullptr when it runs natively: the aarch64
+// cross-build's tests run under qemu-user, whose CMAKE_CROSSCOMPILING_EMULATOR sets
+// BIMSLAM_EMULATOR (toolchain/aarch64-linux-gnu.cmake). For what an emulator cannot do (qemu-user
+// has no kernel receive timestamps); never for accuracy or logic.
+const char* Emulator();
+
 // Skips the current test, saying why, when ../shared/data (or a file in it) is missing.
 #define BIMSLAM_REQUIRE_SHARED_DATA(var, relative)                                            \
     const auto var##_root = ::bimslam::test::SharedDataDir();                                 \

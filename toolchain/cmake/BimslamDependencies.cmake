@@ -40,9 +40,13 @@ find_library(ROSBAG_STORAGE_LIBRARY rosbag_storage REQUIRED)
 add_library(bimslam_rosbag INTERFACE)
 target_include_directories(bimslam_rosbag SYSTEM INTERFACE "${ROSBAG_INCLUDE_DIR}"
                                                            "${ROSCPP_SERIALIZATION_INCLUDE_DIR}")
-foreach(sub pluginlib class_loader rcutils rcpputils ament_index_cpp)
-    find_path(ROSBAG_${sub}_DIR NAMES ${sub} PATHS "${ROSBAG_INCLUDE_DIR}/${sub}" NO_DEFAULT_PATH
-              REQUIRED)
+# Each as <include>/<name>/<name>/<a header>, searched like any header rather than beside
+# rosbag's: the aarch64 cross-build finds rosbag's in its staging (toolchain/stage-arm64.sh) and
+# these, Debian's arm64 -dev packages or architecture-independent, in /usr/include.
+foreach(sub_header pluginlib/class_loader.hpp class_loader/class_loader.hpp rcutils/env.h
+        rcpputils/env.hpp ament_index_cpp/get_package_prefix.hpp)
+    get_filename_component(sub "${sub_header}" DIRECTORY)
+    find_path(ROSBAG_${sub}_DIR NAMES "${sub_header}" PATH_SUFFIXES "${sub}" REQUIRED)
     target_include_directories(bimslam_rosbag SYSTEM INTERFACE "${ROSBAG_${sub}_DIR}")
 endforeach()
 foreach(lib roscpp_serialization rostime cpp_common console_bridge boost_filesystem)

@@ -82,6 +82,16 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 if(CMAKE_CROSSCOMPILING AND CMAKE_SYSTEM_PROCESSOR STREQUAL "aarch64")
     set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE arm64)
+    # dpkg-shlibdeps for arm64 (`make deb-arm64`, toolchain/README.md). DEB_HOST_ARCH makes it
+    # search /usr/lib/aarch64-linux-gnu and read the programs with aarch64-linux-gnu-objdump; it is
+    # set in cpack's own environment by a file cpack reads when it runs. The staged libraries
+    # (toolchain/stage-arm64.sh) are found through -l (CPack's "private dirs"); dpkg knows no
+    # package for them, so dpkg-shlibdeps takes their dependency (libceres3, liblcm1, ...) from
+    # the shlibs and symbols files in the staging's DEBIAN/, the nearest above each library.
+    set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS
+        "${BIMSLAM_ARM64_STAGING}/usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}")
+    set(CPACK_PROJECT_CONFIG_FILE "${PROJECT_BINARY_DIR}/packaging/cpack_arm64.cmake")
+    file(WRITE "${CPACK_PROJECT_CONFIG_FILE}" "set(ENV{DEB_HOST_ARCH} arm64)\n")
 endif()
 
 set(CPACK_DEBIAN_RIG_PACKAGE_NAME bimslam-rig)
