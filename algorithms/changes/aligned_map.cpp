@@ -10,10 +10,6 @@
 namespace bimslam::changes {
 namespace {
 
-[[noreturn]] void Fail(const std::string& what) {
-    throw common::Error(common::StatusCode::kInvalidArgument, what);
-}
-
 // Interleaves the low 21 bits of x, y, z (Morton order).
 uint64_t Spread(uint64_t v) {
     v &= 0x1fffff;
@@ -56,11 +52,11 @@ std::vector<uint32_t> MortonOrder(std::span<const Eigen::Vector3f> points, float
 
 void AlignedMapConfig::Validate() const {
     if (!(voxel_m > 0) || !std::isfinite(voxel_m)) {
-        Fail("map.voxel_m must be > 0, not " + std::to_string(voxel_m));
+        common::ThrowInvalid("map.voxel_m must be > 0, not " + std::to_string(voxel_m));
     }
     if (!(min_range_m >= 0) || !(max_range_m > min_range_m) || !std::isfinite(max_range_m)) {
-        Fail("map: need 0 <= min_range_m < max_range_m, not " + std::to_string(min_range_m) +
-             " and " + std::to_string(max_range_m));
+        common::ThrowInvalid("map: need 0 <= min_range_m < max_range_m, not " +
+                             std::to_string(min_range_m) + " and " + std::to_string(max_range_m));
     }
 }
 
@@ -68,9 +64,10 @@ AlignedMap BuildAlignedMap(std::span<const MapKeyframe> keyframes, const Aligned
     config.Validate();
     size_t total = 0;
     for (size_t k = 0; k < keyframes.size(); ++k) {
-        if (!keyframes[k].cloud) Fail("keyframe " + std::to_string(k) + " has no cloud");
+        if (!keyframes[k].cloud)
+            common::ThrowInvalid("keyframe " + std::to_string(k) + " has no cloud");
         if (!keyframes[k].T_world_lidar.matrix().allFinite()) {
-            Fail("keyframe " + std::to_string(k) + " has a non-finite pose");
+            common::ThrowInvalid("keyframe " + std::to_string(k) + " has a non-finite pose");
         }
         total += keyframes[k].cloud->size();
     }

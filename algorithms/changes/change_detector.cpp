@@ -10,22 +10,16 @@
 #include <deque>
 #include <string>
 
+#include "algorithms/changes/dbscan.hpp"
 #include "algorithms/changes/model_distance.hpp"
 #include "algorithms/changes/point_grid.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/simulation/scene.hpp"
 
 namespace bimslam::changes {
 namespace {
 using Clock = std::chrono::steady_clock;
-
-[[noreturn]] void Fail(const std::string& what) {
-    throw common::Error(common::StatusCode::kInvalidArgument, what);
-}
-
-double Since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // The normal of the points within `radius` of p that `take` accepts: the eigenvector of the least
 // eigenvalue of their covariance where they form a surface (the middle eigenvalue at least 10 %
@@ -90,12 +84,6 @@ PointNormals EstimateNormals(std::span<const Eigen::Vector3f> points, float radi
     return out;
 }
 
-Eigen::AlignedBox3d BoxOf(std::span<const Eigen::Vector3f> xyz, std::span<const uint32_t> idx) {
-    Eigen::AlignedBox3d box;
-    for (const uint32_t i : idx) box.extend(xyz[i].cast<double>());
-    return box;
-}
-
 }  // namespace
 
 std::string_view ToString(PointClass c) {
@@ -125,30 +113,32 @@ void ChangeDetectorConfig::Validate() const {
     moved.Validate();
     refinement.Validate();
     if (!(new_object_threshold_m > 0)) {
-        Fail("new_object_threshold_m must be > 0, not " + std::to_string(new_object_threshold_m));
+        common::ThrowInvalid("new_object_threshold_m must be > 0, not " +
+                             std::to_string(new_object_threshold_m));
     }
     if (!(band_threshold_m > 0 && band_threshold_m <= new_object_threshold_m)) {
-        Fail("band_threshold_m must be in (0, new_object_threshold_m], not " +
-             std::to_string(band_threshold_m));
+        common::ThrowInvalid("band_threshold_m must be in (0, new_object_threshold_m], not " +
+                             std::to_string(band_threshold_m));
     }
-    if (!(crop_margin_m >= 0)) Fail("crop_margin_m must be >= 0");
+    if (!(crop_margin_m >= 0)) common::ThrowInvalid("crop_margin_m must be >= 0");
 }
 
 void ChangeModel::Validate() const {
     if (triangle_element.size() != mesh.triangles.size()) {
-        Fail("model: " + std::to_string(mesh.triangles.size()) + " triangles but " +
-             std::to_string(triangle_element.size()) + " triangle elements");
+        common::ThrowInvalid("model: " + std::to_string(mesh.triangles.size()) + " triangles but " +
+                             std::to_string(triangle_element.size()) + " triangle elements");
     }
-    if (!mesh.IndicesValid()) Fail("model: a triangle index is out of range");
+    if (!mesh.IndicesValid()) common::ThrowInvalid("model: a triangle index is out of range");
     for (size_t t = 0; t < triangle_element.size(); ++t) {
         if (triangle_element[t] >= element_count()) {
-            Fail("model: triangle " + std::to_string(t) + " has element " +
-                 std::to_string(triangle_element[t]) + " of " + std::to_string(element_count()));
+            common::ThrowInvalid("model: triangle " + std::to_string(t) + " has element " +
+                                 std::to_string(triangle_element[t]) + " of " +
+                                 std::to_string(element_count()));
         }
     }
     for (size_t v = 0; v < mesh.vertices.size(); ++v) {
         if (!mesh.vertices[v].allFinite())
-            Fail("model: vertex " + std::to_string(v) + " is not finite");
+            common::ThrowInvalid("model: vertex " + std::to_string(v) + " is not finite");
     }
 }
 
@@ -166,12 +156,12 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     auto t0 = Clock::now();
     out.map = BuildAlignedMap(keyframes, config.map);
     ChangeResult::Timings& sec = out.seconds;
-    sec.map_s = Since(t0);
+    sec.map_s = common::SecondsSince(t0);
     report("map", 1.0);
     if (out.map.size() == 0) {
-        Fail("the session's keyframes hold no points between " +
-             std::to_string(config.map.min_range_m) + " and " +
-             std::to_string(config.map.max_range_m) + " m");
+        common::ThrowInvalid("the session's keyframes hold no points between " +
+                             std::to_string(config.map.min_range_m) + " and " +
+                             std::to_string(config.map.max_range_m) + " m");
     }
     const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
     const size_t n = xyz.size();
@@ -186,7 +176,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     for (size_t i = 0; i < n; ++i) {
         if (d.triangle[i] != kNoElement) out.element[i] = model.triangle_element[d.triangle[i]];
     }
-    sec.distance_s = Since(t0);
+    sec.distance_s = common::SecondsSince(t0);
 
     // The compared region: the model's box plus a margin (the outdoors seen through windows and
     // doors is not the building's).
@@ -272,7 +262,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     }
     out.counts.transient_points = transient_points.size();
     out.counts.seed_points = seeds.size();
-    sec.transient_s = Since(t0);
+    sec.transient_s = common::SecondsSince(t0);
 
     // 4. New objects: DBSCAN over the seeds, grown into the band.
     t0 = Clock::now();
@@ -364,7 +354,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
             out.transients[size_t(tc.labels[k])].points.push_back(transient_points[k]);
     }
     for (TransientCluster& c : out.transients) {
-        const Eigen::AlignedBox3d box = BoxOf(xyz, c.points);
+        const Eigen::AlignedBox3d box = ClusterBox(xyz, c.points);
         c.box_min = box.min();
         c.box_max = box.max();
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -376,7 +366,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         }
         c.centroid = sum / double(c.points.size());
     }
-    sec.cluster_s = Since(t0);
+    sec.cluster_s = common::SecondsSince(t0);
     report("objects", 1.0);
 
     // 5. The beams' evidence on the opaque elements.
@@ -393,7 +383,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     const std::vector<ElementEvidence> evidence = CollectElementEvidence(
         opaque_scene, opaque, opaque_element, model.element_count(), keyframes, config.evidence,
         [&](double f) { report("elements", 0.9 * f); });
-    sec.evidence_s = Since(t0);
+    sec.evidence_s = common::SecondsSince(t0);
 
     // 6. Verdicts and deviations, then moved elements.
     t0 = Clock::now();
@@ -415,7 +405,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         if (explained[o] == kNoElement) continue;
         for (const uint32_t i : out.objects[o].points) out.point_class[i] = PointClass::kMoved;
     }
-    sec.elements_s = Since(t0);
+    sec.elements_s = common::SecondsSince(t0);
     report("elements", 1.0);
     return out;
 }
@@ -427,8 +417,8 @@ ChangeResult DetectChanges(const ChangeModel& model, std::span<const MapKeyframe
                            const ChangeProgress& progress) {
     config.Validate();
     model.Validate();
-    if (model.mesh.empty()) Fail("the model has no geometry to compare with");
-    if (keyframes.empty()) Fail("the session has no keyframes");
+    if (model.mesh.empty()) common::ThrowInvalid("the model has no geometry to compare with");
+    if (keyframes.empty()) common::ThrowInvalid("the session has no keyframes");
     if (!config.refinement.enabled) return DetectOnPoses(model, keyframes, config, progress);
 
     // 0. The keyframe poses and the elements' offsets estimated jointly (pose_refinement.hpp);

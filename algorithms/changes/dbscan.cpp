@@ -134,4 +134,11 @@ DbscanResult Dbscan(std::span<const Eigen::Vector3f> points, const DbscanConfig&
     return out;
 }
 
+Eigen::AlignedBox3d ClusterBox(std::span<const Eigen::Vector3f> points,
+                               std::span<const uint32_t> indices) {
+    Eigen::AlignedBox3d box;
+    for (const uint32_t i : indices) box.extend(points[i].cast<double>());
+    return box;
+}
+
 }  // namespace bimslam::changes

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -35,5 +36,9 @@ struct DbscanResult {
 };
 
 DbscanResult Dbscan(std::span<const Eigen::Vector3f> points, const DbscanConfig& config);
+
+// The axis-aligned box of the points that `indices` names (a cluster's points).
+Eigen::AlignedBox3d ClusterBox(std::span<const Eigen::Vector3f> points,
+                               std::span<const uint32_t> indices);
 
 }  // namespace bimslam::changes

@@ -8,13 +8,7 @@
 #include "algorithms/common/status.hpp"
 
 namespace bimslam::changes {
-namespace {
-
-[[noreturn]] void Fail(const std::string& what) {
-    throw common::Error(common::StatusCode::kInvalidArgument, "elements." + what);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string_view ToString(Verdict v) {
     switch (v) {
@@ -31,15 +25,17 @@ std::string_view ToString(Verdict v) {
 }
 
 void ElementCheckConfig::Validate() const {
-    if (!(support_distance_m > 0)) Fail("support_distance_m must be > 0");
-    if (!(deviation_tolerance_m > 0)) Fail("deviation_tolerance_m must be > 0");
-    if (!(min_judged_area_m2 >= 0)) Fail("min_judged_area_m2 must be >= 0");
+    if (!(support_distance_m > 0)) common::ThrowInvalid("elements.support_distance_m must be > 0");
+    if (!(deviation_tolerance_m > 0))
+        common::ThrowInvalid("elements.deviation_tolerance_m must be > 0");
+    if (!(min_judged_area_m2 >= 0))
+        common::ThrowInvalid("elements.min_judged_area_m2 must be >= 0");
     if (!(missing_seen_fraction >= 0 && missing_seen_fraction <= 1)) {
-        Fail("missing_seen_fraction must be in [0, 1], not " +
-             std::to_string(missing_seen_fraction));
+        common::ThrowInvalid("elements.missing_seen_fraction must be in [0, 1], not " +
+                             std::to_string(missing_seen_fraction));
     }
-    if (!(offset_cauchy_m > 0)) Fail("offset_cauchy_m must be > 0");
-    if (!(min_constraint > 0)) Fail("min_constraint must be > 0");
+    if (!(offset_cauchy_m > 0)) common::ThrowInvalid("elements.offset_cauchy_m must be > 0");
+    if (!(min_constraint > 0)) common::ThrowInvalid("elements.min_constraint must be > 0");
 }
 
 std::vector<Eigen::Vector3f> FaceNormals(const common::TriangleMesh& mesh) {
@@ -101,7 +97,7 @@ std::vector<std::vector<uint32_t>> ElementSupport(const ChangeModel& model,
                                                   std::span<const uint8_t> usable,
                                                   double distance) {
     if (signed_m.size() != triangle.size() || usable.size() != triangle.size()) {
-        Fail("ElementSupport: inputs of different sizes");
+        common::ThrowInvalid("elements.ElementSupport: inputs of different sizes");
     }
     std::vector<std::vector<uint32_t>> support(model.element_count());
     const float limit = float(distance);
@@ -121,7 +117,7 @@ std::vector<ElementReport> CheckElements(const ChangeModel& model, std::span<con
     const size_t elements = model.element_count();
     if (evidence.size() != elements || support.size() != elements ||
         signed_m.size() != triangle.size()) {
-        Fail("CheckElements: inputs of different sizes");
+        common::ThrowInvalid("elements.CheckElements: inputs of different sizes");
     }
     const std::vector<Eigen::Vector3f> normals = FaceNormals(model.mesh);
     std::vector<ElementReport> out(elements);

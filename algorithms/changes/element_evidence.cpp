@@ -26,10 +26,6 @@ uint32_t MergeCells(uint32_t x, uint32_t y) {
 }
 constexpr int64_t kCellOffset = 1 << 19;
 
-[[noreturn]] void Fail(const std::string& what) {
-    throw common::Error(common::StatusCode::kInvalidArgument, "elements." + what);
-}
-
 // In-plane axes of a plane: the cells of all coplanar triangles of an element share them, so a
 // face split into triangles is binned as one (cell coordinates are p . u and p . v).
 struct PlaneAxes {
@@ -50,13 +46,15 @@ struct ThreadState {
 }  // namespace
 
 void ElementEvidenceConfig::Validate() const {
-    if (!(agree_tolerance_m > 0)) Fail("agree_tolerance_m must be > 0");
+    if (!(agree_tolerance_m > 0)) common::ThrowInvalid("elements.agree_tolerance_m must be > 0");
     if (!(min_cos_incidence >= 0 && min_cos_incidence < 1)) {
-        Fail("min_cos_incidence must be in [0, 1), not " + std::to_string(min_cos_incidence));
+        common::ThrowInvalid("elements.min_cos_incidence must be in [0, 1), not " +
+                             std::to_string(min_cos_incidence));
     }
-    if (!(cell_m > 0)) Fail("cell_m must be > 0, not " + std::to_string(cell_m));
-    if (!(max_range_m > 0)) Fail("max_range_m must be > 0");
-    if (point_stride < 1) Fail("point_stride must be >= 1");
+    if (!(cell_m > 0))
+        common::ThrowInvalid("elements.cell_m must be > 0, not " + std::to_string(cell_m));
+    if (!(max_range_m > 0)) common::ThrowInvalid("elements.max_range_m must be > 0");
+    if (point_stride < 1) common::ThrowInvalid("elements.point_stride must be >= 1");
 }
 
 std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& scene,
@@ -69,10 +67,12 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
     config.Validate();
     if (triangle_element.size() != mesh.triangles.size() ||
         scene.triangle_count() != mesh.triangles.size()) {
-        Fail("the scene, the mesh and the triangle elements differ in size");
+        common::ThrowInvalid(
+            "elements.the scene, the mesh and the triangle elements differ in size");
     }
     if (mesh.triangles.size() >= (size_t(1) << 24)) {
-        Fail("more than 2^24 opaque triangles: the area cells cannot number them");
+        common::ThrowInvalid(
+            "elements.more than 2^24 opaque triangles: the area cells cannot number them");
     }
     std::vector<ElementEvidence> out(element_count);
     // Planes: coplanar triangles of one element (normal within 1e-3, offset within 1 mm) share a
@@ -86,7 +86,8 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
                               c = mesh.vertices[tri[2]];
         Eigen::Vector3f n = (b - a).cross(c - a);
         const uint32_t e = triangle_element[t];
-        if (e >= element_count) Fail("triangle " + std::to_string(t) + " has no element");
+        if (e >= element_count)
+            common::ThrowInvalid("elements.triangle " + std::to_string(t) + " has no element");
         out[e].surface_area_m2 += 0.5 * double(n.norm());
         n = n.norm() > 0 ? Eigen::Vector3f(n.normalized()) : Eigen::Vector3f::UnitZ();
         const Eigen::Vector3f qn = (n * 1000.0f).array().round();
@@ -99,7 +100,8 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
         plane_of[t] = plane_ids.FindOrInsert(key, uint32_t(planes.size()), &fresh);
         if (fresh) planes.push_back(AxesOf(n));
     }
-    if (planes.size() >= (size_t(1) << 24)) Fail("more than 2^24 planes: too many for the cells");
+    if (planes.size() >= (size_t(1) << 24))
+        common::ThrowInvalid("elements.more than 2^24 planes: too many for the cells");
     std::vector<uint32_t> element_of_plane(planes.size());
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
         element_of_plane[plane_of[t]] = triangle_element[t];

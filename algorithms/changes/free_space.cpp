@@ -12,16 +12,13 @@ namespace bimslam::changes {
 namespace {
 constexpr float kPi = float(M_PI);
 
-[[noreturn]] void Fail(const std::string& what) {
-    throw common::Error(common::StatusCode::kInvalidArgument, "free_space." + what);
-}
-
 }  // namespace
 
 void FreeSpaceConfig::Validate() const {
     const auto positive = [](double v, const char* name) {
         if (!(v > 0) || !std::isfinite(v))
-            Fail(std::string(name) + " must be > 0, not " + std::to_string(v));
+            common::ThrowInvalid("free_space." + std::string(name) + " must be > 0, not " +
+                                 std::to_string(v));
     };
     positive(azimuth_bin_deg, "azimuth_bin_deg");
     positive(elevation_bin_deg, "elevation_bin_deg");
@@ -29,14 +26,17 @@ void FreeSpaceConfig::Validate() const {
     positive(range_margin_m, "range_margin_m");
     positive(max_range_m, "max_range_m");
     if (!(min_crossing_cos >= 0 && min_crossing_cos < 1)) {
-        Fail("min_crossing_cos must be in [0, 1), not " + std::to_string(min_crossing_cos));
+        common::ThrowInvalid("free_space.min_crossing_cos must be in [0, 1), not " +
+                             std::to_string(min_crossing_cos));
     }
-    if (!(range_margin_per_m >= 0)) Fail("range_margin_per_m must be >= 0");
+    if (!(range_margin_per_m >= 0))
+        common::ThrowInvalid("free_space.range_margin_per_m must be >= 0");
     if (!(min_range_m >= 0 && min_range_m < max_range_m)) {
-        Fail("min_range_m must be in [0, max_range_m), not " + std::to_string(min_range_m));
+        common::ThrowInvalid("free_space.min_range_m must be in [0, max_range_m), not " +
+                             std::to_string(min_range_m));
     }
-    if (min_free_keyframes < 1) Fail("min_free_keyframes must be >= 1");
-    if (!(free_over_seen >= 0)) Fail("free_over_seen must be >= 0");
+    if (min_free_keyframes < 1) common::ThrowInvalid("free_space.min_free_keyframes must be >= 1");
+    if (!(free_over_seen >= 0)) common::ThrowInvalid("free_space.free_over_seen must be >= 0");
 }
 
 FreeSpaceIndex::FreeSpaceIndex(std::span<const MapKeyframe> keyframes,

@@ -6,24 +6,14 @@
 #include <cmath>
 #include <string>
 
+#include "algorithms/changes/dbscan.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/simulation/scene.hpp"
 
 namespace bimslam::changes {
 namespace {
 
-[[noreturn]] void Fail(const std::string& what) {
-    throw common::Error(common::StatusCode::kInvalidArgument, "moved." + what);
-}
-
 Eigen::Matrix3d Yaw(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).matrix(); }
-
-Eigen::AlignedBox3d BoxOf(std::span<const Eigen::Vector3f> points,
-                          std::span<const uint32_t> indices) {
-    Eigen::AlignedBox3d box;
-    for (const uint32_t i : indices) box.extend(points[i].cast<double>());
-    return box;
-}
 
 // G(p) = R(theta) (p - c) + c + t maps observed points onto the element as the model has it.
 struct Inverse {
@@ -67,16 +57,16 @@ double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFi
 }
 
 void MovedConfig::Validate() const {
-    if (!(pair_radius_m >= 0)) Fail("pair_radius_m must be >= 0");
+    if (!(pair_radius_m >= 0)) common::ThrowInvalid("moved.pair_radius_m must be >= 0");
     if (!(max_seen_fraction >= 0 && max_seen_fraction <= 1)) {
-        Fail("max_seen_fraction must be in [0, 1]");
+        common::ThrowInvalid("moved.max_seen_fraction must be in [0, 1]");
     }
-    if (!(inlier_m > 0)) Fail("inlier_m must be > 0");
+    if (!(inlier_m > 0)) common::ThrowInvalid("moved.inlier_m must be > 0");
     if (!(min_inlier_fraction > 0 && min_inlier_fraction <= 1)) {
-        Fail("min_inlier_fraction must be in (0, 1]");
+        common::ThrowInvalid("moved.min_inlier_fraction must be in (0, 1]");
     }
     if (!(min_object_fraction > 0 && min_object_fraction <= 1)) {
-        Fail("min_object_fraction must be in (0, 1]");
+        common::ThrowInvalid("moved.min_object_fraction must be in (0, 1]");
     }
 }
 
@@ -167,7 +157,7 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
         }
     }
     std::vector<Eigen::AlignedBox3d> object_box(objects.size());
-    for (size_t o = 0; o < objects.size(); ++o) object_box[o] = BoxOf(map_xyz, objects[o]);
+    for (size_t o = 0; o < objects.size(); ++o) object_box[o] = ClusterBox(map_xyz, objects[o]);
     std::vector<Eigen::Vector3f> points;
     for (size_t e = 0; e < reports.size(); ++e) {
         const ElementEvidence& ev = reports[e].evidence;

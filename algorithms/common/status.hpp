@@ -85,4 +85,9 @@ inline void Require(bool ok, const char* config, const char* field, double value
     }
 }
 
+// Throws Error(kInvalidArgument, message): a check of inputs that is not one field's rule.
+[[noreturn]] inline void ThrowInvalid(const std::string& message) {
+    throw Error(StatusCode::kInvalidArgument, message);
+}
+
 }  // namespace bimslam::common

@@ -34,7 +34,7 @@ constexpr std::array<std::string_view, kChannelCount> kChannelNames = {"x",     
 
 enum class DataKind { kAscii, kBinary, kBinaryCompressed };
 
-struct Header {
+struct PcdHeader {
     std::vector<Field> fields;
     uint64_t points = 0;
     bool organized = false;
@@ -111,7 +111,7 @@ public:
     static constexpr int kOk = -1;
     static constexpr int kDropped = -2;
 
-    Sink(common::PointCloud& cloud, const Header& h) : cloud_(cloud), organized_(h.organized) {
+    Sink(common::PointCloud& cloud, const PcdHeader& h) : cloud_(cloud), organized_(h.organized) {
         for (int c = 0; c < kChannelCount; ++c) has_[c] = h.channel[c] >= 0;
         t_is_seconds_ = has_[kT] && h.fields[h.channel[kT]].kind == Kind::kFloat;
     }
@@ -200,8 +200,8 @@ void CheckTypes(const LineReader& r, const std::vector<Field>& fields) {
 }
 
 // The header, up to and including the DATA line (tutorial section "PCD file format").
-Header ParseHeader(LineReader& r) {
-    Header h;
+PcdHeader ParsePcdHeader(LineReader& r) {
+    PcdHeader h;
     std::vector<std::string_view> tok;
     std::string_view line;
     bool have_fields = false, have_size = false, have_type = false, have_count = false;
@@ -360,7 +360,7 @@ struct Source {
     Kind kind = Kind::kFloat;
 };
 
-void ReadBinaryPoints(const std::string& name, const Header& h,
+void ReadBinaryPoints(const std::string& name, const PcdHeader& h,
                       const std::array<Source, kChannelCount>& src, Sink& sink) {
     std::array<double, kChannelCount> v{};
     for (size_t i = 0; i < h.points; ++i) {
@@ -377,7 +377,7 @@ void ReadBinaryPoints(const std::string& name, const Header& h,
     }
 }
 
-void ReadBinary(const std::string& name, const Header& h, std::string_view body, Sink& sink) {
+void ReadBinary(const std::string& name, const PcdHeader& h, std::string_view body, Sink& sink) {
     std::array<Source, kChannelCount> src{};
     uint64_t offset = 0;
     std::array<uint64_t, kChannelCount> field_offset{};
@@ -406,7 +406,8 @@ void ReadBinary(const std::string& name, const Header& h, std::string_view body,
 // binary_compressed (PCL's PCDWriter::writeBinaryCompressed): uint32 compressed size, uint32
 // uncompressed size, then LZF data that expands to one block per field (all x, then all y, ...),
 // "_" padding fields left out.
-void ReadCompressed(const std::string& name, const Header& h, std::string_view body, Sink& sink) {
+void ReadCompressed(const std::string& name, const PcdHeader& h, std::string_view body,
+                    Sink& sink) {
     auto fail = [&name](const std::string& what) {
         throw FileError(StatusCode::kDataLoss, name, 0, "binary_compressed data: " + what);
     };
@@ -450,7 +451,7 @@ void ReadCompressed(const std::string& name, const Header& h, std::string_view b
     ReadBinaryPoints(name, h, src, sink);
 }
 
-void ReadAscii(LineReader& r, const Header& h, Sink& sink) {
+void ReadAscii(LineReader& r, const PcdHeader& h, Sink& sink) {
     std::array<size_t, kChannelCount> token{};
     size_t tokens = 0;
     for (size_t i = 0; i < h.fields.size(); ++i) {
@@ -513,7 +514,7 @@ int64_t PcdSecondsToNs(double seconds) { return std::llround(seconds * 1e9); }
 
 common::PointCloud ParsePcd(const std::string& name, std::string_view bytes) {
     LineReader reader(name, bytes);
-    const Header h = ParseHeader(reader);
+    const PcdHeader h = ParsePcdHeader(reader);
     common::PointCloud cloud;
     Sink sink(cloud, h);
     switch (h.data) {

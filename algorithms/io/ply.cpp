@@ -79,10 +79,10 @@ struct Element {
     size_t line = 0;
 };
 
-enum class Format { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+enum class PlyFormat { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 
-struct Header {
-    Format format = Format::kAscii;
+struct PlyHeader {
+    PlyFormat format = PlyFormat::kAscii;
     std::vector<Element> elements;
 };
 
@@ -101,10 +101,10 @@ PlyType ParseType(const LineReader& r, std::string_view tok) {
     r.Fail("'" + std::string(tok.substr(0, 40)) + "' is not a PLY type");
 }
 
-Header ParseHeader(LineReader& r) {
+PlyHeader ParsePlyHeader(LineReader& r) {
     std::string_view line;
     if (!r.Next(line) || line != "ply") r.Fail("not a PLY file (the first line must be 'ply')");
-    Header h;
+    PlyHeader h;
     bool have_format = false;
     std::vector<std::string_view> tok;
     for (;;) {
@@ -118,11 +118,11 @@ Header ParseHeader(LineReader& r) {
             have_format = true;
             if (tok.size() != 3 || tok[2] != "1.0") r.Fail("expected 'format <encoding> 1.0'");
             if (tok[1] == "ascii") {
-                h.format = Format::kAscii;
+                h.format = PlyFormat::kAscii;
             } else if (tok[1] == "binary_little_endian") {
-                h.format = Format::kBinaryLittleEndian;
+                h.format = PlyFormat::kBinaryLittleEndian;
             } else if (tok[1] == "binary_big_endian") {
-                h.format = Format::kBinaryBigEndian;
+                h.format = PlyFormat::kBinaryBigEndian;
             } else {
                 r.Fail("unknown format '" + std::string(tok[1].substr(0, 40)) + "'");
             }
@@ -167,12 +167,12 @@ Header ParseHeader(LineReader& r) {
 // Checks that every element fits in the bytes that follow the header, before allocating: an item
 // takes at least its scalar sizes and list counts in binary, one character and one separator per
 // value in ASCII.
-void CheckSizes(const LineReader& r, const Header& h, size_t body_size) {
-    uint64_t left = body_size + (h.format == Format::kAscii ? 1 : 0);
+void CheckSizes(const LineReader& r, const PlyHeader& h, size_t body_size) {
+    uint64_t left = body_size + (h.format == PlyFormat::kAscii ? 1 : 0);
     for (const Element& e : h.elements) {
         uint64_t min = 0;
         for (const Property& p : e.props) {
-            min += h.format == Format::kAscii ? 2 : Info(p.is_list ? p.count_type : p.type).size;
+            min += h.format == PlyFormat::kAscii ? 2 : Info(p.is_list ? p.count_type : p.type).size;
         }
         if (min > 0 && e.count > left / min) {
             throw FileError(StatusCode::kDataLoss, r.path(), e.line,
@@ -188,8 +188,9 @@ void CheckSizes(const LineReader& r, const Header& h, size_t body_size) {
 // binary. No allocation per value.
 class ValueReader {
 public:
-    ValueReader(LineReader& r, Format format) : r_(r), format_(format) {
-        swap_ = (format == Format::kBinaryBigEndian) != (std::endian::native == std::endian::big);
+    ValueReader(LineReader& r, PlyFormat format) : r_(r), format_(format) {
+        swap_ =
+            (format == PlyFormat::kBinaryBigEndian) != (std::endian::native == std::endian::big);
         body_ = r.Rest();
     }
 
@@ -198,11 +199,11 @@ public:
         item_ = item;
     }
 
-    double Read(PlyType t) { return format_ == Format::kAscii ? ReadAscii(t) : ReadBinary(t); }
+    double Read(PlyType t) { return format_ == PlyFormat::kAscii ? ReadAscii(t) : ReadBinary(t); }
 
     // Skips a value whose content does not matter (other elements, ignored properties).
     void Skip(PlyType t) {
-        if (format_ == Format::kAscii) {
+        if (format_ == PlyFormat::kAscii) {
             NextToken();
         } else {
             Need(Info(t).size);
@@ -221,13 +222,13 @@ public:
                            StatusCode code = StatusCode::kParseError) const {
         const std::string msg = "element " + std::string(element_->name) + " item " +
                                 std::to_string(item_) + ": " + what;
-        if (format_ == Format::kAscii) r_.Fail(msg, code);
+        if (format_ == PlyFormat::kAscii) r_.Fail(msg, code);
         throw FileError(code, r_.path(), 0, msg);
     }
 
     // ASCII: data after the last element is an error; binary: trailing bytes are ignored.
     void CheckEnd() {
-        if (format_ != Format::kAscii) return;
+        if (format_ != PlyFormat::kAscii) return;
         while (next_ == tok_.size()) {
             std::string_view line;
             if (!r_.Next(line)) return;
@@ -298,7 +299,7 @@ private:
     }
 
     LineReader& r_;
-    Format format_;
+    PlyFormat format_;
     bool swap_ = false;
     std::string_view body_;
     size_t pos_ = 0;
@@ -460,7 +461,7 @@ const PlyProperty* PlyData::Find(std::string_view name) const {
 
 PlyData ParsePly(const std::string& name, std::string_view bytes) {
     LineReader reader(name, bytes);
-    const Header h = ParseHeader(reader);
+    const PlyHeader h = ParsePlyHeader(reader);
     const Element* vertex = nullptr;
     for (const Element& e : h.elements) {
         if (e.name == "vertex") vertex = &e;

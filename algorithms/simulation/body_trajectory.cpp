@@ -14,14 +14,14 @@ namespace {
 using common::StatusCode;
 
 constexpr double kGravity = 9.80665;
-constexpr double kDegToRad = M_PI / 180.0;
+using detail::kDegToRad;
 constexpr double kResampleM = 0.05;    // path resampling step
 constexpr double kSampleS = 0.01;      // planar samples and spline knots: 100 Hz
 constexpr double kSmoothSigmaS = 0.1;  // Gaussian smoothing of the planar samples
 constexpr double kDiffS = 5e-4;        // central differences
 constexpr double kWobbleHz[3] = {0.31, 0.53, 0.87};
 
-void Require(bool ok, const char* type, const char* field, double value, const char* rule) {
+void RequireFinite(bool ok, const char* type, const char* field, double value, const char* rule) {
     if (!ok || !std::isfinite(value)) {
         throw common::Error(StatusCode::kInvalidArgument, std::string(type) + "." + field + " = " +
                                                               std::to_string(value) + ": " + rule);
@@ -47,14 +47,15 @@ std::array<double, 4> Basis(double f, int derivative) {
 }  // namespace
 
 void PathTiming::Validate() const {
-    Require(speed_mps > 0 && speed_mps <= 5, "PathTiming", "speed_mps", speed_mps,
-            "must be in (0, 5] m/s");
-    Require(max_accel_mps2 > 0, "PathTiming", "max_accel_mps2", max_accel_mps2, "must be > 0");
-    Require(max_yaw_rate_radps > 0, "PathTiming", "max_yaw_rate_radps", max_yaw_rate_radps,
-            "must be > 0");
-    Require(max_lateral_accel_mps2 > 0, "PathTiming", "max_lateral_accel_mps2",
-            max_lateral_accel_mps2, "must be > 0");
-    Require(stand_s >= 0, "PathTiming", "stand_s", stand_s, "must be >= 0");
+    RequireFinite(speed_mps > 0 && speed_mps <= 5, "PathTiming", "speed_mps", speed_mps,
+                  "must be in (0, 5] m/s");
+    RequireFinite(max_accel_mps2 > 0, "PathTiming", "max_accel_mps2", max_accel_mps2,
+                  "must be > 0");
+    RequireFinite(max_yaw_rate_radps > 0, "PathTiming", "max_yaw_rate_radps", max_yaw_rate_radps,
+                  "must be > 0");
+    RequireFinite(max_lateral_accel_mps2 > 0, "PathTiming", "max_lateral_accel_mps2",
+                  max_lateral_accel_mps2, "must be > 0");
+    RequireFinite(stand_s >= 0, "PathTiming", "stand_s", stand_s, "must be >= 0");
 }
 
 GaitConfig GaitConfig::Go1Trot() { return GaitConfig{}; }
@@ -74,21 +75,22 @@ GaitConfig GaitConfig::Handheld() {
 }
 
 void GaitConfig::Validate() const {
-    Require(base_height_m > 0 && base_height_m < 3, "GaitConfig", "base_height_m", base_height_m,
-            "must be in (0, 3) m");
-    Require(frequency_hz > 0 && frequency_hz <= 5, "GaitConfig", "frequency_hz", frequency_hz,
-            "must be in (0, 5] Hz");
-    Require(bounce_m >= 0 && bounce_m < 0.2, "GaitConfig", "bounce_m", bounce_m,
-            "must be in [0, 0.2) m");
-    Require(sway_m >= 0 && sway_m < 0.2, "GaitConfig", "sway_m", sway_m, "must be in [0, 0.2) m");
+    RequireFinite(base_height_m > 0 && base_height_m < 3, "GaitConfig", "base_height_m",
+                  base_height_m, "must be in (0, 3) m");
+    RequireFinite(frequency_hz > 0 && frequency_hz <= 5, "GaitConfig", "frequency_hz", frequency_hz,
+                  "must be in (0, 5] Hz");
+    RequireFinite(bounce_m >= 0 && bounce_m < 0.2, "GaitConfig", "bounce_m", bounce_m,
+                  "must be in [0, 0.2) m");
+    RequireFinite(sway_m >= 0 && sway_m < 0.2, "GaitConfig", "sway_m", sway_m,
+                  "must be in [0, 0.2) m");
     for (const auto& [name, v] : {std::pair{"roll_deg", roll_deg},
                                   {"pitch_deg", pitch_deg},
                                   {"yaw_deg", yaw_deg},
                                   {"wobble_deg", wobble_deg}}) {
-        Require(v >= 0 && v <= 20, "GaitConfig", name, v, "must be in [0, 20] deg");
+        RequireFinite(v >= 0 && v <= 20, "GaitConfig", name, v, "must be in [0, 20] deg");
     }
-    Require(duty_factor > 0 && duty_factor < 1, "GaitConfig", "duty_factor", duty_factor,
-            "must be in (0, 1)");
+    RequireFinite(duty_factor > 0 && duty_factor < 1, "GaitConfig", "duty_factor", duty_factor,
+                  "must be in (0, 1)");
 }
 
 BodyTrajectory::BodyTrajectory(const std::vector<Eigen::Vector2d>& path_in, double start_yaw,
@@ -97,8 +99,9 @@ BodyTrajectory::BodyTrajectory(const std::vector<Eigen::Vector2d>& path_in, doub
     : gait_(gait), floor_z_(floor_z) {
     timing.Validate();
     gait.Validate();
-    Require(std::isfinite(start_yaw), "BodyTrajectory", "start_yaw", start_yaw, "must be finite");
-    Require(std::isfinite(floor_z), "BodyTrajectory", "floor_z", floor_z, "must be finite");
+    RequireFinite(std::isfinite(start_yaw), "BodyTrajectory", "start_yaw", start_yaw,
+                  "must be finite");
+    RequireFinite(std::isfinite(floor_z), "BodyTrajectory", "floor_z", floor_z, "must be finite");
     std::vector<Eigen::Vector2d> path;
     for (const Eigen::Vector2d& p : path_in) {
         if (!p.allFinite()) {

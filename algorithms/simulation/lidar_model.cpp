@@ -5,6 +5,7 @@
 #include <string>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/simulation/measurement_math.hpp"
 
 namespace bimslam::simulation {
 namespace {
@@ -17,7 +18,7 @@ void Require(bool ok, const std::string& field, double value, const char* rule) 
     }
 }
 
-constexpr double kDegToRad = M_PI / 180.0;
+using detail::kDegToRad;
 }  // namespace
 
 void LidarModel::Validate() const {

@@ -26,13 +26,6 @@ using detail::PixelRandom;
 using detail::Power;
 using detail::RoundNonNegative;
 
-void Require(bool ok, const char* type, const char* field, double value, const char* rule) {
-    if (!ok) {
-        throw common::Error(StatusCode::kInvalidArgument, std::string(type) + "." + field + " = " +
-                                                              std::to_string(value) + ": " + rule);
-    }
-}
-
 bool NonNegative(double x) { return std::isfinite(x) && x >= 0; }
 
 // ---- Embree packets ----
@@ -416,33 +409,33 @@ NoiseModel NoiseModel::Noiseless() {
 
 void NoiseModel::Validate() const {
     const char* t = "NoiseModel";
-    Require(NonNegative(range_sigma_m) && range_sigma_m <= 100.0, t, "range_sigma_m", range_sigma_m,
-            "must be in [0, 100]");
-    Require(NonNegative(min_range_m), t, "min_range_m", min_range_m, "must be >= 0");
-    Require(std::isfinite(max_range_m) && max_range_m > min_range_m && max_range_m <= 1e6, t,
-            "max_range_m", max_range_m, "must be > min_range_m and <= 1e6");
-    Require(range_resolution_mm >= 1, t, "range_resolution_mm", range_resolution_mm,
-            "must be >= 1");
-    Require(NonNegative(dropout_base) && dropout_base <= 1, t, "dropout_base", dropout_base,
-            "must be in [0, 1]");
-    Require(NonNegative(dropout_incidence_gain), t, "dropout_incidence_gain",
-            dropout_incidence_gain, "must be >= 0");
-    Require(std::isfinite(dropout_incidence_exponent) && dropout_incidence_exponent > 0, t,
-            "dropout_incidence_exponent", dropout_incidence_exponent, "must be > 0");
-    Require(NonNegative(dropout_range_gain), t, "dropout_range_gain", dropout_range_gain,
-            "must be >= 0");
-    Require(std::isfinite(dropout_range_exponent) && dropout_range_exponent > 0, t,
-            "dropout_range_exponent", dropout_range_exponent, "must be > 0");
-    Require(NonNegative(albedo) && albedo <= 1, t, "albedo", albedo, "must be in [0, 1]");
-    Require(NonNegative(signal_at_1m), t, "signal_at_1m", signal_at_1m, "must be >= 0");
+    common::Require(NonNegative(range_sigma_m) && range_sigma_m <= 100.0, t, "range_sigma_m",
+                    range_sigma_m, "must be in [0, 100]");
+    common::Require(NonNegative(min_range_m), t, "min_range_m", min_range_m, "must be >= 0");
+    common::Require(std::isfinite(max_range_m) && max_range_m > min_range_m && max_range_m <= 1e6,
+                    t, "max_range_m", max_range_m, "must be > min_range_m and <= 1e6");
+    common::Require(range_resolution_mm >= 1, t, "range_resolution_mm", range_resolution_mm,
+                    "must be >= 1");
+    common::Require(NonNegative(dropout_base) && dropout_base <= 1, t, "dropout_base", dropout_base,
+                    "must be in [0, 1]");
+    common::Require(NonNegative(dropout_incidence_gain), t, "dropout_incidence_gain",
+                    dropout_incidence_gain, "must be >= 0");
+    common::Require(std::isfinite(dropout_incidence_exponent) && dropout_incidence_exponent > 0, t,
+                    "dropout_incidence_exponent", dropout_incidence_exponent, "must be > 0");
+    common::Require(NonNegative(dropout_range_gain), t, "dropout_range_gain", dropout_range_gain,
+                    "must be >= 0");
+    common::Require(std::isfinite(dropout_range_exponent) && dropout_range_exponent > 0, t,
+                    "dropout_range_exponent", dropout_range_exponent, "must be > 0");
+    common::Require(NonNegative(albedo) && albedo <= 1, t, "albedo", albedo, "must be in [0, 1]");
+    common::Require(NonNegative(signal_at_1m), t, "signal_at_1m", signal_at_1m, "must be >= 0");
 }
 
 void SimulatorOptions::Validate() const {
     const char* t = "SimulatorOptions";
-    Require(packet_size == 1 || packet_size == 4 || packet_size == 8 || packet_size == 16, t,
-            "packet_size", packet_size, "must be 1, 4, 8 or 16");
-    Require(columns_per_task >= 1, t, "columns_per_task", columns_per_task, "must be >= 1");
-    Require(max_threads >= 0, t, "max_threads", max_threads, "must be >= 0");
+    common::Require(packet_size == 1 || packet_size == 4 || packet_size == 8 || packet_size == 16,
+                    t, "packet_size", packet_size, "must be 1, 4, 8 or 16");
+    common::Require(columns_per_task >= 1, t, "columns_per_task", columns_per_task, "must be >= 1");
+    common::Require(max_threads >= 0, t, "max_threads", max_threads, "must be >= 0");
 }
 
 void ScanImage::Resize(int beams, int columns) {

@@ -8,6 +8,8 @@
 
 namespace bimslam::simulation::detail {
 
+inline constexpr double kDegToRad = M_PI / 180.0;
+
 // ---- Counter-based random numbers: a pure function of (seed, pixel, draw) ----
 
 // SplitMix64's output function (Stafford's Mix13 after a golden-ratio step): a bijective 64-bit

@@ -10,8 +10,8 @@
 namespace bimslam::can {
 namespace {
 
-constexpr uint8_t kCounterModulo = 15;  // alive counter 0..14; 15 is never sent
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using go1::kCounterModulo;
+using go1::kNaN;
 
 // a - b modulo 15, both in 0..14.
 inline uint8_t Diff(uint8_t a, uint8_t b) {

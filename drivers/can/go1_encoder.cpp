@@ -10,8 +10,8 @@
 namespace bimslam::can {
 namespace {
 
-constexpr uint8_t kCounterModulo = 15;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using go1::kCounterModulo;
+using go1::kNaN;
 
 // floor(ns / 1000), also for negative times.
 int64_t FloorMicros(int64_t ns) { return ns >= 0 ? ns / 1000 : -((-(ns + 1)) / 1000) - 1; }

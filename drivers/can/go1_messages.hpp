@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "drivers/can/dbc.hpp"
 #include "drivers/can/signal_codec.hpp"
@@ -38,6 +39,10 @@ inline constexpr size_t kOzyZ = 3, kOzyYaw = 4;
 inline constexpr size_t kStsLinkOk = 2, kStsCrcOk = 3, kStsMode = 4, kStsGait = 5, kStsBattery = 6,
                         kStsImuTemp = 7, kStsRxLost = 8, kStsBridgeState = 9;
 inline constexpr size_t kMaxSlots = 10;
+// The alive counter runs 0 ... 14 (specs/go1-can.md); 15 is never sent.
+inline constexpr uint8_t kCounterModulo = 15;
+// What a signal holding its SNA (signal not available) raw value decodes to.
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Slots from here on carry values (flags have no SNA, so checking them all is harmless).
 inline constexpr size_t kFirstValueSlot = 2;
 }  // namespace go1

@@ -4,10 +4,13 @@
 #include <cstring>
 
 #include "algorithms/common/status.hpp"
+#include "drivers/net/byte_order.hpp"
 #include "drivers/net/ipv4.hpp"
 
 namespace bimslam::net {
 namespace {
+using detail::Be32;
+using detail::Le32;
 
 using common::CanFrame;
 using common::Error;
@@ -18,13 +21,6 @@ constexpr uint8_t kCanXlFlagXlf = 0x80;  // CANXL_XLF, in byte 4 of struct canxl
 constexpr uint32_t kMaxErrorClass = 0x7FF;
 constexpr int kSocketcan = 0;
 constexpr int kCooked = 1;
-
-uint32_t Be32(const uint8_t* p) {
-    return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
-}
-uint32_t Le32(const uint8_t* p) {
-    return (uint32_t{p[3]} << 24) | (uint32_t{p[2]} << 16) | (uint32_t{p[1]} << 8) | p[0];
-}
 
 // The CAN part of a record: the bytes from the ID word on.
 struct Payload {

@@ -12,8 +12,11 @@
 #include <cstring>
 #include <ctime>
 
+#include "drivers/net/byte_order.hpp"
+
 namespace bimslam::net {
 namespace {
+using detail::RealtimeNs;
 
 using common::CanFrame;
 using common::Error;
@@ -22,12 +25,6 @@ using common::StatusCode;
 constexpr size_t kMaxFilters = 512;  // CAN_RAW_FILTER_MAX
 
 static_assert(sizeof(can_frame) == 16 && sizeof(canfd_frame) == 72);
-
-int64_t RealtimeNs() {
-    timespec ts{};
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 }  // namespace
 

@@ -8,14 +8,12 @@
 #include <map>
 
 #include "algorithms/common/status.hpp"
+#include "drivers/net/byte_order.hpp"
 
 namespace bimslam::net {
 namespace {
-
-uint16_t Be16(const uint8_t* p) { return static_cast<uint16_t>((p[0] << 8) | p[1]); }
-uint32_t Be32(const uint8_t* p) {
-    return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
-}
+using detail::Be16;
+using detail::Be32;
 
 // The largest IPv4 datagram is 65535 bytes with its header of at least 20 bytes.
 constexpr uint32_t kMaxIpPayload = 65535 - 20;

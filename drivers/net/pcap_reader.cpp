@@ -47,16 +47,17 @@ __extension__ typedef unsigned __int128 UInt128;
 
 uint32_t Swap32(uint32_t v) { return __builtin_bswap32(v); }
 
-struct Interface {
-    uint32_t link_type = 0;
-    uint32_t snaplen = 0;
-    uint8_t tsresol = 6;  // if_tsresol: default 10^-6 s
-    int64_t tsoffset_s = 0;
-};
-
 }  // namespace
 
 struct PcapReader::State {
+    // A pcapng Interface Description Block, as far as reading packets needs it.
+    struct Interface {
+        uint32_t link_type = 0;
+        uint32_t snaplen = 0;
+        uint8_t tsresol = 6;  // if_tsresol: default 10^-6 s
+        int64_t tsoffset_s = 0;
+    };
+
     std::string name;
     // Input: either a gzip/plain file through zlib into `buffer`, or the caller's memory.
     gzFile gz = nullptr;

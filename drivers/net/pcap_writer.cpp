@@ -8,28 +8,22 @@
 #include <cstring>
 
 #include "algorithms/common/status.hpp"
+#include "drivers/net/byte_order.hpp"
 #include "drivers/net/ipv4.hpp"
 
 namespace bimslam::net {
 namespace {
+using detail::PutBe16;
+using detail::PutBe32;
 
 using common::Error;
 using common::FileError;
 using common::StatusCode;
 
-constexpr size_t kBufferBytes = 256 * 1024;
+constexpr size_t kWriteBufferBytes = 256 * 1024;
 constexpr size_t kIpHeaderBytes = 20;
 constexpr size_t kUdpHeaderBytes = 8;
 constexpr size_t kMaxUdpPayload = 65535 - kIpHeaderBytes - kUdpHeaderBytes;  // 65507
-
-void PutBe16(uint8_t* p, uint16_t v) {
-    p[0] = static_cast<uint8_t>(v >> 8);
-    p[1] = static_cast<uint8_t>(v);
-}
-void PutBe32(uint8_t* p, uint32_t v) {
-    PutBe16(p, static_cast<uint16_t>(v >> 16));
-    PutBe16(p + 2, static_cast<uint16_t>(v));
-}
 
 }  // namespace
 
@@ -54,7 +48,7 @@ PcapWriter::PcapWriter(const std::filesystem::path& path, const PcapWriterConfig
         throw FileError(StatusCode::kIoError, name_, 0,
                         std::string("cannot create: ") + std::strerror(errno));
     }
-    buffer_.resize(kBufferBytes);
+    buffer_.resize(kWriteBufferBytes);
     frame_.reserve(65536 + 64);
     WriteHeader();
 }

@@ -8,17 +8,14 @@
 #include <cstring>
 #include <ctime>
 
+#include "drivers/net/byte_order.hpp"
+
 namespace bimslam::net {
 namespace {
+using detail::RealtimeNs;
 
 using common::Error;
 using common::StatusCode;
-
-int64_t RealtimeNs() {
-    timespec ts{};
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 }  // namespace
 

@@ -118,14 +118,14 @@ std::string Describe(const json& v) {
 
 // A value in the document and its dotted path. `value` is null when the key is absent or JSON
 // null: the SDK treats both as "not given".
-struct Field {
+struct JsonField {
     const json* value = nullptr;
     std::string path;
     explicit operator bool() const { return value != nullptr; }
 };
 
-Field Child(const Field& parent, std::string_view key) {
-    Field f;
+JsonField Child(const JsonField& parent, std::string_view key) {
+    JsonField f;
     f.path = parent.path.empty() ? std::string(key) : parent.path + "." + std::string(key);
     if (parent && parent.value->is_object()) {
         const auto it = parent.value->find(std::string(key));
@@ -142,25 +142,25 @@ public:
     [[noreturn]] void Fail(const std::string& message) const {
         throw FileError(StatusCode::kParseError, file_, 0, message);
     }
-    [[noreturn]] void Fail(const Field& f, const std::string& what) const {
+    [[noreturn]] void Fail(const JsonField& f, const std::string& what) const {
         Fail(f.path + ": " + what);
     }
 
-    const json& Required(const Field& f) const {
+    const json& Required(const JsonField& f) const {
         if (!f) Fail(f, "is missing");
         return *f.value;
     }
-    const json& Object(const Field& f) const {
+    const json& Object(const JsonField& f) const {
         const json& v = Required(f);
         if (!v.is_object()) Fail(f, "must be an object, not " + Describe(v));
         return v;
     }
-    std::string String(const Field& f) const {
+    std::string String(const JsonField& f) const {
         const json& v = Required(f);
         if (!v.is_string()) Fail(f, "must be a string, not " + Describe(v));
         return v.get<std::string>();
     }
-    double Number(const Field& f) const {
+    double Number(const JsonField& f) const {
         const json& v = Required(f);
         if (!v.is_number()) Fail(f, "must be a number, not " + Describe(v));
         const double d = v.get<double>();
@@ -168,7 +168,7 @@ public:
         if (!std::isfinite(d)) Fail(f, "must be finite, not " + Describe(v));
         return d;
     }
-    int64_t Integer(const Field& f, int64_t lo, int64_t hi) const {
+    int64_t Integer(const JsonField& f, int64_t lo, int64_t hi) const {
         const json& v = Required(f);
         bool ok = false;
         int64_t i = 0;
@@ -186,22 +186,22 @@ public:
         return i;
     }
     // Elements of an array, with their paths ("field[3]").
-    std::vector<Field> Items(const Field& f) const {
+    std::vector<JsonField> Items(const JsonField& f) const {
         const json& v = Required(f);
         if (!v.is_array()) Fail(f, "must be an array, not " + Describe(v));
-        std::vector<Field> items;
+        std::vector<JsonField> items;
         for (size_t i = 0; i < v.size(); ++i) {
             items.push_back({&v[i], f.path + "[" + std::to_string(i) + "]"});
         }
         return items;
     }
-    std::vector<double> Numbers(const Field& f) const {
+    std::vector<double> Numbers(const JsonField& f) const {
         std::vector<double> out;
-        for (const Field& item : Items(f)) out.push_back(Number(item));
+        for (const JsonField& item : Items(f)) out.push_back(Number(item));
         return out;
     }
     // A row-major 4x4 with translation in mm; the last row must be 0 0 0 1 (a rigid transform).
-    Eigen::Matrix4d Transform(const Field& f) const {
+    Eigen::Matrix4d Transform(const JsonField& f) const {
         const std::vector<double> v = Numbers(f);
         if (v.size() != 16) {
             Fail(f, std::to_string(v.size()) + " entries, a row-major 4x4 matrix has 16");
@@ -224,10 +224,10 @@ private:
 
 // Where each logical field lives in this file's layout.
 struct Layout {
-    Field altitude, azimuth, beam_origin_mm, beam_to_lidar, lidar_to_sensor, imu_to_sensor;
-    Field lidar_mode, prod_line, prod_sn, build_rev, init_id, port_lidar, port_imu;
-    Field data_format;  // absent: firmware before 2.0 (no data format; spec defaults)
-    Field imu_data_format;
+    JsonField altitude, azimuth, beam_origin_mm, beam_to_lidar, lidar_to_sensor, imu_to_sensor;
+    JsonField lidar_mode, prod_line, prod_sn, build_rev, init_id, port_lidar, port_imu;
+    JsonField data_format;  // absent: firmware before 2.0 (no data format; spec defaults)
+    JsonField imu_data_format;
 };
 
 std::string Join(const std::vector<std::string>& v) {
@@ -255,7 +255,7 @@ Layout DetectLayout(const Reader& r, const json& root) {
                "sensor_info, beam_intrinsics, imu_intrinsics, lidar_intrinsics, config_params, " +
                "lidar_data_format, calibration_status (missing: " + Join(missing) + ")");
     }
-    const Field top{&root, ""};
+    const JsonField top{&root, ""};
     Layout l;
     l.imu_data_format = Child(top, "imu_data_format");
     if (nested.empty()) {
@@ -282,8 +282,8 @@ Layout DetectLayout(const Reader& r, const json& root) {
         return l;
     }
     for (size_t i = 0; i < kNestedObjectSections; ++i) r.Object(Child(top, kNestedSections[i]));
-    const Field sensor = Child(top, "sensor_info"), beams = Child(top, "beam_intrinsics"),
-                config = Child(top, "config_params");
+    const JsonField sensor = Child(top, "sensor_info"), beams = Child(top, "beam_intrinsics"),
+                    config = Child(top, "config_params");
     l.altitude = Child(beams, "beam_altitude_angles");
     l.azimuth = Child(beams, "beam_azimuth_angles");
     l.beam_origin_mm = Child(beams, "lidar_origin_to_beam_origin_mm");
@@ -324,7 +324,7 @@ bool ParseFirmware(const std::string& s, int* major, int* minor, int* patch) {
     return true;
 }
 
-uint64_t ParseProdSn(const Reader& r, const Field& f) {
+uint64_t ParseProdSn(const Reader& r, const JsonField& f) {
     const json& v = r.Required(f);
     if (v.is_number_integer()) return static_cast<uint64_t>(r.Integer(f, 0, kMaxProdSn));
     const std::string s = r.String(f);
@@ -339,7 +339,7 @@ uint64_t ParseProdSn(const Reader& r, const Field& f) {
     return sn;  // "" (seen in real files' neighbours) is unknown: 0
 }
 
-std::optional<uint16_t> ParsePort(const Reader& r, const Field& f) {
+std::optional<uint16_t> ParsePort(const Reader& r, const JsonField& f) {
     if (!f) return std::nullopt;
     // 0 is what the SDK stores for "not given" (parse_legacy: asInt() of an absent key).
     const int64_t port = r.Integer(f, 0, 65535);
@@ -363,18 +363,18 @@ DataFormat DefaultDataFormat(int columns) {
     return f;
 }
 
-DataFormat ParseDataFormat(const Reader& r, const Field& df, const Field& mode_field,
+DataFormat ParseDataFormat(const Reader& r, const JsonField& df, const JsonField& mode_field,
                            int mode_columns) {
     r.Object(df);
     DataFormat f;
-    const auto one_of = [&](const Field& field, int64_t v, std::initializer_list<int> allowed) {
+    const auto one_of = [&](const JsonField& field, int64_t v, std::initializer_list<int> allowed) {
         if (std::find(allowed.begin(), allowed.end(), v) != allowed.end()) return;
         std::string list;
         for (const int a : allowed) list += (list.empty() ? "" : ", ") + std::to_string(a);
         r.Fail(field, std::to_string(v) + " is not one of " + list);
     };
-    const Field h = Child(df, "pixels_per_column"), cpp = Child(df, "columns_per_packet"),
-                w = Child(df, "columns_per_frame");
+    const JsonField h = Child(df, "pixels_per_column"), cpp = Child(df, "columns_per_packet"),
+                    w = Child(df, "columns_per_frame");
     f.pixels_per_column = static_cast<int>(r.Integer(h, 0, 1 << 20));
     one_of(h, f.pixels_per_column, {16, 32, 64, 128});
     f.columns_per_frame = static_cast<int>(r.Integer(w, 0, 1 << 20));
@@ -386,15 +386,15 @@ DataFormat ParseDataFormat(const Reader& r, const Field& df, const Field& mode_f
     f.columns_per_packet = static_cast<int>(r.Integer(cpp, 0, 1 << 20));
     one_of(cpp, f.columns_per_packet, {8, 16, 32, 64});  // all of them divide every W above
 
-    const Field shift = Child(df, "pixel_shift_by_row");
+    const JsonField shift = Child(df, "pixel_shift_by_row");
     if (shift) {
-        const std::vector<Field> items = r.Items(shift);
+        const std::vector<JsonField> items = r.Items(shift);
         if (items.size() != static_cast<size_t>(f.pixels_per_column)) {
             r.Fail(shift, std::to_string(items.size()) + " entries, but pixels_per_column is " +
                               std::to_string(f.pixels_per_column));
         }
         const int w1 = f.columns_per_frame - 1;
-        for (const Field& item : items) {
+        for (const JsonField& item : items) {
             f.pixel_shift_by_row.push_back(static_cast<int>(r.Integer(item, -w1, w1)));
         }
     } else {
@@ -404,9 +404,9 @@ DataFormat ParseDataFormat(const Reader& r, const Field& df, const Field& mode_f
 
     f.column_window_first = 0;
     f.column_window_last = f.columns_per_frame - 1;
-    const Field window = Child(df, "column_window");
+    const JsonField window = Child(df, "column_window");
     if (window) {
-        const std::vector<Field> ends = r.Items(window);
+        const std::vector<JsonField> ends = r.Items(window);
         if (ends.size() != 2) {
             r.Fail(window, std::to_string(ends.size()) + " entries, a column window has 2");
         }
@@ -414,20 +414,20 @@ DataFormat ParseDataFormat(const Reader& r, const Field& df, const Field& mode_f
         f.column_window_last = static_cast<int>(r.Integer(ends[1], 0, f.columns_per_frame - 1));
     }
 
-    const Field lidar_profile = Child(df, "udp_profile_lidar");
+    const JsonField lidar_profile = Child(df, "udp_profile_lidar");
     if (lidar_profile) {
         const auto p = ParseLidarProfile(r.String(lidar_profile));
         if (!p) r.Fail(lidar_profile, Describe(*lidar_profile.value) + " is not a known profile");
         f.lidar_profile = *p;
     }
-    const Field imu_profile = Child(df, "udp_profile_imu");
+    const JsonField imu_profile = Child(df, "udp_profile_imu");
     if (imu_profile) {
         const auto p = ParseImuProfile(r.String(imu_profile));
         if (!p) r.Fail(imu_profile, Describe(*imu_profile.value) + " is not a known profile");
         f.imu_profile = *p;
     }
     // header_type exists from FW 3.2; before, the FUSA profile implied FUSA headers (SDK).
-    const Field header = Child(df, "header_type");
+    const JsonField header = Child(df, "header_type");
     if (header) {
         const auto t = ParseHeaderType(r.String(header));
         if (!t) r.Fail(header, Describe(*header.value) + " is not STANDARD or FUSA");
@@ -440,7 +440,7 @@ DataFormat ParseDataFormat(const Reader& r, const Field& df, const Field& mode_f
 
 // Beam angles: exactly H finite entries within range, not all zero (the SDK refuses all-zero
 // arrays: "cannot all be zeros", the mark of an uncalibrated or blanked sensor).
-std::vector<double> ParseAngles(const Reader& r, const Field& f, int pixels_per_column,
+std::vector<double> ParseAngles(const Reader& r, const JsonField& f, int pixels_per_column,
                                 bool default_format, double limit_deg) {
     std::vector<double> angles = r.Numbers(f);
     if (angles.size() != static_cast<size_t>(pixels_per_column)) {
@@ -499,7 +499,7 @@ SensorInfo Parse(const Reader& r, const std::string& name, const json& root) {
     info.format = default_format ? DefaultDataFormat(mode->columns)
                                  : ParseDataFormat(r, l.data_format, l.lidar_mode, mode->columns);
     if (l.imu_data_format) {
-        const Field n = Child(l.imu_data_format, "imu_measurements_per_packet");
+        const JsonField n = Child(l.imu_data_format, "imu_measurements_per_packet");
         r.Object(l.imu_data_format);
         if (n)
             info.format.imu_measurements_per_packet =

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "host_tools/anchor/graph_state.hpp"
 #include "host_tools/anchor/hypothesis.hpp"
@@ -21,10 +22,6 @@ namespace bimslam::anchor {
 namespace {
 using Clock = std::chrono::steady_clock;
 using posegraph::PoseGraph;
-
-double Since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // The loop whose registration fits best.
 const LoopRecord& BestLoop(const std::vector<LoopRecord>& loops) {
@@ -77,7 +74,7 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
     } else if (int(verified.size()) >= config.min_clique) {
         cliques.push_back(verified);
     }
-    times->consistency_s += Since(t0);
+    times->consistency_s += common::SecondsSince(t0);
     for (auto& r : out.records) {
         if (r.verified) r.reason = "not in a consistent set of loops";
     }
@@ -96,7 +93,7 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
             st[q] = {anchor, query.poses, false};
             const auto tg = Clock::now();
             const std::vector<double> w = GncWeights(sessions, &st, seeds, config, times);
-            times->consistency_s += Since(tg);
+            times->consistency_s += common::SecondsSince(tg);
             std::vector<LoopRecord> kept;
             for (size_t k = 0; k < seeds.size(); ++k) {
                 LoopRecord& r = out.records[cliques[h][k]];
@@ -290,7 +287,7 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
     auto t0 = Clock::now();
     if (progress) progress("reference map", 0, 1);
     const Target reference(sessions, {{0, state[0].World()}}, config);
-    times.map_s += Since(t0);
+    times.map_s += common::SecondsSince(t0);
     std::vector<QueryOutcome> outcomes;
     for (size_t q = 1; q < sessions.size(); ++q) {
         outcomes.push_back(AnchorQuery(sessions, state, q, reference, config, &times, progress));
@@ -312,7 +309,7 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
             {0, state[0].World()}};
         for (size_t q : alone) members.push_back({q, state[q].World()});
         const Target all(sessions, members, config);
-        times.map_s += Since(t0);
+        times.map_s += common::SecondsSince(t0);
         for (size_t q = 1; q < sessions.size(); ++q) {
             if (outcomes[q - 1].result.verdict == Verdict::kAnchored) continue;
             QueryOutcome retry = AnchorQuery(sessions, state, q, all, config, &times, progress);
@@ -338,7 +335,7 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
                 if (o != q) others.push_back({o, state[o].World()});
             }
             const Target target(sessions, others, config);
-            times.map_s += Since(t0);
+            times.map_s += common::SecondsSince(t0);
             // Each pair of sessions once: from the later session to the earlier.
             const std::vector<LoopRecord> loops = ProximityLoops(
                 sessions, target, state[q].World(), q, {},
@@ -365,7 +362,7 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
         result.sessions.push_back(o.result);
         for (LoopRecord& r : o.records) result.loops.push_back(std::move(r));
     }
-    times.total_s = Since(t_start);
+    times.total_s = common::SecondsSince(t_start);
     return result;
 }
 

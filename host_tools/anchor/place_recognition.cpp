@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/posegraph/max_clique.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/scancontext/distance.hpp"
@@ -14,10 +15,6 @@
 namespace bimslam::anchor {
 namespace {
 using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 Eigen::Isometry3d Yaw(double yaw) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -74,7 +71,7 @@ void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& tar
                     .ratio();
         }
     });
-    times->registration_s += Since(t0);
+    times->registration_s += common::SecondsSince(t0);
     times->registrations += records->size();
 }
 
@@ -104,7 +101,7 @@ std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& session
     });
     std::vector<LoopRecord> records;
     for (auto& v : per_keyframe) records.insert(records.end(), v.begin(), v.end());
-    times->candidates_s += Since(t0);
+    times->candidates_s += common::SecondsSince(t0);
 
     std::vector<Eigen::Isometry3d> init;
     for (const LoopRecord& r : records) init.push_back(r.T_world_target * Yaw(r.sc_yaw));

@@ -17,14 +17,6 @@ namespace {
 using common::StatusCode;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-void Require(bool ok, const char* field, double value, const char* rule) {
-    if (!ok) {
-        throw common::Error(
-            StatusCode::kInvalidArgument,
-            std::string("PathConfig.") + field + " = " + std::to_string(value) + ": " + rule);
-    }
-}
-
 // A grid graph for the searches: the safe cells, 8-connected, and per cell the factor of the cost
 // of stepping onto it: its length, more near walls, so that walks keep to the middle.
 struct Lattice {
@@ -265,19 +257,24 @@ std::vector<Eigen::Vector2d> Smooth(const Planner& p, std::vector<Eigen::Vector2
 }  // namespace
 
 void PathConfig::Validate() const {
-    Require(clearance_m > 0 && clearance_m < 5, "clearance_m", clearance_m, "must be in (0, 5) m");
-    Require(room_split_m >= clearance_m && room_split_m < 10, "room_split_m", room_split_m,
-            "must be in [clearance_m, 10) m");
-    Require(min_room_area_m2 >= 0, "min_room_area_m2", min_room_area_m2, "must be >= 0");
-    Require(view_spacing_m > 0.5, "view_spacing_m", view_spacing_m, "must be > 0.5 m");
-    Require(speed_mps > 0 && speed_mps < 10, "speed_mps", speed_mps, "must be in (0, 10) m/s");
-    Require(max_yaw_rate_radps > 0.05 && max_yaw_rate_radps < 20, "max_yaw_rate_radps",
-            max_yaw_rate_radps, "must be in (0.05, 20) rad/s");
-    Require(sensor_height_m > 0 && sensor_height_m < 10, "sensor_height_m", sensor_height_m,
-            "must be in (0, 10) m");
-    Require(spacing_m > 0 && spacing_m <= 1, "spacing_m", spacing_m, "must be in (0, 1] m");
-    Require(smoothing_passes >= 0 && smoothing_passes <= 10, "smoothing_passes", smoothing_passes,
-            "must be in [0, 10]");
+    common::Require(clearance_m > 0 && clearance_m < 5, "PathConfig", "clearance_m", clearance_m,
+                    "must be in (0, 5) m");
+    common::Require(room_split_m >= clearance_m && room_split_m < 10, "PathConfig", "room_split_m",
+                    room_split_m, "must be in [clearance_m, 10) m");
+    common::Require(min_room_area_m2 >= 0, "PathConfig", "min_room_area_m2", min_room_area_m2,
+                    "must be >= 0");
+    common::Require(view_spacing_m > 0.5, "PathConfig", "view_spacing_m", view_spacing_m,
+                    "must be > 0.5 m");
+    common::Require(speed_mps > 0 && speed_mps < 10, "PathConfig", "speed_mps", speed_mps,
+                    "must be in (0, 10) m/s");
+    common::Require(max_yaw_rate_radps > 0.05 && max_yaw_rate_radps < 20, "PathConfig",
+                    "max_yaw_rate_radps", max_yaw_rate_radps, "must be in (0.05, 20) rad/s");
+    common::Require(sensor_height_m > 0 && sensor_height_m < 10, "PathConfig", "sensor_height_m",
+                    sensor_height_m, "must be in (0, 10) m");
+    common::Require(spacing_m > 0 && spacing_m <= 1, "PathConfig", "spacing_m", spacing_m,
+                    "must be in (0, 1] m");
+    common::Require(smoothing_passes >= 0 && smoothing_passes <= 10, "PathConfig",
+                    "smoothing_passes", smoothing_passes, "must be in [0, 10]");
 }
 
 CoveragePath PlanCoveragePath(const OccupancyGrid& g, const PathConfig& c) {

@@ -105,8 +105,9 @@ bool ExpectsBody(const IfcProduct& product) {
 
 // Appends the faces of one carve mesh set. Faces are planar polygons (CSG results come out
 // triangulated, B-rep faces and extrusion caps need not), possibly non-convex: ear clipping
-// (carve's triangulator) in the face's own 2D projection, with a fan as fallback. Each triangle is wound like its polygon (Newell
-// normal), which keeps the outward orientation carve gives closed solids.
+// (carve's triangulator) in the face's own 2D projection, with a fan as fallback. Each triangle is
+// wound like its polygon (Newell normal), which keeps the outward orientation carve gives closed
+// solids.
 void AppendMeshSet(const carve::mesh::MeshSet<3>& meshset, const carve::math::Matrix& transform,
                    ProductMesh& out, std::unordered_map<const void*, uint32_t>& index_of) {
     std::vector<carve::mesh::Vertex<3>*> verts;
@@ -221,6 +222,9 @@ MeshSetPtr Placed(const carve::mesh::MeshSet<3>& solid, const carve::math::Matri
     return out;
 }
 
+}  // namespace
+
+// Not in the anonymous namespace: Geometry::Impl holds one.
 // Finds what IFC++'s geometry code would crash on in a damaged file: a list attribute holding a
 // reference of the wrong type (its reader stores a null there, which the converters dereference)
 // and reference cycles (they would recurse forever). An entity is broken when it, or anything it
@@ -283,7 +287,6 @@ private:
     std::unordered_map<const BuildingEntity*, State> state_;
     std::unordered_map<const BuildingEntity*, std::string> broken_;
 };
-}  // namespace
 
 void MessageLog::SetSubject(std::string subject) {
     subject_ = std::move(subject);

@@ -12,14 +12,6 @@ namespace bimslam::bim {
 namespace {
 using common::StatusCode;
 
-void Require(bool ok, const char* field, double value, const char* rule) {
-    if (!ok) {
-        throw common::Error(StatusCode::kInvalidArgument, std::string("GridConfig.") + field +
-                                                              " = " + std::to_string(value) +
-                                                              ": " + rule);
-    }
-}
-
 // Doors, windows and curtain walls close the building for telling inside from outside (their
 // footprints up to this height above the floor), yet never block the walk.
 constexpr double kClosureHeightM = 2.5;
@@ -141,13 +133,15 @@ void FillSlice(const OccupancyGrid& g,
         const double y = g.Center(0, row).y();
         xs.clear();
         for (const auto& [p, q] : segs) {
-            if ((p.y() <= y) != (q.y() <= y)) xs.push_back(p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x()));
+            if ((p.y() <= y) != (q.y() <= y))
+                xs.push_back(p.x() + (y - p.y()) / (q.y() - p.y()) * (q.x() - p.x()));
         }
         if (xs.size() % 2 != 0) continue;
         std::sort(xs.begin(), xs.end());
         for (size_t k = 0; k + 1 < xs.size(); k += 2) {
             const int c0 = std::max(0, int(std::ceil((xs[k] - g.origin.x()) / g.resolution - 0.5)));
-            const int c1 = std::min(g.width - 1, int(std::floor((xs[k + 1] - g.origin.x()) / g.resolution - 0.5)));
+            const int c1 = std::min(
+                g.width - 1, int(std::floor((xs[k + 1] - g.origin.x()) / g.resolution - 0.5)));
             for (int c = c0; c <= c1; ++c) mask[size_t(row) * g.width + c] = 1;
         }
     }
@@ -184,10 +178,10 @@ void Edt1d(const std::vector<double>& f, std::vector<double>& d, std::vector<int
 }
 
 void Clearance(OccupancyGrid& g) {
-    constexpr double kInf = 1e20;
+    constexpr double kFar = 1e20;
     const int w = g.width, h = g.height;
     std::vector<double> grid(size_t(w) * h);
-    for (size_t i = 0; i < grid.size(); ++i) grid[i] = g.cells[i] == Cell::kFree ? kInf : 0.0;
+    for (size_t i = 0; i < grid.size(); ++i) grid[i] = g.cells[i] == Cell::kFree ? kFar : 0.0;
     const int n = std::max(w, h);
     std::vector<double> f(n), d(n), z(n + 1);
     std::vector<int> v(n);
@@ -213,13 +207,14 @@ void Clearance(OccupancyGrid& g) {
 }  // namespace
 
 void GridConfig::Validate() const {
-    Require(resolution_m >= 0.005 && resolution_m <= 1.0, "resolution_m", resolution_m,
-            "must be in [0.005, 1] m");
-    Require(slice_height_m > 0 && slice_height_m < 10, "slice_height_m", slice_height_m,
-            "must be in (0, 10) m");
-    Require(margin_m >= 0 && margin_m < 100, "margin_m", margin_m, "must be in [0, 100) m");
-    Require(object_height_m > 0 && object_height_m < 10, "object_height_m", object_height_m,
-            "must be in (0, 10) m");
+    common::Require(resolution_m >= 0.005 && resolution_m <= 1.0, "GridConfig", "resolution_m",
+                    resolution_m, "must be in [0.005, 1] m");
+    common::Require(slice_height_m > 0 && slice_height_m < 10, "GridConfig", "slice_height_m",
+                    slice_height_m, "must be in (0, 10) m");
+    common::Require(margin_m >= 0 && margin_m < 100, "GridConfig", "margin_m", margin_m,
+                    "must be in [0, 100) m");
+    common::Require(object_height_m > 0 && object_height_m < 10, "GridConfig", "object_height_m",
+                    object_height_m, "must be in (0, 10) m");
 }
 
 bool OccupancyGrid::ToCell(const Eigen::Vector2d& p, int* x, int* y) const {
@@ -290,7 +285,8 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
                 }
                 continue;
             }
-            const double zmin = std::min({a.z(), b.z(), c.z()}), zmax = std::max({a.z(), b.z(), c.z()});
+            const double zmin = std::min({a.z(), b.z(), c.z()}),
+                         zmax = std::max({a.z(), b.z(), c.z()});
             const double top = closure ? kClosureHeightM : config.object_height_m;
             if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + top) continue;
             RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
@@ -305,16 +301,19 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
 
     // Regions of the open cells (neither blocked nor closed, 4-neighbourhood); the ones touching
     // the grid's border are outdoors. Closed doors make each room its own region.
-    const std::vector<int> region = LabelRegions(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
+    const std::vector<int> region =
+        LabelRegions(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
     std::vector<uint8_t> outdoors(g.cells.size() + 1, 0);  // by region
     for (int x = 0; x < g.width; ++x) {
         for (const int y : {0, g.height - 1}) {
-            if (region[size_t(y) * g.width + x] >= 0) outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
+            if (region[size_t(y) * g.width + x] >= 0)
+                outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
         }
     }
     for (int y = 0; y < g.height; ++y) {
         for (const int x : {0, g.width - 1}) {
-            if (region[size_t(y) * g.width + x] >= 0) outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
+            if (region[size_t(y) * g.width + x] >= 0)
+                outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
         }
     }
     // The inside: the indoor regions joined through the doors (and windows) between them; with a
@@ -348,15 +347,17 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
             ++sizes[size_t(inside[i])];
         }
         for (int id = 0; id < int(sizes.size()); ++id) {
-            if (sizes[size_t(id)] > 0 && (chosen < 0 || sizes[size_t(id)] > sizes[size_t(chosen)])) chosen = id;
+            if (sizes[size_t(id)] > 0 && (chosen < 0 || sizes[size_t(id)] > sizes[size_t(chosen)]))
+                chosen = id;
         }
     }
     if (chosen < 0) {
-        throw common::Error(StatusCode::kInvalidArgument,
-                            model.file + ": storey '" + g.storey + "' has no enclosed free space " +
-                                "at " + std::to_string(config.slice_height_m) +
-                                " m above its floor (no walls there, or a gap in its outer walls: " +
-                                "give a seed inside)");
+        throw common::Error(
+            StatusCode::kInvalidArgument,
+            model.file + ": storey '" + g.storey + "' has no enclosed free space " + "at " +
+                std::to_string(config.slice_height_m) +
+                " m above its floor (no walls there, or a gap in its outer walls: " +
+                "give a seed inside)");
     }
     for (size_t i = 0; i < g.cells.size(); ++i) {
         if (!blocked[i]) g.cells[i] = inside[i] == chosen ? Cell::kFree : Cell::kUnknown;
@@ -370,7 +371,9 @@ io::Image GridImage(const OccupancyGrid& g) {
     for (int y = 0; y < g.height; ++y) {
         for (int x = 0; x < g.width; ++x) {
             const Cell c = g.At(x, y);
-            img.At(x, g.height - 1 - y)[0] = c == Cell::kFree ? 254 : c == Cell::kOccupied ? 0 : 205;
+            img.At(x, g.height - 1 - y)[0] = c == Cell::kFree       ? 254
+                                             : c == Cell::kOccupied ? 0
+                                                                    : 205;
         }
     }
     return img;
@@ -385,10 +388,10 @@ void WriteGrid(const OccupancyGrid& g, const std::filesystem::path& stem) {
     io::WritePgm(pgm, img);
     io::WritePng(png, img);
     // ROS map_server: origin is the pose of the lower-left pixel, thresholds as its defaults.
-    const std::string text = "image: " + pgm.filename().string() +
-                             "\nresolution: " + io::FormatDouble(g.resolution) + "\norigin: [" +
-                             io::FormatDouble(g.origin.x()) + ", " + io::FormatDouble(g.origin.y()) +
-                             ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+    const std::string text =
+        "image: " + pgm.filename().string() + "\nresolution: " + io::FormatDouble(g.resolution) +
+        "\norigin: [" + io::FormatDouble(g.origin.x()) + ", " + io::FormatDouble(g.origin.y()) +
+        ", 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
     io::WriteFileAtomic(yaml, text);
 }
 

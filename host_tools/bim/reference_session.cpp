@@ -7,6 +7,7 @@
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
 #include "algorithms/simulation/scene.hpp"
@@ -15,10 +16,6 @@ namespace bimslam::bim {
 namespace {
 using common::StatusCode;
 using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // Per-pixel ray origin and direction of the sensor (the driver's XYZ table), computed once.
 struct RayTable {
@@ -58,9 +55,9 @@ void ToCloud(const simulation::ScanImage& img, const RayTable& rays, int64_t sta
 
 void ReferenceSessionOptions::Validate() const {
     if (!(keyframe_gap_m >= 0.05 && keyframe_gap_m <= 100)) {
-        throw common::Error(StatusCode::kInvalidArgument,
-                            "keyframe gap " + std::to_string(keyframe_gap_m) +
-                                " m: must be in [0.05, 100] m");
+        throw common::Error(
+            StatusCode::kInvalidArgument,
+            "keyframe gap " + std::to_string(keyframe_gap_m) + " m: must be in [0.05, 100] m");
     }
     lidar.Validate();
     noise.Validate();
@@ -96,7 +93,8 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     options.Validate();
     const std::vector<int> storeys = StoreyIndices(model, options.storeys);
     if (storeys.empty()) {
-        throw common::Error(StatusCode::kInvalidArgument, model.file + ": the model has no storeys");
+        throw common::Error(StatusCode::kInvalidArgument,
+                            model.file + ": the model has no storeys");
     }
     ReferenceSessionReport report;
 
@@ -123,7 +121,7 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
         start_ns = path.poses.back().stamp_ns + 1'000'000'000;
         walks.push_back(std::move(path.poses));
     }
-    report.plan_s = Since(t_plan);
+    report.plan_s = common::SecondsSince(t_plan);
 
     // 2. The scene: the paper's semantic filter keeps the permanent structure.
     const BimModel structure =
@@ -151,12 +149,14 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     manifest.model = m;
     // Offline and re-runnable: the line files are rewritten every 50 keyframes, and the files are
     // synced once before session.json rather than each on its own (milliseconds each).
-    io::SessionWriter writer(dir, manifest,
-                             {.overwrite = options.overwrite, .flush_every = 50, .sync_each_file = false});
+    io::SessionWriter writer(
+        dir, manifest,
+        {.overwrite = options.overwrite, .flush_every = 50, .sync_each_file = false});
 
     // 3. Frames at the sensor's rate along each walk; a keyframe every gap metres of it.
     size_t planned = 0;
-    for (const StoreyReport& sr : report.storeys) planned += size_t(sr.walk_m / options.keyframe_gap_m) + 1;
+    for (const StoreyReport& sr : report.storeys)
+        planned += size_t(sr.walk_m / options.keyframe_gap_m) + 1;
     simulation::ScanImage image;
     std::optional<Eigen::Isometry3d> previous_key;
     for (size_t k = 0; k < walks.size(); ++k) {
@@ -176,14 +176,14 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
             io::SessionKeyframe kf;
             kf.stamp_ns = t;
             kf.T_world_lidar = T;
-            const auto stats = simulation::SimulateScan(scene, options.lidar, T, options.noise,
-                                                        options.seed ^ uint64_t(report.keyframes),
-                                                        &image);
+            const auto stats =
+                simulation::SimulateScan(scene, options.lidar, T, options.noise,
+                                         options.seed ^ uint64_t(report.keyframes), &image);
             report.rays += stats.rays;
             ToCloud(image, rays, t, &kf.cloud);
             builder.Build(kf.cloud, &kf.descriptor);
             report.points += kf.cloud.size();
-            report.simulate_s += Since(t_sim);
+            report.simulate_s += common::SecondsSince(t_sim);
 
             const auto t_write = Clock::now();
             const size_t i = writer.AddKeyframe(kf);
@@ -194,7 +194,7 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
                 e.information.diagonal().setConstant(1e6);
                 writer.AddEdge(e);
             }
-            report.write_s += Since(t_write);
+            report.write_s += common::SecondsSince(t_write);
             previous_key = T;
             ++report.keyframes;
             ++report.storeys[k].keyframes;
@@ -203,7 +203,7 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     }
     const auto t_finish = Clock::now();
     writer.Finish();
-    report.write_s += Since(t_finish);
+    report.write_s += common::SecondsSince(t_finish);
     return report;
 }
 

@@ -7,8 +7,9 @@
 namespace bimslam::bim {
 namespace {
 
+using K = RoomKind;
+
 CorridorPlan OfficePlan() {
-    using K = RoomKind;
     CorridorPlan p;
     p.length = 30.0;
     p.width = 15.0;

@@ -12,27 +12,27 @@ namespace bimslam::bim {
 namespace {
 
 using Eigen::Vector2d;
+using K = RoomKind;
 
-constexpr double kLength = 20.0, kWidth = 12.0;
+constexpr double kSymmetricLength = 20.0, kSymmetricWidth = 12.0;
 
 CorridorPlan SymmetricPlan() {
-    using K = RoomKind;
     CorridorPlan p;
-    p.length = kLength;
-    p.width = kWidth;
+    p.length = kSymmetricLength;
+    p.width = kSymmetricWidth;
     p.exterior_wall = 0.3;
     p.interior_wall = 0.15;
     p.slab = 0.2;
     p.floor_to_floor = 3.0;
     // Corridor faces at y = 5 and 7, symmetric about y = 6.
-    p.corridor_south_wall = kWidth / 2 - 1.0 - p.interior_wall / 2;
-    p.corridor_north_wall = kWidth / 2 + 1.0 + p.interior_wall / 2;
+    p.corridor_south_wall = kSymmetricWidth / 2 - 1.0 - p.interior_wall / 2;
+    p.corridor_north_wall = kSymmetricWidth / 2 + 1.0 + p.interior_wall / 2;
     p.centred_doors = true;
     p.door_width = 1.0;  // narrower than 1.1 m: the coverage walk takes each room as its own
     p.door_leaves = 2;
     p.west_entrance = {1.6, 2};
     p.east_entrance = {1.6, 2};
-    const std::vector<double> partitions = {4.0, kLength / 2, 16.0};
+    const std::vector<double> partitions = {4.0, kSymmetricLength / 2, 16.0};
     const std::vector<RoomSpec> rooms = {{K::kOffice, "Office"},
                                          {K::kMeeting, "Meeting room"},
                                          {K::kMeeting, "Meeting room"},
@@ -61,7 +61,7 @@ SampleLayout SymmetricLayout(const SampleBuildingOptions& options) {
     b.Slabs({});
 
     if (options.furniture) {
-        const Vector2d centre(kLength / 2, kWidth / 2);
+        const Vector2d centre(kSymmetricLength / 2, kSymmetricWidth / 2);
         PlaceFurniture(L, options.seed, [&](int r) {
             const Eigen::AlignedBox2d box = L.rooms[r].Bounds();
             return box.max().x() <= centre.x() && box.max().y() <= centre.y();

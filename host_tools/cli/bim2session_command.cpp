@@ -1,3 +1,4 @@
+#include "algorithms/common/stopwatch.hpp"
 // bimslam bim plan: a storey's occupancy grid and coverage walk.
 // bimslam bim2session: the reference session of a building (paper, Step 1).
 #include <chrono>
@@ -18,10 +19,6 @@ namespace bimslam::cli {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 // The options of the grid and the walk, shared by both commands.
 struct PlanOptions {
@@ -62,7 +59,7 @@ void Finalise(PlanOptions& o) {
     if (o.free_seed.size() == 2) o.grid.seed = Eigen::Vector2d(o.free_seed[0], o.free_seed[1]);
 }
 
-bim::BimModel Load(const std::string& file, const PlanOptions& o) {
+bim::BimModel LoadPlanned(const std::string& file, const PlanOptions& o) {
     const auto t0 = Clock::now();
     bim::IfcLoadOptions load;
     load.railings_are_structure = !o.no_railings;
@@ -70,7 +67,7 @@ bim::BimModel Load(const std::string& file, const PlanOptions& o) {
     std::cout << std::fixed << std::setprecision(1) << "loaded   " << file << ": " << model.schema
               << ", " << model.storeys.size() << " storeys, " << model.elements.size()
               << " elements with geometry, " << model.mesh.triangles.size() << " triangles in "
-              << std::setprecision(2) << Since(t0) << " s";
+              << std::setprecision(2) << common::SecondsSince(t0) << " s";
     if (!model.failed.empty()) std::cout << " (" << model.failed.size() << " elements failed)";
     std::cout << "\n";
     return model;
@@ -85,7 +82,7 @@ struct PlanArgs {
 
 int Plan(PlanArgs& a) {
     Finalise(a.plan);
-    const bim::BimModel model = Load(a.model, a.plan);
+    const bim::BimModel model = LoadPlanned(a.model, a.plan);
     const std::vector<int> storeys = bim::StoreyIndices(model, a.plan.storeys);
     nlohmann::json summary = nlohmann::json::array();
     for (const int s : storeys) {
@@ -139,8 +136,8 @@ struct SessionArgs {
 int ToSession(SessionArgs& a) {
     Finalise(a.plan);
     const auto t0 = Clock::now();
-    const bim::BimModel model = Load(a.model, a.plan);
-    const double load_s = Since(t0);
+    const bim::BimModel model = LoadPlanned(a.model, a.plan);
+    const double load_s = common::SecondsSince(t0);
     bim::ReferenceSessionOptions o;
     o.storeys = a.plan.storeys;
     o.grid = a.plan.grid;
@@ -163,7 +160,7 @@ int ToSession(SessionArgs& a) {
     const std::string sha = io::Sha256File(a.model);
     const bim::ReferenceSessionReport r = bim::WriteReferenceSession(model, sha, a.out, o);
     std::cerr << "\r";
-    const double total_s = Since(t0);
+    const double total_s = common::SecondsSince(t0);
     for (const auto& s : r.storeys) {
         std::cout << std::setprecision(1) << "storey   '" << s.name << "': " << s.rooms
                   << " rooms, " << s.viewpoints << " viewpoints, walk " << s.walk_m << " m ("

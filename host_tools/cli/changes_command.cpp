@@ -1,3 +1,4 @@
+#include "algorithms/common/stopwatch.hpp"
 // bimslam changes: anchored sessions against the building model (Step 3): new objects, missing
 // and deviating elements, transients, an updated IFC (host_tools/changes/README.md).
 #include <chrono>
@@ -45,10 +46,6 @@ struct ChangesArgs {
     throw common::Error(common::StatusCode::kInvalidArgument, what);
 }
 
-double Since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 uint64_t Fnv1a(std::string_view s) {
     uint64_t h = 0xCBF29CE484222325ull;
     for (const char c : s) h = (h ^ uint8_t(c)) * 0x100000001B3ull;
@@ -68,12 +65,6 @@ std::vector<std::pair<std::string, fs::path>> OutputFolders(const ChangesArgs& a
         out.emplace_back(label, a.sessions.size() == 1 ? fs::path(a.out) : fs::path(a.out) / label);
     }
     return out;
-}
-
-std::string Fixed(double v, int digits) {
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(digits) << v;
-    return s.str();
 }
 
 int Changes(ChangesArgs& a) {
@@ -143,7 +134,7 @@ int Changes(ChangesArgs& a) {
             change_detection::UpdateIfc(a.model, original, model, found, seed);
         io::WriteFileAtomic(dir / "model_updated.ifc", ifc.text);
         bar.Clear();
-        const double seconds = Since(t0);
+        const double seconds = common::SecondsSince(t0);
 
         const changes::ChangeResult& r = found.result;
         size_t objects = 0, moved = 0, missing = 0, deviating = 0, confirmed = 0, unseen = 0;
@@ -248,7 +239,7 @@ int Changes(ChangesArgs& a) {
                           {"output", a.out},
                           {"elements_compared", compared},
                           {"sessions", sessions_json},
-                          {"seconds", Since(t_start)}}
+                          {"seconds", common::SecondsSince(t_start)}}
                          .dump(2)
                   << "\n";
     }

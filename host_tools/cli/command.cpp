@@ -1,6 +1,8 @@
 #include "host_tools/cli/command.hpp"
 
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "algorithms/common/status.hpp"
 
@@ -29,6 +31,12 @@ int Run(const std::function<int()>& body) {
         std::cerr << "bimslam: error: " << e.what() << "\n";
         return kExitFailure;
     }
+}
+
+std::string Fixed(double v, int digits) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(digits) << v;
+    return s.str();
 }
 
 }  // namespace bimslam::cli

@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 
 namespace bimslam::cli {
 
@@ -14,6 +15,9 @@ inline constexpr int kExitBadInput = 2;
 
 // Runs a subcommand body, turning exceptions into a message on stderr and the exit code above.
 int Run(const std::function<int()>& body);
+
+// v with `digits` digits after the point (std::fixed), for the summaries commands print.
+std::string Fixed(double v, int digits);
 
 // Each file registers its subcommands; the callback stores the exit code in `exit_code`.
 void AddSessionCommands(CLI::App& app, int& exit_code);

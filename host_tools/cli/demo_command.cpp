@@ -37,12 +37,6 @@ struct DemoOptions {
     double duration_s = 80;  // from 5 m outside: in through the entrance and along the corridor
 };
 
-std::string Fixed(double v, int digits) {
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(digits) << v;
-    return s.str();
-}
-
 double Seconds(Clock::time_point since) {
     return std::chrono::duration<double>(Clock::now() - since).count();
 }

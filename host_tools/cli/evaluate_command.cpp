@@ -33,7 +33,7 @@ std::string Cm(double m) {
     return s.str();
 }
 
-std::string Fixed(double v, int digits, const std::string& unit) {
+std::string FixedOrNa(double v, int digits, const std::string& unit) {
     if (std::isnan(v)) return "n/a";
     std::ostringstream s;
     s << std::fixed << std::setprecision(digits) << v << unit;
@@ -97,21 +97,21 @@ void PrintTable(const EvaluateArgs& a, const evaluation::EvaluationResult& r) {
               << evaluation::ToString(r.align) << "\n"
               << "APE trans   rmse " << Cm(t.rmse) << ", mean " << Cm(t.mean) << ", median "
               << Cm(t.median) << ", max " << Cm(t.max) << "\n"
-              << "APE rot     rmse " << Fixed(r.ape_rot_deg.rmse, 3, " deg") << ", max "
-              << Fixed(r.ape_rot_deg.max, 3, " deg") << "\n"
+              << "APE rot     rmse " << FixedOrNa(r.ape_rot_deg.rmse, 3, " deg") << ", max "
+              << FixedOrNa(r.ape_rot_deg.max, 3, " deg") << "\n"
               << Label("RPE " + Number(r.rpe_delta_m) + " m") << "trans rmse "
               << Cm(r.rpe_trans_m.rmse) << ", mean " << Cm(r.rpe_trans_m.mean) << ", max "
-              << Cm(r.rpe_trans_m.max) << "; rot rmse " << Fixed(r.rpe_rot_deg.rmse, 3, " deg")
+              << Cm(r.rpe_trans_m.max) << "; rot rmse " << FixedOrNa(r.rpe_rot_deg.rmse, 3, " deg")
               << " (" << r.rpe_trans_m.count << " pairs)\n"
-              << "drift       " << Fixed(r.drift_percent, 2, " %") << " over "
-              << Fixed(r.drift_segment_m, 1, " m") << " segments (" << r.drift_segments << ")"
+              << "drift       " << FixedOrNa(r.drift_percent, 2, " %") << " over "
+              << FixedOrNa(r.drift_segment_m, 1, " m") << " segments (" << r.drift_segments << ")"
               << (r.drift_segment_shortened
-                      ? ": the path is shorter than " + Fixed(a.drift_segment_m, 1, " m") +
+                      ? ": the path is shorter than " + FixedOrNa(a.drift_segment_m, 1, " m") +
                             ", so the whole path is one segment"
                       : "")
               << "\n"
-              << "distance    " << Fixed(r.distance_m, 2, " m") << " in "
-              << Fixed(r.duration_s, 2, " s") << " (reference, matched poses)\n";
+              << "distance    " << FixedOrNa(r.distance_m, 2, " m") << " in "
+              << FixedOrNa(r.duration_s, 2, " s") << " (reference, matched poses)\n";
     if (r.alignment.degenerate) {
         std::cout << "note        the matched positions lie on a line (or a point): the se3 "
                      "alignment's rotation about it is arbitrary, so APE rotation means little; "

@@ -31,12 +31,6 @@ struct MapArgs {
     mapping::MapConfig config;
 };
 
-std::string Fixed(double v, int digits) {
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(digits) << v;
-    return s.str();
-}
-
 // The summary as the user reads it: per recording what each step found.
 void PrintSummary(const mapping::MapRun& run) {
     std::cout << "steps     ";

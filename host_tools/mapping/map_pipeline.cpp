@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/sha256.hpp"
 #include "host_tools/anchor/anchor_output.hpp"
@@ -45,10 +46,6 @@ StepFailure::StepFailure(const std::string& step, const std::string& file, const
 
 namespace {
 
-double Since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 uint64_t Fnv1a(std::string_view s) {  // as `bimslam changes` seeds the new objects' GlobalIds
     uint64_t h = 0xCBF29CE484222325ull;
     for (const char c : s) h = (h ^ uint8_t(c)) * 0x100000001B3ull;
@@ -81,7 +78,7 @@ public:
         }
         stamp.MarkMade();
         stamp.Write(file_stamp);
-        run_->steps.push_back({step, false, Since(t0)});
+        run_->steps.push_back({step, false, common::SecondsSince(t0)});
         return true;
     }
 

@@ -20,12 +20,12 @@ void Inline(std::string& page, const std::string& name, const std::string& conte
 std::string BuildPage(const nlohmann::json& data) {
     std::string page = ReportAsset("report.html");
     // Data first: the assets inlined after it cannot then be mistaken for the data's token.
-    std::string json = data.dump();
+    std::string text = data.dump();
     // "</" would end the <script> element early; "<\/" is the same JSON string.
-    for (size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 3)) {
-        json.replace(at, 2, "<\\/");
+    for (size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) {
+        text.replace(at, 2, "<\\/");
     }
-    Inline(page, "DATA", json);
+    Inline(page, "DATA", text);
     for (const char* name : {"report.css", "three.min.js", "OrbitControls.js", "report.js"}) {
         Inline(page, name, ReportAsset(name));
     }

@@ -32,8 +32,6 @@ std::string Vec(const Eigen::Matrix<double, N, 1>& v) {
     return s + "]";
 }
 
-std::string Idx(const std::string& path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
 // Messages read "<yaml key path> = <value>: <rule>".
 void Require(bool ok, const std::string& field, const std::string& value, const char* rule) {
     if (!ok) throw common::Error(StatusCode::kInvalidArgument, field + " = " + value + ": " + rule);
@@ -106,7 +104,7 @@ void ValidatePath(const PathSpec& p) {
                 "must be empty with mode coverage (the walk is planned)");
     }
     for (size_t i = 0; i < p.waypoints.size(); ++i) {
-        RequireFinite(Idx("path.waypoints", i), p.waypoints[i]);
+        RequireFinite(ItemPath("path.waypoints", i), p.waypoints[i]);
     }
     if (p.start) {
         RequireFinite("path.start.xy", p.start->xy);
@@ -150,7 +148,7 @@ void ValidateNoise(const NoiseSpec& n) {
 
 void ValidateEdits(const EditsSpec& e) {
     for (size_t i = 0; i < e.boxes.size(); ++i) {
-        const std::string p = Idx("edits.boxes", i);
+        const std::string p = ItemPath("edits.boxes", i);
         const AddedBox& b = e.boxes[i];
         RequireFinite(p + ".center", b.center);
         Require(b.size.allFinite() && (b.size.array() > 0).all(), p + ".size", Vec(b.size),
@@ -158,13 +156,13 @@ void ValidateEdits(const EditsSpec& e) {
         RequireFinite(p + ".yaw_deg", b.yaw_deg);
     }
     for (size_t i = 0; i < e.cylinders.size(); ++i) {
-        const std::string p = Idx("edits.cylinders", i);
+        const std::string p = ItemPath("edits.cylinders", i);
         RequireFinite(p + ".base", e.cylinders[i].base);
         RequirePositive(p + ".radius_m", e.cylinders[i].radius_m);
         RequirePositive(p + ".height_m", e.cylinders[i].height_m);
     }
     for (size_t i = 0; i < e.meshes.size(); ++i) {
-        const std::string p = Idx("edits.meshes", i);
+        const std::string p = ItemPath("edits.meshes", i);
         const AddedMesh& m = e.meshes[i];
         RequireNonEmpty(p + ".file", m.file.string());
         RequireFinite(p + ".position", m.position);
@@ -180,13 +178,13 @@ void ValidateEdits(const EditsSpec& e) {
             "must be >= edits.clutter.min_size_m");
     RequireNonNegative("edits.clutter.keep_off_walk_m", c.keep_off_walk_m);
     for (size_t i = 0; i < e.removed.global_ids.size(); ++i) {
-        RequireNonEmpty(Idx("edits.removed.global_ids", i), e.removed.global_ids[i]);
+        RequireNonEmpty(ItemPath("edits.removed.global_ids", i), e.removed.global_ids[i]);
     }
     for (size_t i = 0; i < e.removed.classes.size(); ++i) {
-        RequireIfcClass(Idx("edits.removed.classes", i), e.removed.classes[i]);
+        RequireIfcClass(ItemPath("edits.removed.classes", i), e.removed.classes[i]);
     }
     for (size_t i = 0; i < e.moved.size(); ++i) {
-        const std::string p = Idx("edits.moved", i);
+        const std::string p = ItemPath("edits.moved", i);
         RequireNonEmpty(p + ".global_id", e.moved[i].global_id);
         RequireFinite(p + ".translation", e.moved[i].translation);
         RequireFinite(p + ".yaw_deg", e.moved[i].yaw_deg);
@@ -196,12 +194,12 @@ void ValidateEdits(const EditsSpec& e) {
             "edits.as_built.wall_offset_sigma_m", Num(e.as_built.wall_offset_sigma_m),
             "must be in [0, 1]");
     for (size_t i = 0; i < e.as_built.walls.size(); ++i) {
-        const std::string p = Idx("edits.as_built.walls", i);
+        const std::string p = ItemPath("edits.as_built.walls", i);
         RequireNonEmpty(p + ".global_id", e.as_built.walls[i].global_id);
         RequireFinite(p + ".offset_m", e.as_built.walls[i].offset_m);
     }
     for (size_t i = 0; i < e.people.size(); ++i) {
-        const std::string p = Idx("edits.people", i);
+        const std::string p = ItemPath("edits.people", i);
         const PersonSpec& q = e.people[i];
         RequireFinite(p + ".from", q.from);
         RequireFinite(p + ".to", q.to);
@@ -271,6 +269,10 @@ std::optional<PathMode> PathModeFromString(std::string_view text) {
         if (text == ToString(m)) return m;
     }
     return std::nullopt;
+}
+
+std::string ItemPath(const std::string& path, size_t i) {
+    return path + "[" + std::to_string(i) + "]";
 }
 
 }  // namespace bimslam::simulate

@@ -224,4 +224,7 @@ std::string_view ToString(PathMode mode);
 std::optional<Platform> PlatformFromString(std::string_view text);
 std::optional<PathMode> PathModeFromString(std::string_view text);
 
+// "path[i]": how error messages name the i-th item of a list (Validate() and the YAML reader).
+std::string ItemPath(const std::string& path, size_t i);
+
 }  // namespace bimslam::simulate

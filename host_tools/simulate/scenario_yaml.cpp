@@ -26,8 +26,6 @@ using Node = YAML::Node;
 std::string Join(const std::string& path, std::string_view key) {
     return path.empty() ? std::string(key) : path + "." + std::string(key);
 }
-std::string Idx(const std::string& path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
 // What a node holds, for "expected X, got Y".
 std::string Describe(const Node& n) {
     if (n.IsScalar()) return "'" + n.Scalar() + "'";
@@ -144,7 +142,7 @@ public:
             Fail(n,
                  path + ": expected " + (N == 2 ? "[x, y]" : "[x, y, z]") + ", got " + Describe(n));
         }
-        for (int i = 0; i < N; ++i) Read(n[i], Idx(path, i), out[i]);
+        for (int i = 0; i < N; ++i) Read(n[i], ItemPath(path, i), out[i]);
     }
     void Read(const Node& n, const std::string& path, Platform& out) const {
         std::string s;
@@ -170,8 +168,8 @@ public:
         if (!n.IsSequence()) Fail(n, path + ": expected a sequence, got " + Describe(n));
         out.assign(n.size(), T{});
         for (size_t i = 0; i < n.size(); ++i) {
-            lines_[Idx(path, i)] = Line(n[i]);
-            Read(n[i], Idx(path, i), out[i]);
+            lines_[ItemPath(path, i)] = Line(n[i]);
+            Read(n[i], ItemPath(path, i), out[i]);
         }
     }
 

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/io/session.hpp"
 #include "algorithms/io/sha256.hpp"
 #include "algorithms/io/trajectory.hpp"
@@ -45,10 +46,6 @@ namespace bimslam {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 struct Building {
     std::string name;
@@ -165,7 +162,7 @@ Outcome RunOne(const fs::path& tmp_dir, const Building& b, simulate::Scenario s,
     std::vector<anchor::AnchorSession> sessions;
     sessions.push_back(anchor::LoadAnchorSession(b.reference, load));
     sessions.push_back(anchor::LoadAnchorSession(dir / "session", load));
-    const double load_s = Since(t0);
+    const double load_s = common::SecondsSince(t0);
     const anchor::AnchorResult r = anchor::Anchor(sessions, c);
     Outcome o;
     o.times = r.times;
@@ -325,11 +322,11 @@ void SuccessSuite(const fs::path& tmp, const std::vector<Building>& with_entranc
 }
 
 void RobustnessSuite(const fs::path& tmp, const Building& b) {
-    std::printf("\n== robustness: 30 %% of the verified loops replaced by wrong pairs; each "
-                "method with the proximity rounds, and alone (rounds 0)\n");
-    const anchor::OutlierMethod methods[] = {anchor::OutlierMethod::kPcm,
-                                             anchor::OutlierMethod::kGnc,
-                                             anchor::OutlierMethod::kNone};
+    std::printf(
+        "\n== robustness: 30 %% of the verified loops replaced by wrong pairs; each "
+        "method with the proximity rounds, and alone (rounds 0)\n");
+    const anchor::OutlierMethod methods[] = {
+        anchor::OutlierMethod::kPcm, anchor::OutlierMethod::kGnc, anchor::OutlierMethod::kNone};
     for (const int rounds : {6, 0}) {
         for (const anchor::OutlierMethod method : methods) {
             for (uint64_t seed : {1, 2}) {
@@ -370,10 +367,10 @@ void SpeedSuite(const fs::path& tmp) {
     const auto t0 = Clock::now();
     std::vector<anchor::AnchorSession> sessions;
     sessions.push_back(anchor::LoadAnchorSession(b.reference, {}));
-    const double ref_s = Since(t0);
+    const double ref_s = common::SecondsSince(t0);
     const auto t1 = Clock::now();
     sessions.push_back(anchor::LoadAnchorSession(dir / "session", {}));
-    const double query_s = Since(t1);
+    const double query_s = common::SecondsSince(t1);
     const anchor::AnchorResult r = anchor::Anchor(sessions, {});
     const auto truth = io::ReadTum(dir / "capture" / "ground_truth.tum");
     const Accuracy a = Ape(anchor::WorldTrajectory(sessions[1], r.sessions[0].world_poses), truth);
@@ -420,6 +417,6 @@ int main(int argc, char** argv) {
         SuccessSuite(tmp.path(), entrances);
     }
     if (wants("speed")) SpeedSuite(tmp.path());
-    std::printf("\nanchor_benchmark: %.0f s\n", Since(t0));
+    std::printf("\nanchor_benchmark: %.0f s\n", common::SecondsSince(t0));
     return 0;
 }

@@ -48,6 +48,7 @@
 #include "algorithms/changes/change_detector.hpp"
 #include "algorithms/changes/dbscan.hpp"
 #include "algorithms/changes/model_distance.hpp"
+#include "algorithms/common/stopwatch.hpp"
 #include "algorithms/io/npy.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/sha256.hpp"
@@ -76,10 +77,6 @@ using Clock = std::chrono::steady_clock;
 fs::path SourceRoot() {
     const char* env = std::getenv("BIMSLAM_SOURCE_DIR");
     return env && *env ? fs::path(env) : fs::path(BIMSLAM_SOURCE_ROOT);
-}
-
-double Since(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 // ---- speed ------------------------------------------------------------------------------------
@@ -210,7 +207,7 @@ void BM_ChangeSpeed(benchmark::State& state) {
         const auto t0 = Clock::now();
         const simulation::Scene scene(map.mesh);
         changes::PointDistances d = changes::ComputeDistances(scene, map.points);
-        distance_s = Since(t0);
+        distance_s = common::SecondsSince(t0);
         const auto t1 = Clock::now();
         std::vector<Eigen::Vector3f> far;
         for (size_t i = 0; i < map.points.size(); ++i) {
@@ -219,7 +216,7 @@ void BM_ChangeSpeed(benchmark::State& state) {
             }
         }
         const changes::DbscanResult r = changes::Dbscan(far, config.dbscan);
-        dbscan_s = Since(t1);
+        dbscan_s = common::SecondsSince(t1);
         seeds = far.size();
         clusters = r.clusters;
         distances = std::move(d.signed_m);

@@ -83,7 +83,7 @@ TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
 }
 
 TEST(ChangeEvaluation, ReadsTheSimulatorsTruthAndNamesTheFileWhenItIsBad) {
-    test::TempDir tmp;
+    bimslam::test::TempDir tmp;
     std::filesystem::create_directories(tmp / "changes");
     io::WritePly(tmp / "changes" / "000_crate.ply",
                  io::ToPly(changes::test::SolidBox({1, 2, 0}, {1.5, 2.5, 0.6})));

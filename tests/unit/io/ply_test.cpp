@@ -284,7 +284,7 @@ TEST(Ply, WriterAndConversionsRejectWhatTheFormatCannotHold) {
 
 // Random byte edits of valid files must only ever produce data or a FileError (run under ASan
 // and UBSan too).
-constexpr char kInteresting[] = "0123456789 \n-.e+n\x00\xff\x7f\x80\x03";
+constexpr char kInterestingPly[] = "0123456789 \n-.e+n\x00\xff\x7f\x80\x03";
 
 TEST(Ply, MutatedFilesOnlyEverThrowFileError) {
     PlyData both = ToPly(test::MakeRoomScan(2, 3, 2));
@@ -297,9 +297,9 @@ TEST(Ply, MutatedFilesOnlyEverThrowFileError) {
     std::vector<test::FuzzSeed> fuzz_seeds;
     for (const std::string& seed : seeds)
         fuzz_seeds.push_back({seed, seed.find("end_header") + 11});
-    const auto [parsed, rejected] =
-        test::FuzzReader("fuzz.ply", fuzz_seeds, 3000, 77, {kInteresting, sizeof(kInteresting) - 1},
-                         [](const std::string& b) { ParsePly("fuzz.ply", b); });
+    const auto [parsed, rejected] = test::FuzzReader(
+        "fuzz.ply", fuzz_seeds, 3000, 77, {kInterestingPly, sizeof(kInterestingPly) - 1},
+        [](const std::string& b) { ParsePly("fuzz.ply", b); });
     EXPECT_GT(rejected, 1000u);
     EXPECT_GT(parsed, 100u);
 }

@@ -17,19 +17,19 @@
 namespace bimslam::net {
 namespace {
 
-constexpr int64_t kT0 = 1'700'000'000'000'000'000;
+constexpr int64_t kIpT0 = 1'700'000'000'000'000'000;
 constexpr uint32_t kSensorIp = 0x0A050501;  // 10.5.5.1
 constexpr uint32_t kHostIp = 0x0A050502;
 
-struct Frame {
+struct IpFrame {
     int64_t ts = 0;
     std::string bytes;
     uint32_t link = kLinkTypeEthernet;
 };
 
-std::vector<Frame> Frames(const std::string& pcap) {
+std::vector<IpFrame> Frames(const std::string& pcap) {
     PcapReader reader = PcapReader::FromMemory("frames.pcap", pcap);
-    std::vector<Frame> out;
+    std::vector<IpFrame> out;
     PcapRecord r;
     while (reader.Next(r)) {
         out.push_back({r.timestamp_ns,
@@ -39,17 +39,17 @@ std::vector<Frame> Frames(const std::string& pcap) {
     return out;
 }
 
-std::string Capture(const std::vector<Frame>& frames, uint32_t link = kLinkTypeEthernet) {
+std::string Capture(const std::vector<IpFrame>& frames, uint32_t link = kLinkTypeEthernet) {
     PcapWriterConfig options;
     options.link_type = link;
     PcapWriter writer(options);
-    for (const Frame& f : frames) writer.WriteRecord(f.ts, test::AsBytes(f.bytes));
+    for (const IpFrame& f : frames) writer.WriteRecord(f.ts, test::AsBytes(f.bytes));
     return writer.bytes();
 }
 
 // The Ethernet frames of one datagram as the writer cuts them.
-std::vector<Frame> UdpFrames(int64_t ts, uint16_t dst_port, const std::string& payload,
-                             uint32_t mtu, uint16_t ip_id = 1) {
+std::vector<IpFrame> UdpFrames(int64_t ts, uint16_t dst_port, const std::string& payload,
+                               uint32_t mtu, uint16_t ip_id = 1) {
     PcapWriterConfig options;
     options.first_ip_id = ip_id;
     PcapWriter writer(options);
@@ -132,7 +132,7 @@ TEST(UdpExtractor, RoundTripBitIdenticalWithFragmentation) {
                 payloads.push_back(test::RandomBytes(size, rng));
             }
             for (size_t i = 0; i < payloads.size(); ++i) {
-                writer.WriteUdp(kT0 + static_cast<int64_t>(i) * 100'000'123, kSensorIp,
+                writer.WriteUdp(kIpT0 + static_cast<int64_t>(i) * 100'000'123, kSensorIp,
                                 static_cast<uint16_t>(7000 + i), kHostIp,
                                 static_cast<uint16_t>(8000 + i), test::AsBytes(payloads[i]), mtu);
             }
@@ -143,7 +143,7 @@ TEST(UdpExtractor, RoundTripBitIdenticalWithFragmentation) {
             ASSERT_EQ(got.size(), payloads.size()) << "mtu " << mtu;
             size_t fragments = 0;
             for (size_t i = 0; i < payloads.size(); ++i) {
-                const int64_t ts = kT0 + static_cast<int64_t>(i) * 100'000'123;
+                const int64_t ts = kIpT0 + static_cast<int64_t>(i) * 100'000'123;
                 ASSERT_EQ(got[i].payload, payloads[i]) << "mtu " << mtu << " datagram " << i;
                 EXPECT_EQ(got[i].ts, ns ? ts : ts / 1000 * 1000);
                 EXPECT_EQ(got[i].src, kSensorIp);
@@ -169,14 +169,14 @@ TEST(UdpExtractor, ShuffledAndDuplicatedFragments) {
     std::mt19937 rng(6);
     struct Item {
         double key;
-        Frame frame;
+        IpFrame frame;
     };
     std::vector<std::string> payloads;
-    std::vector<std::vector<Frame>> datagrams;
+    std::vector<std::vector<IpFrame>> datagrams;
     for (int d = 0; d < 30; ++d) {
         payloads.push_back(test::RandomBytes(2000 + rng() % 30000, rng));
-        datagrams.push_back(UdpFrames(kT0, static_cast<uint16_t>(10000 + d), payloads.back(), 1500,
-                                      static_cast<uint16_t>(100 + d)));
+        datagrams.push_back(UdpFrames(kIpT0, static_cast<uint16_t>(10000 + d), payloads.back(),
+                                      1500, static_cast<uint16_t>(100 + d)));
     }
     // Every fragment gets a random position; a duplicate goes somewhere after its original but
     // before the fragment that completes its datagram (later it would start a new datagram).
@@ -184,7 +184,7 @@ TEST(UdpExtractor, ShuffledAndDuplicatedFragments) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<double> completes(datagrams.size(), 0.0);
     for (size_t d = 0; d < datagrams.size(); ++d) {
-        for (const Frame& f : datagrams[d]) {
+        for (const IpFrame& f : datagrams[d]) {
             items.push_back({u(rng), f});
             completes[d] = std::max(completes[d], items.back().key);
         }
@@ -206,10 +206,10 @@ TEST(UdpExtractor, ShuffledAndDuplicatedFragments) {
     ASSERT_EQ(at, originals);
     std::sort(items.begin(), items.end(),
               [](const Item& a, const Item& b) { return a.key < b.key; });
-    std::vector<Frame> frames;
+    std::vector<IpFrame> frames;
     for (size_t i = 0; i < items.size(); ++i) {
         frames.push_back(items[i].frame);
-        frames.back().ts = kT0 + static_cast<int64_t>(i) * 1000;
+        frames.back().ts = kIpT0 + static_cast<int64_t>(i) * 1000;
     }
     ExtractorConfig config;
     config.max_datagrams_in_flight = 64;
@@ -230,11 +230,11 @@ TEST(UdpExtractor, ShuffledAndDuplicatedFragments) {
 
 TEST(UdpExtractor, MissingFragmentTimesOut) {
     std::mt19937 rng(7);
-    std::vector<Frame> frames;
+    std::vector<IpFrame> frames;
     std::vector<std::string> payloads;
     for (int d = 0; d < 5; ++d) {
         payloads.push_back(test::RandomBytes(6464, rng));
-        auto f = UdpFrames(kT0 + d * 400'000'000, static_cast<uint16_t>(7502), payloads.back(),
+        auto f = UdpFrames(kIpT0 + d * 400'000'000, static_cast<uint16_t>(7502), payloads.back(),
                            1500, static_cast<uint16_t>(d + 1));
         ASSERT_EQ(f.size(), 5u);
         if (d == 1) f.erase(f.begin() + 2);  // lost on the wire
@@ -260,8 +260,8 @@ TEST(UdpExtractor, MissingFragmentTimesOut) {
     EXPECT_EQ(at_end.bytes_in_flight(), 0u);
 
     // Fragments of one datagram 2 s apart: the first part expires, the rest starts anew.
-    auto slow = UdpFrames(kT0, 7502, payloads[0], 1500);
-    slow[3].ts = slow[4].ts = kT0 + 2'000'000'000;
+    auto slow = UdpFrames(kIpT0, 7502, payloads[0], 1500);
+    slow[3].ts = slow[4].ts = kIpT0 + 2'000'000'000;
     UdpExtractor late(config);
     EXPECT_TRUE(Extract(Capture(slow), late).empty());
     EXPECT_EQ(late.stats().timed_out_datagrams, 1u);
@@ -271,10 +271,10 @@ TEST(UdpExtractor, MissingFragmentTimesOut) {
 TEST(UdpExtractor, OverlapsAndInconsistentEndsDropTheDatagram) {
     std::mt19937 rng(8);
     const std::string payload = test::RandomBytes(6464, rng);
-    const auto f = UdpFrames(kT0, 7502, payload, 1500);
+    const auto f = UdpFrames(kIpT0, 7502, payload, 1500);
     ASSERT_EQ(f.size(), 5u);
     // Fragment 1 again, but starting 8 bytes earlier: overlaps fragment 0.
-    Frame shifted = f[1];
+    IpFrame shifted = f[1];
     SetBe16(shifted.bytes, 14 + 6, 0x2000 | (1480 / 8 - 1));
     FixIpChecksum(shifted.bytes);
     UdpExtractor extractor;
@@ -283,7 +283,7 @@ TEST(UdpExtractor, OverlapsAndInconsistentEndsDropTheDatagram) {
     EXPECT_EQ(extractor.stats().incomplete_at_end, 1u);  // fragments 1-4 started a new one
 
     // A second last fragment with another end.
-    Frame other_end = f[4];
+    IpFrame other_end = f[4];
     other_end.bytes.resize(other_end.bytes.size() - 8);
     SetBe16(other_end.bytes, 14 + 2, static_cast<uint16_t>(other_end.bytes.size() - 14));
     FixIpChecksum(other_end.bytes);
@@ -306,11 +306,11 @@ TEST(UdpExtractor, OverlapsAndInconsistentEndsDropTheDatagram) {
 
 TEST(UdpExtractor, OversizeAndMalformedFragments) {
     std::mt19937 rng(9);
-    const auto f = UdpFrames(kT0, 7502, test::RandomBytes(3000, rng), 1500);
-    Frame far = f[2];  // last fragment moved to offset 65512: ends beyond 65515
+    const auto f = UdpFrames(kIpT0, 7502, test::RandomBytes(3000, rng), 1500);
+    IpFrame far = f[2];  // last fragment moved to offset 65512: ends beyond 65515
     SetBe16(far.bytes, 14 + 6, 65512 / 8);
     FixIpChecksum(far.bytes);
-    Frame odd = f[1];  // a middle fragment whose length is not a multiple of 8
+    IpFrame odd = f[1];  // a middle fragment whose length is not a multiple of 8
     odd.bytes.resize(odd.bytes.size() - 3);
     SetBe16(odd.bytes, 14 + 2, static_cast<uint16_t>(odd.bytes.size() - 14));
     FixIpChecksum(odd.bytes);
@@ -322,11 +322,11 @@ TEST(UdpExtractor, OversizeAndMalformedFragments) {
 
 TEST(UdpExtractor, MemoryLimits) {
     std::mt19937 rng(10);
-    std::vector<std::vector<Frame>> d;
+    std::vector<std::vector<IpFrame>> d;
     std::vector<std::string> payloads;
     for (int i = 0; i < 3; ++i) {
         payloads.push_back(test::RandomBytes(3000, rng));
-        d.push_back(UdpFrames(kT0 + i, static_cast<uint16_t>(100 + i), payloads.back(), 1500,
+        d.push_back(UdpFrames(kIpT0 + i, static_cast<uint16_t>(100 + i), payloads.back(), 1500,
                               static_cast<uint16_t>(i + 1)));
         ASSERT_EQ(d.back().size(), 3u);
     }
@@ -342,11 +342,11 @@ TEST(UdpExtractor, MemoryLimits) {
 
     // Two 40000-byte datagrams against a 65535-byte budget: the older one goes.
     const std::string big0 = test::RandomBytes(40000, rng), big1 = test::RandomBytes(40000, rng);
-    auto b0 = UdpFrames(kT0, 1, big0, 1500, 7);
-    auto b1 = UdpFrames(kT0 + 1, 2, big1, 1500, 8);
+    auto b0 = UdpFrames(kIpT0, 1, big0, 1500, 7);
+    auto b1 = UdpFrames(kIpT0 + 1, 2, big1, 1500, 8);
     b0.pop_back();
-    for (Frame& f : b1) f.ts = kT0 + 1;
-    std::vector<Frame> frames = b0;
+    for (IpFrame& f : b1) f.ts = kIpT0 + 1;
+    std::vector<IpFrame> frames = b0;
     frames.insert(frames.end(), b1.begin(), b1.end());
     ExtractorConfig small;
     small.max_bytes_in_flight = 65535;
@@ -393,7 +393,7 @@ std::string AddTags(const std::string& eth, const std::vector<uint16_t>& tpids) 
 TEST(UdpExtractor, CookedCapturesAndVlanTags) {
     std::mt19937 rng(11);
     const std::string payload = test::RandomBytes(6464, rng);
-    const auto eth = UdpFrames(kT0, 7502, payload, 1500);
+    const auto eth = UdpFrames(kIpT0, 7502, payload, 1500);
     struct Variant {
         uint32_t link;
         std::function<std::string(const std::string&)> convert;
@@ -424,8 +424,8 @@ TEST(UdpExtractor, CookedCapturesAndVlanTags) {
          [](const std::string& e) { return std::string("\0\0\0\x02", 4) + e.substr(14); }, false},
     };
     for (size_t v = 0; v < variants.size(); ++v) {
-        std::vector<Frame> frames;
-        for (Frame f : eth) {
+        std::vector<IpFrame> frames;
+        for (IpFrame f : eth) {
             f.bytes = variants[v].convert(f.bytes);
             frames.push_back(f);
         }
@@ -441,8 +441,8 @@ TEST(UdpExtractor, CookedCapturesAndVlanTags) {
 
 TEST(UdpExtractor, OtherTrafficIsCountedAndSkipped) {
     std::mt19937 rng(12);
-    const std::string eth = UdpFrames(kT0, 7502, test::RandomBytes(100, rng), 0)[0].bytes;
-    std::vector<Frame> frames;
+    const std::string eth = UdpFrames(kIpT0, 7502, test::RandomBytes(100, rng), 0)[0].bytes;
+    std::vector<IpFrame> frames;
     std::string arp = eth;
     SetBe16(arp, 12, 0x0806);
     std::string ipv6 = eth;
@@ -460,21 +460,21 @@ TEST(UdpExtractor, OtherTrafficIsCountedAndSkipped) {
     bad_ihl[14] = 0x44;
     for (const std::string& b :
          {arp, ipv6, llc, tcp, short_eth, short_vlan, bad_version, bad_ihl}) {
-        frames.push_back({kT0, b, kLinkTypeEthernet});
+        frames.push_back({kIpT0, b, kLinkTypeEthernet});
     }
     UdpExtractor extractor;
     PcapRecord record;
     UdpDatagram out;
-    for (const Frame& f : frames) {
+    for (const IpFrame& f : frames) {
         record.link_type = f.link;
         record.data = test::AsBytes(f.bytes);
         EXPECT_FALSE(extractor.Feed(record, out));
     }
     // SocketCAN and cooked CAN (protocol 0x000C) are not IP.
     const std::string can("\x00\x00\x01\x2a\x08\x00\x00\x00\x01\x02\x03\x04\x05\x06\x07\x08", 16);
-    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeCanSocketcan, kT0, test::AsBytes(can), 0, out));
+    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeCanSocketcan, kIpT0, test::AsBytes(can), 0, out));
     const std::string cooked_can = ToSll(std::string(12, '\0') + "xx" + can, 0x000C);
-    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeLinuxSll, kT0, test::AsBytes(cooked_can), 0, out));
+    EXPECT_FALSE(extractor.FeedFrame(kLinkTypeLinuxSll, kIpT0, test::AsBytes(cooked_can), 0, out));
     const ExtractorStats& s = extractor.stats();
     EXPECT_EQ(s.records, 10u);
     EXPECT_EQ(s.not_ipv4, 4u);  // ARP, IPv6, LLC, cooked CAN
@@ -487,7 +487,7 @@ TEST(UdpExtractor, OtherTrafficIsCountedAndSkipped) {
 
 TEST(UdpExtractor, ChecksumsAndLengths) {
     std::mt19937 rng(13);
-    const std::string eth = UdpFrames(kT0, 7502, test::RandomBytes(100, rng), 0)[0].bytes;
+    const std::string eth = UdpFrames(kIpT0, 7502, test::RandomBytes(100, rng), 0)[0].bytes;
     std::string bad_ip = eth;
     bad_ip[14 + 8] = 1;  // TTL changed, checksum not
     std::string bad_udp = eth;
@@ -507,7 +507,7 @@ TEST(UdpExtractor, ChecksumsAndLengths) {
         UdpExtractor extractor(config);
         UdpDatagram out;
         auto feed = [&](const std::string& b) {
-            return extractor.FeedFrame(kLinkTypeEthernet, kT0, test::AsBytes(b), 0, out);
+            return extractor.FeedFrame(kLinkTypeEthernet, kIpT0, test::AsBytes(b), 0, out);
         };
         EXPECT_FALSE(feed(bad_ip));
         EXPECT_FALSE(feed(bad_udp));
@@ -529,8 +529,8 @@ TEST(UdpExtractor, ChecksumsAndLengths) {
     config.check_udp_checksum = false;
     UdpExtractor lenient(config);
     UdpDatagram out;
-    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kT0, test::AsBytes(bad_ip), 0, out));
-    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kT0, test::AsBytes(bad_udp), 0, out));
+    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kIpT0, test::AsBytes(bad_ip), 0, out));
+    EXPECT_TRUE(lenient.FeedFrame(kLinkTypeEthernet, kIpT0, test::AsBytes(bad_udp), 0, out));
     EXPECT_EQ(lenient.stats().ip_bad_checksum, 1u);
 }
 
@@ -564,10 +564,10 @@ TEST(UdpExtractor, GuessesPortsFromPayloadSizes) {
     std::mt19937 rng(14);
     PcapWriter writer;
     for (int i = 0; i < 20; ++i) {
-        writer.WriteUdp(kT0 + i * 1000, kSensorIp, 7502, kHostIp, 7600,
+        writer.WriteUdp(kIpT0 + i * 1000, kSensorIp, 7502, kHostIp, 7600,
                         test::AsBytes(test::RandomBytes(6464, rng)), 1500);
         if (i % 5 == 0) {
-            writer.WriteUdp(kT0 + i * 1000, kSensorIp, 7503, kHostIp, 7601,
+            writer.WriteUdp(kIpT0 + i * 1000, kSensorIp, 7503, kHostIp, 7601,
                             test::AsBytes(test::RandomBytes(48, rng)), 1500);
         }
     }
@@ -586,12 +586,12 @@ TEST(UdpExtractor, MutationFuzz) {
     std::mt19937 rng(15);
     PcapWriter classic;
     for (int i = 0; i < 6; ++i) {
-        classic.WriteUdp(kT0 + i * 1000, kSensorIp, 7502, kHostIp, 7502,
+        classic.WriteUdp(kIpT0 + i * 1000, kSensorIp, 7502, kHostIp, 7502,
                          test::AsBytes(test::RandomBytes(i % 2 ? 3000 : 40, rng)), 600);
     }
-    std::vector<Frame> frames = Frames(classic.bytes());
-    std::vector<Frame> cooked = frames;
-    for (Frame& f : cooked) f.bytes = ToSll2(AddTags(f.bytes, {kEtherTypeVlan}));
+    std::vector<IpFrame> frames = Frames(classic.bytes());
+    std::vector<IpFrame> cooked = frames;
+    for (IpFrame& f : cooked) f.bytes = ToSll2(AddTags(f.bytes, {kEtherTypeVlan}));
     // pcapng, written by hand: section header, interface, enhanced packet blocks.
     auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
     auto block = [&](uint32_t type, std::string body) {
@@ -603,7 +603,7 @@ TEST(UdpExtractor, MutationFuzz) {
         block(0x0A0D0D0A, u32(0x1A2B3C4D) + std::string("\x01\0\0\0", 4) + std::string(8, '\xff'));
     ng +=
         block(1, std::string("\x01\0\0\0", 4) + u32(0) + std::string("\x09\0\x01\0\x09\0\0\0", 8));
-    for (const Frame& f : frames) {
+    for (const IpFrame& f : frames) {
         ng += block(6, u32(0) + u32(0) + u32(static_cast<uint32_t>(f.ts)) +
                            u32(static_cast<uint32_t>(f.bytes.size())) +
                            u32(static_cast<uint32_t>(f.bytes.size())) + f.bytes);
