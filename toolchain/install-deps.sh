@@ -49,7 +49,8 @@ test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14
     liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian)
 # The aarch64 cross-build: packages that are Multi-Arch: same (or arch all, as Eigen, CLI11 and
 # nlohmann-json above) install for arm64 beside amd64; Ceres, glog, gflags, LCM, yaml-cpp and
-# the ROS bag library do not, and are staged instead (toolchain/stage-arm64.sh says why). The ROS
+# the ROS bag library do not, and are staged instead, as are Embree and TBB (for the tests'
+# simulator only; their chain reaches libudev1) (toolchain/stage-arm64.sh says why). The ROS
 # bag library's own libraries that do install are listed here (its -dev package would pull them
 # in, but cannot be installed), with gpgme and OpenSSL for its encryption plugin, which it loads
 # when it opens a bag. FLANN's arm64 package pulls in

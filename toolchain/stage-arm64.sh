@@ -12,6 +12,10 @@
 # arm64; and librosbag-storage4d needs libroslib0d -> librospack0d -> libpython3.11 -> libexpat1,
 # whose arm64 versions must equal the amd64 ones installed (Multi-Arch: same), which apt may only
 # reach by upgrading the host's Python. The rest of its libraries install (install-deps.sh).
+# Embree and TBB (algorithms/simulation, built for the tests' scenes only, never linked by the
+# firmware) are Multi-Arch: same, but libtbb12 depends on libtbbbind-2-5 -> libhwloc15 ->
+# libudev1, whose arm64 version must equal the host's amd64 one: apt would upgrade the host's
+# systemd to get there. They are staged with that whole chain (TBB loads tbbbind at run time).
 # Their arm64 files are the same Debian packages, unpacked here instead of installed, with the
 # libraries their CMake files name (libceres3, libyaml-cpp0.7):
 #   usr/        the packages' files (headers, libraries, CMake and pkg-config files; the .pc files'
@@ -26,7 +30,8 @@ set -euo pipefail
 staging="${BIMSLAM_ARM64_STAGING:-/opt/bimslam-cross/arm64}"
 packages=(libceres-dev libceres3 libgoogle-glog-dev libgoogle-glog0v6 libgflags-dev libgflags2.2
     liblcm-dev liblcm1 libyaml-cpp-dev libyaml-cpp0.7
-    librosbag-storage-dev librosbag-storage4d libroslib0d librospack0d libpython3.11 libexpat1)
+    librosbag-storage-dev librosbag-storage4d libroslib0d librospack0d libpython3.11 libexpat1
+    libembree-dev libembree3-3 libtbb-dev libtbb12 libtbbmalloc2 libtbbbind-2-5 libhwloc15 libudev1)
 
 # The versions apt would download now, one "package:arm64 version" a line, in the list's order.
 want="$(apt-cache show --no-all-versions "${packages[@]/%/:arm64}" 2>/dev/null |

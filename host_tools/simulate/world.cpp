@@ -11,6 +11,7 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
+#include "algorithms/simulation/primitive_meshes.hpp"
 
 namespace bimslam::simulate {
 namespace {
@@ -122,43 +123,6 @@ size_t FindElement(const bim::BimModel& m, const std::string& global_id, const s
 
 }  // namespace
 
-common::TriangleMesh BoxMesh(const Eigen::Vector3d& center, const Eigen::Vector3d& size,
-                             double yaw_rad) {
-    common::TriangleMesh m;
-    const Eigen::Matrix3d R =
-        Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    for (int i = 0; i < 8; ++i) {
-        const Eigen::Vector3d s((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5);
-        m.vertices.push_back((center + R * s.cwiseProduct(size)).cast<float>());
-    }
-    // Corner i has bits x=1, y=2, z=4; faces counter-clockwise seen from outside.
-    m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                   {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-    return m;
-}
-
-common::TriangleMesh CylinderMesh(const Eigen::Vector3d& base, double radius, double height,
-                                  int segments) {
-    common::TriangleMesh m;
-    for (int k = 0; k < segments; ++k) {
-        const double a = 2 * M_PI * k / segments;
-        const Eigen::Vector3d d(radius * std::cos(a), radius * std::sin(a), 0);
-        m.vertices.push_back((base + d).cast<float>());
-        m.vertices.push_back((base + d + Eigen::Vector3d(0, 0, height)).cast<float>());
-    }
-    const uint32_t bottom = uint32_t(m.vertices.size()), top = bottom + 1;
-    m.vertices.push_back(base.cast<float>());
-    m.vertices.push_back((base + Eigen::Vector3d(0, 0, height)).cast<float>());
-    for (int k = 0; k < segments; ++k) {
-        const uint32_t a = uint32_t(2 * k), b = uint32_t(2 * ((k + 1) % segments));
-        m.triangles.push_back({a, b, b + 1});
-        m.triangles.push_back({a, b + 1, a + 1});
-        m.triangles.push_back({bottom, b, a});
-        m.triangles.push_back({top, a + 1, b + 1});
-    }
-    return m;
-}
-
 World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
                  const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
                  uint64_t seed) {
@@ -243,12 +207,12 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
     for (size_t k = 0; k < edits.boxes.size(); ++k) {
         const AddedBox& b = edits.boxes[k];
         w.added.push_back({b.name.empty() ? "box" + std::to_string(k) : b.name, "box",
-                           BoxMesh(b.center, b.size, b.yaw_deg * kDeg)});
+                           simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg)});
     }
     for (size_t k = 0; k < edits.cylinders.size(); ++k) {
         const AddedCylinder& c = edits.cylinders[k];
         w.added.push_back({c.name.empty() ? "cylinder" + std::to_string(k) : c.name, "cylinder",
-                           CylinderMesh(c.base, c.radius_m, c.height_m)});
+                           simulation::CylinderMesh(c.base, c.radius_m, c.height_m)});
     }
     for (size_t k = 0; k < edits.meshes.size(); ++k) {
         const AddedMesh& am = edits.meshes[k];
@@ -280,8 +244,9 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
             const Eigen::Vector2d c = grid.Center(int(i % grid.width), int(i / grid.width));
             if (grid.clearance[i] < half + 0.05) continue;  // into a wall
             if (DistanceToPolyline(c, walk) < half + cl.keep_off_walk_m) continue;
-            w.added.push_back({"clutter" + std::to_string(placed++), "clutter",
-                               BoxMesh({c.x(), c.y(), grid.floor_z + 0.5 * s.z()}, s, yaw(rng))});
+            w.added.push_back(
+                {"clutter" + std::to_string(placed++), "clutter",
+                 simulation::BoxMesh({c.x(), c.y(), grid.floor_z + 0.5 * s.z()}, s, yaw(rng))});
         }
     }
     for (size_t k = 0; k < w.added.size(); ++k) {
@@ -304,7 +269,8 @@ common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double fl
         const double along = s <= length ? s : 2 * length - s;
         const Eigen::Vector2d at = p.from + (p.to - p.from) * (along / length);
         Append(out, *ids,
-               CylinderMesh(Eigen::Vector3d(at.x(), at.y(), floor_z), p.radius_m, p.height_m, 12),
+               simulation::CylinderMesh(Eigen::Vector3d(at.x(), at.y(), floor_z), p.radius_m,
+                                        p.height_m, 12),
                kPersonIdBase + uint32_t(k));
     }
     return out;

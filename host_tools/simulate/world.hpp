@@ -69,11 +69,6 @@ common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double fl
 // `changes/<index>_<name>.ply` under `dir` and named in the JSON with its bounding box.
 nlohmann::json WriteChanges(const World& world, const std::filesystem::path& dir);
 
-// Box and vertical cylinder meshes (outward-facing triangles), for the edits and for tests.
-common::TriangleMesh BoxMesh(const Eigen::Vector3d& center, const Eigen::Vector3d& size,
-                             double yaw_rad);
-common::TriangleMesh CylinderMesh(const Eigen::Vector3d& base, double radius, double height,
-                                  int segments = 24);
 // A PLY or OBJ mesh file (by extension). Throws common::FileError naming the file.
 common::TriangleMesh LoadMeshFile(const std::filesystem::path& file);
 

@@ -89,6 +89,11 @@ TEST_F(DebPackage, InstallsRunsVerifiesAndKeepsSessionsOnRemoval) {
     EXPECT_NE(depends.find("liblcm1"), std::string::npos) << depends;
     EXPECT_NE(depends.find("libyaml-cpp"), std::string::npos) << depends;
     EXPECT_NE(depends.find("adduser"), std::string::npos) << depends;
+    // ATLAS came from Ceres' link line through libf77blas, which no symbol of ours needs
+    // (toolchain/cmake/BimslamDependencies.cmake); Embree and TBB are the host tool's.
+    for (const char* absent : {"libatlas3-base", "libembree3-3", "libtbb12"}) {
+        EXPECT_EQ(depends.find(absent), std::string::npos) << absent << " in: " << depends;
+    }
 
     // The installed units, against the installed programs and the user the postinst made.
     const auto verify = RunCommand(

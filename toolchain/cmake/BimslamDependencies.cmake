@@ -7,7 +7,31 @@ find_package(PkgConfig REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
+# Debian's Ceres is a static library built against ATLAS. Its CMake package links its users with
+# ATLAS's whole BLAS/LAPACK line twice: the paths it was built with (liblapack, libblas,
+# libf77blas, libatlas) and, through SuiteSparse's targets, CMake's FindBLAS, which prefers ATLAS
+# (libf77blas, libatlas). The programs call LAPACK only (Ceres: dpotrf_, dgeqrf_, ...), yet GNU
+# ld's --as-needed (Debian's default) recorded libf77blas as NEEDED: it defines BLAS symbols that
+# libcholmod.so (dtrsv_) and ATLAS's liblapack.so (ssymv_) leave undefined, and it is not among
+# their own NEEDED entries (libblas.so.3, which defines them too, is, so ld does not count that
+# one). A dependency nothing of ours uses (dpkg-shlibdeps: "useless dependency"), and
+# libatlas3-base in bimslam-rig's Depends, on amd64 and arm64. So: FindBLAS/FindLAPACK's generic
+# libblas/liblapack (Debian's alternatives, which bring their own BLAS at run time), and Ceres'
+# own line without libf77blas and libatlas.
+set(BLA_VENDOR Generic)
 find_package(Ceres 2.1 REQUIRED)  # LiDAR odometry's scan-to-map registration
+unset(BLA_VENDOR)
+get_target_property(_ceres_links Ceres::ceres INTERFACE_LINK_LIBRARIES)
+list(FILTER _ceres_links EXCLUDE REGEX "/lib(f77blas|atlas)\\.so$")
+set_target_properties(Ceres::ceres PROPERTIES INTERFACE_LINK_LIBRARIES "${_ceres_links}")
+# Ceres' FindSuiteSparse also assumes SuiteSparseQR was built with TBB whenever TBB is installed,
+# and adds TBB to it; Debian's libspqr.so.2 does not use TBB (no libtbb among its NEEDED), and
+# TBB is a host-only library (the simulator's), so the firmware's link line does not get it.
+if(TARGET SuiteSparse::SPQR)
+    get_target_property(_spqr_links SuiteSparse::SPQR INTERFACE_LINK_LIBRARIES)
+    list(FILTER _spqr_links EXCLUDE REGEX "^TBB::|/libtbb[^/]*$")
+    set_target_properties(SuiteSparse::SPQR PROPERTIES INTERFACE_LINK_LIBRARIES "${_spqr_links}")
+endif()
 find_package(yaml-cpp REQUIRED)  # scenario and configuration files
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # .gz captures and logs, PNG
@@ -57,14 +81,17 @@ target_link_libraries(bimslam_rosbag INTERFACE "${ROSBAG_STORAGE_LIBRARY}" ${_ro
 add_library(bimslam::rosbag ALIAS bimslam_rosbag)
 
 # Host-only dependencies (host_tools/, and algorithms/simulation for Embree); the layer rules
-# keep them out of firmware/ and drivers/, and a firmware-only build (the aarch64 cross-build,
-# BIMSLAM_HOST_TOOLS=OFF) does not look for them.
-if(BIMSLAM_HOST_TOOLS)
+# keep them out of firmware/ and drivers/. A firmware-only build (the aarch64 cross-build,
+# BIMSLAM_HOST_TOOLS=OFF) looks for Embree and TBB only for its scene tests (BIMSLAM_SIMULATION:
+# algorithms/simulation, which no program of it links), and never for IFC++.
+if(BIMSLAM_SIMULATION)
     # Embree 3: ray casting for the LiDAR simulation.
     find_package(embree 3 REQUIRED)
     bimslam_tag_capability(embree embree)
-    # TBB: host-side parallelism.
+    # TBB: host-side parallelism (the simulator's columns).
     find_package(TBB REQUIRED)
+endif()
+if(BIMSLAM_HOST_TOOLS)
     # IFC++ (libifcplusplus-dev) has no CMake package: its libraries and headers by hand. Its headers
     # are included as system headers (they are not -Wall clean).
     find_library(IFCPP_LIBRARY IfcPlusPlus PATHS /usr/lib /usr/lib/ifcplusplus REQUIRED)

@@ -10,7 +10,7 @@
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/triangle_mesh.hpp"
 #include "algorithms/simulation/lidar_simulator.hpp"
-#include "host_tools/simulate/world.hpp"
+#include "algorithms/simulation/primitive_meshes.hpp"
 
 namespace bimslam::odometry::test {
 
@@ -23,17 +23,17 @@ inline void Append(common::TriangleMesh* mesh, const common::TriangleMesh& part)
 
 // A closed box seen from inside (floor, ceiling, four walls) centred at `centre`.
 inline common::TriangleMesh Room(const Eigen::Vector3d& centre, const Eigen::Vector3d& size) {
-    return simulate::BoxMesh(centre, size, 0.0);
+    return simulation::BoxMesh(centre, size, 0.0);
 }
 
 // A room with furniture-sized boxes along its walls: well constrained in every direction.
 inline common::TriangleMesh FurnishedRoom() {
     common::TriangleMesh m = Room({0, 0, 1.2}, {14, 9, 3.0});
-    Append(&m, simulate::BoxMesh({3, 3.5, 0.4}, {1.6, 0.8, 0.8}, 0.0));
-    Append(&m, simulate::BoxMesh({-4, -3.6, 0.5}, {1.0, 1.0, 1.0}, 0.3));
-    Append(&m, simulate::BoxMesh({-6.2, 2, 0.9}, {0.6, 2.0, 1.8}, 0.0));
-    Append(&m, simulate::BoxMesh({5.5, -2.5, 0.75}, {0.5, 0.5, 1.5}, 0.0));
-    Append(&m, simulate::BoxMesh({0.5, -1.5, 0.37}, {1.2, 0.7, 0.74}, 0.2));
+    Append(&m, simulation::BoxMesh({3, 3.5, 0.4}, {1.6, 0.8, 0.8}, 0.0));
+    Append(&m, simulation::BoxMesh({-4, -3.6, 0.5}, {1.0, 1.0, 1.0}, 0.3));
+    Append(&m, simulation::BoxMesh({-6.2, 2, 0.9}, {0.6, 2.0, 1.8}, 0.0));
+    Append(&m, simulation::BoxMesh({5.5, -2.5, 0.75}, {0.5, 0.5, 1.5}, 0.0));
+    Append(&m, simulation::BoxMesh({0.5, -1.5, 0.37}, {1.2, 0.7, 0.74}, 0.2));
     return m;
 }
 

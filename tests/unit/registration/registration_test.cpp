@@ -65,7 +65,7 @@ TEST(SurfelMap, BothFacesOfAThinWallFitTheirOwnPlanes) {
     // A 0.15 m wall across a long room, scanned from both sides: every 0.5 m voxel along it
     // holds both faces, which a map without normal bins could not fit.
     common::TriangleMesh mesh = odometry::test::Room({0, 0, 1.2}, {12, 6, 3.0});
-    odometry::test::Append(&mesh, simulate::BoxMesh({0.0, 0, 1.2}, {0.15, 4.0, 3.0}, 0.0));
+    odometry::test::Append(&mesh, simulation::BoxMesh({0.0, 0, 1.2}, {0.15, 4.0, 3.0}, 0.0));
     const simulation::Scene scene(mesh);
     SurfelMap map({.voxel_size = 0.5});
     for (const Eigen::Isometry3d& T : {Pose(-2.5, 0, 0.6, 0), Pose(2.5, 0, 0.6, 0)}) {
@@ -140,7 +140,7 @@ TEST(Registration, AScanOfAnotherRoomHasALowInlierRatio) {
     const simulation::Scene reference(odometry::test::FurnishedRoom());
     const SurfelPyramid map = ReferenceMap(reference, {Pose(0, 0, 0.6, 0)}, config);
     common::TriangleMesh other = odometry::test::Room({0, 0, 1.0}, {5, 4, 2.5});
-    odometry::test::Append(&other, simulate::BoxMesh({1, 1, 0.5}, {1, 1, 1}, 0.3));
+    odometry::test::Append(&other, simulation::BoxMesh({1, 1, 0.5}, {1, 1, 1}, 0.3));
     const OrientedCloud query =
         MakeOrientedCloud(StaticScan(simulation::Scene(other), Pose(0, 0, 0.6, 0), 4, true), {});
     const RegistrationResult r = Register(query, map, Pose(0, 0, 0.6, 0), config);

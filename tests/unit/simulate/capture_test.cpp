@@ -11,6 +11,7 @@
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/simulation/lidar_simulator.hpp"
+#include "algorithms/simulation/primitive_meshes.hpp"
 #include "drivers/can/candump.hpp"
 #include "drivers/can/go1_decoder.hpp"
 #include "drivers/can/go1_encoder.hpp"
@@ -37,13 +38,13 @@ simulation::Scene Room(common::TriangleMesh* mesh_out = nullptr) {
         for (const auto& t : part.triangles)
             m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
     };
-    add(BoxMesh({4, -0.1, 1.5}, {8.4, 0.2, 3.2}, 0));
-    add(BoxMesh({4, 6.1, 1.5}, {8.4, 0.2, 3.2}, 0));
-    add(BoxMesh({-0.1, 3, 1.5}, {0.2, 6.4, 3.2}, 0));
-    add(BoxMesh({8.1, 3, 1.5}, {0.2, 6.4, 3.2}, 0));
-    add(BoxMesh({4, 3, -0.1}, {8.4, 6.4, 0.2}, 0));
-    add(BoxMesh({4, 3, 3.1}, {8.4, 6.4, 0.2}, 0));
-    add(CylinderMesh({5.5, 2.0, 0}, 0.3, 3.0));
+    add(simulation::BoxMesh({4, -0.1, 1.5}, {8.4, 0.2, 3.2}, 0));
+    add(simulation::BoxMesh({4, 6.1, 1.5}, {8.4, 0.2, 3.2}, 0));
+    add(simulation::BoxMesh({-0.1, 3, 1.5}, {0.2, 6.4, 3.2}, 0));
+    add(simulation::BoxMesh({8.1, 3, 1.5}, {0.2, 6.4, 3.2}, 0));
+    add(simulation::BoxMesh({4, 3, -0.1}, {8.4, 6.4, 0.2}, 0));
+    add(simulation::BoxMesh({4, 3, 3.1}, {8.4, 6.4, 0.2}, 0));
+    add(simulation::CylinderMesh({5.5, 2.0, 0}, 0.3, 3.0));
     if (mesh_out) *mesh_out = m;
     return simulation::Scene(m);
 }
