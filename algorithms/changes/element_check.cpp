@@ -8,7 +8,6 @@
 #include "algorithms/common/status.hpp"
 
 namespace bimslam::changes {
-namespace {}  // namespace
 
 std::string_view ToString(Verdict v) {
     switch (v) {

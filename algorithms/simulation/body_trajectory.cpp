@@ -21,11 +21,9 @@ constexpr double kSmoothSigmaS = 0.1;  // Gaussian smoothing of the planar sampl
 constexpr double kDiffS = 5e-4;        // central differences
 constexpr double kWobbleHz[3] = {0.31, 0.53, 0.87};
 
+// common::Require that also rejects a NaN or infinite value, whatever `ok` says.
 void RequireFinite(bool ok, const char* type, const char* field, double value, const char* rule) {
-    if (!ok || !std::isfinite(value)) {
-        throw common::Error(StatusCode::kInvalidArgument, std::string(type) + "." + field + " = " +
-                                                              std::to_string(value) + ": " + rule);
-    }
+    common::Require(ok && std::isfinite(value), type, field, value, rule);
 }
 
 // Uniform cubic B-spline basis at f in [0, 1) (and its derivatives), for control points
