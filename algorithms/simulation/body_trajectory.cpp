@@ -72,6 +72,20 @@ GaitConfig GaitConfig::Handheld() {
     return g;
 }
 
+GaitConfig GaitConfig::Vehicle() {
+    GaitConfig g;
+    g.base_height_m = 1.5;
+    g.frequency_hz = 1.2;  // the body's heave and pitch modes on the suspension (1-1.5 Hz)
+    g.bounce_m = 0.003;
+    g.sway_m = 0.0;
+    g.roll_deg = 0.3;
+    g.pitch_deg = 0.3;
+    g.yaw_deg = 0.0;
+    g.duty_factor = 0.99;  // wheels: always on the ground (only the Go1's CAN log reads contacts)
+    g.wobble_deg = 0.0;
+    return g;
+}
+
 void GaitConfig::Validate() const {
     RequireFinite(base_height_m > 0 && base_height_m < 3, "GaitConfig", "base_height_m",
                   base_height_m, "must be in (0, 3) m");

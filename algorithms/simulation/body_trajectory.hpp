@@ -1,4 +1,4 @@
-// The motion of a walking platform (a Go1 trotting, or a person carrying the sensor) along a
+// The motion of a platform (a Go1 trotting, a person carrying the sensor, or a vehicle) along a
 // planar path, as a continuous-time trajectory that is smooth in SE(3): the pose of the platform's
 // base at any time, from which the capture simulator takes the sensor's pose per LiDAR column
 // (the rolling shutter), the IMU's specific force and angular rate, and the leg odometry.
@@ -62,6 +62,9 @@ struct GaitConfig {
     static GaitConfig Go1Trot();
     // A person walking at 1.8 steps/s, the sensor held at chest height (base 1.2 m).
     static GaitConfig Handheld();
+    // A car on a road: its body rides on the suspension at about 1.2 Hz with millimetres of heave
+    // and tenths of a degree of pitch and roll; the base is the roof, 1.5 m above the road.
+    static GaitConfig Vehicle();
     void Validate() const;
 };
 

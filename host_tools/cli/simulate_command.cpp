@@ -40,8 +40,8 @@ int Simulate(const SimulateArgs& a) {
                                 "--platform: the scenario file sets the platform");
         }
     } else {
-        s = simulate::DefaultScenario(a.platform == "handheld" ? simulate::Platform::kHandheld
-                                                               : simulate::Platform::kGo1);
+        s = simulate::DefaultScenario(
+            simulate::PlatformFromString(a.platform.empty() ? "go1" : a.platform).value());
     }
     if (!a.model.empty()) s.model = a.model;
     if (!a.storey.empty()) s.storey = a.storey;
@@ -121,7 +121,9 @@ void AddSimulateCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--scenario", a->scenario,
                     "scenario YAML (host_tools/simulate/scenarios/ has examples; default: a Go1 "
                     "coverage walk with default noise)");
-    cmd->add_option("--platform", a->platform, "go1 or handheld, without a scenario file")
+    cmd->add_option("--platform", a->platform,
+                    "go1 or handheld, without a scenario file (a vehicle needs a scenario file "
+                    "with its waypoints: scenarios/vehicle_outdoor.yaml)")
         ->check(CLI::IsMember({"go1", "handheld"}));
     cmd->add_option("--sensor", a->sensor,
                     "built-in sensor: OS0, OS1 or OS2 with 16, 32, 64 or 128 beams, e.g. OS0-64, "

@@ -213,8 +213,18 @@ void ValidateEdits(const EditsSpec& e) {
 }  // namespace
 
 void Scenario::Validate() const {
-    Require(platform == Platform::kGo1 || platform == Platform::kHandheld, "platform",
-            std::to_string(static_cast<int>(platform)), "must be go1 or handheld");
+    Require(platform == Platform::kGo1 || platform == Platform::kHandheld ||
+                platform == Platform::kVehicle,
+            "platform", std::to_string(static_cast<int>(platform)),
+            "must be go1, handheld or vehicle");
+    // A vehicle drives outdoors, around the building: no coverage walk of its rooms.
+    Require(platform != Platform::kVehicle ||
+                (path.mode == PathMode::kWaypoints && !path.waypoints.empty()),
+            "path",
+            std::string(ToString(path.mode)) + " with " + std::to_string(path.waypoints.size()) +
+                " waypoints",
+            "a vehicle drives waypoints outside the building: give path.mode waypoints and "
+            "path.waypoints (host_tools/simulate/scenarios/vehicle_outdoor.yaml)");
     ValidatePath(path);
     ValidateSpeed(speed);
     RequireNonNegative("duration_s", duration_s);
@@ -233,6 +243,14 @@ Scenario DefaultScenario(Platform platform) {
         // The handheld base is already at chest height (GaitConfig::Handheld): the sensor sits
         // just above the hand.
         s.sensor.mount_xyz = Eigen::Vector3d(0.0, 0.0, 0.1);
+    } else if (platform == Platform::kVehicle) {
+        // A car at town speed: gentle starts (about 0.15 g), corners at about 0.2 g.
+        s.speed.speed_mps = 3.0;
+        s.speed.max_accel_mps2 = 1.5;
+        s.speed.max_yaw_rate_deg_s = 30.0;
+        s.speed.max_lateral_accel_mps2 = 2.0;
+        s.sensor.mount_xyz = Eigen::Vector3d(0.0, 0.0, 0.2);  // on a roof rack
+        s.path.mode = PathMode::kWaypoints;
     }
     return s;
 }
@@ -243,6 +261,8 @@ std::string_view ToString(Platform platform) {
             return "go1";
         case Platform::kHandheld:
             return "handheld";
+        case Platform::kVehicle:
+            return "vehicle";
     }
     return "?";
 }
@@ -258,7 +278,7 @@ std::string_view ToString(PathMode mode) {
 }
 
 std::optional<Platform> PlatformFromString(std::string_view text) {
-    for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
+    for (const Platform p : {Platform::kGo1, Platform::kHandheld, Platform::kVehicle}) {
         if (text == ToString(p)) return p;
     }
     return std::nullopt;

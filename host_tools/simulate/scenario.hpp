@@ -17,7 +17,7 @@
 
 namespace bimslam::simulate {
 
-enum class Platform : uint8_t { kGo1, kHandheld };
+enum class Platform : uint8_t { kGo1, kHandheld, kVehicle };
 enum class PathMode : uint8_t { kCoverage, kWaypoints };
 
 struct Pose2d {
@@ -214,10 +214,12 @@ struct Scenario {
 
 // The defaults for a platform: a Go1 trots at 0.5 m/s with the sensor on its back; a person
 // walks at 1.0 m/s holding the sensor 0.1 m above the handheld base, which is already at chest
-// height (simulation::GaitConfig::Handheld).
+// height (simulation::GaitConfig::Handheld); a vehicle drives waypoints outdoors at 3 m/s with the
+// sensor 0.2 m above its roof (simulation::GaitConfig::Vehicle). A vehicle has no default path:
+// it needs path.mode waypoints, outside the building (scenarios/vehicle_outdoor.yaml).
 Scenario DefaultScenario(Platform platform = Platform::kGo1);
 
-// "go1", "handheld"; "coverage", "waypoints": the YAML spellings.
+// "go1", "handheld", "vehicle"; "coverage", "waypoints": the YAML spellings.
 std::string_view ToString(Platform platform);
 std::string_view ToString(PathMode mode);
 // The inverses; nullopt for any other text.

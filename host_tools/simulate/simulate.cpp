@@ -45,8 +45,15 @@ Eigen::Isometry3d MountTransform(const SensorSpec& s) {
 }
 
 simulation::GaitConfig GaitFor(Platform p) {
-    return p == Platform::kGo1 ? simulation::GaitConfig::Go1Trot()
-                               : simulation::GaitConfig::Handheld();
+    switch (p) {
+        case Platform::kGo1:
+            return simulation::GaitConfig::Go1Trot();
+        case Platform::kHandheld:
+            return simulation::GaitConfig::Handheld();
+        case Platform::kVehicle:
+            return simulation::GaitConfig::Vehicle();
+    }
+    return simulation::GaitConfig::Go1Trot();
 }
 
 // The trajectory, its walk repeated until it lasts `duration_s` (0: once).
@@ -59,8 +66,8 @@ simulation::BodyTrajectory MakeTrajectory(const Walk& walk, const Scenario& s, s
     timing.start_at_speed = s.speed.start_at_speed;
     *laps = 1;
     for (;;) {
-        simulation::BodyTrajectory t(RepeatWalk(walk, s.path.mode, *laps), walk.start_yaw,
-                                     walk.floor_z, timing, GaitFor(s.platform), s.seed);
+        simulation::BodyTrajectory t(RepeatWalk(walk, *laps), walk.start_yaw, walk.floor_z, timing,
+                                     GaitFor(s.platform), s.seed);
         if (t.duration_s() >= s.duration_s) return t;
         *laps =
             std::max(*laps + 1, size_t(std::ceil(s.duration_s / t.duration_s() * double(*laps))));

@@ -10,10 +10,25 @@
 namespace bimslam::simulate {
 namespace {
 
-// A person needs a little more room than a Go1 (0.3 m wide).
+// A turning radius of a small car at town speed: its corners at 3 m/s take about 1.8 m/s^2.
+constexpr double kVehicleTurnRadiusM = 5.0;
+
 bim::PathConfig PathConfigFor(const Scenario& s) {
     bim::PathConfig c;
-    c.clearance_m = s.platform == Platform::kGo1 ? 0.3 : 0.35;
+    // Half the platform's width plus room: a Go1 is 0.3 m wide, a person a little wider, a car
+    // 1.8 m.
+    switch (s.platform) {
+        case Platform::kGo1:
+            c.clearance_m = 0.3;
+            break;
+        case Platform::kHandheld:
+            c.clearance_m = 0.35;
+            break;
+        case Platform::kVehicle:
+            c.clearance_m = 1.2;
+            c.room_split_m = c.clearance_m;  // (rooms matter to a coverage walk only)
+            break;
+    }
     c.speed_mps = s.speed.speed_mps;
     c.max_yaw_rate_radps = s.speed.max_yaw_rate_deg_s * M_PI / 180.0;
     return c;
@@ -25,6 +40,27 @@ void Append(std::vector<Eigen::Vector2d>& walk, const std::vector<Eigen::Vector2
     }
 }
 
+bool IsFree(const bim::OccupancyGrid& g, const Eigen::Vector2d& p) {
+    int x, y;
+    return g.ToCell(p, &x, &y) && g.cells[size_t(y) * g.width + x] == bim::Cell::kFree;
+}
+
+// A grid that reaches every point of `reach` (with 3 m to spare), whose free space is what `seed`
+// reaches: outdoors, and indoors only through a door to the outside.
+bim::OccupancyGrid OutdoorGrid(const bim::BimModel& model, int storey, bim::GridConfig config,
+                               const std::vector<Eigen::Vector2d>& reach,
+                               const Eigen::Vector2d& seed) {
+    const Eigen::AlignedBox3d b = model.Bounds();
+    const Eigen::Vector2d lo = b.min().head<2>(), hi = b.max().head<2>();
+    double margin = 0.0;
+    for (const Eigen::Vector2d& p : reach) {
+        margin = std::max({margin, lo.x() - p.x(), p.x() - hi.x(), lo.y() - p.y(), p.y() - hi.y()});
+    }
+    config.margin_m = margin + 3.0;
+    config.seed = seed;
+    return bim::BuildOccupancyGrid(model, storey, config);
+}
+
 }  // namespace
 
 Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
@@ -33,42 +69,45 @@ Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
     w.grid = bim::BuildOccupancyGrid(model, storey, gc);
     w.floor_z = w.grid.floor_z;
     const bim::PathConfig pc = PathConfigFor(s);
+    const bool vehicle = s.platform == Platform::kVehicle;
 
-    // The walk proper, inside.
+    // A vehicle's waypoints and start lie outdoors: its routes are planned on a grid that reaches
+    // them all. A walk's lie inside: the storey's grid.
+    std::vector<Eigen::Vector2d> reach = s.path.waypoints;
+    if (s.path.start) reach.push_back(s.path.start->xy);
+    const bim::OccupancyGrid outdoor =
+        vehicle ? OutdoorGrid(model, storey, gc, reach, reach.back()) : bim::OccupancyGrid{};
+    const bim::OccupancyGrid& route_grid = vehicle ? outdoor : w.grid;
+
+    // The walk proper.
     std::vector<Eigen::Vector2d> walk;
     if (s.path.mode == PathMode::kCoverage) {
         const bim::CoveragePath coverage = bim::PlanCoveragePath(w.grid, pc);
         walk = coverage.points;
         walk.push_back(coverage.points.front());  // closed: back where it began
         w.waypoints = coverage.viewpoints.size();
+        w.closed = true;
     } else {
         walk.push_back(s.path.waypoints.front());
         for (size_t k = 1; k < s.path.waypoints.size(); ++k) {
-            Append(walk, bim::PlanRoute(w.grid, pc, s.path.waypoints[k - 1], s.path.waypoints[k]));
+            Append(walk,
+                   bim::PlanRoute(route_grid, pc, s.path.waypoints[k - 1], s.path.waypoints[k]));
         }
         w.waypoints = s.path.waypoints.size();
+        w.closed = s.path.waypoints.size() > 2 &&
+                   (s.path.waypoints.front() - s.path.waypoints.back()).norm() < 1e-6;
     }
 
     // From the start to the walk's first point.
     if (s.path.start) {
         const Eigen::Vector2d start = s.path.start->xy;
-        int x, y;
-        w.starts_outside = !w.grid.ToCell(start, &x, &y) ||
-                           w.grid.cells[size_t(y) * w.grid.width + x] != bim::Cell::kFree;
+        w.starts_outside = !IsFree(w.grid, start);
         std::vector<Eigen::Vector2d> leg;
-        if (!w.starts_outside) {
-            leg = bim::PlanRoute(w.grid, pc, start, walk.front());
+        if (!w.starts_outside || vehicle) {
+            leg = bim::PlanRoute(route_grid, pc, start, walk.front());
         } else {
-            // A grid that reaches the start, whose free space is what the start reaches.
-            bim::GridConfig outdoor = gc;
-            const Eigen::AlignedBox3d b = model.Bounds();
-            const Eigen::Vector2d lo = b.min().head<2>(), hi = b.max().head<2>();
-            const double reach = std::max({lo.x() - start.x(), start.x() - hi.x(),
-                                           lo.y() - start.y(), start.y() - hi.y(), 0.0});
-            outdoor.margin_m = reach + 3.0;
-            outdoor.seed = start;
-            const bim::OccupancyGrid g = bim::BuildOccupancyGrid(model, storey, outdoor);
             try {
+                const bim::OccupancyGrid g = OutdoorGrid(model, storey, gc, {start}, start);
                 leg = bim::PlanRoute(g, pc, start, walk.front());
             } catch (const common::Error& e) {
                 std::ostringstream os;
@@ -89,17 +128,76 @@ Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
         const Eigen::Vector2d d = walk[1] - walk[0];
         w.start_yaw = std::atan2(d.y(), d.x());
     }
+    if (vehicle) {
+        // A car cannot turn on the spot: the corners become arcs. The lap's first point moves
+        // with them; the rounded lap begins at the arc nearest to it.
+        const Eigen::Vector2d lap_start = walk[w.lap_begin];
+        walk = RoundCorners(walk, kVehicleTurnRadiusM);
+        if (w.lap_begin > 0) {
+            size_t best = 0;
+            for (size_t i = 1; i < walk.size(); ++i) {
+                if ((walk[i] - lap_start).norm() < (walk[best] - lap_start).norm()) best = i;
+            }
+            w.lap_begin = best;
+        }
+        for (const Eigen::Vector2d& p : walk) {
+            if (!IsFree(route_grid, p)) {
+                std::ostringstream os;
+                os << "path.waypoints: the vehicle's rounded corner at (" << p.x() << ", " << p.y()
+                   << ") leaves the free space; give its turn (radius " << kVehicleTurnRadiusM
+                   << " m) more room";
+                throw common::Error(common::StatusCode::kInvalidArgument, os.str());
+            }
+        }
+    }
     w.points = std::move(walk);
     return w;
 }
 
-std::vector<Eigen::Vector2d> RepeatWalk(const Walk& walk, PathMode mode, size_t laps) {
+std::vector<Eigen::Vector2d> RepeatWalk(const Walk& walk, size_t laps) {
     std::vector<Eigen::Vector2d> out = walk.points;
     std::vector<Eigen::Vector2d> lap(walk.points.begin() + long(walk.lap_begin), walk.points.end());
     for (size_t k = 1; k < laps; ++k) {
-        if (mode == PathMode::kWaypoints) std::reverse(lap.begin(), lap.end());
+        if (!walk.closed) std::reverse(lap.begin(), lap.end());
         Append(out, lap);
     }
+    return out;
+}
+
+std::vector<Eigen::Vector2d> RoundCorners(const std::vector<Eigen::Vector2d>& points,
+                                          double radius_m) {
+    if (points.size() < 3) return points;
+    constexpr double kStepM = 0.5;
+    std::vector<Eigen::Vector2d> out{points.front()};
+    for (size_t i = 1; i + 1 < points.size(); ++i) {
+        const Eigen::Vector2d a = points[i - 1], b = points[i], c = points[i + 1];
+        const double la = (b - a).norm(), lc = (c - b).norm();
+        if (la < 1e-9 || lc < 1e-9) continue;
+        const Eigen::Vector2d u = (b - a) / la, v = (c - b) / lc;
+        // The turn angle theta; the arc of radius r meets the legs d = r tan(theta/2) from the
+        // corner.
+        const double cross = u.x() * v.y() - u.y() * v.x();
+        const double theta = std::atan2(std::abs(cross), u.dot(v));
+        if (theta < 1e-3) {
+            out.push_back(b);
+            continue;
+        }
+        const double d = std::min(radius_m * std::tan(theta / 2), 0.5 * std::min(la, lc));
+        const double r = d / std::tan(theta / 2);
+        const Eigen::Vector2d p0 = b - d * u;
+        const Eigen::Vector2d left(-u.y(), u.x());
+        const double side = cross > 0 ? 1.0 : -1.0;  // turning left: the centre is on the left
+        const Eigen::Vector2d centre = p0 + side * r * left;
+        const int steps = std::max(1, int(std::ceil(r * theta / kStepM)));
+        for (int k = 0; k <= steps; ++k) {
+            const double phi = side * theta * k / steps;
+            const Eigen::Vector2d offset = p0 - centre;
+            out.push_back(centre +
+                          Eigen::Vector2d(std::cos(phi) * offset.x() - std::sin(phi) * offset.y(),
+                                          std::sin(phi) * offset.x() + std::cos(phi) * offset.y()));
+        }
+    }
+    out.push_back(points.back());
     return out;
 }
 

@@ -2,7 +2,8 @@
 // scenario's waypoints, joined by routes through the occupancy grid that keep the platform's
 // clearance; from a start pose that may lie outside the building, in which case the first route
 // is planned on a grid that reaches from the start (free space outdoors too) and enters through a
-// door to the outside.
+// door to the outside. A vehicle's whole walk is planned on such an outdoor grid, and its corners
+// are rounded to its turning radius.
 #pragma once
 
 #include <string>
@@ -20,6 +21,9 @@ struct Walk {
     double start_yaw = 0;  // radians
     double floor_z = 0;    // the storey's floor
     bool starts_outside = false;
+    // The lap ends where it begins (a coverage walk, or waypoints whose last is their first): a
+    // longer capture starts it over instead of turning back.
+    bool closed = false;
     bim::OccupancyGrid grid;  // the storey's grid (inside), for clutter placement
     size_t waypoints = 0;     // viewpoints of the coverage walk, or waypoints
 };
@@ -28,8 +32,14 @@ struct Walk {
 // no door to the outside, a storey without free space).
 Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& scenario);
 
-// The walk with its lap walked `laps` times: a coverage walk is closed and starts over; a waypoint
-// walk turns back and retraces its way.
-std::vector<Eigen::Vector2d> RepeatWalk(const Walk& walk, PathMode mode, size_t laps);
+// The walk with its lap walked `laps` times: a closed walk starts over; an open one turns back and
+// retraces its way.
+std::vector<Eigen::Vector2d> RepeatWalk(const Walk& walk, size_t laps);
+
+// The polyline with each corner replaced by a circular arc of `radius_m` (points every 0.5 m),
+// tangent to both legs; the radius shrinks where a leg is too short for it (the arc takes at most
+// half of each leg). The ends stay where they are.
+std::vector<Eigen::Vector2d> RoundCorners(const std::vector<Eigen::Vector2d>& points,
+                                          double radius_m);
 
 }  // namespace bimslam::simulate

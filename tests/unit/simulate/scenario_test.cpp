@@ -86,10 +86,17 @@ TEST(ScenarioTest, PlatformPicksItsDefaults) {
     const Scenario h2 = Parse("speed: {speed_mps: 1.5}\nplatform: handheld\n");
     EXPECT_DOUBLE_EQ(h2.speed.speed_mps, 1.5);
     EXPECT_DOUBLE_EQ(h2.speed.max_yaw_rate_deg_s, 90.0);
+    // A vehicle drives at 3 m/s with the sensor on its roof, and only waypoints.
+    const Scenario v = Parse("platform: vehicle\npath: {mode: waypoints, waypoints: [[0, -5]]}\n");
+    EXPECT_EQ(v.platform, Platform::kVehicle);
+    EXPECT_DOUBLE_EQ(v.speed.speed_mps, 3.0);
+    EXPECT_EQ(v.sensor.mount_xyz, Eigen::Vector3d(0, 0, 0.2));
+    EXPECT_NO_THROW(v.Validate());
+    EXPECT_THROW(Parse("platform: vehicle\npath: {mode: coverage}\n").Validate(), common::Error);
 }
 
 TEST(ScenarioTest, NamesRoundTrip) {
-    for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
+    for (const Platform p : {Platform::kGo1, Platform::kHandheld, Platform::kVehicle}) {
         EXPECT_EQ(PlatformFromString(ToString(p)), p);
     }
     for (const PathMode m : {PathMode::kCoverage, PathMode::kWaypoints}) {
@@ -271,8 +278,10 @@ TEST(ScenarioTest, YamlRoundTrips) {
     const std::string yaml = ScenarioToYaml(s);
     // Absolute paths stay as they are wherever the text is read.
     EXPECT_EQ(ParseScenario("rt.yaml", yaml, "/elsewhere"), s) << yaml;
-    for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
-        EXPECT_EQ(Parse(ScenarioToYaml(DefaultScenario(p))), DefaultScenario(p));
+    for (const Platform p : {Platform::kGo1, Platform::kHandheld, Platform::kVehicle}) {
+        Scenario d = DefaultScenario(p);
+        if (p == Platform::kVehicle) d.path.waypoints = {{-5, 2}, {40, 2}};  // it has no default
+        EXPECT_EQ(Parse(ScenarioToYaml(d)), d);
     }
     // Removing the start is written too (no `start` key).
     Scenario no_start = s;

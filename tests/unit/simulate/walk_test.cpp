@@ -1,0 +1,116 @@
+// The planned walk: a vehicle's outdoor loop (planned on the outdoor grid, corners rounded to its
+// turning radius, a closed loop that starts over) and RoundCorners' geometry.
+#include "host_tools/simulate/walk.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "algorithms/common/status.hpp"
+#include "tests/unit/bim/synthetic_floor.hpp"
+
+namespace bimslam::simulate {
+namespace {
+
+double Heading(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return std::atan2(b.y() - a.y(), b.x() - a.x());
+}
+
+// The largest heading change between consecutive legs, per metre travelled.
+double MaxCurvature(const std::vector<Eigen::Vector2d>& p) {
+    double worst = 0;
+    for (size_t i = 1; i + 1 < p.size(); ++i) {
+        const double turn =
+            std::abs(std::remainder(Heading(p[i], p[i + 1]) - Heading(p[i - 1], p[i]), 2 * M_PI));
+        const double arc = 0.5 * ((p[i] - p[i - 1]).norm() + (p[i + 1] - p[i]).norm());
+        worst = std::max(worst, turn / arc);
+    }
+    return worst;
+}
+
+TEST(RoundCorners, ARightAngleBecomesAnArcTangentToBothLegs) {
+    const std::vector<Eigen::Vector2d> square = {{0, 0}, {10, 0}, {10, 10}};
+    const auto r = RoundCorners(square, 3.0);
+    EXPECT_EQ(r.front(), square.front());
+    EXPECT_EQ(r.back(), square.back());
+    ASSERT_GT(r.size(), 6u);
+    // The arc leaves the first leg 3 m before the corner and joins the second 3 m after it.
+    EXPECT_NEAR((r[1] - Eigen::Vector2d(7, 0)).norm(), 0, 1e-9);
+    EXPECT_NEAR((r[r.size() - 2] - Eigen::Vector2d(10, 3)).norm(), 0, 1e-9);
+    for (size_t i = 1; i + 1 < r.size(); ++i) {
+        EXPECT_NEAR((r[i] - Eigen::Vector2d(7, 3)).norm(), 3.0, 1e-9) << i;
+    }
+    // No corner left: the heading turns at most 1/radius per metre (plus the chords' error).
+    EXPECT_LT(MaxCurvature(r), 1.05 / 3.0);
+    // A right turn the other way round: the centre is on the right.
+    const auto right = RoundCorners({{0, 0}, {10, 0}, {10, -10}}, 3.0);
+    for (size_t i = 1; i + 1 < right.size(); ++i) {
+        EXPECT_NEAR((right[i] - Eigen::Vector2d(7, -3)).norm(), 3.0, 1e-9) << i;
+    }
+}
+
+TEST(RoundCorners, ShortLegsShrinkTheRadiusAndStraightLinesStay) {
+    // Legs of 2 m: the arc takes at most half of each, so its radius is 1 m.
+    const auto r = RoundCorners({{0, 0}, {2, 0}, {2, 2}}, 5.0);
+    for (size_t i = 1; i + 1 < r.size(); ++i) {
+        EXPECT_NEAR((r[i] - Eigen::Vector2d(1, 1)).norm(), 1.0, 1e-9) << i;
+    }
+    const std::vector<Eigen::Vector2d> line = {{0, 0}, {1, 0}, {2, 0}};
+    EXPECT_EQ(RoundCorners(line, 5.0), line);
+}
+
+class VehicleWalk : public ::testing::Test {
+protected:
+    // A loop 5 m out from the synthetic storey's walls (x 0..12, y 0..8), starting mid-side.
+    static Scenario Loop() {
+        Scenario s = DefaultScenario(Platform::kVehicle);
+        s.path.waypoints = {{6, -5}, {17, -5}, {17, 13}, {-5, 13}, {-5, -5}, {6, -5}};
+        return s;
+    }
+    const bim::BimModel model_ = bim::test_floor::Floor();
+};
+
+TEST_F(VehicleWalk, DrivesAroundTheBuildingWithoutSharpTurns) {
+    const Scenario s = Loop();
+    ASSERT_NO_THROW(s.Validate());
+    const Walk w = PlanWalk(model_, 0, s);
+    EXPECT_TRUE(w.closed);
+    EXPECT_EQ(w.points.front(), Eigen::Vector2d(6, -5));
+    EXPECT_EQ(w.points.back(), Eigen::Vector2d(6, -5));
+    // Never within its clearance (1.2 m) of the footprint, nor inside it.
+    const Eigen::AlignedBox2d footprint(Eigen::Vector2d(-0.1, -0.1), Eigen::Vector2d(12.1, 8.1));
+    for (const Eigen::Vector2d& p : w.points) {
+        EXPECT_GT(footprint.exteriorDistance(p), 1.2) << p.transpose();
+    }
+    // Four rounded corners of 5 m: the heading never turns faster than that radius allows.
+    EXPECT_LT(MaxCurvature(w.points), 1.05 / 5.0);
+    // A longer capture goes round again the same way instead of turning back.
+    const std::vector<Eigen::Vector2d> two = RepeatWalk(w, 2);
+    EXPECT_EQ(two.size(), 2 * w.points.size() - 1);
+    const size_t joint = w.points.size() - 1;
+    EXPECT_NEAR(Heading(two[joint], two[joint + 1]), Heading(two[0], two[1]), 1e-9);
+}
+
+TEST_F(VehicleWalk, NeedsWaypointsOutsideTheBuilding) {
+    Scenario s = DefaultScenario(Platform::kVehicle);
+    try {
+        s.Validate();
+        FAIL() << "a vehicle without waypoints validated";
+    } catch (const common::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("vehicle_outdoor.yaml"), std::string::npos)
+            << e.what();
+    }
+    // A waypoint inside a room: the outdoor grid does not reach it (the doors are narrower than
+    // a car).
+    s = Loop();
+    s.path.waypoints.insert(s.path.waypoints.begin() + 1, Eigen::Vector2d(3, 2));
+    try {
+        PlanWalk(model_, 0, s);
+        FAIL() << "a waypoint inside the building was driven to";
+    } catch (const common::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("(3, 2)"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace bimslam::simulate
