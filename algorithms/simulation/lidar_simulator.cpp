@@ -66,8 +66,8 @@ struct LaneHit {
     bool hit = false;
     float t = 0;
     uint32_t prim = 0;
-    Eigen::Vector3f normal;  // unnormalised geometric normal
-    bool overlay = false;    // of the overlay scene (prim indexes its triangles)
+    Eigen::Vector3f normal;               // unnormalised geometric normal
+    const Scene::Impl* source = nullptr;  // the scene hit (prim indexes its triangles)
 };
 
 template <int K>
@@ -133,6 +133,7 @@ LaneHit GetLane(const typename Packet<K>::RayHit& rh, int i) {
 struct Setup {
     const Scene::Impl* scene = nullptr;
     const Scene::Impl* overlay = nullptr;  // SimulatorOptions::overlay, null when none or empty
+    const Scene::Impl* rig = nullptr;      // SimulatorOptions::rig, null when none or empty
     const NoiseModel* noise = nullptr;
     ScanImage* out = nullptr;
     int h = 0, w = 0;
@@ -207,7 +208,7 @@ void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const Lan
     }
     ++counts->returns;
     out.range_mm[i] = static_cast<uint32_t>(mm);
-    out.element_id[i] = (hit.overlay ? s.overlay : s.scene)->ids[hit.prim];
+    out.element_id[i] = hit.source->ids[hit.prim];
     // Intensity proxy of a Lambertian target (lidar_simulator.hpp): reflectivity is range-
     // compensated, signal falls with 1 / max(r, 1 m)^2.
     const double lambert = nm.albedo * cos_inc;
@@ -222,7 +223,9 @@ void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const Lan
 // over a few degrees: coherent rays, which Embree's packet traversal shares work between.
 // With an overlay, the same packet is then cast against it: Embree leaves a ray's tfar at its
 // static hit's distance (at t_far for a miss), so the overlay is searched only in front of the
-// static hit and the nearer hit of the two is the one left in the packet.
+// static hit and the nearer hit of the two is the one left in the packet. With a rig scene, the
+// packet's rays are then set to their sensor-frame origins and directions (the rig is fixed in
+// that frame, and a rigid map keeps distances along a ray), with tfar at the nearest hit so far.
 template <int K>
 Counts CastColumns(const Setup& s, int v0, int v1) {
     Counts counts;
@@ -233,7 +236,7 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
     typename Packet<K>::RayHit rh{};
     alignas(64) int valid[K > 1 ? K : 1] = {};
     int lane_u[K], lane_v[K];
-    Eigen::Vector3f lane_dir[K];
+    Eigen::Vector3f lane_dir[K], lane_origin_s[K], lane_dir_s[K];
     int lanes = 0;
     LaneHit hits[K];
     auto flush = [&] {
@@ -241,23 +244,47 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
             for (int i = lanes; i < K; ++i) valid[i] = 0;
         }
         Packet<K>::Intersect(valid, s.scene->scene, &context, &rh);
-        if (s.overlay == nullptr) {
+        if (s.overlay == nullptr && s.rig == nullptr) {
             for (int i = 0; i < lanes; ++i) {
-                Measure(s, lane_u[i], lane_v[i], lane_dir[i], GetLane<K>(rh, i), &counts);
+                LaneHit hit = GetLane<K>(rh, i);
+                hit.source = s.scene;
+                Measure(s, lane_u[i], lane_v[i], lane_dir[i], hit, &counts);
             }
-        } else {
-            for (int i = 0; i < lanes; ++i) {
-                hits[i] = GetLane<K>(rh, i);
-                ClearHit<K>(rh, i);  // the ray and its tfar (the static hit's t) stay
-            }
+            lanes = 0;
+            return;
+        }
+        for (int i = 0; i < lanes; ++i) {
+            hits[i] = GetLane<K>(rh, i);
+            hits[i].source = s.scene;
+            ClearHit<K>(rh, i);  // the ray and its tfar (the static hit's t) stay
+        }
+        if (s.overlay != nullptr) {
             Packet<K>::Intersect(valid, s.overlay->scene, &context, &rh);
             for (int i = 0; i < lanes; ++i) {
                 if (LaneHitSomething<K>(rh, i)) {
                     hits[i] = GetLane<K>(rh, i);
-                    hits[i].overlay = true;
+                    hits[i].source = s.overlay;
+                    ClearHit<K>(rh, i);
                 }
-                Measure(s, lane_u[i], lane_v[i], lane_dir[i], hits[i], &counts);
             }
+        }
+        if (s.rig != nullptr) {
+            for (int i = 0; i < lanes; ++i) {
+                SetLane<K>(rh, i, lane_origin_s[i], lane_dir_s[i], s.t_near,
+                           hits[i].hit ? hits[i].t : s.t_far);
+            }
+            Packet<K>::Intersect(valid, s.rig->scene, &context, &rh);
+            for (int i = 0; i < lanes; ++i) {
+                if (LaneHitSomething<K>(rh, i)) {
+                    hits[i] = GetLane<K>(rh, i);
+                    hits[i].source = s.rig;
+                }
+            }
+        }
+        for (int i = 0; i < lanes; ++i) {
+            // A rig hit's normal is in the sensor frame: its incidence from the sensor-frame ray.
+            const Eigen::Vector3f& dir = hits[i].source == s.rig ? lane_dir_s[i] : lane_dir[i];
+            Measure(s, lane_u[i], lane_v[i], dir, hits[i], &counts);
         }
         lanes = 0;
     };
@@ -280,6 +307,10 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
             SetLane<K>(rh, lanes, o_w, d_w, s.t_near, s.t_far);
             if constexpr (K > 1) valid[lanes] = -1;
             lane_u[lanes] = u, lane_v[lanes] = v, lane_dir[lanes] = d_w;
+            if (s.rig != nullptr) {
+                lane_dir_s[lanes] = (s.R_sensor_lidar * dir).cast<float>();
+                lane_origin_s[lanes] = (s.R_sensor_lidar * off + s.t_sensor_lidar_m).cast<float>();
+            }
             if (++lanes == K) flush();
         }
     }
@@ -336,6 +367,9 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     if (options.overlay != nullptr && options.overlay->triangle_count() > 0) {
         s.overlay = &options.overlay->impl();
     }
+    if (options.rig != nullptr && options.rig->triangle_count() > 0) {
+        s.rig = &options.rig->impl();
+    }
     s.noise = &noise;
     s.out = out;
     s.h = model.beams();
@@ -374,6 +408,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
 
     const uint64_t embree_errors = s.scene->error_count.load();
     const uint64_t overlay_errors = s.overlay ? s.overlay->error_count.load() : 0;
+    const uint64_t rig_errors = s.rig ? s.rig->error_count.load() : 0;
     std::atomic<size_t> hits{0}, returns{0}, dropouts{0}, too_close{0};
     auto body = [&](const tbb::blocked_range<int>& range) {
         [[maybe_unused]] ScopedFlushDenormals ftz;  // empty where neither applies
@@ -405,6 +440,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     }
     ThrowIfEmbreeFailed(*s.scene, embree_errors, "SimulateScan");
     if (s.overlay) ThrowIfEmbreeFailed(*s.overlay, overlay_errors, "SimulateScan (overlay)");
+    if (s.rig) ThrowIfEmbreeFailed(*s.rig, rig_errors, "SimulateScan (rig)");
     ScanStats stats;
     stats.rays = model.pixels();
     stats.hits = hits, stats.returns = returns, stats.dropouts = dropouts;

@@ -33,6 +33,11 @@
 // per-pixel randomness: an image with an overlay equals the image of one scene holding both
 // meshes (with the same ids). An empty overlay is skipped.
 //
+// Rig (SimulatorOptions::rig): a third scene, fixed in the sensor frame, cast after the others
+// with the same rays expressed in the sensor frame, up to the nearest hit so far. From a static
+// pose T, an image with a rig scene equals the image of one scene holding the rig's mesh mapped by
+// T (the same ids).
+//
 // Threads and determinism: columns are cast in parallel (TBB, blocks of columns; Embree packets
 // of SimulatorOptions::packet_size rays within a block). All randomness of pixel (u, v) comes
 // from a counter-based hash of (seed, u * W + v), never from a shared generator, so the images
@@ -113,6 +118,12 @@ struct SimulatorOptions {
     // the overlay only up to the static hit keeps its cost small; nullptr or an empty scene: no
     // overlay. Not owned; must outlive the SimulateScan call.
     const Scene* overlay = nullptr;
+    // A scene fixed in the sensor frame: the rig's own body in view (the Go1's trunk, the person
+    // carrying the sensor, the car's roof). Cast with each ray before T_world_sensor maps it into
+    // the world, so it moves with the sensor exactly, the rolling shutter included; a pixel's hit
+    // is the nearest of all scenes. A rig hit's element_id is the rig scene's TriangleId. Not
+    // owned; nullptr or an empty scene: none.
+    const Scene* rig = nullptr;
     void Validate() const;
 };
 

@@ -60,6 +60,9 @@ struct SensorSpec {
     // rig's handle). Default: on the Go1's back, 0.28 m above the trunk centre.
     Eigen::Vector3d mount_xyz{0.05, 0.0, 0.28};
     Eigen::Vector3d mount_rpy_deg{0.0, 0.0, 0.0};
+    // The platform's own body in view (rig_body.hpp): the Go1's trunk and legs, the person
+    // carrying the sensor, the car's roof and body. Off by default, as most captures so far.
+    bool body_in_view = false;
 
     bool operator==(const SensorSpec&) const = default;
 };

@@ -336,13 +336,15 @@ Scenario ReadScenario(Reader& r, const Node& root) {
 
     const Node sensor = Reader::At(root, "sensor");
     r.Keys(sensor, "sensor",
-           {"metadata", "model", "lidar_mode", "udp_profile", "mount_xyz", "mount_rpy_deg"});
+           {"metadata", "model", "lidar_mode", "udp_profile", "mount_xyz", "mount_rpy_deg",
+            "body_in_view"});
     r.Get(sensor, "sensor", "metadata", s.sensor.metadata);
     r.Get(sensor, "sensor", "model", s.sensor.model);
     r.Get(sensor, "sensor", "lidar_mode", s.sensor.lidar_mode);
     r.Get(sensor, "sensor", "udp_profile", s.sensor.udp_profile);
     r.Get(sensor, "sensor", "mount_xyz", s.sensor.mount_xyz);
     r.Get(sensor, "sensor", "mount_rpy_deg", s.sensor.mount_rpy_deg);
+    r.Get(sensor, "sensor", "body_in_view", s.sensor.body_in_view);
 
     const Node network = Reader::At(root, "network");
     r.Keys(network, "network", {"fragment", "packet_loss"});

@@ -160,6 +160,7 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.Str("udp_profile", s.sensor.udp_profile);
     w.Vec("mount_xyz", s.sensor.mount_xyz);
     w.Vec("mount_rpy_deg", s.sensor.mount_rpy_deg);
+    w.Key("body_in_view").out() << (s.sensor.body_in_view ? "true" : "false");
     w.EndMap();
 
     w.BeginMap("network");

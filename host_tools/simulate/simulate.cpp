@@ -18,6 +18,7 @@
 #include "host_tools/bim/lidar_from_metadata.hpp"
 #include "host_tools/simulate/go1_odometry.hpp"
 #include "host_tools/simulate/ouster_writer.hpp"
+#include "host_tools/simulate/rig_body.hpp"
 #include "host_tools/simulate/scenario_yaml.hpp"
 #include "host_tools/simulate/walk.hpp"
 #include "host_tools/simulate/world.hpp"
@@ -217,6 +218,11 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     const simulation::LidarModel lidar = bim::LidarModelFromSensorInfo(info);
     const simulation::NoiseModel noise = LidarNoise(s.noise.lidar, info);
     const Eigen::Isometry3d T_base_sensor = MountTransform(s.sensor);
+    // The platform's body, fixed in the sensor frame (rig_body.hpp).
+    common::TriangleMesh body = RigBody(s.platform);
+    const Eigen::Isometry3d T_sensor_base = T_base_sensor.inverse();
+    for (Eigen::Vector3f& p : body.vertices) p = (T_sensor_base * p.cast<double>()).cast<float>();
+    const simulation::Scene rig(body, std::vector<uint32_t>(body.triangles.size(), kRigId));
     // IMU samples are expressed in the sensor frame at the IMU's position (the encoder rotates
     // them into the IMU's frame, drivers/ouster/packet_encoder.hpp).
     Eigen::Isometry3d T_base_imu = T_base_sensor;
@@ -269,6 +275,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
         const simulation::Scene overlay(people, people_ids);
         simulation::SimulatorOptions options;
         options.overlay = world.people.empty() ? nullptr : &overlay;
+        options.rig = s.sensor.body_in_view ? &rig : nullptr;
         simulation::SimulateScan(scene, lidar, std::span<const Eigen::Isometry3d>(poses), noise,
                                  s.seed ^ (uint64_t(k) * 0x9E3779B97F4A7C15ull), &image, options);
         take_imu_until(t0 + period_s - 1e-9);

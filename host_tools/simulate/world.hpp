@@ -54,6 +54,7 @@ struct World {
 inline constexpr uint32_t kAddedIdBase = 1u << 30;
 inline constexpr uint32_t kGroundId = kAddedIdBase - 1;
 inline constexpr uint32_t kPersonIdBase = (1u << 31);
+inline constexpr uint32_t kRigId = kPersonIdBase - 1;  // the platform's own body
 
 // Throws common::Error naming the edit (its YAML path) when a GlobalId or class matches nothing,
 // and what reading a mesh file throws (common::FileError naming the file).

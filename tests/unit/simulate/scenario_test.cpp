@@ -256,6 +256,7 @@ Scenario Everything() {
     s.sensor.udp_profile = "LEGACY";
     s.sensor.mount_xyz = {0.1, -0.02, 0.3};
     s.sensor.mount_rpy_deg = {1, -2, 180};
+    s.sensor.body_in_view = true;
     s.network = {false, 0.01};
     s.noise.lidar = {0.02, 0.005, 120};
     s.noise.imu = {0.03, 0.06, 0.07, 0.3};

@@ -371,6 +371,126 @@ void ExpectInvalid(const std::function<void()>& f, const std::string& needle) {
     }
 }
 
+// The rig's own body: a roof plate under the sensor and an operator behind it, fixed in the
+// sensor frame.
+common::TriangleMesh RigBody() {
+    common::TriangleMesh m = FloorAt(-0.3, 1.0);
+    std::vector<uint32_t> unused;
+    Append(&m, &unused, BoxRoom({-0.7, -0.25, -1.2}, {-0.4, 0.25, 0.3}).mesh, 0);
+    return m;
+}
+
+common::TriangleMesh Mapped(common::TriangleMesh m, const Eigen::Isometry3d& T) {
+    for (Eigen::Vector3f& p : m.vertices) p = (T * p.cast<double>()).cast<float>();
+    return m;
+}
+
+// Equal up to float rounding: the rays and the mapped mesh are single precision in different
+// frames, so a hit's distance may differ by a few micrometres (a range 1 mm step apart after
+// quantisation, a reflectivity 1 apart) and a ray grazing an edge may hit or miss it.
+void ExpectNearlySameScan(const ScanImage& a, const ScanImage& b, const std::string& what) {
+    ASSERT_EQ(a.range_mm.size(), b.range_mm.size()) << what;
+    size_t other_hit = 0;
+    for (size_t i = 0; i < a.range_mm.size(); ++i) {
+        if (a.element_id[i] != b.element_id[i] || (a.range_mm[i] == 0) != (b.range_mm[i] == 0)) {
+            ++other_hit;
+            continue;
+        }
+        ASSERT_LE(std::abs(int64_t(a.range_mm[i]) - int64_t(b.range_mm[i])), 1) << what << i;
+        ASSERT_LE(std::abs(int(a.reflectivity[i]) - int(b.reflectivity[i])), 1) << what << i;
+    }
+    EXPECT_LE(other_hit, a.range_mm.size() / 2000) << what;  // 0.05 %
+}
+
+TEST(SimulateScanRig, EqualsItsMeshMappedByAStaticPoseUpToRounding) {
+    common::TriangleMesh static_mesh;
+    std::vector<uint32_t> static_ids;
+    Append(&static_mesh, &static_ids, WallAt(5.0, 3.0), 1);
+    Append(&static_mesh, &static_ids, FloorAt(-1.5, 8.0), 2);
+    const uint32_t kPerson = 1000, kRig = 2000;
+    common::TriangleMesh people;
+    std::vector<uint32_t> people_ids;
+    Append(&people, &people_ids, BoxRoom({2.5, -0.4, -1.45}, {2.9, 0.3, 0.5}).mesh, kPerson);
+    const common::TriangleMesh body = RigBody();
+    const std::vector<uint32_t> body_ids(body.triangles.size(), kRig);
+    const Eigen::Isometry3d T = Pose(0.1, 0.05, 0.0, 10, 2, -3);
+    common::TriangleMesh merged_mesh = static_mesh;
+    std::vector<uint32_t> merged_ids = static_ids;
+    Append(&merged_mesh, &merged_ids, people, kPerson);
+    Append(&merged_mesh, &merged_ids, Mapped(body, T), kRig);
+
+    const Scene static_scene(static_mesh, static_ids), overlay(people, people_ids);
+    const Scene rig(body, body_ids), merged(merged_mesh, merged_ids);
+    const LidarModel model = LidarModel::DefaultOs1_32(1024);
+    NoiseModel noisy;
+    noisy.range_sigma_m = 0.02;
+    for (const NoiseModel& noise : {Exact(), noisy}) {
+        for (const int packet : {1, 4, 16}) {
+            for (const bool with_overlay : {false, true}) {
+                SimulatorOptions options;
+                options.packet_size = packet;
+                const std::string what = "packet " + std::to_string(packet) +
+                                         (with_overlay ? " overlay" : "") +
+                                         (noise.range_sigma_m == 0 ? " exact" : " noisy");
+                ScanImage reference, img;
+                with_overlay ? SimulateScan(merged, model, T, noise, 5, &reference, options)
+                             : SimulateScan(Scene(Mapped(body, T), body_ids), model, T, noise, 5,
+                                            &reference, options);
+                if (!with_overlay) {
+                    // The reference without the static scene and the person: the body alone.
+                    options.rig = &rig;
+                    const Scene nothing(WallAt(500.0, 1.0), {9, 9});  // out of range
+                    SimulateScan(nothing, model, T, noise, 5, &img, options);
+                    ExpectNearlySameScan(img, reference, what);
+                    continue;
+                }
+                options.overlay = &overlay;
+                options.rig = &rig;
+                SimulateScan(static_scene, model, T, noise, 5, &img, options);
+                ExpectNearlySameScan(img, reference, what);
+                const size_t body_pixels =
+                    size_t(std::count(img.element_id.begin(), img.element_id.end(), kRig));
+                EXPECT_GT(body_pixels, 2000u) << what;  // the roof under the lower beams
+                EXPECT_GT(std::count(img.element_id.begin(), img.element_id.end(), kPerson), 100)
+                    << what;
+            }
+        }
+    }
+}
+
+TEST(SimulateScanRig, MovesWithTheSensorUnderTheRollingShutter) {
+    // A sensor spinning and driving fast during the scan: the world's hits smear, the body's do
+    // not (each column's body hits equal a static scan's).
+    const LidarModel model = LidarModel::DefaultOs1_32(512);
+    std::vector<Eigen::Isometry3d> poses;
+    for (int v = 0; v < model.columns; ++v) {
+        const double f = double(v) / model.columns;
+        poses.push_back(Pose(3.0 * f, 0.5 * f, 0.0, 40.0 * f, 3.0 * f, -2.0 * f));
+    }
+    const common::TriangleMesh body = RigBody();
+    const Scene rig(body, std::vector<uint32_t>(body.triangles.size(), 7));
+    common::TriangleMesh world = FloorAt(-1.5, 20.0);
+    const Scene scene(world, std::vector<uint32_t>(world.triangles.size(), 1));
+    SimulatorOptions options;
+    options.rig = &rig;
+    ScanImage moving, still;
+    SimulateScan(scene, model, std::span<const Eigen::Isometry3d>(poses), Exact(), 3, &moving,
+                 options);
+    SimulateScan(scene, model, Eigen::Isometry3d::Identity(), Exact(), 3, &still, options);
+    size_t body_pixels = 0, floor_differs = 0;
+    for (size_t i = 0; i < moving.element_id.size(); ++i) {
+        ASSERT_EQ(moving.element_id[i] == 7, still.element_id[i] == 7) << i;
+        if (moving.element_id[i] == 7) {
+            ++body_pixels;
+            ASSERT_EQ(moving.range_mm[i], still.range_mm[i]) << i;
+        } else if (moving.range_mm[i] != still.range_mm[i]) {
+            ++floor_differs;
+        }
+    }
+    EXPECT_GT(body_pixels, 1000u);
+    EXPECT_GT(floor_differs, 1000u);  // the world did move
+}
+
 TEST(SimulateScan, RejectsInvalidArguments) {
     const Scene scene(WallAt(5.0, 0.5));
     const LidarModel model = LidarModel::DefaultOs1_32(512);
