@@ -231,22 +231,34 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
         const PointNormals normals = EstimateNormals(cxyz, radius, viewpoint, seen_by);
         const FreeSpaceIndex index(keyframes, config.free_space);
+        std::vector<uint8_t> far_transient(far.size(), 0), judged(far.size(), 0);
         const size_t chunk = std::max<size_t>(1024, far.size() / 20);
         for (size_t first = 0; first < far.size(); first += chunk) {
             const size_t last = std::min(far.size(), first + chunk);
             tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 256), [&](const auto& r) {
                 for (size_t k = r.begin(); k < r.end(); ++k) {
-                    bool is = index.Transient(index.Vote(cxyz[k], normals.all[k]));
+                    FreeSpaceIndex::Votes v = index.Vote(cxyz[k], normals.all[k]);
+                    bool is = index.Transient(v);
+                    bool voted = v.free + v.seen > 0;
                     // The second normal where there is one: even 20 deg between the two can turn
                     // the beams along a corridor from grazing to crossing.
                     const Eigen::Vector3f& second = normals.same_keyframe[k];
                     if (!is && second.squaredNorm() > 0) {
-                        is = index.Transient(index.Vote(cxyz[k], second));
+                        v = index.Vote(cxyz[k], second);
+                        is = index.Transient(v);
+                        voted |= v.free + v.seen > 0;
                     }
-                    transient[far[k]] = is;
+                    far_transient[k] = is;
+                    judged[k] = voted;
                 }
             });
             report("transients", double(last) / double(far.size()));
+        }
+        out.counts.transient_by_neighbours =
+            JudgeByNeighbours(cxyz, judged, far_transient, config.free_space.unjudged_radius_m);
+        for (size_t k = 0; k < far.size(); ++k) {
+            transient[far[k]] = far_transient[k];
+            out.counts.unjudged_points += !judged[k];
         }
     }
     std::vector<uint32_t> transient_points, seeds, band;

@@ -103,8 +103,10 @@ struct ChangeResult {
         size_t candidates = 0;  // farther than band_threshold_m from the model, inside the region
         size_t outside_footprint = 0;  // of the others that far, with no element below them
         size_t transient_points = 0;
-        size_t seed_points = 0;  // farther than new_object_threshold_m, not transient
-        size_t clusters = 0;     // DBSCAN's, before min_object_points
+        size_t unjudged_points = 0;  // of the far ones, with no free or seen vote (free_space.hpp)
+        size_t transient_by_neighbours = 0;  // of those, transient by their neighbours' votes
+        size_t seed_points = 0;              // farther than new_object_threshold_m, not transient
+        size_t clusters = 0;                 // DBSCAN's, before min_object_points
     } counts;
     // The refined poses the result was measured on and what the refinement did (its vectors are
     // empty when it was off: the result is then on the poses as given).

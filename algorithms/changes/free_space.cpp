@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "algorithms/changes/point_grid.hpp"
 #include "algorithms/common/status.hpp"
 
 namespace bimslam::changes {
@@ -37,6 +38,35 @@ void FreeSpaceConfig::Validate() const {
     }
     if (min_free_keyframes < 1) common::ThrowInvalid("free_space.min_free_keyframes must be >= 1");
     if (!(free_over_seen >= 0)) common::ThrowInvalid("free_space.free_over_seen must be >= 0");
+    common::Require(unjudged_radius_m >= 0 && std::isfinite(unjudged_radius_m), "free_space",
+                    "unjudged_radius_m", unjudged_radius_m, "must be >= 0 (0: off)");
+}
+
+size_t JudgeByNeighbours(std::span<const Eigen::Vector3f> points, std::span<const uint8_t> judged,
+                         std::span<uint8_t> transient, double radius_m) {
+    if (judged.size() != points.size() || transient.size() != points.size()) {
+        common::ThrowInvalid("JudgeByNeighbours: " + std::to_string(points.size()) + " points, " +
+                             std::to_string(judged.size()) + " judged flags and " +
+                             std::to_string(transient.size()) + " verdicts");
+    }
+    if (!(radius_m > 0) || points.empty()) return 0;
+    const float radius = float(radius_m);
+    const PointGrid grid(points, radius);
+    const std::vector<uint8_t> voted(transient.begin(), transient.end());
+    size_t changed = 0;
+    for (size_t k = 0; k < points.size(); ++k) {
+        if (judged[k] || voted[k]) continue;
+        size_t moving = 0, still = 0;
+        grid.ForEachPointWithin(points[k], radius, [&](uint32_t j) {
+            if (!judged[j]) return;
+            (voted[j] ? moving : still) += 1;
+        });
+        if (moving > still) {
+            transient[k] = 1;
+            ++changed;
+        }
+    }
+    return changed;
 }
 
 FreeSpaceIndex::FreeSpaceIndex(std::span<const MapKeyframe> keyframes,

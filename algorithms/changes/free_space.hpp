@@ -43,8 +43,24 @@ struct FreeSpaceConfig {
     // free_over_seen times as many keyframes looked through it as saw it.
     int min_free_keyframes = 2;
     double free_over_seen = 1.0;
+    // A point no keyframe could judge (not one free or seen vote, every ray grazing its surface or
+    // missing its patch) takes the verdict of the judged points within this radius: transient
+    // when more of them are transient than not (JudgeByNeighbours). 0: such points stay static.
+    double unjudged_radius_m = 0.15;
     void Validate() const;
 };
+
+// Points the votes could not judge, judged by the points around them. A person who walks the same
+// line again and again is seen by a sensor at a fixed height at the same heights from many
+// keyframes: merged, those rings form horizontal sheets whose normal is vertical, along which
+// every other keyframe's beams graze, so no keyframe votes on them, not even the ones that saw them
+// (algorithms/changes/README.md, "Transients"). Their judged neighbours, the rest of the person,
+// are transient. A box's top, grazed the same way, has its judged sides around it.
+// judged[k]: point k had a free or a seen vote; transient[k]: its verdict, updated for the unjudged
+// points. Returns how many of them became transient. Neighbours count by their own votes only (one
+// pass: a verdict is not carried on from point to point).
+size_t JudgeByNeighbours(std::span<const Eigen::Vector3f> points, std::span<const uint8_t> judged,
+                         std::span<uint8_t> transient, double radius_m);
 
 class FreeSpaceIndex {
 public:

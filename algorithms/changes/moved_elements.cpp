@@ -56,6 +56,25 @@ double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFi
     return double(inliers) / double(points.size());
 }
 
+ExtentCoverage InlierCoverage(const Eigen::AlignedBox3d& element_box, const MotionFit& motion,
+                              std::span<const Eigen::Vector3f> points) {
+    ExtentCoverage out;
+    const Eigen::Vector3d c = element_box.center();
+    const Eigen::Matrix3d R = Yaw(-motion.yaw_rad);
+    Eigen::AlignedBox3d back;
+    for (size_t i = 0; i < points.size() && i < motion.inlier.size(); ++i) {
+        if (!motion.inlier[i]) continue;
+        back.extend(R * (points[i].cast<double>() - c - motion.translation) + c);  // M^-1(p)
+    }
+    if (back.isEmpty()) return out;
+    const Eigen::Vector3d size = element_box.sizes();
+    const Eigen::Vector3d seen = back.intersection(element_box).sizes().cwiseMax(0.0);
+    if (size.z() > 0) out.height = seen.z() / size.z();
+    const int long_axis = size.x() >= size.y() ? 0 : 1;
+    if (size[long_axis] > 0) out.length = seen[long_axis] / size[long_axis];
+    return out;
+}
+
 void MovedConfig::Validate() const {
     if (!(pair_radius_m >= 0)) common::ThrowInvalid("moved.pair_radius_m must be >= 0");
     if (!(max_seen_fraction >= 0 && max_seen_fraction <= 1)) {
@@ -68,6 +87,8 @@ void MovedConfig::Validate() const {
     if (!(min_object_fraction > 0 && min_object_fraction <= 1)) {
         common::ThrowInvalid("moved.min_object_fraction must be in (0, 1]");
     }
+    common::Require(min_extent_fraction >= 0 && min_extent_fraction <= 1, "moved",
+                    "min_extent_fraction", min_extent_fraction, "must be in [0, 1]");
 }
 
 MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
@@ -180,6 +201,11 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
             const double object_fraction = double(object_inliers) / double(objects[o].size());
             if (fit.inlier_fraction < config.min_inlier_fraction ||
                 object_fraction < config.min_object_fraction || object_inliers <= best_inliers) {
+                continue;
+            }
+            const ExtentCoverage cover = InlierCoverage(element_box[e], fit, points);
+            if (cover.height < config.min_extent_fraction ||
+                cover.length < config.min_extent_fraction) {
                 continue;
             }
             best_inliers = object_inliers;

@@ -7,7 +7,10 @@
 // four degrees of freedom (translation and yaw about the element's box centre, as things are moved
 // on a floor), with Cauchy weights, from a few starting yaws. A fit that puts min_inlier_fraction
 // of those points within inlier_m of the moved surface, and explains min_object_fraction of the
-// object's own points, makes the element "moved": its verdict becomes deviating, its offset the
+// object's own points, and whose inliers, taken back to the element's place, span
+// min_extent_fraction of its height and of its longer side (the object has the element's size, not
+// only a patch of its surface: a low box fits a tall cabinet's lower half), makes the element
+// "moved": its verdict becomes deviating, its offset the
 // translation of its box centre, and the object is no longer a new object; nor are the other
 // objects within pair_radius_m of which the moved element explains min_object_fraction (a moved
 // desk may come apart into a cluster per end).
@@ -29,6 +32,7 @@ struct MovedConfig {
     double inlier_m = 0.05;
     double min_inlier_fraction = 0.7;
     double min_object_fraction = 0.6;
+    double min_extent_fraction = 0.5;
     void Validate() const;
 };
 
@@ -44,6 +48,15 @@ struct MotionFit {
 // through the points. Exposed for tests.
 MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
                            std::span<const Eigen::Vector3f> points, const MovedConfig& config);
+
+// How much of the element's box the inliers of `motion` cover, once moved back to the element's
+// place: their extent over the box's, vertically and along its longer horizontal side. Exposed
+// for tests.
+struct ExtentCoverage {
+    double height = 0, length = 0;
+};
+ExtentCoverage InlierCoverage(const Eigen::AlignedBox3d& element_box, const MotionFit& motion,
+                              std::span<const Eigen::Vector3f> points);
 
 // The triangles of one element as a mesh of their own, and their box.
 common::TriangleMesh ElementMesh(const ChangeModel& model, uint32_t element,

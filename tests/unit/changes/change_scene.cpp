@@ -121,6 +121,59 @@ ChangeScene Build() {
     return s;
 }
 
+CorridorScene BuildCorridor() {
+    CorridorScene s;
+    using V = Eigen::Vector3d;
+    const std::vector<common::TriangleMesh> elements = {
+        SolidBox(V(-0.2, -0.2, -0.2), V(16.2, 2.2, 0)),   // floor
+        SolidBox(V(-0.2, -0.2, 3.0), V(16.2, 2.2, 3.2)),  // ceiling
+        SolidBox(V(-0.2, -0.2, 0), V(16.2, 0, 3)),        // south wall
+        SolidBox(V(-0.2, 2.0, 0), V(16.2, 2.2, 3)),       // north wall
+        SolidBox(V(-0.2, 0, 0), V(0, 2.0, 3)),            // west wall
+        SolidBox(V(16.0, 0, 0), V(16.2, 2.0, 3)),         // east wall
+    };
+    for (uint32_t e = 0; e < elements.size(); ++e) {
+        Append(&s.model.mesh, elements[e]);
+        s.model.triangle_element.insert(s.model.triangle_element.end(),
+                                        elements[e].triangles.size(), e);
+    }
+    s.model.element_opaque.assign(elements.size(), 1);
+    const simulation::Scene world(s.model.mesh);
+
+    s.person_from = {1.0, 0.6};
+    s.person_to = {15.0, 0.6};
+    // A triangle wave: the distance along a segment of `length` walked to and fro at `speed`.
+    const auto along = [](double t, double speed, double length) {
+        const double d = std::fmod(speed * t, 2 * length);
+        return d <= length ? d : 2 * length - d;
+    };
+    const simulation::LidarModel lidar = simulation::LidarModel::DefaultOs1_32(1024);
+    const simulation::NoiseModel noise;
+    const double walk = 14.0;  // the Go1 from x = 1 to 15 and back along y = 1.5
+    for (int k = 0; k < 56; ++k) {
+        const double t = k;
+        const double speed = 0.5;
+        const bool back = std::fmod(speed * t, 2 * walk) > walk;
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = V(1.0 + along(t, speed, walk), 1.5, 0.6);
+        T.linear() = Eigen::AngleAxisd(back ? M_PI : 0.0, V::UnitZ()).toRotationMatrix();
+        s.poses.push_back(T);
+        const double length = (s.person_to - s.person_from).norm();
+        const Eigen::Vector2d at =
+            s.person_from + (s.person_to - s.person_from) * (along(t, 1.2, length) / length);
+        const common::TriangleMesh person = Cylinder(at, s.person_radius_m, s.person_height_m);
+        const simulation::Scene overlay(person,
+                                        std::vector<uint32_t>(person.triangles.size(), 999));
+        simulation::SimulatorOptions options;
+        options.overlay = &overlay;
+        simulation::ScanImage image;
+        simulation::SimulateScan(world, lidar, T, noise, 2000 + uint64_t(k), &image, options);
+        s.clouds.push_back(ToCloud(image, lidar));
+    }
+    for (size_t k = 0; k < s.clouds.size(); ++k) s.keyframes.push_back({&s.clouds[k], s.poses[k]});
+    return s;
+}
+
 }  // namespace
 
 common::TriangleMesh SolidBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
@@ -144,6 +197,11 @@ void Append(common::TriangleMesh* to, const common::TriangleMesh& m) {
 
 const ChangeScene& SharedChangeScene() {
     static const ChangeScene scene = Build();
+    return scene;
+}
+
+const CorridorScene& SharedCorridorScene() {
+    static const CorridorScene scene = BuildCorridor();
     return scene;
 }
 

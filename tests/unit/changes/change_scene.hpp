@@ -62,4 +62,19 @@ common::PointCloud ToCloud(const simulation::ScanImage& image, const simulation:
 // The scene above, simulated (deterministic). Built once and shared: the tests only read it.
 const ChangeScene& SharedChangeScene();
 
+// The changed-building scenario's corridor in small (host_tools/simulate/scenarios/
+// changed_building.yaml): a corridor 16 x 2 x 3 m, built as modelled, walked along and back by a
+// Go1 (the sensor 0.6 m above the floor, 0.5 m/s, a keyframe a second) while a person walks to and
+// fro along it, 0.9 m beside the walk, at 1.2 m/s: the person passes the same places again and
+// again, and is seen there from many keyframes at the same heights (the sensor's rings).
+struct CorridorScene {
+    ChangeModel model;  // floor, ceiling, four walls
+    std::vector<common::PointCloud> clouds;
+    std::vector<Eigen::Isometry3d> poses;
+    std::vector<MapKeyframe> keyframes;
+    Eigen::Vector2d person_from, person_to;  // the person's line
+    double person_radius_m = 0.25, person_height_m = 1.75;
+};
+const CorridorScene& SharedCorridorScene();
+
 }  // namespace bimslam::changes::test
