@@ -125,12 +125,20 @@ public:
     // order, scan_registration.hpp CorrectPoint), so the keyframe cloud and the map get it where
     // the registration found it belongs.
     void ApplyCorrection(const common::Vector6d& xi);
+    // Deskews the last Run()'s points again, with `to` instead of the `from` they were deskewed
+    // with: every kept, map and registration point q at time tau goes to T_to(tau)
+    // T_from(tau)^-1 q. The voxel filters are not run again: the points move by the difference
+    // of two motions over one sweep (centimetres), which changes which point represents a voxel,
+    // not what the scan says. Costs a transform per point instead of Run()'s crop and two hashed
+    // filters, and leaves the adapted voxel sizes alone (Run() adapts them once per call).
+    void Redeskew(const ScanMotion& from, const ScanMotion& to);
 
 private:
-    // First point per voxel of `in` into `out` (with its alpha), using the preallocated table.
+    // First point per voxel of `in` into `out` (with its alpha), using the preallocated table;
+    // *expected: the last output count of this filter, in and out.
     void VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
-                     double voxel, std::vector<Eigen::Vector3f>* out,
-                     std::vector<float>* out_alpha);
+                     double voxel, std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
+                     size_t* expected);
     // The next scan's voxel size from this scan's count (header of PreprocessConfig).
     static double Adapt(double voxel, size_t count, size_t target, double finest, double coarsest);
 
@@ -146,9 +154,12 @@ private:
     std::vector<float> range_sample_;  // scratch for the range percentile
     double duration_s_ = 0;
     double map_voxel_ = 0, registration_voxel_ = 0;  // the current (adapted) sizes
-    std::vector<uint64_t> table_keys_;               // open addressing, tagged with generation_
-    std::vector<uint32_t> table_generation_;
-    uint32_t generation_ = 0;
+    // The voxel filters' open-addressing table (VoxelHash::kEmpty when free, emptied again after
+    // each filter through used_), and the last output count of each filter, which sizes the part
+    // of the table the next one uses.
+    std::vector<uint64_t> table_;
+    std::vector<uint32_t> used_;
+    size_t expected_map_ = 0, expected_registration_ = 0;
 };
 
 }  // namespace bimslam::odometry
