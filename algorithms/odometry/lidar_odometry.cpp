@@ -266,7 +266,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         return preprocessor_.registration_points().size() <
                size_t(config_.registration.min_correspondences);
     };
-    const auto align = [&](const Eigen::Isometry3d& from, double initial_kernel = 0) {
+    const auto align = [&](const Eigen::Isometry3d& from) {
         if (too_few()) {
             r.flags |= kTooFewPoints | kRegistrationFailed;
             return false;
@@ -280,7 +280,6 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
                                   ? CorrectionSigma(gyro)
                                   : common::Vector6d::Zero();
         in.max_correspondence_distance = r.correspondence_distance;
-        in.initial_kernel = initial_kernel;
         in.edges = edges_;
         in.edge_map = edge_map_ ? &*edge_map_ : nullptr;
         r.registration = registration_.Align(in, map_, deadline);
@@ -333,19 +332,14 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         config_.preprocess.deskew && scan.HasTime()) {
         // The scan was deskewed with a predicted motion; when the estimated one differs by more
         // than redeskew_threshold over the sweep (a start, a stop, a sudden turn without the
-        // IMU), the scan is deskewed again with it and registered once more. Only the points
-        // move (Preprocessor::Redeskew), by at most `moved` at 10 m: the registration starts
-        // from T with its kernel at that displacement instead of annealing from 10 cm again.
-        // Running the whole preprocessing and a cold registration again made this step the
-        // largest cost of a 128-beam handheld scan (README "Every Ouster within budget").
+        // IMU), the scan is deskewed again with it and registered once more.
         const ScanMotion estimated =
             MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
         const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
         const double moved = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
         if (moved > config_.redeskew_threshold && BudgetNow(cpu_clock) < deadline) {
-            preprocessor_.Redeskew(motion, estimated);
-            if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
-            if (align(T, moved)) r.flags |= kDeskewedAgain;
+            preprocess(scan, estimated);
+            if (align(T)) r.flags |= kDeskewedAgain;
         }
     }
     if (registered_ok) {

@@ -126,34 +126,6 @@ void Preprocessor::ApplyCorrection(const common::Vector6d& xi) {
     Correct(map_points_, map_alpha_, rho, phi);
 }
 
-namespace {
-// q -> T_to(tau) T_from(tau)^-1 q for points in column order (consecutive points share alpha,
-// tau = alpha * duration): the transform is computed once per distinct time.
-void RedeskewPoints(std::span<Eigen::Vector3f> points, std::span<const float> alpha,
-                    double duration, const ScanMotion& from, const ScanMotion& to) {
-    float last = -1;
-    Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
-    Eigen::Vector3f t = Eigen::Vector3f::Zero();
-    for (size_t i = 0; i < points.size(); ++i) {
-        if (alpha[i] != last) {
-            last = alpha[i];
-            const double tau = double(last) * duration;
-            const Eigen::Isometry3d C = to.At(tau) * from.At(tau).inverse();
-            R = C.linear().cast<float>();
-            t = C.translation().cast<float>();
-        }
-        points[i] = R * points[i] + t;
-    }
-}
-}  // namespace
-
-void Preprocessor::Redeskew(const ScanMotion& from, const ScanMotion& to) {
-    if (!config_.deskew || deskewed_.time_offset_ns.empty()) return;  // Run() did not deskew
-    RedeskewPoints(deskewed_.xyz, alpha_, duration_s_, from, to);
-    RedeskewPoints(map_points_, map_alpha_, duration_s_, from, to);
-    RedeskewPoints(registration_points_, registration_alpha_, duration_s_, from, to);
-}
-
 double Preprocessor::Adapt(double voxel, size_t count, size_t target, double finest,
                            double coarsest) {
     if (target == 0 || count == 0) return voxel;

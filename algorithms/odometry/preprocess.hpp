@@ -125,13 +125,6 @@ public:
     // order, scan_registration.hpp CorrectPoint), so the keyframe cloud and the map get it where
     // the registration found it belongs.
     void ApplyCorrection(const common::Vector6d& xi);
-    // Deskews the last Run()'s points again, with `to` instead of the `from` they were deskewed
-    // with: every kept, map and registration point q at time tau goes to T_to(tau)
-    // T_from(tau)^-1 q. The voxel filters are not run again: the points move by the difference
-    // of two motions over one sweep (centimetres), which changes which point represents a voxel,
-    // not what the scan says. Costs a transform per point instead of Run()'s crop and two hashed
-    // filters, and leaves the adapted voxel sizes alone (Run() adapts them once per call).
-    void Redeskew(const ScanMotion& from, const ScanMotion& to);
 
 private:
     // First point per voxel of `in` into `out` (with its alpha), using the preallocated table;

@@ -239,9 +239,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
 
     int n = 0;
     // A wide threshold (a poor prediction) starts the kernel wider too.
-    double kernel = in.initial_kernel > 0
-                        ? std::max(config_.cauchy_scale, in.initial_kernel)
-                        : std::max(config_.cauchy_scale_initial, max_distance / 6);
+    double kernel = std::max(config_.cauchy_scale_initial, max_distance / 6);
     for (int it = 0; it < config_.max_iterations;
          ++it, kernel = std::max(config_.cauchy_scale, kernel / 2)) {
         const double remaining =

@@ -92,11 +92,6 @@ struct AlignInput {
     // estimated.
     common::Vector6d correction_sigma = common::Vector6d::Zero();
     double max_correspondence_distance = 0;  // m; 0: the configuration's
-    // Where the Cauchy scale's annealing starts (m, at least cauchy_scale); 0: from
-    // cauchy_scale_initial (or the correspondence distance / 6 when wider). A guess already
-    // registered, whose points moved by a known few centimetres since (the scan deskewed again),
-    // starts near that: annealing from 10 cm again only repeats iterations.
-    double initial_kernel = 0;
     std::span<const Eigen::Vector3f> edges;  // LOAM edge points (alpha 0), with edge_map
     const VoxelMap* edge_map = nullptr;
 };

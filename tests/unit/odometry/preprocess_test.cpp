@@ -71,47 +71,6 @@ TEST(Preprocessor, DeskewMovesEachPointByTheMotionAtItsTime) {
     EXPECT_EQ(raw.deskewed().xyz[2], Eigen::Vector3f(5, 0, 0));
 }
 
-TEST(Preprocessor, DeskewingAgainEqualsDeskewingWithTheNewMotion) {
-    PreprocessConfig config;
-    config.target_map_points = 0;  // fixed sizes
-    config.target_registration_points = 0;
-    Preprocessor pre(config), direct(config);
-    common::Vector6d a, b;
-    a << 1, 0, 0, 0, 0, 0.5;
-    b << 1.4, 0.2, 0, 0.1, 0, -0.3;
-    ScanMotion from, to;
-    from.SetConstantVelocity(a, 0.1);
-    to.SetConstantVelocity(b, 0.1);
-    // 100 columns of 8 points over 100 ms, spread over a room.
-    common::PointCloud cloud;
-    for (int c = 0; c < 100; ++c) {
-        for (int k = 0; k < 8; ++k) {
-            const float az = 0.0628f * float(c);
-            cloud.PushBack({4 * std::cos(az), 3 * std::sin(az), -1.0f + 0.3f * float(k)}, 1.f, 0,
-                           uint32_t(c) * 1'000'000u);
-        }
-    }
-    pre.Run(cloud, from);
-    const std::vector<Eigen::Vector3f> map_before(pre.map_points().begin(), pre.map_points().end());
-    pre.Redeskew(from, to);
-    direct.Run(cloud, to);
-    ASSERT_EQ(pre.deskewed().size(), direct.deskewed().size());
-    for (size_t i = 0; i < cloud.size(); ++i) {
-        EXPECT_LT((pre.deskewed().xyz[i] - direct.deskewed().xyz[i]).norm(), 1e-5) << i;
-    }
-    // The map points are the same points, moved: each is the deskewed point with its time.
-    ASSERT_EQ(pre.map_points().size(), map_before.size());
-    size_t moved = 0;
-    for (size_t i = 0; i < map_before.size(); ++i) {
-        const float alpha = pre.map_alpha()[i];
-        const Eigen::Isometry3d C = to.At(alpha * 0.099) * from.At(alpha * 0.099).inverse();
-        const Eigen::Vector3f expected = (C * map_before[i].cast<double>()).cast<float>();
-        EXPECT_LT((pre.map_points()[i] - expected).norm(), 1e-5) << i;
-        moved += (pre.map_points()[i] - map_before[i]).norm() > 1e-3;
-    }
-    EXPECT_GT(moved, map_before.size() / 2);
-}
-
 TEST(ScanMotion, InterpolatesBetweenKnotsAndClamps) {
     common::Vector6d xi;
     xi << 1, 0.5, 0, 0.2, 0, 0.8;
