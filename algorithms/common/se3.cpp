@@ -120,6 +120,21 @@ Matrix6d Adjoint(const Eigen::Isometry3d& T) {
     return Ad;
 }
 
+Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg) {
+    const Eigen::Vector3d r = rpy_deg * (M_PI / 180.0);
+    return (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *
+            Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(r.x(), Eigen::Vector3d::UnitX()))
+        .toRotationMatrix();
+}
+
+Eigen::Isometry3d PoseFromXyzRpyDeg(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy_deg) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = RotationFromRpyDeg(rpy_deg);
+    T.translation() = xyz;
+    return T;
+}
+
 double RotationAngle(const Eigen::Isometry3d& T) { return LogSO3(T.linear()).norm(); }
 
 bool IsValidRigid(const Eigen::Isometry3d& T, double tol) {

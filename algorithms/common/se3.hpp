@@ -47,6 +47,11 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& T0, const Eigen::Isometry
 Eigen::Isometry3d FromQuaternionTranslation(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
 Eigen::Quaterniond Rotation(const Eigen::Isometry3d& T);
 
+// A mount or a pose from x y z (m) and roll pitch yaw (deg), rotation R = Rz(yaw) Ry(pitch)
+// Rx(roll) (the fixed-axis x-y-z convention of ROS' RPY and of the rig's `mount` setting).
+Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg);
+Eigen::Isometry3d PoseFromXyzRpyDeg(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy_deg);
+
 // Adjoint of T, acting on [rho; phi]: Ad(T) = [R [t]x R ; 0 R].
 Matrix6d Adjoint(const Eigen::Isometry3d& T);
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
 #include "drivers/net/ros_packet_bag.hpp"
@@ -41,14 +42,7 @@ double Percentile(std::vector<int64_t> v, double p) {
 }
 
 Eigen::Isometry3d MountFrom(const std::vector<double>& m) {
-    const double d = M_PI / 180.0;
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation() = Eigen::Vector3d(m[0], m[1], m[2]);
-    T.linear() = (Eigen::AngleAxisd(m[5] * d, Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(m[4] * d, Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(m[3] * d, Eigen::Vector3d::UnitX()))
-                     .toRotationMatrix();
-    return T;
+    return common::PoseFromXyzRpyDeg({m[0], m[1], m[2]}, {m[3], m[4], m[5]});
 }
 
 runtime::ThreadSpec Spec(const std::string& name, const ThreadConfig& t, int64_t period_ns,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/trajectory.hpp"
@@ -36,13 +37,7 @@ int64_t Ns(double t) { return int64_t(std::llround(t * 1e9)); }
 json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 Eigen::Isometry3d MountTransform(const SensorSpec& s) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = (Eigen::AngleAxisd(s.mount_rpy_deg.z() * kDeg, Eigen::Vector3d::UnitZ()) *
-                  Eigen::AngleAxisd(s.mount_rpy_deg.y() * kDeg, Eigen::Vector3d::UnitY()) *
-                  Eigen::AngleAxisd(s.mount_rpy_deg.x() * kDeg, Eigen::Vector3d::UnitX()))
-                     .toRotationMatrix();
-    T.translation() = s.mount_xyz;
-    return T;
+    return common::PoseFromXyzRpyDeg(s.mount_xyz, s.mount_rpy_deg);
 }
 
 simulation::GaitConfig GaitFor(Platform p) {

@@ -121,5 +121,27 @@ TEST(Se3, IsValidRigidRejectsBadMatrices) {
     EXPECT_FALSE(IsValidRigid(T));
 }
 
+// Roll, pitch and yaw about the fixed x, y and z axes, applied in that order (R = Rz Ry Rx): a
+// yaw of 90 deg turns x into y, a pitch of 15 deg tips x down towards -z, and the three compose.
+TEST(Se3, RotationFromRpyDegIsZYXAboutFixedAxes) {
+    EXPECT_LT((RotationFromRpyDeg({0, 0, 90}) * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY())
+                  .norm(),
+              1e-15);
+    const double p = 15.0 * M_PI / 180.0;
+    EXPECT_LT((RotationFromRpyDeg({0, 15, 0}) * Eigen::Vector3d::UnitX() -
+               Eigen::Vector3d(std::cos(p), 0, -std::sin(p)))
+                  .norm(),
+              1e-15);
+    const Eigen::Matrix3d R = RotationFromRpyDeg({10, -20, 30});
+    const Eigen::Matrix3d expected = RotationFromRpyDeg({0, 0, 30}) *
+                                     RotationFromRpyDeg({0, -20, 0}) *
+                                     RotationFromRpyDeg({10, 0, 0});
+    EXPECT_LT((R - expected).norm(), 1e-15);
+    const Eigen::Isometry3d T = PoseFromXyzRpyDeg({1, 2, 3}, {10, -20, 30});
+    EXPECT_EQ(T.translation(), Eigen::Vector3d(1, 2, 3));
+    EXPECT_EQ(T.linear(), R);
+    EXPECT_TRUE(IsValidRigid(T));
+}
+
 }  // namespace
 }  // namespace bimslam::common
