@@ -2,11 +2,13 @@
 // selection, as fast as possible, into a session (host_tools/replay/capture_odometry.hpp).
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "host_tools/cli/command.hpp"
 #include "host_tools/replay/capture_odometry.hpp"
@@ -26,6 +28,9 @@ struct OdometryArgs {
     double budget_ms = 50;
     bool budget_cpu = false;
     double duration_s = 0;
+    std::vector<double> mount;  // x y z roll pitch yaw
+    double time_offset_ms = 0;
+    std::vector<double> imu_rotation_deg;  // roll pitch yaw
     bool overwrite = false;
     bool json = false;
 };
@@ -43,6 +48,15 @@ int Odometry(const OdometryArgs& a) {
     o.odometry.preprocess.deskew = !a.no_deskew;
     o.odometry.edge_features = a.edge_features;
     o.max_duration_s = a.duration_s;
+    if (!a.mount.empty()) {
+        o.mount = common::PoseFromXyzRpyDeg({a.mount[0], a.mount[1], a.mount[2]},
+                                            {a.mount[3], a.mount[4], a.mount[5]});
+    }
+    o.time_offset_ns = std::llround(a.time_offset_ms * 1e6);
+    if (!a.imu_rotation_deg.empty()) {
+        o.imu_rotation_rpy_deg = {a.imu_rotation_deg[0], a.imu_rotation_deg[1],
+                                  a.imu_rotation_deg[2]};
+    }
     const bool tty = !a.json && ::isatty(STDOUT_FILENO);
     o.on_scan = [tty, n = 0](const odometry::OdometryResult& r) mutable {
         ++n;
@@ -150,6 +164,20 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
                   "(the rig counts wall time)");
     cmd->add_option("--duration", args->duration_s, "Stop after this many seconds of capture")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--mount", args->mount,
+                    "The lidar on the platform's base, T_base_lidar: X Y Z (m) ROLL PITCH YAW "
+                    "(deg); overrides capture.json's (used by the Go1 prior and the self-filter)")
+        ->expected(6)
+        ->group("Calibration");
+    cmd->add_option("--time-offset-ms", args->time_offset_ms,
+                    "Added to every IMU and Go1 sample's time before it meets the scans (the "
+                    "lidar-to-IMU/CAN latency)")
+        ->check(CLI::Range(-1000.0, 1000.0))
+        ->group("Calibration");
+    cmd->add_option("--imu-rotation", args->imu_rotation_deg,
+                    "ROLL PITCH YAW (deg) composed onto the metadata's IMU-to-sensor rotation")
+        ->expected(3)
+        ->group("Calibration");
     cmd->add_flag("--overwrite", args->overwrite, "Replace an existing session");
     cmd->add_flag("--json", args->json, "Print the summary as JSON");
     cmd->callback([args, &exit_code] { exit_code = Run([&] { return Odometry(*args); }); });

@@ -12,6 +12,7 @@
 #include "drivers/ouster/xyz_lut.hpp"
 #include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/cli/command.hpp"
+#include "host_tools/replay/cloud_folder_writer.hpp"
 
 namespace bimslam::cli {
 namespace {
@@ -26,6 +27,8 @@ struct OusterOptions {
     bool json = false;
     std::string out;
     int frame = 0;
+    bool all = false;            // export: every frame as a cloud folder
+    std::string format = "pcd";  // export --all: pcd, ply or bin
     bool overwrite = false;
 };
 
@@ -155,6 +158,21 @@ void WriteArray(const fs::path& dir, const std::string& name, const T* data,
     io::WriteNpy(dir / (name + ".npy"), io::NpyArray::From(data, std::move(shape)));
 }
 
+// export --all: the peer-benchmark folder (host_tools/replay/cloud_folder_writer.hpp).
+int ExportAll(const OusterOptions& o, const io::CaptureFiles& files) {
+    const replay::CloudFolderExport e =
+        replay::WriteCloudFolder(files, o.format, o.out, CaptureOptions(o));
+    std::cout << "exported " << e.scans << " scans (" << o.format << ", per-point time"
+              << (o.format == "bin" ? " not in KITTI .bin" : " t") << ") and times.txt";
+    if (e.imu_samples > 0) std::cout << ", " << e.imu_samples << " IMU samples in imu.csv";
+    if (e.ground_truth) std::cout << ", ground_truth.tum";
+    if (e.kitti_poses) std::cout << ", poses.txt (KITTI)";
+    std::cout << " to " << o.out << "/\n";
+    if (!e.note.empty()) std::cout << "note: " << e.note << "\n";
+    std::cout << "replay it: bimslam odometry " << o.out << " -o SESSION\n";
+    return kExitOk;
+}
+
 int Export(const OusterOptions& o) {
     const io::CaptureFiles files = Files(o);
     const ouster::SensorInfo info = capture::LoadRecordingInfo(files);
@@ -164,6 +182,7 @@ int Export(const OusterOptions& o) {
             StatusCode::kAlreadyExists, out.string(), 0,
             "already exists and is not empty; pass --overwrite or choose another --out");
     }
+    if (o.all) return ExportAll(o, files);
     capture::OusterCapture cap(files.packets, info, CaptureOptions(o));
     int seen = 0;
     const ouster::LidarFrame* frame = nullptr;
@@ -254,11 +273,22 @@ void AddOusterCommands(CLI::App& app, int& exit_code) {
 
     auto exp_opt = std::make_shared<OusterOptions>();
     CLI::App* exp = ouster->add_subcommand(
-        "export", "Write one complete frame as .npy arrays (SDK dtypes), cloud.pcd and frame.json");
+        "export",
+        "Write one complete frame as .npy arrays (SDK dtypes), cloud.pcd and frame.json; or, with "
+        "--all, every frame as per-scan clouds for a peer odometry");
     AddCommon(exp, *exp_opt);
     exp->add_option("--out,-o", exp_opt->out, "output folder")->required();
     exp->add_option("--frame", exp_opt->frame, "which complete frame, 0 = the first")
         ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    exp->add_flag("--all", exp_opt->all,
+                  "every frame as a folder of per-scan clouds with times.txt, imu.csv and, for a "
+                  "simulated capture, ground_truth.tum and KITTI poses.txt: exactly the input "
+                  "and the truth a peer odometry needs (`bimslam odometry` reads it back)");
+    exp->add_option("--format", exp_opt->format,
+                    "with --all: pcd, ply (both with per-point "
+                    "time t) or bin (KITTI: x y z intensity)")
+        ->check(CLI::IsMember({"pcd", "ply", "bin"}))
         ->capture_default_str();
     exp->add_flag("--overwrite", exp_opt->overwrite, "write into a non-empty output folder");
     exp->callback([exp_opt, &exit_code] { exit_code = Run([&] { return Export(*exp_opt); }); });

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
 #include "algorithms/io/session.hpp"
@@ -16,6 +17,7 @@
 #include "host_tools/capture/can_log.hpp"
 #include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/replay/cloud_folder.hpp"
+#include "host_tools/replay/imu_csv.hpp"
 
 namespace bimslam::replay {
 namespace fs = std::filesystem;
@@ -63,7 +65,9 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     const fs::path can_log = o.can_log.empty() ? files.can_log : o.can_log;
     odometry::LidarOdometryConfig config = o.odometry;
     config.use_imu = config.use_imu && o.use_imu;
-    if (!files.capture_json.empty()) {
+    if (o.mount) {
+        config.T_base_lidar = *o.mount;
+    } else if (!files.capture_json.empty()) {
         if (const auto mount = io::ReadCaptureMount(files.capture_json)) {
             config.T_base_lidar = *mount;
             report.mount_from_capture = true;
@@ -75,9 +79,10 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
             throw common::FileError(StatusCode::kNotFound, can_log.string(), 0, "missing");
         }
         body = ReadGo1(can_log);
+        for (pipeline::BodyInput& b : body) b.measured_ns += o.time_offset_ns;
         report.used_can = true;
     } else if (o.use_can && clouds) {
-        report.notes.push_back("a folder of point clouds: no IMU, no CAN (--can LOG adds one)");
+        report.notes.push_back("a folder of point clouds: no CAN (--can LOG adds one)");
     } else if (o.use_can) {
         report.notes.push_back(files.folder ? "no go1_can.log: no body-motion prior"
                                             : "no CAN log (a recording without a capture folder; "
@@ -91,6 +96,10 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
         info.format.pixels_per_column = info.format.columns_per_frame = 0;
     } else {
         info = capture::LoadRecordingInfo(files);
+        if (!o.imu_rotation_rpy_deg.isZero()) {
+            info.imu_to_sensor_transform.topLeftCorner<3, 3>() *=
+                common::RotationFromRpyDeg(o.imu_rotation_rpy_deg);
+        }
     }
     // The session names its metadata file: the JSON's, the bag's (whose metadata topic it is),
     // or a cloud folder's times file.
@@ -104,9 +113,21 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     pc.keyframes = o.keyframes;
     pipeline::ScanPipeline join(pc);
     if (capture) {
-        capture->OnImu(
-            [&](const ouster::ImuSample& s) { join.AddImu(pipeline::ImuFromOuster(s)); });
+        capture->OnImu([&](const ouster::ImuSample& s) {
+            odometry::ImuMeasurement m = pipeline::ImuFromOuster(s);
+            m.t_ns += o.time_offset_ns;
+            join.AddImu(m);
+        });
     }
+    // A cloud folder's IMU file: its samples join the scans as the packets' would.
+    std::vector<odometry::ImuMeasurement> folder_imu;
+    if (clouds && !clouds->imu.empty() && config.use_imu) {
+        folder_imu = ReadImuCsv(clouds->imu);
+        for (odometry::ImuMeasurement& m : folder_imu) m.t_ns += o.time_offset_ns;
+    } else if (clouds && config.use_imu) {
+        report.notes.push_back("no imu.csv beside the clouds: no IMU");
+    }
+    size_t next_imu = 0;
     // The next scan into `scan`: a frame of the recording, or the folder's next cloud.
     size_t next_cloud = 0;
     const auto next_scan = [&](pipeline::ScanInput* scan) {
@@ -125,12 +146,20 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
                                    " carry no per-point time: deskew is off (each scan is taken "
                                    "as if captured at one instant)");
         }
+        // The IMU samples up to the scan's end, as a recording delivers them before the scan
+        // is emitted.
+        int64_t end_ns = scan->cloud.stamp.ns;
+        for (const uint32_t dt : scan->cloud.time_offset_ns)
+            end_ns = std::max(end_ns, scan->cloud.stamp.ns + int64_t(dt));
+        for (; next_imu < folder_imu.size() && folder_imu[next_imu].t_ns <= end_ns; ++next_imu) {
+            join.AddImu(folder_imu[next_imu]);
+        }
         scan->complete = true;
         scan->frame_id = int64_t(next_cloud++);
         scan->last_column_ns = -1;
         scan->last_arrival_ns = 0;
         scan->emitted_arrival_ns = scan->cloud.stamp.ns;
-        scan->imu_before = 0;
+        scan->imu_before = join.imu_added();
         return true;
     };
 

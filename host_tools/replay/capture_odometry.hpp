@@ -11,6 +11,7 @@
 // SampleAge (the bridge's receive of the HighState), then moved to the sensor clock.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -34,6 +35,13 @@ struct CaptureOdometryOptions {
     odometry::LidarOdometryConfig odometry;  // T_base_lidar is taken from capture.json if there
     keyframes::KeyframeConfig keyframes;
     double max_duration_s = 0;  // > 0: stop after this much capture time
+    // Calibration the odometry is given: a rig's own (a real recording has no capture.json), or a
+    // deliberately wrong one, to measure what a calibration error costs (algorithms/odometry/
+    // README.md, "Rotated and miscalibrated mounts").
+    std::optional<Eigen::Isometry3d> mount;  // T_base_lidar; overrides capture.json's mount
+    int64_t time_offset_ns = 0;              // added to every IMU and Go1 sample's time
+    // Composed onto the metadata's IMU-to-sensor rotation: R_sensor_imu * R(roll, pitch, yaw).
+    Eigen::Vector3d imu_rotation_rpy_deg = Eigen::Vector3d::Zero();
     // Called after every scan (progress, figures); may be empty.
     std::function<void(const odometry::OdometryResult&)> on_scan;
 };

@@ -67,6 +67,11 @@ CloudFolder ResolveCloudFolder(const fs::path& dir) {
                             "start), here or as " +
                             parent.string());
     }
+    // The IMU file sits where the times file was found (KITTI-style layouts keep both in the
+    // sequence folder).
+    if (fs::is_regular_file(f.times.parent_path() / "imu.csv")) {
+        f.imu = f.times.parent_path() / "imu.csv";
+    }
     f.stamps_ns = io::ReadTimes(f.times);
     if (f.stamps_ns.size() != f.scans.size()) {
         throw FileError(StatusCode::kParseError, f.times.string(), 0,

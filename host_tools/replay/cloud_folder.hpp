@@ -4,6 +4,7 @@
 //   reflectance per point), in name order; and a times file: DIR/times.txt, else times.txt in
 //   DIR's parent (KITTI: sequences/NN/velodyne/ beside sequences/NN/times.txt), one time in
 //   seconds a line (the scan's start), line i for the i-th scan.
+// An IMU file, imu.csv (imu_csv.hpp), in DIR or its parent, is the folder's IMU when present.
 // Per-point time is used when the files have it (PCD/PLY field `t`: float seconds or integer
 // nanoseconds since the scan start, io/pcd.hpp); otherwise the scans cannot be deskewed, and
 // the caller says so. Readers are algorithms/io's; only the folder's layout is here.
@@ -24,6 +25,7 @@ struct CloudFolder {
     std::vector<int64_t> stamps_ns;            // one per scan
     std::filesystem::path times;               // the times file read
     std::string extension;                     // ".pcd", ".ply" or ".bin"
+    std::filesystem::path imu;                 // imu.csv, empty when there is none
 };
 
 // True for a folder that is not a capture folder (no lidar.pcap) and holds .pcd, .ply or .bin

@@ -23,6 +23,16 @@
 //   time) and the worst scan of the first second (first_s_ms_max, wall: the map is empty and the
 //   voxel sizes not yet adapted there).
 //
+// BM_OdometryCalibration/platform:P/mount:M/error:E/seed:S  (issue 17: a yardstick the odometry
+// did not build)
+//   60 s captures with the sensor mounted level (M 0, the default), pitched 15 deg (M 1) or
+//   yawed 90 deg (M 2) on the base, replayed with the calibration the capture was made with
+//   (E 0) or with one realistic error in what the odometry is given: the mount off by 1 cm
+//   (E 1) or by 1 deg (E 2), the IMU's rotation off by 1 deg (E 3), the IMU and CAN clocks off by
+//   1 ms (E 4), all four at once (E 5). Every error points along (1, 1, 1)/sqrt(3): a translation
+//   of 1 cm, a rotation of 1 deg about that axis. The same counters as BM_OdometryAccuracy;
+//   each capture is simulated once and shared by its six error cases.
+//
 // BM_OdometryMemory/seconds:S  (opt-in: BIMSLAM_BENCH_LONG=1)
 //   A long Go1 capture (the coverage walk repeated; ~4.3 MB of pcap per captured second, so ~7.7 GB
 //   for 30 min) replayed without writing a session: the process's resident memory after 5 minutes
@@ -36,9 +46,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "algorithms/io/capture_files.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
@@ -55,13 +69,16 @@ using simulate::Platform;
 // The default scenario of `platform`, `seconds` long (the walk repeats when it is shorter),
 // simulated in the sample building into dir/capture. The model is freed before returning.
 simulate::CaptureReport Simulate(const test::TempDir& dir, Platform platform, double seconds,
-                                 const std::string& sensor = "OS1-32") {
+                                 const std::string& sensor = "OS1-32", uint64_t seed = 1,
+                                 const Eigen::Vector3d& mount_rpy_deg = Eigen::Vector3d::Zero()) {
     const fs::path ifc = dir / "building.ifc";
     bim::WriteSampleBuilding(ifc);
     const bim::BimModel model = bim::LoadIfc(ifc);
     simulate::Scenario s = simulate::DefaultScenario(platform);
     s.duration_s = seconds;
     s.sensor.model = sensor;
+    s.seed = seed;
+    s.sensor.mount_rpy_deg = mount_rpy_deg;
     return simulate::SimulateCapture(s, model, "", dir / "capture");
 }
 
@@ -176,6 +193,57 @@ void BM_OdometrySensor(benchmark::State& state) {
 BENCHMARK(BM_OdometrySensor)
     ->ArgsProduct({{0, 1, 2}, {0, 1}, {60}})
     ->ArgNames({"sensor", "platform", "seconds"})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+
+void BM_OdometryCalibration(benchmark::State& state) {
+    const bool handheld = state.range(0) == 1;
+    const int mount = int(state.range(1)), error = int(state.range(2));
+    const uint64_t seed = uint64_t(state.range(3));
+    static const Eigen::Vector3d kMounts[] = {{0, 0, 0}, {0, 15, 0}, {0, 0, 90}};
+    // One capture per platform, mount and seed, kept for the error cases that follow it.
+    static std::map<std::tuple<bool, int, uint64_t>, std::unique_ptr<test::TempDir>> captures;
+    std::unique_ptr<test::TempDir>& dir = captures[{handheld, mount, seed}];
+    if (!dir) {
+        dir = std::make_unique<test::TempDir>();
+        Simulate(*dir, handheld ? Platform::kHandheld : Platform::kGo1, 60, "OS1-32", seed,
+                 kMounts[mount]);
+    }
+    const fs::path capture = *dir / "capture";
+    const Eigen::Vector3d axis = Eigen::Vector3d::Ones().normalized();
+    const Eigen::Matrix3d R_error = Eigen::AngleAxisd(M_PI / 180.0, axis).toRotationMatrix();
+    const Eigen::Vector3d ypr_deg = R_error.eulerAngles(2, 1, 0) * (180.0 / M_PI);
+
+    CaptureOdometryOptions o;
+    o.capture_dir = capture;
+    o.session_dir = *dir / "session";
+    o.overwrite = true;
+    o.use_can = !handheld;
+    o.odometry.registration.cpu_time_budget = true;
+    Eigen::Isometry3d T_base_lidar = *io::ReadCaptureMount(capture / "capture.json");
+    if (error == 1 || error == 5) T_base_lidar.translation() += 0.01 * axis;
+    if (error == 2 || error == 5) T_base_lidar.linear() = T_base_lidar.linear() * R_error;
+    o.mount = T_base_lidar;
+    if (error == 3 || error == 5) o.imu_rotation_rpy_deg = ypr_deg.reverse();
+    if (error == 4 || error == 5) o.time_offset_ns = 1'000'000;
+    CaptureOdometryReport rep;
+    for (auto _ : state) rep = RunCaptureOdometry(o);
+
+    evaluation::EvaluationConfig config;
+    config.align = evaluation::Alignment::kSe3;
+    SetCounters(state, rep,
+                evaluation::EvaluateFiles(o.session_dir / "trajectory.tum",
+                                          capture / "ground_truth.tum", config));
+    static const char* const kErrors[] = {"exact",     "mount 1 cm", "mount 1 deg",
+                                          "imu 1 deg", "clock 1 ms", "all four"};
+    static const char* const kMountNames[] = {"level", "pitched 15", "yawed 90"};
+    state.SetLabel(std::string(handheld ? "handheld" : "go1+can") + ", " + kMountNames[mount] +
+                   ", " + kErrors[error]);
+}
+BENCHMARK(BM_OdometryCalibration)
+    ->ArgsProduct({{0, 1}, {0}, {0, 1, 2, 3, 4, 5}, {1, 2}})
+    ->ArgsProduct({{0, 1}, {1, 2}, {0, 5}, {1, 2}})
+    ->ArgNames({"platform", "mount", "error", "seed"})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
 

@@ -6,17 +6,16 @@
 // its metadata topic and a truncated bag exit 2 naming the file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "algorithms/io/file_util.hpp"
-#include "algorithms/io/pcd.hpp"
-#include "algorithms/io/text_reader.hpp"
+#include "algorithms/io/trajectory.hpp"
 #include "drivers/net/packet_recording.hpp"
 #include "drivers/ouster/metadata.hpp"
-#include "host_tools/capture/ouster_capture.hpp"
 #include "tests/integration/rig_test_support.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -170,35 +169,19 @@ TEST_F(Formats, TruncatedBagExits2NamingTheFile) {
     }
 }
 
-// The capture's frames as per-scan files: PCD (binary, with ring and per-point time t) or KITTI
-// .bin (x y z reflectance, no time), and times.txt with each scan's start, as public data sets
-// ship them.
-fs::path ExportClouds(const fs::path& capture, const fs::path& dir, bool kitti) {
-    fs::create_directories(dir);
-    const ouster::SensorInfo info = ouster::LoadMetadata(capture / "metadata.json");
-    capture::OusterCapture cap(capture / "lidar.pcap", info);
-    std::string times;
-    common::PointCloud cloud;
-    int n = 0;
-    while (const ouster::LidarFrame* f = cap.NextFrame()) {
-        ouster::ToPointCloud(*f, &cloud);
-        char name[32];
-        std::snprintf(name, sizeof(name), "%06d.%s", n++, kitti ? "bin" : "pcd");
-        if (kitti) {
-            std::string bytes;
-            for (size_t i = 0; i < cloud.size(); ++i) {
-                const float v[4] = {cloud.xyz[i].x(), cloud.xyz[i].y(), cloud.xyz[i].z(),
-                                    cloud.intensity[i]};
-                bytes.append(reinterpret_cast<const char*>(v), sizeof(v));
-            }
-            test::WriteBytes(dir / name, bytes);
-        } else {
-            io::WritePcd(dir / name, cloud);
-        }
-        times += io::FormatNsAsSeconds(cloud.stamp.ns) + "\n";
-    }
-    test::WriteBytes(dir / "times.txt", times);
+// `bimslam ouster export --all`: the capture's frames as per-scan files (PCD or PLY with
+// per-point time t, KITTI .bin without), times.txt, imu.csv and the ground truth, as public data
+// sets ship them and as a peer odometry takes them.
+fs::path ExportClouds(const fs::path& capture, const fs::path& dir, const std::string& format) {
+    const auto r = test::RunCommand(kCli + " ouster export " + capture.string() + " --all -o " +
+                                    dir.string() + " --format " + format);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
     return dir;
+}
+
+size_t Lines(const fs::path& file) {
+    const std::string text = io::ReadFileToString(file);
+    return size_t(std::count(text.begin(), text.end(), '\n'));
 }
 
 double OdometryApe(const fs::path& input, const fs::path& session, const fs::path& truth,
@@ -215,36 +198,84 @@ double OdometryApe(const fs::path& input, const fs::path& session, const fs::pat
     return nlohmann::json::parse(e.out).at("ape_trans_rmse_m").get<double>();
 }
 
+// The peer-benchmark folder holds what it says: a cloud a frame, a time a cloud, the IMU, and the
+// ground truth both ways (TUM as the capture has it, KITTI poses from the first scan).
+TEST_F(Formats, ExportAllWritesWhatAPeerOdometryNeeds) {
+    const fs::path cap = Capture();
+    const fs::path dir = ExportClouds(cap, Tmp() / "peer", "ply");
+    const auto info = Json(test::RunCommand(kCli + " ouster info --json " + cap.string()));
+    const size_t scans = Lines(dir / "times.txt");
+    EXPECT_GE(scans, 39u);  // 4 s at 10 Hz
+    EXPECT_TRUE(fs::exists(dir / "000000.ply"));
+    EXPECT_TRUE(fs::exists(
+        dir / (std::string(scans < 100 ? "0000" : "000") + std::to_string(scans - 1) + ".ply")));
+    EXPECT_FALSE(fs::exists(
+        dir / (std::string(scans < 100 ? "0000" : "000") + std::to_string(scans) + ".ply")));
+    EXPECT_EQ(Lines(dir / "poses.txt"), scans);
+    EXPECT_EQ(io::ReadFileToString(dir / "ground_truth.tum"),
+              io::ReadFileToString(cap / "ground_truth.tum"));
+    // The KITTI poses start at the identity and end where the ground truth does, relative to
+    // its first pose.
+    const auto kitti = io::ReadKitti(dir / "poses.txt");
+    const auto truth = io::ReadTum(cap / "ground_truth.tum");
+    EXPECT_LT((kitti.front().matrix() - Eigen::Matrix4d::Identity()).norm(), 1e-12);
+    const Eigen::Isometry3d last = truth.front().Pose().inverse() * truth[scans - 1].Pose();
+    EXPECT_LT((kitti.back().matrix() - last.matrix()).norm(), 1e-9);
+    // imu.csv: the recording's IMU samples, header plus one line each (100 Hz).
+    ASSERT_TRUE(info.is_object());
+    EXPECT_GT(Lines(dir / "imu.csv"), 4 * 90u);
+    EXPECT_EQ(io::ReadFileToString(dir / "imu.csv").rfind("t_s,gyro_x,", 0), 0u);
+    // Bad format: exit 2 from the command line, nothing written.
+    const auto bad = test::RunCommand(kCli + " ouster export " + cap.string() + " --all -o " +
+                                      (Tmp() / "peer_bad").string() + " --format las");
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    EXPECT_FALSE(fs::exists(Tmp() / "peer_bad"));
+}
+
 TEST_F(Formats, FolderOfPointCloudsWithATimesFileIsARecording) {
     const fs::path cap = Capture();
     const fs::path truth = cap / "ground_truth.tum";
-    std::string notes;
-    // PCD with per-point time: deskewed, as accurate as the recording without its IMU.
-    const double pcd = OdometryApe(ExportClouds(cap, Tmp() / "pcd_scans", false),
-                                   Tmp() / "pcd_session", truth, &notes);
-    EXPECT_EQ(notes.find("deskew is off"), std::string::npos) << notes;
-    // The same frames from the pcap with its IMU left out (the folder has none).
-    std::string pcap_notes;
     const fs::path ouster_style = Tmp() / "ouster_style" / "walk.pcap";
-    const auto pcap_run = test::RunCommand(kCli + " odometry " + ouster_style.string() + " -o " +
-                                           (Tmp() / "pcap_noimu").string() +
-                                           " --no-imu --budget-ms 1000 --overwrite");
-    EXPECT_EQ(pcap_run.exit_code, 0) << pcap_run.err;
-    const auto e = test::RunCommand(kCli + " evaluate --json --est " +
-                                    (Tmp() / "pcap_noimu" / "trajectory.tum").string() + " --ref " +
-                                    truth.string());
-    const double pcap = nlohmann::json::parse(e.out).at("ape_trans_rmse_m").get<double>();
+    // The same frames from the pcap (no capture.json mount, as the folder has none).
+    const auto pcap_ape = [&](const std::string& flags, const std::string& name) {
+        const auto run =
+            test::RunCommand(kCli + " odometry " + ouster_style.string() + " -o " +
+                             (Tmp() / name).string() + flags + " --budget-ms 1000 --overwrite");
+        EXPECT_EQ(run.exit_code, 0) << run.err;
+        const auto e = test::RunCommand(kCli + " evaluate --json --est " +
+                                        (Tmp() / name / "trajectory.tum").string() + " --ref " +
+                                        truth.string());
+        return nlohmann::json::parse(e.out).at("ape_trans_rmse_m").get<double>();
+    };
+    const double pcap_imu = pcap_ape("", "pcap_imu");
+    const double pcap_noimu = pcap_ape(" --no-imu", "pcap_noimu");
+    std::string notes;
+    // PCD with per-point time and the IMU file: deskewed, with the IMU, as the recording.
+    const fs::path pcd_dir = ExportClouds(cap, Tmp() / "pcd_scans", "pcd");
+    const double pcd = OdometryApe(pcd_dir, Tmp() / "pcd_session", truth, &notes);
+    EXPECT_EQ(notes.find("deskew is off"), std::string::npos) << notes;
+    EXPECT_EQ(notes.find("no imu.csv"), std::string::npos) << notes;
+    // PLY likewise.
+    const double ply = OdometryApe(ExportClouds(cap, Tmp() / "ply_scans", "ply"),
+                                   Tmp() / "ply_session", truth, &notes);
+    // Without its IMU file the folder is the recording without its IMU, and says so.
+    fs::remove(pcd_dir / "imu.csv");
+    const double pcd_noimu = OdometryApe(pcd_dir, Tmp() / "pcd_noimu_session", truth, &notes);
+    EXPECT_NE(notes.find("no imu.csv"), std::string::npos) << notes;
     // KITTI .bin, no per-point time: runs, says deskew is off.
-    const double bin = OdometryApe(ExportClouds(cap, Tmp() / "kitti" / "velodyne", true),
+    const double bin = OdometryApe(ExportClouds(cap, Tmp() / "kitti" / "velodyne", "bin"),
                                    Tmp() / "bin_session", truth, &notes);
     EXPECT_NE(notes.find("deskew is off"), std::string::npos) << notes;
-    std::cout << "APE RMSE on the 4 s handheld capture: PCD with per-point time " << pcd * 100
-              << " cm, KITTI .bin without time " << bin * 100 << " cm, the pcap --no-imu "
-              << pcap * 100 << " cm\n";
-    // Per-point time used: the folder gives what the recording gives (t is float32 seconds in
-    // a PCD, so not bit for bit).
-    EXPECT_NEAR(pcd, pcap, 0.01);
-    EXPECT_LT(pcd, 0.05);
+    std::cout << "APE RMSE on the 4 s handheld capture: pcap " << pcap_imu * 100
+              << " cm, PCD folder with imu.csv " << pcd * 100 << " cm, PLY " << ply * 100
+              << " cm; without the IMU: pcap " << pcap_noimu * 100 << " cm, PCD " << pcd_noimu * 100
+              << " cm; KITTI .bin without time " << bin * 100 << " cm\n";
+    // Per-point time and the IMU used: the folder gives what the recording gives (t is float32
+    // seconds in a PCD and PLY, the IMU 9 digits, so not bit for bit).
+    EXPECT_NEAR(pcd, pcap_imu, 0.005);
+    EXPECT_NEAR(ply, pcap_imu, 0.005);
+    EXPECT_NEAR(pcd_noimu, pcap_noimu, 0.01);
+    EXPECT_LT(pcd, 0.03);
     EXPECT_LT(bin, 0.10);
 
     // times.txt moved to the KITTI place (the parent of velodyne/) still reads; gone: exit 2.
