@@ -70,28 +70,24 @@ double MovingDoor::AngleDeg(double t) const {
 std::vector<MovingDoor> FindMovingDoors(const bim::BimModel& model, const MovingDoorsSpec& spec,
                                         const std::vector<uint8_t>& removed) {
     std::vector<uint8_t> pick(model.elements.size(), 0);
-    for (size_t k = 0; k < spec.global_ids.size(); ++k) {
-        size_t matched = 0;
-        for (size_t e = 0; e < model.elements.size(); ++e) {
-            if (model.elements[e].global_id == spec.global_ids[k]) pick[e] = 1, ++matched;
+    // Marks the elements whose GlobalId or class is in `wanted`; each must match one.
+    auto mark = [&](const std::vector<std::string>& wanted, const std::string& key, bool by_class) {
+        for (size_t k = 0; k < wanted.size(); ++k) {
+            size_t matched = 0;
+            for (size_t e = 0; e < model.elements.size(); ++e) {
+                const bim::BimElement& el = model.elements[e];
+                if ((by_class ? el.ifc_class : el.global_id) == wanted[k]) pick[e] = 1, ++matched;
+            }
+            if (matched == 0) {
+                throw common::Error(common::StatusCode::kInvalidArgument,
+                                    "edits.moving_doors." + key + "[" + std::to_string(k) +
+                                        "] = '" + wanted[k] + "': no element of the model has " +
+                                        (by_class ? "this class" : "this GlobalId"));
+            }
         }
-        if (matched == 0) {
-            throw common::Error(common::StatusCode::kInvalidArgument,
-                                "edits.moving_doors.global_ids[" + std::to_string(k) + "] = '" +
-                                    spec.global_ids[k] + "': no element has this GlobalId");
-        }
-    }
-    for (size_t k = 0; k < spec.classes.size(); ++k) {
-        size_t matched = 0;
-        for (size_t e = 0; e < model.elements.size(); ++e) {
-            if (model.elements[e].ifc_class == spec.classes[k]) pick[e] = 1, ++matched;
-        }
-        if (matched == 0) {
-            throw common::Error(common::StatusCode::kInvalidArgument,
-                                "edits.moving_doors.classes[" + std::to_string(k) + "] = '" +
-                                    spec.classes[k] + "': no element of the model has this class");
-        }
-    }
+    };
+    mark(spec.global_ids, "global_ids", false);
+    mark(spec.classes, "classes", true);
     std::vector<MovingDoor> doors;
     for (size_t e = 0; e < model.elements.size(); ++e) {
         if (!pick[e] || (e < removed.size() && removed[e])) continue;
