@@ -19,6 +19,8 @@ struct Scene::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     std::vector<uint32_t> ids;  // per triangle (primID of geometry 0)
+    // Per triangle; empty when every triangle is diffuse (the common case: no lookups then).
+    std::vector<Material> materials;
     size_t triangles = 0;
     // Per triangle, for closest-point queries: its vertices and its unit normal (zero when
     // degenerate), 12 floats together: no index lookups, and the plane distance rejects most

@@ -12,6 +12,7 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/simulation/embree_scene.hpp"
+#include "algorithms/simulation/material_paths.hpp"
 #include "algorithms/simulation/measurement_math.hpp"
 
 #if defined(__SSE__)
@@ -21,7 +22,9 @@
 namespace bimslam::simulation {
 namespace {
 using common::StatusCode;
+using detail::LaneHit;
 using detail::Mix;
+using detail::PathEnd;
 using detail::PixelRandom;
 using detail::Power;
 using detail::RoundNonNegative;
@@ -59,15 +62,6 @@ struct Packet<16> {
     static void Intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* rh) {
         rtcIntersect16(valid, s, c, rh);
     }
-};
-
-// What a lane of a packet returned.
-struct LaneHit {
-    bool hit = false;
-    float t = 0;
-    uint32_t prim = 0;
-    Eigen::Vector3f normal;               // unnormalised geometric normal
-    const Scene::Impl* source = nullptr;  // the scene hit (prim indexes its triangles)
 };
 
 template <int K>
@@ -134,6 +128,8 @@ struct Setup {
     const Scene::Impl* scene = nullptr;
     const Scene::Impl* overlay = nullptr;  // SimulatorOptions::overlay, null when none or empty
     const Scene::Impl* rig = nullptr;      // SimulatorOptions::rig, null when none or empty
+    bool materials = false;                // the static scene has glass or mirrors
+    detail::MaterialModel material_model;
     const NoiseModel* noise = nullptr;
     ScanImage* out = nullptr;
     int h = 0, w = 0;
@@ -153,11 +149,11 @@ struct Setup {
 };
 
 struct Counts {
-    size_t hits = 0, returns = 0, dropouts = 0, too_close = 0;
+    size_t hits = 0, returns = 0, dropouts = 0, too_close = 0, glass_returns = 0, ghosts = 0;
 };
 
-// Writes pixel (u, v) from what its ray returned.
-void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const LaneHit& hit,
+// Writes pixel (u, v) from what its ray returned; true when it has a return.
+bool Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const LaneHit& hit,
              Counts* counts) {
     ScanImage& out = *s.out;
     const size_t i = out.Index(u, v);
@@ -166,6 +162,7 @@ void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const Lan
         out.signal[i] = 0;
         out.reflectivity[i] = 0;
         out.element_id[i] = kNoElement;
+        return false;
     };
     if (!hit.hit) return no_return();
     ++counts->hits;
@@ -216,6 +213,7 @@ void Measure(const Setup& s, int u, int v, const Eigen::Vector3f& dir, const Lan
     const double rr = std::max(r, 1.0);
     out.signal[i] = static_cast<uint16_t>(
         RoundNonNegative(std::min(65535.0, nm.signal_at_1m * lambert / (rr * rr))));
+    return true;
 }
 
 // Casts columns [v0, v1) in packets of K rays: consecutive beams of a column, then the next
@@ -236,15 +234,19 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
     typename Packet<K>::RayHit rh{};
     alignas(64) int valid[K > 1 ? K : 1] = {};
     int lane_u[K], lane_v[K];
-    Eigen::Vector3f lane_dir[K], lane_origin_s[K], lane_dir_s[K];
+    Eigen::Vector3f lane_dir[K], lane_origin[K], lane_origin_s[K], lane_dir_s[K];
     int lanes = 0;
     LaneHit hits[K];
+    const Eigen::Vector3f* hit_dir[K];  // the direction of each lane's last leg
+    float first_t[K];                   // where each lane's first leg ends (the rig's tfar)
+    uint8_t path[K];                    // 1: a glass return, 2: a ghost (after a mirror)
+    PathEnd ends[K];
     auto flush = [&] {
         if constexpr (K > 1) {
             for (int i = lanes; i < K; ++i) valid[i] = 0;
         }
         Packet<K>::Intersect(valid, s.scene->scene, &context, &rh);
-        if (s.overlay == nullptr && s.rig == nullptr) {
+        if (s.overlay == nullptr && s.rig == nullptr && !s.materials) {
             for (int i = 0; i < lanes; ++i) {
                 LaneHit hit = GetLane<K>(rh, i);
                 hit.source = s.scene;
@@ -256,7 +258,24 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
         for (int i = 0; i < lanes; ++i) {
             hits[i] = GetLane<K>(rh, i);
             hits[i].source = s.scene;
+            hit_dir[i] = &lane_dir[i];
+            first_t[i] = hits[i].hit ? hits[i].t : s.t_far;
+            path[i] = 0;
             ClearHit<K>(rh, i);  // the ray and its tfar (the static hit's t) stay
+        }
+        // Glass and mirrors: the rare lanes that hit one follow their path one ray at a time.
+        if (s.materials) {
+            for (int i = 0; i < lanes; ++i) {
+                if (!hits[i].hit || s.scene->materials[hits[i].prim] == Material::kDiffuse) {
+                    continue;
+                }
+                const PixelRandom random(s.key, s.out->Index(lane_u[i], lane_v[i]));
+                ends[i] = detail::FollowPath(*s.scene, s.overlay, s.material_model, random,
+                                             lane_origin[i], lane_dir[i], hits[i]);
+                hits[i] = ends[i].hit;
+                hit_dir[i] = &ends[i].dir;
+                path[i] = ends[i].glass_return ? 1 : ends[i].mirrored ? 2 : 0;
+            }
         }
         if (s.overlay != nullptr) {
             Packet<K>::Intersect(valid, s.overlay->scene, &context, &rh);
@@ -264,27 +283,33 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
                 if (LaneHitSomething<K>(rh, i)) {
                     hits[i] = GetLane<K>(rh, i);
                     hits[i].source = s.overlay;
+                    hit_dir[i] = &lane_dir[i];
+                    first_t[i] = hits[i].t;
+                    path[i] = 0;
                     ClearHit<K>(rh, i);
                 }
             }
         }
         if (s.rig != nullptr) {
+            // Only the first leg passes the rig (a reflection back onto the body is left out).
             for (int i = 0; i < lanes; ++i) {
-                SetLane<K>(rh, i, lane_origin_s[i], lane_dir_s[i], s.t_near,
-                           hits[i].hit ? hits[i].t : s.t_far);
+                SetLane<K>(rh, i, lane_origin_s[i], lane_dir_s[i], s.t_near, first_t[i]);
             }
             Packet<K>::Intersect(valid, s.rig->scene, &context, &rh);
             for (int i = 0; i < lanes; ++i) {
                 if (LaneHitSomething<K>(rh, i)) {
                     hits[i] = GetLane<K>(rh, i);
                     hits[i].source = s.rig;
+                    // A rig hit's normal is in the sensor frame: its incidence from that ray.
+                    hit_dir[i] = &lane_dir_s[i];
+                    path[i] = 0;
                 }
             }
         }
         for (int i = 0; i < lanes; ++i) {
-            // A rig hit's normal is in the sensor frame: its incidence from the sensor-frame ray.
-            const Eigen::Vector3f& dir = hits[i].source == s.rig ? lane_dir_s[i] : lane_dir[i];
-            Measure(s, lane_u[i], lane_v[i], dir, hits[i], &counts);
+            if (Measure(s, lane_u[i], lane_v[i], *hit_dir[i], hits[i], &counts) && path[i]) {
+                ++(path[i] == 1 ? counts.glass_returns : counts.ghosts);
+            }
         }
         lanes = 0;
     };
@@ -307,6 +332,7 @@ Counts CastColumns(const Setup& s, int v0, int v1) {
             SetLane<K>(rh, lanes, o_w, d_w, s.t_near, s.t_far);
             if constexpr (K > 1) valid[lanes] = -1;
             lane_u[lanes] = u, lane_v[lanes] = v, lane_dir[lanes] = d_w;
+            lane_origin[lanes] = o_w;
             if (s.rig != nullptr) {
                 lane_dir_s[lanes] = (s.R_sensor_lidar * dir).cast<float>();
                 lane_origin_s[lanes] = (s.R_sensor_lidar * off + s.t_sensor_lidar_m).cast<float>();
@@ -372,6 +398,13 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     }
     s.noise = &noise;
     s.out = out;
+    if (scene.has_special_materials()) {
+        s.materials = true;
+        s.material_model.glass_return_probability = noise.glass_return_probability;
+        s.material_model.glass_return_power = Power(noise.glass_return_exponent);
+        s.material_model.max_mirror_bounces = noise.max_mirror_bounces;
+        s.material_model.t_far = static_cast<float>(noise.max_range_m);
+    }
     s.h = model.beams();
     s.w = model.columns;
     out->Resize(s.h, s.w);
@@ -409,7 +442,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     const uint64_t embree_errors = s.scene->error_count.load();
     const uint64_t overlay_errors = s.overlay ? s.overlay->error_count.load() : 0;
     const uint64_t rig_errors = s.rig ? s.rig->error_count.load() : 0;
-    std::atomic<size_t> hits{0}, returns{0}, dropouts{0}, too_close{0};
+    std::atomic<size_t> hits{0}, returns{0}, dropouts{0}, too_close{0}, glass_returns{0}, ghosts{0};
     auto body = [&](const tbb::blocked_range<int>& range) {
         [[maybe_unused]] ScopedFlushDenormals ftz;  // empty where neither applies
         Counts c;
@@ -428,6 +461,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
                 break;
         }
         hits += c.hits, returns += c.returns, dropouts += c.dropouts, too_close += c.too_close;
+        glass_returns += c.glass_returns, ghosts += c.ghosts;
     };
     auto run = [&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, s.w, options.columns_per_task), body);
@@ -445,6 +479,7 @@ ScanStats Run(const Scene& scene, const LidarModel& model, const Eigen::Isometry
     stats.rays = model.pixels();
     stats.hits = hits, stats.returns = returns, stats.dropouts = dropouts;
     stats.too_close = too_close;
+    stats.glass_returns = glass_returns, stats.ghosts = ghosts;
     return stats;
 }
 }  // namespace
@@ -479,6 +514,12 @@ void NoiseModel::Validate() const {
                     "dropout_range_exponent", dropout_range_exponent, "must be > 0");
     common::Require(NonNegative(albedo) && albedo <= 1, t, "albedo", albedo, "must be in [0, 1]");
     common::Require(NonNegative(signal_at_1m), t, "signal_at_1m", signal_at_1m, "must be >= 0");
+    common::Require(NonNegative(glass_return_probability) && glass_return_probability <= 1, t,
+                    "glass_return_probability", glass_return_probability, "must be in [0, 1]");
+    common::Require(NonNegative(glass_return_exponent) && glass_return_exponent <= 1000, t,
+                    "glass_return_exponent", glass_return_exponent, "must be in [0, 1000]");
+    common::Require(max_mirror_bounces >= 0 && max_mirror_bounces <= 8, t, "max_mirror_bounces",
+                    max_mirror_bounces, "must be in [0, 8]");
 }
 
 void SimulatorOptions::Validate() const {

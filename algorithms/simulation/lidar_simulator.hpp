@@ -24,6 +24,23 @@
 //                  (uint16 photon-count-like: inverse-square, saturating below 1 m)
 // Pixels without a return have range 0, signal 0, reflectivity 0 and element id kNoElement.
 //
+// Materials (Scene's Material, per triangle of the static scene; README.md has the physics):
+//   - glass: the beam meets the pane at incidence a. With probability
+//         p = glass_return_probability * cos(a)^glass_return_exponent
+//     (a PixelRandom draw) the pane returns (its range, its id: Fresnel reflection comes back to
+//     the receiver only near normal incidence); otherwise the beam passes on undeflected and what
+//     lies behind the pane returns;
+//   - mirror: the beam reflects, d' = d - 2 (d.n) n, and goes on from the hit point. The sensor
+//     times the whole path and reports it along the beam it sent, so the point appears behind
+//     the mirror, at the mirror image of the surface the beam finally hit (a ghost), with that
+//     surface's element id. At most max_mirror_bounces reflections (then no return).
+//   The measurement model above then applies to the path's end at the path's whole length, with
+//   the incidence of its last leg. How a user tells a ghost: its point does not lie on the
+//   surface of its element (it is mirrored across the mirror's plane); ScanStats counts them.
+//   Only the static scene's materials act (overlay and rig triangles are diffuse); later legs
+//   are cast against the static scene and the overlay, never the rig. A scene without special
+//   materials takes the plain path: its images are unchanged, byte for byte.
+//
 // Overlay (SimulatorOptions::overlay): a second, small Scene (e.g. people walking, rebuilt per
 // scan) cast with the same rays as the static scene, so the big static BVH is never rebuilt for
 // moving objects. Each ray is cast first against the static scene, then against the overlay for
@@ -75,6 +92,12 @@ struct NoiseModel {
     // Intensity proxy, see the file comment.
     double albedo = 0.5;           // diffuse reflectance of every surface, [0, 1]
     double signal_at_1m = 4000.0;  // signal of a white target at 1 m, normal incidence
+    // Materials, see the file comment. Glass returns p0 cos(a)^k: p0 = 0.5 and k = 30 give
+    // p >= 0.25 within 12 degrees of normal incidence, 0.11 at 20, < 0.007 beyond 30 (real Ouster
+    // scans of glazing show returns mostly near normal incidence, README.md).
+    double glass_return_probability = 0.5;  // p0, in [0, 1]
+    double glass_return_exponent = 30.0;    // k, >= 0
+    int max_mirror_bounces = 2;             // more reflections: no return
 
     // No noise and no dropouts (the range limits, quantisation and intensity stay).
     static NoiseModel Noiseless();
@@ -99,11 +122,13 @@ struct ScanImage {
 };
 
 struct ScanStats {
-    size_t rays = 0;       // H * W
-    size_t hits = 0;       // rays that hit geometry within max_range_m
-    size_t returns = 0;    // pixels with a range
-    size_t dropouts = 0;   // hits removed by the dropout model
-    size_t too_close = 0;  // hits removed by min_range_m (before or after noise)
+    size_t rays = 0;           // H * W
+    size_t hits = 0;           // rays that hit geometry within max_range_m
+    size_t returns = 0;        // pixels with a range
+    size_t dropouts = 0;       // hits removed by the dropout model
+    size_t too_close = 0;      // hits removed by min_range_m (before or after noise)
+    size_t glass_returns = 0;  // returns from a glass pane
+    size_t ghosts = 0;         // returns whose path reflected off a mirror
 };
 
 struct SimulatorOptions {

@@ -1,5 +1,6 @@
 #include "algorithms/simulation/scene.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -177,6 +178,20 @@ Scene::Impl::~Impl() {
 }
 
 Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_ids,
+             std::vector<Material> materials, const SceneConfig& config)
+    : Scene(mesh, std::move(triangle_ids), config) {
+    Require(materials.empty() || materials.size() == mesh.triangles.size(),
+            "materials has " + std::to_string(materials.size()) + " entries, the mesh " +
+                std::to_string(mesh.triangles.size()) + " triangles");
+    // Kept only when some triangle is special, so that a scene of diffuse triangles takes the
+    // plain path however it was built.
+    if (std::any_of(materials.begin(), materials.end(),
+                    [](Material m) { return m != Material::kDiffuse; })) {
+        impl_->materials = std::move(materials);
+    }
+}
+
+Scene::Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_ids,
              const SceneConfig& config)
     : impl_(std::make_unique<Impl>()) {
     Require(mesh.IndicesValid(),
@@ -255,6 +270,12 @@ Scene& Scene::operator=(Scene&& other) noexcept = default;
 size_t Scene::triangle_count() const { return impl_->triangles; }
 
 uint32_t Scene::TriangleId(uint32_t i) const { return impl_->ids[i]; }
+
+Material Scene::MaterialOf(uint32_t i) const {
+    return impl_->materials.empty() ? Material::kDiffuse : impl_->materials[i];
+}
+
+bool Scene::has_special_materials() const { return !impl_->materials.empty(); }
 
 Eigen::AlignedBox3f Scene::Bounds() const {
     if (impl_->triangles == 0) return Eigen::AlignedBox3f();

@@ -19,6 +19,15 @@
 
 namespace bimslam::simulation {
 
+// What a triangle does to a LiDAR beam (lidar_simulator.hpp, "Materials"; README.md has the
+// physics). Only the static scene's materials act; an overlay's or rig scene's triangles are
+// treated as diffuse.
+enum class Material : uint8_t {
+    kDiffuse = 0,  // a Lambertian surface: the beam returns from it (the default)
+    kGlass = 1,    // a clear pane: the beam mostly passes on, near normal incidence it may return
+    kMirror = 2,   // specular: the beam reflects and the sensor reports the whole path's length
+};
+
 struct SceneConfig {
     // Embree's RTC_SCENE_FLAG_ROBUST: no optimisations that lose accuracy, so rays through
     // shared edges and vertices of a closed mesh do not slip through. Costs a few per cent.
@@ -37,6 +46,10 @@ public:
     // ray misses.
     explicit Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_ids = {},
                    const SceneConfig& config = {});
+    // The same with a material per triangle (empty: all diffuse); throws common::Error
+    // (kInvalidArgument) for a list of the wrong length.
+    Scene(const common::TriangleMesh& mesh, std::vector<uint32_t> triangle_ids,
+          std::vector<Material> materials, const SceneConfig& config = {});
     ~Scene();
     Scene(Scene&& other) noexcept;
     Scene& operator=(Scene&& other) noexcept;
@@ -46,6 +59,11 @@ public:
     size_t triangle_count() const;
     // The id of triangle i (i < triangle_count()).
     uint32_t TriangleId(uint32_t i) const;
+    // The material of triangle i (i < triangle_count()).
+    Material MaterialOf(uint32_t i) const;
+    // True when some triangle is not diffuse (SimulateScan then follows beams through glass and
+    // off mirrors; without, it takes the plain path).
+    bool has_special_materials() const;
     // Bounds of the geometry; an empty box for an empty scene.
     Eigen::AlignedBox3f Bounds() const;
 

@@ -131,6 +131,14 @@ void ValidateNoise(const NoiseSpec& n) {
     RequireProbability("noise.lidar.dropout", n.lidar.dropout);
     RequireInRange("noise.lidar.max_range_m", n.lidar.max_range_m, 0, 1000,
                    "must be > 0 and <= 1000");
+    Require(Finite(n.lidar.glass_return_probability) && n.lidar.glass_return_probability >= 0 &&
+                n.lidar.glass_return_probability <= 1,
+            "noise.lidar.glass_return_probability", Num(n.lidar.glass_return_probability),
+            "must be in [0, 1]");
+    Require(Finite(n.lidar.glass_return_exponent) && n.lidar.glass_return_exponent >= 0 &&
+                n.lidar.glass_return_exponent <= 1000,
+            "noise.lidar.glass_return_exponent", Num(n.lidar.glass_return_exponent),
+            "must be in [0, 1000]");
     RequireNonNegative("noise.imu.accel_sigma_mps2", n.imu.accel_sigma_mps2);
     RequireNonNegative("noise.imu.gyro_sigma_deg_s", n.imu.gyro_sigma_deg_s);
     RequireNonNegative("noise.imu.accel_bias_sigma_mps2", n.imu.accel_bias_sigma_mps2);
@@ -208,6 +216,24 @@ void ValidateEdits(const EditsSpec& e) {
         RequireInRange(p + ".radius_m", q.radius_m, 0, 2, "must be > 0 and <= 2");
         RequireInRange(p + ".height_m", q.height_m, 0, 3, "must be > 0 and <= 3");
     }
+    for (size_t i = 0; i < e.mirrors.size(); ++i) {
+        const std::string p = ItemPath("edits.mirrors", i);
+        const AddedMirror& m = e.mirrors[i];
+        RequireFinite(p + ".center", m.center);
+        Require(m.size.allFinite() && (m.size.array() > 0).all() && (m.size.array() <= 20).all(),
+                p + ".size", Vec(m.size), "must be > 0 and <= 20 m in each axis");
+        RequireFinite(p + ".yaw_deg", m.yaw_deg);
+    }
+    const MovingDoorsSpec& d = e.moving_doors;
+    for (size_t i = 0; i < d.global_ids.size(); ++i) {
+        RequireNonEmpty(ItemPath("edits.moving_doors.global_ids", i), d.global_ids[i]);
+    }
+    for (size_t i = 0; i < d.classes.size(); ++i) {
+        RequireIfcClass(ItemPath("edits.moving_doors.classes", i), d.classes[i]);
+    }
+    RequireInRange("edits.moving_doors.period_s", d.period_s, 0, 3600, "must be > 0 and <= 3600");
+    Require(Finite(d.max_angle_deg) && d.max_angle_deg >= 0 && d.max_angle_deg <= 180,
+            "edits.moving_doors.max_angle_deg", Num(d.max_angle_deg), "must be in [0, 180]");
 }
 
 }  // namespace

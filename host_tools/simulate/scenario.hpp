@@ -78,6 +78,11 @@ struct LidarNoiseSpec {
     double range_sigma_m = 0.01;
     double dropout = 0.001;  // base dropout probability (simulation::NoiseModel::dropout_base)
     double max_range_m = 100.0;
+    // Glass (edits.glass) returns from the pane with probability p0 cos(a)^k at incidence a
+    // (simulation::NoiseModel::glass_return_probability and _exponent, where the defaults are
+    // justified).
+    double glass_return_probability = 0.5;
+    double glass_return_exponent = 30.0;
 
     bool operator==(const LidarNoiseSpec&) const = default;
 };
@@ -181,6 +186,27 @@ struct PersonSpec {
     bool operator==(const PersonSpec&) const = default;
 };
 
+// A flat mirror: a vertical rectangle facing `yaw_deg` (its normal (cos yaw, sin yaw, 0)).
+struct AddedMirror {
+    std::string name;
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();  // of the reflecting face
+    Eigen::Vector2d size{1.0, 1.5};                    // width, height
+    double yaw_deg = 0.0;
+
+    bool operator==(const AddedMirror&) const = default;
+};
+// Doors that swing: a leaf of the door's width and height turning about its hinge, the angle
+// max_angle_deg (1 - cos(2 pi (t / period_s + phase))) / 2 from closed, a phase per door.
+// Without classes or global_ids: none (doors stay open and absent, as the BIM's doors are).
+struct MovingDoorsSpec {
+    std::vector<std::string> global_ids;
+    std::vector<std::string> classes;  // e.g. IfcDoor: every element of the class
+    double period_s = 8.0;
+    double max_angle_deg = 90.0;
+
+    bool operator==(const MovingDoorsSpec&) const = default;
+};
+
 struct EditsSpec {
     std::vector<AddedBox> boxes;
     std::vector<AddedCylinder> cylinders;
@@ -190,6 +216,10 @@ struct EditsSpec {
     std::vector<MovedElement> moved;
     AsBuiltSpec as_built;
     std::vector<PersonSpec> people;
+    // Windows and curtain walls as glass (simulation::Material::kGlass) instead of left out.
+    bool glass = false;
+    std::vector<AddedMirror> mirrors;
+    MovingDoorsSpec moving_doors;
 
     bool operator==(const EditsSpec&) const = default;
 };

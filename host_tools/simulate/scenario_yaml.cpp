@@ -180,6 +180,7 @@ public:
     void Read(const Node& n, const std::string& p, MovedElement& out);
     void Read(const Node& n, const std::string& p, WallOffset& out);
     void Read(const Node& n, const std::string& p, PersonSpec& out);
+    void Read(const Node& n, const std::string& p, AddedMirror& out);
 
     // The line of `path` or of the nearest enclosing key read; 0 when none.
     size_t LineOf(std::string path) const {
@@ -249,13 +250,25 @@ void Reader::Read(const Node& n, const std::string& p, PersonSpec& out) {
     Get(n, p, "height_m", out.height_m);
 }
 
+void Reader::Read(const Node& n, const std::string& p, AddedMirror& out) {
+    Keys(n, p, {"name", "center", "size", "yaw_deg"});
+    Get(n, p, "name", out.name);
+    Get(n, p, "center", out.center);
+    Get(n, p, "size", out.size);
+    Get(n, p, "yaw_deg", out.yaw_deg);
+}
+
 void ReadNoise(Reader& r, const Node& n, NoiseSpec& out) {
     r.Keys(n, "noise", {"lidar", "imu", "odometry"});
     const Node lidar = Reader::At(n, "lidar");
-    r.Keys(lidar, "noise.lidar", {"range_sigma_m", "dropout", "max_range_m"});
+    r.Keys(lidar, "noise.lidar",
+           {"range_sigma_m", "dropout", "max_range_m", "glass_return_probability",
+            "glass_return_exponent"});
     r.Get(lidar, "noise.lidar", "range_sigma_m", out.lidar.range_sigma_m);
     r.Get(lidar, "noise.lidar", "dropout", out.lidar.dropout);
     r.Get(lidar, "noise.lidar", "max_range_m", out.lidar.max_range_m);
+    r.Get(lidar, "noise.lidar", "glass_return_probability", out.lidar.glass_return_probability);
+    r.Get(lidar, "noise.lidar", "glass_return_exponent", out.lidar.glass_return_exponent);
     const Node imu = Reader::At(n, "imu");
     r.Keys(
         imu, "noise.imu",
@@ -279,7 +292,8 @@ void ReadNoise(Reader& r, const Node& n, NoiseSpec& out) {
 
 void ReadEdits(Reader& r, const Node& n, EditsSpec& out) {
     r.Keys(n, "edits",
-           {"boxes", "cylinders", "meshes", "clutter", "removed", "moved", "as_built", "people"});
+           {"boxes", "cylinders", "meshes", "clutter", "removed", "moved", "as_built", "people",
+            "glass", "mirrors", "moving_doors"});
     r.Get(n, "edits", "boxes", out.boxes);
     r.Get(n, "edits", "cylinders", out.cylinders);
     r.Get(n, "edits", "meshes", out.meshes);
@@ -300,6 +314,15 @@ void ReadEdits(Reader& r, const Node& n, EditsSpec& out) {
     r.Get(as_built, "edits.as_built", "wall_offset_sigma_m", out.as_built.wall_offset_sigma_m);
     r.Get(as_built, "edits.as_built", "walls", out.as_built.walls);
     r.Get(n, "edits", "people", out.people);
+    r.Get(n, "edits", "glass", out.glass);
+    r.Get(n, "edits", "mirrors", out.mirrors);
+    const Node doors = Reader::At(n, "moving_doors");
+    const std::string d = "edits.moving_doors";
+    r.Keys(doors, d, {"global_ids", "classes", "period_s", "max_angle_deg"});
+    r.Get(doors, d, "global_ids", out.moving_doors.global_ids);
+    r.Get(doors, d, "classes", out.moving_doors.classes);
+    r.Get(doors, d, "period_s", out.moving_doors.period_s);
+    r.Get(doors, d, "max_angle_deg", out.moving_doors.max_angle_deg);
 }
 
 Scenario ReadScenario(Reader& r, const Node& root) {

@@ -118,6 +118,19 @@ void WriteEdits(Writer& w, const EditsSpec& e) {
         w.Num("radius_m", p.radius_m);
         w.Num("height_m", p.height_m);
     });
+    w.Key("glass").out() << (e.glass ? "true" : "false");
+    w.List("mirrors", e.mirrors, [&](const AddedMirror& m) {
+        w.Str("name", m.name);
+        w.Vec("center", m.center);
+        w.Vec("size", m.size);
+        w.Num("yaw_deg", m.yaw_deg);
+    });
+    w.BeginMap("moving_doors");
+    w.StrList("global_ids", e.moving_doors.global_ids);
+    w.StrList("classes", e.moving_doors.classes);
+    w.Num("period_s", e.moving_doors.period_s);
+    w.Num("max_angle_deg", e.moving_doors.max_angle_deg);
+    w.EndMap();
     w.EndMap();
 }
 
@@ -174,6 +187,8 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.Num("range_sigma_m", n.lidar.range_sigma_m);
     w.Num("dropout", n.lidar.dropout);
     w.Num("max_range_m", n.lidar.max_range_m);
+    w.Num("glass_return_probability", n.lidar.glass_return_probability);
+    w.Num("glass_return_exponent", n.lidar.glass_return_exponent);
     w.EndMap();
     w.BeginMap("imu");
     w.Num("accel_sigma_mps2", n.imu.accel_sigma_mps2);

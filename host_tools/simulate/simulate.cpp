@@ -75,6 +75,8 @@ simulation::NoiseModel LidarNoise(const LidarNoiseSpec& spec, const ouster::Sens
     n.range_sigma_m = spec.range_sigma_m;
     n.dropout_base = spec.dropout;
     n.max_range_m = spec.max_range_m;
+    n.glass_return_probability = spec.glass_return_probability;
+    n.glass_return_exponent = spec.glass_return_exponent;
     // The RNG15 profiles carry ranges in 8 mm steps (specs/ouster-lidar.md).
     const ouster::LidarProfile p = info.format.lidar_profile;
     const bool rng15 = p == ouster::LidarProfile::kRng15Rfl8Nir8 ||
@@ -208,7 +210,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     r.starts_outside = walk.starts_outside;
 
     World world = BuildWorld(model, storey, s.edits, walk.grid, walk.points, s.seed);
-    const simulation::Scene scene(world.mesh, world.ids);
+    const simulation::Scene scene(world.mesh, world.ids, world.materials);
     const ouster::SensorInfo info = SensorFor(s.sensor);
     const simulation::LidarModel lidar = bim::LidarModelFromSensorInfo(info);
     const simulation::NoiseModel noise = LidarNoise(s.noise.lidar, info);
@@ -257,19 +259,21 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     };
     simulation::ScanImage image;
     std::vector<Eigen::Isometry3d> poses(static_cast<size_t>(w));
-    std::vector<uint32_t> people_ids;
+    std::vector<uint32_t> overlay_ids;
     for (size_t k = 0; k < frames; ++k) {
         const double t0 = double(k) * period_s;
         ColumnPoses(trajectory, T_base_sensor, lidar, t0, poses);
         for (int v = 0; v < w; ++v) {
             column_ns[size_t(v)] = uint64_t(kSensorBootNs + Ns(t0) + lidar.ColumnTimeOffsetNs(v));
         }
-        // People move between scans, not within one (at 1.2 m/s, 12 cm a scan).
-        const common::TriangleMesh people =
-            PeopleMesh(world.people, world.people_floor_z, t0 + 0.5 * period_s, &people_ids);
-        const simulation::Scene overlay(people, people_ids);
+        // People and doors move between scans, not within one (at 1.2 m/s, 12 cm a scan; a door
+        // swinging 90 degrees in 4 s, 2.3 degrees).
+        common::TriangleMesh moving =
+            PeopleMesh(world.people, world.people_floor_z, t0 + 0.5 * period_s, &overlay_ids);
+        AppendDoorLeaves(world.doors, t0 + 0.5 * period_s, &moving, &overlay_ids);
+        const simulation::Scene overlay(moving, overlay_ids);
         simulation::SimulatorOptions options;
-        options.overlay = world.people.empty() ? nullptr : &overlay;
+        options.overlay = moving.triangles.empty() ? nullptr : &overlay;
         options.rig = s.sensor.body_in_view ? &rig : nullptr;
         simulation::SimulateScan(scene, lidar, std::span<const Eigen::Isometry3d>(poses), noise,
                                  s.seed ^ (uint64_t(k) * 0x9E3779B97F4A7C15ull), &image, options);

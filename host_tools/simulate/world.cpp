@@ -23,6 +23,23 @@ constexpr double kGroundWidthM = 40.0;
     throw common::Error(StatusCode::kInvalidArgument, what);
 }
 
+// Windows and curtain walls: glass when edits.glass is on.
+bool IsGlazing(std::string_view ifc_class) {
+    return ifc_class.starts_with("IfcWindow") || ifc_class.starts_with("IfcCurtainWall");
+}
+
+// A vertical quad facing yaw: its normal (cos yaw, sin yaw, 0), counter-clockwise seen from there.
+common::TriangleMesh MirrorMesh(const AddedMirror& m) {
+    const Eigen::Vector3d side(-std::sin(m.yaw_deg * kDeg), std::cos(m.yaw_deg * kDeg), 0);
+    const Eigen::Vector3d w = 0.5 * m.size.x() * side, h(0, 0, 0.5 * m.size.y());
+    common::TriangleMesh out;
+    const Eigen::Vector3d corners[4] = {m.center - w - h, m.center + w - h, m.center + w + h,
+                                        m.center - w + h};
+    for (const Eigen::Vector3d& c : corners) out.vertices.push_back(c.cast<float>());
+    out.triangles = {{0, 1, 2}, {0, 2, 3}};
+    return out;
+}
+
 void Append(common::TriangleMesh& to, std::vector<uint32_t>& ids, const common::TriangleMesh& m,
             uint32_t id) {
     const uint32_t base = uint32_t(to.vertices.size());
@@ -191,18 +208,23 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
                     "edits.as_built.walls[" + std::to_string(k) + "].global_id");
     }
 
-    // The static scene: what is physically there.
+    // The static scene: what is physically there, glazing as glass when asked.
+    std::vector<simulation::Material> materials;
     for (size_t e = 0; e < model.elements.size(); ++e) {
         const bim::BimElement& el = model.elements[e];
-        if (removed[e] || bim::PassThrough(el.ifc_class)) continue;
+        const bool glass = edits.glass && IsGlazing(el.ifc_class);
+        if (removed[e] || (bim::PassThrough(el.ifc_class) && !glass)) continue;
         for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
             w.mesh.triangles.push_back(model.mesh.triangles[t]);
             w.ids.push_back(uint32_t(e));
+            materials.push_back(glass ? simulation::Material::kGlass
+                                      : simulation::Material::kDiffuse);
         }
     }
     w.mesh.vertices = model.mesh.vertices;  // unused ones cost nothing to Embree
     const double ground_z = model.storeys.empty() ? 0.0 : model.storeys.front().elevation_m;
     Append(w.mesh, w.ids, Ground(model.Bounds(), ground_z - model.origin_m.z()), kGroundId);
+    materials.resize(w.ids.size(), simulation::Material::kDiffuse);
 
     for (size_t k = 0; k < edits.boxes.size(); ++k) {
         const AddedBox& b = edits.boxes[k];
@@ -223,6 +245,12 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
         for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
         w.added.push_back(
             {am.name.empty() ? am.file.stem().string() : am.name, "mesh", std::move(m)});
+    }
+
+    for (size_t k = 0; k < edits.mirrors.size(); ++k) {
+        const AddedMirror& m = edits.mirrors[k];
+        w.added.push_back({m.name.empty() ? "mirror" + std::to_string(k) : m.name, "mirror",
+                           MirrorMesh(m), simulation::Material::kMirror});
     }
 
     // Clutter: boxes on free cells with room for them, clear of the walk.
@@ -251,8 +279,11 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
     }
     for (size_t k = 0; k < w.added.size(); ++k) {
         Append(w.mesh, w.ids, w.added[k].mesh, kAddedIdBase + uint32_t(k));
+        materials.resize(w.ids.size(), w.added[k].material);
     }
+    if (edits.glass || !edits.mirrors.empty()) w.materials = std::move(materials);
     w.people = edits.people;
+    w.doors = FindMovingDoors(model, edits.moving_doors, removed);
     w.people_floor_z = grid.floor_z;
     return w;
 }
@@ -307,6 +338,19 @@ nlohmann::json WriteChanges(const World& world, const std::filesystem::path& dir
         j["yaw_deg"] = c.yaw_deg;
         moved.push_back(j);
     }
+    json doors = json::array();
+    for (const MovingDoor& d : world.doors) {
+        doors.push_back({{"global_id", d.global_id},
+                         {"hinge", {d.hinge.x(), d.hinge.y()}},
+                         {"closed", {d.closed.x(), d.closed.y()}},
+                         {"swing", {d.swing.x(), d.swing.y()}},
+                         {"width_m", d.width_m},
+                         {"height_m", d.height_m},
+                         {"floor_z", d.floor_z},
+                         {"period_s", d.period_s},
+                         {"max_angle_deg", d.max_angle_deg},
+                         {"phase", d.phase}});
+    }
     for (const PersonSpec& p : world.people) {
         people.push_back({{"from", {p.from.x(), p.from.y()}},
                           {"to", {p.to.x(), p.to.y()}},
@@ -315,11 +359,8 @@ nlohmann::json WriteChanges(const World& world, const std::filesystem::path& dir
                           {"height_m", p.height_m},
                           {"floor_z", world.people_floor_z}});
     }
-    return {{"frame", "bim"},
-            {"added", added},
-            {"removed", removed},
-            {"moved", moved},
-            {"people", people}};
+    return {{"frame", "bim"}, {"added", added},   {"removed", removed},
+            {"moved", moved}, {"people", people}, {"moving_doors", doors}};
 }
 
 }  // namespace bimslam::simulate

@@ -2,18 +2,21 @@
 // the ground truth of every edit (changes.json).
 //
 // What of the BIM is physically there: every element except doors (open, so the walk passes
-// through them), windows, curtain walls and their panels (glass, which the LiDAR sees through),
-// spaces and openings (not physical). Furniture and proxies are there, as are railings and stairs.
-// Around the building's footprint lies a ground plane 40 m wide at the lowest storey's elevation
-// (the outdoors of a walk that starts outside), with a hole under the building so that it does
-// not double the ground floor's slab.
+// through them), windows, curtain walls and their panels (glass, which the LiDAR sees through;
+// with edits.glass they are there as glass, simulation::Material::kGlass: they return near normal
+// incidence and let the rest through), spaces and openings (not physical). Furniture and proxies
+// are there, as are railings and stairs. Around the building's footprint lies a ground plane 40 m
+// wide at the lowest storey's elevation (the outdoors of a walk that starts outside), with a hole
+// under the building so that it does not double the ground floor's slab.
 //
 // Edits, in this order: removed elements (by GlobalId or class, any storey); moved elements
 // (translated, and turned about the centre of their bounding box); as-built deviations (walls of
 // the storey shifted along their horizontal normal, the direction of least horizontal extent of
 // their vertices); added boxes, cylinders and meshes; random clutter (boxes on free floor cells of
-// the storey, clear of the walk and of walls). People are not in the static world: PeopleMesh
-// builds them per scan at their position at that time (they walk to and fro).
+// the storey, clear of the walk and of walls); mirrors (quads of Material::kMirror, reported as
+// added objects of kind "mirror": a mirror hung on a wall is a real object the BIM lacks). People
+// and moving doors are not in the static world: PeopleMesh and AppendDoorLeaves
+// (moving_doors.hpp) build them per scan at their position at that time.
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -21,16 +24,19 @@
 #include <vector>
 
 #include "algorithms/common/triangle_mesh.hpp"
+#include "algorithms/simulation/scene.hpp"
 #include "host_tools/bim/bim_model.hpp"
 #include "host_tools/bim/occupancy_grid.hpp"
+#include "host_tools/simulate/moving_doors.hpp"
 #include "host_tools/simulate/scenario.hpp"
 
 namespace bimslam::simulate {
 
 struct AddedObject {
     std::string name;
-    std::string kind;           // "box", "cylinder", "mesh", "clutter"
+    std::string kind;           // "box", "cylinder", "mesh", "clutter", "mirror"
     common::TriangleMesh mesh;  // BIM coordinates
+    simulation::Material material = simulation::Material::kDiffuse;
 };
 
 struct ElementChange {
@@ -46,6 +52,9 @@ struct ElementChange {
 struct World {
     common::TriangleMesh mesh;  // the static scene
     std::vector<uint32_t> ids;  // per triangle: BIM element index, or kAddedIdBase + object
+    // Per triangle; empty when all are diffuse (no glass, no mirrors).
+    std::vector<simulation::Material> materials;
+    std::vector<MovingDoor> doors;  // swung per scan in the overlay
     std::vector<AddedObject> added;
     std::vector<ElementChange> changes;
     std::vector<PersonSpec> people;

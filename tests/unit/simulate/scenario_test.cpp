@@ -173,6 +173,20 @@ TEST(ScenarioTest, WrongValueNamesTheField) {
         {"edits: {people: [{from: [1, 1], to: [1, 1]}]}",
          "edits.people[0].to = [1, 1]: must differ"},
         {"edits: {boxes: {name: a}}", "edits.boxes: expected a sequence, got a mapping"},
+        {"edits: {glass: yes please}", "edits.glass: expected true or false, got 'yes please'"},
+        {"edits: {mirrors: [{size: [1, -1]}]}",
+         "edits.mirrors[0].size = [1, -1]: must be > 0 and <= 20 m in each axis"},
+        {"edits: {mirrors: [{center: [1, 2]}]}", "edits.mirrors[0].center: expected [x, y, z]"},
+        {"edits: {mirrors: [{colour: silver}]}", "unknown key 'edits.mirrors[0].colour'"},
+        {"edits: {moving_doors: {period_s: 0}}",
+         "edits.moving_doors.period_s = 0: must be > 0 and <= 3600"},
+        {"edits: {moving_doors: {max_angle_deg: 270}}",
+         "edits.moving_doors.max_angle_deg = 270: must be in [0, 180]"},
+        {"edits: {moving_doors: {classes: [Door]}}", "edits.moving_doors.classes[0] = 'Door'"},
+        {"edits: {moving_doors: {speed: 1}}", "unknown key 'edits.moving_doors.speed'"},
+        {"noise: {lidar: {glass_return_probability: 2}}",
+         "noise.lidar.glass_return_probability = 2: must be in [0, 1]"},
+        {"noise: {lidar: {glass_return_exponent: -1}}", "noise.lidar.glass_return_exponent = -1"},
         {"speed: 1", "speed: expected a mapping, got '1'"},
         {"[1, 2]", "the top level: expected a mapping"},
     };
@@ -258,7 +272,7 @@ Scenario Everything() {
     s.sensor.mount_rpy_deg = {1, -2, 180};
     s.sensor.body_in_view = true;
     s.network = {false, 0.01};
-    s.noise.lidar = {0.02, 0.005, 120};
+    s.noise.lidar = {0.02, 0.005, 120, 0.35, 12.5};
     s.noise.imu = {0.03, 0.06, 0.07, 0.3};
     s.noise.odometry = {-0.05, 0.03, -1.5, 0.5, 0.2, 0.1};
     s.seed = 18446744073709551615ull;
@@ -270,6 +284,9 @@ Scenario Everything() {
     s.edits.moved = {{"1dCh950b31l0h0po1ldorf", {0.5, -0.3, 0}, 15}};
     s.edits.as_built = {0.02, {{"0EF31bAGn7cY_UpbsCA2np", 0.03}, {"$x", -0.01}}};
     s.edits.people = {{{2, 6.8}, {26, 6.8}, 1.3, 0.22, 1.65}};
+    s.edits.glass = true;
+    s.edits.mirrors = {{"hall mirror", {4, 3.4, 1.2}, {0.8, 1.6}, -90}, {"", {1, 2, 3}, {1, 1}, 0}};
+    s.edits.moving_doors = {{"2O2Fr$t4X7Zf8NOew3FLOH"}, {"IfcDoor"}, 6.5, 75};
     return s;
 }
 
