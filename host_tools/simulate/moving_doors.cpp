@@ -1,6 +1,7 @@
 #include "host_tools/simulate/moving_doors.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -97,10 +98,37 @@ std::vector<MovingDoor> FindMovingDoors(const bim::BimModel& model, const Moving
     return doors;
 }
 
-void AppendDoorLeaves(const std::vector<MovingDoor>& doors, double t, common::TriangleMesh* mesh,
+namespace {
+// The distance from p to the leaf at angle a_deg (a segment from the hinge, the door's width long).
+double LeafDistance(const MovingDoor& d, double a_deg, const Eigen::Vector2d& p) {
+    const double a = a_deg * kRadiansPerDegree;
+    const Eigen::Vector2d dir = std::cos(a) * d.closed + std::sin(a) * d.swing;
+    const double s = std::clamp((p - d.hinge).dot(dir), 0.0, d.width_m);
+    return (d.hinge + s * dir - p).norm();
+}
+}  // namespace
+
+double LeafAngleDeg(const MovingDoor& d, double t, const Eigen::Vector2d& walker_xy) {
+    const double a = d.AngleDeg(t);
+    double best = a, best_distance = LeafDistance(d, a, walker_xy);
+    if (best_distance >= kWalkerClearanceM) return a;
+    // Out from the swing's angle one degree at a time, both ways.
+    for (double step = 1; step <= d.max_angle_deg; step += 1) {
+        for (const double c : {a - step, a + step}) {
+            if (c < 0 || c > d.max_angle_deg) continue;
+            const double distance = LeafDistance(d, c, walker_xy);
+            if (distance >= kWalkerClearanceM) return c;
+            if (distance > best_distance) best = c, best_distance = distance;
+        }
+    }
+    return best;
+}
+
+void AppendDoorLeaves(const std::vector<MovingDoor>& doors, double t,
+                      const Eigen::Vector2d& walker_xy, common::TriangleMesh* mesh,
                       std::vector<uint32_t>* ids) {
     for (const MovingDoor& d : doors) {
-        const double a = d.AngleDeg(t) * kRadiansPerDegree;
+        const double a = LeafAngleDeg(d, t, walker_xy) * kRadiansPerDegree;
         const Eigen::Vector2d dir = std::cos(a) * d.closed + std::sin(a) * d.swing;
         const Eigen::Vector2d c = d.hinge + 0.5 * d.width_m * dir;
         const common::TriangleMesh leaf = simulation::BoxMesh(

@@ -6,8 +6,10 @@
 // to the wall on the side the door swings to. Like people, the leaves are rebuilt every scan
 // into the overlay scene (simulation::SimulatorOptions::overlay), at their angle at the scan's
 // middle; their triangle id is the door's BIM element index, so a door's returns name the door.
-// The walk ignores them: a closing leaf may sweep through the walker's path (the LiDAR then sees
-// it from inside, where the min range cuts it), as it ignores people.
+// The walk is planned with the doors open and ignores the leaves, so a leaf is kept clear of the
+// walker: near the walker it turns, from where its swing would put it, to the nearest angle that
+// leaves kWalkerClearanceM between the leaf and the sensor (the walker pushes it open or it is
+// held), as no leaf can sweep through a real walker. Elsewhere the doors swing.
 #pragma once
 
 #include <Eigen/Core>
@@ -45,8 +47,19 @@ struct MovingDoor {
 std::vector<MovingDoor> FindMovingDoors(const bim::BimModel& model, const MovingDoorsSpec& spec,
                                         const std::vector<uint8_t>& removed);
 
-// Appends each door's leaf at time t (seconds) to `mesh`, with the door's element index as id.
-void AppendDoorLeaves(const std::vector<MovingDoor>& doors, double t, common::TriangleMesh* mesh,
+// The room a leaf leaves the walker (in plan, from the sensor): a person's half shoulder width
+// and a margin; the Go1 is narrower (0.28 m). A walker in a 1 m doorway is 0.5 m from its jamb.
+inline constexpr double kWalkerClearanceM = 0.45;
+
+// The leaf's angle at time t with the walker at (x, y): AngleDeg(t), or the angle nearest to it
+// within [0, max_angle] whose leaf is kWalkerClearanceM from the walker (the clearest one when
+// none is).
+double LeafAngleDeg(const MovingDoor& door, double t, const Eigen::Vector2d& walker_xy);
+
+// Appends each door's leaf at time t (seconds) to `mesh`, with the door's element index as id, at
+// LeafAngleDeg.
+void AppendDoorLeaves(const std::vector<MovingDoor>& doors, double t,
+                      const Eigen::Vector2d& walker_xy, common::TriangleMesh* mesh,
                       std::vector<uint32_t>* ids);
 
 }  // namespace bimslam::simulate

@@ -267,10 +267,11 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
             column_ns[size_t(v)] = uint64_t(kSensorBootNs + Ns(t0) + lidar.ColumnTimeOffsetNs(v));
         }
         // People and doors move between scans, not within one (at 1.2 m/s, 12 cm a scan; a door
-        // swinging 90 degrees in 4 s, 2.3 degrees).
+        // swinging 90 degrees in 4 s, 2.3 degrees). A door the sensor is near stands open.
         common::TriangleMesh moving =
             PeopleMesh(world.people, world.people_floor_z, t0 + 0.5 * period_s, &overlay_ids);
-        AppendDoorLeaves(world.doors, t0 + 0.5 * period_s, &moving, &overlay_ids);
+        AppendDoorLeaves(world.doors, t0 + 0.5 * period_s,
+                         poses[size_t(w / 2)].translation().head<2>(), &moving, &overlay_ids);
         const simulation::Scene overlay(moving, overlay_ids);
         simulation::SimulatorOptions options;
         options.overlay = moving.triangles.empty() ? nullptr : &overlay;

@@ -495,8 +495,9 @@ TEST_F(OdometryCli, Go1AmongGlassMirrorsAndMovingDoors) {
     const nlohmann::json eval = Evaluate(ses, cap);
     ASSERT_TRUE(eval.is_object());
     Report("Go1 among glass, mirrors and moving doors, 10 s", odo, eval);
-    // About twice the measured 2.4 cm (seed 1; 60 s walks: 4.9-8.4 cm, see the README).
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
+    // About twice the measured 0.77 cm (the leaves kept clear of the walker; 60 s walks: the
+    // README's table).
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.02);
 }
 
 // Every file in a folder (relative path) with its bytes.

@@ -52,10 +52,11 @@ TEST(MovingDoors, TheLeafTurnsAboutItsHingeToItsAngleAtTimeT) {
     EXPECT_NEAR(d.AngleDeg(t_closed), 0.0, 1e-9);
     EXPECT_NEAR(d.AngleDeg(t_open), 90.0, 1e-9);
     EXPECT_NEAR(d.AngleDeg(t_half), 45.0, 1e-9);
+    const Eigen::Vector2d far_away(100, 100);  // the walker, nowhere near: the door swings
     for (const double t : {t_closed, t_half, t_open}) {
         common::TriangleMesh mesh;
         std::vector<uint32_t> ids;
-        AppendDoorLeaves(doors, t, &mesh, &ids);
+        AppendDoorLeaves(doors, t, far_away, &mesh, &ids);
         ASSERT_EQ(ids.size(), mesh.triangles.size());
         EXPECT_EQ(ids.front(), door_index);
         // The leaf's free edge: the vertices farthest from the hinge, at the door's width along
@@ -68,6 +69,29 @@ TEST(MovingDoors, TheLeafTurnsAboutItsHingeToItsAngleAtTimeT) {
             nearest = std::min(nearest, (v.head<2>().cast<double>() - free_edge).norm());
         }
         EXPECT_LT(nearest, 0.021) << t;
+    }
+    // A walker anywhere near: at every time of the cycle the leaf keeps kWalkerClearanceM from
+    // the walker (the walk ignores leaves, so a leaf must not sweep through it), turning only as
+    // far as that needs.
+    const Eigen::Vector2d opening = d.hinge + 0.5 * d.width_m * d.closed;
+    EXPECT_GT(LeafAngleDeg(d, t_closed, opening), 45.0);  // pushed more than half open
+    for (const Eigen::Vector2d& walker :
+         {opening, Eigen::Vector2d(opening + 0.8 * d.swing),
+          Eigen::Vector2d(opening - 0.8 * d.swing),
+          Eigen::Vector2d(d.hinge + 0.7 * d.swing + 0.3 * d.closed)}) {
+        for (double t = t_closed; t < t_closed + spec.period_s; t += 0.25) {
+            const double a = LeafAngleDeg(d, t, walker) * M_PI / 180;
+            const Eigen::Vector2d dir = std::cos(a) * d.closed + std::sin(a) * d.swing;
+            double distance = INFINITY;
+            for (double s = 0; s <= d.width_m; s += 0.01) {
+                distance = std::min(distance, (d.hinge + s * dir - walker).norm());
+            }
+            // (Never farther than the hinge, which does not turn.)
+            const double possible = std::min(kWalkerClearanceM, (walker - d.hinge).norm());
+            EXPECT_GE(distance, possible - 0.02) << walker.transpose() << " t " << t;
+            // With the walker far off, the leaf is where the swing puts it.
+            EXPECT_EQ(LeafAngleDeg(d, t, far_away), d.AngleDeg(t));
+        }
     }
 }
 
@@ -89,7 +113,7 @@ TEST(MovingDoors, AScanAtTwoTimesDiffersWhereTheLeafIs) {
         const double t = (-doors[0].phase + 0.5 * k) * spec.period_s;  // closed, then open
         common::TriangleMesh mesh;
         std::vector<uint32_t> ids;
-        AppendDoorLeaves(doors, t, &mesh, &ids);
+        AppendDoorLeaves(doors, t, {100, 100}, &mesh, &ids);  // the walker far off: it swings
         const simulation::Scene overlay(mesh, ids);
         simulation::SimulatorOptions options;
         options.overlay = &overlay;
