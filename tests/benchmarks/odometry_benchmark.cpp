@@ -109,6 +109,14 @@ void SetCounters(benchmark::State& state, const CaptureOdometryReport& rep,
     state.counters["realtime_x"] = rep.capture_s / std::max(rep.wall_s, 1e-9);
 }
 
+// The session's trajectory.tum against the capture's ground truth, SE(3)-aligned.
+evaluation::EvaluationResult Evaluate(const fs::path& session, const fs::path& capture) {
+    evaluation::EvaluationConfig config;
+    config.align = evaluation::Alignment::kSe3;
+    return evaluation::EvaluateFiles(session / "trajectory.tum", capture / "ground_truth.tum",
+                                     config);
+}
+
 void BM_OdometryAccuracy(benchmark::State& state) {
     const bool handheld = state.range(0) == 1;
     test::TempDir tmp;
@@ -127,11 +135,7 @@ void BM_OdometryAccuracy(benchmark::State& state) {
     CaptureOdometryReport rep;
     for (auto _ : state) rep = RunCaptureOdometry(o);
 
-    evaluation::EvaluationConfig config;
-    config.align = evaluation::Alignment::kSe3;
-    SetCounters(state, rep,
-                evaluation::EvaluateFiles(o.session_dir / "trajectory.tum",
-                                          sim.dir / "ground_truth.tum", config));
+    SetCounters(state, rep, Evaluate(o.session_dir, sim.dir));
     state.SetLabel(std::string(handheld ? "handheld" : "go1+can") + (o.use_imu ? "" : ", no imu") +
                    (o.odometry.edge_features ? ", edge features" : ""));
 }
@@ -179,11 +183,7 @@ void BM_OdometrySensor(benchmark::State& state) {
         first_ns = -1;
         rep = RunCaptureOdometry(o);
     }
-    evaluation::EvaluationConfig config;
-    config.align = evaluation::Alignment::kSe3;
-    SetCounters(state, rep,
-                evaluation::EvaluateFiles(o.session_dir / "trajectory.tum",
-                                          sim.dir / "ground_truth.tum", config));
+    SetCounters(state, rep, Evaluate(o.session_dir, sim.dir));
     state.counters["cpu_ms_p50"] = Percentile(cpu_ms, 0.5);
     state.counters["cpu_ms_p99"] = Percentile(cpu_ms, 0.99);
     state.counters["cpu_ms_max"] = Percentile(cpu_ms, 1.0);
@@ -229,11 +229,7 @@ void BM_OdometryCalibration(benchmark::State& state) {
     CaptureOdometryReport rep;
     for (auto _ : state) rep = RunCaptureOdometry(o);
 
-    evaluation::EvaluationConfig config;
-    config.align = evaluation::Alignment::kSe3;
-    SetCounters(state, rep,
-                evaluation::EvaluateFiles(o.session_dir / "trajectory.tum",
-                                          capture / "ground_truth.tum", config));
+    SetCounters(state, rep, Evaluate(o.session_dir, capture));
     static const char* const kErrors[] = {"exact",     "mount 1 cm", "mount 1 deg",
                                           "imu 1 deg", "clock 1 ms", "all four"};
     static const char* const kMountNames[] = {"level", "pitched 15", "yawed 90"};
