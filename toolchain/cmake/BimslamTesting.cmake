@@ -36,11 +36,11 @@ function(bimslam_test name)
     # A test's own sources are glue around the code under test, which keeps its build's
     # optimisation. At -O1 the 25 integration and data test sources took 192 s of CPU against
     # 256 s at -O3 (lcm_test.cpp 7.8 s against 15.4 s); CI time is what this buys.
-    # Under the sanitizers (which run only the unit tests, not the scene tests) -O0: the batch
-    # of simulate_test took 15.3 s at -O0 against 23.2 s at -O1 (toolchain/README.md).
-    if(BIMSLAM_SANITIZE)
-        target_compile_options(${name} PRIVATE -O0)
-    elseif(CMAKE_BUILD_TYPE AND NOT CMAKE_BUILD_TYPE STREQUAL "Debug")
+    # Not -O0 under the sanitizers: it compiled the ASan test programs faster but
+    # doubled the unit tests' run time (348 -> 680 s of CPU), since the linker may keep a test
+    # object's unoptimised copy of an inline function (Eigen's, the libraries' headers') for
+    # the code under test as well (toolchain/README.md, "Build time").
+    if(CMAKE_BUILD_TYPE AND NOT CMAKE_BUILD_TYPE STREQUAL "Debug")
         target_compile_options(${name} PRIVATE -O1)
     endif()
     # The project root lets data tests find ../shared/data from any build folder.
