@@ -1,5 +1,5 @@
 # Test helpers: one GoogleTest executable per library folder, each test case a ctest entry with
-# a label (unit, scene, integration, data, fuzz) so `ctest -L` picks the sets that `make test` runs.
+# a label (unit, scene, host, integration, data, fuzz) so `ctest -L` picks the sets that `make test` runs.
 include_guard(GLOBAL)
 
 set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
@@ -48,8 +48,8 @@ function(bimslam_test name)
         DISCOVERY_MODE PRE_TEST
         PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${ARG_SERIAL}
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
-    # unit tests build for the sanitizer run (target unit_tests); the others for Release
-    # (target integration_tests).
+    # unit tests build for the sanitizer run (target unit_tests); the others (scene, host,
+    # integration, data) for Release (target integration_tests; tests/unit/CMakeLists.txt).
     if(ARG_LABEL STREQUAL "unit")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
     else()
