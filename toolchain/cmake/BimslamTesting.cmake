@@ -1,5 +1,5 @@
 # Test helpers: one GoogleTest executable per library folder, each test case a ctest entry with
-# a label (unit, integration, data, fuzz) so `ctest -L` picks the sets that `make test` runs.
+# a label (unit, scene, host, integration, data, fuzz) so `ctest -L` picks the sets that `make test` runs.
 include_guard(GLOBAL)
 
 set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
@@ -36,6 +36,10 @@ function(bimslam_test name)
     # A test's own sources are glue around the code under test, which keeps its build's
     # optimisation. At -O1 the 25 integration and data test sources took 192 s of CPU against
     # 256 s at -O3 (lcm_test.cpp 7.8 s against 15.4 s); CI time is what this buys.
+    # Not -O0 under the sanitizers: it compiled the ASan test programs faster but
+    # doubled the unit tests' run time (348 -> 680 s of CPU), since the linker may keep a test
+    # object's unoptimised copy of an inline function (Eigen's, the libraries' headers') for
+    # the code under test as well (toolchain/README.md, "Build time").
     if(CMAKE_BUILD_TYPE AND NOT CMAKE_BUILD_TYPE STREQUAL "Debug")
         target_compile_options(${name} PRIVATE -O1)
     endif()
@@ -44,6 +48,8 @@ function(bimslam_test name)
         DISCOVERY_MODE PRE_TEST
         PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${ARG_SERIAL}
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+    # unit tests build for the sanitizer run (target unit_tests); the others (scene, host,
+    # integration, data) for Release (target integration_tests; tests/unit/CMakeLists.txt).
     if(ARG_LABEL STREQUAL "unit")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
     else()
