@@ -6,6 +6,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "algorithms/common/status.hpp"
 
@@ -230,6 +232,9 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     CorrectionPrior prior(prior_k);
     ceres::Problem::Options problem_options;
     problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    std::optional<ceres::SubsetManifold> rotation_fixed;  // delta = [rho; phi]: phi held at 0
+    if (in.fix_rotation) rotation_fixed.emplace(6, std::vector<int>{3, 4, 5});
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::DENSE_QR;
     options.max_num_iterations = config_.max_solver_iterations;
@@ -263,6 +268,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         const common::Vector6d xi_before = xi;
         ceres::Problem problem(problem_options);
         problem.AddResidualBlock(&cost, nullptr, delta.data(), xi.data());
+        if (rotation_fixed) problem.SetManifold(delta.data(), &*rotation_fixed);
         if (correcting) {
             problem.AddResidualBlock(&prior, nullptr, xi.data());
         } else {
@@ -368,6 +374,13 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         xi = scaled_xi.cwiseProduct(scale);
     }
     delta = scaled.cwiseProduct(scale);
+    if (in.fix_rotation) {
+        // A weak direction mixing rotation in must not bring it back; its variance is T0's.
+        delta.tail<3>().setZero();
+        cov.block<3, 3>(3, 0).setZero();
+        cov.block<3, 3>(0, 3).setZero();
+        cov.block<3, 3>(3, 3) = prior_var.tail<3>().asDiagonal();
+    }
     result_.T_map_lidar = ApplyPerturbation(T0, delta);
     result_.correction = xi;
     result_.covariance = scale.asDiagonal() * cov * scale.asDiagonal();

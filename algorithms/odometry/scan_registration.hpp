@@ -92,6 +92,9 @@ struct AlignInput {
     // estimated.
     common::Vector6d correction_sigma = common::Vector6d::Zero();
     double max_correspondence_distance = 0;  // m; 0: the configuration's
+    // Keep T0's rotation and estimate the translation only (the gyro's rotation when the scan
+    // contradicts it: LidarOdometryConfig::imu_rotation_gate).
+    bool fix_rotation = false;
     std::span<const Eigen::Vector3f> edges;  // LOAM edge points (alpha 0), with edge_map
     const VoxelMap* edge_map = nullptr;
 };

@@ -98,6 +98,7 @@ int Odometry(const OdometryArgs& a) {
                             {"degenerate", rep.degenerate},
                             {"failed", rep.failed},
                             {"not_converged", rep.not_converged},
+                            {"contradicted_gyro", rep.contradicted_gyro},
                             {"notes", rep.notes}};
         std::cout << j.dump(2) << "\n";
         return kExitOk;
@@ -113,7 +114,8 @@ int Odometry(const OdometryArgs& a) {
               << "x real time)\n";
     std::cout << std::setprecision(2) << "per scan  p50 " << p50 << " ms, p99 " << p99
               << " ms, max " << max << " ms; over budget " << rep.over_budget << ", degenerate "
-              << rep.degenerate << ", failed " << rep.failed << "\n";
+              << rep.degenerate << ", failed " << rep.failed << ", rotation from the gyro "
+              << rep.contradicted_gyro << "\n";
     std::cout << "session   " << a.out << ": " << rep.keyframes
               << " keyframes, trajectory.tum with every scan\n";
     return kExitOk;

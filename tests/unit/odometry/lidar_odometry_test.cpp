@@ -26,6 +26,11 @@ struct Inputs {
     bool deskew = true;
     double drop_columns = 0;  // fraction of each scan's columns missing (a contiguous block)
     std::function<bool(int)> empty_scan = [](int) { return false; };
+    // Scan k is taken from the true pose times this (identity: the truth): a scan that shows a
+    // motion the sensor did not make, as when something large in view moved.
+    std::function<Eigen::Isometry3d(int)> seen_offset = [](int) {
+        return Eigen::Isometry3d::Identity();
+    };
 };
 
 struct OdometryRun {
@@ -85,7 +90,8 @@ OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int
             in.empty_scan(k)
                 ? common::PointCloud{}
                 : test::Scan(
-                      scene, [&](double tau) { return traj(t0 + tau); }, stamp, uint64_t(k) + 7);
+                      scene, [&](double tau) { return traj(t0 + tau) * in.seen_offset(k); },
+                      stamp, uint64_t(k) + 7);
         cloud.stamp = common::SensorTime{stamp};
         if (in.drop_columns > 0 && !cloud.empty()) {
             // Columns missing: a block at a different azimuth in every scan.
@@ -217,16 +223,59 @@ TEST(LidarOdometry, EmptyScansGiveNoNanAndTheWalkResumes) {
     }
 }
 
+// One scan turned by 2 deg against what the sensor did, as when something large in view moved:
+// with the IMU the gyro's rotation is kept and the scan registered again for the translation
+// only; with the gate off the pose turns with the scan. Here the whole scene turned, so the
+// translation fitted with the gyro's rotation is off by several centimetres at that scan (6.8
+// measured) where it would be 2 cm; on the doors' captures, where part of the view moved, the
+// static rest gives it, and the APE fell by 15-20 % (README.md, "Glass, mirrors and moving
+// doors"). The next scans register it back.
+TEST(LidarOdometry, AScanThatTurnsAgainstTheGyroKeepsTheGyrosRotation) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    Inputs in{.imu = true};
+    constexpr int kOdd = 15;
+    in.seen_offset = [](int k) {
+        return k == kOdd ? Pose(0, 0, 0, 2.0 * M_PI / 180) : Eigen::Isometry3d::Identity();
+    };
+    const auto others = [](const OdometryRun& run) {
+        uint32_t flags = 0;
+        for (int k = 0; k < int(run.results.size()); ++k) {
+            if (k != kOdd) flags |= run.results[size_t(k)].flags;
+        }
+        return flags;
+    };
+    LidarOdometryConfig off = Unhurried();
+    off.imu_rotation_gate = 0;
+    const OdometryRun gated = Odometry(scene, Arc, 25, in);
+    const OdometryRun ungated = Odometry(scene, Arc, 25, in, off);
+    std::cout << "a scan turned 2 deg: max error " << gated.max_translation_error * 100 << " cm "
+              << gated.max_rotation_error_deg << " deg gated, " << ungated.max_translation_error * 100
+              << " cm " << ungated.max_rotation_error_deg << " deg not\n";
+    EXPECT_TRUE(gated.results[kOdd].flags & kContradictsGyro);
+    EXPECT_EQ(others(gated) & kContradictsGyro, 0u) << "only the odd scan contradicts the gyro";
+    EXPECT_EQ(ungated.flags & kContradictsGyro, 0u);
+    EXPECT_LT(gated.max_rotation_error_deg, 0.3);
+    EXPECT_GT(ungated.max_rotation_error_deg, 1.5);
+    EXPECT_LT(gated.max_translation_error, 0.12);
+    EXPECT_LT(gated.final_translation_error, 0.02);
+    EXPECT_LT(gated.final_rotation_error_deg, 0.2);
+}
+
 // A fast turn: 1.5 rad/s (86 deg/s) while walking 1 m/s. A sweep then smears by 8.6 degrees.
 Eigen::Isometry3d FastTurn(double t) {
     const double yaw = 1.5 * Moving(t);
     return Pose(1.0 * std::sin(yaw) / 1.5 - 2, 1.0 * (1 - std::cos(yaw)) / 1.5 - 1, 0.6, yaw);
 }
 
+// The gyro gate off in both runs, so that the comparison is deskew's alone: with it, the
+// unskewed scans turn against the gyro and keep its rotation (0.76 deg instead of 10.1, and
+// 22 cm instead of 11.6 cm), while the deskewed run is the same either way.
 TEST(LidarOdometry, DeskewingLowersTheErrorOnAFastTurn) {
     const simulation::Scene scene(test::FurnishedRoom());
-    const OdometryRun on = Odometry(scene, FastTurn, 40, {.imu = true, .deskew = true});
-    const OdometryRun off = Odometry(scene, FastTurn, 40, {.imu = true, .deskew = false});
+    LidarOdometryConfig config = Unhurried();
+    config.imu_rotation_gate = 0;
+    const OdometryRun on = Odometry(scene, FastTurn, 40, {.imu = true, .deskew = true}, config);
+    const OdometryRun off = Odometry(scene, FastTurn, 40, {.imu = true, .deskew = false}, config);
     std::cout << "fast turn: max error " << on.max_translation_error * 100 << " cm "
               << on.max_rotation_error_deg << " deg deskewed, " << off.max_translation_error * 100
               << " cm " << off.max_rotation_error_deg << " deg not\n";
