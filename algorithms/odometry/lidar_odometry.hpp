@@ -18,7 +18,7 @@
 //    the velocity is known, the first scan is deskewed again with it, the map rebuilt from it, and
 //    the second scan registered again (start_refinements, once; not when that registration
 //    was degenerate). A registration that turns the scan against the gyro by more than
-//    imu_rotation_gate sigmas is not trusted: the scan keeps the predicted pose.
+//    imu_rotation_gate sigmas is done again with the gyro's rotation held, translation only.
 // 4. The map gets the scan's fine points, corrected, at the estimated pose and forgets what lies
 //    beyond the scene's extent.
 //
@@ -106,9 +106,10 @@ struct LidarOdometryConfig {
     common::Vector6d correction_sigma = common::Vector6d::Zero();
     double imu_correction_sigma = 0.002;  // rad over a sweep, with the gyro
     // A registration whose rotation differs from the gyro's by more than this many
-    // imu_rotation_sigma is not trusted, and the scan gets the predicted pose (kContradictsGyro):
-    // over one scan the gyro is good to a few hundredths of a degree, and a scan that turns by
-    // more followed something that moved (a door leaf in view). 0: off.
+    // imu_rotation_sigma is done again from the prediction with the gyro's rotation held, for the
+    // translation only (kContradictsGyro): over one scan the gyro is good to a few hundredths of
+    // a degree, and a scan that turns by more followed something that moved (a door leaf in
+    // view). 0: off.
     double imu_rotation_gate = 3.0;
     // kMotionCorrected when the correction moves a point 10 m away by more than this at the end
     // of the sweep (m).
@@ -153,7 +154,7 @@ enum OdometryFlag : uint32_t {
     kDeskewedAgain = 1u << 8,     // deskewed and registered a second time (step 3)
     kStartRefined = 1u << 9,      // the second scan: the first deskewed again (a start in motion)
     kMotionCorrected = 1u << 10,  // the sweep's motion correction exceeded correction_flag_m
-    kContradictsGyro = 1u << 11,  // the scan turned against the gyro: the predicted pose
+    kContradictsGyro = 1u << 11,  // the scan turned against the gyro: the gyro's rotation held
 };
 
 struct OdometryResult {

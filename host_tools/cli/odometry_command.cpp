@@ -114,7 +114,7 @@ int Odometry(const OdometryArgs& a) {
               << "x real time)\n";
     std::cout << std::setprecision(2) << "per scan  p50 " << p50 << " ms, p99 " << p99
               << " ms, max " << max << " ms; over budget " << rep.over_budget << ", degenerate "
-              << rep.degenerate << ", failed " << rep.failed << ", rotation from the gyro "
+              << rep.degenerate << ", failed " << rep.failed << ", contradicted the gyro "
               << rep.contradicted_gyro << "\n";
     std::cout << "session   " << a.out << ": " << rep.keyframes
               << " keyframes, trajectory.tum with every scan\n";
