@@ -7,7 +7,8 @@
 //                     counts for neither; one found large but not true counts against).
 //                     "separable": the same with true objects whose surfaces come within
 //                     touch_m (one map voxel, 5 cm) of each other taken as one (their union box):
-//                     the simulator's clutter may interpenetrate, and no 5 cm map separates them.
+//                     objects placed by hand may touch, and no 5 cm map separates them (the
+//                     simulator's random clutter keeps 5 cm clear of other objects).
 //                     Needs the truth's meshes (changes/*.ply beside its changes.json).
 //   removed elements  recall and precision by GlobalId against the elements found missing; "large":
 //                     those with at least 1 m^2 of expected visible surface (elements.csv).

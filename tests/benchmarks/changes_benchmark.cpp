@@ -21,8 +21,9 @@
 //   `bimslam anchor --model-tolerance 0.02`: no initial pose) and then `bimslam changes` as a
 //   library call (timed) and its files scored against the capture's changes.json
 //   (host_tools/changes/ change_evaluation.hpp): large_* counts every true object, sep_large_*
-//   takes true objects touching within 5 cm as one (the scenario's random clutter may
-//   interpenetrate); anchor_*_cm, the anchored keyframes' APE against the truth with no alignment.
+//   takes true objects touching within 5 cm as one (the scenario's clutter keeps 5 cm from
+//   other objects since stop 25, so the two agree unless a scenario places objects by hand);
+//   anchor_*_cm, the anchored keyframes' APE against the truth with no alignment.
 //   The detection runs twice on the same anchored session: with the refinement of the poses (the
 //   default, timed; refine_s, refine_*_cm its corrections, refined_*_cm the refined keyframes'
 //   APE) and without it (the counters ending in _norefine).

@@ -348,6 +348,84 @@ TEST(World, EditsNameWhatTheyCannotFind) {
     }
 }
 
+// An object's footprint: the convex hull of its vertices in plan, counter-clockwise (monotone chain).
+std::vector<Eigen::Vector2d> Footprint(const common::TriangleMesh& m) {
+    std::vector<Eigen::Vector2d> p;
+    for (const auto& v : m.vertices) p.push_back(v.head<2>().cast<double>());
+    std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) {
+        return a.x() != b.x() ? a.x() < b.x() : a.y() < b.y();
+    });
+    const auto turn = [](const auto& o, const auto& a, const auto& b) {
+        return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+    };
+    std::vector<Eigen::Vector2d> hull(2 * p.size());
+    size_t k = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        while (k >= 2 && turn(hull[k - 2], hull[k - 1], p[i]) <= 1e-12) --k;
+        hull[k++] = p[i];
+    }
+    for (size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && turn(hull[k - 2], hull[k - 1], p[i]) <= 1e-12) --k;
+        hull[k++] = p[i];
+    }
+    hull.resize(k - 1);
+    return hull;
+}
+
+// The gap between two convex polygons: 0 where no edge normal separates them (separating axes),
+// else the least distance of a vertex of one to an edge of the other.
+double Gap(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
+    bool separated = false;
+    for (const auto* poly : {&a, &b}) {
+        for (size_t i = 0; i < poly->size(); ++i) {
+            const Eigen::Vector2d e = (*poly)[(i + 1) % poly->size()] - (*poly)[i];
+            const Eigen::Vector2d n(-e.y(), e.x());
+            double amin = 1e9, amax = -1e9, bmin = 1e9, bmax = -1e9;
+            for (const auto& v : a) amin = std::min(amin, v.dot(n)), amax = std::max(amax, v.dot(n));
+            for (const auto& v : b) bmin = std::min(bmin, v.dot(n)), bmax = std::max(bmax, v.dot(n));
+            separated |= amax < bmin || bmax < amin;
+        }
+    }
+    if (!separated) return 0.0;
+    double gap = std::numeric_limits<double>::infinity();
+    for (const auto& [p, q] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
+        for (const Eigen::Vector2d& v : *p) {
+            for (size_t i = 0; i < q->size(); ++i) {
+                const Eigen::Vector2d s = (*q)[i], d = (*q)[(i + 1) % q->size()] - s;
+                const double f = std::clamp((v - s).dot(d) / d.squaredNorm(), 0.0, 1.0);
+                gap = std::min(gap, (s + f * d - v).norm());
+            }
+        }
+    }
+    return gap;
+}
+
+TEST(World, ClutterKeepsClearOfOtherObjects) {
+    // Dense clutter around an added box: before the check, boxes were placed into each other and
+    // into the box (the changed-building benchmark counted such pairs as two true objects).
+    const bim::BimModel model = bim::test_floor::Floor();
+    const bim::OccupancyGrid grid = bim::BuildOccupancyGrid(model, 0, {});
+    EditsSpec e;
+    e.clutter.density_per_m2 = 0.5;
+    e.clutter.min_size_m = 0.2;
+    e.clutter.max_size_m = 0.6;
+    e.clutter.keep_off_walk_m = 0.0;
+    e.boxes.push_back({"crate", {2.5, 1.5, 0.5}, {1.2, 0.8, 1.0}, 30.0});
+    for (const uint64_t seed : {1, 2, 3}) {
+        const World w = BuildWorld(model, 0, e, grid, {}, seed);
+        ASSERT_GT(w.added.size(), 10u) << "seed " << seed;
+        std::vector<std::vector<Eigen::Vector2d>> feet;
+        for (const AddedObject& a : w.added) feet.push_back(Footprint(a.mesh));
+        for (size_t i = 0; i < feet.size(); ++i) {
+            ASSERT_EQ(feet[i].size(), 4u) << w.added[i].name;
+            for (size_t j = i + 1; j < feet.size(); ++j) {
+                EXPECT_GE(Gap(feet[i], feet[j]), 0.05 - 1e-6)
+                    << "seed " << seed << ": " << w.added[i].name << " and " << w.added[j].name;
+            }
+        }
+    }
+}
+
 TEST(World, ObjFilesLoadAndBadOnesNameTheFileAndLine) {
     test::TempDir dir;
     std::ofstream(dir / "tri.obj") << "# a quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
