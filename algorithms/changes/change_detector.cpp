@@ -121,6 +121,10 @@ void ChangeDetectorConfig::Validate() const {
                              std::to_string(band_threshold_m));
     }
     if (!(crop_margin_m >= 0)) common::ThrowInvalid("crop_margin_m must be >= 0");
+    if (!(min_multi_view_fraction >= 0 && min_multi_view_fraction <= 1)) {
+        common::ThrowInvalid("min_multi_view_fraction must be in [0, 1], not " +
+                             std::to_string(min_multi_view_fraction));
+    }
 }
 
 void ChangeModel::Validate() const {
@@ -312,7 +316,16 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     }
     std::vector<std::vector<uint32_t>> object_points;
     for (auto& cluster : members) {
-        if (cluster.size() >= config.min_object_points) object_points.push_back(std::move(cluster));
+        if (cluster.size() < config.min_object_points) continue;
+        if (keyframes.size() >= 2) {
+            const auto seen_twice = std::count_if(cluster.begin(), cluster.end(),
+                                                  [&](uint32_t i) { return out.map.keyframes[i] >= 2; });
+            if (double(seen_twice) < config.min_multi_view_fraction * double(cluster.size())) {
+                ++out.counts.single_view_clusters;  // its points stay kUnexplained / kModel
+                continue;
+            }
+        }
+        object_points.push_back(std::move(cluster));
     }
     const float voxel = float(config.map.voxel_m);
     const float floor_reach = high + 2 * voxel;

@@ -286,6 +286,10 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--min-object-points", c.min_object_points,
                     "smallest new object, map points (30)")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--min-multi-view", c.min_multi_view_fraction,
+                    "a new object needs this fraction of its points seen by two keyframes or "
+                    "more, else one keyframe's pose error could have made it (0.25; 0: off)")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--deviation-tolerance", c.elements.deviation_tolerance_m,
                     "an element offset by more is deviating, m (0.02)")
         ->check(CLI::PositiveNumber);

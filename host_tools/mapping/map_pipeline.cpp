@@ -106,6 +106,7 @@ json ChangeParameters(const changes::ChangeDetectorConfig& c) {
             {"eps_m", c.dbscan.eps_m},
             {"min_points", c.dbscan.min_points},
             {"min_object_points", c.min_object_points},
+            {"min_multi_view_fraction", c.min_multi_view_fraction},
             {"deviation_tolerance_m", c.elements.deviation_tolerance_m},
             {"min_judged_area_m2", c.elements.min_judged_area_m2},
             {"transients", c.detect_transients},

@@ -28,7 +28,8 @@
 //   default, timed; refine_s, refine_*_cm its corrections, refined_*_cm the refined keyframes'
 //   APE) and without it (the counters ending in _norefine).
 //   Seeds 7 (the scenario's own) by default; BIMSLAM_BENCH_LONG=1 adds seeds 11, 23, 42, 97 (a
-//   spread; 10 runs). BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
+//   spread; 10 runs); BIMSLAM_BENCH_SEEDS=3,19,... runs those instead (seeds no rule was chosen
+//   on). BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
 //   DIR/<platform>_<seed>. BIMSLAM_BENCH_GROUND_TRUTH=1 places the session on the ground truth
 //   instead of anchoring it (tests/support/ground_truth_session.hpp), to tell the anchoring's
 //   share of an error from the change detection's.
@@ -41,6 +42,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -477,6 +479,11 @@ void BM_ChangeAccuracy(benchmark::State& state) {
 void AccuracyArgs(benchmark::internal::Benchmark* b) {
     std::vector<int64_t> seeds = {7};
     if (std::getenv("BIMSLAM_BENCH_LONG")) seeds = {7, 11, 23, 42, 97};
+    if (const char* list = std::getenv("BIMSLAM_BENCH_SEEDS"); list && *list) {
+        seeds.clear();
+        std::stringstream in(list);
+        for (std::string item; std::getline(in, item, ',');) seeds.push_back(std::stoll(item));
+    }
     for (const int64_t platform : {0, 1}) {
         for (const int64_t seed : seeds) b->Args({platform, seed});
     }

@@ -301,7 +301,13 @@ END-ISO-10303-21;
     r = Cli("changes" + model + " --session " + Quote(tmp / "bim") + " -o " + Quote(tmp / "taken"));
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--overwrite"), std::string::npos) << r.err;
-    EXPECT_EQ(Cli("changes --help").exit_code, 0);
+    r = Cli("changes" + model + " --session " + Quote(tmp / "bim") + " --min-multi-view 1.5 -o " +
+            Quote(tmp / "o"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--min-multi-view"), std::string::npos) << r.err;
+    r = Cli("changes --help");
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("--min-multi-view"), std::string::npos) << r.out;
 }
 
 TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {
