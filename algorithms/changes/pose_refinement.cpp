@@ -133,8 +133,11 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
         tbb::parallel_for(size_t(0), n, [&](size_t k) {
             found[k].clear();
             const Eigen::Isometry3d T = poses[k].Get();
+            const Eigen::Vector3f sensor = T.translation().cast<float>();
             for (const Eigen::Vector3d& p : points[k]) {
-                const auto c = scene.ClosestPoint((T * p).cast<float>(), float(gate));
+                // Only surfaces facing the sensor: the far face of a wall 10-15 cm thick is
+                // nearer than its near face to a point seen from a pose 8 cm off (scene.hpp).
+                const auto c = scene.ClosestFacing((T * p).cast<float>(), sensor, float(gate));
                 if (!c) continue;
                 found[k].push_back({p, c->normal.cast<double>(), c->point.cast<double>(),
                                     uint32_t(k), model.triangle_element[c->triangle]});

@@ -110,6 +110,7 @@ struct PointQueryState {
     bool best_front = false;    // the query is in front of the best triangle
     uint32_t best = Scene::kNoHint;
     Eigen::Vector3f point = Eigen::Vector3f::Zero();
+    const Eigen::Vector3f* viewpoint = nullptr;  // ClosestFacing: triangles facing it only
 
     // Takes triangle t when it is nearer, or as near (relative 1e-5: an edge or corner shared by
     // several triangles) with a normal more aligned with query - point; among those equally
@@ -119,6 +120,7 @@ struct PointQueryState {
     // last two rules the sign and the element of such points changed from run to run.
     void Consider(uint32_t t) {
         const Scene::Impl::TriangleData& tri = impl->triangle_data[t];
+        if (viewpoint != nullptr && (*viewpoint - tri.a).dot(tri.normal) <= 0) return;
         const float tie = best_d2 * 1e-5f + 1e-12f;
         // The distance to the triangle's plane is a lower bound of the distance to it.
         const float plane = (query - tri.a).dot(tri.normal);
@@ -322,10 +324,23 @@ std::optional<Scene::Hit> Scene::Intersect(const Eigen::Vector3f& origin,
 
 std::optional<Scene::Closest> Scene::ClosestPoint(const Eigen::Vector3f& query, float max_distance,
                                                   uint32_t hint) const {
+    return Nearest(query, nullptr, max_distance, hint);
+}
+
+std::optional<Scene::Closest> Scene::ClosestFacing(const Eigen::Vector3f& query,
+                                                   const Eigen::Vector3f& viewpoint,
+                                                   float max_distance) const {
+    return Nearest(query, &viewpoint, max_distance, kNoHint);
+}
+
+std::optional<Scene::Closest> Scene::Nearest(const Eigen::Vector3f& query,
+                                             const Eigen::Vector3f* viewpoint, float max_distance,
+                                             uint32_t hint) const {
     if (impl_->triangles == 0 || !(max_distance >= 0)) return std::nullopt;
     PointQueryState state;
     state.impl = impl_.get();
     state.query = query;
+    state.viewpoint = viewpoint;
     if (hint < impl_->triangles) state.Consider(hint);
     const float bound = std::sqrt(state.best_d2) * (1.0f + 1e-5f) + 1e-6f;
     RTCPointQuery q;

@@ -103,12 +103,21 @@ public:
     std::optional<Closest> ClosestPoint(const Eigen::Vector3f& query,
                                         float max_distance = std::numeric_limits<float>::infinity(),
                                         uint32_t hint = kNoHint) const;
+    // As ClosestPoint, among the triangles whose counter-clockwise (outer) side faces `viewpoint`
+    // only: the surfaces a sensor there can have hit. A point on the near face of a thin wall,
+    // seen from a pose a few centimetres off, may be nearer the wall's far face; matching it there
+    // pulls the pose through the wall (pose_refinement.cpp). Thread-safe.
+    std::optional<Closest> ClosestFacing(
+        const Eigen::Vector3f& query, const Eigen::Vector3f& viewpoint,
+        float max_distance = std::numeric_limits<float>::infinity()) const;
 
     // The Embree objects, for the simulation's own sources (embree_scene.hpp defines it).
     struct Impl;
     const Impl& impl() const { return *impl_; }
 
 private:
+    std::optional<Closest> Nearest(const Eigen::Vector3f& query, const Eigen::Vector3f* viewpoint,
+                                   float max_distance, uint32_t hint) const;
     std::unique_ptr<Impl> impl_;
 };
 

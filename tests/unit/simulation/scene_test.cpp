@@ -215,6 +215,28 @@ TEST(SceneClosestPoint, IsExactOnSliverTrianglesFarFromTheOrigin) {
     RecordProperty("worst_error_um", std::to_string(worst_error * 1e6));
 }
 
+// A wall 0.15 m thick (x 2.0 .. 2.15), seen from x = 0: a point of its near face placed 10 cm
+// too far (a pose 10 cm off) is nearer the far face, which no beam from x = 0 can have hit.
+TEST(SceneClosestFacing, SkipsTheFarFaceOfAThinWall) {
+    test::BoxRoom wall({2.0f, -2, 0}, {2.15f, 2, 3});
+    for (auto& t : wall.mesh.triangles) std::swap(t[1], t[2]);  // outward, as a built element's
+    const Scene scene(wall.mesh, wall.ids);
+    const Eigen::Vector3f p(2.10f, 0.3f, 1.2f), sensor(0, 0, 1);
+    const auto nearest = scene.ClosestPoint(p);
+    ASSERT_TRUE(nearest);
+    EXPECT_NEAR(nearest->point.x(), 2.15f, 1e-6f);  // the far face
+    const auto facing = scene.ClosestFacing(p, sensor);
+    ASSERT_TRUE(facing);
+    EXPECT_NEAR(facing->point.x(), 2.0f, 1e-6f);  // the near face
+    EXPECT_NEAR(facing->distance, 0.10f, 1e-6f);
+    EXPECT_GT((sensor - facing->point).dot(facing->normal), 0.0f);
+    // Beyond max_distance, nothing; from behind the wall, the far face again.
+    EXPECT_FALSE(scene.ClosestFacing(p, sensor, 0.09f));
+    const auto behind = scene.ClosestFacing(p, Eigen::Vector3f(4, 0, 1));
+    ASSERT_TRUE(behind);
+    EXPECT_NEAR(behind->point.x(), 2.15f, 1e-6f);
+}
+
 TEST(SceneClosestPoint, SignsTellInsideFromOutsideOfAClosedBoxAtFacesEdgesAndCorners) {
     // BoxMesh-like solid: the room's triangles face inwards, so flip them to face out.
     test::BoxRoom solid({0, 0, 0}, {1, 2, 3});
