@@ -34,12 +34,13 @@ struct PointPlaneCost {
     }
 };
 
-// (c): the element's offset against zero.
+// (c): the element's offset against zero, or against its surveyed offset (the datum).
 struct OffsetPriorCost {
+    Eigen::Vector3d prior;
     double inv_sigma;
     template <typename T>
     bool operator()(const T* offset, T* r) const {
-        for (int i = 0; i < 3; ++i) r[i] = inv_sigma * offset[i];
+        for (int i = 0; i < 3; ++i) r[i] = inv_sigma * (offset[i] - T(prior[i]));
         return true;
     }
 };
@@ -96,6 +97,11 @@ void PoseRefinementConfig::Validate() const {
             "must end with 1");
     Require(max_iterations >= 1, c, "max_iterations", max_iterations, "must be at least 1");
     Require(threads >= 1, c, "threads", threads, "must be at least 1");
+    Require(datum_sigma_m > 0, c, "datum_sigma_m", datum_sigma_m, "must be positive");
+    for (const SurveyedElement& d : datum) {
+        Require(d.offset.allFinite() && d.offset.norm() < 1.0, c, "datum offset", d.offset.norm(),
+                "must be finite and under 1 m (a survey of an element built off, not moved)");
+    }
 }
 
 PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
@@ -112,11 +118,24 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
                                     std::to_string(n) + " keyframes)");
         }
     }
+    // Per element: its prior's mean and 1 / sigma (the datum's where surveyed).
+    std::vector<Eigen::Vector3d> prior(model.element_count(), Eigen::Vector3d::Zero());
+    std::vector<double> prior_inv_sigma(model.element_count(), 1.0 / config.element_sigma_m);
+    for (const SurveyedElement& d : config.datum) {
+        if (d.element >= model.element_count()) {
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "pose refinement: the surveyed element " +
+                                    std::to_string(d.element) + " does not exist (" +
+                                    std::to_string(model.element_count()) + " elements)");
+        }
+        prior[d.element] = d.offset;
+        prior_inv_sigma[d.element] = 1.0 / config.datum_sigma_m;
+    }
     PoseRefinement out;
     out.edges = edges.size();
     std::vector<PoseBlock> poses(n);
     for (size_t k = 0; k < n; ++k) poses[k].Set(keyframes[k].T_world_lidar);
-    std::vector<Eigen::Vector3d> offsets(model.element_count(), Eigen::Vector3d::Zero());
+    std::vector<Eigen::Vector3d> offsets = prior;
     std::vector<uint8_t> has_edge(n, 0);
     for (const KeyframeEdge& e : edges) has_edge[e.from] = has_edge[e.to] = 1;
 
@@ -192,7 +211,7 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
         for (size_t e = 0; e < offsets.size(); ++e) {
             if (per_element[e] == 0) continue;
             problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OffsetPriorCost, 3, 3>(
-                                         new OffsetPriorCost{1.0 / config.element_sigma_m}),
+                                         new OffsetPriorCost{prior[e], prior_inv_sigma[e]}),
                                      nullptr, offsets[e].data());
         }
         for (size_t k = 0; k < n; ++k) {
@@ -227,6 +246,7 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
         out.max_correction_m = std::max(out.max_correction_m, out.correction_m[k]);
         out.max_correction_deg = std::max(out.max_correction_deg, out.correction_deg[k]);
     }
+    for (const SurveyedElement& d : config.datum) out.datum_seen += out.element_points[d.element] > 0;
     out.element_offset = std::move(offsets);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;

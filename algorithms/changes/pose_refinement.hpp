@@ -17,12 +17,14 @@
 //       information, the pose graph's residual (algorithms/posegraph/relative_pose_cost.hpp), with
 //       a Cauchy loss: an odometry edge that lost track (a nearly empty scan) must be able to give;
 //   (b) point to plane: a subsample of each keyframe's points, p, against the nearest model
-//       triangle (normal n, nearest point c) at the current estimate, the plane moved by its
-//       element's offset: r = n . (T_k p - c - t_e) / sigma_point, Cauchy. Points farther than the
-//       gate from every element are changes, not support, and are left out;
+//       triangle facing the keyframe's sensor (normal n, nearest point c; a thin wall's far face
+//       is nearer than its near face to a point seen from a pose 8 cm off, and no beam hit it)
+//       at the current estimate, the plane moved by its element's offset:
+//       r = n . (T_k p - c - t_e) / sigma_point, Cauchy. Points farther than the gate from every
+//       element are changes, not support, and are left out;
 //   (c) a zero-mean prior per element seen, t_e / sigma_element: the as-built spread (2 cm: the
 //       changed-building scenario's, and the site tolerance the element check judges deviations
-//       by, README.md "Thresholds").
+//       by, README.md "Thresholds"); for a surveyed element (the datum), (t_e - survey) / 3 mm.
 // The correspondences are found again a few times with a shrinking gate (ICP's outer loop).
 //
 // Gauge. The model fixes the frame: the offsets' priors say that, on average, the building stands
@@ -30,8 +32,11 @@
 // keyframe's pose, the prior holds it. What the data cannot tell apart is a shift of the whole
 // session from the same shift of every element seen along that direction: it is resolved by the
 // priors, i.e. to the weighted mean of the true offsets (about sigma_element / sqrt(elements seen
-// along that direction); README.md, "Pose refinement"). A keyframe whose points the model does
-// not explain at its anchored pose is moved by its edges only, and kept where it is without any.
+// along that direction); README.md, "Pose refinement"). A datum removes that error: elements
+// surveyed as built (a total station's ~2 mm, as Scan-vs-BIM work registers on control), whose
+// offsets are held to the surveyed ones by a tight prior; one element across each direction fixes
+// the shift along it. A keyframe whose points the model does not explain at its anchored pose is
+// moved by its edges only, and kept where it is without any.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -53,10 +58,21 @@ struct KeyframeEdge {
     common::Matrix6d information = common::Matrix6d::Identity();
 };
 
+// An element surveyed as built: its offset from the model (model frame, metres).
+struct SurveyedElement {
+    uint32_t element = 0;
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+};
+
 struct PoseRefinementConfig {
     bool enabled = true;
     // Prior of an element's as-built offset, per axis (see above).
     double element_sigma_m = 0.02;
+    // The datum (see "Gauge" above): surveyed elements, their offsets held to the survey's within
+    // datum_sigma_m (a total station's setting-out accuracy, a few millimetres) instead of the
+    // zero-mean prior. Empty: the gauge is the offsets' mean.
+    std::vector<SurveyedElement> datum;
+    double datum_sigma_m = 0.003;
     // A point's distance to its plane: OS1 range noise, 1 cm. The points of a keyframe are not
     // independent (their common error is the pose's), which is what the edges and priors bound.
     double point_sigma_m = 0.01;
@@ -95,6 +111,7 @@ struct PoseRefinement {
     std::vector<double> correction_deg;            // per keyframe: rotation moved
     std::vector<Eigen::Vector3d> element_offset;   // per element: t_e (0 when not seen)
     std::vector<uint32_t> element_points;          // per element: correspondences, last round
+    size_t datum_seen = 0;  // surveyed elements with correspondences (those that held the gauge)
     size_t correspondences = 0;                    // last round
     size_t edges = 0;
     size_t unexplained = 0;  // keyframes not registered to the model (moved by edges only)
@@ -106,8 +123,8 @@ struct PoseRefinement {
     double mean_correction_m = 0, max_correction_m = 0, max_correction_deg = 0;
 };
 
-// Throws common::Error (kInvalidArgument) for an invalid config or an edge naming a keyframe that
-// does not exist.
+// Throws common::Error (kInvalidArgument) for an invalid config, an edge naming a keyframe that
+// does not exist or a surveyed element the model does not have.
 PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
                            std::span<const KeyframeEdge> edges, const PoseRefinementConfig& config);
 

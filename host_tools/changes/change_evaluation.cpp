@@ -143,6 +143,13 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
         for (const json& t : j.at("transients")) {
             f.transients.push_back(Vec3(file, t.at("centroid"), "transients.centroid"));
         }
+        // Files written before the datum existed have none.
+        const json& refinement = j.at("parameters").at("refinement");
+        if (refinement.contains("datum")) {
+            for (const json& d : refinement.at("datum")) {
+                f.datum.insert(d.at("global_id").get<std::string>());
+            }
+        }
     } catch (const json::exception& e) {
         Bad(file, std::string("malformed: ") + e.what());
     }
@@ -358,6 +365,10 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
             ev.moved.push_back(s);
             continue;
         }
+        if (found.datum.contains(m.global_id)) {
+            ++ev.walls_datum;
+            continue;
+        }
         if (it == found.elements.end() || it->second.support_points < config.min_support_points) {
             ++ev.walls_unobserved;
             continue;
@@ -430,6 +441,7 @@ json ChangeEvaluation::ToJson() const {
              {{"walls", walls_json},
               {"observed", walls.size()},
               {"unobserved", walls_unobserved},
+              {"surveyed", walls_datum},
               {"within_1cm", within_1cm},
               {"mean_error_m", walls.empty() ? 0.0 : sum_error / double(walls.size())},
               {"max_error_m", max_error}}},

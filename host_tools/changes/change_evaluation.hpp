@@ -14,7 +14,8 @@
 //                     those with at least 1 m^2 of expected visible surface (elements.csv).
 //   moved elements    found (deviating with a fitted motion), the error of the translation and yaw.
 //   as-built walls    the measured offset against the true one (vector difference), for the walls
-//                     the session saw (support >= 30 points).
+//                     the session saw (support >= 30 points) and that were not surveyed (a datum
+//                     wall, `parameters.refinement.datum`, is measured to its survey: counted apart).
 //   people            found objects that match no added object and lie in a person's path (its
 //                     line widened by radius + 0.3 m, from its floor to its height): should be
 //                     none; people with a transient cluster on their line.
@@ -23,6 +24,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -71,6 +73,7 @@ struct FoundChanges {
     std::vector<Object> objects;
     std::vector<Eigen::Vector3d> transients;  // centroids
     std::map<std::string, Element> elements;  // by GlobalId
+    std::set<std::string> datum;              // GlobalIds of the surveyed elements
 };
 FoundChanges ReadFoundChanges(const std::filesystem::path& dir);
 
@@ -113,6 +116,7 @@ struct ChangeEvaluation {
     };
     std::vector<WallScore> walls;  // observed as-built walls
     size_t walls_unobserved = 0;
+    size_t walls_datum = 0;  // surveyed (the refinement's datum), not scored
     size_t people = 0, people_as_objects = 0, people_with_transients = 0;
 
     nlohmann::json ToJson() const;

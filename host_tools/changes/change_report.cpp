@@ -55,6 +55,7 @@ json RefinementJson(const changes::PoseRefinement& p, bool enabled) {
             {"unexplained", p.unexplained},
             {"held", p.held},
             {"correspondences", p.correspondences},
+            {"datum_seen", p.datum_seen},
             {"poses_moved_1cm", p.moved_1cm},
             {"mean_correction_m", p.mean_correction_m},
             {"max_correction_m", p.max_correction_m},
@@ -192,6 +193,11 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
     for (const changes::PointClass c : r.point_class) ++classes[std::string(changes::ToString(c))];
 
     const changes::ChangeDetectorConfig& c = config;
+    json datum = json::array();
+    for (const changes::SurveyedElement& d : c.refinement.datum) {
+        datum.push_back(
+            {{"global_id", model.elements.at(d.element).global_id}, {"offset_m", Vec(d.offset)}});
+    }
     json parameters = {{"voxel_m", c.map.voxel_m},
                        {"min_range_m", c.map.min_range_m},
                        {"max_range_m", c.map.max_range_m},
@@ -232,7 +238,9 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"element_sigma_m", c.refinement.element_sigma_m},
                          {"point_sigma_m", c.refinement.point_sigma_m},
                          {"points_per_keyframe", c.refinement.points_per_keyframe},
-                         {"gates_m", c.refinement.gates_m}}}};
+                         {"gates_m", c.refinement.gates_m},
+                         {"datum", datum},
+                         {"datum_sigma_m", c.refinement.datum_sigma_m}}}};
 
     return {{"format", "bimslam-changes"},
             {"version", 1},

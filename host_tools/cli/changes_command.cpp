@@ -19,6 +19,7 @@
 #include "host_tools/changes/change_report.hpp"
 #include "host_tools/changes/ifc_update.hpp"
 #include "host_tools/changes/session_input.hpp"
+#include "host_tools/changes/survey_datum.hpp"
 #include "host_tools/cli/command.hpp"
 #include "host_tools/cli/progress.hpp"
 
@@ -40,6 +41,7 @@ struct ChangesArgs {
     bool no_moved = false;
     bool keep_outside = false;
     bool no_refine = false;
+    std::string datum;  // --datum FILE (host_tools/changes/survey_datum.hpp)
 };
 
 [[noreturn]] void BadInput(const std::string& what) {
@@ -73,6 +75,12 @@ int Changes(ChangesArgs& a) {
     a.config.crop_to_footprint = !a.keep_outside;
     a.config.refinement.enabled = !a.no_refine;
     a.config.Validate();
+    if (!a.datum.empty() && a.no_refine) {
+        BadInput("--datum holds the refinement's gauge; it has no use with --no-refine");
+    }
+    if (!a.datum.empty() && !fs::is_regular_file(a.datum)) {
+        BadInput(a.datum + ": no such file (--datum)");
+    }
     if (!a.truths.empty() && a.truths.size() != a.sessions.size()) {
         BadInput("--truth: give one per --session (" + std::to_string(a.sessions.size()) +
                  " sessions, " + std::to_string(a.truths.size()) + " truths)");
@@ -95,6 +103,7 @@ int Changes(ChangesArgs& a) {
     const bim::BimModel model = bim::LoadIfc(a.model, load);
     bar.Clear();
     const changes::ChangeModel change_model = change_detection::ToChangeModel(model);
+    if (!a.datum.empty()) a.config.refinement.datum = change_detection::ReadSurveyDatum(a.datum, model);
     const std::string original = io::ReadFileToString(a.model);
     const change_detection::ModelInfo info{a.model, io::Sha256File(a.model)};
     size_t compared = 0;
@@ -168,6 +177,8 @@ int Changes(ChangesArgs& a) {
                    {"refinement",
                     {{"enabled", a.config.refinement.enabled},
                      {"poses_moved_1cm", r.refinement.moved_1cm},
+                     {"datum_elements", a.config.refinement.datum.size()},
+                     {"datum_seen", r.refinement.datum_seen},
                      {"mean_correction_m", r.refinement.mean_correction_m},
                      {"max_correction_m", r.refinement.max_correction_m}}},
                    {"ifc",
@@ -189,6 +200,13 @@ int Changes(ChangesArgs& a) {
                           << Fixed(100 * p.max_correction_m, 2) << " cm, "
                           << Fixed(p.max_correction_deg, 2) << " deg), " << input.edges.size()
                           << " edges, " << Fixed(p.seconds, 1) << " s\n";
+                if (!a.config.refinement.datum.empty()) {
+                    std::cout << "datum     " << p.datum_seen << " of "
+                              << a.config.refinement.datum.size()
+                              << " surveyed elements seen; they hold the frame"
+                              << (p.datum_seen == 0 ? " (none seen: the offsets' mean does)" : "")
+                              << "\n";
+                }
             }
             std::cout << "objects   " << objects << " new (" << Fixed(volume, 2) << " m3), "
                       << moved << " moved elements, " << r.transients.size()
@@ -303,6 +321,12 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
                   "the elements' as-built offsets first");
     cmd->add_option("--refine-sigma", c.refinement.element_sigma_m,
                     "the refinement's prior on an element's as-built offset, m (0.02)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--datum", a->datum,
+                    "CSV of elements surveyed as built, 'GlobalId[,dx,dy,dz]' (m): they fix the "
+                    "refinement's frame, which is otherwise the elements' mean offset");
+    cmd->add_option("--datum-sigma", c.refinement.datum_sigma_m,
+                    "the survey's accuracy, the prior on a datum element's offset, m (0.003)")
         ->check(CLI::PositiveNumber);
     cmd->add_flag("--keep-outside", a->keep_outside,
                   "compare points with no element below them too (the ground outside, things at "

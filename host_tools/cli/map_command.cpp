@@ -27,6 +27,7 @@ struct MapArgs {
     bool force = false;
     bool no_report = false;
     bool no_refine = false;
+    std::string datum;
     bool json = false;
     mapping::MapConfig config;
 };
@@ -101,6 +102,7 @@ int MapMain(MapArgs& a) {
     c.force = a.force;
     c.report = !a.no_report;
     c.changes.refinement.enabled = !a.no_refine;
+    c.datum = a.datum;
     ProgressBar bar(!a.json && ProgressBar::Terminal());
     const mapping::MapRun run =
         mapping::RunMap(c, [&](const std::string& step, double f) { bar.Update(step, f); });
@@ -171,6 +173,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--no-refine", a->no_refine,
                   "change detection: compare on the anchored poses as they are, without refining "
                   "them jointly with the elements' as-built offsets first");
+    cmd->add_option("--datum", a->datum,
+                    "change detection: CSV of elements surveyed as built, 'GlobalId[,dx,dy,dz]' "
+                    "(m), which fix the refinement's frame (as bimslam changes --datum)");
     cmd->add_flag("--force", a->force, "run every step again, up to date or not");
     cmd->add_flag("--no-report", a->no_report, "skip the HTML report");
     cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");

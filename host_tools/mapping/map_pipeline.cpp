@@ -17,6 +17,7 @@
 #include "host_tools/changes/change_report.hpp"
 #include "host_tools/changes/ifc_update.hpp"
 #include "host_tools/changes/session_input.hpp"
+#include "host_tools/changes/survey_datum.hpp"
 #include "host_tools/mapping/step_stamp.hpp"
 #include "host_tools/replay/capture_odometry.hpp"
 #include "host_tools/report/report_page.hpp"
@@ -37,6 +38,12 @@ void MapConfig::Validate() const {
     if (threads < 0) bad("threads " + std::to_string(threads));
     anchor.Validate();
     changes.Validate();
+    if (!datum.empty() && !changes.refinement.enabled) {
+        bad("--datum holds the refinement's gauge; it has no use with --no-refine");
+    }
+    if (!datum.empty() && !fs::is_regular_file(datum)) {
+        bad(datum.string() + ": no such file (--datum)");
+    }
 }
 
 StepFailure::StepFailure(const std::string& step, const std::string& file, const std::string& why)
@@ -134,13 +141,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
     const std::vector<RecordingInput> recordings = CheckRecordings(config.recordings);
     const MapProgress progress = progress_in ? progress_in : [](const std::string&, double) {};
 
-    const fs::path& out = config.out;
-    MapRun run;
-    Stepper stepper(out, config.force, &run);
-    const std::string model_file = config.model.string();
-    const std::string sha256 = io::Sha256File(config.model);
-
-    // The model is read (IFC++, seconds for a big one) only by the steps that run.
+    // The model is read (IFC++, seconds for a big one) only by the steps that run, and for a datum.
     std::optional<bim::BimModel> plain_model;
     auto model = [&]() -> const bim::BimModel& {
         if (!plain_model) {
@@ -149,6 +150,14 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
         }
         return *plain_model;
     };
+    // The datum names the model's GlobalIds: checked against it now, as the other inputs.
+    if (!config.datum.empty()) (void)change_detection::ReadSurveyDatum(config.datum, model());
+
+    const fs::path& out = config.out;
+    MapRun run;
+    Stepper stepper(out, config.force, &run);
+    const std::string model_file = config.model.string();
+    const std::string sha256 = io::Sha256File(config.model);
 
     // 1. The reference session, by the model's content.
     StepStamp reference("reference");
@@ -247,6 +256,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
     for (const RecordingInput& r : recordings) {
         if (!r.truth_changes.empty()) change.AddFileTime("truth_" + r.name, r.truth_changes);
     }
+    if (!config.datum.empty()) change.AddFileTime("datum", config.datum);
     stepper.Run("changes", "changes", change, model_file, [&] {
         fs::remove_all(out / "changes");
         fs::create_directories(out / "changes");
@@ -257,6 +267,10 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
         load.progress = [&](double f) { progress("changes: reading the model", f); };
         const bim::BimModel m = bim::LoadIfc(config.model, load);
         const changes::ChangeModel change_model = change_detection::ToChangeModel(m);
+        changes::ChangeDetectorConfig detector = config.changes;
+        if (!config.datum.empty()) {
+            detector.refinement.datum = change_detection::ReadSurveyDatum(config.datum, m);
+        }
         const std::string original = io::ReadFileToString(config.model);
         const change_detection::ModelInfo info{config.model, sha256};
         for (const std::string& label : anchored) {
@@ -267,7 +281,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
             found.label = label;
             found.input = &input;
             found.result = changes::DetectChanges(
-                change_model, input.keyframes, input.edges, config.changes,
+                change_model, input.keyframes, input.edges, detector,
                 [&](std::string_view stage, double f) {
                     progress("changes " + label + ": " + std::string(stage), f);
                 });
@@ -278,7 +292,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
                     bim::IfcWriter::GlobalId(seed, "new object " + std::to_string(o)));
             }
             fs::create_directories(dir);
-            change_detection::WriteChangeFiles(dir, m, info, found, config.changes);
+            change_detection::WriteChangeFiles(dir, m, info, found, detector);
             io::WriteFileAtomic(
                 dir / "model_updated.ifc",
                 change_detection::UpdateIfc(model_file, original, m, found, seed).text);

@@ -37,6 +37,9 @@ struct MapConfig {
     double odometry_budget_ms = 50;
     anchor::AnchorConfig anchor;
     changes::ChangeDetectorConfig changes;
+    // A survey of elements as built for the change step's refinement (`bimslam changes --datum`,
+    // host_tools/changes/survey_datum.hpp); empty: none.
+    std::filesystem::path datum;
     void Validate() const;  // throws common::Error (kInvalidArgument) naming the field
 };
 

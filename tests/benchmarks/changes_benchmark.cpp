@@ -26,7 +26,10 @@
 //   anchor_*_cm, the anchored keyframes' APE against the truth with no alignment.
 //   The detection runs twice on the same anchored session: with the refinement of the poses (the
 //   default, timed; refine_s, refine_*_cm its corrections, refined_*_cm the refined keyframes'
-//   APE) and without it (the counters ending in _norefine).
+//   APE) and without it (the counters ending in _norefine), and a third time refined with a datum
+//   (the counters ending in _datum, as `bimslam changes --datum`): the longest built-off wall
+//   across x and the longest across y surveyed, their true offsets plus N(0, 2 mm) of survey
+//   error; walls_datum counts the other walls (the surveyed two are not scored).
 //   Seeds 7 (the scenario's own) by default; BIMSLAM_BENCH_LONG=1 adds seeds 11, 23, 42, 97 (a
 //   spread; 10 runs); BIMSLAM_BENCH_SEEDS=3,19,... runs those instead (seeds no rule was chosen
 //   on). BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
@@ -40,6 +43,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -324,6 +328,43 @@ std::pair<double, double> AnchorSession(const fs::path& ifc, const bim::BimModel
     return {100 * e.ape_trans_m.rmse, 100 * e.ape_trans_m.max};
 }
 
+// A survey of two walls built off: the longest across x and the longest across y (in plan) of the
+// truth's as-built walls, each at its true offset plus N(0, 2 mm) (a total station's setting-out).
+std::vector<changes::SurveyedElement> SurveyTwoWalls(const bim::BimModel& model,
+                                                     const change_detection::TruthChanges& truth,
+                                                     int64_t seed) {
+    std::map<std::string, uint32_t> by_id;
+    for (size_t e = 0; e < model.elements.size(); ++e) by_id[model.elements[e].global_id] = e;
+    std::array<std::pair<double, changes::SurveyedElement>, 2> best{};  // across x, across y
+    std::mt19937_64 rng(uint64_t(seed) * 7919u);
+    std::normal_distribution<double> survey(0.0, 0.002);
+    for (const auto& m : truth.moved) {
+        const auto it = by_id.find(m.global_id);
+        if (m.reason != "as_built" || it == by_id.end()) continue;
+        const bim::BimElement& el = model.elements[it->second];
+        Eigen::AlignedBox3d box;
+        for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
+            for (const uint32_t v : model.mesh.triangles[t]) {
+                box.extend(model.mesh.vertices[v].cast<double>());
+            }
+        }
+        const int axis = std::abs(m.translation.x()) > std::abs(m.translation.y()) ? 0 : 1;
+        const double length = box.sizes()[1 - axis];  // along the wall
+        if (length > best[axis].first) {
+            changes::SurveyedElement d;
+            d.element = it->second;
+            d.offset = m.translation;
+            d.offset[axis] += survey(rng);
+            best[axis] = {length, d};
+        }
+    }
+    std::vector<changes::SurveyedElement> out;
+    for (const auto& [length, d] : best) {
+        if (length > 0) out.push_back(d);
+    }
+    return out;
+}
+
 void BM_ChangeAccuracy(benchmark::State& state) {
     const bool handheld = state.range(0) == 1;
     const uint64_t seed = uint64_t(state.range(1));
@@ -387,9 +428,13 @@ void BM_ChangeAccuracy(benchmark::State& state) {
     }
     // The detection with the refinement of the poses (the default; timed) and without it
     // (counters ending in _norefine), on the same anchored session.
+    const change_detection::TruthChanges truth =
+        change_detection::ReadTruthChanges(tmp / "capture" / "changes.json");
+    const std::vector<changes::SurveyedElement> datum = SurveyTwoWalls(model, truth, seed);
     const auto score = [&](bool refine, const std::string& suffix) {
         changes::ChangeDetectorConfig config;
         config.refinement.enabled = refine;
+        if (suffix == "_datum") config.refinement.datum = datum;
         change_detection::SessionChanges found;
         found.label = "anchored";
         found.input = &input;
@@ -407,9 +452,8 @@ void BM_ChangeAccuracy(benchmark::State& state) {
         const fs::path out = tmp / ("out" + suffix);
         fs::create_directories(out);
         change_detection::WriteChangeFiles(out, model, {ifc, ""}, found, config);
-        const change_detection::ChangeEvaluation ev = change_detection::EvaluateChanges(
-            change_detection::ReadTruthChanges(tmp / "capture" / "changes.json"),
-            change_detection::ReadFoundChanges(out));
+        const change_detection::ChangeEvaluation ev =
+            change_detection::EvaluateChanges(truth, change_detection::ReadFoundChanges(out));
         const changes::ChangeResult& r = found.result;
         auto counter = [&](const std::string& name, double v) {
             state.counters[name + suffix] = v;
@@ -472,6 +516,7 @@ void BM_ChangeAccuracy(benchmark::State& state) {
     };
     score(true, "");
     score(false, "_norefine");
+    if (datum.size() == 2) score(true, "_datum");
     state.SetLabel(std::string(handheld ? "handheld" : "go1") +
                    (on_truth ? ", ground-truth poses" : ", anchored"));
 }

@@ -11,7 +11,10 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
@@ -169,6 +172,36 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
         EXPECT_TRUE(o["on_floor"].get<bool>());
     }
     ReadMapWithOpen3dAndCloudCompare(out / "map_bim.ply", map);
+
+    // A datum: the corridor's south wall surveyed where the model has it. It is seen and holds
+    // the frame; the north wall's 3 cm are still measured, and the datum is in changes.json.
+    std::string south;
+    {
+        std::istringstream rows(io::ReadFileToString(out / "elements.csv"));
+        for (std::string row; std::getline(rows, row);) {
+            if (row.find(",Ground Floor corridor wall south,") == std::string::npos) continue;
+            const size_t a = row.find(',') + 1;
+            south = row.substr(a, row.find(',', a) - a);
+        }
+    }
+    ASSERT_EQ(south.size(), 22u) << "no south corridor wall in elements.csv";
+    io::WriteFileAtomic(tmp / "datum.csv", "global_id,dx,dy,dz\n# surveyed 2026-11-29\n" + south +
+                                               ",0,0.001,0\n");
+    r = Cli("changes --model " + Quote(tmp / "building.ifc") + " --session " +
+            Quote(tmp / "anchored") + " -o " + Quote(tmp / "out_datum") + " --truth " +
+            Quote(tmp / "capture" / "changes.json") + " --datum " + Quote(tmp / "datum.csv") +
+            " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json with_datum = json::parse(r.out)["sessions"][0];
+    EXPECT_EQ(with_datum["refinement"]["datum_elements"], 1);
+    EXPECT_EQ(with_datum["refinement"]["datum_seen"], 1);
+    EXPECT_EQ(with_datum["evaluation"]["as_built"]["observed"], 1);
+    EXPECT_LT(with_datum["evaluation"]["as_built"]["max_error_m"].get<double>(), 0.01);
+    const json datum = json::parse(io::ReadFileToString(tmp / "out_datum" / "changes.json"))
+        ["parameters"]["refinement"]["datum"];
+    ASSERT_EQ(datum.size(), 1u);
+    EXPECT_EQ(datum[0]["global_id"], south);
+    EXPECT_DOUBLE_EQ(datum[0]["offset_m"][1].get<double>(), 0.001);
     const io::PlyData objects = io::ReadPly(out / "new_objects.ply");
     EXPECT_GT(objects.triangles.size(), 0u);
     EXPECT_NE(objects.Find("red"), nullptr);
@@ -305,9 +338,36 @@ END-ISO-10303-21;
             Quote(tmp / "o"));
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("--min-multi-view"), std::string::npos) << r.err;
+
+    // Datum files: missing, an unknown GlobalId, a field that is not a number, a moved element,
+    // and a datum without the refinement it is for. Each names the file (and line).
+    const std::string bim = " --session " + Quote(tmp / "bim") + " -o " + Quote(tmp / "o");
+    r = Cli("changes" + model + bim + " --datum " + Quote(tmp / "no_datum.csv"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("no_datum.csv"), std::string::npos) << r.err;
+    const bim::BimModel sample = bim::LoadIfc(tmp / "building.ifc");
+    const std::string id = sample.elements.front().global_id;
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"# walls\n0000000000000000000000\n", "datum.csv:2: the model has no element"},
+        {id + ",0,0.01\n", "datum.csv:1: expected GlobalId or GlobalId,dx,dy,dz"},
+        {"\n" + id + ",0,abc,0\n", "datum.csv:2: 'abc' is not a number"},
+        {id + ",0,1.5,0\n", "datum.csv:1: an offset of 1.5"},
+        {id + "\n" + id + "\n", "datum.csv:2: " + id + " is listed twice"},
+        {"# nothing\n", "datum.csv: no surveyed element"}};
+    for (const auto& [text, message] : bad) {
+        io::WriteFileAtomic(tmp / "datum.csv", text);
+        r = Cli("changes" + model + bim + " --datum " + Quote(tmp / "datum.csv"));
+        EXPECT_EQ(r.exit_code, 2) << text;
+        EXPECT_NE(r.err.find(message), std::string::npos) << text << " -> " << r.err;
+    }
+    r = Cli("changes" + model + bim + " --no-refine --datum " + Quote(tmp / "datum.csv"));
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--no-refine"), std::string::npos) << r.err;
+
     r = Cli("changes --help");
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_NE(r.out.find("--min-multi-view"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--datum"), std::string::npos) << r.out;
 }
 
 TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {

@@ -133,6 +133,48 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     for (const char* s : {"odometry capture", "anchor", "changes", "report"}) {
         EXPECT_EQ(again.at(s), false) << s;
     }
+
+    // A datum (two exterior walls surveyed at their true offsets, from the capture's truth)
+    // reruns the changes and the report only, and the changes say which walls held the frame.
+    std::string datum = "global_id,dx,dy,dz\n";
+    const json truth = ReadJson(tmp / "capture" / "changes.json");
+    for (const json& m : truth.at("moved")) {
+        const std::string name = m.at("name");
+        if (name != "Ground Floor exterior wall south" && name != "Ground Floor exterior wall west") {
+            continue;
+        }
+        const json& t = m.at("translation");
+        datum += m.at("global_id").get<std::string>() + "," + std::to_string(t[0].get<double>()) +
+                 "," + std::to_string(t[1].get<double>()) + "," + std::to_string(t[2].get<double>()) +
+                 "\n";
+    }
+    io::WriteFileAtomic(tmp / "survey.csv", datum);
+    const auto fourth = Cli(args + " --datum " + (tmp / "survey.csv").string());
+    ASSERT_EQ(fourth.exit_code, 0) << fourth.err << datum;
+    const json surveyed = Steps(json::parse(fourth.out));
+    for (const char* s : {"reference", "odometry capture", "anchor"}) {
+        EXPECT_EQ(surveyed.at(s), true) << s;
+    }
+    EXPECT_EQ(surveyed.at("changes"), false);
+    const json changes = ReadJson(tmp / "out" / "changes" / "capture" / "changes.json");
+    EXPECT_EQ(changes.at("parameters").at("refinement").at("datum").size(), 2u) << datum;
+    EXPECT_EQ(changes.at("counts").at("refinement").at("datum_seen"), 2);
+    const json scores = ReadJson(tmp / "out" / "changes" / "capture" / "evaluation.json");
+    EXPECT_EQ(scores.at("as_built").at("surveyed"), 2);
+
+    // A datum file that does not exist, one naming an element the model does not have, or one
+    // with --no-refine, exits 2 before any step.
+    auto bad = Cli(args + " --datum " + (tmp / "nowhere.csv").string());
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("nowhere.csv"), std::string::npos) << bad.err;
+    io::WriteFileAtomic(tmp / "wrong.csv", "0000000000000000000000\n");
+    bad = Cli(args + " --force --datum " + (tmp / "wrong.csv").string() + " --json");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("wrong.csv:1: the model has no element"), std::string::npos) << bad.err;
+    EXPECT_EQ(bad.out, "") << "no step ran";
+    bad = Cli(args + " --no-refine --datum " + (tmp / "survey.csv").string());
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("--no-refine"), std::string::npos) << bad.err;
 }
 
 TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "algorithms/changes/change_detector.hpp"
@@ -173,6 +174,46 @@ TEST_P(PoseRefinementTest, PutsPerturbedKeyframesBackAndMeasuresEveryWallOffsetW
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, PoseRefinementTest, ::testing::Values(3u, 17u));
+
+// The gauge without a datum is the elements' mean offset along each axis: in a hall whose walls
+// were all built 2 cm off one way (plus N(0, 2 cm) each), every wall reads low by most of those
+// 2 cm. Two walls surveyed as built (one across each axis, at their true offsets plus 2 mm of
+// survey error) fix the gauge, and every other wall is then measured to its own offset.
+TEST_P(PoseRefinementTest, TwoSurveyedWallsFixTheGaugeAndEveryOtherWallIsMeasuredToItsOwnOffset) {
+    const Hall h = BuildHall(GetParam(), 0.03);
+    const std::vector<MapKeyframe> keyframes = h.Keyframes(h.perturbed);
+    PoseRefinementConfig config;
+    const PoseRefinement free = RefinePoses(h.model, keyframes, h.edges, config);
+    // Walls 0 and 2 of h.walls are the south (across y) and west (across x) outer walls.
+    ASSERT_EQ(h.wall_normal[0], V::UnitY());
+    ASSERT_EQ(h.wall_normal[2], V::UnitX());
+    config.datum = {{h.walls[0], (h.wall_offset[0] + 0.002) * h.wall_normal[0]},
+                    {h.walls[2], (h.wall_offset[2] - 0.002) * h.wall_normal[2]}};
+    const PoseRefinement surveyed = RefinePoses(h.model, keyframes, h.edges, config);
+    EXPECT_EQ(surveyed.datum_seen, 2u);
+    double worst_free = 0, worst = 0;
+    for (size_t w = 0; w < h.walls.size(); ++w) {
+        const double truth = h.wall_offset[w];
+        const double found = surveyed.element_offset[h.walls[w]].dot(h.wall_normal[w]);
+        EXPECT_NEAR(found, truth, 0.006) << "wall " << w;
+        worst = std::max(worst, std::abs(found - truth));
+        worst_free = std::max(
+            worst_free, std::abs(free.element_offset[h.walls[w]].dot(h.wall_normal[w]) - truth));
+    }
+    EXPECT_GT(worst_free, 0.01) << "without a datum the walls carry the common 2 cm";
+    for (size_t k = 0; k < h.truth.size(); ++k) {
+        // The survey's 2 mm along each axis and what the points leave.
+        EXPECT_LT(TranslationError(surveyed.T_world_lidar[k], h.truth[k]), 0.008) << k;
+    }
+    std::printf("walls' worst error: %.2f cm without a datum, %.2f cm with two surveyed walls\n",
+                100 * worst_free, 100 * worst);
+
+    // A surveyed element the model does not have is an error, as is a survey of a moved element.
+    config.datum = {{uint32_t(h.model.element_count()), V::Zero()}};
+    EXPECT_THROW(RefinePoses(h.model, keyframes, h.edges, config), common::Error);
+    config.datum = {{h.walls[0], V(2.0, 0, 0)}};
+    EXPECT_THROW(config.Validate(), common::Error);
+}
 
 // Keyframe 8 of this hall (seed 3, every wall 2 cm further off) was placed 8.4 cm off in x, at
 // 2 m from a partition 15 cm thick: its points on the partition's near face lie nearer the far

@@ -1,0 +1,27 @@
+// `bimslam changes --datum FILE`: elements surveyed as built, which fix the pose refinement's gauge
+// (algorithms/changes/pose_refinement.hpp, "Gauge"). Without them the refinement can only take the
+// building to stand, on average, where the model says, and every wall's measured deviation then
+// carries the mean offset of the walls seen along its normal (algorithms/changes/README.md).
+//
+// The file: one element per line, `GlobalId[,dx,dy,dz]`, the offset of the element as built from
+// where the model has it, in metres along the model's axes (a total station's survey of a few
+// elements, as Scan-vs-BIM work registers on control). A GlobalId alone: surveyed where the model
+// says. '#' starts a comment; blank lines and a first line starting with "global_id" (a header)
+// are skipped.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "algorithms/changes/pose_refinement.hpp"
+#include "host_tools/bim/bim_model.hpp"
+
+namespace bimslam::change_detection {
+
+// Throws common::Error (kInvalidArgument) naming the file and line: unreadable, no element, a
+// field that is not a number, a wrong number of fields, a GlobalId the model does not have or
+// that is not a physical element with geometry, one listed twice, an offset of 1 m or more.
+std::vector<changes::SurveyedElement> ReadSurveyDatum(const std::filesystem::path& file,
+                                                      const bim::BimModel& model);
+
+}  // namespace bimslam::change_detection
