@@ -246,7 +246,8 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
         out.max_correction_m = std::max(out.max_correction_m, out.correction_m[k]);
         out.max_correction_deg = std::max(out.max_correction_deg, out.correction_deg[k]);
     }
-    for (const SurveyedElement& d : config.datum) out.datum_seen += out.element_points[d.element] > 0;
+    for (const SurveyedElement& d : config.datum)
+        out.datum_seen += out.element_points[d.element] > 0;
     out.element_offset = std::move(offsets);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;

@@ -111,11 +111,11 @@ struct PoseRefinement {
     std::vector<double> correction_deg;            // per keyframe: rotation moved
     std::vector<Eigen::Vector3d> element_offset;   // per element: t_e (0 when not seen)
     std::vector<uint32_t> element_points;          // per element: correspondences, last round
-    size_t datum_seen = 0;  // surveyed elements with correspondences (those that held the gauge)
     size_t correspondences = 0;                    // last round
     size_t edges = 0;
     size_t unexplained = 0;  // keyframes not registered to the model (moved by edges only)
     size_t held = 0;         // of those, kept as they were (no edge)
+    size_t datum_seen = 0;   // surveyed elements with correspondences (they held the frame)
     int iterations = 0;
     double seconds = 0;
     // Summary of correction_m: keyframes moved by more than 1 cm, mean and max.

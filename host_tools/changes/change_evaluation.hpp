@@ -14,8 +14,8 @@
 //                     those with at least 1 m^2 of expected visible surface (elements.csv).
 //   moved elements    found (deviating with a fitted motion), the error of the translation and yaw.
 //   as-built walls    the measured offset against the true one (vector difference), for the walls
-//                     the session saw (support >= 30 points) and that were not surveyed (a datum
-//                     wall, `parameters.refinement.datum`, is measured to its survey: counted apart).
+//                     the session saw (support >= 30 points) and that were not surveyed (a wall
+//                     in `parameters.refinement.datum` is measured to its survey: counted apart).
 //   people            found objects that match no added object and lie in a person's path (its
 //                     line widened by radius + 0.3 m, from its floor to its height): should be
 //                     none; people with a transient cluster on their line.
@@ -24,8 +24,8 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 

@@ -80,8 +80,9 @@ std::vector<changes::SurveyedElement> ReadSurveyDatum(const std::filesystem::pat
     }
     if (out.empty()) {
         throw common::Error(common::StatusCode::kInvalidArgument,
-                            file.string() + ": no surveyed element (expected lines "
-                                            "GlobalId[,dx,dy,dz])");
+                            file.string() +
+                                ": no surveyed element (expected lines "
+                                "GlobalId[,dx,dy,dz])");
     }
     return out;
 }

@@ -103,7 +103,8 @@ int Changes(ChangesArgs& a) {
     const bim::BimModel model = bim::LoadIfc(a.model, load);
     bar.Clear();
     const changes::ChangeModel change_model = change_detection::ToChangeModel(model);
-    if (!a.datum.empty()) a.config.refinement.datum = change_detection::ReadSurveyDatum(a.datum, model);
+    if (!a.datum.empty())
+        a.config.refinement.datum = change_detection::ReadSurveyDatum(a.datum, model);
     const std::string original = io::ReadFileToString(a.model);
     const change_detection::ModelInfo info{a.model, io::Sha256File(a.model)};
     size_t compared = 0;

@@ -185,8 +185,8 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
         }
     }
     ASSERT_EQ(south.size(), 22u) << "no south corridor wall in elements.csv";
-    io::WriteFileAtomic(tmp / "datum.csv", "global_id,dx,dy,dz\n# surveyed 2026-11-29\n" + south +
-                                               ",0,0.001,0\n");
+    io::WriteFileAtomic(tmp / "datum.csv",
+                        "global_id,dx,dy,dz\n# surveyed 2026-11-29\n" + south + ",0,0.001,0\n");
     r = Cli("changes --model " + Quote(tmp / "building.ifc") + " --session " +
             Quote(tmp / "anchored") + " -o " + Quote(tmp / "out_datum") + " --truth " +
             Quote(tmp / "capture" / "changes.json") + " --datum " + Quote(tmp / "datum.csv") +
@@ -197,8 +197,8 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalkAndWritesAnIfcBothReadersOpen) {
     EXPECT_EQ(with_datum["refinement"]["datum_seen"], 1);
     EXPECT_EQ(with_datum["evaluation"]["as_built"]["observed"], 1);
     EXPECT_LT(with_datum["evaluation"]["as_built"]["max_error_m"].get<double>(), 0.01);
-    const json datum = json::parse(io::ReadFileToString(tmp / "out_datum" / "changes.json"))
-        ["parameters"]["refinement"]["datum"];
+    const json datum = json::parse(io::ReadFileToString(
+        tmp / "out_datum" / "changes.json"))["parameters"]["refinement"]["datum"];
     ASSERT_EQ(datum.size(), 1u);
     EXPECT_EQ(datum[0]["global_id"], south);
     EXPECT_DOUBLE_EQ(datum[0]["offset_m"][1].get<double>(), 0.001);

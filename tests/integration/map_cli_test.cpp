@@ -140,13 +140,14 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     const json truth = ReadJson(tmp / "capture" / "changes.json");
     for (const json& m : truth.at("moved")) {
         const std::string name = m.at("name");
-        if (name != "Ground Floor exterior wall south" && name != "Ground Floor exterior wall west") {
+        if (name != "Ground Floor exterior wall south" &&
+            name != "Ground Floor exterior wall west") {
             continue;
         }
         const json& t = m.at("translation");
         datum += m.at("global_id").get<std::string>() + "," + std::to_string(t[0].get<double>()) +
-                 "," + std::to_string(t[1].get<double>()) + "," + std::to_string(t[2].get<double>()) +
-                 "\n";
+                 "," + std::to_string(t[1].get<double>()) + "," +
+                 std::to_string(t[2].get<double>()) + "\n";
     }
     io::WriteFileAtomic(tmp / "survey.csv", datum);
     const auto fourth = Cli(args + " --datum " + (tmp / "survey.csv").string());
