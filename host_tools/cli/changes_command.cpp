@@ -247,6 +247,9 @@ int Changes(ChangesArgs& a) {
                           << rl.truth_matched << "/" << rl.truth
                           << "); walls within 1 cm: " << ej["as_built"]["within_1cm"].get<size_t>()
                           << "/" << ev.walls.size()
+                          << (ev.walls_datum > 0
+                                  ? " (and " + std::to_string(ev.walls_datum) + " surveyed)"
+                                  : std::string())
                           << "; people as objects: " << ev.people_as_objects << "\n"
                           << "          (" << (dir / "evaluation.json").string() << ")\n";
             }
