@@ -33,7 +33,9 @@
 //   Seeds 7 (the scenario's own) by default; BIMSLAM_BENCH_LONG=1 adds seeds 11, 23, 42, 97 (a
 //   spread; 10 runs); BIMSLAM_BENCH_SEEDS=3,19,... runs those instead (seeds no rule was chosen
 //   on). BIMSLAM_BENCH_KEEP=DIR keeps each run's capture, sessions and output in
-//   DIR/<platform>_<seed>. BIMSLAM_BENCH_GROUND_TRUTH=1 places the session on the ground truth
+//   DIR/<platform>_<seed>. BIMSLAM_BENCH_LAYOUT=hall|symmetric runs another sample building with
+//   the scenario's clutter and walls built off only (its other edits are the office's).
+//   BIMSLAM_BENCH_GROUND_TRUTH=1 places the session on the ground truth
 //   instead of anchoring it (tests/support/ground_truth_session.hpp), to tell the anchoring's
 //   share of an error from the change detection's.
 #include <benchmark/benchmark.h>
@@ -376,9 +378,21 @@ void BM_ChangeAccuracy(benchmark::State& state) {
         fs::create_directories(tmp);
     }
     const fs::path ifc = tmp / "building.ifc";
-    bim::WriteSampleBuilding(ifc);
+    bim::SampleBuildingOptions building;
+    if (const char* layout = std::getenv("BIMSLAM_BENCH_LAYOUT"); layout && *layout) {
+        building.layout = bim::ParseBuildingLayout(layout).value();  // throws for an unknown one
+    }
+    bim::WriteSampleBuilding(ifc, building);
     simulate::Scenario s = simulate::LoadScenario(
         SourceRoot() / "host_tools/simulate/scenarios/changed_building.yaml");
+    if (building.layout != bim::BuildingLayout::kOffice) {
+        // The scenario's objects, GlobalIds and people are the office's: another building keeps
+        // only what is placed by rule, the random clutter and every wall built N(0, 2 cm) off.
+        simulate::EditsSpec edits;
+        edits.clutter = s.edits.clutter;
+        edits.as_built.wall_offset_sigma_m = s.edits.as_built.wall_offset_sigma_m;
+        s.edits = edits;
+    }
     s.model = ifc;
     s.seed = seed;
     if (handheld) {
