@@ -109,7 +109,7 @@ struct PoseRefinement {
     std::vector<Eigen::Isometry3d> T_world_lidar;  // per keyframe, refined
     std::vector<double> correction_m;              // per keyframe: translation moved
     std::vector<double> correction_deg;            // per keyframe: rotation moved
-    std::vector<Eigen::Vector3d> element_offset;   // per element: t_e (0 when not seen)
+    std::vector<Eigen::Vector3d> element_offset;   // per element: t_e (not seen: 0, or its survey)
     std::vector<uint32_t> element_points;          // per element: correspondences, last round
     size_t correspondences = 0;                    // last round
     size_t edges = 0;
