@@ -22,6 +22,17 @@ std::string Trim(const std::string& s) {
 
 }  // namespace
 
+void CheckSurveyDatumOption(const std::filesystem::path& file, bool refinement_enabled) {
+    if (!refinement_enabled) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "--datum holds the refinement's gauge; it has no use with --no-refine");
+    }
+    if (!std::filesystem::is_regular_file(file)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            file.string() + ": no such file (--datum)");
+    }
+}
+
 std::vector<changes::SurveyedElement> ReadSurveyDatum(const std::filesystem::path& file,
                                                       const bim::BimModel& model) {
     const std::string text = io::ReadFileToString(file);  // throws naming the file

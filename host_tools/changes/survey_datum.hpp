@@ -18,6 +18,11 @@
 
 namespace bimslam::change_detection {
 
+// What a `--datum FILE` option is checked for before any model is read (`bimslam changes` and
+// `bimslam map`): the refinement it holds must be on, and the file must exist. Throws common::Error
+// (kInvalidArgument).
+void CheckSurveyDatumOption(const std::filesystem::path& file, bool refinement_enabled);
+
 // Throws common::Error (kInvalidArgument) naming the file and line: unreadable, no element, a
 // field that is not a number, a wrong number of fields, a GlobalId the model does not have or
 // that is not a physical element with geometry, one listed twice, an offset of 1 m or more.

@@ -75,11 +75,8 @@ int Changes(ChangesArgs& a) {
     a.config.crop_to_footprint = !a.keep_outside;
     a.config.refinement.enabled = !a.no_refine;
     a.config.Validate();
-    if (!a.datum.empty() && a.no_refine) {
-        BadInput("--datum holds the refinement's gauge; it has no use with --no-refine");
-    }
-    if (!a.datum.empty() && !fs::is_regular_file(a.datum)) {
-        BadInput(a.datum + ": no such file (--datum)");
+    if (!a.datum.empty()) {
+        change_detection::CheckSurveyDatumOption(a.datum, a.config.refinement.enabled);
     }
     if (!a.truths.empty() && a.truths.size() != a.sessions.size()) {
         BadInput("--truth: give one per --session (" + std::to_string(a.sessions.size()) +

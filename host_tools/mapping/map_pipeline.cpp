@@ -38,12 +38,7 @@ void MapConfig::Validate() const {
     if (threads < 0) bad("threads " + std::to_string(threads));
     anchor.Validate();
     changes.Validate();
-    if (!datum.empty() && !changes.refinement.enabled) {
-        bad("--datum holds the refinement's gauge; it has no use with --no-refine");
-    }
-    if (!datum.empty() && !fs::is_regular_file(datum)) {
-        bad(datum.string() + ": no such file (--datum)");
-    }
+    if (!datum.empty()) change_detection::CheckSurveyDatumOption(datum, changes.refinement.enabled);
 }
 
 StepFailure::StepFailure(const std::string& step, const std::string& file, const std::string& why)
