@@ -11,6 +11,7 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
 #include "algorithms/io/session.hpp"
+#include "algorithms/odometry/scan_registration.hpp"
 #include "algorithms/pipeline/scan_pipeline.hpp"
 #include "drivers/can/go1_decoder.hpp"
 #include "drivers/ouster/metadata.hpp"
@@ -188,7 +189,11 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
                  ++next_body) {
                 join.AddBody(body[next_body]);
             }
+            const auto cpu_start = odometry::BudgetNow(true);
             const pipeline::ScanOutput& out = join.Process(scan);
+            report.scan_cpu_ms.push_back(
+                std::chrono::duration<double, std::milli>(odometry::BudgetNow(true) - cpu_start)
+                    .count());
             const odometry::OdometryResult& r = *out.odometry;
             report.scan_ms.push_back(r.total_ms);
             report.preprocess_ms.push_back(r.preprocess_ms);

@@ -55,6 +55,10 @@ struct CaptureOdometryReport {
     bool used_can = false;            // go1_can.log present and read
     bool mount_from_capture = false;  // T_base_lidar from capture.json
     std::vector<double> scan_ms;      // per scan, total time in LidarOdometry::Process
+    // Per scan, this thread's CPU time in ScanPipeline::Process: the work of the rig's odometry
+    // thread (odometry and keyframe selection). Decoding the packets and writing the session are
+    // other threads on the rig (firmware/app/README.md), so they are not in it.
+    std::vector<double> scan_cpu_ms;
     // Per scan, the stages of that time (OdometryResult::preprocess_ms, register_ms, map_ms) and
     // the work: registration points, outer iterations, map points inserted.
     std::vector<double> preprocess_ms, register_ms, map_ms;
