@@ -39,6 +39,8 @@ void LidarOdometryConfig::Validate() const {
             "constant_velocity_sigma", constant_velocity_sigma.minCoeff(), "must all be > 0");
     Require(imu_rotation_sigma > 0, c, "imu_rotation_sigma", imu_rotation_sigma, "must be > 0");
     Require(imu_rotation_gate >= 0, c, "imu_rotation_gate", imu_rotation_gate, "must be >= 0");
+    Require(body_translation_gate >= 0, c, "body_translation_gate", body_translation_gate,
+            "must be >= 0");
     Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
     Require(correction_sigma.allFinite() && (correction_sigma.array() >= 0).all(), c,
             "correction_sigma", correction_sigma.minCoeff(), "must all be >= 0");
@@ -205,12 +207,14 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
 
     // 1. Prediction of the motion since the previous scan.
     Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d cv_delta = Eigen::Isometry3d::Identity();
     common::Vector6d sigma = config_.constant_velocity_sigma;
     const double dt = initialized_ ? double(stamp - last_stamp_ns_) * 1e-9 : 0.0;
     if (!initialized_) {
         r.flags |= kFirstScan;
     } else {
         delta = common::ExpSE3(velocity_ * dt);
+        cv_delta = delta;
         if (config_.use_body_motion) {
             if (const auto rel = body_prior_.Between(last_stamp_ns_, stamp)) {
                 const Eigen::Isometry3d& B = config_.T_base_lidar;
@@ -227,6 +231,17 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
             sigma.tail<3>().setConstant(config_.imu_rotation_sigma);
             r.flags |= kImuUsed;
         }
+    }
+
+    // The legs against the LiDAR's own velocity (body_translation_gate): a foot that slips. The
+    // scan is then deskewed and registered from the LiDAR's translation.
+    if ((r.flags & kBodyPriorUsed) && (r.flags & kImuUsed) && config_.body_translation_gate > 0 &&
+        !last_degenerate_ &&
+        past_count_ > size_t(config_.velocity_window) &&
+        (delta.translation() - cv_delta.translation()).norm() >
+            config_.body_translation_gate * dt) {
+        delta.translation() = cv_delta.translation();
+        r.flags |= kContradictsLegs;
     }
 
     // 2. Preprocessing, deskewed with the predicted velocity (the gyro inside the scan).
@@ -408,6 +423,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         }
     }
     initialized_ = true;
+    last_degenerate_ = (r.flags & (kDegenerate | kRegistrationFailed)) != 0;
     last_stamp_ns_ = stamp;
     const Clock::time_point end = Clock::now();
     r.map_ms = Ms(end - registered);

@@ -157,6 +157,7 @@ const ScanOutput& ScanPipeline::Process(const ScanInput& scan) {
     stats_.failed += (r.flags & odometry::kRegistrationFailed) ? 1 : 0;
     stats_.not_converged += (r.flags & odometry::kNotConverged) ? 1 : 0;
     stats_.contradicted_gyro += (r.flags & odometry::kContradictsGyro) ? 1 : 0;
+    stats_.contradicted_legs += (r.flags & odometry::kContradictsLegs) ? 1 : 0;
     if (stats_.scans > 1 && !out_.clock_jump) {
         stats_.distance_m += (r.T_odom_lidar.translation() - last_position_).norm();
     }

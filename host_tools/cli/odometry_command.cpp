@@ -102,6 +102,7 @@ int Odometry(const OdometryArgs& a) {
                             {"failed", rep.failed},
                             {"not_converged", rep.not_converged},
                             {"contradicted_gyro", rep.contradicted_gyro},
+                            {"contradicted_legs", rep.contradicted_legs},
                             {"notes", rep.notes}};
         std::cout << j.dump(2) << "\n";
         return kExitOk;
@@ -118,7 +119,7 @@ int Odometry(const OdometryArgs& a) {
     std::cout << std::setprecision(2) << "per scan  p50 " << p50 << " ms, p99 " << p99
               << " ms, max " << max << " ms; over budget " << rep.over_budget << ", degenerate "
               << rep.degenerate << ", failed " << rep.failed << ", contradicted the gyro "
-              << rep.contradicted_gyro << "\n";
+              << rep.contradicted_gyro << ", the legs " << rep.contradicted_legs << "\n";
     // The CPU time is the rig's odometry thread's work (decoding and writing are other threads
     // there); the wall time above also holds what else the machine runs.
     std::cout << "CPU/scan  p50 " << replay::Percentile(rep.scan_cpu_ms, 0.5) << " ms, p99 "

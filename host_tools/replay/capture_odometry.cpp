@@ -240,6 +240,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     report.failed = st.failed;
     report.not_converged = st.not_converged;
     report.contradicted_gyro = st.contradicted_gyro;
+    report.contradicted_legs = st.contradicted_legs;
     report.distance_m = st.distance_m;
     if (report.scans == 0) {
         throw common::FileError(StatusCode::kDataLoss, pcap.string(), 0,

@@ -65,6 +65,7 @@ struct CaptureOdometryReport {
     double mean_registration_points = 0, mean_iterations = 0, mean_map_points = 0;
     size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
     size_t contradicted_gyro = 0;  // scans that turned against the gyro (kContradictsGyro)
+    size_t contradicted_legs = 0;  // the Go1's legs against the LiDAR (kContradictsLegs)
     double distance_m = 0;  // along the odometry trajectory
     double capture_s = 0;   // sensor time from the first to the last scan
     double wall_s = 0;      // this run
