@@ -366,6 +366,24 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
     return g;
 }
 
+size_t AddObstacle(OccupancyGrid& g, const common::TriangleMesh& mesh, double object_height_m) {
+    std::vector<uint8_t> blocked(g.cells.size(), 0);
+    for (const auto& t : mesh.triangles) {
+        const Eigen::Vector3f &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]],
+                              &c = mesh.vertices[t[2]];
+        const double zmin = std::min({a.z(), b.z(), c.z()}), zmax = std::max({a.z(), b.z(), c.z()});
+        if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + object_height_m) continue;
+        RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
+                          c.head<2>().cast<double>(), blocked);
+    }
+    size_t taken = 0;
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        if (blocked[i] && g.cells[i] == Cell::kFree) g.cells[i] = Cell::kOccupied, ++taken;
+    }
+    if (taken > 0) Clearance(g);
+    return taken;
+}
+
 io::Image GridImage(const OccupancyGrid& g) {
     io::Image img(g.width, g.height, 1, 205);
     for (int y = 0; y < g.height; ++y) {

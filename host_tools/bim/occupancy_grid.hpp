@@ -60,6 +60,13 @@ struct OccupancyGrid {
 // found (a storey with no walls at the slice height, or a seed inside a wall).
 OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config);
 
+// An object that is not in the model (a scenario's added cabinet, a desk it moved): the cells
+// under every triangle of `mesh` (model coordinates) that reaches between the floor and
+// object_height_m above it become occupied, as BuildOccupancyGrid does for the model's furniture,
+// and the clearance is recomputed. Returns how many free cells it took.
+size_t AddObstacle(OccupancyGrid& grid, const common::TriangleMesh& mesh,
+                   double object_height_m = GridConfig{}.object_height_m);
+
 // 4-connected components of the cells `in` accepts (by index y * width + x): per cell its
 // component, numbered from 0, or -1.
 std::vector<int> LabelRegions(const OccupancyGrid& grid, const std::function<bool(size_t)>& in);

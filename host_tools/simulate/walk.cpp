@@ -6,6 +6,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "host_tools/bim/coverage_path.hpp"
+#include "host_tools/simulate/world.hpp"
 
 namespace bimslam::simulate {
 namespace {
@@ -67,6 +68,11 @@ Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
     Walk w;
     bim::GridConfig gc;
     w.grid = bim::BuildOccupancyGrid(model, storey, gc);
+    // What the scenario adds or moves is in the way too: a walk through the added cabinet put the
+    // sensor inside it for 0.7 s (every point within the odometry's minimum range).
+    for (const common::TriangleMesh& m : WalkObstacles(model, s.edits)) {
+        bim::AddObstacle(w.grid, m, gc.object_height_m);
+    }
     w.floor_z = w.grid.floor_z;
     const bim::PathConfig pc = PathConfigFor(s);
     const bool vehicle = s.platform == Platform::kVehicle;

@@ -74,6 +74,13 @@ Eigen::AlignedBox3d Bounds(const common::TriangleMesh& mesh,
 }
 
 // The ground: four quads around the footprint (xy box), facing up.
+// A moved element's motion: turned about its centre c, then translated (edits.moved).
+Eigen::Isometry3d Move(const MovedElement& mv, const Eigen::Vector3d& c) {
+    return Eigen::Translation3d(c + mv.translation) *
+           Eigen::AngleAxisd(mv.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+           Eigen::Translation3d(-c);
+}
+
 common::TriangleMesh Ground(const Eigen::AlignedBox3d& bounds, double z) {
     const Eigen::Vector2d lo = bounds.min().head<2>(), hi = bounds.max().head<2>();
     const double w = kGroundWidthM;
@@ -142,6 +149,39 @@ size_t FindElement(const bim::BimModel& m, const std::string& global_id, const s
 
 }  // namespace
 
+std::vector<common::TriangleMesh> WalkObstacles(const bim::BimModel& model,
+                                                const EditsSpec& edits) {
+    std::vector<common::TriangleMesh> out;
+    for (const AddedBox& b : edits.boxes) {
+        out.push_back(simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg));
+    }
+    for (const AddedCylinder& c : edits.cylinders) {
+        out.push_back(simulation::CylinderMesh(c.base, c.radius_m, c.height_m));
+    }
+    for (const AddedMesh& am : edits.meshes) {
+        common::TriangleMesh m = LoadMeshFile(am.file);
+        const Eigen::Affine3d T = Eigen::Translation3d(am.position) *
+                                  Eigen::AngleAxisd(am.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                                  Eigen::Scaling(am.scale);
+        for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
+        out.push_back(std::move(m));
+    }
+    for (size_t k = 0; k < edits.moved.size(); ++k) {
+        const size_t e = FindElement(model, edits.moved[k].global_id,
+                                     "edits.moved[" + std::to_string(k) + "].global_id");
+        const bim::BimElement& el = model.elements[e];
+        const std::vector<uint32_t> v = ElementVertices(model, el);
+        const Eigen::Isometry3d T = Move(edits.moved[k], Bounds(model.mesh, v).center());
+        common::TriangleMesh m;
+        m.vertices = model.mesh.vertices;  // only the element's are used, and moved
+        Transform(m, v, T);
+        m.triangles.assign(model.mesh.triangles.begin() + el.first_triangle,
+                           model.mesh.triangles.begin() + el.first_triangle + el.triangle_count);
+        out.push_back(std::move(m));
+    }
+    return out;
+}
+
 World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
                  const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
                  uint64_t seed) {
@@ -172,11 +212,7 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
         const size_t e =
             FindElement(model, mv.global_id, "edits.moved[" + std::to_string(k) + "].global_id");
         const std::vector<uint32_t> v = ElementVertices(model, model.elements[e]);
-        const Eigen::Vector3d c = Bounds(model.mesh, v).center();
-        const Eigen::Isometry3d T = Eigen::Translation3d(c + mv.translation) *
-                                    Eigen::AngleAxisd(mv.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
-                                    Eigen::Translation3d(-c);
-        Transform(model.mesh, v, T);
+        Transform(model.mesh, v, Move(mv, Bounds(model.mesh, v).center()));
         ElementChange change = ChangeOf(model, e, "moved");
         change.translation = mv.translation;
         change.yaw_deg = mv.yaw_deg;

@@ -71,6 +71,12 @@ World BuildWorld(const bim::BimModel& model, int storey, const EditsSpec& edits,
                  const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
                  uint64_t seed);
 
+// What the scenario puts on the floor that the model does not have: the added boxes, cylinders
+// and meshes, and the moved elements at their new places (model coordinates). The walk goes
+// around them (walk.cpp). Throws as BuildWorld does for a GlobalId that matches nothing or a
+// mesh file that cannot be read.
+std::vector<common::TriangleMesh> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits);
+
 // The people at time t (seconds), as closed cylinders with triangle ids kPersonIdBase + person.
 common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double floor_z, double t,
                                 std::vector<uint32_t>* ids);

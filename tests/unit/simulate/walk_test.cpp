@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "algorithms/common/status.hpp"
 #include "tests/unit/bim/synthetic_floor.hpp"
@@ -113,4 +114,54 @@ TEST_F(VehicleWalk, NeedsWaypointsOutsideTheBuilding) {
 }
 
 }  // namespace
+
+// The smallest distance(q) over the walk, sampled every 2 cm along it.
+double Closest(const std::vector<Eigen::Vector2d>& walk,
+               const std::function<double(const Eigen::Vector2d&)>& distance) {
+    double best = 1e9;
+    for (size_t i = 0; i + 1 < walk.size(); ++i) {
+        const double len = (walk[i + 1] - walk[i]).norm();
+        const int steps = std::max(1, int(len / 0.02));
+        for (int k = 0; k <= steps; ++k) {
+            best = std::min(best, distance(walk[i] + (walk[i + 1] - walk[i]) * k / steps));
+        }
+    }
+    return best;
+}
+
+// A box the scenario adds where the coverage walk went (the changed building's cabinet stood
+// on it, and the simulated Go1 walked through it): the walk now goes around it, its clearance
+// kept; so does a cylinder.
+TEST(Go1Walk, GoesAroundWhatTheScenarioAddsOnTheFloor) {
+    const bim::BimModel model = bim::test_floor::Floor();
+    Scenario s = DefaultScenario(Platform::kGo1);
+    const Walk plain = PlanWalk(model, 0, s);
+    // The walk's point with the most room around it (a room's middle), for the box to stand on.
+    size_t at = 0;
+    float room = 0;
+    for (size_t i = 0; i < plain.points.size(); ++i) {
+        int x, y;
+        ASSERT_TRUE(plain.grid.ToCell(plain.points[i], &x, &y));
+        const float c = plain.grid.clearance[size_t(y) * plain.grid.width + x];
+        if (c > room) room = c, at = i;
+    }
+    ASSERT_GT(room, 1.0f) << "the synthetic floor has a room with space for a box";
+    const Eigen::Vector2d p = plain.points[at];
+    const Eigen::Vector3d size(0.6, 0.4, 0.8);
+    const Eigen::AlignedBox2d box(p - size.head<2>() / 2, p + size.head<2>() / 2);
+    const auto to_box = [&](const Eigen::Vector2d& q) { return box.exteriorDistance(q); };
+    ASSERT_EQ(Closest(plain.points, to_box), 0.0) << "the plain walk passes through the box";
+
+    s.edits.boxes.push_back({"box on the walk", Eigen::Vector3d(p.x(), p.y(), 0.4), size, 0.0});
+    const Walk around = PlanWalk(model, 0, s);
+    // 0.3 m is the Go1's clearance; one grid cell (5 cm) of rasterisation.
+    EXPECT_GT(Closest(around.points, to_box), 0.3 - 0.05);
+
+    Scenario c = DefaultScenario(Platform::kGo1);
+    c.edits.cylinders.push_back({"bin on the walk", Eigen::Vector3d(p.x(), p.y(), 0.0), 0.3, 1.0});
+    const Walk round_bin = PlanWalk(model, 0, c);
+    const auto to_bin = [&](const Eigen::Vector2d& q) { return (q - p).norm() - 0.3; };
+    EXPECT_GT(Closest(round_bin.points, to_bin), 0.3 - 0.05);
+}
+
 }  // namespace bimslam::simulate
