@@ -87,6 +87,7 @@ int Simulate(const SimulateArgs& a) {
               << "time      " << std::setprecision(2) << r.wall_s << " s, " << std::setprecision(1)
               << r.duration_s / r.wall_s << "x real time\n"
               << "capture   " << a.out << " (capture.json lists the files)\n";
+    for (const std::string& n : r.notes) std::cout << "note      " << n << "\n";
     if (a.json) {
         nlohmann::json j = {{"capture", a.out},
                             {"frames", r.frames},
@@ -100,7 +101,8 @@ int Simulate(const SimulateArgs& a) {
                             {"can_frames", r.can_frames},
                             {"pcap_bytes", r.pcap_bytes},
                             {"wall_s", r.wall_s},
-                            {"real_time_factor", r.duration_s / r.wall_s}};
+                            {"real_time_factor", r.duration_s / r.wall_s},
+                            {"notes", r.notes}};
         std::cout << j.dump(2) << "\n";
     }
     return kExitOk;

@@ -208,6 +208,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     const double end_s = s.duration_s > 0 ? s.duration_s : trajectory.duration_s();
     r.walk_length_m = trajectory.length_m();
     r.starts_outside = walk.starts_outside;
+    r.notes = walk.notes;
 
     World world = BuildWorld(model, storey, s.edits, walk.grid, walk.points, s.seed);
     const simulation::Scene scene(world.mesh, world.ids, world.materials);

@@ -17,6 +17,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "algorithms/simulation/body_trajectory.hpp"
 #include "algorithms/simulation/lidar_model.hpp"
@@ -41,6 +42,7 @@ struct CaptureReport {
     uint64_t pcap_bytes = 0;  // lidar.pcap's size
     size_t added_objects = 0, removed_elements = 0, moved_elements = 0, people = 0;
     double wall_s = 0;  // time the simulation took
+    std::vector<std::string> notes;  // for the user (Walk::notes)
 };
 
 // The rolling shutter: the sensor's pose at each column of the frame that starts at trajectory

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
@@ -41,6 +42,24 @@ void Append(std::vector<Eigen::Vector2d>& walk, const std::vector<Eigen::Vector2
     }
 }
 
+// Less floor than this cut off by an object is not worth a note (a corner behind a cabinet).
+constexpr double kCutOffNoteM2 = 1.0;
+
+// Free cells outside the largest free region: what the walk cannot reach.
+size_t CutOffCells(const bim::OccupancyGrid& g) {
+    const std::vector<int> label =
+        bim::LabelRegions(g, [&](size_t i) { return g.cells[i] == bim::Cell::kFree; });
+    std::vector<size_t> size;
+    for (const int l : label) {
+        if (l < 0) continue;
+        if (size_t(l) >= size.size()) size.resize(size_t(l) + 1, 0);
+        ++size[size_t(l)];
+    }
+    size_t total = 0, largest = 0;
+    for (const size_t n : size) total += n, largest = std::max(largest, n);
+    return total - largest;
+}
+
 bool IsFree(const bim::OccupancyGrid& g, const Eigen::Vector2d& p) {
     int x, y;
     return g.ToCell(p, &x, &y) && g.cells[size_t(y) * g.width + x] == bim::Cell::kFree;
@@ -70,8 +89,18 @@ Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
     w.grid = bim::BuildOccupancyGrid(model, storey, gc);
     // What the scenario adds or moves is in the way too: a walk through the added cabinet put the
     // sensor inside it for 0.7 s (every point within the odometry's minimum range).
-    for (const common::TriangleMesh& m : WalkObstacles(model, s.edits)) {
-        bim::AddObstacle(w.grid, m, gc.object_height_m);
+    size_t cut_off = 0;
+    for (const Obstacle& o : WalkObstacles(model, s.edits)) {
+        if (bim::AddObstacle(w.grid, o.mesh, gc.object_height_m) == 0) continue;
+        const size_t now = CutOffCells(w.grid);
+        if (now > cut_off + size_t(kCutOffNoteM2 / (w.grid.resolution * w.grid.resolution))) {
+            std::ostringstream os;
+            os << std::fixed << std::setprecision(1) << o.edit << " cuts "
+               << double(now - cut_off) * w.grid.resolution * w.grid.resolution
+               << " m2 of free floor off the rest: the walk does not go there";
+            w.notes.push_back(os.str());
+        }
+        cut_off = now;
     }
     w.floor_z = w.grid.floor_z;
     const bim::PathConfig pc = PathConfigFor(s);
@@ -93,6 +122,12 @@ Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
         walk.push_back(coverage.points.front());  // closed: back where it began
         w.waypoints = coverage.viewpoints.size();
         w.closed = true;
+        if (coverage.unreachable_viewpoints > 0) {
+            w.notes.push_back(std::to_string(coverage.unreachable_viewpoints) +
+                              " viewpoint(s) of the coverage walk cannot be reached with the "
+                              "platform's clearance and are left out: what they would see may "
+                              "go unseen");
+        }
     } else {
         walk.push_back(s.path.waypoints.front());
         for (size_t k = 1; k < s.path.waypoints.size(); ++k) {

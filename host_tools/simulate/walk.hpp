@@ -26,6 +26,9 @@ struct Walk {
     bool closed = false;
     bim::OccupancyGrid grid;  // the storey's grid (inside), for clutter placement
     size_t waypoints = 0;     // viewpoints of the coverage walk, or waypoints
+    // For the user: each added or moved object that cut free floor off the rest (a crate in a
+    // doorway), with the area; the walk does not go there.
+    std::vector<std::string> notes;
 };
 
 // Throws common::Error naming what cannot be walked (a waypoint in a wall, a start outside with

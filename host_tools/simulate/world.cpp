@@ -149,22 +149,29 @@ size_t FindElement(const bim::BimModel& m, const std::string& global_id, const s
 
 }  // namespace
 
-std::vector<common::TriangleMesh> WalkObstacles(const bim::BimModel& model,
-                                                const EditsSpec& edits) {
-    std::vector<common::TriangleMesh> out;
-    for (const AddedBox& b : edits.boxes) {
-        out.push_back(simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg));
+std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits) {
+    std::vector<Obstacle> out;
+    const auto name = [](const std::string& field, size_t k, const std::string& n) {
+        return "edits." + field + "[" + std::to_string(k) + "]" + (n.empty() ? "" : " (" + n + ")");
+    };
+    for (size_t k = 0; k < edits.boxes.size(); ++k) {
+        const AddedBox& b = edits.boxes[k];
+        out.push_back({name("boxes", k, b.name),
+                       simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg)});
     }
-    for (const AddedCylinder& c : edits.cylinders) {
-        out.push_back(simulation::CylinderMesh(c.base, c.radius_m, c.height_m));
+    for (size_t k = 0; k < edits.cylinders.size(); ++k) {
+        const AddedCylinder& c = edits.cylinders[k];
+        out.push_back({name("cylinders", k, c.name),
+                       simulation::CylinderMesh(c.base, c.radius_m, c.height_m)});
     }
-    for (const AddedMesh& am : edits.meshes) {
+    for (size_t k = 0; k < edits.meshes.size(); ++k) {
+        const AddedMesh& am = edits.meshes[k];
         common::TriangleMesh m = LoadMeshFile(am.file);
         const Eigen::Affine3d T = Eigen::Translation3d(am.position) *
                                   Eigen::AngleAxisd(am.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
                                   Eigen::Scaling(am.scale);
         for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
-        out.push_back(std::move(m));
+        out.push_back({name("meshes", k, am.name), std::move(m)});
     }
     for (size_t k = 0; k < edits.moved.size(); ++k) {
         const size_t e = FindElement(model, edits.moved[k].global_id,
@@ -177,7 +184,7 @@ std::vector<common::TriangleMesh> WalkObstacles(const bim::BimModel& model,
         Transform(m, v, T);
         m.triangles.assign(model.mesh.triangles.begin() + el.first_triangle,
                            model.mesh.triangles.begin() + el.first_triangle + el.triangle_count);
-        out.push_back(std::move(m));
+        out.push_back({name("moved", k, el.global_id), std::move(m)});
     }
     return out;
 }

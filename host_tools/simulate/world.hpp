@@ -75,7 +75,11 @@ World BuildWorld(const bim::BimModel& model, int storey, const EditsSpec& edits,
 // and meshes, and the moved elements at their new places (model coordinates). The walk goes
 // around them (walk.cpp). Throws as BuildWorld does for a GlobalId that matches nothing or a
 // mesh file that cannot be read.
-std::vector<common::TriangleMesh> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits);
+struct Obstacle {
+    std::string edit;  // its YAML path and name, e.g. "edits.boxes[0] (crate)"
+    common::TriangleMesh mesh;
+};
+std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits);
 
 // The people at time t (seconds), as closed cylinders with triangle ids kPersonIdBase + person.
 common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double floor_z, double t,

@@ -164,4 +164,33 @@ TEST(Go1Walk, GoesAroundWhatTheScenarioAddsOnTheFloor) {
     EXPECT_GT(Closest(round_bin.points, to_bin), 0.3 - 0.05);
 }
 
+// A box in the south-west room's doorway (x 2..3 in the corridor's south wall) cuts the room off:
+// the walk says so, naming the edit, says that the room's viewpoint is left out, and does not go
+// in. The box and cylinder on the walk above
+// cut nothing off and say nothing.
+TEST(Go1Walk, SaysWhichObjectCutsFloorOffTheWalk) {
+    const bim::BimModel model = bim::test_floor::Floor();
+    Scenario s = DefaultScenario(Platform::kGo1);
+    EXPECT_TRUE(PlanWalk(model, 0, s).notes.empty());
+    s.edits.boxes.push_back({"crate in the door", Eigen::Vector3d(2.5, 3.5, 0.4),
+                             Eigen::Vector3d(1.2, 0.5, 0.8), 0.0});
+    const Walk w = PlanWalk(model, 0, s);
+    ASSERT_EQ(w.notes.size(), 2u);
+    // The room's viewpoint is left out of the coverage walk, and that is said too.
+    EXPECT_NE(w.notes[1].find("1 viewpoint(s) of the coverage walk cannot be reached"),
+              std::string::npos)
+        << w.notes[1];
+    EXPECT_NE(w.notes[0].find("edits.boxes[0] (crate in the door) cuts"), std::string::npos)
+        << w.notes[0];
+    EXPECT_NE(w.notes[0].find("m2 of free floor"), std::string::npos) << w.notes[0];
+    // The room is x 0..6, y 0..3.5 less its walls: about 17 m2 of free floor.
+    const double m2 = std::stod(w.notes[0].substr(w.notes[0].find(" cuts ") + 6));
+    EXPECT_GT(m2, 12.0);
+    EXPECT_LT(m2, 21.0);
+    for (const Eigen::Vector2d& p : w.points) {
+        EXPECT_FALSE(p.x() < 5.9 && p.y() < 3.3) << "the walk went into the cut-off room at "
+                                                 << p.transpose();
+    }
+}
+
 }  // namespace bimslam::simulate
