@@ -90,6 +90,16 @@ void RasterizeTriangle(const OccupancyGrid& g, const Eigen::Vector2d& a, const E
     }
 }
 
+// An object's triangle in plan, when it reaches between 2 cm above the floor and top_m above it:
+// what a walker must go around (a rug or a shelf above the head is not in the way).
+void RasterizeFootprint(const OccupancyGrid& g, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                        const Eigen::Vector3f& c, double top_m, std::vector<uint8_t>& mask) {
+    const double zmin = std::min({a.z(), b.z(), c.z()}), zmax = std::max({a.z(), b.z(), c.z()});
+    if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + top_m) return;
+    RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
+                      c.head<2>().cast<double>(), mask);
+}
+
 // The segment where a triangle crosses the plane z = h, if it does.
 bool SliceTriangle(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c,
                    double h, Eigen::Vector2d* p, Eigen::Vector2d* q) {
@@ -285,12 +295,8 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
                 }
                 continue;
             }
-            const double zmin = std::min({a.z(), b.z(), c.z()}),
-                         zmax = std::max({a.z(), b.z(), c.z()});
-            const double top = closure ? kClosureHeightM : config.object_height_m;
-            if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + top) continue;
-            RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
-                              c.head<2>().cast<double>(), closure ? closed : blocked);
+            RasterizeFootprint(g, a, b, c, closure ? kClosureHeightM : config.object_height_m,
+                               closure ? closed : blocked);
         }
         FillSlice(g, segs, xs, blocked);
     }
@@ -369,12 +375,8 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
 size_t AddObstacle(OccupancyGrid& g, const common::TriangleMesh& mesh, double object_height_m) {
     std::vector<uint8_t> blocked(g.cells.size(), 0);
     for (const auto& t : mesh.triangles) {
-        const Eigen::Vector3f &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]],
-                              &c = mesh.vertices[t[2]];
-        const double zmin = std::min({a.z(), b.z(), c.z()}), zmax = std::max({a.z(), b.z(), c.z()});
-        if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + object_height_m) continue;
-        RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
-                          c.head<2>().cast<double>(), blocked);
+        RasterizeFootprint(g, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]],
+                           object_height_m, blocked);
     }
     size_t taken = 0;
     for (size_t i = 0; i < g.cells.size(); ++i) {
