@@ -81,6 +81,16 @@ Eigen::Isometry3d Move(const MovedElement& mv, const Eigen::Vector3d& c) {
            Eigen::Translation3d(-c);
 }
 
+// An added mesh file, scaled, turned and placed where the scenario puts it.
+common::TriangleMesh PlacedMesh(const AddedMesh& am) {
+    common::TriangleMesh m = LoadMeshFile(am.file);
+    const Eigen::Affine3d T = Eigen::Translation3d(am.position) *
+                              Eigen::AngleAxisd(am.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
+                              Eigen::Scaling(am.scale);
+    for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
+    return m;
+}
+
 common::TriangleMesh Ground(const Eigen::AlignedBox3d& bounds, double z) {
     const Eigen::Vector2d lo = bounds.min().head<2>(), hi = bounds.max().head<2>();
     const double w = kGroundWidthM;
@@ -166,12 +176,7 @@ std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec&
     }
     for (size_t k = 0; k < edits.meshes.size(); ++k) {
         const AddedMesh& am = edits.meshes[k];
-        common::TriangleMesh m = LoadMeshFile(am.file);
-        const Eigen::Affine3d T = Eigen::Translation3d(am.position) *
-                                  Eigen::AngleAxisd(am.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
-                                  Eigen::Scaling(am.scale);
-        for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
-        out.push_back({name("meshes", k, am.name), std::move(m)});
+        out.push_back({name("meshes", k, am.name), PlacedMesh(am)});
     }
     for (size_t k = 0; k < edits.moved.size(); ++k) {
         const size_t e = FindElement(model, edits.moved[k].global_id,
@@ -283,13 +288,8 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
     }
     for (size_t k = 0; k < edits.meshes.size(); ++k) {
         const AddedMesh& am = edits.meshes[k];
-        common::TriangleMesh m = LoadMeshFile(am.file);
-        const Eigen::Affine3d T = Eigen::Translation3d(am.position) *
-                                  Eigen::AngleAxisd(am.yaw_deg * kDeg, Eigen::Vector3d::UnitZ()) *
-                                  Eigen::Scaling(am.scale);
-        for (auto& v : m.vertices) v = (T * v.cast<double>()).cast<float>();
         w.added.push_back(
-            {am.name.empty() ? am.file.stem().string() : am.name, "mesh", std::move(m)});
+            {am.name.empty() ? am.file.stem().string() : am.name, "mesh", PlacedMesh(am)});
     }
 
     for (size_t k = 0; k < edits.mirrors.size(); ++k) {
