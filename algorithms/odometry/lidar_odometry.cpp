@@ -236,8 +236,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     // The legs against the LiDAR's own velocity (body_translation_gate): a foot that slips. The
     // scan is then deskewed and registered from the LiDAR's translation.
     if ((r.flags & kBodyPriorUsed) && (r.flags & kImuUsed) && config_.body_translation_gate > 0 &&
-        !last_degenerate_ &&
-        past_count_ > size_t(config_.velocity_window) &&
+        !last_degenerate_ && past_count_ > size_t(config_.velocity_window) &&
         (delta.translation() - cv_delta.translation()).norm() >
             config_.body_translation_gate * dt) {
         delta.translation() = cv_delta.translation();

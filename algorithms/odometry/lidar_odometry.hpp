@@ -116,8 +116,8 @@ struct LidarOdometryConfig {
     // scan was well constrained, the scan is deskewed and registered from the constant
     // velocity's translation instead (kContradictsLegs). Not without the IMU, where the
     // constant velocity misses the trot's wobble (measured: it fired 8-15 times a minute there
-    // and raised the worst error from 9-11 to 13-15 cm). A foot that slips reads a fraction of the true
-    // speed for a few tenths of a second; deskewed and started from it, the registration kept
+    // and raised the worst error from 9-11 to 13-15 cm). A foot that slips reads a fraction of the
+    // true speed for a few tenths of a second; deskewed and started from it, the registration kept
     // part of the slip (README.md, "Foot slips"). Not after a degenerate scan: along a
     // corridor's axis the constant velocity is not measured, the legs are. 0: off.
     double body_translation_gate = 0.25;

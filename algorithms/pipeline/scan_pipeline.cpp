@@ -10,13 +10,12 @@ namespace bimslam::pipeline {
 void ScanPipelineConfig::Validate() const {
     odometry.Validate();
     keyframes.Validate();
-    common::Require(pending_capacity >= 16 && pending_capacity <= (1u << 20),
-                      "ScanPipelineConfig", "pending_capacity", double(pending_capacity),
-                      "must be in [16, 1048576]");
+    common::Require(pending_capacity >= 16 && pending_capacity <= (1u << 20), "ScanPipelineConfig",
+                    "pending_capacity", double(pending_capacity), "must be in [16, 1048576]");
     common::Require(clock_jump_back_s > 0, "ScanPipelineConfig", "clock_jump_back_s",
-                      clock_jump_back_s, "must be positive");
+                    clock_jump_back_s, "must be positive");
     common::Require(clock_jump_forward_s > 0.2, "ScanPipelineConfig", "clock_jump_forward_s",
-                      clock_jump_forward_s, "must be above 0.2 s (two scan periods)");
+                    clock_jump_forward_s, "must be above 0.2 s (two scan periods)");
 }
 
 void FrameToScan(const ouster::LidarFrame& frame, int64_t emitted_arrival_ns, uint64_t imu_before,

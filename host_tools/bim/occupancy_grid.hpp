@@ -40,9 +40,9 @@ struct OccupancyGrid {
     std::string storey;
     double resolution = 0.05;
     Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // model x y of the corner of cell (0, 0)
-    int width = 0, height = 0;                          // cells; row 0 is the lowest y
-    double floor_z = 0;   // the storey's elevation (m)
-    double slice_z = 0;   // height of the slice (m, model z)
+    int width = 0, height = 0;                         // cells; row 0 is the lowest y
+    double floor_z = 0;                                // the storey's elevation (m)
+    double slice_z = 0;                                // height of the slice (m, model z)
     std::vector<Cell> cells;
     std::vector<float> clearance;  // metres from each free cell to the nearest non-free cell
 

@@ -66,9 +66,9 @@ struct CaptureOdometryReport {
     size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
     size_t contradicted_gyro = 0;  // scans that turned against the gyro (kContradictsGyro)
     size_t contradicted_legs = 0;  // the Go1's legs against the LiDAR (kContradictsLegs)
-    double distance_m = 0;  // along the odometry trajectory
-    double capture_s = 0;   // sensor time from the first to the last scan
-    double wall_s = 0;      // this run
+    double distance_m = 0;         // along the odometry trajectory
+    double capture_s = 0;          // sensor time from the first to the last scan
+    double wall_s = 0;             // this run
     int64_t host_minus_sensor_ns = 0;
     std::vector<std::string> notes;  // what was missing or skipped, for the user
 };

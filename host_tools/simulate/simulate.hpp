@@ -41,7 +41,7 @@ struct CaptureReport {
     uint64_t can_frames = 0;
     uint64_t pcap_bytes = 0;  // lidar.pcap's size
     size_t added_objects = 0, removed_elements = 0, moved_elements = 0, people = 0;
-    double wall_s = 0;  // time the simulation took
+    double wall_s = 0;               // time the simulation took
     std::vector<std::string> notes;  // for the user (Walk::notes)
 };
 

@@ -166,8 +166,8 @@ std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec&
     };
     for (size_t k = 0; k < edits.boxes.size(); ++k) {
         const AddedBox& b = edits.boxes[k];
-        out.push_back({name("boxes", k, b.name),
-                       simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg)});
+        out.push_back(
+            {name("boxes", k, b.name), simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg)});
     }
     for (size_t k = 0; k < edits.cylinders.size(); ++k) {
         const AddedCylinder& c = edits.cylinders[k];

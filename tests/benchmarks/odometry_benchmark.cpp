@@ -21,10 +21,10 @@
 // simulator's built-in sensors (drivers/ouster BuiltinOuster), 1024x10)
 //   Time per scan for each sensor, with the accuracy kept: the same counters, plus the thread's
 //   CPU time between consecutive scans (cpu_ms_*: packet decoding, the odometry and the session
-//   writing, which the rig spreads over three threads; odo_cpu_ms_* is the odometry's alone; measured with
-//   CLOCK_THREAD_CPUTIME_ID, so a machine shared with other work inflates it less than the wall
-//   time) and the worst scan of the first second (first_s_ms_max, wall: the map is empty and the
-//   voxel sizes not yet adapted there).
+//   writing, which the rig spreads over three threads; odo_cpu_ms_* is the odometry's alone;
+//   measured with CLOCK_THREAD_CPUTIME_ID, so a machine shared with other work inflates it less
+//   than the wall time) and the worst scan of the first second (first_s_ms_max, wall: the map is
+//   empty and the voxel sizes not yet adapted there).
 //
 // BM_OdometryCalibration/platform:P/mount:M/error:E/seed:S  (issue 17: a yardstick the odometry
 // did not build)

@@ -39,7 +39,7 @@ struct Inputs {
 struct OdometryRun {
     double max_translation_error = 0, max_rotation_error_deg = 0;
     double final_translation_error = 0, final_rotation_error_deg = 0;
-    uint32_t flags = 0;  // OR over the scans
+    uint32_t flags = 0;          // OR over the scans
     std::vector<double> errors;  // translation error of each scan
     bool finite = true;
     std::vector<OdometryResult> results;
@@ -94,8 +94,8 @@ OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int
             in.empty_scan(k)
                 ? common::PointCloud{}
                 : test::Scan(
-                      scene, [&](double tau) { return traj(t0 + tau) * in.seen_offset(k); },
-                      stamp, uint64_t(k) + 7);
+                      scene, [&](double tau) { return traj(t0 + tau) * in.seen_offset(k); }, stamp,
+                      uint64_t(k) + 7);
         cloud.stamp = common::SensorTime{stamp};
         if (in.drop_columns > 0 && !cloud.empty()) {
             // Columns missing: a block at a different azimuth in every scan.
@@ -254,8 +254,9 @@ TEST(LidarOdometry, AScanThatTurnsAgainstTheGyroKeepsTheGyrosRotation) {
     const OdometryRun gated = Odometry(scene, Arc, 25, in);
     const OdometryRun ungated = Odometry(scene, Arc, 25, in, off);
     std::cout << "a scan turned 2 deg: max error " << gated.max_translation_error * 100 << " cm "
-              << gated.max_rotation_error_deg << " deg gated, " << ungated.max_translation_error * 100
-              << " cm " << ungated.max_rotation_error_deg << " deg not\n";
+              << gated.max_rotation_error_deg << " deg gated, "
+              << ungated.max_translation_error * 100 << " cm " << ungated.max_rotation_error_deg
+              << " deg not\n";
     EXPECT_TRUE(gated.results[kOdd].flags & kContradictsGyro);
     EXPECT_EQ(others(gated) & kContradictsGyro, 0u) << "only the odd scan contradicts the gyro";
     EXPECT_EQ(ungated.flags & kContradictsGyro, 0u);
@@ -266,12 +267,13 @@ TEST(LidarOdometry, AScanThatTurnsAgainstTheGyroKeepsTheGyrosRotation) {
     EXPECT_LT(gated.final_rotation_error_deg, 0.2);
 }
 
-// A foot slip: for 0.3 s (2.0-2.3 s: the motion to scans 21-23) the legs read 0.3 of the true speed, as the simulated
-// Go1's slips do (host_tools/simulate). The LiDAR's own velocity then differs from the legs' by
-// 0.56 m/s: the scans are deskewed and registered from it and the slip is not kept. With the gate
-// off they were deskewed and started with the legs' motion and kept a centimetre of it (1.3 cm
-// against 0.14 cm measured). The arc starts from rest at full speed (scan 5), where the legs are
-// right and the constant velocity lags: the gate fires there too, for a few scans.
+// A foot slip: for 0.3 s (2.0-2.3 s: the motion to scans 21-23) the legs read 0.3 of the true
+// speed, as the simulated Go1's slips do (host_tools/simulate). The LiDAR's own velocity then
+// differs from the legs' by 0.56 m/s: the scans are deskewed and registered from it and the slip is
+// not kept. With the gate off they were deskewed and started with the legs' motion and kept a
+// centimetre of it (1.3 cm against 0.14 cm measured). The arc starts from rest at full speed (scan
+// 5), where the legs are right and the constant velocity lags: the gate fires there too, for a few
+// scans.
 TEST(LidarOdometry, AFootSlipIsNotKept) {
     const simulation::Scene scene(test::FurnishedRoom());
     Inputs in{.imu = true, .body = true};

@@ -172,8 +172,8 @@ TEST(Go1Walk, SaysWhichObjectCutsFloorOffTheWalk) {
     const bim::BimModel model = bim::test_floor::Floor();
     Scenario s = DefaultScenario(Platform::kGo1);
     EXPECT_TRUE(PlanWalk(model, 0, s).notes.empty());
-    s.edits.boxes.push_back({"crate in the door", Eigen::Vector3d(2.5, 3.5, 0.4),
-                             Eigen::Vector3d(1.2, 0.5, 0.8), 0.0});
+    s.edits.boxes.push_back(
+        {"crate in the door", Eigen::Vector3d(2.5, 3.5, 0.4), Eigen::Vector3d(1.2, 0.5, 0.8), 0.0});
     const Walk w = PlanWalk(model, 0, s);
     ASSERT_EQ(w.notes.size(), 2u);
     // The room's viewpoint is left out of the coverage walk, and that is said too.
@@ -188,8 +188,8 @@ TEST(Go1Walk, SaysWhichObjectCutsFloorOffTheWalk) {
     EXPECT_GT(m2, 12.0);
     EXPECT_LT(m2, 21.0);
     for (const Eigen::Vector2d& p : w.points) {
-        EXPECT_FALSE(p.x() < 5.9 && p.y() < 3.3) << "the walk went into the cut-off room at "
-                                                 << p.transpose();
+        EXPECT_FALSE(p.x() < 5.9 && p.y() < 3.3)
+            << "the walk went into the cut-off room at " << p.transpose();
     }
 }
 
