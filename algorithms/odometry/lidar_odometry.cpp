@@ -347,7 +347,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
             map_.Clear();
             if (edge_map_) edge_map_->Clear();
             preprocess(first_scan_, MotionFor(v, first_duration, first_scan_.stamp.ns));
-            map_.Insert(preprocessor_.map_points());
+            map_.Insert(preprocessor_.map_points(), Eigen::Vector3f::Zero());
             if (edge_map_) edge_map_->Insert(edges_);
             motion = MotionFor(v, duration, stamp);
             preprocess(scan, motion);
@@ -396,7 +396,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const auto update = [&](VoxelMap& map, std::span<const Eigen::Vector3f> points) {
         world_points_.resize(points.size());
         for (size_t i = 0; i < points.size(); ++i) world_points_[i] = R * points[i] + t;
-        map.Insert(world_points_);
+        map.Insert(world_points_, t);
         map.Prune(T.translation(), r.map_radius);
     };
     update(map_, preprocessor_.map_points());

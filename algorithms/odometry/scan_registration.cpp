@@ -159,7 +159,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
         const float alpha = in.alpha.empty() ? 0.0f : in.alpha[k];
         const Eigen::Vector3f L = correct ? CorrectPoint(q, alpha, rho, phi) : q;
         float r = 0;
-        const VoxelPlane* plane = map.FindPlane(R * L + t, &r);
+        const VoxelPlane* plane = map.FindPlane(R * L + t, &r, &t);
         if (!plane || std::abs(r) > max_d) continue;
         Correspondence& c = corr_[size_t(n++)];
         c.p = q.cast<double>();

@@ -61,7 +61,14 @@ int32_t VoxelMap::Find(const Eigen::Vector3i& key) const {
     }
 }
 
-void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) {
+void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) { InsertPoints(points, nullptr); }
+
+void VoxelMap::Insert(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f& viewpoint) {
+    InsertPoints(points, &viewpoint);
+}
+
+void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
+                            const Eigen::Vector3f* viewpoint) {
     touched_.clear();
     const float spacing2 =
         static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
@@ -94,6 +101,14 @@ void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) {
         if (near) continue;
         v.points[size_t(v.count++)] = p;
         ++points_;
+        if (viewpoint) {
+            const Eigen::Vector3f to_sensor = *viewpoint - p;
+            const float range = to_sensor.norm();
+            if (range > 0) {
+                v.view_sum += to_sensor / range;
+                ++v.viewed;
+            }
+        }
         if (!v.dirty) {
             v.dirty = true;
             touched_.push_back(i);
@@ -136,7 +151,11 @@ void VoxelMap::Fit(Voxel& v) const {
     const double thickness = std::sqrt(std::max(0.0, lambda(0)));
     const double spread = std::sqrt(std::max(0.0, lambda(1)));
     if (thickness > config_.max_plane_thickness || spread < 3 * thickness) return;
-    const Eigen::Vector3d n = eig.eigenvectors().col(0).normalized();
+    Eigen::Vector3d n = eig.eigenvectors().col(0).normalized();
+    // The front (header): where the points were seen from, when that is clearly one side.
+    const double facing = v.viewed > 0 ? n.dot(v.view_sum.cast<double>()) / v.viewed : 0.0;
+    if (facing < 0) n = -n;
+    v.plane.one_sided = std::abs(facing) >= kMinFacing;
     v.plane.normal = n.cast<float>();
     v.plane.offset = static_cast<float>(n.dot(mean));
     v.plane.valid = true;
@@ -162,7 +181,8 @@ const VoxelLine* VoxelMap::FindLine(const Eigen::Vector3f& p, float* distance) c
     return best;
 }
 
-const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance) const {
+const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance,
+                                      const Eigen::Vector3f* sensor) const {
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelPlane* best = nullptr;
     float best_abs = 0;
@@ -171,6 +191,8 @@ const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance)
         if (i < 0) continue;
         const VoxelPlane& plane = voxels_[size_t(i)].plane;
         if (!plane.valid) continue;
+        // The sensor behind a one-sided plane: that surface cannot be seen from here (header).
+        if (sensor && plane.one_sided && plane.normal.dot(*sensor) < plane.offset) continue;
         const float r = plane.normal.dot(p) - plane.offset;
         if (!best || std::abs(r) < best_abs) {
             best = &plane;

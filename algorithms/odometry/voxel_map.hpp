@@ -8,6 +8,15 @@
 // construction. Voxels farther than max_distance from the sensor are dropped (what lies far
 // behind); when the map is still full, the radius shrinks until it is three-quarters full. A full
 // voxel takes no more points, so the map of what was seen first stays fixed (KISS-ICP's rule).
+//
+// A plane has a front: the side its points were seen from (the mean of the unit vectors from each
+// point to the sensor that saw it). A surface can only be seen from its front, so a plane whose
+// front faces away from the sensor cannot be what a scan point lies on: FindPlane passes over it.
+// Without this, the two faces of a wall thinner than a voxel (0.2 m against 0.6 m) are one plane
+// to a scan seeing the other face, and the scan slid 8-13 cm onto it (README.md, "Glass, mirrors
+// and moving doors"). The same test is the normal compatibility check of projective association
+// (Newcombe et al. 2011, KinectFusion; Behley & Stachniss 2018, SuMa), and the reason the anchoring
+// orients its normals (algorithms/registration/oriented_cloud.hpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -41,10 +50,15 @@ struct VoxelMapConfig {
 };
 
 struct VoxelPlane {
-    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
-    float offset = 0;  // normal . x = offset on the plane
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // towards the front when one_sided
+    float offset = 0;                                  // normal . x = offset on the plane
     bool valid = false;
+    // Seen from one side: the points' mean view direction leaves the plane by at least
+    // kMinFacing (sine of the angle). Points inserted without a viewpoint leave it two-sided.
+    bool one_sided = false;
 };
+
+inline constexpr float kMinFacing = 0.05f;  // about 3 degrees
 
 struct VoxelLine {
     Eigen::Vector3f point = Eigen::Vector3f::Zero();  // the centroid
@@ -56,8 +70,10 @@ class VoxelMap {
 public:
     explicit VoxelMap(const VoxelMapConfig& config = {});
 
-    // Adds points (map frame), then refits the planes of the voxels that changed.
+    // Adds points (map frame), then refits the planes of the voxels that changed. `viewpoint`:
+    // the sensor that saw them (map frame), which gives the planes their front.
     void Insert(std::span<const Eigen::Vector3f> points);
+    void Insert(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f& viewpoint);
     // Drops the voxels beyond `radius` (at most max_distance; <= 0: max_distance) of `sensor`
     // (map frame), then more if still full.
     void Prune(const Eigen::Vector3d& sensor, double radius = 0);
@@ -65,7 +81,9 @@ public:
 
     // The plane for a point (map frame): of its voxel and its 6 face neighbours, the valid plane
     // nearest to it; nullptr when none. *distance gets the signed point-to-plane distance.
-    const VoxelPlane* FindPlane(const Eigen::Vector3f& p, float* distance) const;
+    // With `sensor` (map frame), one-sided planes whose front faces away from it are passed over.
+    const VoxelPlane* FindPlane(const Eigen::Vector3f& p, float* distance,
+                                const Eigen::Vector3f* sensor = nullptr) const;
     // With fit_lines: the nearest valid line the same way; *distance gets the distance to it.
     const VoxelLine* FindLine(const Eigen::Vector3f& p, float* distance) const;
 
@@ -78,7 +96,9 @@ private:
     struct Voxel {
         Eigen::Vector3i key;
         int count = 0;
+        int viewed = 0;  // points inserted with a viewpoint
         bool dirty = false;
+        Eigen::Vector3f view_sum = Eigen::Vector3f::Zero();  // their unit vectors to the sensor
         VoxelPlane plane;
         VoxelLine line;
         std::array<Eigen::Vector3f, kMaxPointsPerVoxel> points;
@@ -86,6 +106,7 @@ private:
     Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
     int32_t Find(const Eigen::Vector3i& key) const;  // index into voxels_ or -1
     void RebuildSlots();
+    void InsertPoints(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f* viewpoint);
     void Fit(Voxel& v) const;
 
     VoxelMapConfig config_;
