@@ -11,11 +11,12 @@ namespace bimslam::odometry {
 using common::Require;
 namespace {
 
-size_t Hash(const Eigen::Vector3i& k) {
-    // The spatial hash of Teschner et al. 2003 (three large primes, xor).
+size_t Hash(const Eigen::Vector3i& k, bool back) {
+    // The spatial hash of Teschner et al. 2003 (three large primes, xor); a back twin moved off.
     return static_cast<size_t>((uint64_t(uint32_t(k.x())) * 73856093u) ^
                                (uint64_t(uint32_t(k.y())) * 19349669u) ^
-                               (uint64_t(uint32_t(k.z())) * 83492791u));
+                               (uint64_t(uint32_t(k.z())) * 83492791u)) +
+           (back ? 1 : 0);
 }
 
 }  // namespace
@@ -52,13 +53,30 @@ Eigen::Vector3i VoxelMap::KeyOf(const Eigen::Vector3f& p) const {
     return common::VoxelOf(p * inv_size_);
 }
 
-int32_t VoxelMap::Find(const Eigen::Vector3i& key) const {
+int32_t VoxelMap::Find(const Eigen::Vector3i& key, bool back) const {
     const size_t mask = slots_.size() - 1;
-    for (size_t s = Hash(key) & mask;; s = (s + 1) & mask) {
+    for (size_t s = Hash(key, back) & mask;; s = (s + 1) & mask) {
         const int32_t i = slots_[s];
         if (i < 0) return -1;
-        if (voxels_[size_t(i)].key == key) return i;
+        if (voxels_[size_t(i)].key == key && voxels_[size_t(i)].back == back) return i;
     }
+}
+
+int32_t VoxelMap::FindOrAdd(const Eigen::Vector3i& key, bool back) {
+    const size_t mask = slots_.size() - 1;
+    size_t s = Hash(key, back) & mask;
+    for (;; s = (s + 1) & mask) {
+        const int32_t i = slots_[s];
+        if (i < 0) break;
+        if (voxels_[size_t(i)].key == key && voxels_[size_t(i)].back == back) return i;
+    }
+    if (voxels_.size() >= config_.max_voxels) return -1;
+    const auto i = static_cast<int32_t>(voxels_.size());
+    voxels_.emplace_back();
+    voxels_.back().key = key;
+    voxels_.back().back = back;
+    slots_[s] = i;
+    return i;
 }
 
 void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) { InsertPoints(points, nullptr); }
@@ -72,25 +90,26 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
     touched_.clear();
     const float spacing2 =
         static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
-    const size_t mask = slots_.size() - 1;
     for (const Eigen::Vector3f& p : points) {
         if (!p.allFinite()) continue;
         const Eigen::Vector3i key = KeyOf(p);
-        size_t s = Hash(key) & mask;
-        int32_t i = -1;
-        for (;; s = (s + 1) & mask) {
-            i = slots_[s];
-            if (i < 0 || voxels_[size_t(i)].key == key) break;
-        }
+        int32_t i = FindOrAdd(key, false);
         if (i < 0) {
-            if (voxels_.size() >= config_.max_voxels) {
+            ++dropped_;
+            continue;
+        }
+        // Seen from behind the cell's one-sided plane: the other face of a thin wall (header),
+        // kept in the cell's back twin.
+        const VoxelPlane& front = voxels_[size_t(i)].plane;
+        if (viewpoint && front.valid && front.one_sided &&
+            front.normal.dot(*viewpoint) < front.offset) {
+            const int32_t twin = FindOrAdd(key, true);
+            if (twin < 0) {
                 ++dropped_;
                 continue;
             }
-            i = static_cast<int32_t>(voxels_.size());
-            voxels_.emplace_back();
-            voxels_.back().key = key;
-            slots_[s] = i;
+            voxels_[size_t(i)].has_back = true;
+            i = twin;
         }
         Voxel& v = voxels_[size_t(i)];
         if (v.count >= config_.max_points_per_voxel) continue;
@@ -167,7 +186,7 @@ const VoxelLine* VoxelMap::FindLine(const Eigen::Vector3f& p, float* distance) c
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelLine* best = nullptr;
     for (const Eigen::Vector3i& d : kVoxelAndFaceNeighbours) {
-        const int32_t i = Find(key + d);
+        const int32_t i = Find(key + d, false);
         if (i < 0) continue;
         const VoxelLine& line = voxels_[size_t(i)].line;
         if (!line.valid) continue;
@@ -186,19 +205,23 @@ const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance,
     const Eigen::Vector3i key = KeyOf(p);
     const VoxelPlane* best = nullptr;
     float best_abs = 0;
-    for (const Eigen::Vector3i& d : kVoxelAndFaceNeighbours) {
-        const int32_t i = Find(key + d);
-        if (i < 0) continue;
-        const VoxelPlane& plane = voxels_[size_t(i)].plane;
-        if (!plane.valid) continue;
+    const auto consider = [&](const VoxelPlane& plane) {
+        if (!plane.valid) return;
         // The sensor behind a one-sided plane: that surface cannot be seen from here (header).
-        if (sensor && plane.one_sided && plane.normal.dot(*sensor) < plane.offset) continue;
+        if (sensor && plane.one_sided && plane.normal.dot(*sensor) < plane.offset) return;
         const float r = plane.normal.dot(p) - plane.offset;
         if (!best || std::abs(r) < best_abs) {
             best = &plane;
             best_abs = std::abs(r);
             *distance = r;
         }
+    };
+    for (const Eigen::Vector3i& d : kVoxelAndFaceNeighbours) {
+        const int32_t i = Find(key + d, false);
+        if (i < 0) continue;
+        consider(voxels_[size_t(i)].plane);
+        if (!voxels_[size_t(i)].has_back) continue;
+        if (const int32_t j = Find(key + d, true); j >= 0) consider(voxels_[size_t(j)].plane);
     }
     return best;
 }
@@ -207,7 +230,7 @@ void VoxelMap::RebuildSlots() {
     std::fill(slots_.begin(), slots_.end(), -1);
     const size_t mask = slots_.size() - 1;
     for (size_t i = 0; i < voxels_.size(); ++i) {
-        size_t s = Hash(voxels_[i].key) & mask;
+        size_t s = Hash(voxels_[i].key, voxels_[i].back) & mask;
         while (slots_[s] >= 0) s = (s + 1) & mask;
         slots_[s] = static_cast<int32_t>(i);
     }

@@ -13,8 +13,11 @@
 // point to the sensor that saw it). A surface can only be seen from its front, so a plane whose
 // front faces away from the sensor cannot be what a scan point lies on: FindPlane passes over it.
 // Without this, the two faces of a wall thinner than a voxel (0.2 m against 0.6 m) are one plane
-// to a scan seeing the other face, and the scan slid 8-13 cm onto it (README.md, "Glass, mirrors
-// and moving doors"). The same test is the normal compatibility check of projective association
+// to a scan seeing the other face, and the scan slid 8-13 cm onto it (README.md, "One-sided
+// planes"). A point seen from behind its cell's one-sided plane goes into the cell's back twin (a
+// second voxel under the same key), which fits the other face's plane: the first face filled the
+// cell, and the second would otherwise never enter the map (a full voxel takes no more points).
+// The same test is the normal compatibility check of projective association
 // (Newcombe et al. 2011, KinectFusion; Behley & Stachniss 2018, SuMa), and the reason the anchoring
 // orients its normals (algorithms/registration/oriented_cloud.hpp).
 #pragma once
@@ -98,13 +101,16 @@ private:
         int count = 0;
         int viewed = 0;  // points inserted with a viewpoint
         bool dirty = false;
+        bool back = false;      // the back twin of its cell: the other face of a thin wall
+        bool has_back = false;  // (the cell's front voxel) a back twin exists
         Eigen::Vector3f view_sum = Eigen::Vector3f::Zero();  // their unit vectors to the sensor
         VoxelPlane plane;
         VoxelLine line;
         std::array<Eigen::Vector3f, kMaxPointsPerVoxel> points;
     };
     Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
-    int32_t Find(const Eigen::Vector3i& key) const;  // index into voxels_ or -1
+    int32_t Find(const Eigen::Vector3i& key, bool back) const;  // index into voxels_ or -1
+    int32_t FindOrAdd(const Eigen::Vector3i& key, bool back);   // -1: the map is full
     void RebuildSlots();
     void InsertPoints(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f* viewpoint);
     void Fit(Voxel& v) const;
