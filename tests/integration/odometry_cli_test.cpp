@@ -231,14 +231,15 @@ TEST_F(OdometryCli, HandheldTracksTheGroundTruthInTheHall) {
                                false);
 }
 
-// LiDAR only on a Go1 walk: the trot rolls the body by 1.5 deg at 2 Hz, which a constant velocity
+// LiDAR only (issue 17, item 4), no budget so that the result does not depend on the machine's
+// load. On a Go1 walk the trot rolls the body by 1.5 deg at 2 Hz, which a constant velocity
 // neither predicts nor deskews. Before issue 17 the directions the registration found weak kept
 // that prediction outright and the roll drifted: 64 cm / 27 deg on this minute (seed 1), 96 cm
-// over three minutes. Now 5.5 cm / 1.0 deg (algorithms/odometry/README.md, "LiDAR only"). No
-// budget, so that the result does not depend on the machine's load.
-TEST_F(OdometryCli, Go1LidarOnlyHoldsTheTrotsWobble) {
-    const fs::path cap = Simulate(Model(), "go1", Tmp() / "capture_go1_60s", 60);
-    const fs::path ses = Tmp() / "session_go1_lidar_only";
+// over three minutes. With the fusion 5.5-6.2 cm; with one-sided map planes 2.0 cm / 0.91 deg,
+// and the hand-held minute 8.7 -> 3.8 cm / 1.10 deg (algorithms/odometry/README.md, "One-sided
+// planes"). Bounds about twice that.
+void ExpectLidarOnly(const std::string& what, const fs::path& cap, const fs::path& ses,
+                     double max_cm, double max_deg) {
     const nlohmann::json odo = RunJson(kCli + " odometry " + cap.string() + " -o " + ses.string() +
                                        " --no-imu --no-can --budget-ms 10000 --json");
     ASSERT_TRUE(odo.is_object());
@@ -247,9 +248,21 @@ TEST_F(OdometryCli, Go1LidarOnlyHoldsTheTrotsWobble) {
     EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
     const nlohmann::json eval = Evaluate(ses, cap);
     ASSERT_TRUE(eval.is_object());
-    Report("go1, 60 s, --no-imu --no-can", odo, eval);
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.08);
-    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 2.0);
+    Report(what, odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), max_cm / 100);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), max_deg);
+}
+
+TEST_F(OdometryCli, Go1LidarOnlyHoldsTheTrotsWobble) {
+    ExpectLidarOnly("go1, 60 s, --no-imu --no-can",
+                    Simulate(Model(), "go1", Tmp() / "capture_go1_60s", 60),
+                    Tmp() / "session_go1_lidar_only", 4.0, 1.8);
+}
+
+TEST_F(OdometryCli, HandheldLidarOnlyHoldsTheCarriersSway) {
+    ExpectLidarOnly("handheld, 60 s, --no-imu",
+                    Simulate(Model(), "handheld", Tmp() / "capture_handheld_60s", 60),
+                    Tmp() / "session_handheld_lidar_only", 7.6, 2.2);
 }
 
 // Dense sensors (issue 17, item 1): a 128-beam OS1 and a 64-beam OS0 (the simulator's built-in
@@ -280,8 +293,9 @@ TEST_P(OdometryCliSensor, StaysWithinTheBudgetWithNoScanOverIt) {
     const nlohmann::json eval = Evaluate(ses, cap);
     ASSERT_TRUE(eval.is_object());
     Report(sensor + ", go1 with CAN", odo, eval);
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.03);
-    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.5);
+    // Measured 0.69 / 0.70 cm and 0.14 / 0.12 deg (OS1-128 / OS0-64); bounds about twice that.
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.015);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Dense, OdometryCliSensor, ::testing::Values("OS1-128", "OS0-64"),
@@ -324,8 +338,8 @@ TEST_P(OdometryCliMount, ARotatedMountTracksAndItsCalibrationCanBeGivenOrOff) {
     const nlohmann::json eval = Evaluate(Tmp() / ("mount_" + name), cap);
     ASSERT_TRUE(eval.is_object());
     Report("go1, mount " + name, odo, eval);
-    // Measured 0.88 / 0.77 cm and 0.13 / 0.19 deg (pitched / yawed).
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.02);
+    // Measured 0.67 / 0.58 cm and 0.13 / 0.20 deg (pitched / yawed).
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.014);
     EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.4);
 
     // The same mount by hand: the same trajectory, to the byte (no budget can cut a scan short).
@@ -352,8 +366,8 @@ TEST_P(OdometryCliMount, ARotatedMountTracksAndItsCalibrationCanBeGivenOrOff) {
     const nlohmann::json off_eval = Evaluate(Tmp() / ("mount_off_" + name), cap);
     ASSERT_TRUE(off_eval.is_object());
     Report("go1, mount " + name + ", calibration off by 1 cm, 1 deg, 1 ms", off, off_eval);
-    // Measured 0.89 / 0.76 cm and 0.15 / 0.21 deg.
-    EXPECT_LT(off_eval.at("ape_trans_rmse_m").get<double>(), 0.02);
+    // Measured 0.69 / 0.59 cm and 0.15 / 0.22 deg.
+    EXPECT_LT(off_eval.at("ape_trans_rmse_m").get<double>(), 0.014);
     EXPECT_LT(off_eval.at("ape_rot_rmse_deg").get<double>(), 0.4);
 }
 
@@ -475,14 +489,16 @@ TEST_F(OdometryCli, AVehicleStartingAt3MetresPerSecondOutdoors) {
 }
 
 // Issue 17, item 6: glass windows, three mirrors on the corridor walls and every door swinging
-// (host_tools/simulate/scenarios/glass_mirrors_doors.yaml), 10 s of a Go1's walk. Measured in
-// algorithms/odometry/README.md, "Glass, mirrors and moving doors".
+// (host_tools/simulate/scenarios/glass_mirrors_doors.yaml), a minute of a Go1's walk. Measured in
+// algorithms/odometry/README.md, "Glass, mirrors and moving doors" and "One-sided planes": 6.6 cm
+// until the map's planes had a front (the walk leaves the corridor through a door at 43 s and
+// the scan slid onto the far face of a room's side wall), 0.79 cm / 0.17 deg since.
 TEST_F(OdometryCli, Go1AmongGlassMirrorsAndMovingDoors) {
     const fs::path cap = Tmp() / "capture_glass_mirrors_doors";
     const auto sim = test::RunCommand(
         kCli + " simulate --model " + Model().string() + " --scenario " +
         std::string(BIMSLAM_SOURCE_ROOT) +
-        "/host_tools/simulate/scenarios/glass_mirrors_doors.yaml --duration 10 -o " + cap.string());
+        "/host_tools/simulate/scenarios/glass_mirrors_doors.yaml --duration 60 -o " + cap.string());
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
     const nlohmann::json changes =
         nlohmann::json::parse(io::ReadFileToString(cap / "changes.json"));
@@ -495,10 +511,9 @@ TEST_F(OdometryCli, Go1AmongGlassMirrorsAndMovingDoors) {
     EXPECT_EQ(odo.at("failed").get<size_t>(), 0u);
     const nlohmann::json eval = Evaluate(ses, cap);
     ASSERT_TRUE(eval.is_object());
-    Report("Go1 among glass, mirrors and moving doors, 10 s", odo, eval);
-    // About twice the measured 0.77 cm (the leaves kept clear of the walker; 60 s walks: the
-    // README's table).
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.02);
+    Report("Go1 among glass, mirrors and moving doors, 60 s", odo, eval);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.016);
+    EXPECT_LT(eval.at("ape_rot_rmse_deg").get<double>(), 0.35);
 }
 
 // Every file in a folder (relative path) with its bytes.
