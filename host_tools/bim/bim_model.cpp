@@ -45,6 +45,17 @@ int FindStorey(const BimModel& model, const std::string& name) {
                             (known.empty() ? std::string("none") : known) + ")");
 }
 
+int DefaultWalkStorey(const BimModel& model) {
+    for (size_t i = 0; i < model.storeys.size(); ++i) {
+        if (i + 1 == model.storeys.size() ||
+            model.storeys[i + 1].elevation_m - model.storeys[i].elevation_m >=
+                kMinWalkStoreyHeight) {
+            return int(i);
+        }
+    }
+    return 0;
+}
+
 std::vector<int> StoreyIndices(const BimModel& model, const std::vector<std::string>& names) {
     std::vector<int> out;
     for (const std::string& name : names) out.push_back(FindStorey(model, name));

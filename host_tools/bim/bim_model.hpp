@@ -79,6 +79,12 @@ struct BimModel {
 // The index of the storey called `name`; throws common::Error (kInvalidArgument) naming the
 // storeys the model has when there is none.
 int FindStorey(const BimModel& model, const std::string& name);
+// The storey a walk takes when none is named: the lowest with at least kMinWalkStoreyHeight to
+// the next one (the last one counts as high enough), so that a foundation's or crawl space's level
+// is passed over. Duplex_A's lowest, 'T/FDN', lies 1.25 m under 'Level 1': a hand-held sensor
+// walked there sat in Level 1's slab and 25 scans held under 50 points. 0 when none qualifies.
+inline constexpr double kMinWalkStoreyHeight = 2.0;  // m: a room a person stands in
+int DefaultWalkStorey(const BimModel& model);
 // The indices of the storeys named, in that order; every storey when `names` is empty.
 std::vector<int> StoreyIndices(const BimModel& model, const std::vector<std::string>& names);
 

@@ -75,7 +75,8 @@ int Simulate(const SimulateArgs& a) {
               << simulate::ToString(s.platform) << ", " << r.walk_length_m << " m in "
               << r.duration_s << " s"
               << (r.laps > 1 ? " (" + std::to_string(r.laps) + " laps)" : "")
-              << (r.starts_outside ? ", starting outside" : "") << "\n"
+              << (r.starts_outside ? ", starting outside" : "")
+              << (r.storey.empty() ? "" : ", storey '" + r.storey + "'") << "\n"
               << "lidar     " << r.frames << " frames, " << r.lidar_packets << " lidar + "
               << r.imu_packets << " IMU packets (" << r.lost_packets << " lost), " << mb << " MB ("
               << mb / (r.duration_s / 60.0) << " MB/min)\n";
@@ -95,6 +96,7 @@ int Simulate(const SimulateArgs& a) {
                             {"walk_length_m", r.walk_length_m},
                             {"laps", r.laps},
                             {"starts_outside", r.starts_outside},
+                            {"storey", r.storey},
                             {"lidar_packets", r.lidar_packets},
                             {"imu_packets", r.imu_packets},
                             {"lost_packets", r.lost_packets},
@@ -118,8 +120,10 @@ void AddSimulateCommand(CLI::App& app, int& exit_code) {
         "changes, written as lidar.pcap + metadata.json, go1_can.log/.pcap, ground_truth.tum, "
         "changes.json and capture.json");
     cmd->add_option("--model", a->model, "IFC model (overrides the scenario's `model`)");
-    cmd->add_option("--storey", a->storey,
-                    "storey by name (default: the scenario's, else the lowest)");
+    cmd->add_option(
+        "--storey", a->storey,
+        "storey by name (default: the scenario's, else the lowest with 2 m or more to the "
+        "next: a foundation's level is passed over)");
     cmd->add_option("--scenario", a->scenario,
                     "scenario YAML (host_tools/simulate/scenarios/ has examples; default: a Go1 "
                     "coverage walk with default noise)");

@@ -1,7 +1,8 @@
 // A capture scenario: what `bimslam simulate` walks through, how, with which sensor, and how the
 // "real world" differs from the BIM. Read from YAML (scenario_yaml.hpp; the keys are documented
 // in host_tools/simulate/README.md, examples in host_tools/simulate/scenarios/); every field has
-// a default, so an empty scenario is a Go1 coverage walk of the model's lowest storey.
+// a default, so an empty scenario is a Go1 coverage walk of the model's lowest storey (with 2 m
+// or more to the next: bim::DefaultWalkStorey).
 //
 // Coordinates are the BIM's ("bim" frame, metres, z up); angles in the file are degrees (the
 // fields carry _deg), everything else SI.
@@ -227,7 +228,7 @@ struct EditsSpec {
 
 struct Scenario {
     std::filesystem::path model;  // IFC file; relative to the scenario file (--model overrides)
-    std::string storey;           // empty: the lowest storey
+    std::string storey;           // empty: bim::DefaultWalkStorey
     Platform platform = Platform::kGo1;
     PathSpec path;
     SpeedSpec speed;

@@ -200,7 +200,8 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
                                 ": the geometry lies more than 10 km from the model's "
                                 "origin; the simulator needs it near the origin");
     }
-    const int storey = s.storey.empty() ? 0 : bim::FindStorey(model, s.storey);
+    const int storey =
+        s.storey.empty() ? bim::DefaultWalkStorey(model) : bim::FindStorey(model, s.storey);
     const Walk walk = PlanWalk(model, storey, s);
     CaptureReport r;
     r.dir = dir;
@@ -209,6 +210,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     r.walk_length_m = trajectory.length_m();
     r.starts_outside = walk.starts_outside;
     r.notes = walk.notes;
+    if (!model.storeys.empty()) r.storey = model.storeys[size_t(storey)].name;
 
     World world = BuildWorld(model, storey, s.edits, walk.grid, walk.points, s.seed);
     const simulation::Scene scene(world.mesh, world.ids, world.materials);

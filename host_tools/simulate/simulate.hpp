@@ -36,6 +36,7 @@ struct CaptureReport {
     double walk_length_m = 0;  // of the walk (all laps)
     size_t laps = 1;
     bool starts_outside = false;
+    std::string storey;  // walked (empty: the model has no storeys)
     size_t frames = 0;
     uint64_t lidar_packets = 0, imu_packets = 0, lost_packets = 0;
     uint64_t can_frames = 0;

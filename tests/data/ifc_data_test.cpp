@@ -29,6 +29,7 @@ struct Expected {
     // 0.13 .. 0.17 m partitions and 0.42 m brick; Office_A's mostly 0.06 m furring (278 of 487)
     // and 0.14 m partitions, 0.30 m outside.
     double median_wall_min_m = 0, median_wall_max_m = 0;
+    std::string walk_storey;  // where `bimslam simulate` walks when no storey is named
 };
 
 const std::vector<Expected>& Models() {
@@ -39,14 +40,16 @@ const std::vector<Expected>& Models() {
          {{"IfcDoor", 5}, {"IfcWindow", 11}, {"IfcSpace", 7}, {"IfcSlab", 4}},
          13,
          0.2,
-         0.4},
+         0.4,
+         "Erdgeschoss"},
         {"Duplex_A_20110907.ifc",
          "IFC2X3",
          {{"T/FDN", -1.25}, {"Level 1", 0.0}, {"Level 2", 3.1}, {"Roof", 6.0}},
          {{"IfcDoor", 14}, {"IfcWindow", 24}, {"IfcSpace", 21}, {"IfcSlab", 21}},
          57,
          0.1,
-         0.3},
+         0.3,
+         "Level 1"},  // not 'T/FDN', the foundation 1.25 m under it
         {"Office_A_20110811.ifc",
          "IFC2X3",
          {{"Level 1", 0.0}, {"Level 2", 4.267}, {"Roof", 7.925}},
@@ -57,7 +60,8 @@ const std::vector<Expected>& Models() {
           {"IfcCovering", 83}},
          487,
          0.04,
-         0.1},
+         0.1,
+         "Level 1"},
     };
     return models;
 }
@@ -151,6 +155,7 @@ TEST_P(IfcModelData, StoreysCountsGeometryAndOpenings) {
         EXPECT_NEAR(m.storeys[i].elevation_m, x.storeys[i].second, 1e-3) << m.storeys[i].name;
         EXPECT_FALSE(m.storeys[i].global_id.empty());
     }
+    EXPECT_EQ(m.storeys[size_t(DefaultWalkStorey(m))].name, x.walk_storey);
     // Storey heights above ground (the foundation level below it is shallower).
     for (size_t i = 1; i < m.storeys.size(); ++i) {
         if (m.storeys[i - 1].elevation_m < 0) continue;

@@ -294,6 +294,20 @@ TEST(IfcModel, StoreysSortedWithElevationsInMetres) {
     EXPECT_NEAR(m.storeys[1].elevation_m, 3.0, 1e-9);
 }
 
+// A walk with no storey named takes the lowest a person stands in: Duplex_A's storeys (its
+// foundation level 1.25 m under Level 1) give Level 1; storeys all 2 m apart, the lowest.
+TEST(IfcModel, AWalksDefaultStoreyPassesOverAFoundationLevel) {
+    BimModel m;
+    EXPECT_EQ(DefaultWalkStorey(m), 0) << "no storeys";
+    m.storeys = {
+        {"T/FDN", "a", -1.25}, {"Level 1", "b", 0.0}, {"Level 2", "c", 3.1}, {"Roof", "d", 6.0}};
+    EXPECT_EQ(DefaultWalkStorey(m), 1);
+    m.storeys = {{"Ground", "a", 0.0}, {"First", "b", 2.0}};
+    EXPECT_EQ(DefaultWalkStorey(m), 0);
+    m.storeys = {{"Crawl space", "a", -1.0}, {"Loft", "b", 0.0}};
+    EXPECT_EQ(DefaultWalkStorey(m), 1) << "the last one counts as high enough";
+}
+
 TEST(IfcModel, ClassCountsIncludeProductsWithoutGeometry) {
     const BimModel m = ParseIfc("m.ifc", MinimalIfc());
     const std::map<std::string, size_t> expected = {
