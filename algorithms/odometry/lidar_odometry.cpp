@@ -42,6 +42,8 @@ void LidarOdometryConfig::Validate() const {
     Require(body_translation_gate >= 0, c, "body_translation_gate", body_translation_gate,
             "must be >= 0");
     Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
+    Require(max_deskew_rounds >= 0 && max_deskew_rounds <= 5, c, "max_deskew_rounds",
+            max_deskew_rounds, "must be in [0, 5]");
     Require(correction_sigma.allFinite() && (correction_sigma.array() >= 0).all(), c,
             "correction_sigma", correction_sigma.minCoeff(), "must all be >= 0");
     Require(imu_correction_sigma > 0, c, "imu_correction_sigma", imu_correction_sigma,
@@ -358,16 +360,23 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const bool correcting = (config_.correction_sigma.array() > 0).all();
     if (registered_ok && !correcting && !(r.flags & kStartRefined) && dt > 0 &&
         config_.preprocess.deskew && scan.HasTime()) {
-        // The scan was deskewed with a predicted motion; when the estimated one differs by more
+        // The scan was deskewed with a predicted motion; while the estimated one differs by more
         // than redeskew_threshold over the sweep (a start, a stop, a sudden turn without the
-        // IMU), the scan is deskewed again with it and registered once more.
-        const ScanMotion estimated =
-            MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
-        const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
-        const double moved = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
-        if (moved > config_.redeskew_threshold && BudgetNow(cpu_clock) < deadline) {
-            preprocess(scan, estimated);
-            if (align(T)) r.flags |= kDeskewedAgain;
+        // IMU), the scan is deskewed again with it and registered once more (max_deskew_rounds).
+        for (int round = 0; round < config_.max_deskew_rounds && BudgetNow(cpu_clock) < deadline;
+             ++round) {
+            if (round > 0 && (r.flags & kDegenerate)) break;
+            const ScanMotion estimated =
+                MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
+            const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
+            if (diff.translation().norm() + 10.0 * common::RotationAngle(diff) <=
+                config_.redeskew_threshold) {
+                break;
+            }
+            motion = estimated;
+            preprocess(scan, motion);
+            if (!align(T)) break;
+            r.flags |= kDeskewedAgain;
         }
     }
     if (registered_ok) {

@@ -271,9 +271,10 @@ TEST(LidarOdometry, AScanThatTurnsAgainstTheGyroKeepsTheGyrosRotation) {
 // speed, as the simulated Go1's slips do (host_tools/simulate). The LiDAR's own velocity then
 // differs from the legs' by 0.56 m/s: the scans are deskewed and registered from it and the slip is
 // not kept. With the gate off they were deskewed and started with the legs' motion and kept a
-// centimetre of it (1.3 cm against 0.14 cm measured). The arc starts from rest at full speed (scan
-// 5), where the legs are right and the constant velocity lags: the gate fires there too, for a few
-// scans.
+// centimetre of it (1.3 cm against 0.18 cm); since deskewing is iterated (max_deskew_rounds) the
+// scans themselves undo most of it (0.39 cm against 0.21). The arc starts from rest at full speed
+// (scan 5), where the legs are right and the constant velocity lags: the gate fires there too, for
+// a few scans.
 TEST(LidarOdometry, AFootSlipIsNotKept) {
     const simulation::Scene scene(test::FurnishedRoom());
     Inputs in{.imu = true, .body = true};
@@ -304,7 +305,7 @@ TEST(LidarOdometry, AFootSlipIsNotKept) {
     EXPECT_EQ(steady_flags(no_slip) & kContradictsLegs, 0u);
     EXPECT_EQ(ungated.flags & kContradictsLegs, 0u);
     EXPECT_LT(slip_error(gated), 2 * slip_error(no_slip) + 0.002);
-    EXPECT_GT(slip_error(ungated), 3 * slip_error(gated));
+    EXPECT_GT(slip_error(ungated), 1.5 * slip_error(gated));
 }
 
 // A fast turn: 1.5 rad/s (86 deg/s) while walking 1 m/s. A sweep then smears by 8.6 degrees.
@@ -329,6 +330,35 @@ TEST(LidarOdometry, DeskewingLowersTheErrorOnAFastTurn) {
     EXPECT_LT(on.max_rotation_error_deg, 0.5);
     EXPECT_LT(on.max_translation_error, 0.5 * off.max_translation_error);
     EXPECT_LT(on.max_rotation_error_deg, 0.5 * off.max_rotation_error_deg);
+}
+
+// A sudden turn without the IMU: walking at 0.4 m/s, then turning on the spot at 60 deg/s from
+// 1.5 s (the Go1's U-turn in the Duplex, 1-2 deg a scan to 6). The constant velocity predicts
+// none of the onset and the first scans of the turn are deskewed with the wrong rotation.
+Eigen::Isometry3d SuddenTurn(double t) {
+    const double walk = std::min(t, 1.5), turn = std::max(0.0, t - 1.5);
+    return Pose(-2 + 0.4 * walk, -1, 0.6, 0.05 * walk + 1.05 * turn);
+}
+
+// In this room, whose whole map the first scan holds, both recover by the end (0.18 / 0.17 cm);
+// over the onset one round left 2.7 cm and three 0.8 cm, at 1.75 deg of rotation against 1.46.
+// On the walks through a building, where the turn's scans build the map that follows, three
+// rounds took the Duplex's Go1 minute from 22 to 1.9 cm (README.md, "Deskew until it holds").
+TEST(LidarOdometry, ASuddenTurnWithoutTheImuIsDeskewedUntilItHolds) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    LidarOdometryConfig once = Unhurried();
+    once.max_deskew_rounds = 1;
+    const OdometryRun iterated = Odometry(scene, SuddenTurn, 40, {});
+    const OdometryRun single = Odometry(scene, SuddenTurn, 40, {}, once);
+    std::cout << "sudden turn, no IMU: max error " << iterated.max_translation_error * 100 << " cm "
+              << iterated.max_rotation_error_deg << " deg deskewed until it holds, "
+              << single.max_translation_error * 100 << " cm " << single.max_rotation_error_deg
+              << " deg once\n";
+    EXPECT_TRUE(iterated.finite);
+    EXPECT_LT(iterated.max_translation_error, 0.015);
+    EXPECT_LT(iterated.max_translation_error, 0.5 * single.max_translation_error);
+    EXPECT_LT(iterated.max_rotation_error_deg, 2.5);
+    EXPECT_LT(iterated.final_translation_error, 0.005);
 }
 
 // A budget too small to finish: every scan returns its best estimate so far, flagged, at once.
@@ -413,7 +443,10 @@ TEST(LidarOdometry, WithEdgeFeatures) {
         EXPECT_GT(edges, 40 * 20u);
         EXPECT_TRUE(with.finite);
         EXPECT_LT(with.max_translation_error, 0.03);
-        EXPECT_LT(with.max_rotation_error_deg, 0.5);
+        // Without the IMU 0.47 deg with one round of deskewing again, 0.55 with three (which took
+        // the LiDAR-only minutes 1.5-3x lower: README.md, "Deskew until it holds").
+        EXPECT_LT(with.max_rotation_error_deg, 0.65);
+        EXPECT_LT(with.max_rotation_error_deg, without.max_rotation_error_deg + 0.05);
     }
 }
 
