@@ -72,8 +72,8 @@ int Simulate(const SimulateArgs& a) {
     if (tty) std::cerr << "\r                      \r";
     const double mb = double(r.pcap_bytes) / 1e6;
     std::cout << std::fixed << std::setprecision(1) << "walk      "
-              << simulate::ToString(s.platform) << ", " << r.walk_length_m << " m in "
-              << r.duration_s << " s"
+              << simulate::ToString(s.platform) << ", " << r.captured_length_m << " m in "
+              << r.duration_s << " s of a " << r.walk_length_m << " m walk"
               << (r.laps > 1 ? " (" + std::to_string(r.laps) + " laps)" : "")
               << (r.starts_outside ? ", starting outside" : "")
               << (r.storey.empty() ? "" : ", storey '" + r.storey + "'") << "\n"
@@ -94,6 +94,7 @@ int Simulate(const SimulateArgs& a) {
                             {"frames", r.frames},
                             {"duration_s", r.duration_s},
                             {"walk_length_m", r.walk_length_m},
+                            {"captured_length_m", r.captured_length_m},
                             {"laps", r.laps},
                             {"starts_outside", r.starts_outside},
                             {"storey", r.storey},

@@ -208,6 +208,14 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     const simulation::BodyTrajectory trajectory = MakeTrajectory(walk, s, &r.laps);
     const double end_s = s.duration_s > 0 ? s.duration_s : trajectory.duration_s();
     r.walk_length_m = trajectory.length_m();
+    // What the capture covers: the planar path every 0.1 s up to its end (a --duration shorter
+    // than the walk covers part of it).
+    Eigen::Vector2d last = trajectory.PlanarAt(0).xy;
+    for (double t = 0.1; t < end_s + 0.05; t += 0.1) {
+        const Eigen::Vector2d xy = trajectory.PlanarAt(std::min(t, end_s)).xy;
+        r.captured_length_m += (xy - last).norm();
+        last = xy;
+    }
     r.starts_outside = walk.starts_outside;
     r.notes = walk.notes;
     if (!model.storeys.empty()) r.storey = model.storeys[size_t(storey)].name;

@@ -32,8 +32,9 @@ inline constexpr int64_t kBridgeBootNs = 17'000'000'000;
 
 struct CaptureReport {
     std::filesystem::path dir;
-    double duration_s = 0;     // captured
-    double walk_length_m = 0;  // of the walk (all laps)
+    double duration_s = 0;         // captured
+    double walk_length_m = 0;      // of the walk (all laps)
+    double captured_length_m = 0;  // of it in the captured duration
     size_t laps = 1;
     bool starts_outside = false;
     std::string storey;  // walked (empty: the model has no storeys)

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <tuple>
 
@@ -501,6 +502,17 @@ TEST_F(OdometryCli, Go1AmongGlassMirrorsAndMovingDoors) {
         std::string(BIMSLAM_SOURCE_ROOT) +
         "/host_tools/simulate/scenarios/glass_mirrors_doors.yaml --duration 60 -o " + cap.string());
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    // The walk line says how much of the walk the minute covers (the Go1 at about 0.5 m/s) and on
+    // which storey.
+    std::smatch walk;
+    ASSERT_TRUE(std::regex_search(
+        sim.out, walk,
+        std::regex(R"(walk +go1, ([0-9.]+) m in 60\.0 s of a ([0-9.]+) m walk, storey '([^']+)')")))
+        << sim.out;
+    EXPECT_GT(std::stod(walk[1]), 20.0);
+    EXPECT_LT(std::stod(walk[1]), 40.0);
+    EXPECT_GT(std::stod(walk[2]), std::stod(walk[1])) << "a minute covers part of the walk";
+    EXPECT_EQ(walk[3], "Ground Floor");
     const nlohmann::json changes =
         nlohmann::json::parse(io::ReadFileToString(cap / "changes.json"));
     EXPECT_EQ(changes.at("added").size(), 3u);  // the mirrors
