@@ -53,23 +53,21 @@ Eigen::Vector3i VoxelMap::KeyOf(const Eigen::Vector3f& p) const {
     return common::VoxelOf(p * inv_size_);
 }
 
-int32_t VoxelMap::Find(const Eigen::Vector3i& key, bool back) const {
+size_t VoxelMap::Slot(const Eigen::Vector3i& key, bool back) const {
     const size_t mask = slots_.size() - 1;
     for (size_t s = Hash(key, back) & mask;; s = (s + 1) & mask) {
         const int32_t i = slots_[s];
-        if (i < 0) return -1;
-        if (voxels_[size_t(i)].key == key && voxels_[size_t(i)].back == back) return i;
+        if (i < 0 || (voxels_[size_t(i)].key == key && voxels_[size_t(i)].back == back)) return s;
     }
 }
 
+int32_t VoxelMap::Find(const Eigen::Vector3i& key, bool back) const {
+    return slots_[Slot(key, back)];
+}
+
 int32_t VoxelMap::FindOrAdd(const Eigen::Vector3i& key, bool back) {
-    const size_t mask = slots_.size() - 1;
-    size_t s = Hash(key, back) & mask;
-    for (;; s = (s + 1) & mask) {
-        const int32_t i = slots_[s];
-        if (i < 0) break;
-        if (voxels_[size_t(i)].key == key && voxels_[size_t(i)].back == back) return i;
-    }
+    const size_t s = Slot(key, back);
+    if (slots_[s] >= 0) return slots_[s];
     if (voxels_.size() >= config_.max_voxels) return -1;
     const auto i = static_cast<int32_t>(voxels_.size());
     voxels_.emplace_back();
@@ -228,11 +226,8 @@ const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance,
 
 void VoxelMap::RebuildSlots() {
     std::fill(slots_.begin(), slots_.end(), -1);
-    const size_t mask = slots_.size() - 1;
     for (size_t i = 0; i < voxels_.size(); ++i) {
-        size_t s = Hash(voxels_[i].key, voxels_[i].back) & mask;
-        while (slots_[s] >= 0) s = (s + 1) & mask;
-        slots_[s] = static_cast<int32_t>(i);
+        slots_[Slot(voxels_[i].key, voxels_[i].back)] = static_cast<int32_t>(i);  // keys are unique
     }
 }
 

@@ -109,6 +109,8 @@ private:
         std::array<Eigen::Vector3f, kMaxPointsPerVoxel> points;
     };
     Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
+    // The slot holding the voxel (key, back), else the empty slot where it would go.
+    size_t Slot(const Eigen::Vector3i& key, bool back) const;
     int32_t Find(const Eigen::Vector3i& key, bool back) const;  // index into voxels_ or -1
     int32_t FindOrAdd(const Eigen::Vector3i& key, bool back);   // -1: the map is full
     void RebuildSlots();
