@@ -19,6 +19,17 @@ struct Registered {
     double translation_error = 0, rotation_error_deg = 0;
 };
 
+// The map points of a static scan at `at`, in the world.
+std::vector<Eigen::Vector3f> WorldMapPoints(const simulation::Scene& scene,
+                                            const Eigen::Isometry3d& at, Preprocessor& pre) {
+    pre.Run(test::Scan(
+                scene, [&](double) { return at; }, 0, 1),
+            ScanMotion());
+    std::vector<Eigen::Vector3f> world;
+    for (const auto& p : pre.map_points()) world.push_back((at * p.cast<double>()).cast<float>());
+    return world;
+}
+
 // The map from a static scan at `map_pose`; a static scan at `truth` registered from `guess`
 // (both in the map frame = the world).
 Registered Register(const simulation::Scene& scene, const Eigen::Isometry3d& map_pose,
@@ -26,13 +37,7 @@ Registered Register(const simulation::Scene& scene, const Eigen::Isometry3d& map
     Preprocessor pre;
     VoxelMap map;
     const ScanMotion still;
-    const auto first = test::Scan(
-        scene, [&](double) { return map_pose; }, 0, 1);
-    pre.Run(first, still);
-    std::vector<Eigen::Vector3f> world;
-    for (const auto& p : pre.map_points())
-        world.push_back((map_pose * p.cast<double>()).cast<float>());
-    map.Insert(world);
+    map.Insert(WorldMapPoints(scene, map_pose, pre));
     const auto second = test::Scan(
         scene, [&](double) { return truth; }, 100'000'000, 2);
     pre.Run(second, still);
@@ -97,13 +102,7 @@ TEST(ScanRegistration, TheTwoFacesOfAThinWallAreNotOnePlane) {
     VoxelMap map;
     const ScanMotion still;
     const auto insert = [&](const Eigen::Isometry3d& at) {
-        pre.Run(test::Scan(
-                    scene, [&](double) { return at; }, 0, 1),
-                still);
-        std::vector<Eigen::Vector3f> world;
-        for (const auto& p : pre.map_points())
-            world.push_back((at * p.cast<double>()).cast<float>());
-        map.Insert(world, at.translation().cast<float>());
+        map.Insert(WorldMapPoints(scene, at, pre), at.translation().cast<float>());
     };
     for (const Eigen::Isometry3d& at :
          {Pose(2, -6, 0.5, 0), Pose(2, -3, 0.5, 0.5), Pose(2, 0, 0.5, -0.4)}) {
