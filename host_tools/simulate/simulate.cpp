@@ -211,8 +211,8 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     // What the capture covers: the planar path every 0.1 s up to its end (a --duration shorter
     // than the walk covers part of it).
     Eigen::Vector2d last = trajectory.PlanarAt(0).xy;
-    for (double t = 0.1; t < end_s + 0.05; t += 0.1) {
-        const Eigen::Vector2d xy = trajectory.PlanarAt(std::min(t, end_s)).xy;
+    for (int k = 1; k <= int(std::ceil(end_s / 0.1)); ++k) {
+        const Eigen::Vector2d xy = trajectory.PlanarAt(std::min(0.1 * k, end_s)).xy;
         r.captured_length_m += (xy - last).norm();
         last = xy;
     }
