@@ -140,19 +140,38 @@ uint32_t UnitreeCrc32(std::span<const uint8_t> bytes) {
     return crc;
 }
 
+const char* ToString(CrcForm form) {
+    switch (form) {
+        case CrcForm::kPlain:
+            return "plain";
+        case CrcForm::kScrambled:
+            return "scrambled";
+    }
+    return "?";
+}
+
+uint32_t ScrambleCrc(uint32_t crc) { return std::rotr(crc ^ kCrcScrambleKey, 8); }
+
+uint32_t UnscrambleCrc(uint32_t stored) { return std::rotl(stored, 8) ^ kCrcScrambleKey; }
+
 const char* ToString(ParseResult result) {
     switch (result) {
         case ParseResult::kOk:
             return "ok";
         case ParseResult::kWrongSize:
             return "wrong size";
+        case ParseResult::kBadHead:
+            return "bad head";
+        case ParseResult::kBadLevelFlag:
+            return "bad levelFlag";
         case ParseResult::kBadCrc:
             return "bad CRC";
     }
     return "?";
 }
 
-uint32_t SerializeHighState(const HighState& s, std::span<uint8_t, kHighStateSize> out) {
+uint32_t SerializeHighState(const HighState& s, std::span<uint8_t, kHighStateSize> out,
+                            CrcForm form) {
     using namespace layout;
     using namespace layout::hs;
     Writer w(out);
@@ -209,15 +228,22 @@ uint32_t SerializeHighState(const HighState& s, std::span<uint8_t, kHighStateSiz
     w.Bytes(kWirelessRemote, s.wireless_remote);
     w.U32(kReserve, s.reserve);
     const uint32_t crc = UnitreeCrc32(std::span<const uint8_t>(out.data(), kCrcCoveredBytes));
-    w.U32(kCrc, crc);
-    return crc;
+    const uint32_t stored = form == CrcForm::kScrambled ? ScrambleCrc(crc) : crc;
+    w.U32(kCrc, stored);
+    return stored;
 }
 
-ParseResult ParseHighState(std::span<const uint8_t> bytes, HighState& s) {
+ParseResult ParseHighState(std::span<const uint8_t> bytes, HighState& s, CrcForm* crc_form) {
     using namespace layout;
     using namespace layout::hs;
     if (bytes.size() != kHighStateSize) return ParseResult::kWrongSize;
     const Reader r(bytes);
+    // The frame checks come before any field is decoded: a datagram that is not a high-level
+    // HighState is never read as one.
+    if (r.U8(kHead) != kFrameHead[0] || r.U8(kHead + 1) != kFrameHead[1]) {
+        return ParseResult::kBadHead;
+    }
+    if (r.U8(kLevelFlag) != kHighLevel) return ParseResult::kBadLevelFlag;
     ReadHeader(r, s);
     r.F32s(kImu + kImuQuaternion, s.imu.quaternion);
     r.F32s(kImu + kImuGyroscope, s.imu.gyroscope);
@@ -271,8 +297,17 @@ ParseResult ParseHighState(std::span<const uint8_t> bytes, HighState& s) {
     r.Bytes(kWirelessRemote, s.wireless_remote);
     s.reserve = r.U32(kReserve);
     s.crc = r.U32(kCrc);
+    // Either form, as the SDK's developer mode accepts both (README, "What the SDK checks").
     const uint32_t computed = UnitreeCrc32(bytes.first(kCrcCoveredBytes));
-    return computed == s.crc ? ParseResult::kOk : ParseResult::kBadCrc;
+    if (computed == s.crc) {
+        if (crc_form != nullptr) *crc_form = CrcForm::kPlain;
+        return ParseResult::kOk;
+    }
+    if (computed == UnscrambleCrc(s.crc)) {
+        if (crc_form != nullptr) *crc_form = CrcForm::kScrambled;
+        return ParseResult::kOk;
+    }
+    return ParseResult::kBadCrc;
 }
 
 uint32_t SerializeHighCmd(const HighCmd& c, std::span<uint8_t, kHighCmdSize> out) {

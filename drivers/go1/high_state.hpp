@@ -23,16 +23,26 @@ namespace bimslam::go1 {
 
 inline constexpr uint8_t kHighLevel = 0xee;  // levelFlag HIGHLEVEL (comm.h)
 inline constexpr uint8_t kLowLevel = 0xff;   // levelFlag LOWLEVEL (comm.h); never sent here
-// The frame head the SDK clients send. Not in comm.h (the library fills it); taken from captures
-// of the SDK as reverse-engineered by free-dog-sdk (ucl/highCmd.py). The robot does not appear to
-// check it.
-inline constexpr std::array<uint8_t, 2> kHighCmdHead{0xfe, 0xef};
+// The frame head of both messages. Not in comm.h (the library fills it); taken from captures of
+// the SDK as reverse-engineered by free-dog-sdk (ucl/highCmd.py); the SDK's receive path checks
+// it on HighState (drivers/go1/README.md, "What the SDK checks").
+inline constexpr std::array<uint8_t, 2> kFrameHead{0xfe, 0xef};
+inline constexpr std::array<uint8_t, 2> kHighCmdHead = kFrameHead;
 
 // ------------------------------------------------------------------------------------------------
 // Unitree's CRC.
 
 // crc32_core over floor(bytes.size() / 4) little-endian 32-bit words.
 uint32_t UnitreeCrc32(std::span<const uint8_t> bytes);
+
+// How the CRC word is stored. kPlain: the CRC-32 itself. kScrambled: the SDK's encryptCRC,
+// rotr32(crc ^ 0xEDCAB9DE, 8); as bytes, [b, c, d, a] where [a, b, c, d] are the little-endian
+// bytes of crc ^ 0xEDCAB9DE (free-dog-sdk's ucl/common.py encryptCrc is the same transform).
+enum class CrcForm : uint8_t { kPlain, kScrambled };
+const char* ToString(CrcForm form);
+inline constexpr uint32_t kCrcScrambleKey = 0xedcab9de;
+uint32_t ScrambleCrc(uint32_t crc);
+uint32_t UnscrambleCrc(uint32_t stored);  // ScrambleCrc's inverse (the SDK's decryptCRC)
 
 // ------------------------------------------------------------------------------------------------
 // Field sizes (packed) and the offsets derived from them.
@@ -222,20 +232,27 @@ struct HighCmd {
 // ------------------------------------------------------------------------------------------------
 // Parsing and serialising.
 
+// The checks in the order they are made; the first that fails is the result.
 enum class ParseResult : uint8_t {
     kOk,
-    kWrongSize,  // the datagram is not exactly the message's size
-    kBadCrc,     // the stored CRC differs from the computed one (the struct is still filled)
+    kWrongSize,     // the datagram is not exactly the message's size
+    kBadHead,       // HighState: head is not 0xFE 0xEF
+    kBadLevelFlag,  // HighState: levelFlag is not HIGHLEVEL (0xEE)
+    kBadCrc,        // the stored CRC matches neither form (the struct is still filled)
 };
 const char* ToString(ParseResult result);
 
-// Fills `out` from a datagram. kWrongSize leaves `out` untouched; kBadCrc fills it (for
-// diagnostics) but the caller must not trust it.
-ParseResult ParseHighState(std::span<const uint8_t> bytes, HighState& out);
-// Writes every field, computes the CRC, stores it in the last 4 bytes and returns it (the `crc`
-// member of `state` is ignored).
-uint32_t SerializeHighState(const HighState& state, std::span<uint8_t, kHighStateSize> out);
+// Fills `out` from a datagram whose size, head and levelFlag are right, and says in `crc_form`
+// (when given) which form of the CRC matched. kWrongSize, kBadHead and kBadLevelFlag leave `out`
+// untouched; kBadCrc fills it (for --no-crc-check diagnosis) but the caller must not trust it.
+ParseResult ParseHighState(std::span<const uint8_t> bytes, HighState& out,
+                           CrcForm* crc_form = nullptr);
+// Writes every field, computes the CRC, stores it in the last 4 bytes in `form` and returns the
+// word stored (the `crc` member of `state` is ignored).
+uint32_t SerializeHighState(const HighState& state, std::span<uint8_t, kHighStateSize> out,
+                            CrcForm form = CrcForm::kPlain);
 
+// HighCmd: size and plain CRC only (the bridge sends it; tests and fake Go1s read it).
 ParseResult ParseHighCmd(std::span<const uint8_t> bytes, HighCmd& out);
 uint32_t SerializeHighCmd(const HighCmd& cmd, std::span<uint8_t, kHighCmdSize> out);
 

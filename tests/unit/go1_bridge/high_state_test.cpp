@@ -1,12 +1,15 @@
 // HighState / HighCmd: layout facts of unitree_legged_sdk (go1 branch, comm.h), Unitree's CRC-32,
-// parse(serialize(x)) == x, rejection of wrong sizes and bad CRCs.
+// the SDK's scrambled CRC form, parse(serialize(x)) == x, rejection of wrong sizes, heads,
+// levelFlags and bad CRCs.
 #include "drivers/go1/high_state.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <random>
+#include <tuple>
 #include <vector>
 
 namespace bimslam::go1_bridge {
@@ -209,13 +212,94 @@ TEST(HighState, RejectsWrongSizeAndEveryCorruptedByte) {
     longer.push_back(0);
     EXPECT_EQ(ParseHighState(longer, parsed), ParseResult::kWrongSize);
     EXPECT_EQ(ParseHighState({}, parsed), ParseResult::kWrongSize);
-    for (size_t i = 0; i < kHighStateSize; ++i) {
+    // Past the head and levelFlag (checked first, below), every covered byte is in the CRC.
+    for (size_t i = layout::kFrameReserve; i < kHighStateSize; ++i) {
         if (i >= layout::hs::kCrcCoveredBytes && i < layout::hs::kCrc) continue;  // not covered
         auto damaged = bytes;
         damaged[i] ^= 0x10;
         ASSERT_EQ(ParseHighState(damaged, parsed), ParseResult::kBadCrc) << "byte " << i;
     }
     EXPECT_STREQ(ToString(ParseResult::kBadCrc), "bad CRC");
+}
+
+// The SDK's encryptCRC on known vectors, worked by hand from its definition, stored =
+// rotr32(crc ^ 0xEDCAB9DE, 8), i.e. the bytes [b, c, d, a] of crc ^ K = [a, b, c, d]
+// little-endian:
+// - crc 0x00000000: crc ^ K = 0xEDCAB9DE, bytes [DE B9 CA ED] -> [B9 CA ED DE] = 0xDEEDCAB9.
+// - crc 0x7F8A10A2 (the reference HighState above): 7F^ED = 92, 8A^CA = 40, 10^B9 = A9,
+//   A2^DE = 7C, so crc ^ K = 0x9240A97C, bytes [7C A9 40 92] -> [A9 40 92 7C] = 0x7C9240A9.
+// - crc 0xD8FC0F0B (the idle HighCmd below): D8^ED = 35, FC^CA = 36, 0F^B9 = B6, 0B^DE = D5,
+//   so crc ^ K = 0x3536B6D5, bytes [D5 B6 36 35] -> [B6 36 35 D5] = 0xD53536B6.
+// - crc 0xFFFFFFFF: crc ^ K = 0x12354621, bytes [21 46 35 12] -> [46 35 12 21] = 0x21123546.
+TEST(HighState, ScrambledCrcIsTheSdksTransformOnKnownVectors) {
+    struct Vector {
+        uint32_t crc, stored;
+    };
+    for (const Vector& v : {Vector{0x00000000u, 0xdeedcab9u}, Vector{0x7f8a10a2u, 0x7c9240a9u},
+                            Vector{0xd8fc0f0bu, 0xd53536b6u}, Vector{0xffffffffu, 0x21123546u}}) {
+        EXPECT_EQ(ScrambleCrc(v.crc), v.stored) << std::hex << v.crc;
+        EXPECT_EQ(UnscrambleCrc(v.stored), v.crc) << std::hex << v.crc;
+    }
+    // As bytes on the wire: a HighState with the scrambled form stores [A9 40 92 7C] for the
+    // reference CRC 0x7F8A10A2.
+    std::array<uint8_t, kHighStateSize> bytes{};
+    HighState s;
+    s.head = kFrameHead;
+    s.level_flag = kHighLevel;
+    s.bms.soc = 87;
+    s.position = {1.5f, 0.f, 0.f};
+    EXPECT_EQ(SerializeHighState(s, bytes, CrcForm::kScrambled), 0x7c9240a9u);
+    const std::array<uint8_t, 4> wire{0xa9, 0x40, 0x92, 0x7c};
+    EXPECT_TRUE(std::equal(wire.begin(), wire.end(), bytes.begin() + layout::hs::kCrc));
+    EXPECT_STREQ(ToString(CrcForm::kScrambled), "scrambled");
+    EXPECT_STREQ(ToString(CrcForm::kPlain), "plain");
+}
+
+// Both forms are accepted and say which one matched; either with one bit flipped anywhere in
+// the covered bytes or in the CRC itself is rejected.
+TEST(HighState, AcceptsPlainAndScrambledCrcAndRejectsEitherWithAFlippedBit) {
+    const HighState s = MakeState();
+    for (const CrcForm form : {CrcForm::kPlain, CrcForm::kScrambled}) {
+        std::array<uint8_t, kHighStateSize> bytes{};
+        SerializeHighState(s, bytes, form);
+        HighState parsed;
+        CrcForm seen = form == CrcForm::kPlain ? CrcForm::kScrambled : CrcForm::kPlain;
+        ASSERT_EQ(ParseHighState(bytes, parsed, &seen), ParseResult::kOk) << ToString(form);
+        EXPECT_EQ(seen, form);
+        EXPECT_TRUE(parsed.motor_state == s.motor_state && parsed.position == s.position);
+        for (size_t i = layout::kFrameReserve; i < kHighStateSize; ++i) {
+            if (i >= layout::hs::kCrcCoveredBytes && i < layout::hs::kCrc) continue;
+            for (int bit = 0; bit < 8; bit += 3) {
+                auto damaged = bytes;
+                damaged[i] ^= static_cast<uint8_t>(1u << bit);
+                ASSERT_EQ(ParseHighState(damaged, parsed), ParseResult::kBadCrc)
+                    << ToString(form) << " byte " << i << " bit " << bit;
+            }
+        }
+    }
+}
+
+// Head and levelFlag are checked before the CRC, as the SDK's receive path does, each with its
+// own result, and such a datagram is not decoded at all.
+TEST(HighState, WrongHeadOrLevelFlagIsRejectedByReasonAndNotDecoded) {
+    HighState s = MakeState();
+    for (const auto& [head, level, expected] :
+         {std::tuple{std::array<uint8_t, 2>{0xef, 0xfe}, kHighLevel, ParseResult::kBadHead},
+          std::tuple{std::array<uint8_t, 2>{0xfe, 0x00}, kHighLevel, ParseResult::kBadHead},
+          std::tuple{kFrameHead, kLowLevel, ParseResult::kBadLevelFlag},
+          std::tuple{kFrameHead, uint8_t{0x00}, ParseResult::kBadLevelFlag}}) {
+        s.head = head;
+        s.level_flag = level;
+        std::array<uint8_t, kHighStateSize> bytes{};
+        SerializeHighState(s, bytes, CrcForm::kScrambled);  // the CRC is right for these bytes
+        HighState untouched;
+        untouched.mode = 99;
+        EXPECT_EQ(ParseHighState(bytes, untouched), expected);
+        EXPECT_EQ(untouched.mode, 99) << "a rejected frame was decoded";
+        EXPECT_EQ(untouched.head, (std::array<uint8_t, 2>{}));
+    }
+    EXPECT_STREQ(ToString(ParseResult::kBadHead), "bad head");
+    EXPECT_STREQ(ToString(ParseResult::kBadLevelFlag), "bad levelFlag");
 }
 
 TEST(HighCmd, IdleCommandIsValidAndCommandsNoMotion) {
