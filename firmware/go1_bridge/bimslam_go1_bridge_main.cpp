@@ -8,6 +8,7 @@
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -27,6 +28,7 @@
 #include "drivers/go1/high_state.hpp"
 #include "firmware/go1_bridge/bridge.hpp"
 #include "firmware/go1_bridge/sinks.hpp"
+#include "firmware/go1_bridge/status_lcm.hpp"
 #include "firmware/go1_bridge/udp_client.hpp"
 
 namespace bimslam::go1_bridge {
@@ -61,6 +63,8 @@ struct Options {
     std::string candump_interface = "can0";
     std::string lcm_url;
     std::string lcm_channel = "BIMSLAM_GO1_CAN";
+    std::string status_lcm_url;  // empty: the --lcm URL, if any
+    std::string status_lcm_channel = kStatusLcmChannel;
     double duration_s = 0;
     double status_interval_s = 2;
     int contact_on = BridgeConfig{}.contact_on_raw;
@@ -111,17 +115,15 @@ struct LoopStats {
 void PrintStatus(double t, const Bridge& bridge, bool link, const FrameSink& sink,
                  const LoopStats& loop) {
     const BridgeStats& s = bridge.stats();
+    const auto u = [](uint64_t v) { return static_cast<unsigned long long>(v); };
     std::printf(
-        "%s: t=%.1f s  HighStates %llu  CAN samples %llu  lost %llu  rejected %llu (CRC) %llu "
-        "(size)  link %s  state %s  frames %llu  sink failures %llu  UDP errors %llu/%llu\n",
-        kName, t, static_cast<unsigned long long>(s.highstates),
-        static_cast<unsigned long long>(s.samples), static_cast<unsigned long long>(s.lost),
-        static_cast<unsigned long long>(s.crc_failures),
-        static_cast<unsigned long long>(s.wrong_size), link ? "up" : "DOWN",
-        ToString(bridge.state()), static_cast<unsigned long long>(s.frames),
-        static_cast<unsigned long long>(sink.stats().failed),
-        static_cast<unsigned long long>(loop.send_errors),
-        static_cast<unsigned long long>(loop.receive_errors));
+        "%s: t=%.1f s  HighStates %llu (CRC %s)  CAN samples %llu  lost %llu  rejected %llu "
+        "(CRC) %llu (size) %llu (head) %llu (levelFlag)  link %s  state %s  frames %llu  sink "
+        "failures %llu  UDP errors %llu/%llu\n",
+        kName, t, u(s.highstates), bridge.crc_forms_seen(), u(s.samples), u(s.lost),
+        u(s.crc_failures), u(s.wrong_size), u(s.bad_head), u(s.bad_level_flag),
+        link ? "up" : "DOWN", ToString(bridge.state()), u(s.frames), u(sink.stats().failed),
+        u(loop.send_errors), u(loop.receive_errors));
     std::fflush(stdout);
 }
 
@@ -135,11 +137,14 @@ void PrintSummary(double t, const Bridge& bridge, const FrameSink& sink, const L
                                          : "");
     std::printf(
         "  UDP: %llu HighCmds sent (%llu send errors%s%s), %llu datagrams, %llu HighStates "
-        "accepted, %llu rejected for CRC, %llu for size, %llu samples lost, %llu receive "
+        "accepted (%llu with the plain CRC, %llu with the scrambled CRC), %llu rejected for CRC, "
+        "%llu for size, %llu for head, %llu for levelFlag, %llu samples lost, %llu receive "
         "errors\n",
         u(s.polls), u(loop.send_errors), loop.last_send_error ? ", last: " : "",
         loop.last_send_error ? std::strerror(loop.last_send_error) : "", u(s.datagrams),
-        u(s.highstates), u(s.crc_failures), u(s.wrong_size), u(s.lost), u(loop.receive_errors));
+        u(s.highstates), u(s.crc_plain), u(s.crc_scrambled), u(s.crc_failures), u(s.wrong_size),
+        u(s.bad_head), u(s.bad_level_flag), u(s.lost), u(loop.receive_errors));
+    std::printf("  HighState CRC form: %s\n", bridge.crc_forms_seen());
     std::printf(
         "  CAN: %llu samples (%llu with the link down, %llu ticks waited for data), %llu "
         "frames, %llu to %s, %llu failed\n",
@@ -153,13 +158,8 @@ void PrintSummary(double t, const Bridge& bridge, const FrameSink& sink, const L
     std::fflush(stdout);
 }
 
-int Run(const Options& o) {
-    // Configuration (bad values: exit 2).
-    UdpClientConfig udp_config;
-    ParseAddressAndPort(o.go1, "--go1", udp_config.go1_address, udp_config.go1_port);
-    udp_config.local_address = o.local_address;
-    udp_config.local_port = o.local_port;
-    udp_config.Validate();
+// The options as the bridge's configuration (bad values: common::Error, exit 2).
+BridgeConfig MakeBridgeConfig(const Options& o) {
     BridgeConfig config;
     if (!(o.poll_hz >= 100 && o.poll_hz <= 2000)) {
         throw common::Error(common::StatusCode::kInvalidArgument,
@@ -175,18 +175,20 @@ int Run(const Options& o) {
     config.contact_on_raw = o.contact_on;
     config.contact_off_raw = o.contact_off;
     config.check_crc = !o.no_crc_check;
-    Bridge bridge(config);  // validates
+    return config;
+}
 
-    // Resources (failures: exit 1, except files the user named wrongly: 2).
-    std::unique_ptr<FrameSink> sink;
+// Where the CAN frames go (failures: exit 1, except files the user named wrongly: 2).
+std::unique_ptr<FrameSink> OpenSink(const Options& o) {
     if (!o.can_interface.empty()) {
         try {
-            sink = OpenSocketCanSink(o.can_interface);
+            return OpenSocketCanSink(o.can_interface);
         } catch (const common::Error& e) {
             throw common::Error(
                 e.code(), std::string(e.what()) + "; without CAN, use --candump FILE or --lcm URL");
         }
-    } else if (!o.candump_path.empty()) {
+    }
+    if (!o.candump_path.empty()) {
         const std::filesystem::path folder =
             std::filesystem::absolute(o.candump_path).parent_path();
         if (!std::filesystem::is_directory(folder)) {
@@ -194,84 +196,140 @@ int Run(const Options& o) {
                                 "--candump: " + o.candump_path + ": the folder " + folder.string() +
                                     " does not exist");
         }
-        sink = OpenCandumpSink(o.candump_path, o.candump_interface);
-    } else {
-        sink = OpenLcmSink(o.lcm_url, o.lcm_channel);
+        return OpenCandumpSink(o.candump_path, o.candump_interface);
     }
-    UdpClient udp(udp_config);
+    return OpenLcmSink(o.lcm_url, o.lcm_channel);
+}
 
-    std::array<uint8_t, kHighCmdSize> request{};
-    SerializeHighCmd(MakeIdleHighCmd(), request);
-    std::array<uint8_t, 2048> datagram{};
-    std::array<common::CanFrame, Bridge::kMaxFramesPerTick> frames{};
-    LoopStats loop;
+// The status on LCM: --status-lcm, else the --lcm URL, else none.
+std::unique_ptr<StatusPublisher> OpenStatusPublisher(const Options& o) {
+    const std::string& url = o.status_lcm_url.empty() ? o.lcm_url : o.status_lcm_url;
+    if (url.empty()) return nullptr;
+    return std::make_unique<StatusPublisher>(url, o.status_lcm_channel);
+}
 
-    std::printf(
-        "%s: polling the Go1 at %s:%u from %s:%u at %.0f Hz (idle HighCmd, no motion); "
-        "link timeout %.1f ms; CAN to %s%s\n",
-        kName, udp_config.go1_address.c_str(), udp_config.go1_port,
-        udp_config.local_address.c_str(), udp.local_port(), o.poll_hz,
-        static_cast<double>(config.EffectiveLinkTimeoutNs()) * 1e-6, sink->description().c_str(),
-        config.check_crc ? "" : "; HighState CRC NOT checked");
-    std::fflush(stdout);
+// The parts of one run, and its poll / tick / status loop on absolute deadlines.
+class Runner {
+public:
+    Runner(const Options& o, const UdpClientConfig& udp_config, const BridgeConfig& config)
+        : options_(o),
+          config_(config),
+          bridge_(config),  // validates
+          sink_(OpenSink(o)),
+          status_lcm_(OpenStatusPublisher(o)),
+          udp_(udp_config) {
+        SerializeHighCmd(MakeIdleHighCmd(), request_);
+        std::printf(
+            "%s: polling the Go1 at %s:%u from %s:%u at %.0f Hz (idle HighCmd, no motion); "
+            "link timeout %.1f ms; CAN to %s%s%s%s\n",
+            kName, udp_config.go1_address.c_str(), udp_config.go1_port,
+            udp_config.local_address.c_str(), udp_.local_port(), o.poll_hz,
+            static_cast<double>(config.EffectiveLinkTimeoutNs()) * 1e-6,
+            sink_->description().c_str(), status_lcm_ ? "; status to " : "",
+            status_lcm_ ? status_lcm_->description().c_str() : "",
+            config.check_crc ? "" : "; HighState CRC NOT checked");
+        std::fflush(stdout);
+    }
 
+    // Runs until SIGINT/SIGTERM or --duration; returns the exit code.
+    int Run();
+
+private:
+    void ReceiveAll();
+    void PublishStatus(int64_t now);
+    int Finish();
+
+    const Options& options_;
+    BridgeConfig config_;
+    Bridge bridge_;
+    std::unique_ptr<FrameSink> sink_;
+    std::unique_ptr<StatusPublisher> status_lcm_;
+    UdpClient udp_;
+    std::array<uint8_t, kHighCmdSize> request_{};
+    std::array<uint8_t, 2048> datagram_{};
+    std::array<common::CanFrame, Bridge::kMaxFramesPerTick> frames_{};
+    LoopStats loop_;
+    int64_t start_ = 0;
+};
+
+// Everything queued from the Go1, each stamped at its receive.
+void Runner::ReceiveAll() {
+    for (;;) {
+        const UdpClient::Received r = udp_.Receive(datagram_);
+        if (!r.got) {
+            if (r.error != 0) {
+                ++loop_.receive_errors;
+                loop_.last_receive_error = r.error;
+            }
+            return;
+        }
+        const size_t size = r.truncated ? datagram_.size() : r.size;
+        bridge_.OnDatagram(std::span<const uint8_t>(datagram_.data(), size),
+                           common::MonotonicNow().ns);
+    }
+}
+
+void Runner::PublishStatus(int64_t now) {
+    if (!status_lcm_) return;
+    StatusContext context;
+    context.link_ok = bridge_.link_ok(now);
+    context.uptime_ns = now - start_;
+    context.host_now_ns = common::HostNow().ns;
+    context.udp_errors = loop_.send_errors + loop_.receive_errors;
+    context.sink = sink_->stats();
+    status_lcm_->Publish(MakeStatusMessage(bridge_, context));
+}
+
+int Runner::Run() {
     InstallSignalHandlers();
-    const int64_t start = common::MonotonicNow().ns;
-    const int64_t end = o.duration_s > 0
-                            ? start + static_cast<int64_t>(std::llround(o.duration_s * 1e9))
+    start_ = common::MonotonicNow().ns;
+    const int64_t end = options_.duration_s > 0
+                            ? start_ + static_cast<int64_t>(std::llround(options_.duration_s * 1e9))
                             : std::numeric_limits<int64_t>::max();
-    const int64_t status_period = static_cast<int64_t>(std::llround(o.status_interval_s * 1e9));
-    int64_t next_poll = start;
-    int64_t next_tick = start + bridge.tick_ns();
-    int64_t next_status =
-        status_period > 0 ? start + status_period : std::numeric_limits<int64_t>::max();
+    const int64_t status_period =
+        static_cast<int64_t>(std::llround(options_.status_interval_s * 1e9));
+    constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
+    int64_t next_poll = start_;
+    int64_t next_tick = start_ + bridge_.tick_ns();
+    int64_t next_status = status_period > 0 ? start_ + status_period : kNever;
+    int64_t next_status_lcm = status_lcm_ ? start_ + kStatusLcmPeriodNs : kNever;
     uint64_t unused = 0;
 
     pollfd pfd{};
-    pfd.fd = udp.fd();
+    pfd.fd = udp_.fd();
     pfd.events = POLLIN;
     while (g_stop_signal == 0) {
         int64_t now = common::MonotonicNow().ns;
         if (now >= end) break;
-
-        // Everything queued from the Go1, each stamped at its receive.
-        for (;;) {
-            const UdpClient::Received r = udp.Receive(datagram);
-            if (!r.got) {
-                if (r.error != 0) {
-                    ++loop.receive_errors;
-                    loop.last_receive_error = r.error;
-                }
-                break;
-            }
-            const size_t size = r.truncated ? datagram.size() : r.size;
-            bridge.OnDatagram(std::span<const uint8_t>(datagram.data(), size),
-                              common::MonotonicNow().ns);
-        }
+        ReceiveAll();
 
         now = common::MonotonicNow().ns;
         if (now >= next_poll) {
-            bridge.OnPoll(now);
-            const int err = udp.Send(request);
+            bridge_.OnPoll(now);
+            const int err = udp_.Send(request_);
             if (err != 0) {
-                ++loop.send_errors;
-                loop.last_send_error = err;
+                ++loop_.send_errors;
+                loop_.last_send_error = err;
             }
-            Advance(next_poll, config.poll_period_ns, now, loop.late_polls);
+            Advance(next_poll, config_.poll_period_ns, now, loop_.late_polls);
         }
         if (now >= next_tick) {
-            const size_t n = bridge.OnTick(now, common::HostNow().ns, frames);
-            for (size_t i = 0; i < n; ++i) sink->Send(frames[i]);
-            Advance(next_tick, bridge.tick_ns(), now, loop.late_ticks);
+            const size_t n = bridge_.OnTick(now, common::HostNow().ns, frames_);
+            for (size_t i = 0; i < n; ++i) sink_->Send(frames_[i]);
+            Advance(next_tick, bridge_.tick_ns(), now, loop_.late_ticks);
         }
         if (now >= next_status) {
-            PrintStatus(static_cast<double>(now - start) * 1e-9, bridge, bridge.link_ok(now), *sink,
-                        loop);
+            PrintStatus(static_cast<double>(now - start_) * 1e-9, bridge_, bridge_.link_ok(now),
+                        *sink_, loop_);
             Advance(next_status, status_period, now, unused);
+        }
+        if (now >= next_status_lcm) {
+            PublishStatus(now);
+            Advance(next_status_lcm, kStatusLcmPeriodNs, now, unused);
         }
 
         // Sleep until the next deadline or a datagram.
-        const int64_t wake = std::min(std::min(next_poll, next_tick), std::min(next_status, end));
+        const int64_t wake = std::min({next_poll, next_tick, next_status, next_status_lcm, end});
         const int64_t wait = wake - common::MonotonicNow().ns;
         if (wait > 0) {
             timespec ts{};
@@ -280,23 +338,42 @@ int Run(const Options& o) {
             ::ppoll(&pfd, 1, &ts, nullptr);
         }
     }
+    return Finish();
+}
 
-    const double ran = static_cast<double>(common::MonotonicNow().ns - start) * 1e-9;
+// Closes the sink, publishes the final status and prints the summary.
+int Runner::Finish() {
+    const int64_t now = common::MonotonicNow().ns;
     int code = kExitOk;
     try {
-        sink->Close();
+        sink_->Close();
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: error: %s\n", kName, e.what());
         code = kExitFailure;
     }
-    PrintSummary(ran, bridge, *sink, loop, g_stop_signal);
-    if (sink->lossless() && sink->stats().failed > 0) {
+    PublishStatus(now);
+    PrintSummary(static_cast<double>(now - start_) * 1e-9, bridge_, *sink_, loop_, g_stop_signal);
+    if (status_lcm_ && status_lcm_->failures() > 0) {
+        std::printf("  status messages that LCM refused: %llu\n",
+                    static_cast<unsigned long long>(status_lcm_->failures()));
+    }
+    if (sink_->lossless() && sink_->stats().failed > 0) {
         std::fprintf(stderr, "%s: error: %llu frames could not be written to %s\n", kName,
-                     static_cast<unsigned long long>(sink->stats().failed),
-                     sink->description().c_str());
+                     static_cast<unsigned long long>(sink_->stats().failed),
+                     sink_->description().c_str());
         code = kExitFailure;
     }
     return code;
+}
+
+int Run(const Options& o) {
+    UdpClientConfig udp_config;
+    ParseAddressAndPort(o.go1, "--go1", udp_config.go1_address, udp_config.go1_port);
+    udp_config.local_address = o.local_address;
+    udp_config.local_port = o.local_port;
+    udp_config.Validate();
+    Runner runner(o, udp_config, MakeBridgeConfig(o));
+    return runner.Run();
 }
 
 }  // namespace
@@ -336,6 +413,13 @@ int main(int argc, char** argv) {
                    "Interface name written into the candump log")
         ->capture_default_str();
     app.add_option("--lcm-channel", o.lcm_channel, "LCM channel for --lcm")->capture_default_str();
+    app.add_option("--status-lcm", o.status_lcm_url,
+                   "Publish the bridge's status (bimslam::go1_bridge_status_t: state, link, "
+                   "counters, the HighState CRC form seen) at 2 Hz on this LCM URL; default: "
+                   "the --lcm URL, if given");
+    app.add_option("--status-lcm-channel", o.status_lcm_channel,
+                   "LCM channel of the status messages")
+        ->capture_default_str();
     app.add_option("--duration", o.duration_s, "Run this many seconds (0: until SIGINT/SIGTERM)")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
@@ -349,8 +433,9 @@ int main(int argc, char** argv) {
                    "Foot contact ends at this raw foot force or below")
         ->capture_default_str();
     app.add_flag("--no-crc-check", o.no_crc_check,
-                 "Forward HighStates whose CRC fails (HighStateCrcOk says so): bench diagnosis "
-                 "only");
+                 "Forward HighStates whose CRC matches neither form, plain or scrambled "
+                 "(HighStateCrcOk says so): bench diagnosis only. Wrong size, head or levelFlag "
+                 "are always rejected");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -93,20 +93,40 @@ void Bridge::OnPoll(int64_t /*now_ns*/) {
     answered_ = false;
 }
 
+ParseResult Bridge::Reject(uint64_t& counter, ParseResult why) {
+    ++counter;
+    last_datagram_ok_ = false;
+    ++window_faults_;
+    return why;
+}
+
+const char* Bridge::crc_forms_seen() const {
+    if (stats_.crc_plain > 0 && stats_.crc_scrambled > 0) return "plain+scrambled";
+    if (stats_.crc_scrambled > 0) return "scrambled";
+    if (stats_.crc_plain > 0) return "plain";
+    return "none yet";
+}
+
 ParseResult Bridge::OnDatagram(std::span<const uint8_t> bytes, int64_t receive_ns) {
     ++stats_.datagrams;
-    const ParseResult r = ParseHighState(bytes, highstate_);
-    if (r != ParseResult::kOk) {
-        last_datagram_ok_ = false;
-        ++window_faults_;
-        if (r == ParseResult::kWrongSize) {
-            ++stats_.wrong_size;
-            return r;
-        }
-        ++stats_.crc_failures;
-        if (config_.check_crc) return r;
-    } else {
-        last_datagram_ok_ = true;
+    CrcForm form = CrcForm::kPlain;
+    const ParseResult r = ParseHighState(bytes, highstate_, &form);
+    switch (r) {
+        case ParseResult::kOk:
+            ++(form == CrcForm::kScrambled ? stats_.crc_scrambled : stats_.crc_plain);
+            last_datagram_ok_ = true;
+            break;
+        // Not a high-level HighState: never decoded, whatever check_crc says.
+        case ParseResult::kWrongSize:
+            return Reject(stats_.wrong_size, r);
+        case ParseResult::kBadHead:
+            return Reject(stats_.bad_head, r);
+        case ParseResult::kBadLevelFlag:
+            return Reject(stats_.bad_level_flag, r);
+        case ParseResult::kBadCrc:
+            Reject(stats_.crc_failures, r);
+            if (config_.check_crc) return r;
+            break;
     }
     MapHighState(highstate_, receive_ns);
     ++stats_.highstates;

@@ -21,8 +21,13 @@
 //   link dropped in between. GO1_STATUS has no Valid bit: its bridge fields (flags, lost count,
 //   state) are current; its HighState fields (mode, gait, battery, IMU temperature) keep the last
 //   values received (0 before the first) and must be read with STS_UdpLinkOk.
-// - HighStateCrcOk = the last datagram from the Go1 was an intact HighState (right size, CRC
-//   good); false before the first.
+// - Frame checks as the SDK's receive path makes them (drivers/go1/README.md): size 1087, head
+//   0xFE 0xEF, levelFlag HIGHLEVEL, then the CRC in either form, plain or scrambled (counted
+//   apart, so a bench run tells which one the robot sends). A datagram failing size, head or
+//   levelFlag is counted by reason and never decoded; a bad CRC is forwarded only when
+//   check_crc is off.
+// - HighStateCrcOk = the last datagram from the Go1 was an intact HighState (size, head,
+//   levelFlag, CRC good); false before the first.
 // - Lost samples. A poll period in which no valid HighState arrived (checked at the next poll)
 //   is one missed sample. STS_UdpRxLost carries the missed samples since the previous STATUS
 //   frame, saturating at 254.
@@ -90,7 +95,11 @@ struct BridgeStats {
     uint64_t datagrams = 0;            // datagrams offered
     uint64_t highstates = 0;           // accepted HighStates (forwarded or superseded)
     uint64_t wrong_size = 0;           // rejected: not 1087 bytes
-    uint64_t crc_failures = 0;         // CRC mismatches (rejected when check_crc)
+    uint64_t bad_head = 0;             // rejected: head not 0xFE 0xEF
+    uint64_t bad_level_flag = 0;       // rejected: levelFlag not HIGHLEVEL
+    uint64_t crc_failures = 0;         // CRC matches neither form (rejected when check_crc)
+    uint64_t crc_plain = 0;            // accepted with the plain CRC-32
+    uint64_t crc_scrambled = 0;        // accepted with the SDK's scrambled CRC (encryptCRC)
     uint64_t polls = 0;                // HighCmds sent
     uint64_t lost = 0;                 // poll periods without a valid HighState
     uint64_t samples = 0;              // CAN samples forwarded (alive counter steps)
@@ -124,11 +133,16 @@ public:
     BridgeState state() const { return state_; }
     const BridgeStats& stats() const { return stats_; }
     const BridgeConfig& config() const { return config_; }
+    // Which CRC forms the accepted HighStates carried: "none yet", "plain", "scrambled" or
+    // "plain+scrambled".
+    const char* crc_forms_seen() const;
     // The last sample handed to the encoder (placeholders included).
     const can::Go1Sample& last_sample() const { return sample_; }
     const can::Go1Encoder& encoder() const { return encoder_; }
 
 private:
+    // Counts a rejected datagram under `counter` and in the STATUS window; returns `why`.
+    ParseResult Reject(uint64_t& counter, ParseResult why);
     void MapHighState(const HighState& hs, int64_t receive_ns);
     void UpdateState(bool link);
 

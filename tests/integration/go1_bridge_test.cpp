@@ -3,7 +3,8 @@
 // CRC, then falls silent for a while), writes a candump log, and the drivers/can reader and
 // Go1Decoder read it back: HighState values -> CAN frames -> decoder -> the same values within
 // the DBC's scaling; alive counters consistent; UdpLinkOk false and lost samples counted during
-// the silence. Also: the LCM sink, SIGINT, and the exit codes.
+// the silence. The fake Go1 sends the scrambled CRC, as the robot does. Also: the LCM sink, the
+// status on LCM (CRC form, rejections by reason), SIGINT, and the exit codes.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -13,6 +14,7 @@
 
 #include <atomic>
 #include <bimslam/can_frame_t.hpp>
+#include <bimslam/go1_bridge_status_t.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -62,12 +64,21 @@ HighState MakeHighState(int k) {
     return s;
 }
 
-// A Go1 on 127.0.0.1: answers each HighCmd with MakeHighState(k) for k = 0, 1, ..., except
+// Faults a FakeGo1 puts into its answers: every n-th answer (0: never) has one bit flipped in
+// its velocity (a bad CRC), or a wrong head. Such answers do not use up a k.
+struct InjectedFaults {
+    int flip_bit_every = 0;
+    int wrong_head_every = 0;
+};
+
+// A Go1 on 127.0.0.1: answers each HighCmd with MakeHighState(k) for k = 0, 1, ..., its CRC in
+// `form` (scrambled, as the robot's sport controller sends it: drivers/go1/README.md), except
 // during [silent_from, silent_to) seconds after the first HighCmd.
 class FakeGo1 {
 public:
-    FakeGo1(double silent_from_s, double silent_to_s)
-        : silent_from_(silent_from_s), silent_to_(silent_to_s) {
+    FakeGo1(double silent_from_s, double silent_to_s, CrcForm form = CrcForm::kScrambled,
+            InjectedFaults faults = {})
+        : silent_from_(silent_from_s), silent_to_(silent_to_s), form_(form), faults_(faults) {
         fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
         EXPECT_GE(fd_, 0);
         sockaddr_in a{};
@@ -90,7 +101,9 @@ public:
     int commands = 0;      // HighCmds received
     int bad_commands = 0;  // not a valid idle HighCmd (size, CRC, levelFlag, motion)
     int answered = 0;
-    int withheld = 0;  // HighCmds left unanswered (the silence)
+    int withheld = 0;                 // HighCmds left unanswered (the silence)
+    std::atomic<int> flipped{0};      // answers sent with a bad CRC
+    std::atomic<int> wrong_heads{0};  // answers sent with a wrong head
 
 private:
     void Serve() {
@@ -118,12 +131,29 @@ private:
                 ++withheld;
                 continue;
             }
-            SerializeHighState(MakeHighState(answered++), reply);
+            const int reply_index = replies_++;
+            if (Every(faults_.flip_bit_every, reply_index)) {
+                SerializeHighState(MakeHighState(answered), reply, form_);
+                reply[layout::hs::kVelocity] ^= 0x01;
+                ++flipped;
+            } else if (Every(faults_.wrong_head_every, reply_index)) {
+                HighState hs = MakeHighState(answered);
+                hs.head = {0xef, 0xfe};
+                SerializeHighState(hs, reply, form_);
+                ++wrong_heads;
+            } else {
+                SerializeHighState(MakeHighState(answered++), reply, form_);
+            }
             ::sendto(fd_, reply.data(), reply.size(), 0, reinterpret_cast<sockaddr*>(&from), n);
         }
     }
 
+    static bool Every(int n, int index) { return n > 0 && index % n == n - 1; }
+
     double silent_from_, silent_to_;
+    CrcForm form_;
+    InjectedFaults faults_;
+    int replies_ = 0;
     int fd_ = -1;
     uint16_t port_ = 0;
     std::atomic<bool> stop_{false};
@@ -251,6 +281,9 @@ TEST(Go1BridgeProgram, CandumpEndToEndAgainstAFakeGo1WithASilence) {
                          " --duration 1.5 --status-interval 0.5");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("summary"), std::string::npos) << r.out;
+    // The fake Go1 sends the scrambled CRC, as the robot does: accepted, and said.
+    EXPECT_NE(r.out.find("HighState CRC form: scrambled\n"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" (0 with the plain CRC, "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("link losses "), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find("link losses 0,"), std::string::npos) << r.out;
     EXPECT_GT(go1.commands, 500);  // 500 Hz for 1.5 s, with some slack for a loaded machine
@@ -408,6 +441,90 @@ TEST(Go1BridgeProgram, LcmSinkPublishesEveryFrame) {
     EXPECT_LE(decoder.stats().crc, 0u);
     const Checked c = CheckSamples(samples);
     EXPECT_GT(c.with_data, 50);
+}
+
+struct StatusCollector {
+    std::vector<go1_bridge_status_t> statuses;
+    int undecodable = 0;
+
+    void Handle(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+        go1_bridge_status_t m;
+        if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
+            ++undecodable;
+        } else {
+            statuses.push_back(m);
+        }
+    }
+};
+
+// The bridge's status on LCM (go1_bridge_status_t) from the real program: a Go1 that sends the
+// plain CRC, with a bit flipped in every 40th answer and a wrong head in every 60th. The status
+// says which CRC form the robot sends and counts each rejection by its reason; the candump log
+// carries no frame made from a rejected answer. Its own channel, so that other bridges under
+// test do not mix in.
+TEST(Go1BridgeProgram, StatusOnLcmSaysTheCrcFormAndCountsRejectionsByReason) {
+    const std::string url = "udpm://239.255.76.67:7667?ttl=0";
+    lcm::LCM lcm(url);
+    if (!lcm.good()) {
+        GTEST_SKIP() << "LCM " << url << " is not usable here (no multicast route: run "
+                     << "toolchain/setup-multicast.sh as root)";
+    }
+    const std::string channel = "BIMSLAM_GO1_BRIDGE_STATUS_TEST_" + std::to_string(::getpid());
+    StatusCollector collector;
+    lcm.subscribe(channel, &StatusCollector::Handle, &collector);
+
+    test::TempDir tmp;
+    FakeGo1 go1(100, 100, CrcForm::kPlain, InjectedFaults{40, 60});
+    std::atomic<bool> done{false};
+    test::CommandResult result;
+    std::thread bridge([&] {
+        result = test::RunCommand(kBridge + " --go1 " + go1.endpoint() +
+                                  " --local-port 0 --candump " + (tmp / "go1.log").string() +
+                                  " --status-lcm '" + url + "' --status-lcm-channel " + channel +
+                                  " --duration 1.2 --status-interval 0");
+        done = true;
+    });
+    while (!done) lcm.handleTimeout(20);
+    bridge.join();
+    while (lcm.handleTimeout(100) > 0) {
+    }
+    ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
+    EXPECT_EQ(collector.undecodable, 0);
+    const std::vector<go1_bridge_status_t>& statuses = collector.statuses;
+    // At least the final status, sent at exit; the periodic ones before it in order.
+    ASSERT_GE(statuses.size(), 1u) << result.out;
+    for (size_t i = 1; i < statuses.size(); ++i) {
+        EXPECT_GT(statuses[i].sequence, statuses[i - 1].sequence);
+        EXPECT_GE(statuses[i].uptime_ns, statuses[i - 1].uptime_ns);
+    }
+    const go1_bridge_status_t& last = statuses.back();
+    EXPECT_EQ(last.schema_version, go1_bridge_status_t::SCHEMA_VERSION);
+    EXPECT_EQ(last.crc_forms_seen, go1_bridge_status_t::CRC_FORM_PLAIN);
+    EXPECT_EQ(last.highstates_crc_scrambled, 0);
+    EXPECT_GT(last.highstates_crc_plain, 100);
+    EXPECT_TRUE(last.crc_check);
+    // Every rejection counted under its own reason; none more than the fake sent (a datagram
+    // still in flight when the bridge stopped is not counted).
+    EXPECT_GT(last.rejected_crc, 0);
+    EXPECT_LE(last.rejected_crc, go1.flipped.load());
+    EXPECT_GT(last.rejected_head, 0);
+    EXPECT_LE(last.rejected_head, go1.wrong_heads.load());
+    EXPECT_EQ(last.rejected_level_flag, 0);
+    EXPECT_EQ(last.rejected_size, 0);
+    EXPECT_EQ(last.datagrams, last.highstates_crc_plain + last.rejected_crc + last.rejected_head);
+    EXPECT_NE(result.out.find("HighState CRC form: plain\n"), std::string::npos) << result.out;
+
+    // The log: only frames made from intact answers (their values are some MakeHighState(k)).
+    can::CandumpReader reader((tmp / "go1.log").string());
+    can::Go1Decoder decoder;
+    std::vector<Go1Sample> samples;
+    can::CandumpRecord record;
+    while (reader.Next(record)) {
+        const int n = decoder.Feed(record.frame).samples;
+        const auto ready = decoder.ready();
+        for (int i = 0; i < n; ++i) samples.push_back(ready[ready.size() - n + i]);
+    }
+    EXPECT_GT(CheckSamples(samples).with_data, 50);
 }
 
 }  // namespace

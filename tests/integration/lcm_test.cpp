@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <bimslam/can_frame_t.hpp>
+#include <bimslam/go1_bridge_status_t.hpp>
 #include <bimslam/go1_state_t.hpp>
 #include <bimslam/imu_sample_t.hpp>
 #include <bimslam/keyframe_t.hpp>
@@ -266,6 +267,32 @@ void ExpectSameMessage(const can_frame_t& a, const can_frame_t& b) {
     EXPECT_FIELD(flags);
     EXPECT_FIELD(len);
     EXPECT_FIELD(data);
+}
+
+void ExpectSameMessage(const go1_bridge_status_t& a, const go1_bridge_status_t& b) {
+    EXPECT_FIELD(schema_version);
+    EXPECT_FIELD(sample_time_ns);
+    EXPECT_FIELD(publish_time_ns);
+    EXPECT_FIELD(uptime_ns);
+    EXPECT_FIELD(sequence);
+    EXPECT_FIELD(state);
+    EXPECT_FIELD(udp_link_ok);
+    EXPECT_FIELD(crc_check);
+    EXPECT_FIELD(crc_forms_seen);
+    EXPECT_FIELD(polls);
+    EXPECT_FIELD(datagrams);
+    EXPECT_FIELD(highstates_crc_plain);
+    EXPECT_FIELD(highstates_crc_scrambled);
+    EXPECT_FIELD(rejected_size);
+    EXPECT_FIELD(rejected_head);
+    EXPECT_FIELD(rejected_level_flag);
+    EXPECT_FIELD(rejected_crc);
+    EXPECT_FIELD(lost);
+    EXPECT_FIELD(link_losses);
+    EXPECT_FIELD(can_samples);
+    EXPECT_FIELD(can_frames);
+    EXPECT_FIELD(can_send_failures);
+    EXPECT_FIELD(udp_errors);
 }
 
 #undef EXPECT_FIELD
@@ -567,6 +594,28 @@ can_frame_t MakeCanFrame(bool fd) {
     return m;
 }
 
+go1_bridge_status_t MakeGo1BridgeStatus() {
+    Values v;
+    go1_bridge_status_t m;
+    m.schema_version = go1_bridge_status_t::SCHEMA_VERSION;
+    m.sample_time_ns = v.I64();
+    m.publish_time_ns = v.I64();
+    m.uptime_ns = v.I64();
+    m.sequence = v.I64();
+    m.state = go1_bridge_status_t::STATE_DEGRADED;
+    m.udp_link_ok = true;
+    m.crc_check = false;
+    m.crc_forms_seen = static_cast<int8_t>(go1_bridge_status_t::CRC_FORM_PLAIN |
+                                           go1_bridge_status_t::CRC_FORM_SCRAMBLED);
+    for (int64_t* counter :
+         {&m.polls, &m.datagrams, &m.highstates_crc_plain, &m.highstates_crc_scrambled,
+          &m.rejected_size, &m.rejected_head, &m.rejected_level_flag, &m.rejected_crc, &m.lost,
+          &m.link_losses, &m.can_samples, &m.can_frames, &m.can_send_failures, &m.udp_errors}) {
+        *counter = v.I64();
+    }
+    return m;
+}
+
 // ------------------------------------------------------------------------------------------------
 // The messages each type is tested with.
 
@@ -595,6 +644,10 @@ std::vector<imu_sample_t> Samples() {
 template <>
 std::vector<rig_health_t> Samples() {
     return {MakeRigHealth()};
+}
+template <>
+std::vector<go1_bridge_status_t> Samples() {
+    return {MakeGo1BridgeStatus()};
 }
 template <>
 std::vector<can_frame_t> Samples() {
@@ -654,7 +707,7 @@ template <class T>
 class LcmRoundTrip : public ::testing::Test {};
 
 using MessageTypes = ::testing::Types<odometry_t, keyframe_t, ouster_stats_t, go1_state_t,
-                                      imu_sample_t, rig_health_t, can_frame_t>;
+                                      imu_sample_t, rig_health_t, can_frame_t, go1_bridge_status_t>;
 
 // Short type names for channel names. (No gtest name generator: ctest's test discovery in
 // CMake 3.25 only understands the default numbered typed-suite names, which it shows as
@@ -668,6 +721,7 @@ std::string TypeName() {
     if (std::is_same_v<T, imu_sample_t>) return "imu_sample_t";
     if (std::is_same_v<T, rig_health_t>) return "rig_health_t";
     if (std::is_same_v<T, can_frame_t>) return "can_frame_t";
+    if (std::is_same_v<T, go1_bridge_status_t>) return "go1_bridge_status_t";
     return "unknown";
 }
 

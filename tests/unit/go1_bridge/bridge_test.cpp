@@ -1,6 +1,7 @@
 // The bridge core: HighState -> Go1Sample mapping (checked through the real Go1Encoder and
 // Go1Decoder), contact hysteresis, alive counter, link loss (UdpLinkOk, lost count, bridge state,
-// no stale values marked valid), rejected datagrams, odometry reset.
+// no stale values marked valid), rejected datagrams by reason, both CRC forms, the LCM status
+// message, odometry reset.
 #include "firmware/go1_bridge/bridge.hpp"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "drivers/can/go1_decoder.hpp"
+#include "firmware/go1_bridge/status_lcm.hpp"
 
 namespace bimslam::go1_bridge {
 namespace {
@@ -426,6 +428,102 @@ TEST(Bridge, RejectsBadCrcAndWrongSizeAndReportsThem) {
     ASSERT_GT(lax.OnTick(kT0 + kMs, 0, out), 0u);
     EXPECT_TRUE(lax.last_sample().udp_link_ok);
     EXPECT_FALSE(lax.last_sample().highstate_crc_ok);
+}
+
+// A robot that sends the scrambled CRC (the SDK's encryptCRC) is accepted as one that sends the
+// plain one; each form is counted, so a bench run tells which the robot sends.
+TEST(Bridge, AcceptsBothCrcFormsAndCountsWhichMatched) {
+    Bridge b;
+    EXPECT_STREQ(b.crc_forms_seen(), "none yet");
+    std::array<uint8_t, kHighStateSize> bytes{};
+    SerializeHighState(MakeHighState(1), bytes, CrcForm::kScrambled);
+    EXPECT_EQ(b.OnDatagram(bytes, kT0), ParseResult::kOk);
+    EXPECT_EQ(b.OnDatagram(bytes, kT0 + 2 * kMs), ParseResult::kOk);
+    EXPECT_EQ(b.stats().crc_scrambled, 2u);
+    EXPECT_EQ(b.stats().crc_plain, 0u);
+    EXPECT_STREQ(b.crc_forms_seen(), "scrambled");
+    std::array<CanFrame, Bridge::kMaxFramesPerTick> out{};
+    ASSERT_GT(b.OnTick(kT0 + 3 * kMs, 0, out), 0u);
+    EXPECT_TRUE(b.last_sample().highstate_crc_ok);
+    EXPECT_TRUE(b.last_sample().udp_link_ok);
+
+    SerializeHighState(MakeHighState(2), bytes, CrcForm::kPlain);
+    EXPECT_EQ(b.OnDatagram(bytes, kT0 + 4 * kMs), ParseResult::kOk);
+    EXPECT_EQ(b.stats().crc_plain, 1u);
+    EXPECT_STREQ(b.crc_forms_seen(), "plain+scrambled");
+    EXPECT_EQ(b.stats().highstates, 3u);
+
+    // Either form with a bit flipped is rejected, counted as a CRC failure.
+    for (const CrcForm form : {CrcForm::kPlain, CrcForm::kScrambled}) {
+        SerializeHighState(MakeHighState(3), bytes, form);
+        bytes[layout::hs::kVelocity + 1] ^= 0x04;
+        EXPECT_EQ(b.OnDatagram(bytes, kT0 + 5 * kMs), ParseResult::kBadCrc) << ToString(form);
+    }
+    EXPECT_EQ(b.stats().crc_failures, 2u);
+    EXPECT_EQ(b.stats().highstates, 3u);
+}
+
+// A datagram with a wrong head or levelFlag is counted by reason and never forwarded, even with
+// the CRC check off.
+TEST(Bridge, WrongHeadOrLevelFlagIsCountedByReasonAndNeverForwarded) {
+    BridgeConfig config;
+    config.check_crc = false;
+    Bridge b(config);
+    HighState hs = MakeHighState(1);
+    hs.head = {0x00, 0x00};
+    EXPECT_EQ(b.OnDatagram(Bytes(hs), kT0), ParseResult::kBadHead);
+    hs = MakeHighState(1);
+    hs.level_flag = kLowLevel;
+    EXPECT_EQ(b.OnDatagram(Bytes(hs), kT0 + kMs), ParseResult::kBadLevelFlag);
+    EXPECT_EQ(b.stats().bad_head, 1u);
+    EXPECT_EQ(b.stats().bad_level_flag, 1u);
+    EXPECT_EQ(b.stats().crc_failures, 0u);
+    EXPECT_EQ(b.stats().highstates, 0u);
+    EXPECT_FALSE(b.link_ok(kT0 + kMs));
+    std::array<CanFrame, Bridge::kMaxFramesPerTick> out{};
+    b.OnTick(kT0 + 2 * kMs, 0, out);
+    EXPECT_EQ(b.state(), BridgeState::kInit);  // nothing valid ever arrived
+    EXPECT_FALSE(b.last_sample().highstate_crc_ok);
+}
+
+// The LCM status carries the counters by cause and the CRC forms seen.
+TEST(BridgeStatus, MessageCarriesStateCountersAndCrcForms) {
+    Bridge b;
+    std::array<uint8_t, kHighStateSize> bytes{};
+    SerializeHighState(MakeHighState(1), bytes, CrcForm::kScrambled);
+    b.OnPoll(kT0);
+    b.OnDatagram(bytes, kT0 + kRxDelayNs);
+    HighState bad = MakeHighState(2);
+    bad.level_flag = 0;
+    b.OnDatagram(Bytes(bad), kT0 + kMs);
+    b.OnDatagram(std::span<const uint8_t>(bytes).first(100), kT0 + kMs);
+    std::array<CanFrame, Bridge::kMaxFramesPerTick> out{};
+    b.OnTick(kT0 + 5 * kMs, 0, out);
+    StatusContext context;
+    context.link_ok = true;
+    context.uptime_ns = 7 * kMs;
+    context.host_now_ns = 1'700'000'000'000'000'000;
+    context.udp_errors = 3;
+    context.sink.failed = 2;
+    const go1_bridge_status_t m = MakeStatusMessage(b, context);
+    EXPECT_EQ(m.schema_version, go1_bridge_status_t::SCHEMA_VERSION);
+    EXPECT_EQ(m.state, go1_bridge_status_t::STATE_DEGRADED);
+    EXPECT_EQ(m.crc_forms_seen, go1_bridge_status_t::CRC_FORM_SCRAMBLED);
+    EXPECT_EQ(m.highstates_crc_scrambled, 1);
+    EXPECT_EQ(m.highstates_crc_plain, 0);
+    EXPECT_EQ(m.rejected_level_flag, 1);
+    EXPECT_EQ(m.rejected_size, 1);
+    EXPECT_EQ(m.rejected_head, 0);
+    EXPECT_EQ(m.rejected_crc, 0);
+    EXPECT_EQ(m.datagrams, 3);
+    EXPECT_EQ(m.polls, 1);
+    EXPECT_TRUE(m.udp_link_ok);
+    EXPECT_TRUE(m.crc_check);
+    EXPECT_EQ(m.uptime_ns, 7 * kMs);
+    EXPECT_EQ(m.sample_time_ns, context.host_now_ns);
+    EXPECT_EQ(m.udp_errors, 3);
+    EXPECT_EQ(m.can_send_failures, 2);
+    EXPECT_EQ(m.can_frames, static_cast<int64_t>(b.stats().frames));
 }
 
 TEST(Bridge, OdometryResetOnFirstSampleJumpAndLongGapCarriedByOdomXy) {
