@@ -53,7 +53,10 @@ can::Go1Sample Go1OdometryModel::Next(double t) {
     s.vx = v.x();
     s.vy = v.y();
     s.yaw_rate = yaw_rate;
-    s.vz = k.v_world.z();
+    // BST_Vz carries HighState.velocity[2], which comm.h documents as "rotateSpeed in body
+    // frame" (velocity[3] = forwardSpeed, sideSpeed, rotateSpeed), not a vertical speed
+    // (drivers/go1/README.md, "Field meanings"): the robot's yaw rate, as the SDK says.
+    s.vz = yaw_rate;
     s.body_height = k.T_world_frame.translation().z() - trajectory_.floor_z();
     s.foot_raise_height = 0.08;
     const simulation::ImuMeasurement imu =

@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "drivers/go1/high_state.hpp"
+
 namespace bimslam::simulate {
 
 enum class Platform : uint8_t { kGo1, kHandheld, kVehicle };
@@ -71,6 +73,9 @@ struct SensorSpec {
 struct NetworkSpec {
     bool fragment = true;      // cut datagrams at MTU 1500, as a real link does
     double packet_loss = 0.0;  // probability of losing each UDP datagram, [0, 1)
+    // How go1_highstate.pcap stores each HighState's CRC: scrambled by the SDK's encryptCRC, as
+    // the robot's sport controller sends it (drivers/go1/README.md), or plain.
+    go1::CrcForm go1_highstate_crc = go1::CrcForm::kScrambled;
 
     bool operator==(const NetworkSpec&) const = default;
 };

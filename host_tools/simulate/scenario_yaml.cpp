@@ -151,6 +151,17 @@ public:
         if (!p) Fail(n, path + ": expected go1 or handheld, got " + Describe(n));
         out = *p;
     }
+    void Read(const Node& n, const std::string& path, go1::CrcForm& out) const {
+        std::string s;
+        Read(n, path, s);
+        if (s == go1::ToString(go1::CrcForm::kScrambled)) {
+            out = go1::CrcForm::kScrambled;
+        } else if (s == go1::ToString(go1::CrcForm::kPlain)) {
+            out = go1::CrcForm::kPlain;
+        } else {
+            Fail(n, path + ": expected scrambled or plain, got " + Describe(n));
+        }
+    }
     void Read(const Node& n, const std::string& path, PathMode& out) const {
         std::string s;
         Read(n, path, s);
@@ -370,9 +381,10 @@ Scenario ReadScenario(Reader& r, const Node& root) {
     r.Get(sensor, "sensor", "body_in_view", s.sensor.body_in_view);
 
     const Node network = Reader::At(root, "network");
-    r.Keys(network, "network", {"fragment", "packet_loss"});
+    r.Keys(network, "network", {"fragment", "packet_loss", "go1_highstate_crc"});
     r.Get(network, "network", "fragment", s.network.fragment);
     r.Get(network, "network", "packet_loss", s.network.packet_loss);
+    r.Get(network, "network", "go1_highstate_crc", s.network.go1_highstate_crc);
 
     ReadNoise(r, Reader::At(root, "noise"), s.noise);
     r.Get(root, "", "seed", s.seed);

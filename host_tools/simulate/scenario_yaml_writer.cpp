@@ -179,6 +179,7 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.BeginMap("network");
     w.Key("fragment").out() << (s.network.fragment ? "true" : "false");
     w.Num("packet_loss", s.network.packet_loss);
+    w.Str("go1_highstate_crc", go1::ToString(s.network.go1_highstate_crc));
     w.EndMap();
 
     const NoiseSpec& n = s.noise;

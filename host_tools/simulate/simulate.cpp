@@ -119,9 +119,9 @@ void WriteHighStates(const simulation::BodyTrajectory& trajectory, const Scenari
         h.foot_raise_height = float(g.foot_raise_height);
         h.position = {float(g.odom_x), float(g.odom_y), float(g.odom_z)};
         h.body_height = float(g.body_height);
-        h.velocity = {float(g.vx), float(g.vy), float(g.vz)};
+        h.velocity = {float(g.vx), float(g.vy), float(g.vz)};  // [2]: rotateSpeed (comm.h)
         h.yaw_speed = float(g.yaw_rate);
-        go1::SerializeHighState(h, bytes);
+        go1::SerializeHighState(h, bytes, s.network.go1_highstate_crc);
         const int64_t host0 = kSensorBootNs + kHostMinusSensorNs + t_ns;
         for (int64_t k = 0; k < 5; ++k) {
             pcap.WriteUdp(host0 + k * 2'000'000, go1_ip, 8082, bridge_ip, 8090, bytes);
@@ -168,6 +168,7 @@ uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& 
     }
     (*manifest)["go1"] = {{"can_log", "go1_can.log"},
                           {"highstate_pcap", "go1_highstate.pcap"},
+                          {"highstate_crc", go1::ToString(s.network.go1_highstate_crc)},
                           {"can_pcap", "go1_can.pcap"},
                           {"frames", written},
                           {"interface", "can0"},

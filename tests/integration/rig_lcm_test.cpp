@@ -230,6 +230,9 @@ TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
               << " cm\n";
     EXPECT_LT(bridged, 0.05);
     EXPECT_LT(std::abs(bridged - direct_ape), 0.02);
+    // The simulator stores the HighState CRC scrambled, as the robot does; the bridge took it.
+    const std::string bridge_out = test::RunCommand("cat " + (Tmp() / "bridge.out").string()).out;
+    EXPECT_NE(bridge_out.find("HighState CRC form: scrambled\n"), std::string::npos) << bridge_out;
 }
 
 TEST_F(RigLcm, SdNotifyReadyWatchdogStatusStopping) {

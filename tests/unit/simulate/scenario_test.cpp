@@ -151,6 +151,8 @@ TEST(ScenarioTest, WrongValueNamesTheField) {
         {"sensor: {mount_xyz: [0, 0, x]}", "sensor.mount_xyz[2]: expected a number, got 'x'"},
         {"network: {packet_loss: 1.5}", "network.packet_loss = 1.5: must be in [0, 1)"},
         {"network: {fragment: maybe}", "network.fragment: expected true or false, got 'maybe'"},
+        {"network: {go1_highstate_crc: encrypted}",
+         "network.go1_highstate_crc: expected scrambled or plain, got 'encrypted'"},
         {"noise: {lidar: {dropout: .nan}}", "noise.lidar.dropout = nan"},
         {"noise: {imu: {gyro_sigma_deg_s: -0.1}}", "noise.imu.gyro_sigma_deg_s = -0.1"},
         {"platform: dog", "platform: expected go1 or handheld, got 'dog'"},
@@ -271,7 +273,7 @@ Scenario Everything() {
     s.sensor.mount_xyz = {0.1, -0.02, 0.3};
     s.sensor.mount_rpy_deg = {1, -2, 180};
     s.sensor.body_in_view = true;
-    s.network = {false, 0.01};
+    s.network = {false, 0.01, go1::CrcForm::kPlain};
     s.noise.lidar = {0.02, 0.005, 120, 0.35, 12.5};
     s.noise.imu = {0.03, 0.06, 0.07, 0.3};
     s.noise.odometry = {-0.05, 0.03, -1.5, 0.5, 0.2, 0.1};
