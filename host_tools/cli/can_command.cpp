@@ -213,7 +213,8 @@ int Decode(const CanOptions& o) {
 void AddCanCommands(CLI::App& app, int& exit_code) {
     CLI::App* can = app.add_subcommand("can",
                                        "CAN recordings (candump -l logs, pcaps): inspect, "
-                                       "decode the Go1 frames of go1_odometry.dbc");
+                                       "decode the Go1 frames of go1_odometry.dbc; check a "
+                                       "recording of the Go1's HighState datagrams");
     can->require_subcommand(1);
     auto info_opt = std::make_shared<CanOptions>();
     CLI::App* info = can->add_subcommand(
@@ -232,6 +233,7 @@ void AddCanCommands(CLI::App& app, int& exit_code) {
     auto* csv = dec->add_flag("--csv", dec_opt->csv, "CSV with a header line");
     json->excludes(csv);
     dec->callback([dec_opt, &exit_code] { exit_code = Run([&] { return Decode(*dec_opt); }); });
+    AddHighStateCommand(*can, exit_code);
 }
 
 }  // namespace bimslam::cli

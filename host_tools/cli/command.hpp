@@ -22,6 +22,8 @@ std::string Fixed(double v, int digits);
 // Each file registers its subcommands; the callback stores the exit code in `exit_code`.
 void AddSessionCommands(CLI::App& app, int& exit_code);
 void AddCanCommands(CLI::App& app, int& exit_code);
+// `can` is the `bimslam can` subcommand: adds `bimslam can highstate`.
+void AddHighStateCommand(CLI::App& can, int& exit_code);
 void AddDemoCommand(CLI::App& app, int& exit_code);
 void AddOusterCommands(CLI::App& app, int& exit_code);
 // `ouster` is the `bimslam ouster` subcommand: adds `bimslam ouster replay`.

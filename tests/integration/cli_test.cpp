@@ -11,6 +11,7 @@
 #include "algorithms/io/ply.hpp"
 #include "drivers/can/candump.hpp"
 #include "drivers/can/go1_encoder.hpp"
+#include "drivers/go1/high_state.hpp"
 #include "drivers/net/ipv4.hpp"
 #include "drivers/net/pcap_writer.hpp"
 #include "drivers/ouster/metadata.hpp"
@@ -324,6 +325,69 @@ TEST(Cli, CanInfoAndDecodeOfAGo1Log) {
     const auto missing = test::RunCommand(kCli + " can info " + (tmp / "nope.log").string());
     EXPECT_EQ(missing.exit_code, 2);
     EXPECT_NE(missing.err.find("nope.log"), std::string::npos) << missing.err;
+}
+
+// A bench recording of the Go1's UDP traffic as tcpdump writes it: the bridge's HighCmds to the
+// robot's port 8082 and the robot's HighStates from it, `good` of them intact in `form`, then one
+// with a bit flipped and one with a wrong head.
+fs::path MakeHighStateRecording(const test::TempDir& tmp, const std::string& name,
+                                go1::CrcForm form, int good) {
+    net::PcapWriter pcap(tmp / name);
+    const uint32_t go1_ip = 0xC0A87BA1, bridge_ip = 0xC0A87BC8;  // .161 and .200
+    std::array<uint8_t, go1::kHighCmdSize> cmd{};
+    go1::SerializeHighCmd(go1::MakeIdleHighCmd(), cmd);
+    std::array<uint8_t, go1::kHighStateSize> bytes{};
+    go1::HighState hs;
+    hs.head = go1::kFrameHead;
+    hs.level_flag = go1::kHighLevel;
+    hs.mode = 1;
+    const int64_t t0 = 1'700'000'000'000'000'000;
+    for (int k = 0; k < good + 2; ++k) {
+        const int64_t t = t0 + int64_t{k} * 2'000'000;
+        pcap.WriteUdp(t, bridge_ip, 8090, go1_ip, 8082, cmd);
+        hs.position[0] = 0.001f * float(k);
+        go1::SerializeHighState(hs, bytes, form);
+        if (k == good) bytes[go1::layout::hs::kPosition] ^= 0x01;  // a bad CRC
+        if (k == good + 1) bytes[0] = 0x00;                        // a wrong head
+        pcap.WriteUdp(t + 150'000, go1_ip, 8082, bridge_ip, 8090, bytes);
+    }
+    pcap.Close();
+    return tmp / name;
+}
+
+TEST(Cli, CanHighStateTellsTheCrcFormOfABenchRecording) {
+    test::TempDir tmp;
+    for (const go1::CrcForm form : {go1::CrcForm::kScrambled, go1::CrcForm::kPlain}) {
+        const std::string name = std::string(go1::ToString(form)) + ".pcap";
+        const fs::path pcap = MakeHighStateRecording(tmp, name, form, 500);
+        const auto r = test::RunCommand(kCli + " can highstate --json " + pcap.string());
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j.at("crc_form"), go1::ToString(form));
+        EXPECT_EQ(j.at("datagrams_from_go1"), 502);
+        EXPECT_EQ(j.at("datagrams_to_go1"), 502);
+        EXPECT_EQ(j.at("accepted"), 500);
+        EXPECT_EQ(j.at(form == go1::CrcForm::kPlain ? "crc_plain" : "crc_scrambled"), 500);
+        EXPECT_EQ(j.at("rejected").at("crc"), 1);
+        EXPECT_EQ(j.at("rejected").at("head"), 1);
+        EXPECT_EQ(j.at("rejected").at("level_flag"), 0);
+        EXPECT_NEAR(j.at("rate_hz").get<double>(), 500.0, 0.01);
+        EXPECT_NEAR(j.at("last").at("position_m")[0].get<double>(), 0.499, 1e-6);
+    }
+    const auto text =
+        test::RunCommand(kCli + " can highstate " + (tmp / "scrambled.pcap").string());
+    ASSERT_EQ(text.exit_code, 0) << text.err;
+    EXPECT_NE(text.out.find("CRC form    scrambled"), std::string::npos) << text.out;
+    // Nothing that passes the checks: the form cannot be told, exit 1.
+    const fs::path broken = MakeHighStateRecording(tmp, "broken.pcap", go1::CrcForm::kPlain, 0);
+    const auto none = test::RunCommand(kCli + " can highstate " + broken.string());
+    EXPECT_EQ(none.exit_code, 1) << none.out;
+    EXPECT_NE(none.out.find("CRC form    none"), std::string::npos) << none.out;
+    // Not a Go1 recording at all (nothing from its port): bad input, named.
+    const auto other = test::RunCommand(kCli + " can highstate --go1-port 9999 " + broken.string());
+    EXPECT_EQ(other.exit_code, 2);
+    EXPECT_NE(other.err.find("broken.pcap: no UDP datagram from port 9999"), std::string::npos)
+        << other.err;
 }
 
 }  // namespace
