@@ -353,6 +353,21 @@ TEST(Go1BridgeProgram, SigintStopsCleanlyWithACompleteLog) {
     EXPECT_GT(frames, 100u);
 }
 
+// Runs `command` while handling `lcm`'s messages, then drains what is still queued.
+test::CommandResult RunHandlingLcm(lcm::LCM& lcm, const std::string& command) {
+    std::atomic<bool> done{false};
+    test::CommandResult result;
+    std::thread run([&] {
+        result = test::RunCommand(command);
+        done = true;
+    });
+    while (!done) lcm.handleTimeout(20);
+    run.join();
+    while (lcm.handleTimeout(100) > 0) {
+    }
+    return result;
+}
+
 // Collects can_frame_t messages as CanFrames (untyped subscription, decoded here).
 struct FrameCollector {
     std::vector<common::CanFrame> frames;
@@ -392,17 +407,9 @@ TEST(Go1BridgeProgram, LcmSinkPublishesEveryFrame) {
     lcm.subscribe(channel, &FrameCollector::Handle, &collector);
 
     FakeGo1 go1(100, 100);
-    std::atomic<bool> done{false};
-    test::CommandResult result;
-    std::thread bridge([&] {
-        result = test::RunCommand(kBridge + " --go1 " + go1.endpoint() + " --local-port 0 --lcm '" +
-                                  url + "' --lcm-channel " + channel + " --duration 1");
-        done = true;
-    });
-    while (!done) lcm.handleTimeout(20);
-    bridge.join();
-    while (lcm.handleTimeout(100) > 0) {
-    }
+    const test::CommandResult result =
+        RunHandlingLcm(lcm, kBridge + " --go1 " + go1.endpoint() + " --local-port 0 --lcm '" + url +
+                                "' --lcm-channel " + channel + " --duration 1");
     ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
     EXPECT_EQ(collector.bad, 0);
     const std::vector<common::CanFrame>& frames = collector.frames;
@@ -475,19 +482,10 @@ TEST(Go1BridgeProgram, StatusOnLcmSaysTheCrcFormAndCountsRejectionsByReason) {
 
     test::TempDir tmp;
     FakeGo1 go1(100, 100, CrcForm::kPlain, InjectedFaults{40, 60});
-    std::atomic<bool> done{false};
-    test::CommandResult result;
-    std::thread bridge([&] {
-        result = test::RunCommand(kBridge + " --go1 " + go1.endpoint() +
-                                  " --local-port 0 --candump " + (tmp / "go1.log").string() +
-                                  " --status-lcm '" + url + "' --status-lcm-channel " + channel +
-                                  " --duration 1.2 --status-interval 0");
-        done = true;
-    });
-    while (!done) lcm.handleTimeout(20);
-    bridge.join();
-    while (lcm.handleTimeout(100) > 0) {
-    }
+    const test::CommandResult result = RunHandlingLcm(
+        lcm, kBridge + " --go1 " + go1.endpoint() + " --local-port 0 --candump " +
+                 (tmp / "go1.log").string() + " --status-lcm '" + url + "' --status-lcm-channel " +
+                 channel + " --duration 1.2 --status-interval 0");
     ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
     EXPECT_EQ(collector.undecodable, 0);
     const std::vector<go1_bridge_status_t>& statuses = collector.statuses;
