@@ -66,6 +66,10 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"can_timeouts", s.can_timeouts},
                             {"can_e2e_errors", s.can_e2e_errors},
                             {"can_late", s.can_late},
+                            {"go1_bridge_link_down", s.go1_bridge_link_down},
+                            {"go1_bridge_not_running", s.go1_bridge_not_running},
+                            {"go1_bridge_lost", s.go1_bridge_lost},
+                            {"go1_bridge_state", s.go1_bridge_state},
                             {"queue_drops", s.queue_drops},
                             {"lcm_failures", s.lcm_failures},
                             {"write_errors", s.write_errors},
@@ -91,11 +95,13 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
     std::printf("  CPU %.1f %% of one core, RSS %.0f MB\n", s.cpu_percent, s.rss_mb);
     std::printf(
         "  faults: %llu incomplete frames, %llu CRC failures, %llu silences, %llu sensor "
-        "restarts, %llu clock jumps, %llu CAN timeouts, %llu CAN E2E errors, %llu queue drops\n",
+        "restarts, %llu clock jumps, %llu CAN timeouts, %llu CAN E2E errors, %llu queue drops, "
+        "%llu Go1 samples with the bridge's link down, %llu bridge STATUS not RUNNING\n",
         (unsigned long long)s.frames_incomplete, (unsigned long long)s.crc_failures,
         (unsigned long long)s.silences, (unsigned long long)s.sensor_restarts,
         (unsigned long long)s.clock_jumps, (unsigned long long)s.can_timeouts,
-        (unsigned long long)s.can_e2e_errors, (unsigned long long)s.queue_drops);
+        (unsigned long long)s.can_e2e_errors, (unsigned long long)s.queue_drops,
+        (unsigned long long)s.go1_bridge_link_down, (unsigned long long)s.go1_bridge_not_running);
     if (!s.session_dir.empty()) std::printf("  session %s\n", s.session_dir.c_str());
     std::fflush(stdout);
 }

@@ -35,6 +35,23 @@ enum Bit {
     kConfig,
     kLcmPublish
 };
+
+// STS_BridgeState's values (go1_odometry.dbc VAL_ 320).
+std::string BridgeStateName(int state) {
+    switch (state) {
+        case -1:
+            return "unknown (no STATUS frame yet)";
+        case 0:
+            return "INIT";
+        case 1:
+            return "RUNNING";
+        case 2:
+            return "DEGRADED";
+        case 3:
+            return "FAULT";
+    }
+    return std::to_string(state);
+}
 }  // namespace
 
 const char* FaultName(int bit) { return bit >= 0 && bit < kNumFaults ? kFaultNames[bit] : "?"; }
@@ -85,95 +102,165 @@ void Health::Run(runtime::ThreadStats& stats) {
     }
 }
 
-void Health::Period(int64_t now) {
-    const int64_t now_rt = runtime::RealtimeNs();
-    const IngestCounters ic = in_.ingest.counters();
-    const WorkerCounters wc = in_.worker.counters();
-    const LcmCounters lc = in_.publisher.counters();
-    const CanCounters cc = in_.can ? in_.can->counters() : CanCounters{};
-    const RecorderCounters rc = in_.recorder ? in_.recorder->counters() : RecorderCounters{};
+// Every module's counters, read once a period.
+struct Health::Snapshot {
+    int64_t now = 0, now_rt = 0, cpu = 0;
+    double interval_s = 0, cpu_percent = 0;
+    IngestCounters ic;
+    WorkerCounters wc;
+    LcmCounters lc;
+    CanCounters cc;
+    RecorderCounters rc;
     uint64_t queue_drops = 0;
-    for (const runtime::QueueBase* q : in_.queues) queue_drops += q->Stats().drops;
-    const double interval_s = std::max(1e-9, double(now - last_mono_) * 1e-9);
-    const int64_t cpu = runtime::ProcessCpuNs();
-    const double cpu_percent = 100.0 * double(cpu - last_cpu_) * 1e-9 / interval_s;
+};
 
-    uint64_t f = 0;
+// The faults found in one period, each with the text the log gives it.
+struct Health::Faults {
+    uint64_t bits = 0;
     std::array<std::string, kNumFaults> why;
-    const auto set = [&](int bit, bool on, const std::string& text) {
+
+    void Set(int bit, bool on, const std::string& text) {
         if (!on) return;
-        f |= uint64_t(1) << bit;
+        bits |= uint64_t(1) << bit;
         why[size_t(bit)] = text;
-    };
+    }
+};
+
+void Health::Period(int64_t now) {
+    const Snapshot n = Read(now);
+    Faults f;
+    DetectLidarFaults(n, f);
+    DetectGo1Faults(n, f);
+    DetectRigFaults(n, f);
+    CountAndLog(f, now);
+    QueueHealth(n);
+    QueueOusterStats(n);
+    NotifyStatus(n);
+    last_ingest_ = n.ic;
+    last_can_ = n.cc;
+    last_worker_ = n.wc;
+    last_recorder_ = n.rc;
+    last_lcm_ = n.lc;
+    last_queue_drops_ = n.queue_drops;
+    last_mono_ = now;
+    last_rt_ = n.now_rt;
+    last_cpu_ = n.cpu;
+}
+
+Health::Snapshot Health::Read(int64_t now) const {
+    Snapshot n;
+    n.now = now;
+    n.now_rt = runtime::RealtimeNs();
+    n.ic = in_.ingest.counters();
+    n.wc = in_.worker.counters();
+    n.lc = in_.publisher.counters();
+    n.cc = in_.can ? in_.can->counters() : CanCounters{};
+    n.rc = in_.recorder ? in_.recorder->counters() : RecorderCounters{};
+    for (const runtime::QueueBase* q : in_.queues) n.queue_drops += q->Stats().drops;
+    n.interval_s = std::max(1e-9, double(now - last_mono_) * 1e-9);
+    n.cpu = runtime::ProcessCpuNs();
+    n.cpu_percent = 100.0 * double(n.cpu - last_cpu_) * 1e-9 / n.interval_s;
+    return n;
+}
+
+void Health::DetectLidarFaults(const Snapshot& n, Faults& f) const {
+    const IngestCounters& ic = n.ic;
     const int64_t silent_ns =
-        ic.last_packet_mono_ns ? now - ic.last_packet_mono_ns : now - start_mono_;
-    set(kLidarTimeout,
-        (!ic.finished && silent_ns > int64_t(in_.config.sensor_timeout_s * 1e9)) ||
-            ic.silences > last_ingest_.silences,
-        "no lidar packet for " + std::to_string(silent_ns / 1'000'000) + " ms (" +
-            std::to_string(ic.silences) + " silences so far)");
+        ic.last_packet_mono_ns ? n.now - ic.last_packet_mono_ns : n.now - start_mono_;
+    f.Set(kLidarTimeout,
+          (!ic.finished && silent_ns > int64_t(in_.config.sensor_timeout_s * 1e9)) ||
+              ic.silences > last_ingest_.silences,
+          "no lidar packet for " + std::to_string(silent_ns / 1'000'000) + " ms (" +
+              std::to_string(ic.silences) + " silences so far)");
     const uint64_t rejected = ic.lidar.TotalRejected(),
                    last_rejected = last_ingest_.lidar.TotalRejected();
-    set(kLidarRejects, rejected > last_rejected,
-        std::to_string(rejected - last_rejected) + " lidar packets rejected (" +
-            std::to_string(ic.lidar.Rejected(ouster::Reject::kCrc)) + " CRC failures in all)");
-    set(kLidarIncomplete, ic.lidar.frames_incomplete > last_ingest_.lidar.frames_incomplete,
-        std::to_string(ic.lidar.columns_lost - last_ingest_.lidar.columns_lost) +
-            " columns lost (packet loss)");
-    set(kLidarRestart, ic.init_id_changes > last_ingest_.init_id_changes,
-        "the sensor restarted: init_id " + std::to_string(ic.init_id));
-    set(kImuTimeout,
-        ic.lidar_datagrams > last_ingest_.lidar_datagrams &&
-            ic.imu_datagrams == last_ingest_.imu_datagrams && in_.config.use_imu,
-        "lidar packets but no IMU packet in the period");
-    if (in_.can) {
-        const bool stale = cc.frames == last_can_.frames && !cc.finished;
-        set(kCanTimeout,
-            cc.timed_out != 0 || cc.decoder.timeout > last_can_.decoder.timeout || stale,
-            stale ? "no CAN frame in the period"
-                  : std::to_string(cc.decoder.timeout - last_can_.decoder.timeout) +
-                        " Go1 CAN message timeouts");
-        const auto e2e = [](const CanCounters& c) {
-            return c.decoder.crc + c.decoder.counter_resync + c.decoder.counter_repeat +
-                   c.decoder.counter_invalid;
-        };
-        set(kCanE2e, e2e(cc) > e2e(last_can_),
-            std::to_string(e2e(cc) - e2e(last_can_)) + " Go1 CAN E2E errors (CRC, counter)");
+    f.Set(kLidarRejects, rejected > last_rejected,
+          std::to_string(rejected - last_rejected) + " lidar packets rejected (" +
+              std::to_string(ic.lidar.Rejected(ouster::Reject::kCrc)) + " CRC failures in all)");
+    f.Set(kLidarIncomplete, ic.lidar.frames_incomplete > last_ingest_.lidar.frames_incomplete,
+          std::to_string(ic.lidar.columns_lost - last_ingest_.lidar.columns_lost) +
+              " columns lost (packet loss)");
+    f.Set(kLidarRestart, ic.init_id_changes > last_ingest_.init_id_changes,
+          "the sensor restarted: init_id " + std::to_string(ic.init_id));
+    f.Set(kImuTimeout,
+          ic.lidar_datagrams > last_ingest_.lidar_datagrams &&
+              ic.imu_datagrams == last_ingest_.imu_datagrams && in_.config.use_imu,
+          "lidar packets but no IMU packet in the period");
+}
+
+// The Go1's CAN, and what the bridge says of itself in it. A bridge that sends nothing is as
+// much a bridge fault as one that reports its link to the Go1 down or a state other than
+// RUNNING (rig_health_t FAULT_GO1_BRIDGE).
+void Health::DetectGo1Faults(const Snapshot& n, Faults& f) const {
+    if (!in_.can) return;
+    const CanCounters& cc = n.cc;
+    const CanCounters& last = last_can_;
+    const bool stale = cc.frames == last.frames && !cc.finished;
+    f.Set(kCanTimeout, cc.timed_out != 0 || cc.decoder.timeout > last.decoder.timeout || stale,
+          stale ? "no CAN frame in the period"
+                : std::to_string(cc.decoder.timeout - last.decoder.timeout) +
+                      " Go1 CAN message timeouts");
+    const auto e2e = [](const CanCounters& c) {
+        return c.decoder.crc + c.decoder.counter_resync + c.decoder.counter_repeat +
+               c.decoder.counter_invalid;
+    };
+    f.Set(kCanE2e, e2e(cc) > e2e(last),
+          std::to_string(e2e(cc) - e2e(last)) + " Go1 CAN E2E errors (CRC, counter)");
+    const bool link_down = cc.bridge_link_down > last.bridge_link_down;
+    const bool not_running = cc.bridge_not_running > last.bridge_not_running;
+    std::string why = stale ? "the Go1 bridge is silent (no CAN frame in the period)"
+                            : "the Go1 bridge reports state " + BridgeStateName(cc.bridge_state);
+    if (link_down) why += ", its UDP link to the Go1 down";
+    if (cc.bridge_lost > last.bridge_lost) {
+        why += ", " + std::to_string(cc.bridge_lost - last.bridge_lost) + " HighStates lost";
     }
-    set(kDeadlineMiss, wc.deadline_misses > last_worker_.deadline_misses,
-        std::to_string(wc.deadline_misses - last_worker_.deadline_misses) + " scans later than " +
-            std::to_string(int(in_.config.deadline_ms)) + " ms");
-    set(kQueueOverflow, queue_drops > last_queue_drops_,
-        std::to_string(queue_drops - last_queue_drops_) + " items dropped by full queues");
-    set(kCpuOverload, cpu_percent > 90.0, std::to_string(int(cpu_percent)) + " % CPU");
-    set(kDiskLow, rc.disk_low,
-        "disk almost full (" + std::to_string(rc.disk_free_bytes / 1'000'000) +
-            " MB free): keyframe clouds are no longer written");
-    set(kDiskWrite, rc.write_errors > last_recorder_.write_errors, "session write failed");
-    set(kDegenerate, wc.degenerate > last_worker_.degenerate, "degenerate registration");
-    set(kOverBudget, wc.over_budget > last_worker_.over_budget, "odometry over its budget");
-    set(kLost, wc.failed > last_worker_.failed, "registration failed");
+    f.Set(kGo1Bridge, stale || link_down || not_running, why);
+}
+
+void Health::DetectRigFaults(const Snapshot& n, Faults& f) {
+    const WorkerCounters& wc = n.wc;
+    f.Set(kDeadlineMiss, wc.deadline_misses > last_worker_.deadline_misses,
+          std::to_string(wc.deadline_misses - last_worker_.deadline_misses) + " scans later than " +
+              std::to_string(int(in_.config.deadline_ms)) + " ms");
+    f.Set(kQueueOverflow, n.queue_drops > last_queue_drops_,
+          std::to_string(n.queue_drops - last_queue_drops_) + " items dropped by full queues");
+    f.Set(kCpuOverload, n.cpu_percent > 90.0, std::to_string(int(n.cpu_percent)) + " % CPU");
+    f.Set(kDiskLow, n.rc.disk_low,
+          "disk almost full (" + std::to_string(n.rc.disk_free_bytes / 1'000'000) +
+              " MB free): keyframe clouds are no longer written");
+    f.Set(kDiskWrite, n.rc.write_errors > last_recorder_.write_errors, "session write failed");
+    f.Set(kDegenerate, wc.degenerate > last_worker_.degenerate, "degenerate registration");
+    f.Set(kOverBudget, wc.over_budget > last_worker_.over_budget, "odometry over its budget");
+    f.Set(kLost, wc.failed > last_worker_.failed, "registration failed");
     // A wall clock step: CLOCK_REALTIME - CLOCK_MONOTONIC moved by more than 50 ms.
-    const int64_t offset = now_rt - now;
+    const int64_t offset = n.now_rt - n.now;
     const bool step = std::llabs(offset - rt_minus_mono_) > 50'000'000;
     rt_minus_mono_ = offset;
-    set(kClockJump,
-        step || wc.clock_jumps > last_worker_.clock_jumps ||
-            ic.clock_backwards > last_ingest_.clock_backwards,
-        step ? "the wall clock stepped" : "the sensor clock jumped (the odometry started again)");
-    set(kLcmPublish, lc.failures > last_lcm_.failures, "LCM publish failed");
+    f.Set(kClockJump,
+          step || wc.clock_jumps > last_worker_.clock_jumps ||
+              n.ic.clock_backwards > last_ingest_.clock_backwards,
+          step ? "the wall clock stepped" : "the sensor clock jumped (the odometry started again)");
+    f.Set(kLcmPublish, n.lc.failures > last_lcm_.failures, "LCM publish failed");
+}
 
+// Counts each fault once per episode (when it becomes active), logs it rate-limited, and keeps
+// the active and latched bits.
+void Health::CountAndLog(const Faults& f, int64_t now) {
     for (int i = 0; i < kNumFaults; ++i) {
         const uint64_t bit = uint64_t(1) << i;
-        if ((f & bit) && !(active_ & bit)) ++counts_[size_t(i)];
-        if ((f & bit) && limiters_[size_t(i)].Allow(now)) {
-            runtime::Log("fault", std::string(kFaultNames[i]) + ": " + why[size_t(i)]);
+        if ((f.bits & bit) && !(active_ & bit)) ++counts_[size_t(i)];
+        if ((f.bits & bit) && limiters_[size_t(i)].Allow(now)) {
+            runtime::Log("fault", std::string(kFaultNames[i]) + ": " + f.why[size_t(i)]);
         }
     }
-    active_ = f;
-    latched_ |= f;
+    active_ = f.bits;
+    latched_ |= f.bits;
+}
 
-    // rig_health_t.
+void Health::QueueHealth(const Snapshot& snapshot) {
+    const int64_t now = snapshot.now, now_rt = snapshot.now_rt;
+    const double interval_s = snapshot.interval_s, cpu_percent = snapshot.cpu_percent;
+    const RecorderCounters& rc = snapshot.rc;
     if (bimslam::rig_health_t* h = in_.health_out.BeginPush()) {
         h->schema_version = bimslam::rig_health_t::SCHEMA_VERSION;
         h->sample_time_ns = now_rt;
@@ -232,7 +319,11 @@ void Health::Period(int64_t now) {
     } else {
         in_.health_out.CountDrop();
     }
-    // ouster_stats_t.
+}
+
+void Health::QueueOusterStats(const Snapshot& n) {
+    const IngestCounters& ic = n.ic;
+    const int64_t now_rt = n.now_rt;
     if (bimslam::ouster_stats_t* s = in_.stats_out.BeginPush()) {
         const ouster::LidarStats& l = ic.lidar;
         s->schema_version = bimslam::ouster_stats_t::SCHEMA_VERSION;
@@ -270,25 +361,18 @@ void Health::Period(int64_t now) {
         s->latency_frames = 0;
         in_.stats_out.CommitPush();
     }
-    // systemd's status line.
+}
+
+// systemd's status line.
+void Health::NotifyStatus(const Snapshot& n) {
     std::ostringstream status;
-    status << "scans " << wc.scans << ", keyframes " << wc.keyframes << ", CPU " << int(cpu_percent)
-           << " %, faults";
+    status << "scans " << n.wc.scans << ", keyframes " << n.wc.keyframes << ", CPU "
+           << int(n.cpu_percent) << " %, faults";
     if (active_ == 0) status << " none";
     for (int i = 0; i < kNumFaults; ++i) {
         if (active_ & (uint64_t(1) << i)) status << " " << kFaultNames[i];
     }
     in_.notifier.Notify("STATUS=" + status.str());
-
-    last_ingest_ = ic;
-    last_can_ = cc;
-    last_worker_ = wc;
-    last_recorder_ = rc;
-    last_lcm_ = lc;
-    last_queue_drops_ = queue_drops;
-    last_mono_ = now;
-    last_rt_ = now_rt;
-    last_cpu_ = cpu;
 }
 
 }  // namespace bimslam::rig

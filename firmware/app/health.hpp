@@ -57,7 +57,19 @@ public:
     void Run(runtime::ThreadStats& stats);
 
 private:
+    struct Snapshot;
+    struct Faults;
+    // One health period, in named steps: read the counters, find the faults, count and log them,
+    // queue rig_health_t and ouster_stats_t, tell systemd.
     void Period(int64_t now_mono);
+    Snapshot Read(int64_t now_mono) const;
+    void DetectLidarFaults(const Snapshot& n, Faults& f) const;
+    void DetectGo1Faults(const Snapshot& n, Faults& f) const;
+    void DetectRigFaults(const Snapshot& n, Faults& f);
+    void CountAndLog(const Faults& f, int64_t now_mono);
+    void QueueHealth(const Snapshot& snapshot);
+    void QueueOusterStats(const Snapshot& n);
+    void NotifyStatus(const Snapshot& n);
 
     HealthInputs in_;
     int64_t start_mono_ = 0, start_rt_ = 0;

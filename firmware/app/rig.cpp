@@ -330,6 +330,10 @@ RunSummary RunRig(const RunOptions& o) {
         summary.can_timeouts = cc.decoder.timeout;
         summary.can_e2e_errors = cc.decoder.crc + cc.decoder.counter_resync +
                                  cc.decoder.counter_repeat + cc.decoder.counter_invalid;
+        summary.go1_bridge_link_down = cc.bridge_link_down;
+        summary.go1_bridge_not_running = cc.bridge_not_running;
+        summary.go1_bridge_lost = cc.bridge_lost;
+        summary.go1_bridge_state = cc.bridge_state;
     }
     for (const runtime::QueueBase* q : all_queues) summary.queue_drops += q->Stats().drops;
     if (recorder) {

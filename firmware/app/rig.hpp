@@ -30,6 +30,10 @@ struct RunSummary {
     uint64_t frames_incomplete = 0, columns_lost = 0, crc_failures = 0, silences = 0;
     uint64_t sensor_restarts = 0, clock_jumps = 0, can_timeouts = 0, can_e2e_errors = 0;
     uint64_t queue_drops = 0, can_late = 0, lcm_failures = 0, write_errors = 0;
+    // The Go1 bridge's own word (CanCounters): samples sent with its link to the Go1 down,
+    // STATUS frames not RUNNING, HighStates it lost, its last state (-1: no STATUS seen).
+    uint64_t go1_bridge_link_down = 0, go1_bridge_not_running = 0, go1_bridge_lost = 0;
+    int go1_bridge_state = -1;
     double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;  // to LCM publication
     double cpu_percent = 0;                                             // of one core, over the run
     double rss_mb = 0;                                                  // at the end

@@ -13,6 +13,10 @@
 #include "drivers/net/pcap_reader.hpp"
 
 namespace bimslam::rig {
+namespace {
+// STS_BridgeState RUNNING (go1_odometry.dbc VAL_ 320; firmware/go1_bridge BridgeState).
+constexpr uint8_t kBridgeRunning = 1;
+}  // namespace
 
 struct CanIngest::Impl {
     CanIngestConfig config;
@@ -43,8 +47,18 @@ struct CanIngest::Impl {
         return true;
     }
 
+    // The bridge's own word on its state, carried by every sample (link) and by STATUS.
+    void CountBridge(const can::Go1Sample& s) {
+        if (!s.udp_link_ok) ++c.bridge_link_down;
+        if (!(s.fresh & can::kGroupStatus)) return;
+        c.bridge_state = s.bridge_state;
+        if (s.bridge_state != kBridgeRunning) ++c.bridge_not_running;
+        c.bridge_lost += s.udp_rx_lost;
+    }
+
     void Take(std::span<const can::Go1Sample> ready, const std::atomic<bool>& stop) {
         for (const can::Go1Sample& s : ready) {
+            CountBridge(s);
             BodyItem* slot = bodies.BeginPush();
             while (slot == nullptr && replay != nullptr && replay->lossless() &&
                    !stop.load(std::memory_order_relaxed)) {

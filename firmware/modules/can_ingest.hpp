@@ -39,6 +39,14 @@ struct CanCounters {
     uint64_t kernel_dropped = 0;  // SocketCAN: frames the kernel dropped
     int64_t last_frame_mono_ns = 0;
     bool finished = false;
+    // What the Go1 bridge says of itself in its frames (SYNC/STATUS UdpLinkOk, STATUS
+    // STS_BridgeState, STS_UdpRxLost): samples sent with its UDP link to the Go1 down, STATUS
+    // frames saying anything but RUNNING, HighStates it lost, and its last state (-1 before the
+    // first STATUS). Health raises FAULT_GO1_BRIDGE from them.
+    uint64_t bridge_link_down = 0;
+    uint64_t bridge_not_running = 0;
+    uint64_t bridge_lost = 0;
+    int bridge_state = -1;
 };
 
 class CanIngest {

@@ -14,10 +14,12 @@
 #include <bimslam/rig_health_t.hpp>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "host_tools/capture/udp_replay.hpp"
 #include "tests/integration/rig_test_support.hpp"
@@ -47,6 +49,22 @@ public:
         return counts_;
     }
     int decode_failures() const { return decode_failures_; }
+    // rig_health_t messages received so far.
+    size_t health_count() {
+        std::lock_guard<std::mutex> lock(m_);
+        return health_faults_.size();
+    }
+    // Waits (at most `timeout`) for a rig_health_t, after the first `after`, whose active faults
+    // hold every bit of `bits`.
+    bool WaitForFaults(size_t after, int64_t bits, std::chrono::milliseconds timeout) {
+        std::unique_lock<std::mutex> lock(m_);
+        return health_cv_.wait_for(lock, timeout, [&] {
+            for (size_t i = after; i < health_faults_.size(); ++i) {
+                if ((health_faults_[i] & bits) == bits) return true;
+            }
+            return false;
+        });
+    }
     int valid_odometry() const { return valid_odometry_; }
     int keyframe_points() const { return keyframe_points_; }
 
@@ -80,6 +98,9 @@ private:
             bimslam::rig_health_t m;
             if (Decode(b, &m)) {
                 EXPECT_EQ(m.num_fault_counts, bimslam::rig_health_t::NUM_FAULTS);
+                std::lock_guard<std::mutex> lock(m_);
+                health_faults_.push_back(m.faults);
+                health_cv_.notify_all();
             }
         }
         std::lock_guard<std::mutex> lock(m_);
@@ -91,6 +112,8 @@ private:
     std::atomic<bool> stop_{false};
     std::mutex m_;
     std::map<std::string, int> counts_;
+    std::vector<int64_t> health_faults_;  // rig_health_t.faults, in arrival order
+    std::condition_variable health_cv_;
     std::atomic<int> decode_failures_{0}, valid_odometry_{0}, keyframe_points_{0};
 };
 
@@ -170,6 +193,10 @@ TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
         kRig + " replay " + cap.string() + " --speed max --json --config " +
         direct_config.string() + " --session-root " + (Tmp() / "direct").string());
     ASSERT_FALSE(direct.is_null());
+    // The simulated bridge ran as it should: nothing for FAULT_GO1_BRIDGE.
+    EXPECT_EQ(direct["go1_bridge_link_down"], 0);
+    EXPECT_EQ(direct["go1_bridge_not_running"], 0);
+    EXPECT_EQ(direct["go1_bridge_state"], 1);  // RUNNING
 
     const int lidar_port = test::rig::FreeUdpPortPair();
     const int go1_port = test::rig::FreeUdpPortPair();  // the Go1's, and the bridge's + 1
@@ -233,6 +260,52 @@ TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
     // The simulator stores the HighState CRC scrambled, as the robot does; the bridge took it.
     const std::string bridge_out = test::RunCommand("cat " + (Tmp() / "bridge.out").string()).out;
     EXPECT_NE(bridge_out.find("HighState CRC form: scrambled\n"), std::string::npos) << bridge_out;
+}
+
+// FAULT_GO1_BRIDGE from the real bridge: one that polls a Go1 that never answers reports its
+// link down and state INIT in its frames, and the rig raises the fault; when the bridge then
+// stops, its silence keeps the fault up (with CAN_TIMEOUT). The rig keeps running throughout.
+TEST_F(RigLcm, Go1BridgeFaultsReachTheRigHealth) {
+    const fs::path cap = Capture("go1", 6);
+    const std::string url = test::rig::PrivateLcmUrl();
+    const std::string channel = "BIMSLAM_GO1_CAN_" + std::to_string(::getpid());
+    const int lidar_port = test::rig::FreeUdpPortPair();
+    const int go1_port = test::rig::FreeUdpPortPair();  // nobody answers there
+    const fs::path config = test::rig::WriteConfig(
+        Tmp() / "bridge_faults.yaml",
+        "sensor:\n  metadata: " + (cap / "metadata.json").string() +
+            "\n  bind_address: 127.0.0.1\n  lidar_port: " + std::to_string(lidar_port) +
+            "\n  imu_port: " + std::to_string(lidar_port + 1) +
+            "\ncan:\n  source: lcm\n  lcm_channel: " + channel + "\n");
+    Subscriber sub(url);
+    const pid_t rig =
+        test::rig::Spawn(kRig + " live --json --no-record --config " + config.string(),
+                         Tmp() / "faults.out", Tmp() / "faults.err");
+    const pid_t bridge = test::rig::Spawn(
+        std::string(BIMSLAM_GO1_BRIDGE_PATH) + " --go1 127.0.0.1:" + std::to_string(go1_port) +
+            " --local-address 127.0.0.1 --local-port 0 --lcm '" + url + "' --lcm-channel " +
+            channel + " --status-interval 0",
+        Tmp() / "bridge.out", Tmp() / "bridge.err");
+    const int64_t bridge_bit = bimslam::rig_health_t::FAULT_GO1_BRIDGE;
+    const int64_t can_bit = bimslam::rig_health_t::FAULT_CAN_TIMEOUT;
+    EXPECT_TRUE(sub.WaitForFaults(0, bridge_bit, std::chrono::seconds(20)))
+        << "no rig_health_t with FAULT_GO1_BRIDGE while the bridge's link was down";
+    ::kill(bridge, SIGINT);
+    test::rig::Wait(bridge);
+    // A period that started after the bridge stopped: the health period is 1 s.
+    const size_t after = sub.health_count() + 1;
+    EXPECT_TRUE(sub.WaitForFaults(after, bridge_bit | can_bit, std::chrono::seconds(20)))
+        << "the silent bridge did not keep FAULT_GO1_BRIDGE up";
+    ::kill(rig, SIGINT);
+    ASSERT_EQ(test::rig::Wait(rig), 0)
+        << test::RunCommand("cat " + (Tmp() / "faults.err").string()).out;
+    std::ifstream in(Tmp() / "faults.out");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_GT(j["go1_bridge_link_down"].get<int>(), 10);
+    EXPECT_GT(j["go1_bridge_not_running"].get<int>(), 1);
+    EXPECT_EQ(j["go1_bridge_state"], 0);  // INIT: no HighState ever arrived
+    const std::string log = test::RunCommand("cat " + (Tmp() / "faults.err").string()).out;
+    EXPECT_NE(log.find("fault: GO1_BRIDGE: the Go1 bridge "), std::string::npos) << log;
 }
 
 TEST_F(RigLcm, SdNotifyReadyWatchdogStatusStopping) {
