@@ -12,6 +12,7 @@
 #include "algorithms/common/status.hpp"
 #include "firmware/app/rig.hpp"
 #include "firmware/app/rig_config.hpp"
+#include "firmware/modules/lcm_bridge.hpp"
 
 namespace {
 using bimslam::common::StatusCode;
@@ -43,6 +44,7 @@ struct Args {
     bool no_record = false;
     bool json = false;
     double duration_s = 0;
+    std::string lcm_log;
 };
 
 void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
@@ -72,6 +74,15 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"go1_bridge_state", s.go1_bridge_state},
                             {"queue_drops", s.queue_drops},
                             {"lcm_failures", s.lcm_failures},
+                            {"lcm_published",
+                             {{bimslam::rig::kOdometryChannel, s.lcm_odometry},
+                              {bimslam::rig::kKeyframeChannel, s.lcm_keyframes},
+                              {bimslam::rig::kImuChannel, s.lcm_imu},
+                              {bimslam::rig::kGo1StateChannel, s.lcm_go1_state},
+                              {bimslam::rig::kRigHealthChannel, s.lcm_rig_health},
+                              {bimslam::rig::kOusterStatsChannel, s.lcm_ouster_stats}}},
+                            {"lcm_paced_s", s.lcm_paced_s},
+                            {"lcm_logged", s.lcm_logged},
                             {"write_errors", s.write_errors},
                             {"latency_ms_p50", s.latency_p50_ms},
                             {"latency_ms_p99", s.latency_p99_ms},
@@ -139,6 +150,7 @@ int Run(const Args& a, bool live) {
             }
         }
         o.duration_s = a.duration_s;
+        o.lcm_log = a.lcm_log;
         const bimslam::rig::RunSummary s = bimslam::rig::RunRig(o);
         PrintSummary(s, a.json);
         return kExitOk;
@@ -161,6 +173,10 @@ void CommonOptions(CLI::App* cmd, Args& a) {
     cmd->add_option("--duration", a.duration_s, "Stop after this many seconds (0: never)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", a.json, "Print the summary at exit as JSON");
+    cmd->add_option("--lcm-log", a.lcm_log,
+                    "Also write every LCM message published to this LCM log (the format of "
+                    "lcm-logger, read by lcm-logplayer): the lossless record of the run's LCM "
+                    "output, which UDP multicast cannot promise to a busy receiver");
 }
 
 }  // namespace
@@ -189,7 +205,9 @@ int main(int argc, char** argv) {
                    "the metadata topic)")
         ->required();
     rp->add_option("--can", a.can_log, "Go1 CAN log (candump -l or pcap) to use");
-    rp->add_option("--speed", a.speed, "1, 2, ... times real time, or max (lossless)")
+    rp->add_option("--speed", a.speed,
+                   "1, 2, ... times real time, or max (as fast as possible); a replay loses "
+                   "nothing at any speed")
         ->capture_default_str();
     CommonOptions(rp, a);
     rp->callback([&] { exit_code = Run(a, false); });

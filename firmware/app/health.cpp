@@ -224,7 +224,8 @@ void Health::DetectRigFaults(const Snapshot& n, Faults& f) {
               std::to_string(int(in_.config.deadline_ms)) + " ms");
     f.Set(kQueueOverflow, n.queue_drops > last_queue_drops_,
           std::to_string(n.queue_drops - last_queue_drops_) + " items dropped by full queues");
-    f.Set(kCpuOverload, n.cpu_percent > 90.0, std::to_string(int(n.cpu_percent)) + " % CPU");
+    f.Set(kCpuOverload, n.cpu_percent > 90.0 && !in_.unpaced_replay,
+          std::to_string(int(n.cpu_percent)) + " % CPU");
     f.Set(kDiskLow, n.rc.disk_low,
           "disk almost full (" + std::to_string(n.rc.disk_free_bytes / 1'000'000) +
               " MB free): keyframe clouds are no longer written");
@@ -261,7 +262,7 @@ void Health::QueueHealth(const Snapshot& snapshot) {
     const int64_t now = snapshot.now, now_rt = snapshot.now_rt;
     const double interval_s = snapshot.interval_s, cpu_percent = snapshot.cpu_percent;
     const RecorderCounters& rc = snapshot.rc;
-    if (bimslam::rig_health_t* h = in_.health_out.BeginPush()) {
+    if (bimslam::rig_health_t* h = in_.health_out.BeginPushWaiting(in_.replay, in_.stop)) {
         h->schema_version = bimslam::rig_health_t::SCHEMA_VERSION;
         h->sample_time_ns = now_rt;
         h->publish_time_ns = now_rt;
@@ -324,7 +325,7 @@ void Health::QueueHealth(const Snapshot& snapshot) {
 void Health::QueueOusterStats(const Snapshot& n) {
     const IngestCounters& ic = n.ic;
     const int64_t now_rt = n.now_rt;
-    if (bimslam::ouster_stats_t* s = in_.stats_out.BeginPush()) {
+    if (bimslam::ouster_stats_t* s = in_.stats_out.BeginPushWaiting(in_.replay, in_.stop)) {
         const ouster::LidarStats& l = ic.lidar;
         s->schema_version = bimslam::ouster_stats_t::SCHEMA_VERSION;
         s->sample_time_ns = now_rt;
@@ -360,6 +361,8 @@ void Health::QueueOusterStats(const Snapshot& n) {
         s->latency_max_ns = -1;
         s->latency_frames = 0;
         in_.stats_out.CommitPush();
+    } else {
+        in_.stats_out.CountDrop();
     }
 }
 

@@ -48,7 +48,8 @@ struct HealthInputs {
     const RigConfig& config;
     const ouster::SensorInfo& info;
     const std::atomic<bool>& stop;
-    bool replay;
+    bool replay;          // lossless: the LCM queues wait for room
+    bool unpaced_replay;  // --speed max: using every core is the point, not CPU_OVERLOAD
 };
 
 class Health {

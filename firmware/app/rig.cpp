@@ -164,7 +164,7 @@ RunSummary RunRig(const RunOptions& o) {
     pc.keyframes.angle_deg = cfg.keyframe_angle_deg;
     wc.can_wait_ns = int64_t(cfg.can_wait_ms * 1e6);
     wc.deadline_ns = int64_t(cfg.deadline_ms * 1e6);
-    wc.lossless = replay && clock.lossless();
+    wc.lossless = replay;  // a replay loses nothing, at any speed
     wc.record = cfg.record;
     OdometryWorker worker(
         wc,
@@ -181,9 +181,16 @@ RunSummary RunRig(const RunOptions& o) {
         recorder.emplace(rc, poses, keyframes_session, writer_wakeup);
         summary.session_dir = recorder->first_dir().string();
     }
+    LcmOutputConfig lcm_output;
+    if (replay) {  // live runs are never paced
+        lcm_output.pace_bytes_per_s = cfg.lcm_replay_rate_mb_s * 1e6;
+        lcm_output.pace_messages_per_s = cfg.lcm_replay_messages_per_s;
+    }
+    lcm_output.log_path = o.lcm_log;
     LcmPublisher publisher(
         cfg.lcm_url, pc.keyframes,
-        {odometry_out, keyframes_lcm, imu_lcm, go1_lcm, health_lcm, stats_lcm, lcm_wakeup});
+        {odometry_out, keyframes_lcm, imu_lcm, go1_lcm, health_lcm, stats_lcm, lcm_wakeup},
+        lcm_output);
 
     // The thread table (firmware/runtime/README.md).
     std::atomic<bool> stop_sources{false}, ingest_done{false}, can_done{!can.has_value()},
@@ -232,7 +239,8 @@ RunSummary RunRig(const RunOptions& o) {
                     cfg,
                     info,
                     health_stop,
-                    replay};
+                    replay,
+                    replay && clock.unpaced()};
     Health health(hi);
     threads.Add(Spec("health", cfg.health, int64_t(cfg.health_period_s * 1e9), 0, "period",
                      "nothing (reads atomics)"),
@@ -342,7 +350,16 @@ RunSummary RunRig(const RunOptions& o) {
         summary.keyframes_skipped_disk = rc.keyframes_skipped_disk;
         summary.write_errors = rc.write_errors;
     }
-    summary.lcm_failures = publisher.counters().failures;
+    const LcmCounters lc = publisher.counters();
+    summary.lcm_failures = lc.failures;
+    summary.lcm_odometry = lc.odometry;
+    summary.lcm_keyframes = lc.keyframes;
+    summary.lcm_imu = lc.imu;
+    summary.lcm_go1_state = lc.go1;
+    summary.lcm_rig_health = lc.health;
+    summary.lcm_ouster_stats = lc.ouster_stats;
+    summary.lcm_logged = lc.logged;
+    summary.lcm_paced_s = double(lc.paced_ns) * 1e-9;
     summary.latency_p50_ms = Percentile(publisher.latencies(), 0.5);
     summary.latency_p99_ms = Percentile(publisher.latencies(), 0.99);
     summary.latency_max_ms = Percentile(publisher.latencies(), 1.0);

@@ -20,6 +20,9 @@ struct RunOptions {
     std::string recording;
     double speed = 1.0;     // replay; 0: as fast as possible
     double duration_s = 0;  // > 0: stop after this long (live) or this much capture (replay)
+    // Every LCM message published is also written here as an LCM log (lcm::LogFile): the
+    // lossless record of the run's LCM output, which UDP multicast cannot promise. Empty: none.
+    std::string lcm_log;
 };
 
 struct RunSummary {
@@ -34,6 +37,11 @@ struct RunSummary {
     // STATUS frames not RUNNING, HighStates it lost, its last state (-1: no STATUS seen).
     uint64_t go1_bridge_link_down = 0, go1_bridge_not_running = 0, go1_bridge_lost = 0;
     int go1_bridge_state = -1;
+    // Messages published per channel (lcmtypes/README.md), and the time a replay's output was
+    // held back so that receivers keep up (lcm.replay_rate_mb_s).
+    uint64_t lcm_odometry = 0, lcm_keyframes = 0, lcm_imu = 0, lcm_go1_state = 0;
+    uint64_t lcm_rig_health = 0, lcm_ouster_stats = 0, lcm_logged = 0;
+    double lcm_paced_s = 0;
     double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;  // to LCM publication
     double cpu_percent = 0;                                             // of one core, over the run
     double rss_mb = 0;                                                  // at the end

@@ -185,6 +185,11 @@ std::vector<Binding> Bindings(RigConfig& c) {
     b.push_back(Bool("lcm.publish_keyframes", c.publish_keyframes, "BIMSLAM_KEYFRAME"));
     b.push_back(Bool("lcm.publish_imu", c.publish_imu, "BIMSLAM_IMU"));
     b.push_back(Bool("lcm.publish_go1_state", c.publish_go1_state, "BIMSLAM_GO1_STATE"));
+    b.push_back(Real("lcm.replay_rate_mb_s", c.lcm_replay_rate_mb_s, 1, 10000, "MB/s",
+                     "a replay's LCM output is held to this rate so that receivers keep up; "
+                     "live runs are never paced"));
+    b.push_back(Real("lcm.replay_messages_per_s", c.lcm_replay_messages_per_s, 10, 1e6, "1/s",
+                     "and to this many messages a second"));
     b.push_back(Int("queues.scans", c.scan_queue, 1, 64, "items", "ingest -> odometry"));
     b.push_back(Int("queues.imu", c.imu_queue, 16, 65536, "items", "Ouster IMU -> odometry"));
     b.push_back(Int("queues.body", c.body_queue, 16, 65536, "items", "Go1 samples -> odometry"));

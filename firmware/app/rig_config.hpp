@@ -57,6 +57,10 @@ struct RigConfig {
     bool publish_keyframes = true;
     bool publish_imu = true;
     bool publish_go1_state = true;
+    // A replay's LCM output is paced to this rate (lcm_bridge.hpp, PublishPacer) so that
+    // receivers keep up; live runs are never paced.
+    double lcm_replay_rate_mb_s = 32;
+    double lcm_replay_messages_per_s = 2000;
 
     // queues (items; a full queue drops the new item and counts it).
     int scan_queue = 3;

@@ -59,12 +59,7 @@ struct CanIngest::Impl {
     void Take(std::span<const can::Go1Sample> ready, const std::atomic<bool>& stop) {
         for (const can::Go1Sample& s : ready) {
             CountBridge(s);
-            BodyItem* slot = bodies.BeginPush();
-            while (slot == nullptr && replay != nullptr && replay->lossless() &&
-                   !stop.load(std::memory_order_relaxed)) {
-                std::this_thread::sleep_for(std::chrono::microseconds(200));
-                slot = bodies.BeginPush();
-            }
+            BodyItem* slot = bodies.BeginPushWaiting(replay != nullptr, stop);
             if (slot == nullptr) {
                 bodies.CountDrop();
                 ++c.bodies_dropped;
@@ -73,7 +68,8 @@ struct CanIngest::Impl {
                 bodies.CommitPush();
             }
             if (config.publish_go1_state) {
-                go1_lcm.TryPush({s, decoder.stats(), decoder.timed_out()});
+                go1_lcm.PushWaiting({s, decoder.stats(), decoder.timed_out()}, replay != nullptr,
+                                    stop);
             }
         }
     }

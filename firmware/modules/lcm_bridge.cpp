@@ -1,8 +1,11 @@
 #include "firmware/modules/lcm_bridge.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
+#include <thread>
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
@@ -179,9 +182,42 @@ void ToMessage(const Go1Item& item, int64_t publish_ns, bimslam::go1_state_t* m)
     m->e2e_timeouts = int64_t(d.timeout);
 }
 
+PublishPacer::PublishPacer(double bytes_per_s, double messages_per_s, double burst_bytes)
+    : rate_(bytes_per_s * 1e-9),
+      min_cost_(bytes_per_s / messages_per_s),
+      burst_(burst_bytes),
+      tokens_(burst_bytes) {}
+
+int64_t PublishPacer::Take(int64_t bytes, int64_t now_ns) {
+    if (last_ns_ >= 0) tokens_ = std::min(burst_, tokens_ + rate_ * double(now_ns - last_ns_));
+    last_ns_ = now_ns;
+    int64_t slept = 0;
+    if (tokens_ < 0) {
+        slept = int64_t(std::ceil(-tokens_ / rate_));
+        std::this_thread::sleep_for(std::chrono::nanoseconds(slept));
+        const int64_t woke = runtime::MonotonicNs();
+        tokens_ = std::min(burst_, tokens_ + rate_ * double(woke - last_ns_));
+        last_ns_ = woke;
+    }
+    tokens_ -= std::max(double(bytes), min_cost_);
+    return slept;
+}
+
 LcmPublisher::LcmPublisher(const std::string& url, const keyframes::KeyframeConfig& keyframes,
-                           LcmQueues queues)
+                           LcmQueues queues, const LcmOutputConfig& output)
     : lcm_(std::make_unique<lcm::LCM>(url)), keyframes_(keyframes), q_(queues) {
+    // A burst of 256 kB: small messages pass at once, a keyframe waits for a full bucket.
+    if (output.pace_bytes_per_s > 0) {
+        pacer_.emplace(output.pace_bytes_per_s, output.pace_messages_per_s, 256.0 * 1024);
+    }
+    if (!output.log_path.empty()) {
+        log_ = std::make_unique<lcm::LogFile>(output.log_path, "w");
+        if (!log_->good()) {
+            throw common::FileError(common::StatusCode::kIoError, output.log_path, 0,
+                                    "cannot be created as an LCM log");
+        }
+        log_buffer_.reserve(1 << 20);
+    }
     if (!lcm_->good()) {
         throw common::Error(common::StatusCode::kUnavailable,
                             "LCM " + url +
@@ -194,8 +230,32 @@ LcmPublisher::LcmPublisher(const std::string& url, const keyframes::KeyframeConf
 
 LcmPublisher::~LcmPublisher() = default;
 
+// The message as LCM's own log event (what lcm-logger writes of what it receives). Host time;
+// a write that fails is counted with the publish failures.
+template <typename Msg>
+void LcmPublisher::Log(const char* channel, const Msg& msg, int size) {
+    log_buffer_.resize(size_t(size));
+    if (msg.encode(log_buffer_.data(), 0, size) != size) {
+        ++c_.failures;
+        return;
+    }
+    lcm::LogEvent event{};
+    event.timestamp = runtime::RealtimeNs() / 1000;
+    event.channel = channel;
+    event.datalen = size;
+    event.data = log_buffer_.data();
+    if (log_->writeEvent(&event) == 0) {
+        ++c_.logged;
+    } else {
+        ++c_.failures;
+    }
+}
+
 template <typename Msg>
 void LcmPublisher::Publish(const char* channel, const Msg& msg) {
+    const int size = msg.getEncodedSize();
+    if (pacer_) c_.paced_ns += pacer_->Take(size, runtime::MonotonicNs());
+    if (log_) Log(channel, msg, size);
     if (lcm_->publish(channel, &msg) == 0) {
         ++c_.published;
     } else {
@@ -248,6 +308,7 @@ void LcmPublisher::Run(runtime::ThreadStats& stats, const std::atomic<bool>& pro
             s->publish_time_ns = runtime::RealtimeNs();
             Publish(kOusterStatsChannel, *s);
             q_.ouster_stats.Pop();
+            ++c_.ouster_stats;
             worked = true;
         }
         // Keyframes last: the largest messages, one per turn, so that a burst of them does not

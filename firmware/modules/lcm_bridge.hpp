@@ -13,6 +13,7 @@
 #include <bimslam/rig_health_t.hpp>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,8 @@
 
 namespace lcm {
 class LCM;
-}
+class LogFile;
+}  // namespace lcm
 
 namespace bimslam::rig {
 
@@ -50,17 +52,51 @@ struct LcmQueues {
     runtime::Wakeup& wakeup;
 };
 
+// A token bucket on the bytes a replay publishes. UDP multicast has no flow control: a replay at
+// --speed max sent keyframes (~325 kB each) faster than lcm-logger could drain its socket, which
+// kept 2 of 56. The bucket lets a burst of `burst_bytes` through at once and then holds the
+// output to `bytes_per_s`; a message larger than the burst goes out when the bucket is full and
+// leaves it in debt. Live runs are never paced.
+// Each message costs at least bytes_per_s / messages_per_s: a receiver that falls behind loses
+// small messages as readily as large ones (LCM queues a few dozen per subscription).
+class PublishPacer {
+public:
+    PublishPacer(double bytes_per_s, double messages_per_s, double burst_bytes);
+    // Sleeps until the bucket is out of debt, then takes `bytes`. Returns the ns it slept.
+    int64_t Take(int64_t bytes, int64_t now_mono_ns);
+
+private:
+    double rate_;      // bytes per ns
+    double min_cost_;  // bytes
+    double burst_;     // bytes
+    double tokens_;
+    int64_t last_ns_ = -1;
+};
+
+// Where and how the messages go besides the LCM URL.
+struct LcmOutputConfig {
+    // A replay's pacing (PublishPacer); 0: none (live runs).
+    double pace_bytes_per_s = 0;
+    double pace_messages_per_s = 2000;
+    // Every message published is also written here, in LCM's log format (lcm::LogFile, as
+    // lcm-logger writes it): the lossless record of the run's LCM output. Empty: none.
+    std::string log_path;
+};
+
 struct LcmCounters {
     uint64_t published = 0;
     uint64_t failures = 0;  // lcm publish returned an error
-    uint64_t odometry = 0, keyframes = 0, imu = 0, go1 = 0, health = 0;
+    uint64_t odometry = 0, keyframes = 0, imu = 0, go1 = 0, health = 0, ouster_stats = 0;
+    uint64_t logged = 0;   // messages written to the LCM log (LcmOutputConfig::log_path)
+    int64_t paced_ns = 0;  // time a replay's output waited for the pacer
 };
 
 class LcmPublisher {
 public:
-    // Throws common::Error (kUnavailable) naming the URL when LCM cannot be opened.
+    // Throws common::Error (kUnavailable) naming the URL when LCM cannot be opened, and
+    // common::FileError when the log cannot be created.
     LcmPublisher(const std::string& url, const keyframes::KeyframeConfig& keyframes,
-                 LcmQueues queues);
+                 LcmQueues queues, const LcmOutputConfig& output = {});
     ~LcmPublisher();
 
     // Until `producers_done` and every queue is empty.
@@ -72,8 +108,13 @@ public:
 private:
     template <typename Msg>
     void Publish(const char* channel, const Msg& msg);
+    template <typename Msg>
+    void Log(const char* channel, const Msg& msg, int size);
 
     std::unique_ptr<lcm::LCM> lcm_;
+    std::optional<PublishPacer> pacer_;
+    std::unique_ptr<lcm::LogFile> log_;
+    std::vector<uint8_t> log_buffer_;
     keyframes::KeyframeConfig keyframes_;
     LcmQueues q_;
     LcmCounters c_;

@@ -16,7 +16,7 @@
 namespace bimslam::rig {
 
 int64_t ReplayClock::WaitFor(int64_t capture_ns, const std::atomic<bool>& stop) const {
-    if (lossless()) return runtime::MonotonicNs();
+    if (unpaced()) return runtime::MonotonicNs();
     const int64_t start = start_capture_ns.load(std::memory_order_acquire);
     const int64_t due =
         start_mono_ns + static_cast<int64_t>(double(capture_ns - start) / std::max(speed, 1e-9));
@@ -78,16 +78,10 @@ struct LidarIngest::Impl {
         R_imu_sensor = info.imu_to_sensor_transform.topLeftCorner<3, 3>().transpose();
     }
 
-    // Waits for room in a queue in a lossless replay; false when the item must be dropped.
+    // The slot to fill, waiting for room in a replay; nullptr when the item must be dropped.
     template <typename Q>
     auto Slot(Q& q, const std::atomic<bool>& stop) -> decltype(q.BeginPush()) {
-        auto* slot = q.BeginPush();
-        while (slot == nullptr && replay != nullptr && replay->lossless() &&
-               !stop.load(std::memory_order_relaxed)) {
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
-            slot = q.BeginPush();
-        }
-        return slot;
+        return q.BeginPushWaiting(replay != nullptr, stop);
     }
 
     void Emit(int64_t arrival_ns, int64_t mono_ns, const std::atomic<bool>& stop) {
@@ -154,7 +148,7 @@ struct LidarIngest::Impl {
                 ouster::ImuSample in_imu = samples[i];
                 in_imu.gyro = R_imu_sensor * samples[i].gyro;
                 in_imu.accel = R_imu_sensor * samples[i].accel;
-                imu_lcm.TryPush({in_imu, imu_sequence});
+                imu_lcm.PushWaiting({in_imu, imu_sequence}, replay != nullptr, stop);
             }
             ++imu_sequence;
         }

@@ -25,7 +25,7 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
     const int64_t arrival = slot->scan.emitted_arrival_ns;
     if (can_ != nullptr && can_->progress_ns() < arrival) {
         // Wait for the CAN ingest to pass the scan's arrival: bounded live, until the log has
-        // passed it in a lossless replay.
+        // passed it in a replay.
         const int64_t give_up = runtime::MonotonicNs() + config_.can_wait_ns;
         while (can_->progress_ns() < arrival && !stop.load(std::memory_order_relaxed) &&
                (config_.lossless || runtime::MonotonicNs() < give_up)) {
@@ -47,11 +47,7 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
     }
     // Outputs. A full queue drops the item and counts it (the consumer is behind).
     const auto push = [&](auto& queue, auto&& fill) {
-        auto* item = queue.BeginPush();
-        while (item == nullptr && config_.lossless && !stop.load(std::memory_order_relaxed)) {
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
-            item = queue.BeginPush();
-        }
+        auto* item = queue.BeginPushWaiting(config_.lossless, stop);
         if (item == nullptr) {
             queue.CountDrop();
             ++c_.outputs_dropped;

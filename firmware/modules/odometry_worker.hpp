@@ -3,9 +3,9 @@
 // thread (odometry per scan, keyframes) and the session writer (every scan's pose, keyframes).
 //
 // Before a scan it waits, at most can_wait_ns (live) or until the CAN recording has passed it
-// (lossless replay), for the CAN ingest's progress to reach the scan's arrival, so the scan gets
-// the Go1 samples a single-threaded replay gives it. Deadline: a scan's odometry must be handed
-// to LCM within deadline_ns of its last packet; a later one is a deadline miss.
+// (a replay, lossless at any speed), for the CAN ingest's progress to reach the scan's arrival, so
+// the scan gets the Go1 samples a single-threaded replay gives it. Deadline: a scan's odometry must
+// be handed to LCM within deadline_ns of its last packet; a later one is a deadline miss.
 #pragma once
 
 #include <atomic>
@@ -24,7 +24,7 @@ struct OdometryWorkerConfig {
     pipeline::ScanPipelineConfig pipeline;
     int64_t can_wait_ns = 20'000'000;
     int64_t deadline_ns = 100'000'000;
-    bool lossless = false;  // replay as fast as possible: wait for the CAN log, never drop
+    bool lossless = false;  // a replay (any speed): wait for the CAN log, never drop
     bool record = true;     // false: no session writer consumes poses and keyframes
 };
 

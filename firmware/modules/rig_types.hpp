@@ -39,12 +39,14 @@ struct BodyItem {
 // Pacing of a replay: capture time t is handed on at start_mono + (t - start_capture) / speed.
 // Lidar and CAN recordings share it (both are stamped by the capturing host's clock).
 struct ReplayClock {
-    double speed = 1.0;  // 0: as fast as possible (and lossless: producers wait for room)
+    // A replay loses nothing at any speed: its producers wait for room in every queue
+    // (SpscQueue::BeginPushWaiting), where a live run drops and counts.
+    double speed = 1.0;                                   // 0: as fast as possible
     std::atomic<int64_t> start_capture_ns{kEndOfStream};  // the earlier first stamp of the two
     int64_t start_mono_ns = 0;
     // Sleeps until capture time t is due; returns the monotonic time it handed on at.
     int64_t WaitFor(int64_t capture_ns, const std::atomic<bool>& stop) const;
-    bool lossless() const { return speed <= 0; }
+    bool unpaced() const { return speed <= 0; }
 };
 
 // A scan's odometry for the LCM thread.

@@ -6,15 +6,17 @@
 //
 // Full queue: the producer's BeginPush returns nullptr and the producer applies the queue's
 // policy (firmware/runtime/README.md, "Queues"): drop the new item and count it (CountDrop), or,
-// in a lossless replay, wait for room. A Wakeup, when given, is notified on every commit so that
-// a consumer can sleep on several queues at once.
+// in a replay (lossless at every speed), wait for room (BeginPushWaiting, PushWaiting). A Wakeup,
+// when given, is notified on every commit so that a consumer can sleep on several queues at once.
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "firmware/runtime/wakeup.hpp"
@@ -81,6 +83,29 @@ public:
         return true;
     }
 
+    // Producer: BeginPush, but while `wait` holds (a replay) and `stop` does not, waits for room
+    // instead of giving up. nullptr: the item must be dropped (the caller counts it). The poll
+    // is short: the consumer of a replay is running flat out.
+    T* BeginPushWaiting(bool wait, const std::atomic<bool>& stop) {
+        T* slot = BeginPush();
+        while (slot == nullptr && wait && !stop.load(std::memory_order_relaxed)) {
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            slot = BeginPush();
+        }
+        return slot;
+    }
+    // Producer: TryPush with BeginPushWaiting's policy; a drop is counted.
+    bool PushWaiting(const T& item, bool wait, const std::atomic<bool>& stop) {
+        T* slot = BeginPushWaiting(wait, stop);
+        if (slot == nullptr) {
+            CountDrop();
+            return false;
+        }
+        *slot = item;
+        CommitPush();
+        return true;
+    }
+
     // Consumer: the oldest item, or nullptr when empty.
     T* Front() {
         const size_t head = head_.load(std::memory_order_relaxed);
@@ -91,7 +116,7 @@ public:
     void Pop() {
         const size_t head = head_.load(std::memory_order_relaxed);
         head_.store(Next(head), std::memory_order_release);
-        if (wakeup_ != nullptr) wakeup_->Notify();  // a waiting lossless producer
+        if (wakeup_ != nullptr) wakeup_->Notify();  // a waiting replay producer
     }
 
     size_t size() const {
