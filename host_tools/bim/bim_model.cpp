@@ -73,6 +73,9 @@ BimModel SelectElements(const BimModel& model, const std::function<bool(const Bi
     out.storeys = model.storeys;
     out.class_counts = model.class_counts;
     out.failed = model.failed;
+    out.faces_reordered = model.faces_reordered;
+    out.faces_lost = model.faces_lost;
+    out.incomplete = model.incomplete;
     out.warnings = model.warnings;
     out.warning_count = model.warning_count;
     out.origin_m = model.origin_m;

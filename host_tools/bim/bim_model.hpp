@@ -43,7 +43,8 @@ struct BimElement {
     uint32_t triangle_count = 0;
 };
 
-// An element whose geometry could not be built: reported, skipped, never fatal.
+// An element whose geometry could not be built (reported, skipped, never fatal), or was built
+// without some of its faces (BimModel::incomplete).
 struct FailedElement {
     std::string global_id;
     std::string ifc_class;
@@ -59,6 +60,14 @@ struct BimModel {
     // Every IfcProduct subtype in the file (spaces included, with or without geometry) -> count.
     std::map<std::string, size_t> class_counts;
     std::vector<FailedElement> failed;
+    // Faces (IfcFace) of breps and surface models listed with a hole before their outer boundary,
+    // or with no boundary marked outer: IFC++ takes the first as the outer one and would drop the
+    // face, so the ingest puts the outer one (else the largest loop) first. Counted once a face.
+    size_t faces_reordered = 0;
+    // Faces IFC++ still could not triangulate, each counted once; the elements that lack them are
+    // in `incomplete` (they have geometry, so they are in `elements` too), the reason names them.
+    size_t faces_lost = 0;
+    std::vector<FailedElement> incomplete;
     // What the reader reported while loading (IFC++'s messages, deduplicated, "<class> <GlobalId>:
     // <message>" when about one element), at most a few hundred; warning_count counts them all.
     std::vector<std::string> warnings;
@@ -89,7 +98,8 @@ int DefaultWalkStorey(const BimModel& model);
 std::vector<int> StoreyIndices(const BimModel& model, const std::vector<std::string>& names);
 
 // The elements `keep` accepts, with their triangles and only the vertices those use (indices
-// renumbered, order kept); storeys, class counts, failures and warnings are copied as they are.
+// renumbered, order kept); storeys, class counts, failures, face counts and warnings are copied as
+// they are.
 BimModel SelectElements(const BimModel& model, const std::function<bool(const BimElement&)>& keep);
 
 }  // namespace bimslam::bim

@@ -22,6 +22,7 @@
 #include <utility>
 
 // IFC++ headers (system headers for the compiler: they are not -Wall clean).
+#include <ifcpp/IFC4/include/IfcFace.h>
 #include <ifcpp/IFC4/include/IfcGloballyUniqueId.h>
 #include <ifcpp/IFC4/include/IfcLabel.h>
 #include <ifcpp/IFC4/include/IfcProduct.h>
@@ -62,6 +63,13 @@ void OnMessage(void* target, shared_ptr<StatusCallback::Message> m) {
     std::string text = Utf8(m->m_message_text);
     while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
     if (text.empty()) return;
+    // Sweeper::createTriangulated3DFace drops the face it says this of (it returns without adding
+    // triangles): the element then lacks that face, which is reported, not silently thinned.
+    if (dynamic_cast<const IfcFace*>(m->m_entity) != nullptr &&
+        (text.find("incorporateHolesIntoPolygon failed") != std::string::npos ||
+         text.find("unable to project to plane") != std::string::npos)) {
+        log.AddLostFace(m->m_entity->m_entity_id);
+    }
     // An entity other than the product being converted (a profile, a solid) is worth naming.
     if (m->m_entity != nullptr) {
         text +=
@@ -291,6 +299,15 @@ private:
 void MessageLog::SetSubject(std::string subject) {
     subject_ = std::move(subject);
     subject_first_.clear();
+    subject_lost_faces_.clear();
+}
+
+void MessageLog::AddLostFace(int face_id) {
+    lost_faces.insert(face_id);
+    if (std::find(subject_lost_faces_.begin(), subject_lost_faces_.end(), face_id) ==
+        subject_lost_faces_.end()) {
+        subject_lost_faces_.push_back(face_id);
+    }
 }
 
 void MessageLog::Add(const std::string& text) {
@@ -549,6 +566,7 @@ std::vector<ProductMesh> Geometry::Convert(const std::vector<std::shared_ptr<Ifc
         }
         if (!mesh.error.empty()) im.log.Add(mesh.error);
         if (mesh.error.empty()) mesh.error = im.log.subject_first();
+        mesh.lost_faces = im.log.subject_lost_faces();
         if (progress) progress(double(i + 1) / double(products.size()));
     }
     im.log.SetSubject("");

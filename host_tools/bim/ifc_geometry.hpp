@@ -31,15 +31,21 @@ public:
     void SetSubject(std::string subject);
     // The first message about the current subject since SetSubject.
     const std::string& subject_first() const { return subject_first_; }
+    // A face IFC++ could not triangulate and dropped (its entity id), from its message.
+    void AddLostFace(int face_id);
+    // The faces lost since SetSubject, in the order reported, each once.
+    const std::vector<int>& subject_lost_faces() const { return subject_lost_faces_; }
 
     std::vector<std::string> kept;  // distinct messages, at most kMaxKept
     size_t count = 0;               // every message, repeats included
     // Called with IFC++'s parse progress in [0, 1].
     std::function<void(double)> parse_progress;
+    std::set<int> lost_faces;  // every face lost while this log listened
 
 private:
     std::set<std::string> seen_;
     std::string subject_, subject_first_;
+    std::vector<int> subject_lost_faces_;
 };
 
 // Routes a StatusCallback's (reader, model, converter) messages and progress into `log`.
@@ -75,6 +81,8 @@ struct ProductMesh {
     // products with only axes, footprints or annotations have no body and have not failed.
     bool expects_body = false;
     std::string error;  // why there is no geometry (an exception, IFC++'s first message)
+    // Faces (IfcFace entity ids) IFC++ could not triangulate: the mesh lacks them.
+    std::vector<int> lost_faces;
 };
 
 // IFC++'s geometry converter (carve CSG) for one loaded model.

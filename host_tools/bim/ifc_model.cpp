@@ -11,6 +11,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "host_tools/bim/ifc_face_bounds.hpp"
 #include "host_tools/bim/ifc_geometry.hpp"
 
 // IFC++ headers (system headers for the compiler: they are not -Wall clean).
@@ -311,8 +312,10 @@ void Collect(const std::string& name, const shared_ptr<BuildingModel>& model,
         out.storeys.push_back(s);
     }
 
+    out.faces_reordered = ifc::PutOuterBoundsFirst(*model).reordered;
     const std::vector<ifc::ProductMesh> meshes =
         geometry.Convert(candidates, [&](double f) { report(0.3 + 0.65 * f); });
+    out.faces_lost = log.lost_faces.size();
 
     // Far from the origin (site coordinates), floats would lose millimetres: store relative.
     Eigen::AlignedBox3d box;
@@ -358,6 +361,12 @@ void Collect(const std::string& name, const shared_ptr<BuildingModel>& model,
             out.triangle_element.push_back(element_index);
         }
         e.triangle_count = uint32_t(out.mesh.triangles.size()) - e.first_triangle;
+        if (e.triangle_count > 0 && !m.lost_faces.empty()) {
+            std::string reason = std::to_string(m.lost_faces.size()) +
+                                 " faces IFC++ could not triangulate are missing:";
+            for (const int face : m.lost_faces) reason += " #" + std::to_string(face);
+            out.incomplete.push_back({e.global_id, e.ifc_class, reason});
+        }
         if (e.triangle_count > 0) {
             out.elements.push_back(std::move(e));
         } else if (m.expects_body) {

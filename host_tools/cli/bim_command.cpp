@@ -79,11 +79,14 @@ int Info(const BimOptions& o) {
         for (const auto& s : m.storeys) {
             storeys.push_back({{"name", s.name}, {"elevation_m", s.elevation_m}});
         }
-        nlohmann::json failed = nlohmann::json::array();
-        for (const auto& f : m.failed) {
-            failed.push_back(
-                {{"global_id", f.global_id}, {"class", f.ifc_class}, {"reason", f.reason}});
-        }
+        auto list = [](const std::vector<bim::FailedElement>& elements) {
+            nlohmann::json out = nlohmann::json::array();
+            for (const auto& f : elements) {
+                out.push_back(
+                    {{"global_id", f.global_id}, {"class", f.ifc_class}, {"reason", f.reason}});
+            }
+            return out;
+        };
         const nlohmann::json j = {
             {"file", o.model},
             {"schema", m.schema},
@@ -92,7 +95,10 @@ int Info(const BimOptions& o) {
             {"elements", m.class_counts},
             {"bbox_m", box.isEmpty() ? nlohmann::json(nullptr)
                                      : nlohmann::json{Point(box.min()), Point(box.max())}},
-            {"failed", failed},
+            {"failed", list(m.failed)},
+            {"faces_reordered", m.faces_reordered},
+            {"faces_lost", m.faces_lost},
+            {"incomplete", list(m.incomplete)},
             {"triangles", m.mesh.triangles.size()},
             {"elements_with_geometry", m.elements.size()},
             {"warnings", m.warning_count},
@@ -139,6 +145,15 @@ int Info(const BimOptions& o) {
     for (const auto& f : m.failed) {
         std::cout << "            " << f.ifc_class << " " << f.global_id << ": " << f.reason
                   << "\n";
+    }
+    std::cout << "faces       " << m.faces_reordered << " reordered (outer boundary put first), "
+              << m.faces_lost << " lost (IFC++ could not triangulate them)\n";
+    if (!m.incomplete.empty()) {
+        std::cout << "incomplete  " << m.incomplete.size() << " elements lack faces\n";
+        for (const auto& f : m.incomplete) {
+            std::cout << "            " << f.ifc_class << " " << f.global_id << ": " << f.reason
+                      << "\n";
+        }
     }
     std::cout << "warnings    " << m.warning_count << "\n";
     constexpr size_t kShown = 10;
