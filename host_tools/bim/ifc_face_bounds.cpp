@@ -10,17 +10,12 @@
 #include <vector>
 
 // IFC++ headers (system headers for the compiler: they are not -Wall clean).
-#include <ifcpp/IFC4/include/IfcBoolean.h>
 #include <ifcpp/IFC4/include/IfcCartesianPoint.h>
-#include <ifcpp/IFC4/include/IfcEdge.h>
-#include <ifcpp/IFC4/include/IfcEdgeLoop.h>
 #include <ifcpp/IFC4/include/IfcFace.h>
 #include <ifcpp/IFC4/include/IfcFaceBound.h>
 #include <ifcpp/IFC4/include/IfcFaceOuterBound.h>
 #include <ifcpp/IFC4/include/IfcLengthMeasure.h>
-#include <ifcpp/IFC4/include/IfcOrientedEdge.h>
 #include <ifcpp/IFC4/include/IfcPolyLoop.h>
-#include <ifcpp/IFC4/include/IfcVertexPoint.h>
 #include <ifcpp/model/BuildingModel.h>
 
 namespace bimslam::bim::ifc {
@@ -38,25 +33,14 @@ std::optional<Eigen::Vector3d> Coordinates(const IfcCartesianPoint* p) {
     return v;
 }
 
-// The corners of a loop in order: an IfcPolyLoop's points, or the start of each oriented edge of
-// an IfcEdgeLoop (its end when the edge runs backwards). IfcVertexLoop has no area: none.
+// The corners of an IfcPolyLoop in order. Other loops give none: IFC++ 0~git20190402 turns
+// neither IfcEdgeLoop (CurveConverter::convertIfcLoop leaves it a TODO) nor IfcVertexLoop into
+// points, so where they stand in a face makes no difference to it.
 std::vector<Eigen::Vector3d> Corners(const IfcLoop* loop) {
     std::vector<Eigen::Vector3d> out;
-    auto add = [&](const IfcCartesianPoint* p) {
-        if (const auto v = Coordinates(p)) out.push_back(*v);
-    };
     if (const auto* poly = dynamic_cast<const IfcPolyLoop*>(loop)) {
-        for (const auto& p : poly->m_Polygon) add(p.get());
-    } else if (const auto* edges = dynamic_cast<const IfcEdgeLoop*>(loop)) {
-        for (const auto& oriented : edges->m_EdgeList) {
-            if (!oriented || !oriented->m_EdgeElement) continue;
-            const bool forward = !oriented->m_Orientation || oriented->m_Orientation->m_value;
-            const IfcEdge& edge = *oriented->m_EdgeElement;
-            const auto* vertex = dynamic_cast<const IfcVertexPoint*>(
-                (forward ? edge.m_EdgeStart : edge.m_EdgeEnd).get());
-            if (vertex != nullptr) {
-                add(dynamic_cast<const IfcCartesianPoint*>(vertex->m_VertexGeometry.get()));
-            }
+        for (const auto& p : poly->m_Polygon) {
+            if (const auto v = Coordinates(p.get())) out.push_back(*v);
         }
     }
     return out;

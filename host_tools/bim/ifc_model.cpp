@@ -362,8 +362,7 @@ void Collect(const std::string& name, const shared_ptr<BuildingModel>& model,
         }
         e.triangle_count = uint32_t(out.mesh.triangles.size()) - e.first_triangle;
         if (e.triangle_count > 0 && !m.lost_faces.empty()) {
-            std::string reason = std::to_string(m.lost_faces.size()) +
-                                 " faces IFC++ could not triangulate are missing:";
+            std::string reason = "without the faces IFC++ could not triangulate:";
             for (const int face : m.lost_faces) reason += " #" + std::to_string(face);
             out.incomplete.push_back({e.global_id, e.ifc_class, reason});
         }
