@@ -16,6 +16,7 @@
 #include "drivers/net/pcap_writer.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "drivers/ouster/packet_encoder.hpp"
+#include "tests/support/ifc_frame.hpp"
 #include "tests/support/ouster_fixtures.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -440,9 +441,9 @@ TEST(Cli, BimInfoJsonOfAModel) {
     const auto r = test::RunCommand(kCli + " bim info --json " + (tmp / "small.ifc").string());
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
-    for (const char* key :
-         {"file", "schema", "length_unit_m", "storeys", "elements", "bbox_m", "failed", "triangles",
-          "elements_with_geometry", "warnings", "load_s"}) {
+    for (const char* key : {"file", "schema", "length_unit_m", "storeys", "elements", "bbox_m",
+                            "failed", "faces_reordered", "faces_lost", "incomplete", "triangles",
+                            "elements_with_geometry", "warnings", "load_s"}) {
         EXPECT_TRUE(j.contains(key)) << key;
     }
     EXPECT_EQ(j.at("file"), (tmp / "small.ifc").string());
@@ -463,6 +464,37 @@ TEST(Cli, BimInfoJsonOfAModel) {
     const auto human = test::RunCommand(kCli + " bim info " + (tmp / "small.ifc").string());
     ASSERT_EQ(human.exit_code, 0) << human.err;
     EXPECT_NE(human.out.find("Ground floor"), std::string::npos) << human.out;
+}
+
+// A faceted brep whose top face lists its hole first (tests/support/ifc_frame.hpp): `bim info`
+// says the face was reordered; one whose hole lies outside its outer loop is reported as lost,
+// with its element, not silently thinned.
+TEST(Cli, BimInfoCountsReorderedAndLostFaces) {
+    test::TempDir tmp;
+    test::WriteBytes(tmp / "hole_first.ifc", test::FrameIfc(test::FrameTop::kHoleFirst, 1000));
+    test::WriteBytes(tmp / "broken.ifc", test::FrameIfc(test::FrameTop::kHoleOutsideOfOuter));
+    auto r = test::RunCommand(kCli + " bim info --json " + (tmp / "hole_first.ifc").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("faces_reordered"), 1);
+    EXPECT_EQ(j.at("faces_lost"), 0);
+    EXPECT_EQ(j.at("incomplete").size(), 0u);
+    r = test::RunCommand(kCli + " bim info " + (tmp / "hole_first.ifc").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("faces       1 reordered"), std::string::npos) << r.out;
+
+    r = test::RunCommand(kCli + " bim info --json " + (tmp / "broken.ifc").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;  // reported like a failed element, not fatal
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("faces_reordered"), 0);
+    EXPECT_EQ(j.at("faces_lost"), 1);
+    ASSERT_EQ(j.at("incomplete").size(), 1u);
+    EXPECT_EQ(j.at("incomplete")[0].at("class"), "IfcFurniture");
+    EXPECT_EQ(j.at("incomplete")[0].at("global_id"), "3vB2YO$MX4xv5uCqZZG05x");
+    r = test::RunCommand(kCli + " bim info " + (tmp / "broken.ifc").string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("1 lost"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("incomplete  1 elements lack faces"), std::string::npos) << r.out;
 }
 
 TEST(Cli, BimInfoOfDamagedModelsExits2NamingTheFile) {
