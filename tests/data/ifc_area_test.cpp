@@ -61,6 +61,12 @@ class IfcAreaData : public testing::TestWithParam<size_t> {};
 
 TEST_P(IfcAreaData, RepairedElementsGetTheirExactAreaAndNoOtherChanges) {
     const std::string& file = Files()[GetParam()];
+    if (const auto root = test::SharedDataDir();
+        root && !std::filesystem::exists(*root / "ifc" / file)) {
+        GTEST_SKIP() << "../shared/data/ifc/" << file << " is absent ("
+                     << Reference().at("models").at(file).value("source", "")
+                     << "): its elements are not checked";
+    }
     BIMSLAM_REQUIRE_SHARED_DATA(path, "ifc/" + file);
     const nlohmann::json& ref = Reference().at("models").at(file);
     const BimModel m = LoadIfc(path);
