@@ -237,7 +237,9 @@ int Mesh(const BimOptions& o) {
 void AddBimCommands(CLI::App& bim, int& exit_code) {
     auto info_opt = std::make_shared<BimOptions>();
     CLI::App* info = bim.add_subcommand(
-        "info", "Read an IFC model; print its storeys, element classes, extent and failures");
+        "info",
+        "Read an IFC model; print its storeys, element classes, extent and failures, and the "
+        "faces whose outer boundary was put first (listed after a hole) or that IFC++ lost");
     info->add_option("MODEL", info_opt->model, "IFC file (STEP, IFC2X3 or IFC4)")->required();
     info->add_flag("--json", info_opt->json, "machine-readable output");
     info->callback([info_opt, &exit_code] { exit_code = Run([&] { return Info(*info_opt); }); });
