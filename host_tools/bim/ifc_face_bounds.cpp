@@ -58,8 +58,8 @@ double Area(const IfcFaceBound* bound) {
 
 }  // namespace
 
-FaceOrder PutOuterBoundsFirst(const BuildingModel& model) {
-    FaceOrder out;
+size_t PutOuterBoundsFirst(BuildingModel& model) {
+    size_t reordered = 0;
     for (const auto& [id, entity] : model.getMapIfcEntities()) {
         auto* face = dynamic_cast<IfcFace*>(entity.get());
         if (face == nullptr || face->m_Bounds.size() < 2) continue;
@@ -84,10 +84,9 @@ FaceOrder PutOuterBoundsFirst(const BuildingModel& model) {
         if (outer == 0) continue;
         std::rotate(bounds.begin(), bounds.begin() + std::ptrdiff_t(outer),
                     bounds.begin() + std::ptrdiff_t(outer) + 1);
-        ++out.reordered;
-        out.by_area += marked != 1;
+        ++reordered;
     }
-    return out;
+    return reordered;
 }
 
 }  // namespace bimslam::bim::ifc

@@ -12,14 +12,10 @@ class BuildingModel;  // IFC++ (global namespace)
 
 namespace bimslam::bim::ifc {
 
-struct FaceOrder {
-    size_t reordered = 0;  // faces whose outer boundary was moved to the front
-    size_t by_area = 0;    // of those, faces with no (or, invalid, several) IfcFaceOuterBound
-};
-
 // For every IfcFace (and subtype) of the model with two or more bounds: its IfcFaceOuterBound
-// goes first; where none, or more than one, is marked outer, the loop of largest area goes first
-// (the outer loop of a face with holes encloses them all). The other bounds keep their order.
-FaceOrder PutOuterBoundsFirst(const BuildingModel& model);
+// goes first; where none, or more than one, is marked outer, the polygon loop of largest area goes
+// first (the outer loop of a face with holes encloses them all). The other bounds keep their
+// order. Returns how many faces changed order.
+size_t PutOuterBoundsFirst(BuildingModel& model);
 
 }  // namespace bimslam::bim::ifc

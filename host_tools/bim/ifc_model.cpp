@@ -312,7 +312,7 @@ void Collect(const std::string& name, const shared_ptr<BuildingModel>& model,
         out.storeys.push_back(s);
     }
 
-    out.faces_reordered = ifc::PutOuterBoundsFirst(*model).reordered;
+    out.faces_reordered = ifc::PutOuterBoundsFirst(*model);
     const std::vector<ifc::ProductMesh> meshes =
         geometry.Convert(candidates, [&](double f) { report(0.3 + 0.65 * f); });
     out.faces_lost = log.lost_faces.size();
