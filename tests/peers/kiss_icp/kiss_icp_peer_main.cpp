@@ -201,12 +201,11 @@ int main(int argc, char** argv) {
     app.add_option("folder", a.folder, "folder of per-scan .pcd/.ply/.bin clouds with times.txt")
         ->required();
     app.add_option("-o,--output", a.out,
-                   "folder to write trajectory.tum, scan_times.csv and "
-                   "summary.json into")
+                   "folder to write trajectory.tum, scan_times.csv and summary.json into")
         ->required();
     app.add_option("--max-range", a.max_range,
-                   "KISS-ICP's data.max_range (its default 100 m); "
-                   "the voxel size is a hundredth of it")
+                   "KISS-ICP's data.max_range (its default 100 m); the voxel size is a "
+                   "hundredth of it")
         ->check(CLI::PositiveNumber);
     app.add_option("--min-range", a.min_range, "KISS-ICP's data.min_range (its default 0)")
         ->check(CLI::NonNegativeNumber);
