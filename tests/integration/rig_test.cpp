@@ -9,14 +9,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <thread>
 
 #include "tests/integration/rig_test_support.hpp"
 
@@ -57,7 +55,7 @@ TEST_F(Rig, ReplayWritesTheSessionOfBimslamOdometry) {
                           "singlesession_posegraph.g2o"}) {
         EXPECT_EQ(Slurp(session / f), Slurp(offline / f)) << f << " differs";
     }
-    EXPECT_EQ(Slurp(session / "Scans" / "000003.pcd"), Slurp(offline / "Scans" / "000003.pcd"));
+    EXPECT_EQ(Slurp(session / "Scans" / "000002.pcd"), Slurp(offline / "Scans" / "000003.pcd"));
     EXPECT_TRUE(fs::exists(session / "session.json"));
 }
 
@@ -119,10 +117,13 @@ TEST_F(Rig, SigtermFinishesTheSession) {
     const fs::path cap = Capture("handheld", 8);
     const fs::path root = Tmp() / "term";
     const fs::path config = WriteConfig(Tmp() / "term.yaml", "");
-    const pid_t pid = Spawn(kRig + " replay " + cap.string() + " --speed 1 --json --config " +
-                                config.string() + " --session-root " + root.string(),
-                            Tmp() / "term.out", Tmp() / "term.err");
-    std::this_thread::sleep_for(std::chrono::seconds(4));
+    test::rig::NotifySocket notify(Tmp() / "term.sock");
+    const pid_t pid =
+        Spawn(notify.Env() + kRig + " replay " + cap.string() + " --speed 1 --json --config " +
+                  config.string() + " --session-root " + root.string(),
+              Tmp() / "term.out", Tmp() / "term.err");
+    // Part way: once the health thread reports 10 scans done (of about 80 at 1x).
+    EXPECT_TRUE(notify.WaitForScans(10)) << notify.messages();
     ::kill(pid, SIGTERM);
     EXPECT_EQ(Wait(pid), 0) << Slurp(Tmp() / "term.err");
     const auto j = nlohmann::json::parse(Slurp(Tmp() / "term.out"));
@@ -139,14 +140,24 @@ TEST_F(Rig, SigkillLeavesARecoverableSession) {
     const fs::path cap = Capture("handheld", 8);
     const fs::path root = Tmp() / "kill";
     const fs::path config = WriteConfig(Tmp() / "kill.yaml", "");
-    const pid_t pid = Spawn(kRig + " replay " + cap.string() + " --speed 1 --config " +
-                                config.string() + " --session-root " + root.string(),
-                            Tmp() / "kill.out", Tmp() / "kill.err");
-    std::this_thread::sleep_for(std::chrono::seconds(5));
-    ::kill(pid, SIGKILL);
-    EXPECT_EQ(Wait(pid), 128 + SIGKILL);
+    test::rig::NotifySocket notify(Tmp() / "kill.sock");
+    const pid_t pid =
+        Spawn(notify.Env() + kRig + " replay " + cap.string() + " --speed 1 --config " +
+                  config.string() + " --session-root " + root.string(),
+              Tmp() / "kill.out", Tmp() / "kill.err");
+    EXPECT_TRUE(notify.WaitForReady()) << notify.messages();
     ASSERT_TRUE(fs::is_directory(root));
     const fs::path session = fs::directory_iterator(root)->path();
+    // Killed once two keyframes are complete: in the pose graph, the last of the files that
+    // hold them (SessionWriter::Flush, each written atomically).
+    EXPECT_TRUE(test::rig::WaitUntil([&] {
+        std::ifstream graph(session / "singlesession_posegraph.g2o");
+        int vertices = 0;
+        for (std::string line; std::getline(graph, line);) vertices += line.rfind("VERTEX", 0) == 0;
+        return vertices >= 2;
+    }));
+    ::kill(pid, SIGKILL);
+    EXPECT_EQ(Wait(pid), 128 + SIGKILL);
     EXPECT_FALSE(fs::exists(session / "session.json"));
     const auto info = test::RunCommand(kCli + " session info --json " + session.string());
     ASSERT_EQ(info.exit_code, 0) << info.err;
@@ -237,22 +248,26 @@ TEST_F(Rig, LiveOnLoopbackFedByTheReplayerWritesTheReplaySession) {
                     "sensor:\n  metadata: " + (cap / "metadata.json").string() +
                         "\n  bind_address: 127.0.0.1\n  lidar_port: " + std::to_string(port) +
                         "\n  imu_port: " + std::to_string(port + 1) + "\ncan:\n  source: none\n");
-    const pid_t rig = Spawn(kRig + " live --json --config " + config.string() + " --session-root " +
-                                (Tmp() / "live").string(),
-                            Tmp() / "live.out", Tmp() / "live.err");
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // sockets bound
-    const auto sent = test::RunCommand(kCli + " ouster replay " + cap.string() +
-                                       " --to 127.0.0.1 --lidar-port " + std::to_string(port) +
-                                       " --imu-port " + std::to_string(port + 1) + " --json");
-    EXPECT_EQ(sent.exit_code, 0) << sent.err;
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-    ::kill(rig, SIGINT);
-    ASSERT_EQ(Wait(rig), 0) << Slurp(Tmp() / "live.err");
-    const auto live = nlohmann::json::parse(Slurp(Tmp() / "live.out"));
+    // The replay first: how many scans the live run must reach before it is stopped.
     const nlohmann::json replay =
         RigJson(kRig + " replay " + cap.string() + " --handheld --speed max --json --config " +
                 config.string() + " --session-root " + (Tmp() / "replayed").string());
     ASSERT_FALSE(replay.is_null());
+    test::rig::NotifySocket notify(Tmp() / "live.sock");
+    const pid_t rig = Spawn(notify.Env() + kRig + " live --json --config " + config.string() +
+                                " --session-root " + (Tmp() / "live").string(),
+                            Tmp() / "live.out", Tmp() / "live.err");
+    EXPECT_TRUE(notify.WaitForReady()) << notify.messages();  // its sockets are bound
+    const auto sent = test::RunCommand(kCli + " ouster replay " + cap.string() +
+                                       " --to 127.0.0.1 --lidar-port " + std::to_string(port) +
+                                       " --imu-port " + std::to_string(port + 1) + " --json");
+    EXPECT_EQ(sent.exit_code, 0) << sent.err;
+    // Stopped once it has done the replay's scans (a scan lost would never come: then the
+    // guard ends the wait and the comparison below fails).
+    EXPECT_TRUE(notify.WaitForScans(replay["scans"].get<int>())) << notify.messages();
+    ::kill(rig, SIGINT);
+    ASSERT_EQ(Wait(rig), 0) << Slurp(Tmp() / "live.err");
+    const auto live = nlohmann::json::parse(Slurp(Tmp() / "live.out"));
     EXPECT_EQ(live["scans"], replay["scans"]);
     EXPECT_EQ(live["scans_dropped"], 0);
     const fs::path a = live["session"].get<std::string>(), b = replay["session"].get<std::string>();

@@ -8,11 +8,14 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -21,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "tests/support/test_support.hpp"
 
@@ -115,6 +119,76 @@ inline pid_t Spawn(const std::string& command, const fs::path& out, const fs::pa
         ::_exit(127);
     }
     return pid;
+}
+
+// The systemd notify socket of a rig the test starts (`Env()` before its command): the test
+// waits for what the rig says (READY=1 once its sockets are bound and its threads run, the
+// health thread's STATUS lines with the scans done) instead of sleeping a fixed time.
+class NotifySocket {
+public:
+    explicit NotifySocket(const fs::path& path) : path_(path) {
+        fd_ = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+        sockaddr_un a{};
+        a.sun_family = AF_UNIX;
+        std::strncpy(a.sun_path, path.c_str(), sizeof(a.sun_path) - 1);
+        fs::remove(path);
+        EXPECT_EQ(::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof(a)), 0) << path;
+    }
+    ~NotifySocket() { ::close(fd_); }
+    NotifySocket(const NotifySocket&) = delete;
+    NotifySocket& operator=(const NotifySocket&) = delete;
+
+    // "env NOTIFY_SOCKET=... " to put before the rig's command.
+    std::string Env(const std::string& more = "") const {
+        return "env NOTIFY_SOCKET=" + path_.string() + " " + more + " ";
+    }
+    // Waits for a message for which `done` holds; false when none came before `limit` (a guard
+    // against a hung test, not a measurement: the test's assertions judge what happened).
+    template <typename Done>
+    bool WaitFor(Done done, std::chrono::seconds limit = std::chrono::seconds(60)) {
+        const auto end = std::chrono::steady_clock::now() + limit;
+        while (std::chrono::steady_clock::now() < end) {
+            pollfd p{fd_, POLLIN, 0};
+            if (::poll(&p, 1, 100) <= 0) continue;
+            char buf[4096];
+            const ssize_t n = ::recv(fd_, buf, sizeof(buf), 0);
+            if (n <= 0) continue;
+            const std::string m(buf, size_t(n));
+            messages_ += m + "\n";
+            if (done(m)) return true;
+        }
+        return false;
+    }
+    bool WaitForReady() {
+        return WaitFor([](const std::string& m) { return m.find("READY=1") != m.npos; });
+    }
+    // Waits for a STATUS line of the health thread reporting at least `scans` scans done.
+    bool WaitForScans(int scans) {
+        return WaitFor([scans](const std::string& m) {
+            const size_t at = m.find("STATUS=scans ");
+            return at != m.npos && std::atoi(m.c_str() + at + 13) >= scans;
+        });
+    }
+    // Everything received so far, one message a line (for failure messages).
+    const std::string& messages() const { return messages_; }
+    int fd() const { return fd_; }
+
+private:
+    fs::path path_;
+    int fd_ = -1;
+    std::string messages_;
+};
+
+// Waits until `done()` holds (polled; a guard `limit` against a hung test); false when it never
+// did.
+template <typename Done>
+bool WaitUntil(Done done, std::chrono::seconds limit = std::chrono::seconds(60)) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (!done()) {
+        if (std::chrono::steady_clock::now() >= end) return false;
+        ::usleep(20'000);  // polling for what the test waits for, not a guess of how long it takes
+    }
+    return true;
 }
 
 // Its exit code (128 + signal when killed).
