@@ -34,21 +34,10 @@ constexpr int kSeconds = 40;
 
 // Data the tests share, made once per build of `bimslam` and kept in the build folder: ctest runs
 // each test in a process of its own, and simulating every building and walk per test would take
-// minutes. A fixture is made in a temporary sibling and renamed into place, so two test processes
-// that race each make it and one rename wins.
+// minutes (test::CachedFixture: one process makes it, the others wait for it; a fixture that
+// failed to build is not kept).
 fs::path FixtureRoot() {
-    static const fs::path root = [] {
-        const auto stamp = fs::last_write_time(kCli).time_since_epoch().count();
-        const fs::path base = BIMSLAM_FIXTURE_DIR;
-        fs::create_directories(base);
-        const fs::path mine = base / std::to_string(stamp);
-        for (const auto& e : fs::directory_iterator(base)) {  // other builds' fixtures
-            std::error_code ec;  // another test process may be removing it too
-            if (e.path() != mine) fs::remove_all(e.path(), ec);
-        }
-        fs::create_directories(mine);
-        return mine;
-    }();
+    static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
     return root;
 }
 

@@ -1,6 +1,6 @@
 // Fixtures of the `bimslam map` tests (map_cli_test.cpp, report_browser_test.cpp), made once per
-// build of `bimslam` in the build folder and shared by the test processes (made in a temporary
-// sibling and renamed into place: two processes that race each make it and one rename wins).
+// build of `bimslam` in the build folder and shared by the test processes (test::CachedFixture:
+// one process makes each, the others wait for it; one that failed to build is not kept).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -37,18 +37,7 @@ inline nlohmann::json ReadJson(const fs::path& file) {
 }
 
 inline fs::path FixtureRoot() {
-    static const fs::path root = [] {
-        const auto stamp = fs::last_write_time(kCli).time_since_epoch().count();
-        const fs::path base = BIMSLAM_FIXTURE_DIR;
-        fs::create_directories(base);
-        const fs::path mine = base / std::to_string(stamp);
-        for (const auto& e : fs::directory_iterator(base)) {  // other builds' fixtures
-            std::error_code ec;
-            if (e.path() != mine) fs::remove_all(e.path(), ec);
-        }
-        fs::create_directories(mine);
-        return mine;
-    }();
+    static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
     return root;
 }
 

@@ -1,6 +1,8 @@
 #include "tests/support/test_support.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -176,15 +178,48 @@ common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed) {
     return cloud;
 }
 
+std::filesystem::path FixtureRootFor(const std::filesystem::path& base,
+                                     const std::filesystem::path& program) {
+    namespace fs = std::filesystem;
+    const auto stamp = fs::last_write_time(program).time_since_epoch().count();
+    fs::create_directories(base);
+    const fs::path mine = base / std::to_string(stamp);
+    for (const auto& e : fs::directory_iterator(base)) {  // other builds' fixtures
+        std::error_code ec;  // another test process may be removing it too
+        if (e.path() != mine) fs::remove_all(e.path(), ec);
+    }
+    fs::create_directories(mine);
+    return mine;
+}
+
 std::filesystem::path CachedFixture(const std::filesystem::path& root, const std::string& name,
                                     const std::function<void(const std::filesystem::path&)>& make) {
     namespace fs = std::filesystem;
     const fs::path dir = root / name;
     if (fs::exists(dir)) return dir;
+    // One maker at a time: a process that finds another making it waits and uses theirs rather
+    // than making it a second time (ctest -j runs the tests that share it at once).
+    const int lock = ::open((root / (name + ".lock")).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (lock >= 0) ::flock(lock, LOCK_EX);
+    struct Unlock {
+        int fd;
+        ~Unlock() {
+            if (fd >= 0) ::close(fd);
+        }
+    } unlock{lock};
+    if (fs::exists(dir)) return dir;
     const fs::path tmp = root / (name + ".tmp" + std::to_string(::getpid()));
     fs::remove_all(tmp);
     fs::create_directories(tmp);
     make(tmp);
+    if (::testing::Test::HasFailure()) {
+        // Making it failed (or the test had failed before): never kept, so that every later
+        // test and test process makes it again and sees the failure itself. The half-made
+        // folder stays for a look; the caller's assertions on it fail.
+        ADD_FAILURE() << "fixture " << name << " not kept: making it failed (" << tmp.string()
+                      << ")";
+        return tmp;
+    }
     std::error_code ec;
     fs::rename(tmp, dir, ec);  // fails when another process was first: use theirs
     if (ec) fs::remove_all(tmp);

@@ -112,9 +112,16 @@ FuzzCounts FuzzReader(const std::string& name, const std::vector<FuzzSeed>& seed
 // seen from its centre, with intensity, ring and per-column time offsets. Deterministic in seed.
 common::PointCloud MakeRoomScan(int rings, int columns, uint32_t seed);
 
+// Where the fixtures of one build of `program` live: `base`/<program's modification time>; the
+// folders of other builds under `base` are removed.
+std::filesystem::path FixtureRootFor(const std::filesystem::path& base,
+                                     const std::filesystem::path& program);
+
 // A test fixture made once and shared by later tests and test processes: `make` fills a
-// private temporary folder beside `root / name`, which is then renamed into place. When another
-// process got there first the rename fails and theirs is used.
+// private temporary folder beside `root / name`, which is then renamed into place; a process
+// that finds another making it waits for it (a lock file) and uses theirs. When the test has a
+// failure after `make` (a step of it failed), the folder is not kept: the failure is reported and
+// every later caller makes it again, so a fixture that failed to build cannot pass as made.
 std::filesystem::path CachedFixture(const std::filesystem::path& root, const std::string& name,
                                     const std::function<void(const std::filesystem::path&)>& make);
 
