@@ -92,7 +92,7 @@ struct AnchorConfig {
     // level: a hypothesis whose keyframes see through the target's surfaces (the median share of
     // their rays) more than max_seen_through is contradicted, however well it registers. 5 %:
     // right placements measured 0.6-1.7 % (1.7 % in a changed building with removed columns),
-    // the sample building's ground floor placed on its first floor 8.3 % (README.md).
+    // the sample building's ground floor placed on its first floor 5.6-7.6 % (README.md).
     registration::FreeSpaceConfig free_space;
     size_t free_space_level = 1;
     double max_seen_through = 0.05;

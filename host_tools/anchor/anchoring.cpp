@@ -115,76 +115,27 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
         evals.back().hypothesis.clique_index = int(h);
         if (progress) progress("hypotheses: " + query.name, h + 1, cliques.size());
     }
-    // Hypotheses that free space contradicts rank last, then those it outweighs (a hypothesis
-    // explaining nearly as many keyframes sees through the model decisively less: two storeys
-    // alike but for a few partitions); then by the keyframes they explain.
-    for (Evaluation& e : evals) {
-        e.hypothesis.contradicted = e.hypothesis.seen_through > config.max_seen_through;
+    // Free space marks and ranks the hypotheses; the verdict follows from the best two.
+    std::vector<Hypothesis> hypotheses;
+    for (const Evaluation& e : evals) hypotheses.push_back(e.hypothesis);
+    const std::vector<size_t> order = RankHypotheses(hypotheses, config);
+    std::vector<Evaluation> ranked;
+    for (size_t i : order) {
+        ranked.push_back(std::move(evals[i]));
+        ranked.back().hypothesis = hypotheses[i];
+        res.hypotheses.push_back(hypotheses[i]);
     }
-    for (Evaluation& b : evals) {
-        for (const Evaluation& a : evals) {
-            if (&a == &b || a.hypothesis.contradicted || b.hypothesis.contradicted) continue;
-            if (double(a.hypothesis.covered) >=
-                    config.ambiguity_ratio * double(b.hypothesis.covered) &&
-                FreeSpacePrefers(a.hypothesis, b.hypothesis, config)) {
-                b.hypothesis.outweighed = true;
-            }
-        }
-    }
-    const auto rank = [](const Hypothesis& h) {
-        return std::make_tuple(!h.contradicted, !h.outweighed, h.covered, h.loops);
-    };
-    std::sort(evals.begin(), evals.end(), [&](const Evaluation& a, const Evaluation& b) {
-        return rank(a.hypothesis) > rank(b.hypothesis);
-    });
-    for (const Evaluation& e : evals) res.hypotheses.push_back(e.hypothesis);
+    evals = std::move(ranked);
 
-    // Verdict.
+    res.verdict = DecideVerdict(res.hypotheses, query.poses, config, &res.reason);
+    if (evals.empty()) {
+        res.reason = "no set of at least " + std::to_string(config.min_clique) +
+                     " mutually consistent loops among " + std::to_string(verified.size()) +
+                     " verified of " + std::to_string(out.records.size()) + " candidates";
+    }
+    if (res.verdict != Verdict::kAnchored) return out;
     const size_t n = query.keyframes();
-    if (!evals.empty() && evals[0].hypothesis.contradicted) {
-        res.verdict = Verdict::kFailed;
-        res.reason = "every hypothesis (" + std::to_string(evals.size()) +
-                     ") is contradicted by free space: the best one's keyframes see through the "
-                     "model's surfaces with " +
-                     std::to_string(100 * evals[0].hypothesis.seen_through).substr(0, 4) +
-                     " % of their rays (at most " +
-                     std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
-        return out;
-    }
-    const double min_cover = std::max(double(config.min_loops), config.min_coverage * double(n));
-    if (evals.empty() || double(evals[0].hypothesis.covered) < min_cover ||
-        int(evals[0].hypothesis.loops) < config.min_loops) {
-        res.verdict = Verdict::kFailed;
-        res.reason =
-            evals.empty()
-                ? "no set of at least " + std::to_string(config.min_clique) +
-                      " mutually consistent loops among " + std::to_string(verified.size()) +
-                      " verified of " + std::to_string(out.records.size()) + " candidates"
-                : "the best hypothesis explains " + std::to_string(evals[0].hypothesis.covered) +
-                      " of " + std::to_string(n) + " keyframes, fewer than " +
-                      std::to_string(int(std::ceil(min_cover)));
-        return out;
-    }
     const Evaluation& best = evals[0];
-    if (evals.size() > 1 && !evals[1].hypothesis.contradicted && !evals[1].hypothesis.outweighed) {
-        const Evaluation& rival = evals[1];
-        const double dist =
-            MeanDistance(query.poses, best.hypothesis.anchor, rival.hypothesis.anchor);
-        const double turn =
-            common::RotationAngle(best.hypothesis.anchor.inverse() * rival.hypothesis.anchor) *
-            180 / M_PI;
-        const bool distinct = dist > config.distinct_m || turn > config.distinct_deg;
-        if (distinct && double(rival.hypothesis.covered) >=
-                            config.ambiguity_ratio * double(best.hypothesis.covered)) {
-            res.verdict = Verdict::kAmbiguous;
-            res.reason = "two hypotheses explain the loops about equally well: " +
-                         std::to_string(best.hypothesis.covered) + " and " +
-                         std::to_string(rival.hypothesis.covered) + " keyframes, " +
-                         std::to_string(dist).substr(0, 5) + " m and " +
-                         std::to_string(turn).substr(0, 5) + " deg apart";
-            return out;
-        }
-    }
     res.verdict = Verdict::kAnchored;
     res.anchor = best.hypothesis.anchor;
     res.world_poses = best.query.World();
@@ -233,6 +184,72 @@ QueryOutcome AnchorQuery(const std::vector<AnchorSession>& sessions,
 }
 
 }  // namespace
+
+std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
+                                   const AnchorConfig& config) {
+    for (Hypothesis& h : hypotheses) h.contradicted = h.seen_through > config.max_seen_through;
+    for (Hypothesis& b : hypotheses) {
+        for (const Hypothesis& a : hypotheses) {
+            if (&a == &b || a.contradicted || b.contradicted) continue;
+            if (double(a.covered) >= config.ambiguity_ratio * double(b.covered) &&
+                FreeSpacePrefers(a, b, config)) {
+                b.outweighed = true;
+            }
+        }
+    }
+    const auto rank = [&](size_t i) {
+        const Hypothesis& h = hypotheses[i];
+        return std::make_tuple(!h.contradicted, !h.outweighed, h.covered, h.loops);
+    };
+    std::vector<size_t> order(hypotheses.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return rank(a) > rank(b); });
+    return order;
+}
+
+Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
+                      const std::vector<Eigen::Isometry3d>& poses, const AnchorConfig& config,
+                      std::string* reason) {
+    const size_t n = poses.size();
+    if (ranked.empty()) {
+        *reason = "no hypothesis";
+        return Verdict::kFailed;
+    }
+    const Hypothesis& best = ranked[0];
+    if (best.contradicted) {
+        *reason = "every hypothesis (" + std::to_string(ranked.size()) +
+                  ") is contradicted by free space: the best one's keyframes see through the "
+                  "model's surfaces with " +
+                  std::to_string(100 * best.seen_through).substr(0, 4) +
+                  " % of their rays (at most " +
+                  std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
+        return Verdict::kFailed;
+    }
+    const double min_cover = std::max(double(config.min_loops), config.min_coverage * double(n));
+    if (double(best.covered) < min_cover || int(best.loops) < config.min_loops) {
+        *reason = "the best hypothesis explains " + std::to_string(best.covered) + " of " +
+                  std::to_string(n) + " keyframes with " + std::to_string(best.loops) +
+                  " loops, fewer than " + std::to_string(int(std::ceil(min_cover))) +
+                  " keyframes or " + std::to_string(config.min_loops) + " loops";
+        return Verdict::kFailed;
+    }
+    if (ranked.size() > 1 && !ranked[1].contradicted && !ranked[1].outweighed) {
+        const Hypothesis& rival = ranked[1];
+        const double dist = MeanDistance(poses, best.anchor, rival.anchor);
+        const double turn =
+            common::RotationAngle(best.anchor.inverse() * rival.anchor) * 180 / M_PI;
+        const bool distinct = dist > config.distinct_m || turn > config.distinct_deg;
+        if (distinct && double(rival.covered) >= config.ambiguity_ratio * double(best.covered)) {
+            *reason = "two hypotheses explain the loops about equally well: " +
+                      std::to_string(best.covered) + " and " + std::to_string(rival.covered) +
+                      " keyframes, " + std::to_string(dist).substr(0, 5) + " m and " +
+                      std::to_string(turn).substr(0, 5) + " deg apart";
+            return Verdict::kAmbiguous;
+        }
+    }
+    return Verdict::kAnchored;
+}
 
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config) {
     return a.seen_through * config.outweigh_ratio <= b.seen_through &&

@@ -119,6 +119,23 @@ using Progress = std::function<void(const std::string&, size_t, size_t)>;
 // through the model at most 1/outweigh_ratio as often as b's, and by at least outweigh_gap less.
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
 
+// Marks each hypothesis contradicted (its keyframes see through the model more than
+// max_seen_through) or outweighed (another uncontradicted one explains at least ambiguity_ratio
+// of its keyframes and FreeSpacePrefers it). Returns their indices best first: uncontradicted,
+// then not outweighed, then by keyframes covered, then by loops.
+std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses, const AnchorConfig& config);
+
+// The verdict on a query whose keyframes are at `poses` (T_local_lidar) from its hypotheses
+// ranked best first (RankHypotheses): failed when there is none, when the best is contradicted,
+// or when it explains fewer than max(min_loops, min_coverage of the keyframes) keyframes or has
+// fewer than min_loops loops; ambiguous when the next (neither contradicted nor outweighed)
+// explains at least ambiguity_ratio as many keyframes at an anchor that places them more than
+// distinct_m away on average or turns them more than distinct_deg; anchored otherwise. *reason
+// says why when it is not anchored.
+Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
+                      const std::vector<Eigen::Isometry3d>& poses, const AnchorConfig& config,
+                      std::string* reason);
+
 // sessions[0] is the reference (held fixed, its frame is the world's); the rest are queries.
 // Every session must have been loaded with clouds. Throws common::Error for a bad config.
 AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,

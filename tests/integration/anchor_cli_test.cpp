@@ -317,7 +317,18 @@ TEST_F(AnchorCli, AGroundFloorWalkAgainstAFirstFloorReferenceIsNotAnchored) {
     });
     const fs::path out = Out("anchor");
     EXPECT_EQ(Anchor(first / "reference", {walk / "session"}, out), 1);
-    EXPECT_NE(ReadJson(out / "anchor.json")["sessions"][0]["verdict"], "anchored");
+    // Failed because free space contradicts the placement, not for any other reason (too few
+    // loops, no clique): every hypothesis's keyframes see through the first floor's partitions.
+    const json s = ReadJson(out / "anchor.json")["sessions"][0];
+    EXPECT_EQ(s["verdict"], "failed") << s.dump(2);
+    EXPECT_NE(s["reason"].get<std::string>().find("contradicted by free space"), std::string::npos)
+        << s["reason"];
+    ASSERT_FALSE(s["hypotheses"].empty()) << s.dump(2);
+    for (const json& h : s["hypotheses"]) {
+        std::cout << "wrong storey: a hypothesis sees through "
+                  << 100 * h["seen_through"].get<double>() << " % of its rays\n";
+        EXPECT_TRUE(h["contradicted"].get<bool>()) << h.dump();
+    }
 }
 
 TEST_F(AnchorCli, TwoSessionsAnchorTogetherWithLoopsBetweenThem) {
