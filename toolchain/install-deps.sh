@@ -44,9 +44,10 @@ packages=(
 # library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
 # report page headless (tests/integration/report_browser_test.cpp); python3-rosbag writes the ROS
 # bags the bag tests read (tests/support/ouster_bag.py); lintian checks the Debian packages
-# (tests/integration/deb_package_test.cpp).
+# (tests/integration/deb_package_test.cpp); libfaketime steps a running rig's wall clock
+# (tests/integration/rig_faults_test.cpp).
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
-    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian)
+    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian libfaketime)
 # The aarch64 cross-build: packages that are Multi-Arch: same (or arch all, as Eigen, CLI11 and
 # nlohmann-json above) install for arm64 beside amd64; Ceres, glog, gflags, LCM, yaml-cpp and
 # the ROS bag library do not, and are staged instead, as are Embree and TBB (for the tests'
