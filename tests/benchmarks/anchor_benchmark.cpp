@@ -233,6 +233,7 @@ void AccuracySuite(const fs::path& tmp, const std::vector<Building>& buildings, 
         "APE with no alignment (rmse/max)\n",
         as_built ? "-asbuilt" : "", as_built ? ", walls built N(0, 2 cm) off" : "");
     std::vector<double> kf_rmse, kf_max, kf_rot, kf_rot_max, scan_rmse, scan_max, recall, precision;
+    int runs = 0, within_targets = 0;
     for (const Building& b : buildings) {
         for (const auto platform : {simulate::Platform::kGo1, simulate::Platform::kHandheld}) {
             for (uint64_t seed : {1, 2, 3}) {
@@ -254,6 +255,11 @@ void AccuracySuite(const fs::path& tmp, const std::vector<Building>& buildings, 
                     Spread("  right loops inlier ratio", o.inlier_right);
                     Spread("  wrong loops inlier ratio", o.inlier_wrong);
                 }
+                // The issue's targets on the keyframes (issue 36: the tests' bounds are near the
+                // figures measured on their own walks; the targets are kept here).
+                ++runs;
+                within_targets += o.keyframes.rmse_cm < 3.0 && o.keyframes.max_cm < 8.0 &&
+                                  o.keyframes.rot_rmse_deg < 0.5 && o.keyframes.rot_max_deg < 1.5;
                 kf_rmse.push_back(o.keyframes.rmse_cm);
                 kf_max.push_back(o.keyframes.max_cm);
                 kf_rot.push_back(o.keyframes.rot_rmse_deg);
@@ -274,6 +280,8 @@ void AccuracySuite(const fs::path& tmp, const std::vector<Building>& buildings, 
     Spread("every scan max (cm)", scan_max);
     Spread("SC candidate recall (%)", recall);
     Spread("SC candidate precision (%)", precision);
+    std::printf("  within the targets (keyframes 3 cm / 8 cm max, 0.5 / 1.5 deg): %d of %d\n",
+                within_targets, runs);
 }
 
 void SuccessSuite(const fs::path& tmp, const std::vector<Building>& with_entrances) {

@@ -7,8 +7,8 @@
 // reported ambiguous and a ground-floor walk against a first-floor reference is not anchored;
 // damaged sessions exit 2 naming the file.
 //
-// The bounds are the targets (3 cm / 8 cm, 0.5 / 1.5 deg) on walks where this stays
-// true with margin; the benchmark (anchor_benchmark) reports the measured spread.
+// The bounds are about twice the figures measured on these walks (ExpectTargets); the issue's
+// targets (3 cm / 8 cm, 0.5 / 1.5 deg) and the measured spread are anchor_benchmark's.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -136,21 +136,23 @@ fs::path KeyframeTum(const fs::path& session) {
     return file;
 }
 
-// The targets, on the anchored keyframes (what anchoring places) and, for RMSE, on
-// every scan. A scan between keyframes is placed by the odometry from them, so its error is
-// also the odometry's: a handheld walk's odometry shows excursions of 10-15 cm within a metre
-// (bimslam evaluate's RPE max on its own trajectory), which anchoring cannot see; the whole
-// trajectory's max is bounded at that, and the benchmark reports it.
+// About twice the figures measured on these tests' walks (the Go1 and handheld walks, far off,
+// two sessions, the SC-A-LOAM layout: keyframes 0.61-0.63 cm RMSE, max 1.01-1.56 cm, 0.05-0.09
+// deg RMSE, max 0.11-0.19 deg; every scan 0.62-0.69 cm RMSE, max 1.01-1.56 cm), so that a
+// regression shows before it reaches the targets (3 cm / 8 cm, 0.5 / 1.5 deg), which
+// anchor_benchmark checks on its 120 s walks. A scan between keyframes is placed by the odometry
+// from them: on longer handheld walks its excursions reach 10-15 cm within a metre (the
+// benchmark's "every scan max"), which anchoring cannot see.
 void ExpectTargets(const fs::path& anchored_session, const fs::path& walk) {
     const Accuracy k = Evaluate(KeyframeTum(anchored_session), walk);
-    EXPECT_LT(k.rmse_cm, 3.0);
-    EXPECT_LT(k.max_cm, 8.0);
-    EXPECT_LT(k.rot_rmse_deg, 0.5);
-    EXPECT_LT(k.rot_max_deg, 1.5);
+    EXPECT_LT(k.rmse_cm, 1.5);
+    EXPECT_LT(k.max_cm, 3.5);
+    EXPECT_LT(k.rot_rmse_deg, 0.2);
+    EXPECT_LT(k.rot_max_deg, 0.4);
     const Accuracy a = Evaluate(anchored_session / "trajectory_bim.tum", walk);
-    EXPECT_LT(a.rmse_cm, 3.0);
-    EXPECT_LT(a.rot_rmse_deg, 0.5);
-    EXPECT_LT(a.max_cm, 15.0);
+    EXPECT_LT(a.rmse_cm, 1.5);
+    EXPECT_LT(a.rot_rmse_deg, 0.2);
+    EXPECT_LT(a.max_cm, 3.5);
 }
 
 class AnchorCli : public ::testing::Test {
@@ -240,7 +242,8 @@ TEST_F(AnchorCli, AWalkThatStartsOutsideAnchors) {
     EXPECT_LT(truth.front().Pose().translation().x(), -3.0);  // it did start outside
     EXPECT_LT((placed.front().translation - truth.front().translation).norm(), 0.10);
     const Accuracy a = Evaluate(out / "session" / "trajectory_bim.tum", walk);
-    EXPECT_LT(a.rmse_cm, 5.0);
+    EXPECT_LT(a.rmse_cm, 1.5);  // measured 0.71 cm (max 1.29)
+    EXPECT_LT(a.max_cm, 3.0);
 }
 
 TEST_F(AnchorCli, InjectedFalseLoopsStayOutOfTheAcceptedHypothesis) {

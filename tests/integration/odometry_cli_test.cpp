@@ -489,8 +489,10 @@ TEST_F(OdometryCli, AVehicleStartingAt3MetresPerSecondOutdoors) {
               << 100 * first.at("ape_trans_rmse_m").get<double>() << " cm RMSE, max "
               << 100 * first.at("ape_trans_max_m").get<double>() << " cm\n";
     Report("vehicle outdoors starting at 3 m/s, 10 s", odo, eval);
-    EXPECT_LT(first.at("ape_trans_rmse_m").get<double>(), 0.05);
-    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.05);
+    // About twice the measured 0.47-0.56 cm (first 2 s) and 0.53 cm (10 s): a regression shows
+    // long before the issue's target (5 cm), which it meets with a margin of ten.
+    EXPECT_LT(first.at("ape_trans_rmse_m").get<double>(), 0.012);
+    EXPECT_LT(eval.at("ape_trans_rmse_m").get<double>(), 0.012);
 }
 
 // Issue 17, item 6: glass windows, three mirrors on the corridor walls and every door swinging

@@ -350,8 +350,9 @@ TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
     const double direct_ape = ape(direct);
     std::cout << "APE through the bridge " << bridged * 100 << " cm, direct " << direct_ape * 100
               << " cm\n";
-    EXPECT_LT(bridged, 0.05);
-    EXPECT_LT(std::abs(bridged - direct_ape), 0.02);
+    // About twice the figures measured (through the bridge 0.48-0.8 cm, direct 0.72 cm).
+    EXPECT_LT(bridged, 0.016);
+    EXPECT_LT(std::abs(bridged - direct_ape), 0.01);
     // The simulator stores the HighState CRC scrambled, as the robot does; the bridge took it.
     const std::string bridge_out = test::RunCommand("cat " + (Tmp() / "bridge.out").string()).out;
     EXPECT_NE(bridge_out.find("HighState CRC form: scrambled\n"), std::string::npos) << bridge_out;
