@@ -87,7 +87,9 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
                    {"max_sc_distance", config.max_sc_distance},
                    {"min_inlier_ratio", config.min_inlier_ratio},
                    {"proximity_radius_m", config.proximity_radius_m},
-                   {"inject_false_loops", config.inject_false_loops}};
+                   {"inject_false_loops", config.inject_false_loops},
+                   {"model_tolerance_m", config.model_tolerance_m},
+                   {"model_tolerance_deg", config.model_tolerance_deg}};
     return j.dump(2) + "\n";
 }
 

@@ -298,6 +298,64 @@ TEST_F(AnchorCli, InjectedFalseLoopsStayOutOfTheAcceptedHypothesis) {
     EXPECT_EQ(wrong_in_accepted, 0u);
 }
 
+// The other outlier methods (README.md, "Wrong loops: which method works"): graduated
+// non-convexity holds against 30 % injected wrong loops and rejects some of them by their
+// weight; the Cauchy loss alone anchors a walk without injected loops.
+TEST_F(AnchorCli, OutlierMethodsGncAndNoneOnTheCommandLine) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path gnc = Out("gnc");
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, gnc,
+                     "--outliers gnc --inject-false-loops 0.3"),
+              0);
+    const json summary = ReadJson(gnc / "anchor.json");
+    EXPECT_EQ(summary["config"]["outliers"], "gnc");
+    EXPECT_EQ(summary["sessions"][0]["verdict"], "anchored");
+    ExpectTargets(gnc / "session", walk);
+    size_t rejected_by_weight = 0, injected_accepted = 0;
+    for (const json& l : ReadJson(gnc / "loops.json")) {
+        rejected_by_weight += l["reason"].get<std::string>().rfind("rejected by GNC", 0) == 0;
+        injected_accepted += l["source"] == "injected" && l["accepted"].get<bool>();
+    }
+    EXPECT_GT(rejected_by_weight, 0u);
+    EXPECT_EQ(injected_accepted, 0u);
+
+    const fs::path none = Out("none");
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, none, "--outliers none"), 0);
+    EXPECT_EQ(ReadJson(none / "anchor.json")["config"]["outliers"], "none");
+    ExpectTargets(none / "session", walk);
+}
+
+// --model-tolerance reaches the graph: the anchored poses move (every loop to the reference gets
+// the model's covariance) and stay within the bounds; anchor.json records it.
+TEST_F(AnchorCli, TheModelToleranceOnTheCommandLine) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    const fs::path plain = Out("plain"), tolerant = Out("tolerant");
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, plain), 0);
+    ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, tolerant, "--model-tolerance 0.02"),
+              0);
+    const json config = ReadJson(tolerant / "anchor.json")["config"];
+    EXPECT_DOUBLE_EQ(config["model_tolerance_m"].get<double>(), 0.02);
+    EXPECT_DOUBLE_EQ(ReadJson(plain / "anchor.json")["config"]["model_tolerance_m"].get<double>(),
+                     0.0);
+    ExpectTargets(tolerant / "session", walk);
+    const auto a = io::ReadKitti(plain / "session" / "optimized_poses.txt");
+    const auto b = io::ReadKitti(tolerant / "session" / "optimized_poses.txt");
+    ASSERT_EQ(a.size(), b.size());
+    double moved = 0;
+    for (size_t k = 0; k < a.size(); ++k) {
+        moved = std::max(moved, (a[k].translation() - b[k].translation()).norm());
+    }
+    std::cout << "--model-tolerance 0.02 moved the keyframes by up to " << 100 * moved << " cm\n";
+    EXPECT_GT(moved, 1e-4) << "the tolerance changed nothing";
+    const auto r =
+        Cli("anchor --reference " + (office / "reference").string() + " --query " +
+            (walk / "session").string() + " -o " + Out("bad").string() + " --model-tolerance -1");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("model"), std::string::npos) << r.err;
+}
+
 TEST_F(AnchorCli, AMirrorSymmetricBuildingIsAmbiguousNotAnchored) {
     const fs::path building = Building("symmetric", "--layout symmetric");
     const fs::path walk = Walk("symmetric_walk", building, "--platform go1 --seed 13");
