@@ -28,15 +28,8 @@ using test::rig::kRig;
 class HealthSubscriber {
 public:
     explicit HealthSubscriber(const std::string& url) : lcm_(url) {
-        EXPECT_TRUE(lcm_.good()) << "LCM " << url << " (toolchain/setup-multicast.sh)";
-        lcm_.subscribe("BIMSLAM_RIG_HEALTH", &HealthSubscriber::Handle, this);
-        thread_ = std::thread([this] {
-            while (!stop_) lcm_.handleTimeout(50);
-        });
-    }
-    ~HealthSubscriber() {
-        stop_ = true;
-        thread_.join();
+        lcm_.lcm.subscribe("BIMSLAM_RIG_HEALTH", &HealthSubscriber::Handle, this);
+        lcm_.Start();
     }
     // Waits until every bit of `bits` was latched (a guard `limit` against a hung test).
     bool WaitForLatched(int64_t bits, std::chrono::seconds limit = std::chrono::seconds(60)) {
@@ -55,13 +48,11 @@ private:
         cv_.notify_all();
     }
 
-    lcm::LCM lcm_;
-    std::thread thread_;
-    std::atomic<bool> stop_{false};
     std::mutex m_;
     std::condition_variable cv_;
     int64_t latched_ = 0;
     std::atomic<int> messages_{0};
+    test::rig::LcmThread lcm_;  // last: its thread ends first
 };
 
 class RigFaults : public test::rig::RigFixture {};

@@ -37,15 +37,8 @@ using test::rig::kRig;
 class Subscriber {
 public:
     explicit Subscriber(const std::string& url) : lcm_(url + "&recv_buf_size=4194304") {
-        EXPECT_TRUE(lcm_.good()) << "LCM " << url << " (toolchain/setup-multicast.sh)";
-        lcm_.subscribe("BIMSLAM_.*", &Subscriber::Handle, this);
-        thread_ = std::thread([this] {
-            while (!stop_) lcm_.handleTimeout(50);
-        });
-    }
-    ~Subscriber() {
-        stop_ = true;
-        thread_.join();
+        lcm_.lcm.subscribe("BIMSLAM_.*", &Subscriber::Handle, this);
+        lcm_.Start();
     }
     std::map<std::string, int> counts() {
         std::lock_guard<std::mutex> lock(m_);
@@ -123,14 +116,12 @@ private:
         ++counts_[channel];
     }
 
-    lcm::LCM lcm_;
-    std::thread thread_;
-    std::atomic<bool> stop_{false};
     std::mutex m_;
     std::map<std::string, int> counts_;
     std::vector<int64_t> health_faults_;  // rig_health_t.faults, in arrival order
     std::condition_variable health_cv_;
     std::atomic<int> decode_failures_{0}, valid_odometry_{0}, keyframe_points_{0};
+    test::rig::LcmThread lcm_;  // last: its thread ends first
 };
 
 class RigLcm : public test::rig::RigFixture {};
@@ -323,9 +314,9 @@ TEST_F(RigLcm, Go1HighStateThroughTheRealBridgeMatchesTheDirectPath) {
     go1_thread.join();
     EXPECT_EQ(lidar.exit_code, 0) << lidar.err;
     EXPECT_GT(sent.sent, 3500u);
-    // Stopped once the rig has done the direct path's scans (the guard ends a wait for a scan
-    // that never comes; the assertions below then judge).
-    EXPECT_TRUE(notify.WaitForScans(direct["scans"].get<int>())) << notify.messages();
+    // Stopped once the rig has done the 75 scans asserted below (of the direct path's 80: on a
+    // loaded machine the live run may drop one); what is still queued is done before it exits.
+    EXPECT_TRUE(notify.WaitForScans(75)) << notify.messages();
     ::kill(rig, SIGINT);
     ::kill(bridge, SIGINT);
     ASSERT_EQ(test::rig::Wait(rig), 0)

@@ -15,16 +15,19 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <thread>
 
 #include "tests/support/test_support.hpp"
 
@@ -109,6 +112,29 @@ inline nlohmann::json RigJson(const std::string& command) {
         return nullptr;
     }
 }
+
+// LCM on `url`, its messages handled in a thread of its own (Start, after subscribing) until
+// destroyed. A subscriber declares it last, so that the thread ends before the rest goes.
+class LcmThread {
+public:
+    explicit LcmThread(const std::string& url) : lcm(url) {
+        EXPECT_TRUE(lcm.good()) << "LCM " << url << " (toolchain/setup-multicast.sh)";
+    }
+    ~LcmThread() {
+        stop_ = true;
+        if (thread_.joinable()) thread_.join();
+    }
+    void Start() {
+        thread_ = std::thread([this] {
+            while (!stop_) lcm.handleTimeout(50);
+        });
+    }
+    lcm::LCM lcm;
+
+private:
+    std::thread thread_;
+    std::atomic<bool> stop_{false};
+};
 
 // Starts `command` in the background (through sh, exec'd so the pid is the command's).
 inline pid_t Spawn(const std::string& command, const fs::path& out, const fs::path& err) {
