@@ -204,6 +204,8 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     OdometryResult& r = result_;
     const Eigen::Isometry3d T_prev = r.T_odom_lidar;
     r.flags = 0;
+    r.deskew_rounds = 0;
+    r.deskew_stop = DeskewStop::kNotTried;
     r.stamp_ns = stamp;
     ++scans_;
 
@@ -367,21 +369,33 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         // deadline: a round started late ran the scan over budget (11 of 1800 hand-held scans
         // without the IMU, the rounds' whole cost being the LiDAR-only case).
         Clock::duration last_round{};
+        r.deskew_stop = DeskewStop::kRoundsDone;
         for (int round = 0; round < config_.max_deskew_rounds; ++round) {
             const Clock::time_point round_start = BudgetNow(cpu_clock);
-            if (round_start + last_round >= deadline) break;
-            if (round > 0 && (r.flags & kDegenerate)) break;
+            if (round_start + last_round >= deadline) {
+                r.deskew_stop = DeskewStop::kDeadline;
+                break;
+            }
+            if (round > 0 && (r.flags & kDegenerate)) {
+                r.deskew_stop = DeskewStop::kDegenerate;
+                break;
+            }
             const ScanMotion estimated =
                 MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
             const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
             if (diff.translation().norm() + 10.0 * common::RotationAngle(diff) <=
                 config_.redeskew_threshold) {
+                r.deskew_stop = DeskewStop::kHolds;
                 break;
             }
             motion = estimated;
             preprocess(scan, motion);
-            if (!align(T)) break;
+            if (!align(T)) {
+                r.deskew_stop = DeskewStop::kFailed;
+                break;
+            }
             r.flags |= kDeskewedAgain;
+            ++r.deskew_rounds;
             last_round = BudgetNow(cpu_clock) - round_start;
         }
     }

@@ -175,6 +175,16 @@ enum OdometryFlag : uint32_t {
     kContradictsLegs = 1u << 12,  // the legs' translation disagreed: the LiDAR's velocity used
 };
 
+// Why step 3's rounds of deskewing again ended (OdometryResult::deskew_stop).
+enum class DeskewStop : uint8_t {
+    kNotTried,    // not this scan (the first, no time per point, deskew off, a start refined)
+    kHolds,       // the estimated motion agrees with the one the scan was deskewed with
+    kDeadline,    // another round would not fit before the deadline
+    kDegenerate,  // the last registration was degenerate: its velocity is the prediction's
+    kRoundsDone,  // max_deskew_rounds made
+    kFailed,      // a round's registration failed
+};
+
 struct OdometryResult {
     int64_t stamp_ns = 0;  // the scan's start
     Eigen::Isometry3d T_odom_lidar = Eigen::Isometry3d::Identity();
@@ -186,7 +196,9 @@ struct OdometryResult {
     RegistrationResult registration;
     size_t map_voxels = 0;
     size_t map_points = 0;
-    size_t edge_points = 0;              // with edge_features: LOAM edge points of this scan
+    size_t edge_points = 0;  // with edge_features: LOAM edge points of this scan
+    int deskew_rounds = 0;   // times this scan was deskewed and registered again (step 3)
+    DeskewStop deskew_stop = DeskewStop::kNotTried;
     double correspondence_distance = 0;  // m, the adaptive threshold this scan used
     double map_radius = 0;               // m, the map kept around the sensor
     double preprocess_ms = 0, register_ms = 0, map_ms = 0, total_ms = 0;

@@ -16,7 +16,11 @@ namespace {
 json ReadJsonIf(const fs::path& file) {
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) return nullptr;
-    return json::parse(io::ReadFileToString(file));
+    try {
+        return json::parse(io::ReadFileToString(file));
+    } catch (const json::exception& e) {  // a damaged step output: name it
+        throw common::FileError(common::StatusCode::kParseError, file.string(), 0, e.what());
+    }
 }
 
 json ChangeCounts(const json& c) {

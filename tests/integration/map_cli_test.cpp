@@ -15,6 +15,7 @@
 #include <string>
 
 #include "algorithms/io/file_util.hpp"
+#include "host_tools/report/report_data.hpp"
 #include "tests/integration/map_test_support.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -176,6 +177,44 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     bad = Cli(args + " --no-refine --datum " + (tmp / "survey.csv").string());
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_NE(bad.err.find("--no-refine"), std::string::npos) << bad.err;
+
+    // A step that fails (README.md: "step 'X' failed on FILE: why", exit 1, the steps before it
+    // kept, the failed one run again next time): a file the report reads, damaged, and the
+    // report's stamp gone (as after an interrupted run). With the datum of the last run, so
+    // that no other step's inputs changed.
+    const std::string same = args + " --datum " + (tmp / "survey.csv").string();
+    const fs::path damaged = tmp / "out" / "changes" / "capture" / "map_bim.ply";
+    const std::string kept = io::ReadFileToString(damaged);
+    io::WriteFileAtomic(damaged, "ply\nformat of no kind\n");
+    fs::remove(tmp / "out" / "stamps" / "report.json");
+    const auto failed = Cli(same + " --json");
+    EXPECT_EQ(failed.exit_code, 1) << failed.out << failed.err;
+    EXPECT_NE(failed.err.find("step 'report' failed on " + damaged.string()), std::string::npos)
+        << failed.err;
+    EXPECT_TRUE(fs::exists(tmp / "out" / "stamps" / "changes.json")) << "the steps before kept";
+    EXPECT_FALSE(fs::exists(tmp / "out" / "stamps" / "report.json"));
+    io::WriteFileAtomic(damaged, kept);
+    const auto after = Cli(same + " --json");
+    ASSERT_EQ(after.exit_code, 0) << after.err;
+    const json rerun = Steps(json::parse(after.out));
+    for (const char* s : {"reference", "odometry capture", "anchor", "changes"}) {
+        EXPECT_EQ(rerun.at(s), true) << s;
+    }
+    EXPECT_EQ(rerun.at("report"), false) << "the failed step runs again";
+
+    // The report's map is decimated to at most max_map_points (300 000 by default,
+    // host_tools/report/README.md) and the page's data say how many of how many: a cap of 1000.
+    EXPECT_EQ(report::ReportConfig{}.max_map_points, 300000u);
+    report::ReportConfig capped;
+    capped.max_map_points = 1000;
+    const json data = report::CollectReportData(tmp / "out", capped);
+    const size_t total = data.at("map").at("total").get<size_t>();
+    const size_t shown = data.at("map").at("shown").get<size_t>();
+    std::cout << "the map: " << total << " points, " << shown << " shown at a cap of 1000\n";
+    EXPECT_GT(total, 10000u);
+    EXPECT_LE(shown, 1000u);
+    EXPECT_GT(shown, 500u);  // evenly thinned, not cut
+    EXPECT_EQ(data.at("config").at("max_map_points"), 1000);
 }
 
 TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {

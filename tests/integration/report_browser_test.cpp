@@ -108,6 +108,19 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
     EXPECT_EQ(t.at("selected_row"), true);
     EXPECT_EQ(t.at("selected_change"), 0);
     EXPECT_GE(t.at("selected_plan").get<int>(), 1);
+    // The model's class toggles change what is drawn: all off draws less, on again as before.
+    const json& toggles = t.at("toggles");
+    EXPECT_GT(toggles.at("classes").get<int>(), 3) << toggles.dump();
+    EXPECT_LT(toggles.at("none").get<double>(), 0.9 * toggles.at("all").get<double>())
+        << toggles.dump();
+    EXPECT_EQ(toggles.at("again"), toggles.at("all")) << toggles.dump();
+    // A click in the middle of the 3D view inspects what it hits: an element (class, name,
+    // GlobalId) or a map point (its distance to the model), with where it is.
+    const std::string inspected = t.at("inspect").get<std::string>();
+    EXPECT_NE(inspected.find(") m"), std::string::npos) << inspected;
+    EXPECT_TRUE(inspected.rfind("Ifc", 0) == 0 || inspected.rfind("map point", 0) == 0 ||
+                inspected.rfind("new object", 0) == 0)
+        << inspected;
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
 }
 

@@ -495,6 +495,29 @@ if (location.hash === '#selftest') {
     r.not_anchored_banners = document.querySelectorAll('#summary .banner').length;
     r.own_frame_plans = document.querySelectorAll('.plan.own-frame svg').length;
     r.pixels = view ? view.drawnPixels() : null;
+    // The class toggles: every model class switched off draws fewer pixels; on again, as many.
+    const classes = [...document.querySelectorAll('#layers input')].slice(0, D.model3d.classes.length);
+    const flip = on => classes.forEach(cb => {
+      cb.checked = on; cb.dispatchEvent(new Event('change'));
+    });
+    if (view && classes.length) {
+      const shown = classes.filter(cb => cb.checked);
+      flip(true);
+      const all = view.drawnPixels().drawn;
+      flip(false);
+      const none = view.drawnPixels().drawn;
+      flip(true);
+      r.toggles = {classes: classes.length, all: all, none: none, again: view.drawnPixels().drawn};
+      classes.forEach(cb => { cb.checked = shown.includes(cb); cb.dispatchEvent(new Event('change')); });
+    }
+    // Click-to-inspect: a click (pointer down and up in place) at the middle of the 3D view.
+    const canvas = document.querySelector('#viewer-canvas canvas');
+    if (canvas) {
+      const b = canvas.getBoundingClientRect(), x = b.left + b.width / 2, y = b.top + b.height / 2;
+      canvas.dispatchEvent(new PointerEvent('pointerdown', {clientX: x, clientY: y, bubbles: true}));
+      canvas.dispatchEvent(new PointerEvent('pointerup', {clientX: x, clientY: y, bubbles: true}));
+      r.inspect = document.getElementById('inspect').textContent;
+    }
     const row = document.querySelector('#changes-body tr.row');
     if (row) {
       row.click();

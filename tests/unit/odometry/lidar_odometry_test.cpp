@@ -359,6 +359,38 @@ TEST(LidarOdometry, ASuddenTurnWithoutTheImuIsDeskewedUntilItHolds) {
     EXPECT_LT(iterated.max_translation_error, 0.5 * single.max_translation_error);
     EXPECT_LT(iterated.max_rotation_error_deg, 2.5);
     EXPECT_LT(iterated.final_translation_error, 0.005);
+    // Up to max_deskew_rounds rounds a scan, and more than one where the turn starts.
+    int most = 0;
+    for (const OdometryResult& r : iterated.results) {
+        EXPECT_LE(r.deskew_rounds, 3);
+        most = std::max(most, r.deskew_rounds);
+    }
+    EXPECT_GE(most, 2);
+    for (const OdometryResult& r : single.results) EXPECT_LE(r.deskew_rounds, 1);
+}
+
+// README.md, "Deskew until it holds": no round after the first when the registration was
+// degenerate (along a weak direction the estimated velocity is the prediction's, not measured).
+// A featureless corridor without the IMU, walked and then turned in on the spot: every
+// registration is degenerate along its axis, and the turn's onset is what the constant velocity
+// does not predict (as in the sudden turn above, where rounds are made).
+TEST(LidarOdometry, NoSecondDeskewRoundAfterADegenerateRegistration) {
+    const simulation::Scene scene(test::Corridor(200));
+    const auto turn = [](double t) {
+        const double walk = std::min(t, 1.5), turning = std::max(0.0, t - 1.5);
+        return Pose(0.4 * walk, 0.1, 0.6, 1.05 * turning);
+    };
+    const OdometryRun run = Odometry(scene, turn, 40, {.imu = false, .body = false});
+    int stopped = 0;
+    for (size_t i = 0; i < run.results.size(); ++i) {
+        const OdometryResult& r = run.results[i];
+        if (r.deskew_stop != DeskewStop::kDegenerate) continue;
+        ++stopped;
+        EXPECT_GE(r.deskew_rounds, 1) << "scan " << i << ": the rule is for rounds after the first";
+        EXPECT_TRUE(r.flags & kDegenerate) << "scan " << i;
+    }
+    std::cout << stopped << " scans' rounds ended at a degenerate registration\n";
+    EXPECT_GT(stopped, 0) << "the rule was not reached";
 }
 
 // A budget too small to finish: every scan returns its best estimate so far, flagged, at once.
@@ -377,6 +409,11 @@ TEST(LidarOdometry, ABudgetTooSmallReturnsTheBestSoFarFlagged) {
         EXPECT_TRUE(r.flags & kOverBudget) << "scan " << i;
         EXPECT_EQ(r.registration.iterations, 0) << "scan " << i << ": stops at the deadline";
         EXPECT_FALSE(r.flags & (kDeskewedAgain | kStartRefined)) << "scan " << i;
+        // README.md: another round only if it fits before the deadline.
+        EXPECT_EQ(r.deskew_rounds, 0) << "scan " << i;
+        if (r.deskew_stop != DeskewStop::kNotTried) {
+            EXPECT_EQ(r.deskew_stop, DeskewStop::kDeadline) << "scan " << i;
+        }
     }
     // Without registration only the IMU's rotation is known: it keeps the heading.
     EXPECT_LT(run.max_rotation_error_deg, 1.0);
