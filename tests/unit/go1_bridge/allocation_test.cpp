@@ -31,6 +31,8 @@ TEST(HotPath, BridgeCycleAndSinksDoNotAllocate) {
     std::array<uint8_t, kHighCmdSize> request{};
     std::array<common::CanFrame, Bridge::kMaxFramesPerTick> frames{};
     HighState hs;
+    hs.head = kFrameHead;
+    hs.level_flag = kHighLevel;
     hs.imu.quaternion = {1, 0, 0, 0};
     SerializeHighCmd(MakeIdleHighCmd(), request);
 
