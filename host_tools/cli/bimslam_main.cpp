@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddBimCommands(*bim, exit_code);
     bimslam::cli::AddBimSampleCommand(*bim, exit_code);
     bimslam::cli::AddBimPlanCommand(*bim, exit_code);
+    bimslam::cli::AddBimStairsCommand(*bim, exit_code);
     bimslam::cli::AddBim2SessionCommand(app, exit_code);
     bimslam::cli::AddSimulateCommand(app, exit_code);
     bimslam::cli::AddOdometryCommand(app, exit_code);

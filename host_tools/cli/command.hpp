@@ -33,6 +33,8 @@ void AddBimSampleCommand(CLI::App& bim, int& exit_code);
 // `bim` is the `bimslam bim` subcommand: adds `bimslam bim info` and `bimslam bim mesh`.
 void AddBimCommands(CLI::App& bim, int& exit_code);
 void AddBimPlanCommand(CLI::App& bim, int& exit_code);
+// `bimslam bim stairs`: the walkable 3D graph (bim/stairs.hpp).
+void AddBimStairsCommand(CLI::App& bim, int& exit_code);
 void AddBim2SessionCommand(CLI::App& app, int& exit_code);
 void AddSimulateCommand(CLI::App& app, int& exit_code);
 void AddOdometryCommand(CLI::App& app, int& exit_code);

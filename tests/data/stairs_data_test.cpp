@@ -1,0 +1,83 @@
+// The walkable 3D graph (host_tools/bim/stairs.hpp) of the real models in ../shared/data/ifc: the
+// stairs their exporters wrote (Revit's IfcStair with IfcStairFlight parts, ArchiCAD's spiral
+// IfcStair with its own geometry) join their floors. Each skips, saying so, when the file is
+// absent.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/bim/building_graph.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::bim {
+namespace {
+
+struct Case {
+    std::string file;
+    std::vector<std::string> floors;  // the storeys one stands in, lowest first
+    // Why the Go1 does not reach the upper floors (a message part), or empty when it does.
+    std::string go1_stopped_by;
+};
+
+class StairsData : public ::testing::TestWithParam<Case> {};
+
+std::string Problems(const BuildingGraph& g) {
+    std::string s;
+    for (const std::string& p : g.problems) s += "\n  " + p;
+    return s;
+}
+
+TEST_P(StairsData, EveryFloorIsReachedByTheStairs) {
+    const Case& c = GetParam();
+    BIMSLAM_REQUIRE_SHARED_DATA(path, "ifc/" + c.file);
+    const BimModel model = LoadIfc(path);
+    for (const bool go1 : {false, true}) {
+        SCOPED_TRACE(go1 ? "Go1" : "handheld");
+        const BuildingGraph g =
+            BuildBuildingGraph(model, GridConfig{}, go1 ? StairLimits::Go1() : StairLimits{},
+                               go1 ? 0.3 : 0.35, DefaultWalkStorey(model));
+        std::vector<std::string> floors, reached;
+        for (const int s : g.floors) floors.push_back(model.storeys[size_t(s)].name);
+        for (const int s : g.reached) reached.push_back(model.storeys[size_t(s)].name);
+        EXPECT_EQ(floors, c.floors);
+        if (go1 && !c.go1_stopped_by.empty()) {
+            // The message names the storey left out and the reason.
+            EXPECT_EQ(reached, std::vector<std::string>{c.floors.front()});
+            EXPECT_NE(Problems(g).find("storey '" + c.floors.back() + "' is not reached from '" +
+                                       c.floors.front() + "'"),
+                      std::string::npos)
+                << Problems(g);
+            EXPECT_NE(Problems(g).find(c.go1_stopped_by), std::string::npos) << Problems(g);
+            continue;
+        }
+        EXPECT_EQ(reached, c.floors) << Problems(g);
+        for (const StairFlight& f : g.flights) {
+            if (!f.Walkable()) continue;
+            // Risers of 0.14-0.22 m, 25-50 degrees (a spiral stair's walking line is steep),
+            // 0.6 m or wider.
+            EXPECT_GT(f.rise_m, 0.14) << f.name;
+            EXPECT_LT(f.rise_m, 0.22) << f.name;
+            EXPECT_GT(f.pitch_deg, 25) << f.name;
+            EXPECT_LT(f.pitch_deg, 50) << f.name;
+            EXPECT_GT(f.width_m, 0.6) << f.name;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, StairsData,
+    ::testing::Values(Case{"AC20-FZK-Haus.ifc",
+                           {"Erdgeschoss", "Dachgeschoss"},
+                           "too steep: it climbs at 47.7 degrees"},
+                      Case{"Duplex_A_20110907.ifc", {"Level 1", "Level 2"}, ""},
+                      Case{"Office_A_20110811.ifc", {"Level 1", "Level 2"}, ""}),
+    [](const auto& param_info) {
+        std::string n = param_info.param.file.substr(0, 6);
+        for (char& ch : n) ch = std::isalnum(uint8_t(ch)) ? ch : '_';
+        return n;
+    });
+
+}  // namespace
+}  // namespace bimslam::bim
