@@ -20,6 +20,13 @@
 // Pose: T_world_base = Trans(x, y, floor_z + base_height + bounce) * Rz(yaw + yaw_osc) *
 // Ry(pitch_osc) * Rx(roll_osc) * Trans(0, sway, 0).
 //
+// Stairs (the PathPoint constructor): the path carries the floor's height under the platform, the
+// flight's slope and a lower pace on flights. The floor height, a step function on a flight (each
+// riser a step up), is smoothed with the planar motion: the body rises one riser per step over
+// about 0.3 s, which is both the bob of climbing and the vertical jolt of each step in the IMU.
+// On a flight the gait's bounce fades out (the steps replace it) and the body pitches by
+// stair_pitch_share of the flight's slope (nose up climbing): Ry(pitch_osc - share * climb).
+//
 // Derivatives (velocities, accelerations, angular rates) are taken by central differences of
 // the pose with h = 0.5 ms: the pose is C2, and the error, O(h^2) times the fourth derivative,
 // is below 1e-3 m/s^2 for the gaits below (far below any IMU's noise).
@@ -58,6 +65,9 @@ struct GaitConfig {
     // Slow hand wobble (handheld): three incommensurate sinusoids (0.31, 0.53, 0.87 Hz) per
     // rotation axis, this amplitude each.
     double wobble_deg = 0.0;
+    // On a flight of stairs the body pitches by this share of the flight's slope: a Go1's trunk
+    // lies along the flight (1); a person holding the rig leans and looks along it (0.5).
+    double stair_pitch_share = 1.0;
 
     static GaitConfig Go1Trot();
     // A person walking at 1.8 steps/s, the sensor held at chest height (base 1.2 m).
@@ -66,6 +76,14 @@ struct GaitConfig {
     // and tenths of a degree of pitch and roll; the base is the roof, 1.5 m above the road.
     static GaitConfig Vehicle();
     void Validate() const;
+};
+
+// A point of a walk over floors and stairs.
+struct PathPoint {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();  // x, y, and the floor's height under the platform
+    double climb_rad = 0.0;      // the floor's slope along the walk, positive up (a flight's pitch)
+    double flight = 0.0;         // 1 on a flight of stairs, 0 on a floor
+    double max_speed_mps = 0.0;  // a slower pace here (a flight); 0: the cruise speed
 };
 
 // Legs FR, FL, RR, RL (the Go1's order).
@@ -79,12 +97,19 @@ public:
     // common::Error for invalid configurations or a non-finite path.
     BodyTrajectory(const std::vector<Eigen::Vector2d>& path, double start_yaw, double floor_z,
                    const PathTiming& timing, const GaitConfig& gait, uint64_t seed = 0);
+    // A walk over floors and stairs (file comment, "Stairs"). floor_z() is the first point's.
+    BodyTrajectory(const std::vector<PathPoint>& path, double start_yaw, const PathTiming& timing,
+                   const GaitConfig& gait, uint64_t seed = 0);
 
     double duration_s() const { return duration_s_ - start_s_; }
     // Where time 0 lies in the walk (PathTiming::start_at_speed; else 0).
     double start_s() const { return start_s_; }
     double length_m() const { return length_m_; }
     double floor_z() const { return floor_z_; }
+    // The floor under the platform at time t (smoothed over each step on a flight), and how much
+    // the platform is on a flight (0 on a floor, 1 on a flight; between while stepping on or off).
+    double FloorZAt(double t) const;
+    double FlightAt(double t) const;
 
     // T_world_base at time t (seconds from the start; clamped to [0, duration]).
     Eigen::Isometry3d Pose(double t) const;
@@ -113,7 +138,15 @@ public:
     Kinematics KinematicsAt(double t, const Eigen::Isometry3d& T_base_frame) const;
 
 private:
+    // The path every 5 cm with its attributes; for a path of Vector2d (flat) exactly as before.
+    struct Resampled {
+        std::vector<Eigen::Vector2d> xy;
+        std::vector<Eigen::Vector3d> profile;  // (floor z, climb, flight); empty when flat
+        std::vector<double> max_speed;         // empty when flat
+    };
+    void Build(const Resampled& path, double start_yaw, const PathTiming& timing, uint64_t seed);
     Eigen::Vector3d SplineAt(double t, int derivative) const;  // (x, y, yaw) or its derivative
+    Eigen::Vector3d ProfileAt(double t) const;  // (floor z, climb, flight); flat: (floor_z, 0, 0)
 
     GaitConfig gait_;
     double floor_z_ = 0;
@@ -122,6 +155,7 @@ private:
     double length_m_ = 0;
     double knot_s_ = 0.01;
     std::vector<Eigen::Vector3d> control_;  // (x, y, yaw) every knot_s_
+    std::vector<Eigen::Vector3d> profile_;  // (floor z, climb, flight) every knot_s_; empty: flat
     std::array<double, 9> wobble_phase_{};
 };
 

@@ -95,6 +95,64 @@ TEST(BodyTrajectory, GaitBouncesAtTwiceItsFrequencyAndAveragesToGravity) {
     EXPECT_TRUE(c1[1] && c1[2] && !c1[0] && !c1[3]);
 }
 
+// A flight in the walk (PathPoint): 2 m flat, 10 risers of 0.18 m over 2.8 m, 2 m flat.
+std::vector<PathPoint> FlightPath() {
+    std::vector<PathPoint> out;
+    const double climb = std::atan2(0.18, 0.28);
+    out.push_back({{0, 0, 0}, 0, 0, 0});
+    out.push_back({{2, 0, 0}, 0, 0, 0});
+    for (int k = 0; k < 10; ++k) {
+        const double x = 2 + 0.28 * k;
+        out.push_back({{x, 0, 0.18 * k}, climb, 1, 0.25});
+        out.push_back({{x + 0.001, 0, 0.18 * (k + 1)}, climb, 1, 0.25});
+    }
+    out.push_back({{4.8, 0, 1.8}, climb, 1, 0.25});
+    out.push_back({{6.8, 0, 1.8}, 0, 0, 0});
+    return out;
+}
+
+TEST(BodyTrajectory, AFlightLiftsTheBodyTreadByTreadAtItsPaceAndPitch) {
+    GaitConfig gait = GaitConfig::Go1Trot();
+    const BodyTrajectory t(FlightPath(), 0.0, PathTiming{}, gait);
+    EXPECT_NEAR(t.floor_z(), 0.0, 1e-12);
+    double max_speed_on_flight = 0, max_pitch = 0;
+    for (double s = 0; s < t.duration_s(); s += 0.02) {
+        const Eigen::Isometry3d T = t.Pose(s);
+        const double x = T.translation().x();
+        if (x > 2.3 && x < 4.5) {
+            max_speed_on_flight = std::max(max_speed_on_flight, t.PlanarAt(s).v_xy.norm());
+            // Nose up (negative about y) by the flight's slope, the trot's 0.8 degrees aside.
+            max_pitch = std::max(max_pitch, -std::asin(-T.linear()(2, 0)));
+            // Over a tread's middle the floor is the tread's; the body above it by its height.
+            const double along = x - 2;
+            const double f = along / 0.28 - std::floor(along / 0.28);
+            if (std::abs(f - 0.5) < 0.1) {
+                const double tread = 0.18 * (std::floor(along / 0.28) + 1);
+                EXPECT_NEAR(t.FloorZAt(s), tread, 0.005) << "x " << x;
+                EXPECT_NEAR(T.translation().z(), tread + gait.base_height_m, 0.005) << "x " << x;
+                EXPECT_GT(t.FlightAt(s), 0.99);
+            }
+        }
+    }
+    EXPECT_LT(max_speed_on_flight, 0.25 + 1e-3);
+    EXPECT_NEAR(max_pitch, std::atan2(0.18, 0.28), 0.02);
+    EXPECT_NEAR(t.FloorZAt(t.duration_s()), 1.8, 1e-6);
+    EXPECT_NEAR(t.FlightAt(t.duration_s()), 0.0, 1e-6);
+}
+
+TEST(BodyTrajectory, AFlatWalkOfPathPointsIsTheWalkOfItsPoints) {
+    // The same walk as a Vector2d path and as PathPoints on a floor at 1.5 m: the same motion.
+    const std::vector<Eigen::Vector2d> flat = LPath();
+    std::vector<PathPoint> points;
+    for (const Eigen::Vector2d& p : flat) points.push_back({{p.x(), p.y(), 1.5}, 0, 0, 0});
+    const BodyTrajectory a(flat, 0.0, 1.5, PathTiming{}, GaitConfig::Handheld(), 3);
+    const BodyTrajectory b(points, 0.0, PathTiming{}, GaitConfig::Handheld(), 3);
+    EXPECT_NEAR(a.duration_s(), b.duration_s(), 1e-9);
+    for (double s = 0; s < a.duration_s(); s += 0.37) {
+        EXPECT_LT((a.Pose(s).matrix() - b.Pose(s).matrix()).norm(), 1e-6) << s;
+    }
+}
+
 TEST(BodyTrajectory, RejectsBadInput) {
     EXPECT_THROW(BodyTrajectory({}, 0, 0, PathTiming{}, GaitConfig{}), common::Error);
     EXPECT_THROW(BodyTrajectory({{0, NAN}}, 0, 0, PathTiming{}, GaitConfig{}), common::Error);
