@@ -88,6 +88,13 @@ int Simulate(const SimulateArgs& a) {
               << "time      " << std::setprecision(2) << r.wall_s << " s, " << std::setprecision(1)
               << r.duration_s / r.wall_s << "x real time\n"
               << "capture   " << a.out << " (capture.json lists the files)\n";
+    if (r.storeys.size() > 1 || !r.unreached_storeys.empty()) {
+        std::cout << "storeys   " << r.storeys.size() << " walked (";
+        for (size_t k = 0; k < r.storeys.size(); ++k) {
+            std::cout << (k ? ", " : "") << "'" << r.storeys[k] << "'";
+        }
+        std::cout << "), " << r.flights_walked << " flights of stairs walked\n";
+    }
     for (const std::string& n : r.notes) std::cout << "note      " << n << "\n";
     if (a.json) {
         nlohmann::json j = {{"capture", a.out},
@@ -106,7 +113,19 @@ int Simulate(const SimulateArgs& a) {
                             {"wall_s", r.wall_s},
                             {"real_time_factor", r.duration_s / r.wall_s},
                             {"notes", r.notes}};
+        if (s.storey == simulate::kAllStoreys) {
+            j["storeys"] = r.storeys;
+            j["flights_walked"] = r.flights_walked;
+            j["unreached_storeys"] = r.unreached_storeys;
+        }
         std::cout << j.dump(2) << "\n";
+    }
+    if (!r.unreached_storeys.empty()) {
+        // The capture of the storeys reached is written; the model's stairs are the bad input.
+        std::cerr << s.model.string() << ": " << r.unreached_storeys.size()
+                  << " storey(s) cannot be reached by the stairs (the notes say why); the walk "
+                     "covers the storeys it reaches\n";
+        return kExitBadInput;
     }
     return kExitOk;
 }
@@ -123,8 +142,10 @@ void AddSimulateCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--model", a->model, "IFC model (overrides the scenario's `model`)");
     cmd->add_option(
         "--storey", a->storey,
-        "storey by name (default: the scenario's, else the lowest with 2 m or more to the "
-        "next: a foundation's level is passed over)");
+        "storey by name, or 'all': every storey the stairs reach, joined by walking them (exit 2 "
+        "when a storey cannot be reached; the capture covers those that can). Default: the "
+        "scenario's, else the lowest with 2 m or more to the next: a foundation's level is "
+        "passed over");
     cmd->add_option("--scenario", a->scenario,
                     "scenario YAML (host_tools/simulate/scenarios/ has examples; default: a Go1 "
                     "coverage walk with default noise)");

@@ -4,6 +4,16 @@
 #include <random>
 
 namespace bimslam::simulate {
+namespace {
+// On stairs (a building walk's flights): each step onto a new tread may slip on its nosing, the
+// foot sliding back off the edge (the velocity reads slip_factor of the truth for a moment); and
+// leg kinematics misjudge each step's height, so the vertical velocity reads high and odom_z
+// drifts with every storey climbed.
+constexpr double kNosingSlipProbability = 0.2;
+constexpr double kNosingSlipS = 0.15;
+constexpr double kStepDetectM = 0.08;  // the floor moved this far: a step onto the next tread
+constexpr double kVerticalScaleError = 0.05;
+}  // namespace
 
 Go1OdometryModel::Go1OdometryModel(const simulation::BodyTrajectory& trajectory,
                                    const OdometryNoiseSpec& noise,
@@ -21,6 +31,17 @@ Go1OdometryModel::Go1OdometryModel(const simulation::BodyTrajectory& trajectory,
     }
 }
 
+void Go1OdometryModel::StairSteps(double t, std::mt19937_64& rng) {
+    const double z = trajectory_.FloorZAt(t);
+    if (index_ == 0) step_z_ = z;
+    if (std::abs(z - step_z_) < kStepDetectM) return;
+    step_z_ = z;
+    if (std::uniform_real_distribution<double>(0, 1)(rng) < kNosingSlipProbability) {
+        slips_.push_back({t, t + kNosingSlipS});
+        ++nosing_slips_;
+    }
+}
+
 can::Go1Sample Go1OdometryModel::Next(double t) {
     const simulation::BodyTrajectory::Planar p = trajectory_.PlanarAt(t);
     const simulation::BodyTrajectory::Kinematics k =
@@ -33,6 +54,7 @@ can::Go1Sample Go1OdometryModel::Next(double t) {
     Eigen::Vector2d v = R.inverse() * p.v_xy;
     v *= 1.0 + noise_.scale_error;
     v += noise_.velocity_sigma_mps * Eigen::Vector2d(normal(rng), normal(rng));
+    StairSteps(t, rng);
     for (const SlipInterval& s : slips_) {
         if (t >= s.begin_s && t < s.end_s) v *= noise_.slip_factor;
     }
@@ -43,6 +65,10 @@ can::Go1Sample Go1OdometryModel::Next(double t) {
     odom_yaw_ += yaw_rate * dt;
     odom_x_ += dt * (std::cos(odom_yaw_) * v.x() - std::sin(odom_yaw_) * v.y());
     odom_y_ += dt * (std::sin(odom_yaw_) * v.x() + std::cos(odom_yaw_) * v.y());
+    if (trajectory_.FlightAt(t) > 0) {
+        // On a flight: the step heights read high, and odom_z integrates them.
+        odom_z_ += dt * k.v_world.z() * (1.0 + kVerticalScaleError);
+    }
     last_t_ = t;
 
     can::Go1Sample s;
@@ -57,7 +83,7 @@ can::Go1Sample Go1OdometryModel::Next(double t) {
     // frame" (velocity[3] = forwardSpeed, sideSpeed, rotateSpeed), not a vertical speed
     // (drivers/go1/README.md, "Field meanings"): the robot's yaw rate, as the SDK says.
     s.vz = yaw_rate;
-    s.body_height = k.T_world_frame.translation().z() - trajectory_.floor_z();
+    s.body_height = k.T_world_frame.translation().z() - trajectory_.FloorZAt(t);
     s.foot_raise_height = 0.08;
     const simulation::ImuMeasurement imu =
         imu_.Measure(index_, k.specific_force_frame, k.omega_frame);
@@ -79,7 +105,7 @@ can::Go1Sample Go1OdometryModel::Next(double t) {
     }
     s.odom_x = odom_x_;
     s.odom_y = odom_y_;
-    s.odom_z = 0.0;
+    s.odom_z = odom_z_;
     s.odom_yaw = std::remainder(odom_yaw_, 2 * M_PI);
     s.mode = 2;          // VEL_WALK
     s.gait = 1;          // TROT

@@ -6,11 +6,14 @@
 //   yaw_rate = true planar yaw rate + yaw drift (a constant bias);
 //   odom_x, odom_y, odom_yaw: those integrated from 0 (Unitree's own dead reckoning);
 //   gyro, accel: the trunk IMU (true rate and specific force of the base, with the IMU noise);
+//   on a flight of stairs: a step onto a tread slips on its nosing with probability 0.2 (0.15 s
+//   at slip_factor), vz reads 5 % high and odom_z integrates it (0 on a single storey);
 //   quat: roll and pitch true, yaw the drifting odometry yaw (the Go1's estimator cannot observe
 //   yaw); foot contacts from the gait; body height; mode VEL_WALK, gait TROT.
 #pragma once
 
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "algorithms/simulation/body_trajectory.hpp"
@@ -35,8 +38,13 @@ public:
 
     const std::vector<SlipInterval>& slips() const { return slips_; }
     double yaw_drift_radps() const { return yaw_drift_; }
+    size_t nosing_slips() const { return nosing_slips_; }
 
 private:
+    // A step up or down a flight: the floor under the body moved by a riser since the last one;
+    // it may slip on the nosing (added to slips_).
+    void StairSteps(double t, std::mt19937_64& rng);
+
     const simulation::BodyTrajectory& trajectory_;
     OdometryNoiseSpec noise_;
     simulation::ImuModel imu_;
@@ -45,7 +53,9 @@ private:
     std::vector<SlipInterval> slips_;
     uint64_t index_ = 0;
     double last_t_ = 0;
-    double odom_x_ = 0, odom_y_ = 0, odom_yaw_ = 0;
+    double odom_x_ = 0, odom_y_ = 0, odom_yaw_ = 0, odom_z_ = 0;
+    double step_z_ = 0;
+    size_t nosing_slips_ = 0;
 };
 
 }  // namespace bimslam::simulate

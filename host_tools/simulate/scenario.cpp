@@ -106,6 +106,10 @@ void ValidatePath(const PathSpec& p) {
     for (size_t i = 0; i < p.waypoints.size(); ++i) {
         RequireFinite(ItemPath("path.waypoints", i), p.waypoints[i]);
     }
+    Require(
+        p.waypoint_storeys.empty() || p.waypoint_storeys.size() == p.waypoints.size(),
+        "path.waypoint_storeys", std::to_string(p.waypoint_storeys.size()) + " names",
+        ("must name one storey per waypoint (" + std::to_string(p.waypoints.size()) + ")").c_str());
     if (p.start) {
         RequireFinite("path.start.xy", p.start->xy);
         RequireFinite("path.start.yaw_deg", p.start->yaw_deg);

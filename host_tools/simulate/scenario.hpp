@@ -33,6 +33,9 @@ struct Pose2d {
 struct PathSpec {
     PathMode mode = PathMode::kCoverage;
     std::vector<Eigen::Vector2d> waypoints;  // kWaypoints: visited in order (at least 1)
+    // storey: all: the storey of each waypoint (by name); empty: every waypoint on the start
+    // storey. A* over the building's 3D graph joins them (building_walk.hpp).
+    std::vector<std::string> waypoint_storeys;
     // Where the walk starts; may be outside the building (it then walks in through a door).
     // Without it: the coverage walk's first viewpoint, or the first waypoint, facing along the
     // walk.
@@ -231,9 +234,13 @@ struct EditsSpec {
     bool operator==(const EditsSpec&) const = default;
 };
 
+// storey: all walks every storey the stairs reach (building_walk.hpp).
+inline constexpr const char* kAllStoreys = "all";
+
 struct Scenario {
     std::filesystem::path model;  // IFC file; relative to the scenario file (--model overrides)
-    std::string storey;           // empty: bim::DefaultWalkStorey
+    // empty: bim::DefaultWalkStorey; "all" (kAllStoreys): every storey the stairs reach
+    std::string storey;
     Platform platform = Platform::kGo1;
     PathSpec path;
     SpeedSpec speed;

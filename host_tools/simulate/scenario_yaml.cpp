@@ -348,9 +348,10 @@ Scenario ReadScenario(Reader& r, const Node& root) {
     r.Get(root, "", "storey", s.storey);
 
     const Node path = Reader::At(root, "path");
-    r.Keys(path, "path", {"mode", "waypoints", "start"});
+    r.Keys(path, "path", {"mode", "waypoints", "waypoint_storeys", "start"});
     r.Get(path, "path", "mode", s.path.mode);
     r.Get(path, "path", "waypoints", s.path.waypoints);
+    r.Get(path, "path", "waypoint_storeys", s.path.waypoint_storeys);
     // `start: ~` clears it (no start: the walk's own first point).
     if (const Node start = Reader::At(path, "start"); start.IsDefined()) {
         s.path.start.reset();

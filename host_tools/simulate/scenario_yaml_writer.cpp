@@ -149,6 +149,7 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.Key("waypoints").out() << YAML::Flow << YAML::BeginSeq;
     for (const auto& p : s.path.waypoints) w.VecValue(p);
     out << YAML::EndSeq;
+    if (!s.path.waypoint_storeys.empty()) w.StrList("waypoint_storeys", s.path.waypoint_storeys);
     if (s.path.start) {
         w.BeginMap("start");
         w.Vec("xy", s.path.start->xy);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
@@ -17,6 +18,7 @@
 #include "drivers/net/can_pcap.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "host_tools/bim/lidar_from_metadata.hpp"
+#include "host_tools/simulate/building_walk.hpp"
 #include "host_tools/simulate/go1_odometry.hpp"
 #include "host_tools/simulate/ouster_writer.hpp"
 #include "host_tools/simulate/rig_body.hpp"
@@ -52,14 +54,19 @@ simulation::GaitConfig GaitFor(Platform p) {
     return simulation::GaitConfig::Go1Trot();
 }
 
-// The trajectory, its walk repeated until it lasts `duration_s` (0: once).
-simulation::BodyTrajectory MakeTrajectory(const Walk& walk, const Scenario& s, size_t* laps) {
+simulation::PathTiming TimingFor(const Scenario& s) {
     simulation::PathTiming timing;
     timing.speed_mps = s.speed.speed_mps;
     timing.max_accel_mps2 = s.speed.max_accel_mps2;
     timing.max_yaw_rate_radps = s.speed.max_yaw_rate_deg_s * kDeg;
     timing.max_lateral_accel_mps2 = s.speed.max_lateral_accel_mps2;
     timing.start_at_speed = s.speed.start_at_speed;
+    return timing;
+}
+
+// The trajectory, its walk repeated until it lasts `duration_s` (0: once).
+simulation::BodyTrajectory MakeTrajectory(const Walk& walk, const Scenario& s, size_t* laps) {
+    const simulation::PathTiming timing = TimingFor(s);
     *laps = 1;
     for (;;) {
         simulation::BodyTrajectory t(RepeatWalk(walk, *laps), walk.start_yaw, walk.floor_z, timing,
@@ -68,6 +75,73 @@ simulation::BodyTrajectory MakeTrajectory(const Walk& walk, const Scenario& s, s
         *laps =
             std::max(*laps + 1, size_t(std::ceil(s.duration_s / t.duration_s() * double(*laps))));
     }
+}
+
+// A whole building's trajectory (storey: all), its walk repeated as MakeTrajectory does.
+simulation::BodyTrajectory MakeBuildingTrajectory(const BuildingWalk& walk, const Scenario& s,
+                                                  size_t* laps) {
+    const simulation::PathTiming timing = TimingFor(s);
+    *laps = 1;
+    for (;;) {
+        simulation::BodyTrajectory t(RepeatBuildingWalk(walk, *laps, /*closed=*/true),
+                                     walk.start_yaw, timing, GaitFor(s.platform), s.seed);
+        if (t.duration_s() >= s.duration_s) return t;
+        *laps =
+            std::max(*laps + 1, size_t(std::ceil(s.duration_s / t.duration_s() * double(*laps))));
+    }
+}
+
+// The motion of the capture: one storey's walk (PlanWalk), or the whole building's
+// (PlanBuildingWalk, storey: all), and what the capture's files say about it.
+struct Motion {
+    std::optional<simulation::BodyTrajectory> trajectory;
+    int storey = 0;  // the storey walked, or where a building walk starts
+    bool all_storeys = false;
+    size_t laps = 1, waypoints = 0, flights_walked = 0;
+    bool starts_outside = false;
+    std::vector<std::string> notes;
+    bim::OccupancyGrid grid;              // of `storey`, for clutter
+    std::vector<Eigen::Vector2d> points;  // the walk on `storey`, which clutter keeps clear of
+    std::vector<int> storeys;             // walked, in order
+    std::vector<std::string> unreached;   // floors the stairs do not reach
+};
+
+Motion PlanMotion(const Scenario& s, const bim::BimModel& model) {
+    Motion m;
+    m.all_storeys = s.storey == kAllStoreys;
+    if (!m.all_storeys && !s.path.waypoint_storeys.empty()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "path.waypoint_storeys: only with storey: all (a walk of one storey "
+                            "has its waypoints on it)");
+    }
+    if (!m.all_storeys) {
+        m.storey =
+            s.storey.empty() ? bim::DefaultWalkStorey(model) : bim::FindStorey(model, s.storey);
+        Walk walk = PlanWalk(model, m.storey, s);
+        m.trajectory.emplace(MakeTrajectory(walk, s, &m.laps));
+        m.waypoints = walk.waypoints;
+        m.starts_outside = walk.starts_outside;
+        m.notes = walk.notes;
+        m.grid = std::move(walk.grid);
+        m.points = std::move(walk.points);
+        if (!model.storeys.empty()) m.storeys = {m.storey};
+        return m;
+    }
+    BuildingWalk walk = PlanBuildingWalk(model, s);
+    m.trajectory.emplace(MakeBuildingTrajectory(walk, s, &m.laps));
+    m.storey = walk.graph.start;
+    m.waypoints = walk.waypoints;
+    m.flights_walked = walk.flights_walked;
+    m.notes = walk.notes;
+    m.grid = walk.graph.grids[size_t(m.storey)];
+    for (const simulation::PathPoint& p : walk.points) {
+        if (std::abs(p.p.z() - m.grid.floor_z) < 1e-6) m.points.push_back(p.p.head<2>());
+    }
+    m.storeys = walk.storeys;
+    for (const int f : walk.graph.floors) {
+        if (!walk.graph.Reaches(f)) m.unreached.push_back(model.storeys[size_t(f)].name);
+    }
+    return m;
 }
 
 simulation::NoiseModel LidarNoise(const LidarNoiseSpec& spec, const ouster::SensorInfo& info) {
@@ -176,6 +250,7 @@ uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& 
                           {"yaw_drift_radps", model.yaw_drift_radps()},
                           {"slips_s", slips},
                           {"slip_factor", s.noise.odometry.slip_factor}};
+    if (model.nosing_slips() > 0) (*manifest)["go1"]["nosing_slips"] = model.nosing_slips();
     return written;
 }
 
@@ -190,40 +265,47 @@ void ColumnPoses(const simulation::BodyTrajectory& trajectory,
     }
 }
 
-CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
-                              const std::string& model_sha256, const std::filesystem::path& dir,
-                              const std::function<void(double)>& progress) {
-    const auto wall_start = std::chrono::steady_clock::now();
-    s.Validate();
-    if (!model.origin_m.isZero()) {
-        throw common::Error(common::StatusCode::kInvalidArgument,
-                            model.file +
-                                ": the geometry lies more than 10 km from the model's "
-                                "origin; the simulator needs it near the origin");
-    }
-    const int storey =
-        s.storey.empty() ? bim::DefaultWalkStorey(model) : bim::FindStorey(model, s.storey);
-    const Walk walk = PlanWalk(model, storey, s);
-    CaptureReport r;
-    r.dir = dir;
-    const simulation::BodyTrajectory trajectory = MakeTrajectory(walk, s, &r.laps);
-    const double end_s = s.duration_s > 0 ? s.duration_s : trajectory.duration_s();
-    r.walk_length_m = trajectory.length_m();
-    // What the capture covers: the planar path every 0.1 s up to its end (a --duration shorter
-    // than the walk covers part of it).
+namespace {
+
+// What the report says of the motion; the captured length is the planar path every 0.1 s up to
+// the capture's end (a --duration shorter than the walk covers part of it).
+void DescribeMotion(const Motion& motion, const bim::BimModel& model, double end_s,
+                    CaptureReport* r) {
+    const simulation::BodyTrajectory& trajectory = *motion.trajectory;
+    r->laps = motion.laps;
+    r->walk_length_m = trajectory.length_m();
     Eigen::Vector2d last = trajectory.PlanarAt(0).xy;
     for (int k = 1; k <= int(std::ceil(end_s / 0.1)); ++k) {
         const Eigen::Vector2d xy = trajectory.PlanarAt(std::min(0.1 * k, end_s)).xy;
-        r.captured_length_m += (xy - last).norm();
+        r->captured_length_m += (xy - last).norm();
         last = xy;
     }
-    r.starts_outside = walk.starts_outside;
-    r.notes = walk.notes;
-    if (!model.storeys.empty()) r.storey = model.storeys[size_t(storey)].name;
+    r->starts_outside = motion.starts_outside;
+    r->notes = motion.notes;
+    if (!model.storeys.empty()) r->storey = model.storeys[size_t(motion.storey)].name;
+    for (const int k : motion.storeys) r->storeys.push_back(model.storeys[size_t(k)].name);
+    r->flights_walked = motion.flights_walked;
+    r->unreached_storeys = motion.unreached;
+}
 
-    World world = BuildWorld(model, storey, s.edits, walk.grid, walk.points, s.seed);
+simulation::ImuNoise ImuNoiseFor(const Scenario& s) {
+    simulation::ImuNoise imu_noise;
+    imu_noise.accel_sigma_mps2 = s.noise.imu.accel_sigma_mps2;
+    imu_noise.gyro_sigma_radps = s.noise.imu.gyro_sigma_deg_s * kDeg;
+    imu_noise.accel_bias_sigma_mps2 = s.noise.imu.accel_bias_sigma_mps2;
+    imu_noise.gyro_bias_sigma_radps = s.noise.imu.gyro_bias_sigma_deg_s * kDeg;
+    return imu_noise;
+}
+
+// The lidar frames and IMU packets of the walk into `writer`; returns the ground truth (the
+// sensor's pose at column 0 of each frame).
+std::vector<io::StampedPose> CastFrames(const simulation::BodyTrajectory& trajectory,
+                                        const World& world, const Scenario& s,
+                                        const ouster::SensorInfo& info,
+                                        const simulation::ImuModel& imu, size_t frames,
+                                        double end_s, OusterWriter& writer,
+                                        const std::function<void(double)>& progress) {
     const simulation::Scene scene(world.mesh, world.ids, world.materials);
-    const ouster::SensorInfo info = SensorFor(s.sensor);
     const simulation::LidarModel lidar = bim::LidarModelFromSensorInfo(info);
     const simulation::NoiseModel noise = LidarNoise(s.noise.lidar, info);
     const Eigen::Isometry3d T_base_sensor = MountTransform(s.sensor);
@@ -236,21 +318,9 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     // them into the IMU's frame, drivers/ouster/packet_encoder.hpp).
     Eigen::Isometry3d T_base_imu = T_base_sensor;
     T_base_imu.translate(Eigen::Vector3d(info.imu_to_sensor_transform.block<3, 1>(0, 3) * 1e-3));
-    simulation::ImuNoise imu_noise;
-    imu_noise.accel_sigma_mps2 = s.noise.imu.accel_sigma_mps2;
-    imu_noise.gyro_sigma_radps = s.noise.imu.gyro_sigma_deg_s * kDeg;
-    imu_noise.accel_bias_sigma_mps2 = s.noise.imu.accel_bias_sigma_mps2;
-    imu_noise.gyro_bias_sigma_radps = s.noise.imu.gyro_bias_sigma_deg_s * kDeg;
-    const simulation::ImuModel imu(imu_noise, s.seed ^ 0x1A0ull);
-
-    std::filesystem::create_directories(dir);
-    io::WriteFileAtomic(dir / "metadata.json", ouster::SerializeMetadata(info));
-    net::PcapWriter pcap(dir / "lidar.pcap");
-    OusterWriter writer(info, pcap, s.network, s.seed, kHostMinusSensorNs);
 
     const int w = lidar.columns;
     const double period_s = 1.0 / lidar.frame_rate_hz;
-    const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
     std::vector<io::StampedPose> truth;
     std::vector<uint64_t> column_ns(static_cast<size_t>(w));
     std::vector<ouster::ImuSample> imu_batch;
@@ -297,36 +367,20 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     }
     take_imu_until(end_s);
     writer.WriteImu(imu_batch);
-    pcap.Close();
-    io::WriteTum(dir / "ground_truth.tum", truth);
+    return truth;
+}
 
-    json manifest;
-    if (s.platform == Platform::kGo1) {
-        r.can_frames = WriteCan(trajectory, s, imu_noise, end_s, dir, &manifest);
-    }
-    const json changes = WriteChanges(world, dir);
-    io::WriteFileAtomic(dir / "changes.json", changes.dump(2) + "\n");
-    io::WriteFileAtomic(dir / "scenario.yaml", ScenarioToYaml(s));
-
-    r.duration_s = end_s;
-    r.frames = frames;
-    r.lidar_packets = writer.stats().lidar_packets;
-    r.imu_packets = writer.stats().imu_packets;
-    r.lost_packets = writer.stats().lost_packets;
-    r.pcap_bytes = std::filesystem::file_size(dir / "lidar.pcap");
-    r.added_objects = changes["added"].size();
-    r.removed_elements = changes["removed"].size();
-    r.moved_elements = changes["moved"].size();
-    r.people = world.people.size();
-
+// capture.json (the Go1's part already in `manifest`, from WriteCan).
+void WriteManifest(const Scenario& s, const bim::BimModel& model, const std::string& model_sha256,
+                   const ouster::SensorInfo& info, const simulation::ImuModel& imu,
+                   const simulation::ImuNoise& imu_noise, const Motion& motion,
+                   const CaptureReport& r, const std::filesystem::path& dir, json manifest) {
     std::vector<double> mount(16);
-    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(mount.data()) = T_base_sensor.matrix();
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(mount.data()) =
+        MountTransform(s.sensor).matrix();
     manifest["format"] = "bimslam-capture";
     manifest["version"] = 1;
-    manifest["model"] = {
-        {"file", model.file},
-        {"sha256", model_sha256},
-        {"storey", model.storeys.empty() ? "" : model.storeys[size_t(storey)].name}};
+    manifest["model"] = {{"file", model.file}, {"sha256", model_sha256}, {"storey", r.storey}};
     manifest["platform"] = ToString(s.platform);
     manifest["files"] = {{"lidar_pcap", "lidar.pcap"},
                          {"metadata", "metadata.json"},
@@ -354,17 +408,88 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
                        {"gyro_bias_radps", Vec(imu.gyro_bias())},
                        {"accel_sigma_mps2", imu_noise.accel_sigma_mps2},
                        {"gyro_sigma_radps", imu_noise.gyro_sigma_radps}};
-    manifest["walk"] = {{"duration_s", end_s},
+    manifest["walk"] = {{"duration_s", r.duration_s},
                         {"length_m", r.walk_length_m},
                         {"laps", r.laps},
                         {"starts_outside", r.starts_outside},
-                        {"waypoints", walk.waypoints}};
-    manifest["packets"] = {{"frames", frames},
+                        {"waypoints", motion.waypoints}};
+    if (motion.all_storeys) {
+        manifest["files"]["ground_truth_storeys"] = "ground_truth_storeys.csv";
+        manifest["model"]["storey"] = kAllStoreys;
+        manifest["model"]["start_storey"] = r.storey;
+        manifest["walk"]["storeys"] = r.storeys;
+        manifest["walk"]["flights_walked"] = r.flights_walked;
+        manifest["walk"]["notes"] = r.notes;
+    }
+    manifest["packets"] = {{"frames", r.frames},
                            {"lidar", r.lidar_packets},
                            {"imu", r.imu_packets},
                            {"lost", r.lost_packets},
                            {"fragmented", s.network.fragment}};
     io::WriteFileAtomic(dir / "capture.json", manifest.dump(2) + "\n");
+}
+
+}  // namespace
+
+CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
+                              const std::string& model_sha256, const std::filesystem::path& dir,
+                              const std::function<void(double)>& progress) {
+    const auto wall_start = std::chrono::steady_clock::now();
+    s.Validate();
+    if (!model.origin_m.isZero()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            model.file +
+                                ": the geometry lies more than 10 km from the model's "
+                                "origin; the simulator needs it near the origin");
+    }
+    // The walk and its motion, the world as built, the sensor.
+    const Motion motion = PlanMotion(s, model);
+    const simulation::BodyTrajectory& trajectory = *motion.trajectory;
+    const double end_s = s.duration_s > 0 ? s.duration_s : trajectory.duration_s();
+    CaptureReport r;
+    r.dir = dir;
+    DescribeMotion(motion, model, end_s, &r);
+    const World world =
+        BuildWorld(model, motion.storey, s.edits, motion.grid, motion.points, s.seed);
+    const ouster::SensorInfo info = SensorFor(s.sensor);
+    const simulation::ImuNoise imu_noise = ImuNoiseFor(s);
+    const simulation::ImuModel imu(imu_noise, s.seed ^ 0x1A0ull);
+
+    // The lidar and its IMU, the ground truth.
+    std::filesystem::create_directories(dir);
+    io::WriteFileAtomic(dir / "metadata.json", ouster::SerializeMetadata(info));
+    net::PcapWriter pcap(dir / "lidar.pcap");
+    OusterWriter writer(info, pcap, s.network, s.seed, kHostMinusSensorNs);
+    const double period_s = 1.0 / double(bim::LidarModelFromSensorInfo(info).frame_rate_hz);
+    const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
+    const std::vector<io::StampedPose> truth =
+        CastFrames(trajectory, world, s, info, imu, frames, end_s, writer, progress);
+    pcap.Close();
+    io::WriteTum(dir / "ground_truth.tum", truth);
+    if (motion.all_storeys) WriteStoreyTruth(trajectory, model, truth, dir);
+
+    // The Go1's CAN, the edits' truth, the scenario as run, the manifest.
+    json manifest;
+    if (s.platform == Platform::kGo1) {
+        r.can_frames = WriteCan(trajectory, s, imu_noise, end_s, dir, &manifest);
+    }
+    json changes = WriteChanges(world, dir);
+    if (motion.all_storeys) AddStoreys(model, changes);
+    io::WriteFileAtomic(dir / "changes.json", changes.dump(2) + "\n");
+    io::WriteFileAtomic(dir / "scenario.yaml", ScenarioToYaml(s));
+
+    r.duration_s = end_s;
+    r.frames = frames;
+    r.lidar_packets = writer.stats().lidar_packets;
+    r.imu_packets = writer.stats().imu_packets;
+    r.lost_packets = writer.stats().lost_packets;
+    r.pcap_bytes = std::filesystem::file_size(dir / "lidar.pcap");
+    r.added_objects = changes["added"].size();
+    r.removed_elements = changes["removed"].size();
+    r.moved_elements = changes["moved"].size();
+    r.people = world.people.size();
+    WriteManifest(s, model, model_sha256, info, imu, imu_noise, motion, r, dir,
+                  std::move(manifest));
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return r;
 }

@@ -4,6 +4,7 @@
 //   metadata.json       the sensor's metadata, Ouster layout
 //   go1_can.log/.pcap   the Go1 bridge's CAN frames, candump -l and link type 227 (Go1 only)
 //   ground_truth.tum    T_bim_sensor at column 0 of every lidar frame, stamped in the sensor clock
+//   ground_truth_storeys.csv  (storey: all) per frame: the storey under it, on a flight or not
 //   changes.json        the ground truth of the scene edits (world.hpp), changes/*.ply
 //   scenario.yaml       the scenario as run (defaults filled in)
 //   capture.json        the manifest: files, clocks, sensor, mount, IMU biases, odometry errors
@@ -37,7 +38,10 @@ struct CaptureReport {
     double captured_length_m = 0;  // of it in the captured duration
     size_t laps = 1;
     bool starts_outside = false;
-    std::string storey;  // walked (empty: the model has no storeys)
+    std::string storey;  // walked, or where a building walk starts (empty: no storeys)
+    std::vector<std::string> storeys;            // walked, in the order first entered
+    size_t flights_walked = 0;                   // flights of stairs walked, each way counted
+    std::vector<std::string> unreached_storeys;  // storey: all: floors the stairs do not reach
     size_t frames = 0;
     uint64_t lidar_packets = 0, imu_packets = 0, lost_packets = 0;
     uint64_t can_frames = 0;

@@ -15,27 +15,6 @@ namespace {
 // A turning radius of a small car at town speed: its corners at 3 m/s take about 1.8 m/s^2.
 constexpr double kVehicleTurnRadiusM = 5.0;
 
-bim::PathConfig PathConfigFor(const Scenario& s) {
-    bim::PathConfig c;
-    // Half the platform's width plus room: a Go1 is 0.3 m wide, a person a little wider, a car
-    // 1.8 m.
-    switch (s.platform) {
-        case Platform::kGo1:
-            c.clearance_m = 0.3;
-            break;
-        case Platform::kHandheld:
-            c.clearance_m = 0.35;
-            break;
-        case Platform::kVehicle:
-            c.clearance_m = 1.2;
-            c.room_split_m = c.clearance_m;  // (rooms matter to a coverage walk only)
-            break;
-    }
-    c.speed_mps = s.speed.speed_mps;
-    c.max_yaw_rate_radps = s.speed.max_yaw_rate_deg_s * M_PI / 180.0;
-    return c;
-}
-
 void Append(std::vector<Eigen::Vector2d>& walk, const std::vector<Eigen::Vector2d>& leg) {
     for (const Eigen::Vector2d& p : leg) {
         if (walk.empty() || (walk.back() - p).norm() > 1e-9) walk.push_back(p);
@@ -82,6 +61,27 @@ bim::OccupancyGrid OutdoorGrid(const bim::BimModel& model, int storey, bim::Grid
 }
 
 }  // namespace
+
+bim::PathConfig PathConfigFor(const Scenario& s) {
+    bim::PathConfig c;
+    // Half the platform's width plus room: a Go1 is 0.3 m wide, a person a little wider, a car
+    // 1.8 m.
+    switch (s.platform) {
+        case Platform::kGo1:
+            c.clearance_m = 0.3;
+            break;
+        case Platform::kHandheld:
+            c.clearance_m = 0.35;
+            break;
+        case Platform::kVehicle:
+            c.clearance_m = 1.2;
+            c.room_split_m = c.clearance_m;  // (rooms matter to a coverage walk only)
+            break;
+    }
+    c.speed_mps = s.speed.speed_mps;
+    c.max_yaw_rate_radps = s.speed.max_yaw_rate_deg_s * M_PI / 180.0;
+    return c;
+}
 
 Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
     Walk w;

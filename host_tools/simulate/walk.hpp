@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "host_tools/bim/bim_model.hpp"
+#include "host_tools/bim/coverage_path.hpp"
 #include "host_tools/bim/occupancy_grid.hpp"
 #include "host_tools/simulate/scenario.hpp"
 
@@ -30,6 +31,10 @@ struct Walk {
     // doorway), with the area; the walk does not go there.
     std::vector<std::string> notes;
 };
+
+// The grid planner's settings for the scenario's platform: its clearance (0.3 m for a Go1, 0.35 m
+// for a person, 1.2 m for a vehicle), speed and yaw rate.
+bim::PathConfig PathConfigFor(const Scenario& scenario);
 
 // Throws common::Error naming what cannot be walked (a waypoint in a wall, a start outside with
 // no door to the outside, a storey without free space).
