@@ -1,9 +1,11 @@
-// `bimslam bim plan` and `bimslam bim2session` as a user runs them: files, exit codes, messages.
+// `bimslam bim plan`, `bimslam bim stairs` and `bimslam bim2session` as a user runs them: files,
+// exit codes, messages.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/session.hpp"
@@ -209,6 +211,47 @@ TEST(SimulateCli, StartsOutsideThroughADoor) {
     ASSERT_FALSE(truth.empty());
     EXPECT_LT(truth.front().translation.x(), -4.0);  // outdoors at first
     EXPECT_GT(truth.back().translation.x(), 0.5);    // inside after 40 s
+}
+
+// The sample office's stair joins its storeys; with the flight's geometry taken out of the file
+// (IfcStair and IfcStairFlight left without a representation) the first floor cannot be reached:
+// `bim stairs` and `simulate --storey all` name the storey and the reason and exit 2, and the
+// simulator still writes the capture of the ground floor.
+TEST(BimCli, AStairThatCannotBeWalkedIsNamedWithItsStoreysAndExits2) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    const auto ok = test::RunCommand(kCli + " bim stairs " + model.string() + " --json");
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    const auto graph = nlohmann::json::parse(ok.out);
+    EXPECT_TRUE(graph.at("all_reached").get<bool>());
+    ASSERT_EQ(graph.at("flights").size(), 1u);
+    EXPECT_EQ(graph["flights"][0].at("risers"), 16);
+    EXPECT_EQ(graph["flights"][0].at("lower"), "Ground Floor");
+    EXPECT_EQ(graph["flights"][0].at("upper"), "First Floor");
+
+    const std::regex flight(R"((IFCSTAIRFLIGHT\('[^']*',#\d+,'[^']*',\$,\$,#\d+,)#\d+)");
+    const std::string text = io::ReadFileToString(model);
+    ASSERT_TRUE(std::regex_search(text, flight));
+    const fs::path broken = tmp / "no_flight.ifc";
+    io::WriteFileAtomic(broken, std::regex_replace(text, flight, "$1$$"));
+    const std::string reason =
+        "storey 'First Floor' is not reached from 'Ground Floor': the model has no stair or ramp "
+        "with geometry";
+    const auto stairs = test::RunCommand(kCli + " bim stairs " + broken.string());
+    EXPECT_EQ(stairs.exit_code, 2) << stairs.err;
+    EXPECT_NE(stairs.err.find(reason), std::string::npos) << stairs.err;
+    EXPECT_NE(stairs.err.find(broken.string()), std::string::npos) << stairs.err;
+
+    const fs::path capture = tmp / "capture";
+    const auto sim = test::RunCommand(kCli + " simulate --model " + broken.string() +
+                                      " --storey all --duration 2 -o " + capture.string());
+    EXPECT_EQ(sim.exit_code, 2) << sim.err;
+    EXPECT_NE(sim.out.find(reason), std::string::npos) << sim.out;
+    EXPECT_NE(sim.err.find("1 storey(s) cannot be reached by the stairs"), std::string::npos)
+        << sim.err;
+    const auto manifest = nlohmann::json::parse(io::ReadFileToString(capture / "capture.json"));
+    EXPECT_EQ(manifest["walk"]["storeys"], nlohmann::json::array({"Ground Floor"}));
+    EXPECT_TRUE(fs::exists(capture / "ground_truth_storeys.csv"));
 }
 
 }  // namespace
