@@ -96,14 +96,19 @@ TruthChanges ReadTruthChanges(const std::filesystem::path& file) {
                 Eigen::AlignedBox3d(Vec3(file, a.at("box_min"), "added.box_min"),
                                     Vec3(file, a.at("box_max"), "added.box_max")),
                 {}};
+            added.beam_hits = a.value("beam_hits", -1L);
             if (a.contains("mesh")) {
                 added.mesh = io::MeshFromPly(
                     io::ReadPly(file.parent_path() / a.at("mesh").get<std::string>()));
             }
             t.added.push_back(std::move(added));
         }
-        for (const json& r : j.at("removed"))
+        for (const json& r : j.at("removed")) {
             t.removed.push_back(r.at("global_id").get<std::string>());
+            if (r.contains("beam_hits")) {
+                t.removed_beam_hits[t.removed.back()] = r.at("beam_hits").get<long>();
+            }
+        }
         for (const json& m : j.at("moved")) {
             TruthChanges::Moved mv;
             mv.global_id = m.at("global_id").get<std::string>();
@@ -295,6 +300,35 @@ void ScoreBoxes(const std::vector<Eigen::AlignedBox3d>& truth,
     }
 }
 
+// The scores of what the walk saw: recall over the true objects with enough beam hits (a true
+// object counts as matched when a found one matched it); precision as for all of them.
+void ScoreSeen(const TruthChanges& truth, const std::vector<int>& found_match,
+               const EvaluationConfig& config, ChangeEvaluation* ev) {
+    std::vector<bool> matched(truth.added.size(), false);
+    for (const int t : found_match) {
+        if (t >= 0) matched[size_t(t)] = true;
+    }
+    ev->added_seen = ev->added;
+    ev->added_seen_large = ev->added_large;
+    ev->added_seen.truth = ev->added_seen.truth_matched = 0;
+    ev->added_seen_large.truth = ev->added_seen_large.truth_matched = 0;
+    for (size_t t = 0; t < truth.added.size(); ++t) {
+        const TruthChanges::Added& a = truth.added[t];
+        const bool large = a.box.sizes().maxCoeff() >= config.large_object_m;
+        if (a.beam_hits >= 0 && a.beam_hits < config.min_seen_beam_hits) {
+            ++ev->added_out_of_sight;
+            ev->added_large_out_of_sight += large;
+            continue;
+        }
+        ++ev->added_seen.truth;
+        ev->added_seen.truth_matched += matched[t];
+        if (large) {
+            ++ev->added_seen_large.truth;
+            ev->added_seen_large.truth_matched += matched[t];
+        }
+    }
+}
+
 }  // namespace
 
 ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,
@@ -305,6 +339,7 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
     for (const auto& o : found.objects) found_boxes.push_back(o.box);
     std::vector<int> found_match;
     ScoreBoxes(truth_boxes, found_boxes, config, &ev.added, &ev.added_large, &found_match);
+    ScoreSeen(truth, found_match, config, &ev);
     // The same with touching true objects as one.
     const std::vector<int> group = TouchingGroups(truth, config.touch_m);
     std::map<int, Eigen::AlignedBox3d> union_box;
@@ -332,6 +367,13 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
         const bool hit = it != found.elements.end() && it->second.verdict == "missing";
         ++ev.removed.truth;
         ev.removed.truth_matched += hit;
+        const auto seen = truth.removed_beam_hits.find(id);
+        if (seen != truth.removed_beam_hits.end() && seen->second < config.min_seen_beam_hits) {
+            ++ev.removed_out_of_sight;
+        } else {
+            ++ev.removed_seen.truth;
+            ev.removed_seen.truth_matched += hit;
+        }
         if (expected_area(id) >= config.large_area_m2) {
             ++ev.removed_large.truth;
             ev.removed_large.truth_matched += hit;
@@ -343,6 +385,8 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
             std::find(truth.removed.begin(), truth.removed.end(), id) != truth.removed.end();
         ++ev.removed.found;
         ev.removed.found_matched += true_removed;
+        ++ev.removed_seen.found;
+        ev.removed_seen.found_matched += true_removed;
         if (e.expected_area_m2 >= config.large_area_m2) {
             ++ev.removed_large.found;
             ev.removed_large.found_matched += true_removed;
@@ -434,6 +478,14 @@ json ChangeEvaluation::ToJson() const {
             {"added_separable", Scores(added_separable)},
             {"added_separable_large", Scores(added_separable_large)},
             {"touching_groups", touching_groups},
+            {"seen",
+             {{"added", Scores(added_seen)},
+              {"added_large", Scores(added_seen_large)},
+              {"removed", Scores(removed_seen)},
+              {"out_of_sight",
+               {{"added", added_out_of_sight},
+                {"added_large", added_large_out_of_sight},
+                {"removed", removed_out_of_sight}}}}},
             {"removed", Scores(removed)},
             {"removed_large", Scores(removed_large)},
             {"moved", moved_json},

@@ -16,6 +16,12 @@
 //   as-built walls    the measured offset against the true one (vector difference), for the walls
 //                     the session saw (support >= 30 points) and that were not surveyed (a wall
 //                     in `parameters.refinement.datum` is measured to its survey: counted apart).
+//   seen              (issue 31, item 8) the simulator writes how many beams hit each added
+//                     object and removed element (`beam_hits`); one hit by fewer than
+//                     min_seen_beam_hits over the whole walk was out of sight and cannot be found.
+//                     The "seen" scores count only the others in recall (precision is the same:
+//                     a found object that matches an unseen true one is no false alarm) and say
+//                     how many were out of sight. Truth files without beam_hits: every object seen.
 //   people            found objects that match no added object and lie in a person's path (its
 //                     line widened by radius + 0.3 m, from its floor to its height): should be
 //                     none; people with a transient cluster on their line.
@@ -38,6 +44,7 @@ struct TruthChanges {
         std::string name, kind;
         Eigen::AlignedBox3d box;
         common::TriangleMesh mesh;  // empty when the file named none
+        long beam_hits = -1;        // beams on it over the walk; -1: the file does not say
     };
     struct Moved {
         std::string global_id, ifc_class, name, reason;  // reason: "moved" or "as_built"
@@ -49,7 +56,8 @@ struct TruthChanges {
         double radius_m = 0, height_m = 0, floor_z = 0;
     };
     std::vector<Added> added;
-    std::vector<std::string> removed;  // GlobalIds
+    std::vector<std::string> removed;               // GlobalIds
+    std::map<std::string, long> removed_beam_hits;  // by GlobalId, where the file says
     std::vector<Moved> moved;
     std::vector<Person> people;
 };
@@ -85,6 +93,9 @@ struct EvaluationConfig {
     double person_margin_m = 0.3;
     size_t min_support_points = 30;
     double touch_m = 0.05;
+    // Fewer beam hits than this over the whole walk: out of sight (a DBSCAN core point needs 8
+    // points within one 5 cm voxel's reach; 20 scattered hits make no cluster).
+    long min_seen_beam_hits = 20;
 };
 
 struct DetectionScores {
@@ -101,6 +112,10 @@ struct ChangeEvaluation {
     DetectionScores added, added_large, added_separable, added_separable_large, removed,
         removed_large;
     size_t touching_groups = 0;  // groups of true objects that touch (more than one object)
+    // Of what the walk saw (see the file comment): recall over the seen true objects; and how
+    // many were out of sight.
+    DetectionScores added_seen, added_seen_large, removed_seen;
+    size_t added_out_of_sight = 0, added_large_out_of_sight = 0, removed_out_of_sight = 0;
     struct MovedScore {
         std::string global_id;
         bool found = false;

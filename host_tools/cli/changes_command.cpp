@@ -248,6 +248,15 @@ int Changes(ChangesArgs& a) {
                                   ? " (and " + std::to_string(ev.walls_datum) + " surveyed)"
                                   : std::string())
                           << "; people as objects: " << ev.people_as_objects << "\n"
+                          << "seen      added >= 0.3 m in view: R "
+                          << Fixed(ev.added_seen_large.recall(), 2) << " F1 "
+                          << Fixed(ev.added_seen_large.f1(), 2) << " ("
+                          << ev.added_seen_large.truth_matched << "/" << ev.added_seen_large.truth
+                          << ", " << ev.added_large_out_of_sight
+                          << " out of sight); removed in view: R "
+                          << Fixed(ev.removed_seen.recall(), 2) << " ("
+                          << ev.removed_seen.truth_matched << "/" << ev.removed_seen.truth << ", "
+                          << ev.removed_out_of_sight << " out of sight)\n"
                           << "          (" << (dir / "evaluation.json").string() << ")\n";
             }
         }

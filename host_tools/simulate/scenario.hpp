@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -19,6 +20,9 @@
 #include "drivers/go1/high_state.hpp"
 
 namespace bimslam::simulate {
+
+// Degrees to radians (the scenario's angles are in degrees).
+inline constexpr double kDeg = M_PI / 180.0;
 
 enum class Platform : uint8_t { kGo1, kHandheld, kVehicle };
 enum class PathMode : uint8_t { kCoverage, kWaypoints };

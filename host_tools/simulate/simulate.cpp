@@ -18,6 +18,7 @@
 #include "drivers/net/can_pcap.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "host_tools/bim/lidar_from_metadata.hpp"
+#include "host_tools/simulate/beam_hits.hpp"
 #include "host_tools/simulate/building_walk.hpp"
 #include "host_tools/simulate/go1_odometry.hpp"
 #include "host_tools/simulate/ouster_writer.hpp"
@@ -29,7 +30,6 @@
 namespace bimslam::simulate {
 namespace {
 using nlohmann::json;
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kImuRateHz = 100.0;        // Ouster IMU packets (LEGACY)
 constexpr int64_t kCanTickNs = 5'000'000;   // the bridge's timer (drivers/can/go1_encoder.hpp)
 constexpr int64_t kCanLatencyNs = 800'000;  // HighState receive to CAN transmit (SampleAge)
@@ -298,12 +298,12 @@ simulation::ImuNoise ImuNoiseFor(const Scenario& s) {
 }
 
 // The lidar frames and IMU packets of the walk into `writer`; returns the ground truth (the
-// sensor's pose at column 0 of each frame).
+// sensor's pose at column 0 of each frame). `hits` counts the beams on what the scenario changed.
 std::vector<io::StampedPose> CastFrames(const simulation::BodyTrajectory& trajectory,
                                         const World& world, const Scenario& s,
                                         const ouster::SensorInfo& info,
                                         const simulation::ImuModel& imu, size_t frames,
-                                        double end_s, OusterWriter& writer,
+                                        double end_s, OusterWriter& writer, BeamHitCounter& hits,
                                         const std::function<void(double)>& progress) {
     const simulation::Scene scene(world.mesh, world.ids, world.materials);
     const simulation::LidarModel lidar = bim::LidarModelFromSensorInfo(info);
@@ -360,6 +360,7 @@ std::vector<io::StampedPose> CastFrames(const simulation::BodyTrajectory& trajec
         options.rig = s.sensor.body_in_view ? &rig : nullptr;
         simulation::SimulateScan(scene, lidar, std::span<const Eigen::Isometry3d>(poses), noise,
                                  s.seed ^ (uint64_t(k) * 0x9E3779B97F4A7C15ull), &image, options);
+        hits.Count(lidar, poses, image);
         take_imu_until(t0 + period_s - 1e-9);
         writer.WriteFrame(uint32_t(k), image, column_ns, imu_batch);
         truth.push_back(io::StampedPose::FromIsometry(int64_t(column_ns[0]), poses[0]));
@@ -462,8 +463,9 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     OusterWriter writer(info, pcap, s.network, s.seed, kHostMinusSensorNs);
     const double period_s = 1.0 / double(bim::LidarModelFromSensorInfo(info).frame_rate_hz);
     const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
+    BeamHitCounter hits(model, world);
     const std::vector<io::StampedPose> truth =
-        CastFrames(trajectory, world, s, info, imu, frames, end_s, writer, progress);
+        CastFrames(trajectory, world, s, info, imu, frames, end_s, writer, hits, progress);
     pcap.Close();
     io::WriteTum(dir / "ground_truth.tum", truth);
     if (motion.all_storeys) WriteStoreyTruth(trajectory, model, truth, dir);
@@ -474,6 +476,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
         r.can_frames = WriteCan(trajectory, s, imu_noise, end_s, dir, &manifest);
     }
     json changes = WriteChanges(world, dir);
+    hits.AddTo(changes);
     if (motion.all_storeys) AddStoreys(model, changes);
     io::WriteFileAtomic(dir / "changes.json", changes.dump(2) + "\n");
     io::WriteFileAtomic(dir / "scenario.yaml", ScenarioToYaml(s));

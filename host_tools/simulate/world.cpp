@@ -17,7 +17,6 @@
 namespace bimslam::simulate {
 namespace {
 using common::StatusCode;
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kGroundWidthM = 40.0;
 constexpr double kClutterGapM = 0.05;  // clutter's least gap to walls and to other objects
 

@@ -18,6 +18,47 @@ TruthChanges::Added Added(const std::string& name, const Eigen::AlignedBox3d& bo
     return {name, "box", box, changes::test::SolidBox(box.min(), box.max())};
 }
 
+// Issue 31, item 8: what no beam hit cannot be found; the seen scores leave it out of recall
+// and say how many were out of sight. Precision does not change.
+TEST(ChangeEvaluation, SeenScoresCountOnlyWhatTheWalkSaw) {
+    TruthChanges truth;
+    truth.added = {Added("big", Box(0, 0, 0.5)), Added("unseen", Box(10, 0, 0.6)),
+                   Added("glimpsed", Box(20, 0, 0.4))};
+    truth.added[0].beam_hits = 5000;
+    truth.added[1].beam_hits = 0;
+    truth.added[2].beam_hits = 12;  // under min_seen_beam_hits (20)
+    truth.removed = {"column", "hidden column"};
+    truth.removed_beam_hits = {{"column", 900}, {"hidden column", 0}};
+    FoundChanges found;
+    found.objects = {{Box(0.02, 0.01, 0.5)}, {Box(30, 0, 0.5)}};  // big, and a false alarm
+    found.elements["column"] = {"missing", 4.0, 0, {}, false, 0};
+    found.elements["hidden column"] = {"not_observed", 0.0, 0, {}, false, 0};
+
+    const ChangeEvaluation ev = EvaluateChanges(truth, found);
+    EXPECT_NEAR(ev.added_large.recall(), 1.0 / 3, 1e-12);  // all three count
+    EXPECT_EQ(ev.added_seen_large.truth, 1u);
+    EXPECT_EQ(ev.added_seen_large.truth_matched, 1u);
+    EXPECT_EQ(ev.added_large_out_of_sight, 2u);
+    EXPECT_EQ(ev.added_out_of_sight, 2u);
+    EXPECT_NEAR(ev.added_seen_large.recall(), 1.0, 1e-12);
+    EXPECT_NEAR(ev.added_seen_large.precision(), ev.added_large.precision(), 1e-12);
+    EXPECT_NEAR(ev.added_seen_large.precision(), 0.5, 1e-12);
+    EXPECT_NEAR(ev.removed.recall(), 0.5, 1e-12);
+    EXPECT_EQ(ev.removed_out_of_sight, 1u);
+    EXPECT_NEAR(ev.removed_seen.recall(), 1.0, 1e-12);
+    const nlohmann::json j = ev.ToJson();
+    EXPECT_EQ(j["seen"]["out_of_sight"]["added_large"], 2);
+    EXPECT_EQ(j["seen"]["removed"]["recall"], 1.0);
+
+    // A truth file that does not say: everything counts as seen.
+    for (auto& a : truth.added) a.beam_hits = -1;
+    truth.removed_beam_hits.clear();
+    const ChangeEvaluation all = EvaluateChanges(truth, found);
+    EXPECT_EQ(all.added_out_of_sight, 0u);
+    EXPECT_EQ(all.added_seen_large.truth, all.added_large.truth);
+    EXPECT_EQ(all.removed_seen.truth, all.removed.truth);
+}
+
 TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
     TruthChanges truth;
     truth.added = {Added("big", Box(0, 0, 0.5)), Added("small", Box(5, 0, 0.2)),
