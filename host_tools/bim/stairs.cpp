@@ -225,8 +225,9 @@ void MeasureFlight(const BimModel& m, StairFlight& f) {
     std::vector<double> areas, rises, runs, widths;
     for (const StairLevel& s : l) areas.push_back(s.area_m2);
     const double tread_area = Median(areas);
+    for (StairLevel& level : f.levels) level.landing = level.area_m2 > 2 * tread_area;
     for (size_t k = 0; k < l.size(); ++k) {
-        if (l[k].area_m2 > 2 * tread_area) continue;
+        if (l[k].landing) continue;
         widths.push_back(l[k].width_m);
         if (k == 0) continue;
         rises.push_back(l[k].centre.z() - l[k - 1].centre.z());
@@ -311,26 +312,35 @@ void StairLimits::Validate() const {
 }
 
 std::vector<Eigen::Vector3d> StairFlight::Line() const {
-    // The centres of the levels, with the standing points at the ends; each riser lies at the
-    // edge of the smaller of the two levels it parts (between treads: half way).
+    // The centres of the levels, with the standing points at the ends. Between two treads the
+    // riser lies half way (a spiral's wedges reach further along the line than their centres are
+    // apart); next to a landing or a floor, at the landing's or first or last tread's edge.
     std::vector<Eigen::Vector2d> c{entry};
     std::vector<double> depth{0.0}, z{lower_z};
+    std::vector<bool> tread{false};
     for (const StairLevel& l : levels) {
         c.push_back(l.centre.head<2>());
         depth.push_back(l.depth_m);
         z.push_back(l.centre.z());
+        tread.push_back(!l.landing);
     }
     c.push_back(exit);
     depth.push_back(0.0);
     z.push_back(upper_z);
+    tread.push_back(false);
     std::vector<Eigen::Vector3d> out{{entry.x(), entry.y(), lower_z}};
     for (size_t k = 1; k < c.size(); ++k) {
         const Eigen::Vector2d d = c[k] - c[k - 1];
         const double len = d.norm();
         const Eigen::Vector2d u = len > 1e-9 ? Eigen::Vector2d(d / len) : Eigen::Vector2d::UnitX();
-        const bool near_edge = k == 1 || (k + 1 < c.size() && depth[k] < depth[k - 1]);
-        const double at = std::clamp(near_edge ? len - 0.5 * depth[k] : 0.5 * depth[k - 1], 0.0,
-                                     std::max(0.0, len - kRiserGapM));
+        const bool from_floor = k == 1, to_floor = k + 1 == c.size();
+        double at = 0.5 * len;  // between treads
+        if (from_floor || (!to_floor && tread[k - 1] && !tread[k])) {
+            at = len - 0.5 * depth[k];  // the near edge of the first level or of a landing
+        } else if (to_floor || (!tread[k - 1] && tread[k])) {
+            at = 0.5 * depth[k - 1];  // the far edge of the last level or of a landing
+        }
+        at = std::clamp(at, 0.0, std::max(0.0, len - kRiserGapM));
         const Eigen::Vector2d riser = c[k - 1] + at * u, up = riser + kRiserGapM * u;
         out.emplace_back(riser.x(), riser.y(), z[k - 1]);
         out.emplace_back(up.x(), up.y(), z[k]);

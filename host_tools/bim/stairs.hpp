@@ -41,8 +41,9 @@ struct StairLimits {
 struct StairLevel {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // centroid of its top surface
     double area_m2 = 0;
-    double depth_m = 0;  // its extent along the walking line there
-    double width_m = 0;  // its extent across the walking line there
+    double depth_m = 0;    // its extent along the walking line there
+    bool landing = false;  // more than twice the median level's area
+    double width_m = 0;    // its extent across the walking line there
 };
 
 struct StairFlight {
