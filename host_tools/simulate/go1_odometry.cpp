@@ -7,8 +7,8 @@ namespace bimslam::simulate {
 namespace {
 // On stairs (a building walk's flights): each step onto a new tread may slip on its nosing, the
 // foot sliding back off the edge (the velocity reads slip_factor of the truth for a moment); and
-// leg kinematics misjudge each step's height, so the vertical velocity reads high and odom_z
-// drifts with every storey climbed.
+// leg kinematics misjudge each step's height, so the climb reads high and odom_z drifts with
+// every storey climbed.
 constexpr double kNosingSlipProbability = 0.2;
 constexpr double kNosingSlipS = 0.15;
 constexpr double kStepDetectM = 0.08;  // the floor moved this far: a step onto the next tread

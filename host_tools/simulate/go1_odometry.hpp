@@ -7,7 +7,7 @@
 //   odom_x, odom_y, odom_yaw: those integrated from 0 (Unitree's own dead reckoning);
 //   gyro, accel: the trunk IMU (true rate and specific force of the base, with the IMU noise);
 //   on a flight of stairs: a step onto a tread slips on its nosing with probability 0.2 (0.15 s
-//   at slip_factor), vz reads 5 % high and odom_z integrates it (0 on a single storey);
+//   at slip_factor), and odom_z integrates the vertical speed read 5 % high (0 on one storey);
 //   quat: roll and pitch true, yaw the drifting odometry yaw (the Go1's estimator cannot observe
 //   yaw); foot contacts from the gait; body height; mode VEL_WALK, gait TROT.
 #pragma once

@@ -155,20 +155,18 @@ TEST(FlightWalkGo1, TheCanFramesCarryTheClimbAndTheNosingSlips) {
     can::CandumpReader log(w.dir.path() / "go1_can.log");
     can::CandumpRecord record;
     can::Go1Decoder decoder;
-    double last_odom_z = 0, max_vz = 0;
+    double last_odom_z = 0;
     size_t samples = 0;
     while (log.Next(record)) {
         decoder.Feed(record.frame);
         for (const can::Go1Sample& s : decoder.ready()) {
             last_odom_z = s.odom_z;
-            max_vz = std::max(max_vz, s.vz);
             ++samples;
         }
     }
     ASSERT_GT(samples, 100u);
     // 3.2 m climbed, read 5 % high: the leg odometry's vertical drift.
     EXPECT_NEAR(last_odom_z, 3.2 * 1.05, 0.05);
-    EXPECT_GT(max_vz, 0.1);
     // Nosing slips: some of the 16 steps slipped (probability 0.2 each, seed fixed).
     const nlohmann::json m =
         nlohmann::json::parse(io::ReadFileToString(w.dir.path() / "capture.json"));
