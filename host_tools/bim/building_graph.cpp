@@ -109,14 +109,7 @@ void Reach(BuildingGraph& g) {
 void JoinFlight(const BimModel& m, BuildingGraph& g, double clearance, const StairLimits& lim,
                 StairFlight& f) {
     if (!f.Walkable()) return;
-    const auto& l = f.levels;
-    const Eigen::Vector2d u0 =
-        l.size() > 1 ? Eigen::Vector2d((l[1].centre - l[0].centre).head<2>().normalized())
-                     : Eigen::Vector2d::UnitX();
-    const Eigen::Vector2d u1 =
-        l.size() > 1
-            ? Eigen::Vector2d((l.back().centre - l[l.size() - 2].centre).head<2>().normalized())
-            : u0;
+    const Eigen::Vector2d u0 = f.UpAtFoot(), u1 = f.UpAtHead();
     const Eigen::Vector2d foot = f.entry, head = f.exit;  // the first and last risers
     if (!StandingCell(g.grids[size_t(f.lower)], foot, foot - u0 * lim.standing_m, -u0, 1.5,
                       clearance, &f.entry, &f.entry_cell)) {

@@ -261,13 +261,7 @@ void MeasureFlight(const BimModel& m, StairFlight& f) {
     // Where the walk stands: half a level's depth before the first tread's centre is the first
     // riser, and so on beyond the last.
     const Eigen::Vector2d c0 = l.front().centre.head<2>(), c1 = l.back().centre.head<2>();
-    const Eigen::Vector2d u0 =
-        l.size() > 1 ? Eigen::Vector2d((l[1].centre - l[0].centre).head<2>().normalized())
-                     : Eigen::Vector2d::UnitX();
-    const Eigen::Vector2d u1 =
-        l.size() > 1
-            ? Eigen::Vector2d((l.back().centre - l[l.size() - 2].centre).head<2>().normalized())
-            : u0;
+    const Eigen::Vector2d u0 = f.UpAtFoot(), u1 = f.UpAtHead();
     f.entry = c0 - u0 * (0.5 * l.front().depth_m);
     f.exit = c1 + u1 * (0.5 * l.back().depth_m);
 }
@@ -347,6 +341,16 @@ std::vector<Eigen::Vector3d> StairFlight::Line() const {
         out.emplace_back(c[k].x(), c[k].y(), z[k]);
     }
     return out;
+}
+
+Eigen::Vector2d StairFlight::UpAtFoot() const {
+    if (levels.size() < 2) return Eigen::Vector2d::UnitX();
+    return (levels[1].centre - levels[0].centre).head<2>().normalized();
+}
+
+Eigen::Vector2d StairFlight::UpAtHead() const {
+    if (levels.size() < 2) return UpAtFoot();
+    return (levels.back().centre - levels[levels.size() - 2].centre).head<2>().normalized();
 }
 
 double StairFlight::LengthM() const {

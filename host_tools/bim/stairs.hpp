@@ -68,6 +68,9 @@ struct StairFlight {
     // points 1 mm apart in plan (the floor steps up there).
     std::vector<Eigen::Vector3d> Line() const;
     double LengthM() const;  // of Line() in plan
+    // Up the flight in plan at its foot and at its head (unit; +x for a flight of one level).
+    Eigen::Vector2d UpAtFoot() const;
+    Eigen::Vector2d UpAtHead() const;
 };
 
 // The flights of every stair and ramp in the model, not yet checked against limits or grids

@@ -18,11 +18,16 @@
 namespace bimslam::simulate {
 namespace {
 
-void BM_SimulateCapture(benchmark::State& state) {
-    test::TempDir tmp;
+// The sample office written as IFC and read back through IFC++, as `bimslam simulate` reads it.
+bim::BimModel SampleOffice(const test::TempDir& tmp) {
     const std::filesystem::path ifc = tmp / "building.ifc";
     bim::WriteSampleBuilding(ifc);
-    const bim::BimModel model = bim::LoadIfc(ifc);
+    return bim::LoadIfc(ifc);
+}
+
+void BM_SimulateCapture(benchmark::State& state) {
+    test::TempDir tmp;
+    const bim::BimModel model = SampleOffice(tmp);
     Scenario s = DefaultScenario(state.range(0) == 0 ? Platform::kGo1 : Platform::kHandheld);
     s.duration_s = double(state.range(1));
     CaptureReport r;
@@ -54,9 +59,7 @@ double ProcessCpuS() {
 
 void BM_SimulateBuilding(benchmark::State& state) {
     test::TempDir tmp;
-    const std::filesystem::path ifc = tmp / "building.ifc";
-    bim::WriteSampleBuilding(ifc);
-    const bim::BimModel model = bim::LoadIfc(ifc);
+    const bim::BimModel model = SampleOffice(tmp);
     Scenario s = DefaultScenario(state.range(0) == 0 ? Platform::kGo1 : Platform::kHandheld);
     s.storey = kAllStoreys;
     CaptureReport r;
