@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "algorithms/common/status.hpp"
 
@@ -25,6 +26,7 @@ void LidarOdometryConfig::Validate() const {
         Require(edge_map.fit_lines, c, "edge_map.fit_lines", 0, "must be true");
     }
     registration.Validate();
+    check.Validate();
     body_prior.Validate();
     Require(budget_ms > 0 && budget_ms <= 10000, c, "budget_ms", budget_ms,
             "must be in (0, 10000]");
@@ -206,6 +208,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     r.flags = 0;
     r.deskew_rounds = 0;
     r.deskew_stop = DeskewStop::kNotTried;
+    r.check_reasons = 0;
     r.stamp_ns = stamp;
     ++scans_;
 
@@ -336,6 +339,15 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         registered_ok = align(T_pred);
         r.flags |= kContradictsGyro;
     }
+    if (registered_ok) {
+        // Large motion with a weak prediction: other headings when this one fails its checks.
+        registered_ok = TryOtherHeadings(
+            {&align,
+             [](const void* f, const Eigen::Isometry3d& from) {
+                 return (*static_cast<const std::remove_reference_t<decltype(align)>*>(f))(from);
+             }},
+            T_pred, sigma, &T, deadline);
+    }
     // Not when the registration was degenerate: along a weak direction the velocity is the
     // prediction's, not measured, and deskewing the first scan with it again moved a corridor
     // walk 18 cm off where it stays within 5 cm without (LidarOdometry corridor test).
@@ -399,6 +411,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
             last_round = BudgetNow(cpu_clock) - round_start;
         }
     }
+    if (registered_ok) JudgeScan(T_pred, T, sigma);
     if (registered_ok) {
         // The keyframe cloud and the map points where the registration put them.
         const common::Vector6d& xi = r.registration.correction;

@@ -43,6 +43,7 @@
 #include "algorithms/odometry/edge_features.hpp"
 #include "algorithms/odometry/motion_prior.hpp"
 #include "algorithms/odometry/preprocess.hpp"
+#include "algorithms/odometry/registration_check.hpp"
 #include "algorithms/odometry/scan_registration.hpp"
 #include "algorithms/odometry/voxel_map.hpp"
 
@@ -70,6 +71,8 @@ struct LidarOdometryConfig {
     PreprocessConfig preprocess;
     VoxelMapConfig map;
     RegistrationConfig registration;
+    // Every registration judged by its own evidence (registration_check.hpp): kCheckFailed.
+    RegistrationCheckConfig check;
     // LOAM edge features (edge_features.hpp) registered point-to-line to an edge map, on top of
     // the point-to-plane registration. Off: measured on the project's captures, they took
     // 1.25-1.6x the time for 4 % less error, and failed once without the IMU (README.md).
@@ -173,6 +176,8 @@ enum OdometryFlag : uint32_t {
     kMotionCorrected = 1u << 10,  // the sweep's motion correction exceeded correction_flag_m
     kContradictsGyro = 1u << 11,  // the scan turned against the gyro: the gyro's rotation held
     kContradictsLegs = 1u << 12,  // the legs' translation disagreed: the LiDAR's velocity used
+    kCheckFailed = 1u << 13,    // the registration failed its own evidence (registration_check.hpp)
+    kHeadingsTried = 1u << 14,  // registered again from other headings (a weak prediction)
 };
 
 // Why step 3's rounds of deskewing again ended (OdometryResult::deskew_stop).
@@ -192,6 +197,7 @@ struct OdometryResult {
     // Covariance of that motion, [rho; phi] as a right perturbation (lidar frame).
     common::Matrix6d covariance = common::Matrix6d::Identity() * 1e-4;
     uint32_t flags = 0;
+    uint32_t check_reasons = 0;  // with kCheckFailed: CheckReason bits
     PreprocessStats preprocess;
     RegistrationResult registration;
     size_t map_voxels = 0;
@@ -239,6 +245,24 @@ private:
     common::Vector6d CorrectionSigma(bool gyro) const;
     // The scan's duration: its largest time offset (1 ms at least).
     static double Duration(const common::PointCloud& scan);
+    // The registration of result_ judged by its evidence (registration_check.hpp): sets
+    // kCheckFailed and check_reasons (lidar_odometry_check.cpp).
+    void JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T,
+                   const common::Vector6d& sigma);
+    // A registration from a start pose (Process's step): sets result_ and *T, false on failure.
+    // Non-owning, so that calling it allocates nothing.
+    struct AlignFn {
+        const void* context;
+        bool (*call)(const void* context, const Eigen::Isometry3d& from);
+        bool operator()(const Eigen::Isometry3d& from) const { return call(context, from); }
+    };
+    // A registration of result_ that fails its checks without the gyro is done again from other
+    // headings (RegistrationCheckConfig::retry_headings); result_ and *T become the first passing
+    // one's, else stay the prediction's.
+    // Returns whether a registration holds.
+    bool TryOtherHeadings(AlignFn align, const Eigen::Isometry3d& T_pred,
+                          const common::Vector6d& sigma, Eigen::Isometry3d* T,
+                          Clock::time_point deadline);
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 
     LidarOdometryConfig config_;

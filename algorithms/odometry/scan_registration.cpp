@@ -32,6 +32,8 @@ void RegistrationConfig::Validate() const {
             converged_translation, "and converged_rotation must be > 0");
     Require(degenerate_ratio >= 0 && degenerate_ratio < 0.5, c, "degenerate_ratio",
             degenerate_ratio, "must be in [0, 0.5)");
+    Require(inlier_distance > 0 && inlier_distance <= 10, c, "inlier_distance", inlier_distance,
+            "must be in (0, 10] m");
 }
 
 Eigen::Isometry3d ApplyPerturbation(const Eigen::Isometry3d& T0, const common::Vector6d& delta) {
@@ -219,6 +221,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     const Eigen::Isometry3d& T0 = in.T0;
     result_ = RegistrationResult{};
     result_.T_map_lidar = T0;
+    result_.points = static_cast<int>(in.points.size());
     const bool correcting =
         config_.motion_correction && (in.correction_sigma.array() > 0).all() && !in.alpha.empty();
     const double max_distance = in.max_correspondence_distance > 0
@@ -295,6 +298,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     // H over [delta, xi], the correction's prior added to its block.
     const RowModel m(T0, delta.data(), xi.data());
     double mean_range = 0, weight_sum = 0, weighted_sq = 0;
+    int inliers = 0;
     for (int i = 0; i < n; ++i) mean_range += corr_[size_t(i)].p.norm();
     mean_range = n > 0 ? std::max(1.0, mean_range / n) : 1.0;
     using Matrix12d = Eigen::Matrix<double, 12, 12>;
@@ -314,6 +318,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         H.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
         weight_sum += w;
         weighted_sq += w * r * r;
+        inliers += std::abs(r) <= config_.inlier_distance ? 1 : 0;
     }
     H = H.selfadjointView<Eigen::Lower>();
     common::Vector6d scale;
@@ -385,6 +390,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     result_.correction = xi;
     result_.covariance = scale.asDiagonal() * cov * scale.asDiagonal();
     result_.correspondences = n;
+    result_.inliers = inliers;
     result_.rms = weight_sum > 0 ? std::sqrt(weighted_sq / weight_sum) : 0;
     return result_;
 }

@@ -74,6 +74,9 @@ struct RegistrationConfig {
     double converged_translation = 1e-3;  // m
     double converged_rotation = 1e-4;     // rad
     double degenerate_ratio = 0.01;
+    // A correspondence whose point lies within this of its plane at the solution is an inlier
+    // (RegistrationResult::inliers: the evidence registration_check.hpp judges a scan by).
+    double inlier_distance = 0.1;  // m
     // Estimate the correction of the sweep's motion (header); off: a rigid scan.
     bool motion_correction = true;
 
@@ -106,7 +109,9 @@ struct RegistrationResult {
     common::Matrix6d covariance = common::Matrix6d::Identity();
     int iterations = 0;
     int correspondences = 0;
-    double rms = 0;  // m, of the weighted residuals at the end
+    int points = 0;   // scan points registered (in.points), the denominator of the ratios
+    int inliers = 0;  // correspondences within inlier_distance of their plane at the solution
+    double rms = 0;   // m, of the weighted residuals at the end
     int degenerate_directions = 0;
     double min_eigen_ratio = 0;  // smallest constraint share over the 6 directions
     bool converged = false;

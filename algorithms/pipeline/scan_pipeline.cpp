@@ -153,7 +153,8 @@ const ScanOutput& ScanPipeline::Process(const ScanInput& scan) {
     stats_.incomplete_scans += scan.complete ? 0 : 1;
     stats_.over_budget += (r.flags & odometry::kOverBudget) ? 1 : 0;
     stats_.degenerate += (r.flags & odometry::kDegenerate) ? 1 : 0;
-    stats_.failed += (r.flags & odometry::kRegistrationFailed) ? 1 : 0;
+    stats_.failed += (r.flags & (odometry::kRegistrationFailed | odometry::kCheckFailed)) ? 1 : 0;
+    stats_.check_failed += (r.flags & odometry::kCheckFailed) ? 1 : 0;
     stats_.not_converged += (r.flags & odometry::kNotConverged) ? 1 : 0;
     stats_.contradicted_gyro += (r.flags & odometry::kContradictsGyro) ? 1 : 0;
     stats_.contradicted_legs += (r.flags & odometry::kContradictsLegs) ? 1 : 0;

@@ -107,7 +107,10 @@ struct ScanPipelineStats {
     uint64_t body_samples = 0;     // given to the odometry
     uint64_t pending_dropped = 0;  // samples dropped because a pending ring was full
     uint64_t clock_jumps = 0;
+    // failed: registration failed (too few correspondences) or failed its own evidence
+    // (kCheckFailed, counted in check_failed too).
     uint64_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
+    uint64_t check_failed = 0;
     uint64_t contradicted_gyro = 0;    // scans that turned against the gyro (kContradictsGyro)
     uint64_t contradicted_legs = 0;    // the Go1's legs against the LiDAR (kContradictsLegs)
     double distance_m = 0;             // along the odometry trajectory

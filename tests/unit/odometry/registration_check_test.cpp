@@ -1,0 +1,69 @@
+#include "algorithms/odometry/registration_check.hpp"
+
+#include <gtest/gtest.h>
+
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::odometry {
+namespace {
+
+RegistrationResult Good() {
+    RegistrationResult r;
+    r.points = 1000;
+    r.correspondences = 950;
+    r.inliers = 920;
+    r.rms = 0.01;
+    return r;
+}
+
+TEST(RegistrationCheck, AScanThatFitsPasses) {
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    EXPECT_EQ(JudgeRegistration(Good(), I, I, Eigen::Vector3d::Constant(0.05), {}), 0u);
+}
+
+TEST(RegistrationCheck, EachKindOfEvidenceFailsOnItsOwn) {
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d sigma = Eigen::Vector3d::Constant(0.05);
+    RegistrationCheckConfig c;
+    RegistrationResult r = Good();
+    r.correspondences = 400;  // overlap 0.4
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), uint32_t(kLowOverlap));
+    r = Good();
+    r.inliers = 300;  // measured on scans left 8-27 deg off at 2 Hz: 0.27-0.42
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), uint32_t(kFewInliers));
+    r = Good();
+    r.rms = 0.08;
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), uint32_t(kHighResidual));
+    // Far from the prediction: only when asked for.
+    Eigen::Isometry3d T = I;
+    T.translation() = Eigen::Vector3d(0.5, 0, 0);  // 10 sigma
+    EXPECT_EQ(JudgeRegistration(Good(), I, T, sigma, c), 0u);
+    c.max_prediction_sigmas = 5;
+    EXPECT_EQ(JudgeRegistration(Good(), I, T, sigma, c), uint32_t(kFarFromPrediction));
+    c.enabled = false;
+    r.inliers = 0;
+    EXPECT_EQ(JudgeRegistration(r, I, T, sigma, c), 0u);
+    EXPECT_EQ(CheckReasonText(kLowOverlap | kHighResidual),
+              "low overlap with the map, high residual");
+}
+
+TEST(RegistrationCheck, AFailedRegistrationIsNotJudgedAgain) {
+    RegistrationResult r;
+    r.failed = true;  // kRegistrationFailed already says so
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    EXPECT_EQ(JudgeRegistration(r, I, I, Eigen::Vector3d::Constant(0.05), {}), 0u);
+}
+
+TEST(RegistrationCheck, ConfigurationOutOfRangeIsRejected) {
+    RegistrationCheckConfig c;
+    c.min_inlier_ratio = 1.5;
+    EXPECT_THROW(c.Validate(), common::Error);
+    c = {};
+    c.retry_headings = -1;
+    EXPECT_THROW(c.Validate(), common::Error);
+    c = {};
+    EXPECT_NO_THROW(c.Validate());
+}
+
+}  // namespace
+}  // namespace bimslam::odometry
