@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -33,6 +34,7 @@ struct OdometryArgs {
     std::vector<double> imu_rotation_deg;  // roll pitch yaw
     bool overwrite = false;
     bool json = false;
+    std::string scans_csv;
 };
 
 int Odometry(const OdometryArgs& a) {
@@ -58,7 +60,24 @@ int Odometry(const OdometryArgs& a) {
                                   a.imu_rotation_deg[2]};
     }
     const bool tty = !a.json && ::isatty(STDOUT_FILENO);
-    o.on_scan = [tty, n = 0](const odometry::OdometryResult& r) mutable {
+    std::ofstream csv;
+    if (!a.scans_csv.empty()) {
+        csv.open(a.scans_csv);
+        if (!csv) {
+            throw common::FileError(common::StatusCode::kIoError, a.scans_csv, 0,
+                                    "cannot be written");
+        }
+        csv << "scan,stamp_ns,flags,check_reasons,points,correspondences,inliers,rms_m,"
+               "correspondence_distance_m,motion_m,motion_deg,total_ms\n";
+    }
+    o.on_scan = [tty, n = 0, &csv](const odometry::OdometryResult& r) mutable {
+        if (csv.is_open()) {
+            const odometry::RegistrationResult& g = r.registration;
+            csv << n << "," << r.stamp_ns << "," << r.flags << "," << r.check_reasons << ","
+                << g.points << "," << g.correspondences << "," << g.inliers << "," << g.rms << ","
+                << r.correspondence_distance << "," << r.T_prev_lidar.translation().norm() << ","
+                << common::RotationAngle(r.T_prev_lidar) * 180 / M_PI << "," << r.total_ms << "\n";
+        }
         ++n;
         if (tty && n % 50 == 0) {
             std::cout << "\rscan " << n << "  (" << std::fixed << std::setprecision(1) << r.total_ms
@@ -100,6 +119,9 @@ int Odometry(const OdometryArgs& a) {
                             {"over_budget", rep.over_budget},
                             {"degenerate", rep.degenerate},
                             {"failed", rep.failed},
+                            {"check_failed", rep.check_failed},
+                            {"verdict", rep.trust.Verdict()},
+                            {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
                             {"not_converged", rep.not_converged},
                             {"contradicted_gyro", rep.contradicted_gyro},
                             {"contradicted_legs", rep.contradicted_legs},
@@ -118,14 +140,16 @@ int Odometry(const OdometryArgs& a) {
               << "x real time)\n";
     std::cout << std::setprecision(2) << "per scan  p50 " << p50 << " ms, p99 " << p99
               << " ms, max " << max << " ms; over budget " << rep.over_budget << ", degenerate "
-              << rep.degenerate << ", failed " << rep.failed << ", contradicted the gyro "
-              << rep.contradicted_gyro << ", the legs " << rep.contradicted_legs << "\n";
+              << rep.degenerate << ", failed " << rep.failed << " (" << rep.check_failed
+              << " by their checks), contradicted the gyro " << rep.contradicted_gyro
+              << ", the legs " << rep.contradicted_legs << "\n";
     // The CPU time is the rig's odometry thread's work (decoding and writing are other threads
     // there); the wall time above also holds what else the machine runs.
     std::cout << "CPU/scan  p50 " << replay::Percentile(rep.scan_cpu_ms, 0.5) << " ms, p99 "
               << replay::Percentile(rep.scan_cpu_ms, 0.99) << " ms, max "
               << replay::Percentile(rep.scan_cpu_ms, 1.0)
               << " ms (odometry and keyframe selection: the rig's odometry thread)\n";
+    std::cout << "trajectory " << rep.trust.Describe() << "\n";
     std::cout << "session   " << a.out << ": " << rep.keyframes
               << " keyframes, trajectory.tum with every scan\n";
     return kExitOk;
@@ -191,7 +215,12 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
         ->expected(3)
         ->group("Calibration");
     cmd->add_flag("--overwrite", args->overwrite, "Replace an existing session");
-    cmd->add_flag("--json", args->json, "Print the summary as JSON");
+    cmd->add_flag("--json", args->json,
+                  "Print the summary as JSON (verdict: trusted or untrusted, failed_stretches: "
+                  "the scans and times that failed their registration checks)");
+    cmd->add_option("--scans-csv", args->scans_csv,
+                    "Write every scan's registration evidence to this CSV (flags, check reasons, "
+                    "points, correspondences, inliers, rms, motion, time)");
     cmd->callback([args, &exit_code] { exit_code = Run([&] { return Odometry(*args); }); });
 }
 

@@ -203,6 +203,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
             report.mean_iterations += double(r.registration.iterations);
             report.mean_map_points += double(r.preprocess.map_points);
             report.capture_s = double(stamp - first_stamp) * 1e-9;
+            report.trust.Add(size_t(out.scan_index), report.capture_s, r.flags, r.check_reasons);
             if (writer && out.clock_jump) {
                 // A sensor restart or clock step: a new odometry frame, so a new session next
                 // to the first (SESSION-2, -3, ...).
@@ -238,6 +239,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     report.over_budget = st.over_budget;
     report.degenerate = st.degenerate;
     report.failed = st.failed;
+    report.check_failed = st.check_failed;
     report.not_converged = st.not_converged;
     report.contradicted_gyro = st.contradicted_gyro;
     report.contradicted_legs = st.contradicted_legs;

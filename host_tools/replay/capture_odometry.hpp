@@ -21,6 +21,7 @@
 
 #include "algorithms/keyframes/keyframe_selector.hpp"
 #include "algorithms/odometry/lidar_odometry.hpp"
+#include "host_tools/replay/trajectory_trust.hpp"
 
 namespace bimslam::replay {
 
@@ -63,7 +64,10 @@ struct CaptureOdometryReport {
     // the work: registration points, outer iterations, map points inserted.
     std::vector<double> preprocess_ms, register_ms, map_ms;
     double mean_registration_points = 0, mean_iterations = 0, mean_map_points = 0;
-    size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0;
+    // failed: too few correspondences, or the registration failed its own evidence
+    // (check_failed, algorithms/odometry/registration_check.hpp).
+    size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0, check_failed = 0;
+    TrajectoryTrust trust;         // the failed scans in stretches, the run's verdict
     size_t contradicted_gyro = 0;  // scans that turned against the gyro (kContradictsGyro)
     size_t contradicted_legs = 0;  // the Go1's legs against the LiDAR (kContradictsLegs)
     double distance_m = 0;         // along the odometry trajectory

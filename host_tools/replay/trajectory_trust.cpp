@@ -1,0 +1,69 @@
+#include "host_tools/replay/trajectory_trust.hpp"
+
+#include <cstdio>
+
+#include "algorithms/odometry/lidar_odometry.hpp"
+
+namespace bimslam::replay {
+namespace {
+
+std::vector<std::string> Reasons(const FailedStretch& s) {
+    std::vector<std::string> out;
+    if (s.registration_failed) out.push_back("registration failed");
+    using namespace odometry;
+    for (const uint32_t bit : {kLowOverlap, kFewInliers, kHighResidual, kFarFromPrediction}) {
+        if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
+    }
+    return out;
+}
+
+}  // namespace
+
+void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons) {
+    const bool reg_failed = (flags & odometry::kRegistrationFailed) != 0;
+    if (!reg_failed && !(flags & odometry::kCheckFailed)) return;
+    if (stretches_.empty() || scan > stretches_.back().last_scan + merge_gap_) {
+        stretches_.push_back({scan, scan, t_s, t_s, 0, 0, false});
+    }
+    FailedStretch& s = stretches_.back();
+    s.last_scan = scan;
+    s.last_s = t_s;
+    ++s.failed;
+    s.check_reasons |= check_reasons;
+    s.registration_failed = s.registration_failed || reg_failed;
+}
+
+std::string TrajectoryTrust::Describe() const {
+    if (trusted()) return "trusted: every registration passed its checks";
+    size_t failed = 0;
+    for (const FailedStretch& s : stretches_) failed += s.failed;
+    std::string text = "UNTRUSTED: " + std::to_string(failed) + " failed scans in " +
+                       std::to_string(stretches_.size()) + " stretches:";
+    char buf[160];
+    for (size_t k = 0; k < stretches_.size() && k < 8; ++k) {
+        const FailedStretch& s = stretches_[k];
+        std::string why;
+        for (const std::string& r : Reasons(s)) why += (why.empty() ? "" : ", ") + r;
+        std::snprintf(buf, sizeof buf, " scans %zu-%zu (%.1f-%.1f s, %zu failed: %s)%s",
+                      s.first_scan, s.last_scan, s.first_s, s.last_s, s.failed, why.c_str(),
+                      k + 1 < stretches_.size() ? ";" : "");
+        text += buf;
+    }
+    if (stretches_.size() > 8) text += " ... (--json lists them all)";
+    return text;
+}
+
+nlohmann::json TrajectoryTrust::ToJson() const {
+    nlohmann::json list = nlohmann::json::array();
+    for (const FailedStretch& s : stretches_) {
+        list.push_back({{"first_scan", s.first_scan},
+                        {"last_scan", s.last_scan},
+                        {"first_s", s.first_s},
+                        {"last_s", s.last_s},
+                        {"failed", s.failed},
+                        {"reasons", Reasons(s)}});
+    }
+    return {{"verdict", Verdict()}, {"failed_stretches", list}};
+}
+
+}  // namespace bimslam::replay

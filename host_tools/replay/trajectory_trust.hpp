@@ -1,0 +1,48 @@
+// Whether a replayed trajectory can be trusted (issue 32, item 3): the scans whose registration
+// failed (too few correspondences) or failed its own evidence (kCheckFailed,
+// algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.
+// A pose after a failed scan is only as good as the guess that scan kept, so the verdict is
+// "untrusted" as soon as one stretch exists; the stretches say where to look (and which part of
+// the trajectory `bimslam map` must not present as good).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace bimslam::replay {
+
+struct FailedStretch {
+    size_t first_scan = 0, last_scan = 0;  // 0-based scan indices, inclusive
+    double first_s = 0, last_s = 0;        // seconds since the first scan
+    size_t failed = 0;                     // failed scans in it
+    uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
+    bool registration_failed = false;      // some scan had too few correspondences
+};
+
+class TrajectoryTrust {
+public:
+    // Failed scans closer than merge_gap scans join one stretch.
+    explicit TrajectoryTrust(size_t merge_gap = 10) : merge_gap_(merge_gap) {}
+
+    // Every scan, in order: its index, seconds since the first scan, odometry flags and reasons.
+    void Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons);
+
+    bool trusted() const { return stretches_.empty(); }
+    const std::vector<FailedStretch>& stretches() const { return stretches_; }
+    // "trusted" or "untrusted".
+    std::string Verdict() const { return trusted() ? "trusted" : "untrusted"; }
+    // One line for a person: what failed where.
+    std::string Describe() const;
+    // {"verdict", "failed_stretches": [{first_scan, last_scan, first_s, last_s, failed,
+    // reasons: [...]}]}.
+    nlohmann::json ToJson() const;
+
+private:
+    size_t merge_gap_;
+    std::vector<FailedStretch> stretches_;
+};
+
+}  // namespace bimslam::replay

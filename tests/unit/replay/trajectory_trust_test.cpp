@@ -1,0 +1,58 @@
+#include "host_tools/replay/trajectory_trust.hpp"
+
+#include <gtest/gtest.h>
+
+#include "algorithms/odometry/lidar_odometry.hpp"
+
+namespace bimslam::replay {
+namespace {
+using namespace odometry;
+
+TEST(TrajectoryTrust, ARunWithNoFailedScanIsTrusted) {
+    TrajectoryTrust t;
+    for (size_t i = 0; i < 100; ++i) t.Add(i, 0.1 * double(i), kDegenerate | kDeskewedAgain, 0);
+    EXPECT_TRUE(t.trusted());
+    EXPECT_EQ(t.Verdict(), "trusted");
+    EXPECT_EQ(t.ToJson().at("failed_stretches").size(), 0u);
+}
+
+TEST(TrajectoryTrust, FailedScansGatherIntoStretchesWithTheirReasons) {
+    TrajectoryTrust t(/*merge_gap=*/3);
+    const auto add = [&](size_t i, uint32_t flags, uint32_t reasons) {
+        t.Add(i, 0.5 * double(i), flags, reasons);
+    };
+    for (size_t i = 0; i < 40; ++i) {
+        if (i == 10 || i == 13) {
+            add(i, kCheckFailed, kFewInliers);  // 3 apart: one stretch
+        } else if (i == 14) {
+            add(i, kCheckFailed, kHighResidual);
+        } else if (i == 30) {
+            add(i, kRegistrationFailed | kTooFewPoints, 0);  // 16 later: a second stretch
+        } else {
+            add(i, 0, 0);
+        }
+    }
+    EXPECT_FALSE(t.trusted());
+    EXPECT_EQ(t.Verdict(), "untrusted");
+    ASSERT_EQ(t.stretches().size(), 2u);
+    const FailedStretch& a = t.stretches()[0];
+    EXPECT_EQ(a.first_scan, 10u);
+    EXPECT_EQ(a.last_scan, 14u);
+    EXPECT_DOUBLE_EQ(a.first_s, 5.0);
+    EXPECT_DOUBLE_EQ(a.last_s, 7.0);
+    EXPECT_EQ(a.failed, 3u);
+    EXPECT_EQ(a.check_reasons, uint32_t(kFewInliers | kHighResidual));
+    EXPECT_FALSE(a.registration_failed);
+    EXPECT_TRUE(t.stretches()[1].registration_failed);
+    const nlohmann::json j = t.ToJson();
+    EXPECT_EQ(j.at("verdict"), "untrusted");
+    EXPECT_EQ(j.at("failed_stretches")[0].at("reasons"),
+              nlohmann::json({"few inliers", "high residual"}));
+    EXPECT_EQ(j.at("failed_stretches")[1].at("reasons"), nlohmann::json({"registration failed"}));
+    const std::string text = t.Describe();
+    EXPECT_NE(text.find("UNTRUSTED: 4 failed scans in 2 stretches"), std::string::npos) << text;
+    EXPECT_NE(text.find("scans 10-14 (5.0-7.0 s"), std::string::npos) << text;
+}
+
+}  // namespace
+}  // namespace bimslam::replay
