@@ -55,6 +55,10 @@ void PrintSummary(const mapping::MapRun& run) {
             std::cout << "  odometry  " << o["scans"] << " scans, " << o["keyframes"]
                       << " keyframes, " << Fixed(o["distance_m"], 1) << " m, p50 "
                       << Fixed(o["scan_ms_p50"], 1) << " ms per scan\n";
+            if (o.value("verdict", "trusted") == "untrusted") {
+                std::cout << "  ODOMETRY  " << o.value("verdict_text", std::string("untrusted"))
+                          << "\n";
+            }
         }
         if (!r["anchor"].is_null()) {
             const json& a = r["anchor"];
@@ -108,8 +112,12 @@ int MapMain(MapArgs& a) {
         mapping::RunMap(c, [&](const std::string& step, double f) { bar.Update(step, f); });
     bar.Clear();
     bool anchored = true;
+    std::vector<std::string> untrusted;  // recordings whose odometry failed its checks
     for (const json& r : run.summary["recordings"]) {
         anchored = anchored && !r["anchor"].is_null() && r["anchor"]["verdict"] == "anchored";
+        if (!r["odometry"].is_null() && r["odometry"].value("verdict", "trusted") == "untrusted") {
+            untrusted.push_back(r["name"].get<std::string>());
+        }
     }
     if (a.json) {
         json j = run.summary;
@@ -125,8 +133,14 @@ int MapMain(MapArgs& a) {
             std::cout << "NOT ANCHORED: a recording could not be placed in BIM coordinates (see "
                          "above); the report shows its odometry map in its own frame\n";
         }
+        for (const std::string& name : untrusted) {
+            std::cout << "ODOMETRY UNTRUSTED: " << name
+                      << "'s trajectory failed its registration checks (the stretches above); "
+                         "its keyframe edges across them are marked as gaps for the anchoring, "
+                         "and its map, anchoring and changes there are not to be trusted\n";
+        }
     }
-    return anchored ? kExitOk : kExitFailure;
+    return anchored && untrusted.empty() ? kExitOk : kExitFailure;
 }
 
 int ReportMain(const std::string& out, std::string html) {
@@ -190,7 +204,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "  report     OUT/report/report.html (`bimslam report`)\n"
         "OUT/summary.json gathers the figures; with a simulated capture's ground_truth.tum and "
         "changes.json beside the recording, the APE in BIM coordinates (no alignment) and the "
-        "change scores. Exit 0 when every recording is anchored, 1 when one is not (its report "
+        "change scores. Exit 0 when every recording is anchored and its odometry trusted, 1 when "
+        "one is not (its report "
         "still written) or a step failed (the message names the step and the file), 2 for a model "
         "that is not IFC or a recording that is not an Ouster capture, before any step.");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return MapMain(*a); }); });

@@ -210,6 +210,10 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
                                 {"over_budget", rep.over_budget},
                                 {"degenerate", rep.degenerate},
                                 {"failed", rep.failed},
+                                {"check_failed", rep.check_failed},
+                                {"verdict", rep.trust.Verdict()},
+                                {"verdict_text", rep.trust.Describe()},
+                                {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
                                 {"scan_ms", rep.scan_ms},
                                 {"notes", rep.notes}};
             io::WriteFileAtomic(out / "odometry" / (r.name + ".json"), stats.dump() + "\n");

@@ -73,6 +73,17 @@ function buildSummary() {
     el('td', {}, tr, sc ? 'added ≥ 0.3 m: P ' + fmt(sc.added_large.precision, 2) + ' R ' +
        fmt(sc.added_large.recall, 2) + '; removed ≥ 1 m²: R ' + fmt(sc.removed_large.recall, 2) +
        '; people as objects ' + sc.people.reported_as_new_objects : '–');
+    const o = r.odometry;
+    if (o && o.verdict === 'untrusted') {
+      const b = el('div', {class: 'banner'}, body);
+      el('strong', {}, b, 'The odometry of ' + r.name + ' is not to be trusted. ');
+      const where = (o.failed_stretches || []).map(s => 'scans ' + s.first_scan + '–' +
+        s.last_scan + ' (' + fmt(s.first_s, 1) + '–' + fmt(s.last_s, 1) + ' s: ' +
+        s.reasons.join(', ') + ')').join('; ');
+      b.appendChild(document.createTextNode(o.failed + ' scans failed their registration ' +
+        'checks: ' + where + '. The keyframe edges across them are marked as gaps for the ' +
+        'anchoring; the map, its anchoring and its changes there are not to be trusted.'));
+    }
     if (!a || a.verdict !== 'anchored') {
       const b = el('div', {class: 'banner'}, body);
       el('strong', {}, b, 'Recording ' + r.name + ' is not anchored' + (a ? ' (' + a.verdict + ')' : '') + '. ');
