@@ -12,6 +12,8 @@ void RegistrationCheckConfig::Validate() const {
                     "must be in [0, 1]");
     common::Require(min_inlier_ratio >= 0 && min_inlier_ratio <= 1, c, "min_inlier_ratio",
                     min_inlier_ratio, "must be in [0, 1]");
+    common::Require(min_inlier_fit >= 0 && min_inlier_fit <= 1, c, "min_inlier_fit", min_inlier_fit,
+                    "must be in [0, 1]");
     common::Require(max_rms > 0, c, "max_rms", max_rms, "must be > 0");
     common::Require(max_prediction_sigmas >= 0, c, "max_prediction_sigmas", max_prediction_sigmas,
                     "must be >= 0");
@@ -35,7 +37,12 @@ uint32_t JudgeRegistration(const RegistrationResult& reg, const Eigen::Isometry3
     uint32_t reasons = 0;
     const double points = double(reg.points);
     if (double(reg.correspondences) < config.min_overlap * points) reasons |= kLowOverlap;
-    if (RegistrationScore(reg) < config.min_inlier_ratio) reasons |= kFewInliers;
+    // Few inliers among all the points and among those matched: a right scan with much of its
+    // view new or moving (a door leaf) has the first low, not the second.
+    if (RegistrationScore(reg) < config.min_inlier_ratio &&
+        double(reg.inliers) < config.min_inlier_fit * double(reg.correspondences)) {
+        reasons |= kFewInliers;
+    }
     if (reg.rms > config.max_rms) reasons |= kHighResidual;
     if (config.max_prediction_sigmas > 0 && (translation_sigma.array() > 0).all()) {
         // In the predicted frame, per axis: the estimate's offset in sigmas of the prediction.

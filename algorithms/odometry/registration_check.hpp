@@ -7,8 +7,8 @@
 // The evidence, all from RegistrationResult at the solution:
 // - overlap: the share of the scan's registration points that found a map plane within the
 //   correspondence distance (the map holds the place the scan claims to be in);
-// - inlier ratio: the share of the scan's points within inlier_distance of their plane (the
-//   scan fits where it was put);
+// - inliers: the share of the scan's points, and of its correspondences, within inlier_distance
+//   of their plane (the scan fits where it was put);
 // - residual: the weighted RMS of the point-to-plane distances;
 // - agreement with a strong prediction: with the IMU's rotation the registration is already held
 //   to the gyro (LidarOdometryConfig::imu_rotation_gate), so what is checked here is the
@@ -30,12 +30,15 @@ namespace bimslam::odometry {
 
 struct RegistrationCheckConfig {
     bool enabled = true;
-    // Measured (README.md): on the 10 Hz captures every scan had an overlap >= 0.86, an inlier
-    // ratio >= 0.84 and an RMS <= 0.015 m; at 2 Hz the scans left in a wrong minimum (off by
-    // 8-27 deg) had inlier ratios 0.27-0.42 and RMS 0.028-0.034 m. The RMS bound is wide for real
-    // sensors' noise; the inlier ratio does most of the work.
-    double min_overlap = 0.5;       // correspondences / registration points
+    // Measured (README.md): the scans left in a wrong minimum at 2 Hz (8-27 deg off) had 0.27-0.42
+    // of their points and 0.42-0.69 of their correspondences within 0.1 m of a plane, the 10 Hz
+    // captures' scans 0.84 or more of their points; a right scan with a door leaf filling its
+    // view had 0.35 of its points but 0.87 of its correspondences. Few inliers is both below.
+    // The overlap alone is a weak sign (that door scan 0.40, wrong ones 0.55-0.83): it catches
+    // scans with almost nothing in common with the map. The RMS bound is wide for real sensors.
+    double min_overlap = 0.3;       // correspondences / registration points
     double min_inlier_ratio = 0.5;  // inliers / registration points
+    double min_inlier_fit = 0.8;    // inliers / correspondences
     double max_rms = 0.05;          // m, the weighted point-to-plane RMS
     // The estimate's translation against the prediction's, in sigmas of it; 0: not checked.
     double max_prediction_sigmas = 0;

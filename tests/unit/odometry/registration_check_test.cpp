@@ -26,11 +26,14 @@ TEST(RegistrationCheck, EachKindOfEvidenceFailsOnItsOwn) {
     const Eigen::Vector3d sigma = Eigen::Vector3d::Constant(0.05);
     RegistrationCheckConfig c;
     RegistrationResult r = Good();
-    r.correspondences = 400;  // overlap 0.4
+    r.correspondences = 250;  // overlap 0.25
+    r.inliers = 240;
     EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), uint32_t(kLowOverlap));
     r = Good();
-    r.inliers = 300;  // measured on scans left 8-27 deg off at 2 Hz: 0.27-0.42
+    r.inliers = 450;  // 0.45 of the points, 0.47 of the matches: as scans left 8-27 deg off
     EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), uint32_t(kFewInliers));
+    r.correspondences = 500;  // a door leaf in view: few matches, but those fit
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), 0u);
     r = Good();
     r.rms = 0.08;
     EXPECT_EQ(JudgeRegistration(r, I, I, sigma, c), uint32_t(kHighResidual));
