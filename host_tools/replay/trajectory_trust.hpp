@@ -2,8 +2,9 @@
 // failed (too few correspondences) or failed its own evidence (kCheckFailed,
 // algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.
 // A pose after a failed scan is only as good as the guess that scan kept, so the verdict is
-// "untrusted" as soon as one stretch exists; the stretches say where to look (and which part of
-// the trajectory `bimslam map` must not present as good).
+// "untrusted" as soon as one stretch exists (a registration with too few correspondences whose
+// prediction came from the gyro or the legs excepted: bridged_by_prior); the stretches say where to
+// look (and which part of the trajectory `bimslam map` must not present as good).
 #pragma once
 
 #include <cstddef>
@@ -31,6 +32,9 @@ public:
     void Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons);
 
     bool trusted() const { return stretches_.empty(); }
+    // Scans whose registration found too few correspondences but whose prediction came from the
+    // gyro or the legs: kept at that prediction, counted here, not untrusting the run.
+    size_t bridged_by_prior() const { return bridged_; }
     const std::vector<FailedStretch>& stretches() const { return stretches_; }
     // "trusted" or "untrusted".
     std::string Verdict() const { return trusted() ? "trusted" : "untrusted"; }
@@ -43,6 +47,7 @@ public:
 private:
     size_t merge_gap_;
     std::vector<FailedStretch> stretches_;
+    size_t bridged_ = 0;
 };
 
 }  // namespace bimslam::replay

@@ -54,5 +54,22 @@ TEST(TrajectoryTrust, FailedScansGatherIntoStretchesWithTheirReasons) {
     EXPECT_NE(text.find("scans 10-14 (5.0-7.0 s"), std::string::npos) << text;
 }
 
+// Too few correspondences with the gyro or the legs behind the prediction is the designed
+// fallback: counted as bridged, not untrusted; without them, or with a failed check, untrusted.
+TEST(TrajectoryTrust, AFailedRegistrationBridgedByAMeasuredPriorIsCountedNotUntrusted) {
+    TrajectoryTrust t;
+    t.Add(5, 0.5, kRegistrationFailed | kImuUsed, 0);
+    t.Add(6, 0.6, kRegistrationFailed | kBodyPriorUsed, 0);
+    EXPECT_TRUE(t.trusted());
+    EXPECT_EQ(t.bridged_by_prior(), 2u);
+    EXPECT_EQ(t.ToJson().at("bridged_by_prior"), 2);
+    t.Add(7, 0.7, kRegistrationFailed | kImuUsed | kCheckFailed, kLowOverlap);
+    EXPECT_FALSE(t.trusted());
+    TrajectoryTrust lidar_only;
+    lidar_only.Add(3, 0.3, kRegistrationFailed, 0);
+    EXPECT_FALSE(lidar_only.trusted());
+    EXPECT_EQ(lidar_only.bridged_by_prior(), 0u);
+}
+
 }  // namespace
 }  // namespace bimslam::replay
