@@ -73,9 +73,8 @@ function buildSummary() {
     el('td', {}, tr, sc ? 'added ≥ 0.3 m: P ' + fmt(sc.added_large.precision, 2) + ' R ' +
        fmt(sc.added_large.recall, 2) + '; removed ≥ 1 m²: R ' + fmt(sc.removed_large.recall, 2) +
        '; people as objects ' + sc.people.reported_as_new_objects : '–');
-    const o = r.odometry;
     if (o && o.verdict === 'untrusted') {
-      const b = el('div', {class: 'banner'}, body);
+      const b = el('div', {class: 'banner odometry-untrusted'}, body);
       el('strong', {}, b, 'The odometry of ' + r.name + ' is not to be trusted. ');
       const where = (o.failed_stretches || []).map(s => 'scans ' + s.first_scan + '–' +
         s.last_scan + ' (' + fmt(s.first_s, 1) + '–' + fmt(s.last_s, 1) + ' s: ' +
@@ -503,7 +502,8 @@ if (location.hash === '#selftest') {
     r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
     r.plots = document.querySelectorAll('#plots-body svg').length;
     r.changes = D.changes.length;
-    r.not_anchored_banners = document.querySelectorAll('#summary .banner').length;
+    r.not_anchored_banners = document.querySelectorAll('#summary .banner:not(.odometry-untrusted)').length;
+    r.untrusted_banners = document.querySelectorAll('#summary .banner.odometry-untrusted').length;
     r.own_frame_plans = document.querySelectorAll('.plan.own-frame svg').length;
     r.pixels = view ? view.drawnPixels() : null;
     // The class toggles: every model class switched off draws fewer pixels; on again, as many.
