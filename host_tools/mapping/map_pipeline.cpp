@@ -214,6 +214,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
                                 {"verdict", rep.trust.Verdict()},
                                 {"verdict_text", rep.trust.Describe()},
                                 {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
+                                {"bridged_by_prior", rep.trust.bridged_by_prior()},
                                 {"scan_ms", rep.scan_ms},
                                 {"notes", rep.notes}};
             io::WriteFileAtomic(out / "odometry" / (r.name + ".json"), stats.dump() + "\n");

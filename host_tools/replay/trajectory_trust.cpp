@@ -45,7 +45,15 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
 }
 
 std::string TrajectoryTrust::Describe() const {
-    if (trusted()) return "trusted: every registration passed its checks";
+    if (trusted()) {
+        // A bridged scan is no failed check, but a reader who sees `failed` > 0 beside "trusted"
+        // must learn why.
+        return "trusted: every registration passed its checks" +
+               (bridged_ == 0 ? std::string()
+                              : "; " + std::to_string(bridged_) +
+                                    " scans with too few correspondences kept the gyro's or the "
+                                    "legs' prediction");
+    }
     size_t failed = 0;
     for (const FailedStretch& s : stretches_) failed += s.failed;
     std::string text = "UNTRUSTED: " + std::to_string(failed) + " failed scans in " +

@@ -231,6 +231,22 @@ TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {
     EXPECT_NE(io::ReadFileToString(f / "map.out").find("NOT ANCHORED"), std::string::npos);
 }
 
+TEST(MapCli, AnUntrustedOdometryIsSaidInTheSummaryTheExitCodeAndTheReport) {
+    const fs::path f = Untrusted();
+    const json summary = ReadJson(f / "out" / "summary.json");
+    const json& odo = summary.at("recordings").at(0).at("odometry");
+    EXPECT_EQ(odo.at("verdict"), "untrusted");
+    EXPECT_EQ(odo.at("failed_stretches").size(), 1u);
+    const std::string printed = io::ReadFileToString(f / "map.out");
+    EXPECT_NE(printed.find("  ODOMETRY  UNTRUSTED: 4 failed scans"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("ODOMETRY UNTRUSTED: capture's trajectory failed its registration"),
+              std::string::npos)
+        << printed;
+    // The fixture asserted exit 1; the page's banner is the browser test's.
+    const std::string html = io::ReadFileToString(f / "out" / "report" / "report.html");
+    EXPECT_NE(html.find("\"verdict\":\"untrusted\""), std::string::npos);
+}
+
 TEST(MapCli, AModelThatIsNotIfcOrARecordingThatIsNotOusterExits2BeforeAnyStep) {
     test::TempDir tmp;
     const fs::path c = Mapped() / "capture";

@@ -84,4 +84,32 @@ inline fs::path Unanchorable() {
     });
 }
 
+// The mapped walk with its odometry's verdict turned to untrusted (one failed stretch), as
+// `bimslam odometry` writes it for a 2 Hz folder (odometry_large_motion_test.cpp makes real ones;
+// a pcap at 10 Hz never fails its checks). What the map does with the verdict is tested here: its
+// summary, exit code and report. A copy of Mapped(): its first run redoes the odometry (the stamps
+// name the recording's path), then the verdict is edited and the report's stamp removed, so the
+// second run gathers the summary and writes the report again. map.out: what the second printed.
+inline fs::path Untrusted() {
+    return Fixture("untrusted", [](const fs::path& d) {
+        fs::copy(Mapped(), d, fs::copy_options::recursive);
+        MustRun(MapArgs(d / "capture", d / "out"));
+        const fs::path odo_file = d / "out" / "odometry" / "capture.json";
+        nlohmann::json odo = ReadJson(odo_file);
+        odo["verdict"] = "untrusted";
+        odo["verdict_text"] = "UNTRUSTED: 4 failed scans in 1 stretches: scans 120-131";
+        odo["failed_stretches"] = nlohmann::json::array({{{"first_scan", 120},
+                                                         {"last_scan", 131},
+                                                         {"first_s", 12.0},
+                                                         {"last_s", 13.1},
+                                                         {"failed", 4},
+                                                         {"reasons", {"low overlap"}}}});
+        io::WriteFileAtomic(odo_file, odo.dump() + "\n");
+        fs::remove(d / "out" / "stamps" / "report.json");
+        const auto r = Cli(MapArgs(d / "capture", d / "out"));
+        EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+        io::WriteFileAtomic(d / "map.out", r.out + r.err);
+    });
+}
+
 }  // namespace bimslam::map_test

@@ -98,6 +98,7 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
     EXPECT_TRUE(run.console.empty()) << run.console;
     EXPECT_EQ(t.at("plans"), 2) << "one floor plan per storey of the office";
     EXPECT_EQ(t.at("not_anchored_banners"), 0);
+    EXPECT_EQ(t.at("untrusted_banners"), 0);
     EXPECT_EQ(t.at("plan_paths"), 2) << "walls in each plan";
     EXPECT_EQ(t.at("plots"), 4) << "APE, time per scan, fitness, loop statistics";
     const json& px = t.at("pixels");
@@ -140,6 +141,25 @@ TEST(ReportBrowser, ANotAnchoredRecordingIsShownAsSuchWithoutErrors) {
     EXPECT_EQ(t.at("own_frame_plans"), 1) << "the odometry map in its own frame";
     EXPECT_EQ(t.at("plans"), 3) << "the model's two storeys and the own-frame map";
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
+}
+
+TEST(ReportBrowser, AnUntrustedOdometryGetsABannerNamingItsStretches) {
+    if (Chromium().empty()) {
+        GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
+                        "installs it through toolchain/install-deps.sh --test)";
+    }
+    const fs::path html = Untrusted() / "out" / "report" / "report.html";
+    const PageRun run = OpenPage(html, "report_untrusted.png");
+    const json& t = run.selftest;
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
+    EXPECT_TRUE(run.console.empty()) << run.console;
+    EXPECT_EQ(t.at("untrusted_banners"), 1) << "the summary says so";
+    EXPECT_NE(t.at("untrusted_text").get<std::string>().find("scans 120–131 (12.0–13.1 s: low overlap)"),
+              std::string::npos)
+        << t.at("untrusted_text");
+    EXPECT_EQ(t.at("not_anchored_banners"), 0) << "it was still anchored";
+    EXPECT_GT(t.at("changes").get<int>(), 0);
 }
 
 }  // namespace

@@ -503,7 +503,9 @@ if (location.hash === '#selftest') {
     r.plots = document.querySelectorAll('#plots-body svg').length;
     r.changes = D.changes.length;
     r.not_anchored_banners = document.querySelectorAll('#summary .banner:not(.odometry-untrusted)').length;
-    r.untrusted_banners = document.querySelectorAll('#summary .banner.odometry-untrusted').length;
+    const untrusted = document.querySelectorAll('#summary .banner.odometry-untrusted');
+    r.untrusted_banners = untrusted.length;
+    r.untrusted_text = untrusted.length ? untrusted[0].textContent : '';
     r.own_frame_plans = document.querySelectorAll('.plan.own-frame svg').length;
     r.pixels = view ? view.drawnPixels() : null;
     // The class toggles: every model class switched off draws fewer pixels; on again, as many.

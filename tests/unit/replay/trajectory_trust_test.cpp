@@ -63,6 +63,10 @@ TEST(TrajectoryTrust, AFailedRegistrationBridgedByAMeasuredPriorIsCountedNotUntr
     EXPECT_TRUE(t.trusted());
     EXPECT_EQ(t.bridged_by_prior(), 2u);
     EXPECT_EQ(t.ToJson().at("bridged_by_prior"), 2);
+    EXPECT_NE(t.Describe().find("2 scans with too few correspondences kept the gyro's or the "
+                                "legs' prediction"),
+              std::string::npos)
+        << t.Describe();
     t.Add(7, 0.7, kRegistrationFailed | kImuUsed | kCheckFailed, kLowOverlap);
     EXPECT_FALSE(t.trusted());
     TrajectoryTrust lidar_only;
