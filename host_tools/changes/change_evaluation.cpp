@@ -334,6 +334,7 @@ void ScoreSeen(const TruthChanges& truth, const std::vector<int>& found_match,
 ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,
                                  const EvaluationConfig& config) {
     ChangeEvaluation ev;
+    ev.min_seen_beam_hits = config.min_seen_beam_hits;
     std::vector<Eigen::AlignedBox3d> truth_boxes, found_boxes;
     for (const auto& a : truth.added) truth_boxes.push_back(a.box);
     for (const auto& o : found.objects) found_boxes.push_back(o.box);
@@ -479,7 +480,8 @@ json ChangeEvaluation::ToJson() const {
             {"added_separable_large", Scores(added_separable_large)},
             {"touching_groups", touching_groups},
             {"seen",
-             {{"added", Scores(added_seen)},
+             {{"min_beam_hits", min_seen_beam_hits},
+              {"added", Scores(added_seen)},
               {"added_large", Scores(added_seen_large)},
               {"removed", Scores(removed_seen)},
               {"out_of_sight",

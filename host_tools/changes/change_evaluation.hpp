@@ -116,6 +116,7 @@ struct ChangeEvaluation {
     // many were out of sight.
     DetectionScores added_seen, added_seen_large, removed_seen;
     size_t added_out_of_sight = 0, added_large_out_of_sight = 0, removed_out_of_sight = 0;
+    long min_seen_beam_hits = 0;  // the config's: fewer beam hits than this were out of sight
     struct MovedScore {
         std::string global_id;
         bool found = false;

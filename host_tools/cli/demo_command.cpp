@@ -142,14 +142,10 @@ int RunDemo(const DemoOptions& opt) {
                   << " missing and " << c["deviating"] << " deviating elements, " << c["transients"]
                   << " transient clusters (people walking) set aside\n";
     }
-    if (!r["change_scores"].is_null()) {
+    if (!r["seen_scores"].is_null()) {  // what the walk saw first, then everything placed
         const nlohmann::json& e = r["change_scores"];
-        std::cout << "  scores    added objects >= 0.3 m: precision "
-                  << Fixed(e["added_large"]["precision"], 2) << ", recall "
-                  << Fixed(e["added_large"]["recall"], 2) << " ("
-                  << e["added_large"]["truth_matched"] << " of " << e["added_large"]["truth"]
-                  << " placed, most out of this walk's sight); removed elements >= 1 m2: recall "
-                  << Fixed(e["removed_large"]["recall"], 2)
+        std::cout << "  scores    " << mapping::SeenScoresText(r["seen_scores"]) << "\n"
+                  << "            " << mapping::AllScoresText(r["seen_scores"])
                   << "; as-built walls within 1 cm: " << e["as_built"]["within_1cm"] << "/"
                   << e["as_built"]["observed"]
                   << "; people reported as objects: " << e["people"]["reported_as_new_objects"]

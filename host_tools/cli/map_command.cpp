@@ -79,13 +79,10 @@ void PrintSummary(const mapping::MapRun& run) {
                       << " moved), " << c["confirmed"] << " confirmed, " << c["not_observed"]
                       << " not observed, " << c["transients"] << " transients\n";
         }
-        if (!r["change_scores"].is_null()) {
+        if (!r["seen_scores"].is_null()) {  // what the walk saw first, then everything
             const json& e = r["change_scores"];
-            std::cout << "  scores    added >= 0.3 m: P " << Fixed(e["added_large"]["precision"], 2)
-                      << " R " << Fixed(e["added_large"]["recall"], 2) << " F1 "
-                      << Fixed(e["added_large"]["f1"], 2) << "; removed >= 1 m2: P "
-                      << Fixed(e["removed_large"]["precision"], 2) << " R "
-                      << Fixed(e["removed_large"]["recall"], 2)
+            std::cout << "  scores    " << mapping::SeenScoresText(r["seen_scores"]) << "\n"
+                      << "            " << mapping::AllScoresText(r["seen_scores"])
                       << "; walls within 1 cm: " << e["as_built"]["within_1cm"] << "/"
                       << e["as_built"]["observed"]
                       << "; people as objects: " << e["people"]["reported_as_new_objects"] << "\n";

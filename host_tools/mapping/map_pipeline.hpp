@@ -76,4 +76,17 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress = {});
 nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& model,
                             const std::vector<RecordingInput>& recordings);
 
+// A recording's headline change scores (summary.json's `seen_scores`, issue 31 item 8): of what
+// the walk saw. Added objects of 0.3 m and more and removed elements with at least
+// `min_beam_hits` beams on them over the walk count in recall ("in view"); the others were out of
+// sight and are counted apart; the all-objects figures are kept beside them. Null when the
+// evaluation (evaluation.json) is null.
+nlohmann::json SeenScores(const nlohmann::json& evaluation);
+// One line each, as `bimslam map` and `bimslam demo` print them: "in view (>= 20 beam hits):
+// added >= 0.3 m P 0.90 R 0.95 F1 0.92 (19 of 20, 12 out of sight); removed P 1.00 R 1.00 (3 of
+// 3, 1 out of sight)" and "all: added >= 0.3 m P .. R .. F1 .. (19 of 32); removed P .. R .. (3 of
+// 4)".
+std::string SeenScoresText(const nlohmann::json& seen_scores);
+std::string AllScoresText(const nlohmann::json& seen_scores);
+
 }  // namespace bimslam::mapping

@@ -1,9 +1,11 @@
 // BuildSummary: OUT/summary.json, gathered from the files the steps wrote, so that a run that
 // skipped every step prints the same figures as the run that made them.
+#include <cstdio>
 #include <system_error>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
 #include "host_tools/mapping/map_pipeline.hpp"
 
@@ -36,7 +38,48 @@ json ChangeCounts(const json& c) {
             {"map_points", c.at("map").at("points")}};
 }
 
+std::string Pr(const json& s, bool f1) {
+    char text[96];
+    std::snprintf(text, sizeof text, f1 ? "P %.2f R %.2f F1 %.2f" : "P %.2f R %.2f",
+                  s.at("precision").get<double>(), s.at("recall").get<double>(),
+                  f1 ? s.at("f1").get<double>() : 0.0);
+    return text;
+}
+
+std::string Of(const json& s) {
+    return std::to_string(s.at("truth_matched").get<size_t>()) + " of " +
+           std::to_string(s.at("truth").get<size_t>());
+}
+
 }  // namespace
+
+json SeenScores(const json& e) {
+    if (e.is_null() || !e.contains("seen")) return nullptr;  // written before issue 31
+    const json& seen = e.at("seen");
+    const json& out = seen.at("out_of_sight");
+    const long min_hits = change_detection::EvaluationConfig{}.min_seen_beam_hits;
+    return {{"min_beam_hits", seen.value("min_beam_hits", min_hits)},
+            {"added_in_view", seen.at("added_large")},
+            {"added_out_of_sight", out.at("added_large")},
+            {"added_all", e.at("added_large")},
+            {"removed_in_view", seen.at("removed")},
+            {"removed_out_of_sight", out.at("removed")},
+            {"removed_all", e.at("removed")}};
+}
+
+std::string SeenScoresText(const json& s) {
+    return "in view (>= " + std::to_string(s.at("min_beam_hits").get<long>()) +
+           " beam hits): added >= 0.3 m " + Pr(s.at("added_in_view"), true) + " (" +
+           Of(s.at("added_in_view")) + ", " +
+           std::to_string(s.at("added_out_of_sight").get<size_t>()) + " out of sight); removed " +
+           Pr(s.at("removed_in_view"), false) + " (" + Of(s.at("removed_in_view")) + ", " +
+           std::to_string(s.at("removed_out_of_sight").get<size_t>()) + " out of sight)";
+}
+
+std::string AllScoresText(const json& s) {
+    return "all: added >= 0.3 m " + Pr(s.at("added_all"), true) + " (" + Of(s.at("added_all")) +
+           "); removed " + Pr(s.at("removed_all"), false) + " (" + Of(s.at("removed_all")) + ")";
+}
 
 json BuildSummary(const fs::path& out, const fs::path& model,
                   const std::vector<RecordingInput>& recordings) {
@@ -65,7 +108,8 @@ json BuildSummary(const fs::path& out, const fs::path& model,
                   {"anchor", nullptr},
                   {"accuracy", nullptr},
                   {"changes", nullptr},
-                  {"change_scores", nullptr}};
+                  {"change_scores", nullptr},
+                  {"seen_scores", nullptr}};
         json odo = ReadJsonIf(out / "odometry" / (r.name + ".json"));
         if (!odo.is_null()) {
             odo.erase(
@@ -102,6 +146,7 @@ json BuildSummary(const fs::path& out, const fs::path& model,
         const json changes = ReadJsonIf(out / "changes" / r.name / "changes.json");
         if (!changes.is_null()) j["changes"] = ChangeCounts(changes);
         j["change_scores"] = ReadJsonIf(out / "changes" / r.name / "evaluation.json");
+        j["seen_scores"] = SeenScores(j["change_scores"]);
         recs.push_back(j);
     }
     s["recordings"] = recs;

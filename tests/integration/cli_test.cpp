@@ -46,7 +46,12 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     ASSERT_EQ(demo.exit_code, 0) << demo.out << demo.err;
     EXPECT_NE(demo.out.find("demo finished"), std::string::npos) << demo.out;
     EXPECT_NE(demo.out.find("accuracy in BIM coordinates APE"), std::string::npos) << demo.out;
-    EXPECT_NE(demo.out.find("scores    added objects"), std::string::npos) << demo.out;
+    // The scores' headline counts what the walk saw and says how many were out of sight.
+    EXPECT_NE(demo.out.find("scores    in view (>= 20 beam hits): added >= 0.3 m P "),
+              std::string::npos)
+        << demo.out;
+    EXPECT_NE(demo.out.find(" out of sight); removed P "), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find("            all: added >= 0.3 m P "), std::string::npos) << demo.out;
     const fs::path report = out / "map" / "report" / "report.html";
     EXPECT_NE(demo.out.find("report: " + fs::absolute(report).string()), std::string::npos)
         << demo.out;
@@ -65,6 +70,7 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     EXPECT_LT(printed_cm, 7.5) << demo.out;
     EXPECT_LT(rec.at("accuracy").at("ape_rot_rmse_deg").get<double>(), 0.4);
     EXPECT_FALSE(rec.at("change_scores").is_null());
+    EXPECT_FALSE(rec.at("seen_scores").is_null());
 
     const auto info = test::RunCommand(kCli + " session info --json " + (out / "session").string());
     ASSERT_EQ(info.exit_code, 0) << info.err;

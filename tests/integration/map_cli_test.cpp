@@ -247,6 +247,56 @@ TEST(MapCli, AnUntrustedOdometryIsSaidInTheSummaryTheExitCodeAndTheReport) {
     EXPECT_NE(html.find("\"verdict\":\"untrusted\""), std::string::npos);
 }
 
+// The change scores' headline is what the walk saw (issue 31, item 8): the summary's seen_scores
+// are evaluation.json's "seen" figures, no more than all of them, and the objects out of sight are
+// exactly the rest; the printed summary says them first, then all.
+TEST(MapCli, TheChangeScoresHeadlineCountsWhatTheWalkSawAndSaysHowManyWereOutOfSight) {
+    const fs::path f = Untrusted();  // a copy of Mapped() whose map.out holds the printed summary
+    const json summary = ReadJson(f / "out" / "summary.json");
+    const json& r = summary.at("recordings").at(0);
+    const json& s = r.at("seen_scores");
+    ASSERT_TRUE(s.is_object()) << r.dump(1);
+    const json& e = r.at("change_scores");
+    EXPECT_EQ(s.at("added_in_view"), e.at("seen").at("added_large"));
+    EXPECT_EQ(s.at("added_all"), e.at("added_large"));
+    EXPECT_EQ(s.at("removed_in_view"), e.at("seen").at("removed"));
+    EXPECT_EQ(s.at("removed_all"), e.at("removed"));
+    EXPECT_EQ(s.at("min_beam_hits"), 20);
+    for (const char* kind : {"added", "removed"}) {
+        const json& seen = s.at(std::string(kind) + "_in_view");
+        const json& all = s.at(std::string(kind) + "_all");
+        const size_t out_of_sight = s.at(std::string(kind) + "_out_of_sight");
+        EXPECT_LE(seen.at("truth").get<size_t>(), all.at("truth").get<size_t>()) << kind;
+        EXPECT_LE(seen.at("truth_matched").get<size_t>(), all.at("truth_matched").get<size_t>())
+            << kind;
+        EXPECT_EQ(out_of_sight, all.at("truth").get<size_t>() - seen.at("truth").get<size_t>())
+            << kind;
+        EXPECT_EQ(seen.at("found"), all.at("found")) << kind << ": precision is the same";
+    }
+    // A 40 s walk of the ground floor leaves most added objects out of sight (the upper storey's
+    // and far rooms'), and sees some.
+    EXPECT_GT(s.at("added_out_of_sight").get<size_t>(), 0u) << s.dump(1);
+    EXPECT_GT(s.at("added_in_view").at("truth").get<size_t>(), 0u) << s.dump(1);
+
+    const std::string printed = io::ReadFileToString(f / "map.out");
+    const auto of = [](const json& x, size_t out) {
+        return "(" + std::to_string(x.at("truth_matched").get<size_t>()) + " of " +
+               std::to_string(x.at("truth").get<size_t>()) + ", " + std::to_string(out) +
+               " out of sight)";
+    };
+    const size_t in_view = printed.find("  scores    in view (>= 20 beam hits): added >= 0.3 m P ");
+    const size_t all = printed.find("            all: added >= 0.3 m P ");
+    ASSERT_NE(in_view, std::string::npos) << printed;
+    ASSERT_NE(all, std::string::npos) << printed;
+    EXPECT_LT(in_view, all) << "the headline first";
+    EXPECT_NE(printed.find(of(s.at("added_in_view"), s.at("added_out_of_sight"))),
+              std::string::npos)
+        << printed;
+    EXPECT_NE(printed.find(of(s.at("removed_in_view"), s.at("removed_out_of_sight"))),
+              std::string::npos)
+        << printed;
+}
+
 TEST(MapCli, AModelThatIsNotIfcOrARecordingThatIsNotOusterExits2BeforeAnyStep) {
     test::TempDir tmp;
     const fs::path c = Mapped() / "capture";

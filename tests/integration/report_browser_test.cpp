@@ -86,6 +86,29 @@ bool IsPng(const fs::path& file) {
     return io::ReadFileToString(file).substr(0, 8) == "\x89PNG\r\n\x1a\n";
 }
 
+// The summary's change scores say first what the walk saw, with the counts of summary.json's
+// seen_scores (issue 31, item 8), then all objects.
+void ExpectScoresInView(const json& t, const fs::path& fixture) {
+    const json summary = ReadJson(fixture / "out" / "summary.json");
+    const json& s = summary.at("recordings").at(0).at("seen_scores");
+    ASSERT_TRUE(s.is_object());
+    const std::string in_view = t.at("scores_in_view");
+    EXPECT_EQ(in_view.rfind("in view (≥ 20 beam hits): added ≥ 0.3 m P ", 0), 0u) << in_view;
+    const auto count = [](const json& x, const json& out) {
+        return "(" + std::to_string(x.at("truth_matched").get<size_t>()) + " of " +
+               std::to_string(x.at("truth").get<size_t>()) + ", " +
+               std::to_string(out.get<size_t>()) + " out of sight)";
+    };
+    EXPECT_NE(in_view.find(count(s.at("added_in_view"), s.at("added_out_of_sight"))),
+              std::string::npos)
+        << in_view;
+    EXPECT_NE(in_view.find(count(s.at("removed_in_view"), s.at("removed_out_of_sight"))),
+              std::string::npos)
+        << in_view;
+    EXPECT_EQ(t.at("scores_all").get<std::string>().rfind("all: added ≥ 0.3 m P ", 0), 0u)
+        << t.at("scores_all");
+}
+
 TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClickSelects) {
     if (Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
@@ -122,6 +145,7 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
     EXPECT_TRUE(inspected.rfind("Ifc", 0) == 0 || inspected.rfind("map point", 0) == 0 ||
                 inspected.rfind("new object", 0) == 0)
         << inspected;
+    ExpectScoresInView(t, Mapped());
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
 }
 
@@ -155,8 +179,9 @@ TEST(ReportBrowser, AnUntrustedOdometryGetsABannerNamingItsStretches) {
     EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
     EXPECT_TRUE(run.console.empty()) << run.console;
     EXPECT_EQ(t.at("untrusted_banners"), 1) << "the summary says so";
-    EXPECT_NE(t.at("untrusted_text").get<std::string>().find("scans 120–131 (12.0–13.1 s: low overlap)"),
-              std::string::npos)
+    EXPECT_NE(
+        t.at("untrusted_text").get<std::string>().find("scans 120–131 (12.0–13.1 s: low overlap)"),
+        std::string::npos)
         << t.at("untrusted_text");
     EXPECT_EQ(t.at("not_anchored_banners"), 0) << "it was still anchored";
     EXPECT_GT(t.at("changes").get<int>(), 0);

@@ -69,10 +69,7 @@ function buildSummary() {
     el('td', {}, tr, c ? c.new_objects + ' new objects, ' + c.missing + ' missing, ' + c.deviating +
        ' deviating (' + c.moved + ' moved), ' + c.confirmed + ' confirmed, ' + c.transients +
        ' transients' : '–');
-    const sc = r.change_scores;
-    el('td', {}, tr, sc ? 'added ≥ 0.3 m: P ' + fmt(sc.added_large.precision, 2) + ' R ' +
-       fmt(sc.added_large.recall, 2) + '; removed ≥ 1 m²: R ' + fmt(sc.removed_large.recall, 2) +
-       '; people as objects ' + sc.people.reported_as_new_objects : '–');
+    buildScores(el('td', {class: 'scores'}, tr), r);
     if (o && o.verdict === 'untrusted') {
       const b = el('div', {class: 'banner odometry-untrusted'}, body);
       el('strong', {}, b, 'The odometry of ' + r.name + ' is not to be trusted. ');
@@ -91,6 +88,26 @@ function buildSummary() {
         'shown in its own frame below.'));
     }
   });
+}
+
+// The change scores: first of what the walk saw (objects with enough beam hits over the walk),
+// with how many were out of sight; all of them below, smaller.
+function buildScores(td, r) {
+  const sc = r.change_scores, s = r.seen_scores;
+  if (!sc) { td.textContent = '–'; return; }
+  const of = x => x.truth_matched + ' of ' + x.truth;
+  if (s) {
+    const a = s.added_in_view, m = s.removed_in_view;
+    el('div', {class: 'in-view'}, td, 'in view (≥ ' + s.min_beam_hits + ' beam hits): added ≥ 0.3 m P ' +
+       fmt(a.precision, 2) + ' R ' + fmt(a.recall, 2) + ' F1 ' + fmt(a.f1, 2) + ' (' + of(a) + ', ' +
+       s.added_out_of_sight + ' out of sight); removed P ' + fmt(m.precision, 2) + ' R ' +
+       fmt(m.recall, 2) + ' (' + of(m) + ', ' + s.removed_out_of_sight + ' out of sight)');
+  }
+  const a = sc.added_large, m = sc.removed;
+  el('div', {class: s ? 'all-objects' : ''}, td, (s ? 'all: ' : '') + 'added ≥ 0.3 m P ' +
+     fmt(a.precision, 2) + ' R ' + fmt(a.recall, 2) + ' F1 ' + fmt(a.f1, 2) + ' (' + of(a) +
+     '); removed P ' + fmt(m.precision, 2) + ' R ' + fmt(m.recall, 2) + ' (' + of(m) +
+     '); people as objects ' + sc.people.reported_as_new_objects);
 }
 
 // ---- floor plans -----------------------------------------------------------------------------
@@ -506,6 +523,9 @@ if (location.hash === '#selftest') {
     const untrusted = document.querySelectorAll('#summary .banner.odometry-untrusted');
     r.untrusted_banners = untrusted.length;
     r.untrusted_text = untrusted.length ? untrusted[0].textContent : '';
+    const scores = document.querySelector('#summary td.scores');
+    r.scores_in_view = scores && scores.querySelector('.in-view') ? scores.querySelector('.in-view').textContent : '';
+    r.scores_all = scores && scores.querySelector('.all-objects') ? scores.querySelector('.all-objects').textContent : '';
     r.own_frame_plans = document.querySelectorAll('.plan.own-frame svg').length;
     r.pixels = view ? view.drawnPixels() : null;
     // The class toggles: every model class switched off draws fewer pixels; on again, as many.
