@@ -1,5 +1,7 @@
 #include "host_tools/changes/bim_change_model.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <map>
 
 #include "algorithms/common/status.hpp"
@@ -37,6 +39,28 @@ changes::ChangeModel ToChangeModel(const bim::BimModel& model) {
     return out;
 }
 
+int StoreyUnder(const bim::BimModel& model, double bottom_z) {
+    int storey = -1;
+    for (size_t s = 0; s < model.storeys.size(); ++s) {
+        if (model.storeys[s].elevation_m <= bottom_z + 0.3 || storey < 0) storey = int(s);
+    }
+    return storey;
+}
+
+int ElementStorey(const bim::BimModel& model, size_t element, bool* from_height) {
+    const bim::BimElement& e = model.elements.at(element);
+    if (from_height) *from_height = false;
+    if (e.storey >= 0 || model.storeys.empty() || e.triangle_count == 0) return e.storey;
+    float bottom = std::numeric_limits<float>::max();
+    for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+        for (const uint32_t v : model.mesh.triangles[t]) {
+            bottom = std::min(bottom, model.mesh.vertices[v].z());
+        }
+    }
+    if (from_height) *from_height = true;
+    return StoreyUnder(model, double(bottom) + model.origin_m.z());
+}
+
 std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
                                       const std::vector<changes::NewObject>& objects) {
     // The spaces' meshes, ids = element index.
@@ -57,11 +81,7 @@ std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
         const changes::NewObject& obj = objects[o];
         const double bottom = obj.box_min.z() + model.origin_m.z();
         ObjectPlace& place = out[o];
-        for (size_t s = 0; s < model.storeys.size(); ++s) {
-            if (model.storeys[s].elevation_m <= bottom + 0.3 || place.storey < 0) {
-                place.storey = int(s);
-            }
-        }
+        place.storey = StoreyUnder(model, bottom);
         if (spaces.empty()) continue;
         // Count the crossings of a ray going up, per space: odd means inside.
         const Eigen::Vector3f start(float(0.5 * (obj.box_min.x() + obj.box_max.x())),

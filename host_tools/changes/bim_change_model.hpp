@@ -31,4 +31,13 @@ struct ObjectPlace {
 std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
                                       const std::vector<changes::NewObject>& objects);
 
+// The storey under something whose bottom is at bottom_z (model frame), PlaceObjects' rule; -1
+// without storeys.
+int StoreyUnder(const bim::BimModel& model, double bottom_z);
+
+// An element's storey: its IfcBuildingStorey (by IfcRelContainedInSpatialStructure), else, for
+// an element contained in the building or in nothing, the storey under its lowest point
+// (StoreyUnder); -1 without storeys. `from_height` says which.
+int ElementStorey(const bim::BimModel& model, size_t element, bool* from_height = nullptr);
+
 }  // namespace bimslam::change_detection

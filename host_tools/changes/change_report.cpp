@@ -28,20 +28,25 @@ std::string Csv(const std::string& s) {
 
 std::string Num(double v) { return io::FormatDouble(v); }
 
-json StoreyJson(const bim::BimModel& model, int storey) {
+// A change's storey: `from` says how it was placed: "ifc" (the element's IfcBuildingStorey) or
+// "height" (the storey under its lowest point: new objects, elements of no storey).
+json StoreyJson(const bim::BimModel& model, int storey, const char* from) {
     if (storey < 0 || size_t(storey) >= model.storeys.size()) return nullptr;
     return {{"index", storey},
             {"name", model.storeys[size_t(storey)].name},
-            {"global_id", model.storeys[size_t(storey)].global_id}};
+            {"global_id", model.storeys[size_t(storey)].global_id},
+            {"from", from}};
 }
 
 json ElementJson(const bim::BimModel& model, size_t e) {
     const bim::BimElement& el = model.elements[e];
+    bool from_height = false;
+    const int storey = ElementStorey(model, e, &from_height);
     return {{"index", e},
             {"global_id", el.global_id},
             {"class", el.ifc_class},
             {"name", el.name},
-            {"storey", el.storey >= 0 ? json(model.storeys[size_t(el.storey)].name) : json()}};
+            {"storey", StoreyJson(model, storey, from_height ? "height" : "ifc")}};
 }
 
 }  // namespace
@@ -120,7 +125,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                            {"volume_m3", obj.volume_m3},
                            {"voxels", obj.solid.voxels.size()},
                            {"on_floor", obj.on_floor},
-                           {"storey", StoreyJson(model, place.storey)},
+                           {"storey", StoreyJson(model, place.storey, "height")},
                            {"space", space},
                            {"color", {color[0], color[1], color[2]}},
                            {"mesh",
@@ -352,8 +357,8 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
         const bim::BimElement& el = model.elements[e];
         if (!Physical(el)) continue;
         const changes::ElementReport& rep = r.elements[e];
-        const std::string storey =
-            el.storey >= 0 ? model.storeys[size_t(el.storey)].name : std::string();
+        const int s = ElementStorey(model, e);
+        const std::string storey = s >= 0 ? model.storeys[size_t(s)].name : std::string();
         csv << e << ',' << Csv(el.global_id) << ',' << Csv(el.ifc_class) << ',' << Csv(el.name)
             << ',' << Csv(storey) << ',' << changes::ToString(rep.verdict) << ','
             << int(!bim::PassThrough(el.ifc_class)) << ',' << Num(rep.evidence.surface_area_m2)

@@ -150,6 +150,16 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
         EXPECT_TRUE(o["space"].is_object()) << o.dump();
         EXPECT_TRUE(o["on_floor"].get<bool>());
     }
+    // Every change is placed on a storey (issue 31, item 6): new objects by their height, the
+    // model's elements by their IfcBuildingStorey (every element of the sample has one).
+    for (const json& o : changes["new_objects"]) EXPECT_EQ(o["storey"]["from"], "height");
+    for (const char* kind : {"missing", "deviating"}) {
+        for (const json& e : changes[kind]) {
+            ASSERT_TRUE(e["storey"].is_object()) << e.dump();
+            EXPECT_EQ(e["storey"]["from"], "ifc") << e.dump();
+            EXPECT_FALSE(e["storey"]["name"].get<std::string>().empty());
+        }
+    }
     const io::PlyData objects = io::ReadPly(out / "new_objects.ply");
     EXPECT_GT(objects.triangles.size(), 0u);
     EXPECT_NE(objects.Find("red"), nullptr);
