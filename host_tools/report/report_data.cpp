@@ -14,6 +14,7 @@
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
 #include "host_tools/report/report_geometry.hpp"
+#include "host_tools/report/storey_split.hpp"
 
 namespace bimslam::report {
 namespace fs = std::filesystem;
@@ -108,6 +109,59 @@ std::vector<Eigen::Vector3d> Translations(const std::vector<Eigen::Isometry3d>& 
     return p;
 }
 
+// The walk split by storey (storey_split.hpp), thinned like the trajectories, in the mesh frame:
+// [{lower, upper, xyz}] (lower == upper on a floor; on a flight the storeys below and above).
+json StoreyRuns(const std::vector<Eigen::Vector3d>& positions, const bim::BimModel& model,
+                size_t max_points) {
+    const Eigen::Vector3d origin = model.origin_m;
+    std::vector<Eigen::Vector3d> local;
+    const size_t step = std::max<size_t>(1, (positions.size() + max_points - 1) / max_points);
+    for (size_t i = 0; i < positions.size(); ++i) {
+        if (i % step == 0 || i + 1 == positions.size()) local.push_back(positions[i] - origin);
+    }
+    std::vector<double> elevations;
+    for (const bim::BimStorey& s : model.storeys) elevations.push_back(s.elevation_m - origin.z());
+    json runs = json::array();
+    for (const StoreyRun& r : SplitByStorey(local, elevations)) {
+        runs.push_back({{"lower", r.lower},
+                        {"upper", r.upper},
+                        {"xyz", Thin(r.points, Eigen::Vector3d::Zero(), r.points.size())}});
+    }
+    return runs;
+}
+
+// A session's map coloured by distance (map_bim.ply), decimated to at most max_points, storey by
+// storey for the 3D view's storey filter (storeys: [first point, count] per storey), added to
+// `map` ({sessions, total, shown}).
+void AddSessionMap(const fs::path& file, const std::string& name, const bim::BimModel& model,
+                   size_t max_points, json& map) {
+    const io::PlyData ply = io::ReadPly(file);
+    const io::PlyProperty* d = ply.Find("scalar_distance");
+    const size_t step = std::max<size_t>(1, (ply.vertices.size() + max_points - 1) / max_points);
+    const Eigen::Vector3f origin = model.origin_m.cast<float>();
+    std::vector<std::vector<float>> xyz(std::max<size_t>(1, model.storeys.size())),
+        dist(xyz.size());
+    for (size_t i = 0; i < ply.vertices.size(); i += step) {
+        const Eigen::Vector3f p = ply.vertices[i] - origin;
+        const size_t k = size_t(std::max(0, StoreyOfPoint(model, p.z())));
+        xyz[k].insert(xyz[k].end(), {p.x(), p.y(), p.z()});
+        dist[k].push_back(d ? float(d->values[i]) : 0.0f);
+    }
+    std::vector<float> all_xyz, all_dist;
+    json ranges = json::array();
+    for (size_t k = 0; k < xyz.size(); ++k) {
+        ranges.push_back({all_dist.size(), dist[k].size()});
+        all_xyz.insert(all_xyz.end(), xyz[k].begin(), xyz[k].end());
+        all_dist.insert(all_dist.end(), dist[k].begin(), dist[k].end());
+    }
+    map["sessions"].push_back({{"name", name},
+                               {"points", Base64(all_xyz)},
+                               {"distance", Base64(all_dist)},
+                               {"storeys", ranges}});
+    map["total"] = map["total"].get<size_t>() + ply.vertices.size();
+    map["shown"] = map["shown"].get<size_t>() + all_dist.size();
+}
+
 // A storey in changes.json: a name, an object with a name, or null.
 json StoreyName(const json& e) {
     const json s = e.value("storey", json(nullptr));
@@ -148,6 +202,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
                      {"triangles", model.mesh.triangles.size()}};
     progress("floor plans", 0.2);
     data["storeys"] = PlanSections(model, config.plan_cut_height_m);
+    data["flights"] = FlightOutlines(model);
     progress("model buffers", 0.3);
     data["model3d"] = ModelBuffers(model);
 
@@ -155,8 +210,9 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     std::map<std::string, std::vector<Eigen::Isometry3d>> keyframes;  // world poses by session
     if (Exists(out / "reference" / "optimized_poses.txt")) {
         keyframes["reference"] = io::ReadKitti(out / "reference" / "optimized_poses.txt");
-        data["reference_walk"] =
-            Thin(Translations(keyframes["reference"]), origin, config.max_trajectory_points);
+        const std::vector<Eigen::Vector3d> walk = Translations(keyframes["reference"]);
+        data["reference_walk"] = Thin(walk, origin, config.max_trajectory_points);
+        data["reference_runs"] = StoreyRuns(walk, model, config.max_trajectory_points);
     }
 
     // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored.
@@ -177,8 +233,10 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         const fs::path anchored_dir = out / "anchor" / name;
         if (anchored) {
             keyframes[name] = io::ReadKitti(anchored_dir / "optimized_poses.txt");
-            s["trajectory"] = Thin(Positions(io::ReadTum(anchored_dir / "trajectory_bim.tum")),
-                                   origin, config.max_trajectory_points);
+            const std::vector<Eigen::Vector3d> trajectory =
+                Positions(io::ReadTum(anchored_dir / "trajectory_bim.tum"));
+            s["trajectory"] = Thin(trajectory, origin, config.max_trajectory_points);
+            s["runs"] = StoreyRuns(trajectory, model, config.max_trajectory_points);
             if (rec.at("ground_truth").is_string()) {
                 s["ape"] = ApeOverTime(anchored_dir / "trajectory_bim.tum",
                                        rec["ground_truth"].get<std::string>());
@@ -252,21 +310,8 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         // The map coloured by distance and the new objects' meshes (the first anchored session's
         // map, or each, thinned together).
         if (Exists(cdir / "map_bim.ply")) {
-            const io::PlyData ply = io::ReadPly(cdir / "map_bim.ply");
-            const io::PlyProperty* d = ply.Find("scalar_distance");
-            const size_t step = std::max<size_t>(
-                1, (ply.vertices.size() + config.max_map_points - 1) / config.max_map_points);
-            std::vector<float> xyz, dist;
-            for (size_t i = 0; i < ply.vertices.size(); i += step) {
-                const Eigen::Vector3f p = ply.vertices[i] - origin.cast<float>();
-                xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-                dist.push_back(d ? float(d->values[i]) : 0.0f);
-            }
             if (map.is_null()) map = {{"sessions", json::array()}, {"total", 0}, {"shown", 0}};
-            map["sessions"].push_back(
-                {{"name", name}, {"points", Base64(xyz)}, {"distance", Base64(dist)}});
-            map["total"] = map["total"].get<size_t>() + ply.vertices.size();
-            map["shown"] = map["shown"].get<size_t>() + xyz.size() / 3;
+            AddSessionMap(cdir / "map_bim.ply", name, model, config.max_map_points, map);
         }
         if (Exists(cdir / "new_objects.ply")) {
             const io::PlyData ply = io::ReadPly(cdir / "new_objects.ply");

@@ -1,6 +1,11 @@
 #include "host_tools/report/report_geometry.hpp"
 
+#include <algorithm>
+#include <array>
+#include <limits>
 #include <map>
+
+#include "host_tools/bim/stairs.hpp"
 
 namespace bimslam::report {
 using nlohmann::json;
@@ -50,6 +55,25 @@ int StoreyOfHeight(const bim::BimModel& m, double z) {
 }  // namespace
 
 int StoreyAt(const bim::BimModel& model, double z) { return StoreyOfHeight(model, z - 0.1); }
+
+int StoreyOfPoint(const bim::BimModel& model, double z) { return StoreyOfHeight(model, z + 0.05); }
+
+std::vector<int> ElementStoreys(const bim::BimModel& m) {
+    std::vector<int> out;
+    for (const bim::BimElement& e : m.elements) {
+        if (e.storey >= 0 || m.storeys.empty()) {
+            out.push_back(e.storey);
+            continue;
+        }
+        float bottom = std::numeric_limits<float>::max();
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (const uint32_t v : m.mesh.triangles[t])
+                bottom = std::min(bottom, m.mesh.vertices[v].z());
+        }
+        out.push_back(e.triangle_count ? StoreyOfPoint(m, bottom) : 0);
+    }
+    return out;
+}
 
 json PlanSections(const bim::BimModel& m, double cut_height_m) {
     json storeys = json::array();
@@ -101,14 +125,26 @@ json ModelBuffers(const bim::BimModel& m) {
     };
     std::map<std::string, Buffers> by_class;
     json elements = json::array();
-    for (size_t i = 0; i < m.elements.size(); ++i) {
-        const bim::BimElement& e = m.elements[i];
+    for (const bim::BimElement& e : m.elements) {
         elements.push_back({{"g", e.global_id},
                             {"c", e.ifc_class},
                             {"n", e.name},
                             {"s", e.storey >= 0 ? m.storeys[size_t(e.storey)].name : ""}});
+    }
+    // Each class's triangles storey by storey, so that the 3D view's storey filter draws one
+    // storey's as a range of its buffers (ranges: [first index, count] per storey).
+    const std::vector<int> storey = ElementStoreys(m);
+    std::vector<size_t> order(m.elements.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return storey[a] < storey[b]; });
+    std::map<std::string, std::vector<std::array<size_t, 2>>> ranges;
+    for (const size_t i : order) {
+        const bim::BimElement& e = m.elements[i];
         if (!Drawn(e)) continue;
         Buffers& b = by_class[e.ifc_class];
+        auto& r = ranges[e.ifc_class];
+        while (r.size() <= size_t(std::max(storey[i], 0))) r.push_back({b.indices.size(), 0});
         // Elements share no vertices (BimModel): copy the element's vertex range once.
         std::map<uint32_t, uint32_t> local;
         for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
@@ -122,10 +158,14 @@ json ModelBuffers(const bim::BimModel& m) {
             }
             b.element.push_back(uint32_t(i));
         }
+        r.back()[1] = b.indices.size() - r.back()[0];
     }
     json classes = json::array();
     for (const auto& [name, b] : by_class) {
+        auto& r = ranges[name];
+        while (r.size() < m.storeys.size()) r.push_back({b.indices.size(), 0});
         classes.push_back({{"name", name},
+                           {"storeys", r},
                            {"triangles", b.element.size()},
                            {"positions", Base64(b.positions)},
                            {"indices", Base64(b.indices)},
@@ -146,6 +186,44 @@ std::string ElementTriangles(const bim::BimModel& m, const std::vector<size_t>& 
         }
     }
     return Base64(xyz);
+}
+
+}  // namespace bimslam::report
+
+namespace bimslam::report {
+
+json FlightOutlines(const bim::BimModel& m) {
+    json out = json::array();
+    for (const bim::StairFlight& f : bim::FindStairFlights(m)) {
+        if (f.lower < 0 || f.upper < 0 || f.levels.empty()) continue;
+        // Each level as a rectangle along the walking line there (from the level before to the
+        // one after; the entry and the exit at the ends): its depth along, its width across.
+        std::vector<Eigen::Vector2d> c{f.entry};
+        for (const bim::StairLevel& l : f.levels) c.push_back(l.centre.head<2>());
+        c.push_back(f.exit);
+        std::vector<float> treads, line;
+        for (size_t k = 1; k + 1 < c.size(); ++k) {
+            const bim::StairLevel& l = f.levels[k - 1];
+            Eigen::Vector2d u = c[k + 1] - c[k - 1];
+            u = u.norm() > 1e-9 ? Eigen::Vector2d(u.normalized()) : Eigen::Vector2d::UnitX();
+            const Eigen::Vector2d n(-u.y(), u.x());
+            const Eigen::Vector2d a = 0.5 * l.depth_m * u, b = 0.5 * l.width_m * n;
+            const std::array<Eigen::Vector2d, 4> corners{c[k] - a - b, c[k] + a - b, c[k] + a + b,
+                                                         c[k] - a + b};
+            for (const Eigen::Vector2d& p : corners) {
+                treads.insert(treads.end(), {float(p.x()), float(p.y())});
+            }
+        }
+        for (const Eigen::Vector2d& p : c) line.insert(line.end(), {float(p.x()), float(p.y())});
+        out.push_back({{"name", f.name},
+                       {"lower", f.lower},
+                       {"upper", f.upper},
+                       {"rise_m", f.rise_m},
+                       {"risers", f.risers},
+                       {"treads", treads},
+                       {"line", line}});
+    }
+    return out;
 }
 
 }  // namespace bimslam::report

@@ -28,9 +28,10 @@ std::string PlanClass(const std::string& ifc_class);
 // the storey whose elevation range holds the cut.
 nlohmann::json PlanSections(const bim::BimModel& model, double cut_height_m);
 
-// {classes: [{name, triangles, positions (b64 float32 xyz), indices (b64 uint32), element
-// (b64 uint32 per triangle)}], elements: [{g, c, n, s}]} for the 3D view, spaces and openings
-// left out.
+// {classes: [{name, triangles, storeys: [[first index, index count] per storey], positions (b64
+// float32 xyz), indices (b64 uint32), element (b64 uint32 per triangle)}], elements: [{g, c, n,
+// s}]} for the 3D view, spaces and openings left out. Each class's triangles are ordered by their
+// element's storey (ElementStoreys), so that one storey's are one range of the index buffer.
 nlohmann::json ModelBuffers(const bim::BimModel& model);
 
 // Non-indexed triangles of the given elements (b64 float32 xyz): missing elements in red.
@@ -39,5 +40,18 @@ std::string ElementTriangles(const bim::BimModel& model, const std::vector<size_
 // The storey (index) a point at height z stands on: the highest whose elevation is at most
 // z - 0.1 m (a sensor is above its floor), else the lowest; -1 without storeys.
 int StoreyAt(const bim::BimModel& model, double z);
+
+// The storey a map point at height z (mesh frame) belongs to: the highest whose elevation is at
+// most z + 5 cm (a floor's surface is its storey's, a ceiling the storey's below).
+int StoreyOfPoint(const bim::BimModel& model, double z);
+
+// Per element: its IfcBuildingStorey, else the storey of its lowest point (StoreyOfPoint); -1
+// without storeys.
+std::vector<int> ElementStoreys(const bim::BimModel& model);
+
+// The model's stairs and ramps (bim::FindStairFlights) as the plans draw them: [{name, lower,
+// upper, rise_m, risers, treads: [x y of 4 corners per level, flat], line: [x y, flat]}] (mesh
+// frame), each drawn on the plans of the storeys it joins.
+nlohmann::json FlightOutlines(const bim::BimModel& model);
 
 }  // namespace bimslam::report

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 #include "algorithms/io/file_util.hpp"
@@ -215,6 +216,51 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     EXPECT_LE(shown, 1000u);
     EXPECT_GT(shown, 500u);  // evenly thinned, not cut
     EXPECT_EQ(data.at("config").at("max_map_points"), 1000);
+}
+
+// The report's data per storey (issue 31, item 6): the office's stair as a flight from the ground
+// floor to the first; the reference session (both storeys) split into runs on each; the ground
+// floor walk all on the ground floor; the map and each model class ordered storey by storey.
+TEST(MapCli, TheReportsDataSplitsTheWalksByStoreyAndHoldsTheStairs) {
+    // The page's own data (the fixture's summary names the folder it was made in, so the data
+    // is read from the page rather than gathered again).
+    const std::string html = io::ReadFileToString(Mapped() / "out" / "report" / "report.html");
+    const std::string open = "<script id=\"report-data\" type=\"application/json\">";
+    const size_t a = html.find(open), b = html.find("</script>", a);
+    ASSERT_NE(a, std::string::npos);
+    ASSERT_NE(b, std::string::npos);
+    const json data = json::parse(html.substr(a + open.size(), b - a - open.size()));
+    ASSERT_EQ(data.at("storeys").size(), 2u);
+    ASSERT_EQ(data.at("flights").size(), 1u) << data.at("flights").dump();
+    const json& f = data.at("flights")[0];
+    EXPECT_EQ(f.at("lower"), 0);
+    EXPECT_EQ(f.at("upper"), 1);
+    EXPECT_EQ(f.at("risers"), 16);
+    EXPECT_EQ(f.at("treads").size() % 8, 0u);
+    EXPECT_GE(f.at("treads").size(), 8u * 15) << "four corners of each of the 15 treads";
+    std::set<int> reference_storeys;
+    for (const json& r : data.at("reference_runs")) {
+        EXPECT_EQ(r.at("lower"), r.at("upper")) << "bim2session walks no flight";
+        reference_storeys.insert(r.at("lower").get<int>());
+    }
+    EXPECT_EQ(reference_storeys, (std::set<int>{0, 1}));
+    const json& runs = data.at("sessions")[0].at("runs");
+    ASSERT_EQ(runs.size(), 1u) << runs.dump().substr(0, 400);
+    EXPECT_EQ(runs[0].at("lower"), 0);
+    EXPECT_EQ(runs[0].at("upper"), 0);
+    const json& map_ranges = data.at("map").at("sessions")[0].at("storeys");
+    ASSERT_EQ(map_ranges.size(), 2u);
+    EXPECT_EQ(map_ranges[0][0], 0);
+    EXPECT_EQ(map_ranges[1][0], map_ranges[0][1]);
+    EXPECT_EQ(map_ranges[0][1].get<size_t>() + map_ranges[1][1].get<size_t>(),
+              data.at("map").at("shown").get<size_t>());
+    for (const json& c : data.at("model3d").at("classes")) {
+        const json& r = c.at("storeys");
+        ASSERT_EQ(r.size(), 2u) << c.at("name");
+        EXPECT_EQ(r[0][1].get<size_t>() + r[1][1].get<size_t>(),
+                  3 * c.at("triangles").get<size_t>())
+            << c.at("name");
+    }
 }
 
 TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {

@@ -146,6 +146,33 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
                 inspected.rfind("new object", 0) == 0)
         << inspected;
     ExpectScoresInView(t, Mapped());
+    // Each storey's plan: the stair that joins them, the reference walk's part on it; the walk of
+    // the ground floor only there, and never on a flight.
+    const json& plans = t.at("plan_stats");
+    ASSERT_EQ(plans.size(), 2u) << plans.dump();
+    for (const json& p : plans) {
+        EXPECT_EQ(p.at("stairs"), 1) << p.dump();
+        EXPECT_GE(p.at("walk").get<int>(), 1) << p.dump();
+        EXPECT_EQ(p.at("trajectory_on_flights"), 0) << p.dump();
+    }
+    EXPECT_GE(plans[0].at("trajectory").get<int>(), 1) << plans.dump();
+    EXPECT_EQ(plans[1].at("trajectory"), 0) << plans.dump();
+    // The 3D view's storey filter: each storey alone draws fewer pixels than all; all again, as
+    // many as before.
+    const json& filter = t.at("storey_filter");
+    ASSERT_EQ(filter.at("each").size(), 2u) << filter.dump();
+    for (const json& each : filter.at("each")) {
+        EXPECT_LT(each.get<double>(), 0.95 * filter.at("all").get<double>()) << filter.dump();
+    }
+    EXPECT_EQ(filter.at("again"), filter.at("all")) << filter.dump();
+    // The plots' axes name quantities, not functions.
+    for (const json& labels : t.at("axis_labels")) {
+        for (const json& l : labels) {
+            EXPECT_EQ(l.get<std::string>().find("::"), std::string::npos) << l;
+            EXPECT_FALSE(l.get<std::string>().empty());
+        }
+    }
+    EXPECT_EQ(t.at("axis_labels").at(1).at(1), "odometry time per scan (ms)");
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
 }
 

@@ -116,22 +116,46 @@ function niceLength(w) {
   for (const v of [0.5, 1, 2, 5, 10, 20, 50, 100]) if (v >= w / 8) return v;
   return 200;
 }
-function polyline(xyz, storey, cls, parent, color) {
-  // The part of a trajectory (flat xyz, local) on this storey, as separate runs.
-  let pts = [];
-  const flush = () => {
-    if (pts.length > 1) {
-      const p = el('svg:polyline', {class: cls, points: pts.join(' ')}, parent);
-      if (color) p.setAttribute('stroke', color);
-    }
-    pts = [];
-  };
-  for (let i = 0; i + 2 < xyz.length; i += 3) {
-    if (storeyAt(xyz[i + 2]) === storey) pts.push(xyz[i].toFixed(2) + ',' + xyz[i + 1].toFixed(2));
-    else flush();
-  }
-  flush();
+// The runs of a walk on this storey (split by height in C++, storey_split.hpp): its floor's, and
+// the flights to and from it, dashed. Returns [lines, of which on flights].
+function drawRuns(runs, storey, cls, parent, color) {
+  let n = 0, flights = 0;
+  (runs || []).forEach(r => {
+    if (r.lower !== storey && r.upper !== storey) return;
+    const pts = [];
+    for (let i = 0; i + 2 < r.xyz.length; i += 3) pts.push(r.xyz[i].toFixed(2) + ',' + r.xyz[i + 1].toFixed(2));
+    if (pts.length < 2) return;
+    const flight = r.lower !== r.upper;
+    const p = el('svg:polyline', {class: cls + (flight ? ' flight' : ''), points: pts.join(' ')}, parent);
+    if (color) p.setAttribute('stroke', color);
+    ++n;
+    flights += flight;
+  });
+  return [n, flights];
 }
+// The stairs and ramps joining this storey to another: each tread's outline and the walking line.
+function drawStairs(storey, parent) {
+  let n = 0;
+  (D.flights || []).forEach(f => {
+    if (f.lower !== storey && f.upper !== storey) return;
+    const g = el('svg:g', {class: 'stair'}, parent);
+    el('svg:title', {}, g, f.name + ': ' + f.risers + ' risers of ' + fmt(f.rise_m, 2) + ' m, ' +
+       D.storeys[f.lower].name + ' to ' + D.storeys[f.upper].name);
+    const t = f.treads;
+    let d = '';
+    for (let i = 0; i + 7 < t.length; i += 8) {
+      d += 'M' + t[i] + ' ' + t[i + 1] + 'L' + t[i + 2] + ' ' + t[i + 3] + 'L' + t[i + 4] + ' ' +
+           t[i + 5] + 'L' + t[i + 6] + ' ' + t[i + 7] + 'Z';
+    }
+    el('svg:path', {class: 'tread', d: d}, g);
+    const line = [];
+    for (let i = 0; i + 1 < f.line.length; i += 2) line.push(f.line[i].toFixed(2) + ',' + f.line[i + 1].toFixed(2));
+    el('svg:polyline', {class: 'stair-line', points: line.join(' ')}, g);
+    ++n;
+  });
+  return n;
+}
+const planStats = [];  // per storey's plan: what it drew (the self-test reports it)
 function buildPlans() {
   const body = document.getElementById('plans-body');
   // The model's box, grown to hold the anchored trajectories (a walk may start outside).
@@ -156,8 +180,14 @@ function buildPlans() {
       for (let i = 0; i + 3 < s.length; i += 4) d += 'M' + s[i] + ' ' + s[i + 1] + 'L' + s[i + 2] + ' ' + s[i + 3];
       el('svg:path', {class: cls, d: d}, g);
     }
-    if (D.reference_walk) polyline(D.reference_walk, si, 'walk', g);
-    D.sessions.forEach((s, k) => { if (s.trajectory) polyline(s.trajectory, si, 'traj', g, COLORS[k % COLORS.length]); });
+    const stat = {storey: st.name, stairs: drawStairs(si, g), walk: drawRuns(D.reference_runs, si, 'walk', g)[0],
+                  trajectory: 0, trajectory_on_flights: 0};
+    D.sessions.forEach((s, k) => {
+      const [n, flights] = drawRuns(s.runs, si, 'traj', g, COLORS[k % COLORS.length]);
+      stat.trajectory += n;
+      stat.trajectory_on_flights += flights;
+    });
+    planStats.push(stat);
     D.loops.forEach(l => {
       if (storeyAt(l.a[2]) !== si) return;
       el('svg:line', {class: l.accepted ? 'loop-ok' : 'loop-no', x1: l.a[0], y1: l.a[1], x2: l.b[0], y2: l.b[1]}, g);
@@ -230,8 +260,8 @@ function chart(title, series, xlabel, ylabel, opts) {
   }
   el('svg:line', {class: 'axis', x1: l, x2: l, y1: t, y2: H - b}, svg);
   el('svg:line', {class: 'axis', x1: l, x2: W - r, y1: H - b, y2: H - b}, svg);
-  el('svg:text', {x: (l + W - r) / 2, y: H - 4, 'text-anchor': 'middle'}, svg, xlabel);
-  el('svg:text', {x: 12, y: (t + H - b) / 2, transform: 'rotate(-90 12 ' + (t + H - b) / 2 + ')', 'text-anchor': 'middle'}, svg, ylabel);
+  el('svg:text', {class: 'xlabel', x: (l + W - r) / 2, y: H - 4, 'text-anchor': 'middle'}, svg, xlabel);
+  el('svg:text', {class: 'ylabel', x: 12, y: (t + H - b) / 2, transform: 'rotate(-90 12 ' + (t + H - b) / 2 + ')', 'text-anchor': 'middle'}, svg, ylabel);
   series.forEach((s, k) => {
     if (s.mode === 'dots') {
       s.x.forEach((x, i) => el('svg:circle', {cx: X(x), cy: Y(s.y[i]), r: 2.5, fill: s.color}, svg));
@@ -256,12 +286,12 @@ function buildPlots() {
   const ms = D.sessions.filter(s => s.scan_ms);
   chart('Odometry time per scan', ms.map((s, k) => ({
     name: s.name, x: s.scan_ms.map((_, i) => i), y: s.scan_ms, color: COLORS[k % COLORS.length]})),
-    'scan', 'LidarOdometry::Process (ms)', {ymin: 0});
+    'scan number', 'odometry time per scan (ms)', {ymin: 0});
   const ok = D.loops.filter(l => l.accepted), no = D.loops.filter(l => !l.accepted);
   chart('Registration fitness of the loop candidates', [
     {name: 'accepted (' + ok.length + ')', x: ok.map(l => l.inlier_ratio), y: ok.map(l => l.inlier_rmse_m * 100), color: '#1a9c3a', mode: 'dots'},
     {name: 'rejected (' + no.length + ')', x: no.map(l => l.inlier_ratio), y: no.map(l => l.inlier_rmse_m * 100), color: '#d62728', mode: 'dots'}],
-    'inlier ratio', 'inlier RMSE (cm)', {ymin: 0});
+    'inlier ratio (fraction of points)', 'inlier RMSE (cm)', {ymin: 0});
   // Loop statistics: accepted, then the rejections by reason (their first words), most first.
   const reasons = {};
   no.forEach(l => { const r = String(l.reason).split(/[:(,;]/)[0].trim().slice(0, 40); reasons[r] = (reasons[r] || 0) + 1; });
@@ -269,7 +299,7 @@ function buildPlots() {
   const names = ['accepted'].concat(keys), counts = [ok.length].concat(keys.map(k => reasons[k]));
   const svg = chart('Loop statistics: accepted, and rejected by reason', [
     {name: 'loops', x: names.map((_, i) => i + 0.5), y: counts, color: '#4c78a8', mode: 'bars'}],
-    'the numbers below', 'loops', {ymin: 0, noXTicks: true, xmin: 0, xmax: names.length});
+    'outcome (numbered below)', 'number of loops', {ymin: 0, noXTicks: true, xmin: 0, xmax: names.length});
   names.forEach((n, i) => {
     const x = 48 + (i + 0.5) / names.length * 382;
     el('svg:text', {x: x, y: 228, 'text-anchor': 'middle'}, svg, (i + 1) + '');
@@ -361,6 +391,36 @@ function buildView() {
     cb.addEventListener('change', () => { obj.visible = cb.checked; render(); });
     return obj;
   }
+  // The storey filter: one storey's model elements, map points and walks (the buffers are ordered
+  // storey by storey in C++, so a storey is a draw range; walks are split into runs by storey).
+  const filtered = [];
+  function showStorey(si) {  // -1: all storeys
+    filtered.forEach(o => {
+      if (o.isGroup) {
+        o.children.forEach(c => { c.visible = si < 0 || c.userData.storeys.includes(si); });
+      } else {
+        const r = o.userData.ranges;
+        if (si < 0 || !r || !r[si]) o.geometry.setDrawRange(0, Infinity);
+        else o.geometry.setDrawRange(r[si][0], r[si][1]);
+      }
+    });
+    render();
+  }
+  function runLines(runs, color) {
+    const grp = new THREE.Group();
+    (runs || []).forEach(r => {
+      const l = line(r.xyz, color);
+      l.userData.storeys = [r.lower, r.upper];
+      grp.add(l);
+    });
+    filtered.push(grp);
+    return grp;
+  }
+  const fl = el('label', {}, layers, 'Storey ');
+  const sel = el('select', {id: 'storey-filter'}, fl);
+  el('option', {value: -1}, sel, 'all storeys');
+  D.storeys.forEach((st, i) => el('option', {value: i}, sel, st.name));
+  sel.addEventListener('change', () => showStorey(+sel.value));
   el('strong', {}, layers, 'Model (per class)');
   const palette = {IfcWall: 0xb0b0b0, IfcWallStandardCase: 0xb0b0b0, IfcSlab: 0xd8d0c0, IfcDoor: 0xb8860b,
                    IfcWindow: 0x3a8fd6, IfcColumn: 0x909090, IfcStair: 0xa08060, IfcFurnishingElement: 0x7fa07f};
@@ -371,7 +431,8 @@ function buildView() {
     g.computeVertexNormals();
     const m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({color: palette[c.name] || 0xc0c0c0,
       transparent: true, opacity: 0.28, depthWrite: false, side: THREE.DoubleSide}));
-    m.userData = {kind: 'model', element: b64(c.element, Uint32Array)};
+    m.userData = {kind: 'model', element: b64(c.element, Uint32Array), ranges: c.storeys};
+    filtered.push(m);
     const slab = c.name === 'IfcSlab' || c.name === 'IfcRoof' || c.name === 'IfcCovering';
     layer(c.name + ' (' + c.triangles + ')', m, !slab);
     pickable.push(m);
@@ -386,7 +447,8 @@ function buildView() {
       g.setAttribute('position', new THREE.BufferAttribute(p, 3));
       g.setAttribute('color', new THREE.BufferAttribute(col, 3));
       const pts = new THREE.Points(g, new THREE.PointsMaterial({size: 0.05, vertexColors: THREE.VertexColors}));
-      pts.userData = {kind: 'map', distance: d, session: s.name};
+      pts.userData = {kind: 'map', distance: d, session: s.name, ranges: s.storeys};
+      filtered.push(pts);
       layer('map of ' + s.name + ' by distance', pts, true);
       pickable.push(pts);
     });
@@ -423,9 +485,9 @@ function buildView() {
     g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(xyz), 3));
     return new THREE.Line(g, new THREE.LineBasicMaterial({color: color}));
   }
-  if (D.reference_walk) layer('reference walk', line(D.reference_walk, 0x666666), true);
+  if (D.reference_runs) layer('reference walk', runLines(D.reference_runs, 0x666666), true);
   D.sessions.forEach((s, k) => {
-    if (s.trajectory) layer('trajectory ' + s.name, line(s.trajectory, COLORS[k % COLORS.length]), true);
+    if (s.runs) layer('trajectory ' + s.name, runLines(s.runs, COLORS[k % COLORS.length]), true);
     if (s.own_frame) {
       const g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(b64(s.own_frame.points, Float32Array), 3));
@@ -516,6 +578,9 @@ if (location.hash === '#selftest') {
   requestAnimationFrame(() => {
     const r = {errors: window.reportErrors.slice(), timings_ms: timings};
     r.plans = document.querySelectorAll('#plans-body svg').length;
+    r.plan_stats = planStats;
+    r.axis_labels = [...document.querySelectorAll('#plots-body svg')].map(svg =>
+      [svg.querySelector('.xlabel').textContent, svg.querySelector('.ylabel').textContent]);
     r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
     r.plots = document.querySelectorAll('#plots-body svg').length;
     r.changes = D.changes.length;
@@ -542,6 +607,13 @@ if (location.hash === '#selftest') {
       flip(true);
       r.toggles = {classes: classes.length, all: all, none: none, again: view.drawnPixels().drawn};
       classes.forEach(cb => { cb.checked = shown.includes(cb); cb.dispatchEvent(new Event('change')); });
+    }
+    // The storey filter: each storey alone draws fewer pixels than all of them; all again, as many.
+    const sel = document.getElementById('storey-filter');
+    if (view && sel) {
+      const show = v => { sel.value = String(v); sel.dispatchEvent(new Event('change')); return view.drawnPixels().drawn; };
+      const all = show(-1);
+      r.storey_filter = {storeys: D.storeys.length, all: all, each: D.storeys.map((_, i) => show(i)), again: show(-1)};
     }
     // Click-to-inspect: a click (pointer down and up in place) at the middle of the 3D view.
     const canvas = document.querySelector('#viewer-canvas canvas');
