@@ -7,25 +7,15 @@
 
 #include <string>
 
+#include "tests/unit/bim/synthetic_floor.hpp"
+
 namespace bimslam::change_detection {
 namespace {
 
-// A box element (12 triangles) from lo to hi, on `storey` (-1: contained in no storey).
-void AddBox(bim::BimModel& m, int storey, Eigen::Vector3f lo, Eigen::Vector3f hi) {
-    bim::BimElement e;
-    e.ifc_class = "IfcColumn";
-    e.storey = storey;
-    e.first_triangle = uint32_t(m.mesh.triangles.size());
-    const uint32_t v0 = uint32_t(m.mesh.vertices.size());
-    for (int i = 0; i < 8; ++i) {
-        m.mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
-                                     i & 4 ? hi.z() : lo.z());
-    }
-    const uint32_t f[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
-                               {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
-    for (const auto& t : f) m.mesh.triangles.push_back({v0 + t[0], v0 + t[1], v0 + t[2]});
-    e.triangle_count = 12;
-    m.elements.push_back(e);
+// A column from lo to hi on `storey` (-1: contained in no storey).
+void AddBox(bim::BimModel& m, int storey, Eigen::Vector3d lo, Eigen::Vector3d hi) {
+    bim::test_floor::AddBox(m, "IfcColumn", bim::ElementRole::kStructure, lo, hi);
+    m.elements.back().storey = storey;
 }
 
 bim::BimModel TwoStoreys() {
