@@ -10,6 +10,7 @@
 // The browser test of the page is report_browser_test.cpp (same fixtures).
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -55,6 +56,15 @@ json Steps(const json& j) {
     for (const json& step : j.at("steps"))
         s[step.at("step").get<std::string>()] = step.at("skipped");
     return s;
+}
+
+// The page's data, as embedded in report.html.
+json PageData(const fs::path& html_file) {
+    const std::string html = io::ReadFileToString(html_file);
+    const std::string open = "<script id=\"report-data\" type=\"application/json\">";
+    const size_t a = html.find(open), b = html.find("</script>", a);
+    if (a == std::string::npos || b == std::string::npos) return nullptr;
+    return json::parse(html.substr(a + open.size(), b - a - open.size()));
 }
 
 TEST(MapCli, EveryStepWritesItsFolderAndTheSummaryEqualsTheIndividualCommands) {
@@ -224,12 +234,8 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
 TEST(MapCli, TheReportsDataSplitsTheWalksByStoreyAndHoldsTheStairs) {
     // The page's own data (the fixture's summary names the folder it was made in, so the data
     // is read from the page rather than gathered again).
-    const std::string html = io::ReadFileToString(Mapped() / "out" / "report" / "report.html");
-    const std::string open = "<script id=\"report-data\" type=\"application/json\">";
-    const size_t a = html.find(open), b = html.find("</script>", a);
-    ASSERT_NE(a, std::string::npos);
-    ASSERT_NE(b, std::string::npos);
-    const json data = json::parse(html.substr(a + open.size(), b - a - open.size()));
+    const json data = PageData(Mapped() / "out" / "report" / "report.html");
+    ASSERT_TRUE(data.is_object());
     ASSERT_EQ(data.at("storeys").size(), 2u);
     ASSERT_EQ(data.at("flights").size(), 1u) << data.at("flights").dump();
     const json& f = data.at("flights")[0];
@@ -261,6 +267,49 @@ TEST(MapCli, TheReportsDataSplitsTheWalksByStoreyAndHoldsTheStairs) {
                   3 * c.at("triangles").get<size_t>())
             << c.at("name");
     }
+}
+
+// A walk up the stair and back (issue 31, item 6): anchored; the box added on each storey found
+// and placed on its storey (the simulator's truth names it); the anchored trajectory split into
+// floor, flight, floor, flight, floor for the plans.
+TEST(MapCli, ATwoStoreyWalksChangesArePlacedOnTheirStoreysAndItsTrajectorySplitByStorey) {
+    const fs::path f = TwoStoreys();
+    const json summary = ReadJson(f / "out" / "summary.json");
+    ASSERT_EQ(summary.at("recordings").at(0).at("anchor").at("verdict"), "anchored")
+        << summary.dump(1);
+    const json truth = ReadJson(f / "capture" / "changes.json");
+    const json found = ReadJson(f / "out" / "changes" / "capture" / "changes.json");
+    ASSERT_EQ(truth.at("added").size(), 2u);
+    ASSERT_EQ(found.at("new_objects").size(), 2u) << found.at("new_objects").dump();
+    std::set<std::string> storeys;
+    for (const json& o : found.at("new_objects")) {
+        const auto centre = [](const json& box_min, const json& box_max) -> Eigen::Vector3d {
+            Eigen::Vector3d c;
+            for (int k = 0; k < 3; ++k) {
+                c[k] = 0.5 * (box_min[k].get<double>() + box_max[k].get<double>());
+            }
+            return c;
+        };
+        const Eigen::Vector3d c = centre(o.at("box_min"), o.at("box_max"));
+        const json* nearest = nullptr;
+        double best = 1e9;
+        for (const json& a : truth.at("added")) {
+            const double d = (centre(a.at("box_min"), a.at("box_max")) - c).norm();
+            if (d < best) best = d, nearest = &a;
+        }
+        ASSERT_LT(best, 0.3) << o.dump();
+        EXPECT_EQ(o.at("storey").at("name"), nearest->at("storey")) << o.dump();
+        storeys.insert(o.at("storey").at("name").get<std::string>());
+    }
+    EXPECT_EQ(storeys, (std::set<std::string>{"Ground Floor", "First Floor"}));
+
+    const json data = PageData(f / "out" / "report" / "report.html");
+    ASSERT_TRUE(data.is_object());
+    std::vector<std::pair<int, int>> runs;
+    for (const json& r : data.at("sessions")[0].at("runs"))
+        runs.push_back({r.at("lower"), r.at("upper")});
+    const std::vector<std::pair<int, int>> expected{{0, 0}, {0, 1}, {1, 1}, {0, 1}, {0, 0}};
+    EXPECT_EQ(runs, expected);
 }
 
 TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {

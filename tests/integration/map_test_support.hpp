@@ -71,6 +71,31 @@ inline fs::path Mapped() {
     });
 }
 
+// A hand-held walk up the office's stair and back down (issue 31, item 6): from a metre before
+// the flight's foot to a metre past its head and back (`bimslam bim stairs`: entry (22.975,
+// 0.875), exit (28.225, 0.875)), with a box added on each storey in the stair's room. OS1-16 at
+// 512x10 to stay cheap: about 2 s to simulate and 8 s to map on the shared machine.
+inline fs::path TwoStoreys() {
+    return Fixture("two_storeys", [](const fs::path& d) {
+        io::WriteFileAtomic(d / "scenario.yaml", R"(platform: handheld
+storey: all
+seed: 3
+sensor: {model: OS1-16, lidar_mode: 512x10}
+path:
+  mode: waypoints
+  waypoints: [[21.975, 0.875], [29.225, 0.875], [21.975, 0.875]]
+  waypoint_storeys: [Ground Floor, First Floor, Ground Floor]
+edits:
+  boxes:
+    - {name: crate downstairs, center: [25.5, 3.5, 0.4], size: [0.8, 0.6, 0.8], yaw_deg: 0}
+    - {name: crate upstairs, center: [25.5, 3.5, 3.6], size: [0.8, 0.6, 0.8], yaw_deg: 0}
+)");
+        MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
+                (d / "scenario.yaml").string() + " -o " + (d / "capture").string());
+        MustRun(MapArgs(d / "capture", d / "out"));
+    });
+}
+
 // A walk through another building (the hall) mapped against the office: it cannot be anchored.
 // map.out holds what `bimslam map` printed; its exit code must be 1.
 inline fs::path Unanchorable() {
@@ -99,11 +124,11 @@ inline fs::path Untrusted() {
         odo["verdict"] = "untrusted";
         odo["verdict_text"] = "UNTRUSTED: 4 failed scans in 1 stretches: scans 120-131";
         odo["failed_stretches"] = nlohmann::json::array({{{"first_scan", 120},
-                                                         {"last_scan", 131},
-                                                         {"first_s", 12.0},
-                                                         {"last_s", 13.1},
-                                                         {"failed", 4},
-                                                         {"reasons", {"low overlap"}}}});
+                                                          {"last_scan", 131},
+                                                          {"first_s", 12.0},
+                                                          {"last_s", 13.1},
+                                                          {"failed", 4},
+                                                          {"reasons", {"low overlap"}}}});
         io::WriteFileAtomic(odo_file, odo.dump() + "\n");
         fs::remove(d / "out" / "stamps" / "report.json");
         const auto r = Cli(MapArgs(d / "capture", d / "out"));

@@ -176,6 +176,38 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
 }
 
+// A walk up the office's stair and back (issue 31, item 6): each storey's plan draws its part of
+// the trajectory, the flights dashed on both plans; the storey filter draws less for each storey.
+TEST(ReportBrowser, ATwoStoreyWalkIsDrawnOnEachStoreysPlanWithItsFlightsOnBoth) {
+    if (Chromium().empty()) {
+        GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
+                        "installs it through toolchain/install-deps.sh --test)";
+    }
+    const PageRun run =
+        OpenPage(TwoStoreys() / "out" / "report" / "report.html", "report_two_storeys.png");
+    const json& t = run.selftest;
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
+    EXPECT_TRUE(run.console.empty()) << run.console;
+    const json& plans = t.at("plan_stats");
+    ASSERT_EQ(plans.size(), 2u) << plans.dump();
+    // Ground floor: before and after the climb, and the two flights; first floor: its stretch
+    // and the same two flights.
+    EXPECT_EQ(plans[0].at("trajectory"), 4) << plans.dump();
+    EXPECT_EQ(plans[1].at("trajectory"), 3) << plans.dump();
+    for (const json& p : plans) {
+        EXPECT_EQ(p.at("trajectory_on_flights"), 2) << p.dump();
+        EXPECT_EQ(p.at("stairs"), 1) << p.dump();
+    }
+    const json& filter = t.at("storey_filter");
+    for (const json& each : filter.at("each")) {
+        EXPECT_LT(each.get<double>(), 0.95 * filter.at("all").get<double>()) << filter.dump();
+    }
+    EXPECT_EQ(filter.at("again"), filter.at("all")) << filter.dump();
+    EXPECT_EQ(t.at("changes"), 2) << "a box on each storey";
+    EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
+}
+
 TEST(ReportBrowser, ANotAnchoredRecordingIsShownAsSuchWithoutErrors) {
     if (Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
