@@ -201,7 +201,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "  report     OUT/report/report.html (`bimslam report`)\n"
         "OUT/summary.json gathers the figures; with a simulated capture's ground_truth.tum and "
         "changes.json beside the recording, the APE in BIM coordinates (no alignment) and the "
-        "change scores. Exit 0 when every recording is anchored and its odometry trusted, 1 when "
+        "change scores: first of what the walk saw (objects with at least 20 beam hits; how many "
+        "were out of sight), then of all. Exit 0 when every recording is anchored and its odometry "
+        "trusted, 1 when "
         "one is not (its report "
         "still written) or a step failed (the message names the step and the file), 2 for a model "
         "that is not IFC or a recording that is not an Ouster capture, before any step.");
@@ -214,9 +216,11 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     rep->add_option("out", *out, "the output folder of `bimslam map`")->required();
     rep->add_option("-o,--output", *html, "the page to write (default OUT/report/report.html)");
     rep->footer(
-        "The page holds the summary, a floor plan per storey (walls, doors, the reference walk, "
-        "trajectories, loops, new objects, missing elements, a scale bar), plots, the change list "
-        "and a 3D view (three.js r111 from Debian's libjs-three, embedded). Opens offline. "
+        "The page holds the summary, a floor plan per storey (walls, doors, the stairs, the part "
+        "of "
+        "the reference walk and of the trajectories on that storey, flights dashed on both, loops, "
+        "new objects, missing elements, a scale bar), plots, the change list and a 3D view with a "
+        "storey filter (three.js r111 from Debian's libjs-three, embedded). Opens offline. "
         "host_tools/report/README.md.");
     rep->callback(
         [out, html, &exit_code] { exit_code = Run([&] { return ReportMain(*out, *html); }); });
