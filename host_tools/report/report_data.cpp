@@ -210,9 +210,8 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     std::map<std::string, std::vector<Eigen::Isometry3d>> keyframes;  // world poses by session
     if (Exists(out / "reference" / "optimized_poses.txt")) {
         keyframes["reference"] = io::ReadKitti(out / "reference" / "optimized_poses.txt");
-        const std::vector<Eigen::Vector3d> walk = Translations(keyframes["reference"]);
-        data["reference_walk"] = Thin(walk, origin, config.max_trajectory_points);
-        data["reference_runs"] = StoreyRuns(walk, model, config.max_trajectory_points);
+        data["reference_runs"] =
+            StoreyRuns(Translations(keyframes["reference"]), model, config.max_trajectory_points);
     }
 
     // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored.
