@@ -162,6 +162,51 @@ void AddSessionMap(const fs::path& file, const std::string& name, const bim::Bim
     map["shown"] = map["shown"].get<size_t>() + all_dist.size();
 }
 
+// A session's new objects' voxel meshes (new_objects.ply) for the 3D view, their triangles
+// storey by storey (each object's storey in changes.json; storeys: [first index, count] per
+// storey), so that the storey filter draws one storey's as a range.
+json ObjectMeshes(const fs::path& file, const std::string& name, const json& changes,
+                  const bim::BimModel& model) {
+    const io::PlyData ply = io::ReadPly(file);
+    std::map<int32_t, int> storey_of;  // object id -> storey
+    for (const json& o : changes.at("new_objects")) {
+        const json& s = o.value("storey", json(nullptr));
+        storey_of[o.at("id").get<int32_t>()] = s.is_object() ? s.value("index", 0) : 0;
+    }
+    std::vector<float> xyz;
+    std::vector<uint8_t> rgb;
+    std::vector<int32_t> obj;
+    const auto* red = ply.Find("red");
+    const auto* green = ply.Find("green");
+    const auto* blue = ply.Find("blue");
+    const auto* object = ply.Find("object");
+    for (size_t i = 0; i < ply.vertices.size(); ++i) {
+        const Eigen::Vector3f p = ply.vertices[i] - model.origin_m.cast<float>();
+        xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
+        rgb.insert(rgb.end(),
+                   {uint8_t(red ? red->values[i] : 200), uint8_t(green ? green->values[i] : 120),
+                    uint8_t(blue ? blue->values[i] : 0)});
+        obj.push_back(object ? int32_t(object->values[i]) : -1);
+    }
+    const auto storey = [&](const auto& t) {
+        const auto it = storey_of.find(obj[t[0]]);
+        return it == storey_of.end() ? 0 : std::max(0, it->second);
+    };
+    std::vector<std::vector<uint32_t>> by_storey(std::max<size_t>(1, model.storeys.size()));
+    for (const auto& t : ply.triangles) {
+        auto& idx = by_storey[std::min(by_storey.size() - 1, size_t(storey(t)))];
+        idx.insert(idx.end(), t.begin(), t.end());
+    }
+    std::vector<uint32_t> idx;
+    json ranges = json::array();
+    for (const std::vector<uint32_t>& part : by_storey) {
+        ranges.push_back({idx.size(), part.size()});
+        idx.insert(idx.end(), part.begin(), part.end());
+    }
+    return {{"session", name},        {"positions", Base64(xyz)}, {"colors", Base64(rgb)},
+            {"indices", Base64(idx)}, {"object", Base64(obj)},    {"storeys", ranges}};
+}
+
 // A storey in changes.json: a name, an object with a name, or null.
 json StoreyName(const json& e) {
     const json s = e.value("storey", json(nullptr));
@@ -313,29 +358,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
             AddSessionMap(cdir / "map_bim.ply", name, model, config.max_map_points, map);
         }
         if (Exists(cdir / "new_objects.ply")) {
-            const io::PlyData ply = io::ReadPly(cdir / "new_objects.ply");
-            std::vector<float> xyz;
-            std::vector<uint8_t> rgb;
-            std::vector<uint32_t> idx;
-            std::vector<int32_t> obj;
-            const auto* red = ply.Find("red");
-            const auto* green = ply.Find("green");
-            const auto* blue = ply.Find("blue");
-            const auto* object = ply.Find("object");
-            for (size_t i = 0; i < ply.vertices.size(); ++i) {
-                const Eigen::Vector3f p = ply.vertices[i] - origin.cast<float>();
-                xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
-                rgb.insert(rgb.end(), {uint8_t(red ? red->values[i] : 200),
-                                       uint8_t(green ? green->values[i] : 120),
-                                       uint8_t(blue ? blue->values[i] : 0)});
-                obj.push_back(object ? int32_t(object->values[i]) : -1);
-            }
-            for (const auto& t : ply.triangles) idx.insert(idx.end(), t.begin(), t.end());
-            objects.push_back({{"session", name},
-                               {"positions", Base64(xyz)},
-                               {"colors", Base64(rgb)},
-                               {"indices", Base64(idx)},
-                               {"object", Base64(obj)}});
+            objects.push_back(ObjectMeshes(cdir / "new_objects.ply", name, c, model));
         }
     }
     data["sessions"] = sessions;

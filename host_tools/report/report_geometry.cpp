@@ -174,9 +174,16 @@ json ModelBuffers(const bim::BimModel& m) {
     return {{"classes", classes}, {"elements", elements}};
 }
 
-std::string ElementTriangles(const bim::BimModel& m, const std::vector<size_t>& elements) {
+json ElementTriangles(const bim::BimModel& m, const std::vector<size_t>& elements) {
+    const std::vector<int> storey = ElementStoreys(m);
+    std::vector<size_t> order = elements;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return storey.at(a) < storey.at(b); });
     std::vector<float> xyz;
-    for (const size_t i : elements) {
+    std::vector<std::array<size_t, 2>> ranges;  // [first vertex, vertices] per storey
+    for (const size_t i : order) {
+        while (ranges.size() <= size_t(std::max(storey[i], 0)))
+            ranges.push_back({xyz.size() / 3, 0});
         const bim::BimElement& e = m.elements.at(i);
         for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
             for (uint32_t v : m.mesh.triangles[t]) {
@@ -184,8 +191,10 @@ std::string ElementTriangles(const bim::BimModel& m, const std::vector<size_t>& 
                 xyz.insert(xyz.end(), {p.x(), p.y(), p.z()});
             }
         }
+        ranges.back()[1] = xyz.size() / 3 - ranges.back()[0];
     }
-    return Base64(xyz);
+    while (ranges.size() < m.storeys.size()) ranges.push_back({xyz.size() / 3, 0});
+    return {{"positions", Base64(xyz)}, {"storeys", ranges}};
 }
 
 }  // namespace bimslam::report

@@ -34,8 +34,9 @@ nlohmann::json PlanSections(const bim::BimModel& model, double cut_height_m);
 // element's storey (ElementStoreys), so that one storey's are one range of the index buffer.
 nlohmann::json ModelBuffers(const bim::BimModel& model);
 
-// Non-indexed triangles of the given elements (b64 float32 xyz): missing elements in red.
-std::string ElementTriangles(const bim::BimModel& model, const std::vector<size_t>& elements);
+// Non-indexed triangles of the given elements, storey by storey (ElementStoreys): {positions (b64
+// float32 xyz), storeys: [[first vertex, vertices] per storey]}: missing elements in red.
+nlohmann::json ElementTriangles(const bim::BimModel& model, const std::vector<size_t>& elements);
 
 // The storey (index) a point at height z stands on: the highest whose elevation is at most
 // z - 0.1 m (a sensor is above its floor), else the lowest; -1 without storeys.

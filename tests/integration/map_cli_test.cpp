@@ -260,6 +260,11 @@ TEST(MapCli, TheReportsDataSplitsTheWalksByStoreyAndHoldsTheStairs) {
     EXPECT_EQ(map_ranges[1][0], map_ranges[0][1]);
     EXPECT_EQ(map_ranges[0][1].get<size_t>() + map_ranges[1][1].get<size_t>(),
               data.at("map").at("shown").get<size_t>());
+    const json& objects = data.at("objects").at(0).at("storeys");
+    ASSERT_EQ(objects.size(), 2u);
+    EXPECT_GT(objects[0][1].get<size_t>(), 0u) << "the ground floor's new objects";
+    EXPECT_EQ(objects[1][1], 0) << "none upstairs";
+    EXPECT_EQ(data.at("missing3d").at("storeys").size(), 2u);
     for (const json& c : data.at("model3d").at("classes")) {
         const json& r = c.at("storeys");
         ASSERT_EQ(r.size(), 2u) << c.at("name");
@@ -310,6 +315,11 @@ TEST(MapCli, ATwoStoreyWalksChangesArePlacedOnTheirStoreysAndItsTrajectorySplitB
         runs.push_back({r.at("lower"), r.at("upper")});
     const std::vector<std::pair<int, int>> expected{{0, 0}, {0, 1}, {1, 1}, {0, 1}, {0, 0}};
     EXPECT_EQ(runs, expected);
+    // The 3D view's storey filter draws each box with its storey.
+    const json& objects = data.at("objects").at(0).at("storeys");
+    ASSERT_EQ(objects.size(), 2u);
+    EXPECT_GT(objects[0][1].get<size_t>(), 0u);
+    EXPECT_GT(objects[1][1].get<size_t>(), 0u);
 }
 
 TEST(MapCli, ARecordingThatCannotBeAnchoredStillGetsAReportSayingSo) {

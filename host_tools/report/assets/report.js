@@ -468,17 +468,21 @@ function buildView() {
     g.setIndex(new THREE.BufferAttribute(b64(o.indices, Uint32Array), 1));
     g.computeVertexNormals();
     const m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({vertexColors: THREE.VertexColors}));
-    m.userData = {kind: 'object', object: b64(o.object, Int32Array), session: o.session};
+    m.userData = {kind: 'object', object: b64(o.object, Int32Array), session: o.session, ranges: o.storeys};
+    filtered.push(m);
     layer('new objects of ' + o.session, m, true);
     pickable.push(m);
   });
-  const miss = b64(D.missing3d, Float32Array);
+  const miss = b64(D.missing3d.positions, Float32Array);
   if (miss.length) {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(miss, 3));
     g.computeVertexNormals();
-    layer('missing elements (red)', new THREE.Mesh(g, new THREE.MeshLambertMaterial({color: 0xe02020,
-      transparent: true, opacity: 0.85, side: THREE.DoubleSide})), true);
+    const m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({color: 0xe02020,
+      transparent: true, opacity: 0.85, side: THREE.DoubleSide}));
+    m.userData = {ranges: D.missing3d.storeys};
+    filtered.push(m);
+    layer('missing elements (red)', m, true);
   }
   function line(xyz, color) {
     const g = new THREE.BufferGeometry();
