@@ -47,6 +47,13 @@ struct Args {
     std::string lcm_log;
 };
 
+// {"writer": 1, ...}: the threads that stalled and how often.
+nlohmann::json Stalls(const bimslam::rig::RunSummary& s) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [name, stalls] : s.threads_stalled) j[name] = stalls;
+    return j;
+}
+
 void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
     if (json) {
         nlohmann::json j = {{"session", s.session_dir},
@@ -73,6 +80,7 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"go1_bridge_lost", s.go1_bridge_lost},
                             {"go1_bridge_state", s.go1_bridge_state},
                             {"queue_drops", s.queue_drops},
+                            {"threads_stalled", Stalls(s)},
                             {"lcm_failures", s.lcm_failures},
                             {"lcm_published",
                              {{bimslam::rig::kOdometryChannel, s.lcm_odometry},
@@ -113,6 +121,10 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
         (unsigned long long)s.clock_jumps, (unsigned long long)s.can_timeouts,
         (unsigned long long)s.can_e2e_errors, (unsigned long long)s.queue_drops,
         (unsigned long long)s.go1_bridge_link_down, (unsigned long long)s.go1_bridge_not_running);
+    for (const auto& [name, stalls] : s.threads_stalled) {
+        std::printf("  thread '%s' stalled %llu times (FAULT_THREAD_STALLED)\n", name.c_str(),
+                    (unsigned long long)stalls);
+    }
     if (!s.session_dir.empty()) std::printf("  session %s\n", s.session_dir.c_str());
     std::fflush(stdout);
 }

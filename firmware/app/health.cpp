@@ -13,7 +13,7 @@ const char* const kFaultNames[kNumFaults] = {
     "QUEUE_OVERFLOW", "CPU_OVERLOAD",        "DISK_LOW",
     "DISK_WRITE",     "ODOMETRY_DEGENERATE", "ODOMETRY_OVER_BUDGET",
     "ODOMETRY_LOST",  "CLOCK_JUMP",          "CONFIG",
-    "LCM_PUBLISH"};
+    "LCM_PUBLISH",    "THREAD_STALLED"};
 enum Bit {
     kLidarTimeout,
     kLidarRejects,
@@ -33,7 +33,8 @@ enum Bit {
     kLost,
     kClockJump,
     kConfig,
-    kLcmPublish
+    kLcmPublish,
+    kThreadStalled
 };
 
 // STS_BridgeState's values (go1_odometry.dbc VAL_ 320).
@@ -56,11 +57,14 @@ std::string BridgeStateName(int state) {
 
 const char* FaultName(int bit) { return bit >= 0 && bit < kNumFaults ? kFaultNames[bit] : "?"; }
 
+bool HeartbeatStale(runtime::ThreadTable& threads, size_t i, int64_t now_ns) {
+    const runtime::ThreadStats& s = threads.stats(i);
+    return !s.finished.load() && now_ns - s.heartbeat_ns.load() > threads.spec(i).stale_ns;
+}
+
 bool HeartbeatsFresh(runtime::ThreadTable& threads, int64_t now_ns) {
     for (size_t i = 0; i < threads.size(); ++i) {
-        const runtime::ThreadStats& s = threads.stats(i);
-        if (s.finished.load()) continue;
-        if (now_ns - s.heartbeat_ns.load() > threads.spec(i).stale_ns) return false;
+        if (HeartbeatStale(threads, i, now_ns)) return false;
     }
     return true;
 }
@@ -78,6 +82,8 @@ void Health::Run(runtime::ThreadStats& stats) {
     last_cpu_ = runtime::ProcessCpuNs();
     thread_cpu_.assign(in_.threads.size(), 0);
     last_thread_misses_.assign(in_.threads.size(), 0);
+    thread_stalls_.assign(in_.threads.size(), 0);
+    thread_stale_.assign(in_.threads.size(), false);
     for (size_t i = 0; i < in_.threads.size(); ++i) thread_cpu_[i] = in_.threads.CpuNs(i);
     const int64_t period = int64_t(in_.config.health_period_s * 1e9);
     // The watchdog wants a ping at least every WatchdogSec / 2; ping at a quarter.
@@ -132,6 +138,7 @@ void Health::Period(int64_t now) {
     DetectLidarFaults(n, f);
     DetectGo1Faults(n, f);
     DetectRigFaults(n, f);
+    DetectStalledThreads(n, f);
     CountAndLog(f, now);
     QueueHealth(n);
     QueueOusterStats(n);
@@ -244,6 +251,22 @@ void Health::DetectRigFaults(const Snapshot& n, Faults& f) {
     f.Set(kLcmPublish, n.lc.failures > last_lcm_.failures, "LCM publish failed");
 }
 
+// The watchdog's rule (HeartbeatStale), per thread: the log names each stuck thread and how long
+// ago it last beat; thread_stalls_ counts the episodes of each.
+void Health::DetectStalledThreads(const Snapshot& n, Faults& f) {
+    std::string why;
+    for (size_t i = 0; i < in_.threads.size(); ++i) {
+        const bool stale = HeartbeatStale(in_.threads, i, n.now);
+        if (stale && !thread_stale_[i]) ++thread_stalls_[i];
+        thread_stale_[i] = stale;
+        if (!stale) continue;
+        const int64_t age_ms = (n.now - in_.threads.stats(i).heartbeat_ns.load()) / 1'000'000;
+        why += (why.empty() ? "" : ", ") + ("thread '" + in_.threads.spec(i).name + "'") +
+               " has not beaten for " + std::to_string(age_ms) + " ms";
+    }
+    f.Set(kThreadStalled, !why.empty(), why + " (the watchdog pings stop)");
+}
+
 // Counts each fault once per episode (when it becomes active), logs it rate-limited, and keeps
 // the active and latched bits.
 void Health::CountAndLog(const Faults& f, int64_t now) {
@@ -280,6 +303,7 @@ void Health::QueueHealth(const Snapshot& snapshot) {
         h->thread_deadline_ns.resize(n);
         h->thread_max_cycle_ns.resize(n);
         h->thread_cpu_percent.resize(n);
+        h->thread_stalls.assign(thread_stalls_.begin(), thread_stalls_.end());
         for (size_t i = 0; i < n; ++i) {
             runtime::ThreadStats& s = in_.threads.stats(i);
             h->thread_name[i] = in_.threads.spec(i).name;

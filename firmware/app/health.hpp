@@ -3,7 +3,8 @@
 // a bit is active when its counter grew during the period or its condition holds now), logs each
 // active fault at most once per log interval, queues rig_health_t and ouster_stats_t for the LCM
 // thread, and feeds the systemd watchdog (WATCHDOG=1) only while every thread's heartbeat is
-// fresh, with a STATUS line.
+// fresh, with a STATUS line. A thread whose heartbeat is stale raises FAULT_THREAD_STALLED, named
+// in the log and counted per thread (rig_health_t.thread_stalls, the exit summary).
 #pragma once
 
 #include <array>
@@ -27,10 +28,12 @@
 
 namespace bimslam::rig {
 
-inline constexpr int kNumFaults = 19;  // rig_health_t::NUM_FAULTS
+inline constexpr int kNumFaults = 20;  // rig_health_t::NUM_FAULTS
 // "LIDAR_TIMEOUT", ... in bit order (the FAULT_* names without the prefix).
 const char* FaultName(int bit);
 
+// Whether thread i has not finished and its heartbeat is older than its stale time.
+bool HeartbeatStale(runtime::ThreadTable& threads, size_t i, int64_t now_ns);
 // Whether every thread that has not finished beat within its stale time.
 bool HeartbeatsFresh(runtime::ThreadTable& threads, int64_t now_ns);
 
@@ -56,6 +59,9 @@ class Health {
 public:
     explicit Health(HealthInputs inputs);
     void Run(runtime::ThreadStats& stats);
+    // Times each thread's heartbeat went stale (one per episode), in thread-table order. Read it
+    // after the health thread ended.
+    const std::vector<uint64_t>& thread_stalls() const { return thread_stalls_; }
 
 private:
     struct Snapshot;
@@ -67,6 +73,7 @@ private:
     void DetectLidarFaults(const Snapshot& n, Faults& f) const;
     void DetectGo1Faults(const Snapshot& n, Faults& f) const;
     void DetectRigFaults(const Snapshot& n, Faults& f);
+    void DetectStalledThreads(const Snapshot& n, Faults& f);
     void CountAndLog(const Faults& f, int64_t now_mono);
     void QueueHealth(const Snapshot& snapshot);
     void QueueOusterStats(const Snapshot& n);
@@ -80,6 +87,8 @@ private:
     std::array<int64_t, kNumFaults> counts_{};
     std::vector<runtime::RateLimiter> limiters_;
     std::vector<int64_t> thread_cpu_;
+    std::vector<uint64_t> thread_stalls_;
+    std::vector<bool> thread_stale_;  // at the previous period
     // Counters at the previous period.
     IngestCounters last_ingest_{};
     CanCounters last_can_{};

@@ -344,6 +344,10 @@ RunSummary RunRig(const RunOptions& o) {
         summary.go1_bridge_state = cc.bridge_state;
     }
     for (const runtime::QueueBase* q : all_queues) summary.queue_drops += q->Stats().drops;
+    for (size_t i = 0; i < threads.size(); ++i) {
+        const uint64_t stalls = health.thread_stalls()[i];
+        if (stalls > 0) summary.threads_stalled.emplace_back(threads.spec(i).name, stalls);
+    }
     if (recorder) {
         const RecorderCounters rc = recorder->counters();
         summary.keyframes_written = rc.keyframes;

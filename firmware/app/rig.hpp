@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "firmware/app/rig_config.hpp"
@@ -33,6 +34,8 @@ struct RunSummary {
     uint64_t frames_incomplete = 0, columns_lost = 0, crc_failures = 0, silences = 0;
     uint64_t sensor_restarts = 0, clock_jumps = 0, can_timeouts = 0, can_e2e_errors = 0;
     uint64_t queue_drops = 0, can_late = 0, lcm_failures = 0, write_errors = 0;
+    // Per thread that went stale at least once (FAULT_THREAD_STALLED): its name and how often.
+    std::vector<std::pair<std::string, uint64_t>> threads_stalled;
     // The Go1 bridge's own word (CanCounters): samples sent with its link to the Go1 down,
     // STATUS frames not RUNNING, HighStates it lost, its last state (-1: no STATUS seen).
     uint64_t go1_bridge_link_down = 0, go1_bridge_not_running = 0, go1_bridge_lost = 0;

@@ -75,6 +75,14 @@ double OptimizeStates(const std::vector<AnchorSession>& sessions, std::vector<St
     return moved;
 }
 
+double GncTlsWeight(double r2, double c2, double mu) {
+    if (r2 >= (mu + 1) / mu * c2) return 0;
+    if (r2 <= mu / (mu + 1) * c2) return 1;
+    return std::sqrt(c2 * mu * (mu + 1) / r2) - mu;
+}
+
+double GncInitialMu(double max_r2, double c2) { return c2 / (2 * max_r2 - c2); }
+
 std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
                                std::vector<State>* state, const std::vector<LoopRecord>& loops,
                                const AnchorConfig& config, StageTimes* times) {
@@ -87,19 +95,12 @@ std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
     double max_r2 = 0;
     for (size_t k = 0; k < loops.size(); ++k) max_r2 = std::max(max_r2, g.LoopChi2(k));
     if (max_r2 <= c2) return w;
-    double mu = c2 / (2 * max_r2 - c2);
+    double mu = GncInitialMu(max_r2, c2);
     for (int it = 0; it < 100 && mu < 1e4; ++it) {
         bool binary = true;
         for (size_t k = 0; k < loops.size(); ++k) {
-            const double r2 = g.LoopChi2(k);
-            if (r2 >= (mu + 1) / mu * c2) {
-                w[k] = 0;
-            } else if (r2 <= mu / (mu + 1) * c2) {
-                w[k] = 1;
-            } else {
-                w[k] = std::sqrt(c2 * mu * (mu + 1) / r2) - mu;
-                binary = false;
-            }
+            w[k] = GncTlsWeight(g.LoopChi2(k), c2, mu);
+            if (w[k] != 0 && w[k] != 1) binary = false;
         }
         OptimizeStates(sessions, state, loops, config, times, w, &plain, &g);
         if (binary && it > 0) break;

@@ -40,6 +40,14 @@ double OptimizeStates(const std::vector<AnchorSession>& sessions, std::vector<St
                       const posegraph::PoseGraphConfig* graph_config = nullptr,
                       posegraph::PoseGraph* out = nullptr);
 
+// GNC-TLS's weight of a residual r2 (squared, whitened) at the threshold c2 (the squared
+// c-bar) and control parameter mu: Yang et al. 2020 (below), Prop. 4, Eq. (14): 1 for
+// r2 <= mu / (mu + 1) c2, 0 for r2 >= (mu + 1) / mu c2, sqrt(c2 mu (mu + 1) / r2) - mu between.
+double GncTlsWeight(double r2, double c2, double mu);
+// The first mu, c2 / (2 max_r2 - c2) (ibid., Remark 5): the surrogate cost is convex over every
+// residual, so no loop starts excluded. For max_r2 > c2.
+double GncInitialMu(double max_r2, double c2);
+
 // GNC with a truncated least squares cost (Yang, Antonante, Tzoumas, Carlone, "Graduated
 // Non-Convexity for Robust Spatial Perception", RA-L 2020, Prop. 4): the loops' weights go from
 // the convex surrogate (all in) to TLS (0 or 1) as mu grows; returns the final weights.

@@ -11,6 +11,7 @@
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
 #include "algorithms/simulation/scene.hpp"
+#include "host_tools/bim/reference_walk.hpp"
 
 namespace bimslam::bim {
 namespace {
@@ -98,29 +99,27 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     }
     ReferenceSessionReport report;
 
-    // 1. Plan: a grid and a walk per storey, the walks one after another in time.
+    // 1. Plan: a grid and a coverage walk per storey, joined by the flights between them.
     const auto t_plan = Clock::now();
-    std::vector<std::vector<io::StampedPose>> walks;
-    int64_t start_ns = 0;
-    for (const int s : storeys) {
-        const OccupancyGrid grid = BuildOccupancyGrid(model, s, options.grid);
-        CoveragePath path = PlanCoveragePath(grid, options.path);
-        if (!options.plan_dir.empty()) WriteStoreyPlan(options.plan_dir, grid, path);
+    const ReferenceWalk walk = PlanReferenceWalk(model, storeys, options.grid, options.path);
+    for (size_t k = 0; k < walk.storeys.size(); ++k) {
+        const CoveragePath& path = walk.coverage[k];
+        if (!options.plan_dir.empty()) WriteStoreyPlan(options.plan_dir, walk.grids[k], path);
         StoreyReport sr;
-        sr.name = grid.storey;
+        sr.name = walk.grids[k].storey;
         sr.rooms = path.rooms;
         sr.viewpoints = int(path.viewpoints.size());
         sr.unreachable_viewpoints = path.unreachable_viewpoints;
-        sr.free_area_m2 = double(grid.FreeCells()) * grid.resolution * grid.resolution;
+        sr.free_area_m2 = double(walk.grids[k].FreeCells()) * walk.grids[k].resolution *
+                          walk.grids[k].resolution;
         sr.walk_m = path.length_m;
         sr.walk_s = path.duration_s;
         report.storeys.push_back(sr);
-        report.walk_s += path.duration_s;
-        for (io::StampedPose& p : path.poses) p.stamp_ns += start_ns;
-        // The next storey's walk starts a second after this one ends (the stairs are not walked).
-        start_ns = path.poses.back().stamp_ns + 1'000'000'000;
-        walks.push_back(std::move(path.poses));
     }
+    for (const auto& piece : walk.pieces)
+        report.walk_s += 1e-9 * double(piece.back().stamp_ns - piece.front().stamp_ns);
+    report.flights_walked = walk.flights_walked;
+    report.notes = walk.notes;
     report.plan_s = common::SecondsSince(t_plan);
 
     // 2. The scene: the paper's semantic filter keeps the permanent structure.
@@ -145,7 +144,7 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     io::SessionManifest::Model m;
     m.file = std::filesystem::path(model.file).filename().string();
     m.sha256 = model_sha256;
-    for (const int s : storeys) m.storeys.push_back(model.storeys[s].name);
+    for (const int s : walk.storeys) m.storeys.push_back(model.storeys[s].name);
     manifest.model = m;
     // Offline and re-runnable: the line files are rewritten every 50 keyframes, and the files are
     // synced once before session.json rather than each on its own (milliseconds each).
@@ -157,13 +156,13 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     size_t planned = 0;
     for (const StoreyReport& sr : report.storeys)
         planned += size_t(sr.walk_m / options.keyframe_gap_m) + 1;
+    planned += size_t(walk.flight_m / options.keyframe_gap_m);
     simulation::ScanImage image;
     std::optional<Eigen::Isometry3d> previous_key;
-    for (size_t k = 0; k < walks.size(); ++k) {
-        const auto& walk = walks[k];
-        double since_key = options.keyframe_gap_m;  // the walk's first frame is a keyframe
-        Eigen::Vector3d last = walk.front().translation;
-        for (const io::StampedPose& frame : SampleWalk(walk, options.lidar.frame_rate_hz)) {
+    for (const std::vector<io::StampedPose>& piece : walk.pieces) {
+        double since_key = options.keyframe_gap_m;  // the piece's first frame is a keyframe
+        Eigen::Vector3d last = piece.front().translation;
+        for (const io::StampedPose& frame : SampleWalk(piece, options.lidar.frame_rate_hz)) {
             const int64_t t = frame.stamp_ns;
             const Eigen::Isometry3d T = frame.Pose();
             writer.AddScanPose(frame);
@@ -197,7 +196,14 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
             report.write_s += common::SecondsSince(t_write);
             previous_key = T;
             ++report.keyframes;
-            ++report.storeys[k].keyframes;
+            const WalkSegment& seg = walk.SegmentAt(t);
+            if (seg.flight) {
+                ++report.flight_keyframes;
+            } else {
+                const size_t k = size_t(std::find(walk.storeys.begin(), walk.storeys.end(),
+                                                  seg.storey) - walk.storeys.begin());
+                ++report.storeys[k].keyframes;
+            }
             if (options.progress) options.progress(report.keyframes, planned);
         }
     }

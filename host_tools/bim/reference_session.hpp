@@ -1,6 +1,7 @@
 // BIM -> reference session (paper, Step 1): per storey an occupancy grid, a coverage walk through
-// every room, and along it keyframes whose scans are ray-cast against the model, written as the
-// ground-truth session of specs/session-data.md (source "bim", world frame "bim").
+// every room, the walks joined by the stairs between the storeys (reference_walk.hpp), and along it
+// keyframes whose scans are ray-cast against the model, written as the ground-truth session of
+// specs/session-data.md (source "bim", world frame "bim").
 //
 // The paper drove a simulated robot through Gazebo in real time; here nothing moves: the walk is
 // planned on the grid, the keyframe poses are taken from it every `keyframe_gap_m`, and each
@@ -54,15 +55,18 @@ struct StoreyReport {
     double free_area_m2 = 0;
     double walk_m = 0;
     double walk_s = 0;  // the walk's duration at the path's walking speed
-    size_t keyframes = 0;
+    size_t keyframes = 0;  // on its floor (not on a flight)
 };
 
 struct ReferenceSessionReport {
-    std::vector<StoreyReport> storeys;
+    std::vector<StoreyReport> storeys;  // by elevation
     size_t keyframes = 0;
+    size_t flights_walked = 0;    // flights joining the storeys' walks
+    size_t flight_keyframes = 0;  // on the flights and the ways to and from them
+    std::vector<std::string> notes;  // storeys not joined by a flight, and why
     size_t points = 0;   // in all keyframe clouds
     size_t rays = 0;     // cast
-    double walk_s = 0;   // real-time duration of all the walks
+    double walk_s = 0;   // real-time duration of the walk, flights included
     double plan_s = 0;   // grids and paths
     double simulate_s = 0;  // ray casting, descriptors
     double write_s = 0;     // session files

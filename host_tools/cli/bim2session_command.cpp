@@ -166,6 +166,12 @@ int ToSession(SessionArgs& a) {
                   << " rooms, " << s.viewpoints << " viewpoints, walk " << s.walk_m << " m ("
                   << s.walk_s << " s), " << s.keyframes << " keyframes\n";
     }
+    if (r.storeys.size() > 1) {
+        std::cout << "stairs   " << r.flights_walked << " of " << r.storeys.size() - 1
+                  << " storey changes walked by a flight, " << r.flight_keyframes
+                  << " keyframes on the flights and the ways to them\n";
+    }
+    for (const std::string& note : r.notes) std::cout << "note     " << note << "\n";
     const double per_key_ms =
         1e3 * (r.simulate_s + r.write_s) / double(std::max<size_t>(r.keyframes, 1));
     const double ratio = r.walk_s / std::max(total_s, 1e-9);
@@ -179,6 +185,9 @@ int ToSession(SessionArgs& a) {
     if (a.json) {
         nlohmann::json j = {{"session", a.out},
                             {"keyframes", r.keyframes},
+                            {"flights_walked", r.flights_walked},
+                            {"flight_keyframes", r.flight_keyframes},
+                            {"notes", r.notes},
                             {"points", r.points},
                             {"rays", r.rays},
                             {"walk_s", r.walk_s},
@@ -214,7 +223,9 @@ void AddBim2SessionCommand(CLI::App& app, int& exit_code) {
     auto* cmd = app.add_subcommand(
         "bim2session",
         "Reference session of a building: LiDAR scans simulated along a coverage walk of every "
-        "room, as ground-truth session data (specs/session-data.md)");
+        "room of every storey, the storeys joined by walking the stairs between them (keyframes "
+        "on the flights; storeys no walkable flight joins are walked one after the other, with a "
+        "note why), as ground-truth session data (specs/session-data.md)");
     cmd->add_option("MODEL", a->model, "IFC model (IFC2X3 or IFC4, any length unit)")->required();
     cmd->add_option("--out,-o", a->out, "session folder to write")->required();
     cmd->add_option("--sensor", a->sensor,

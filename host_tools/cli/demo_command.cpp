@@ -1,6 +1,7 @@
 // bimslam demo: the whole product on data the project makes itself: the sample building as IFC,
-// a changed version of it (host_tools/simulate/scenarios/changed_building.yaml) walked by a Go1
-// that starts outside (outdoor_start.yaml), the rig's firmware replaying the recording
+// a version of it changed on both storeys walked by a Go1 that starts outside, goes in and up the
+// stairs (host_tools/simulate/scenarios/whole_building.yaml), the rig's firmware replaying the
+// recording
 // (bimslam-rig replay, a separate process: the on-board part), then `bimslam map` in-process:
 // reference session, odometry, anchoring into BIM coordinates, change detection, the report. It
 // ends with the accuracy in BIM coordinates, the change scores and the path to report.html.
@@ -34,7 +35,7 @@ struct DemoOptions {
     std::string out = "demo_output";
     bool overwrite = false;
     int columns = 1024;
-    double duration_s = 80;  // from 5 m outside: in through the entrance and along the corridor
+    double duration_s = 0;  // 0: the whole walk (about 3.5 minutes), from outside up the stairs
 };
 
 double Seconds(Clock::time_point since) {
@@ -71,22 +72,21 @@ int RunDemo(const DemoOptions& opt) {
               << "IFC++ in " << std::setprecision(2) << Seconds(t_building) << " s)\n"
               << std::setprecision(1) << "           " << building_file.string() << "\n";
 
-    // 2. The building as it was found: changed_building.yaml's edits (added objects and clutter,
-    //    a removed cabinet and columns, a moved desk, walls built off their place, two people),
-    //    walked by a Go1 that starts 5 m outside the main entrance (outdoor_start.yaml), recorded
-    //    as the rig records it (host_tools/simulate).
+    // 2. The building as it was found: whole_building.yaml's edits on both storeys (added objects
+    //    and clutter, removed furniture and columns, a moved desk, walls built off their place,
+    //    two people), walked by a Go1 that starts 5 m outside the main entrance, goes in, through
+    //    the ground floor and up the stairs to the first floor, recorded as the rig records it
+    //    (host_tools/simulate).
     simulate::Scenario scenario = simulate::ParseScenario(
-        "changed_building.yaml", ShippedScenario("changed_building.yaml"), "");
-    scenario.path.start =
-        simulate::ParseScenario("outdoor_start.yaml", ShippedScenario("outdoor_start.yaml"), "")
-            .path.start;
+        "whole_building.yaml", ShippedScenario("whole_building.yaml"), "");
     scenario.model = building_file;
     scenario.duration_s = opt.duration_s;
     scenario.sensor.lidar_mode = std::to_string(opt.columns) + "x10";
     const simulate::CaptureReport cap =
         simulate::SimulateCapture(scenario, model, io::Sha256File(building_file), capture_dir);
     std::cout << "  captured " << cap.frames << " frames, " << cap.duration_s << " s of a Go1 "
-              << "walking in from 5 m outside and along the ground floor (" << cap.walk_length_m
+              << "walking in from 5 m outside, through the ground floor and up the stairs to the "
+              << "first floor (" << cap.walk_length_m
               << " m; OS-1-32 " << scenario.sensor.lidar_mode << ", " << cap.imu_packets
               << " IMU packets, " << cap.can_frames << " Go1 CAN frames), simulated in "
               << cap.wall_s << " s\n           in a changed building: "
@@ -181,7 +181,7 @@ void AddDemoCommand(CLI::App& app, int& exit_code) {
         ->capture_default_str();
     demo->add_option("--duration", opt->duration_s,
                      "seconds of the rig's walk, from 5 m outside the entrance (0: the whole "
-                     "coverage walk of the ground floor)")
+                     "walk, through the ground floor and up the stairs to the first floor)")
         ->check(CLI::Range(0.0, 3600.0))
         ->capture_default_str();
     demo->callback([opt, &exit_code] { exit_code = Run([&] { return RunDemo(*opt); }); });

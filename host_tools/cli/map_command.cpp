@@ -173,8 +173,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd->add_option("--budget-ms", a->config.odometry_budget_ms,
-                    "odometry time budget per scan, ms (as bimslam odometry; the odometry stops "
-                    "refining a scan at it, so a loaded machine may give other results)")
+                    "odometry budget per scan, ms of the odometry thread's CPU time (bimslam "
+                    "odometry --budget-cpu): the odometry stops refining a scan at it, the same "
+                    "on a loaded machine as on an idle one")
         ->check(CLI::Range(1.0, 100000.0))
         ->capture_default_str();
     cmd->add_option("--threshold", a->config.changes.new_object_threshold_m,

@@ -11,7 +11,9 @@
 #include "host_tools/anchor/anchoring.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/ifc_writer.hpp"
+#include "host_tools/bim/lidar_from_metadata.hpp"
 #include "host_tools/bim/reference_session.hpp"
+#include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/changes/bim_change_model.hpp"
 #include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/changes/change_report.hpp"
@@ -127,6 +129,29 @@ std::vector<std::string> AnchoredNames(const fs::path& anchor_dir) {
     return names;
 }
 
+// The sensor the reference is cast with: the first recording's (its metadata, or a bag's
+// metadata topic), with what identifies it in the step's stamp.
+struct ReferenceSensor {
+    simulation::LidarModel lidar;
+    std::string name;
+    json stamp;
+};
+
+ReferenceSensor ReferenceSensorOf(const std::vector<RecordingInput>& recordings) {
+    ReferenceSensor s{simulation::LidarModel::DefaultOs1_32(), "OS-1-32", "OS-1-32 1024 default"};
+    if (recordings.empty()) return s;
+    const ouster::SensorInfo info = capture::LoadRecordingInfo(recordings.front().files);
+    s.lidar = bim::LidarModelFromSensorInfo(info);
+    s.name = (info.prod_line.empty() ? std::string("Ouster") : info.prod_line) + " " +
+             info.lidar_mode + " (" + recordings.front().name + ")";
+    s.stamp = {{"altitude_deg", s.lidar.beam_altitude_deg},
+               {"azimuth_deg", s.lidar.beam_azimuth_deg},
+               {"columns", s.lidar.columns},
+               {"rate_hz", s.lidar.frame_rate_hz},
+               {"origin_mm", {s.lidar.beam_origin_mm, s.lidar.beam_z_mm}}};
+    return s;
+}
+
 }  // namespace
 
 MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
@@ -155,13 +180,20 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
     const std::string sha256 = io::Sha256File(config.model);
 
     // 1. The reference session, by the model's content.
+    // It is cast with the first recording's sensor (its beam table and columns), so that its
+    // scans and descriptors look like the recordings' own; the walk takes the stairs between the
+    // storeys (bim/reference_walk.hpp).
+    const ReferenceSensor sensor = ReferenceSensorOf(recordings);
     StepStamp reference("reference");
     reference.AddParameter("model_sha256", sha256);
     reference.AddParameter("keyframe_gap_m", config.keyframe_gap_m);
-    reference.AddParameter("lidar", "OS-1-32 1024 default");
+    reference.AddParameter("lidar", sensor.stamp);
+    reference.AddParameter("walk", "every storey, joined by the stairs");
     stepper.Run("reference", "reference", reference, model_file, [&] {
         bim::ReferenceSessionOptions ro;
         ro.overwrite = true;
+        ro.lidar = sensor.lidar;
+        ro.sensor_model = sensor.name;
         ro.keyframe_gap_m = config.keyframe_gap_m;
         ro.progress = [&](size_t d, size_t n) { progress("reference", n ? double(d) / n : 0.0); };
         bim::WriteReferenceSession(model(), sha256, out / "reference", ro);
@@ -176,6 +208,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
         if (!r.files.can_log.empty()) s.AddFileTime("can_log", r.files.can_log);
         if (!r.files.capture_json.empty()) s.AddFileTime("capture_json", r.files.capture_json);
         s.AddParameter("budget_ms", config.odometry_budget_ms);
+        s.AddParameter("budget_clock", "thread cpu");
         const std::string step = "odometry " + r.name;
         stepper.Run(step, "odometry_" + r.name, s, r.files.packets.string(), [&] {
             replay::CaptureOdometryOptions o;
@@ -183,6 +216,10 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
             o.session_dir = out / "odometry" / r.name;
             o.overwrite = true;
             o.odometry.budget_ms = config.odometry_budget_ms;
+            // Counted in the thread's CPU time: an offline run's results depend on the work, not
+            // on what else the machine does (a scan preempted for 170 ms of wall time was cut
+            // short, failed its checks and made a whole run untrusted on a loaded machine).
+            o.odometry.registration.cpu_time_budget = true;
             double capture_s = 0;
             o.on_scan = [&, n = size_t(0),
                          first = int64_t(-1)](const odometry::OdometryResult& res) mutable {

@@ -277,9 +277,19 @@ BuildingWalk PlanBuildingWalk(const bim::BimModel& model, const Scenario& s) {
     AddObstacles(model, s, w.graph);
     Walker walker(model, s, w);
     const int start = w.graph.start;
+    const bool outside =
+        s.path.start && StartsOutside(w.graph.grids[size_t(start)], s.path.start->xy);
     if (s.path.start) {
-        walker.Floor(start, {s.path.start->xy});
         w.start_yaw = s.path.start->yaw_deg * M_PI / 180.0;
+        w.starts_outside = outside;
+        // From outside: the way in through a door to where the walk proper begins (the start
+        // storey's coverage, or the first waypoint), on a grid that reaches the start.
+        const Eigen::Vector2d in = s.path.mode == PathMode::kCoverage || s.path.waypoints.empty()
+                                       ? walker.Coverage(start).front()
+                                       : s.path.waypoints.front();
+        walker.Floor(start, outside ? WayIn(model, start, bim::GridConfig{}, PathConfigFor(s),
+                                            s.path.start->xy, in)
+                                    : std::vector<Eigen::Vector2d>{s.path.start->xy});
     }
     if (s.path.mode == PathMode::kCoverage) {
         std::vector<bool> visited(model.storeys.size(), false);
@@ -291,7 +301,7 @@ BuildingWalk PlanBuildingWalk(const bim::BimModel& model, const Scenario& s) {
         const Eigen::Vector2d d = (w.points[1].p - w.points[0].p).head<2>();
         w.start_yaw = std::atan2(d.y(), d.x());
     }
-    if (s.path.start && s.path.mode == PathMode::kCoverage) {
+    if (s.path.start && !outside && s.path.mode == PathMode::kCoverage) {
         walker.Route(start, s.path.start->xy);  // closed: back at the start
     }
     return w;

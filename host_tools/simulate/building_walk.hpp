@@ -35,6 +35,7 @@ struct BuildingWalk {
     double start_yaw = 0;
     bim::BuildingGraph graph;
     std::vector<int> storeys;        // in the order the walk first enters them
+    bool starts_outside = false;     // path.start outside the start storey: the walk goes in
     size_t flights_walked = 0;       // each way counted
     size_t waypoints = 0;            // viewpoints of the coverage walks, or waypoints
     std::vector<std::string> notes;  // what cannot be walked (graph.problems) and coverage notes

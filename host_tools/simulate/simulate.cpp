@@ -132,6 +132,7 @@ Motion PlanMotion(const Scenario& s, const bim::BimModel& model) {
     m.storey = walk.graph.start;
     m.waypoints = walk.waypoints;
     m.flights_walked = walk.flights_walked;
+    m.starts_outside = walk.starts_outside;
     m.notes = walk.notes;
     m.grid = walk.graph.grids[size_t(m.storey)];
     for (const simulation::PathPoint& p : walk.points) {

@@ -62,6 +62,26 @@ bim::OccupancyGrid OutdoorGrid(const bim::BimModel& model, int storey, bim::Grid
 
 }  // namespace
 
+std::vector<Eigen::Vector2d> WayIn(const bim::BimModel& model, int storey,
+                                   const bim::GridConfig& grid, const bim::PathConfig& pc,
+                                   const Eigen::Vector2d& start, const Eigen::Vector2d& to) {
+    try {
+        const bim::OccupancyGrid g = OutdoorGrid(model, storey, grid, {start}, start);
+        return bim::PlanRoute(g, pc, start, to);
+    } catch (const common::Error& e) {
+        std::ostringstream os;
+        os << "path.start (" << start.x() << ", " << start.y()
+           << ") is outside the building and no way leads in (" << e.what()
+           << "). The storey needs a door to the outside; the sample building has them "
+              "with `bimslam bim sample --exterior-doors`";
+        throw common::Error(common::StatusCode::kInvalidArgument, os.str());
+    }
+}
+
+bool StartsOutside(const bim::OccupancyGrid& inside, const Eigen::Vector2d& start) {
+    return !IsFree(inside, start);
+}
+
 bim::PathConfig PathConfigFor(const Scenario& s) {
     bim::PathConfig c;
     // Half the platform's width plus room: a Go1 is 0.3 m wide, a person a little wider, a car
@@ -142,22 +162,12 @@ Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
     // From the start to the walk's first point.
     if (s.path.start) {
         const Eigen::Vector2d start = s.path.start->xy;
-        w.starts_outside = !IsFree(w.grid, start);
+        w.starts_outside = StartsOutside(w.grid, start);
         std::vector<Eigen::Vector2d> leg;
         if (!w.starts_outside || vehicle) {
             leg = bim::PlanRoute(route_grid, pc, start, walk.front());
         } else {
-            try {
-                const bim::OccupancyGrid g = OutdoorGrid(model, storey, gc, {start}, start);
-                leg = bim::PlanRoute(g, pc, start, walk.front());
-            } catch (const common::Error& e) {
-                std::ostringstream os;
-                os << "path.start (" << start.x() << ", " << start.y()
-                   << ") is outside the building and no way leads in (" << e.what()
-                   << "). The storey needs a door to the outside; the sample building has them "
-                      "with `bimslam bim sample --exterior-doors`";
-                throw common::Error(common::StatusCode::kInvalidArgument, os.str());
-            }
+            leg = WayIn(model, storey, gc, pc, start, walk.front());
         }
         std::vector<Eigen::Vector2d> joined;
         Append(joined, leg);

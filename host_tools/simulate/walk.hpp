@@ -40,6 +40,15 @@ bim::PathConfig PathConfigFor(const Scenario& scenario);
 // no door to the outside, a storey without free space).
 Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& scenario);
 
+// The way from `start`, outside the storey's walls, in through a door to `to` inside: planned on a
+// grid of the storey that reaches the start and whose free space is what the start reaches.
+// Throws common::Error saying that the storey needs a door to the outside when none leads in.
+std::vector<Eigen::Vector2d> WayIn(const bim::BimModel& model, int storey,
+                                   const bim::GridConfig& grid, const bim::PathConfig& pc,
+                                   const Eigen::Vector2d& start, const Eigen::Vector2d& to);
+// Whether `start` lies outside the free space of the storey's (inside) grid.
+bool StartsOutside(const bim::OccupancyGrid& inside, const Eigen::Vector2d& start);
+
 // The walk with its lap walked `laps` times: a closed walk starts over; an open one turns back and
 // retraces its way.
 std::vector<Eigen::Vector2d> RepeatWalk(const Walk& walk, size_t laps);

@@ -246,6 +246,7 @@ void ExpectSameMessage(const rig_health_t& a, const rig_health_t& b) {
     EXPECT_FIELD(thread_deadline_ns);
     EXPECT_FIELD(thread_max_cycle_ns);
     EXPECT_FIELD(thread_cpu_percent);
+    EXPECT_FIELD(thread_stalls);
     EXPECT_FIELD(num_queues);
     EXPECT_FIELD(queue_name);
     EXPECT_FIELD(queue_depth);
@@ -547,6 +548,7 @@ rig_health_t MakeRigHealth() {
         m.thread_deadline_ns.push_back(v.I64());
         m.thread_max_cycle_ns.push_back(v.I64());
         m.thread_cpu_percent.push_back(v.F32());
+        m.thread_stalls.push_back(v.I64());
     }
     const char* queues[] = {"packets", "scans", "keyframes"};
     m.num_queues = static_cast<int32_t>(std::size(queues));
@@ -818,7 +820,7 @@ TEST(LcmConstants, AreConsistent) {
     EXPECT_EQ(static_cast<int32_t>(ouster_stats_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(go1_state_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(imu_sample_t::SCHEMA_VERSION), 1);
-    EXPECT_EQ(static_cast<int32_t>(rig_health_t::SCHEMA_VERSION), 1);
+    EXPECT_EQ(static_cast<int32_t>(rig_health_t::SCHEMA_VERSION), 2);  // + thread_stalls
     EXPECT_EQ(static_cast<int32_t>(can_frame_t::SCHEMA_VERSION), 1);
 
     // can_frame_t: the FLAG_* bits are distinct single bits.
@@ -863,7 +865,8 @@ TEST(LcmConstants, AreConsistent) {
                               rig_health_t::FAULT_ODOMETRY_LOST,
                               rig_health_t::FAULT_CLOCK_JUMP,
                               rig_health_t::FAULT_CONFIG,
-                              rig_health_t::FAULT_LCM_PUBLISH};
+                              rig_health_t::FAULT_LCM_PUBLISH,
+                              rig_health_t::FAULT_THREAD_STALLED};
     ASSERT_EQ(static_cast<int32_t>(std::size(faults)),
               static_cast<int32_t>(rig_health_t::NUM_FAULTS));
     for (size_t i = 0; i < std::size(faults); ++i) {

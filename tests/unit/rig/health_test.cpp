@@ -52,6 +52,20 @@ TEST(HeartbeatsFresh, EachThreadHasItsOwnStaleTime) {
     EXPECT_FALSE(HeartbeatsFresh(t, 10 * kSecond + 1));  // the writer's ten ran out
 }
 
+// FAULT_THREAD_STALLED names the thread by the same rule, one thread at a time.
+TEST(HeartbeatStale, NamesTheThreadThatStoppedBeating) {
+    runtime::ThreadTable t;
+    AddRow(t, "odometry", 2 * kSecond);
+    AddRow(t, "writer", 2 * kSecond);
+    t.stats(0).heartbeat_ns = 3 * kSecond;
+    t.stats(1).heartbeat_ns = kSecond;
+    EXPECT_FALSE(HeartbeatStale(t, 0, 3 * kSecond + 1));
+    EXPECT_FALSE(HeartbeatStale(t, 1, 3 * kSecond));  // exactly the stale time
+    EXPECT_TRUE(HeartbeatStale(t, 1, 3 * kSecond + 1));
+    t.stats(1).finished = true;
+    EXPECT_FALSE(HeartbeatStale(t, 1, 100 * kSecond));
+}
+
 TEST(HeartbeatsFresh, AFinishedThreadNoLongerCounts) {
     runtime::ThreadTable t;
     AddRow(t, "ingest", kSecond);

@@ -195,5 +195,38 @@ TEST(BuildingWalk, TheCoverageOfBothStoreysClimbsAndComesBack) {
     EXPECT_GT(upstairs, 100u);
 }
 
+// From 5 m outside the entrance (the office with its doors to the outside): in through the door
+// to the first waypoint, then up the stairs to the waypoint on the first floor.
+TEST(BuildingWalk, AStartOutsideWalksInThenUpTheStairs) {
+    bim::SampleBuildingOptions doors;
+    doors.exterior_doors = true;
+    const bim::BimModel model = bim::ParseIfc("office.ifc", bim::SampleBuildingIfc(doors));
+    Scenario s = DefaultScenario(Platform::kGo1);
+    s.storey = kAllStoreys;
+    s.path.mode = PathMode::kWaypoints;
+    s.path.start = Pose2d{{-5.0, 7.5}, 0.0};
+    s.path.waypoints = {{2.0, 7.2}, {20.0, 7.2}};
+    s.path.waypoint_storeys = {"Ground Floor", "First Floor"};
+    const BuildingWalk w = PlanBuildingWalk(model, s);
+    EXPECT_TRUE(w.starts_outside);
+    EXPECT_EQ(w.flights_walked, 1u);
+    EXPECT_EQ(w.storeys, (std::vector<int>{0, 1}));
+    ASSERT_FALSE(w.points.empty());
+    EXPECT_LT((w.points.front().p - Eigen::Vector3d(-5.0, 7.5, 0.0)).norm(), 1e-6);
+    EXPECT_LT((w.points.back().p - Eigen::Vector3d(20.0, 7.2, 3.2)).norm(), 1e-6) << "ends inside";
+    // Without a door to the outside, the same start says so.
+    EXPECT_THROW(
+        {
+            try {
+                PlanBuildingWalk(Office(), s);
+            } catch (const common::Error& e) {
+                EXPECT_NE(std::string(e.what()).find("no way leads in"), std::string::npos)
+                    << e.what();
+                throw;
+            }
+        },
+        common::Error);
+}
+
 }  // namespace
 }  // namespace bimslam::simulate

@@ -1,0 +1,122 @@
+// The reference session's walk over every storey (host_tools/bim/reference_walk.hpp): on the
+// sample office, one connected walk up its flight, with keyframes on it; the hall's three storeys
+// joined by its two flights; without the flight's geometry, the storeys walked apart with a note.
+#include "host_tools/bim/reference_walk.hpp"
+
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "host_tools/bim/ifc_model.hpp"
+#include "host_tools/bim/reference_session.hpp"
+#include "host_tools/bim/sample_building.hpp"
+#include "host_tools/bim/stairs.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam::bim {
+namespace {
+
+BimModel SampleOffice() { return ParseIfc("office.ifc", SampleBuildingIfc()); }
+
+ReferenceWalk WalkAll(const BimModel& model) {
+    return PlanReferenceWalk(model, StoreyIndices(model, {}), GridConfig{}, PathConfig{});
+}
+
+// No jump anywhere in a piece: consecutive poses at most `step` apart, stamps increasing.
+void ExpectContinuous(const std::vector<io::StampedPose>& piece, double step) {
+    for (size_t i = 1; i < piece.size(); ++i) {
+        ASSERT_GT(piece[i].stamp_ns, piece[i - 1].stamp_ns) << i;
+        ASSERT_LE((piece[i].translation - piece[i - 1].translation).norm(), step) << i;
+    }
+}
+
+TEST(ReferenceWalk, TheOfficesStoreysAreOneWalkUpItsFlight) {
+    const BimModel model = SampleOffice();
+    const ReferenceWalk w = WalkAll(model);
+    ASSERT_EQ(w.storeys, (std::vector<int>{0, 1}));
+    EXPECT_TRUE(w.notes.empty()) << w.notes.front();
+    EXPECT_EQ(w.flights_walked, 1u);
+    ASSERT_EQ(w.pieces.size(), 1u) << "one connected walk";
+    const std::vector<io::StampedPose>& p = w.pieces[0];
+    ExpectContinuous(p, 0.25);  // the walk's 0.1 m spacing; a riser's 0.2 m rise
+    const PathConfig c;
+    const double ground = model.storeys[0].elevation_m + c.sensor_height_m;
+    const double first = model.storeys[1].elevation_m + c.sensor_height_m;
+    EXPECT_NEAR(p.front().translation.z(), ground, 1e-9);
+    EXPECT_NEAR(p.back().translation.z(), first, 1e-9);
+    // Segments: the ground floor, the way up the flight, the first floor, in time order; the
+    // flight's poses rise from one floor's height to the other's, never lower than they were.
+    ASSERT_EQ(w.segments.size(), 3u);
+    EXPECT_FALSE(w.segments[0].flight);
+    EXPECT_TRUE(w.segments[1].flight);
+    EXPECT_EQ(w.segments[2].storey, 1);
+    double z = ground;
+    size_t on_flight = 0;
+    for (const io::StampedPose& q : p) {
+        const WalkSegment& s = w.SegmentAt(q.stamp_ns);
+        if (!s.flight) {
+            EXPECT_NEAR(q.translation.z(), s.storey == 0 ? ground : first, 1e-9);
+            continue;
+        }
+        ++on_flight;
+        EXPECT_GE(q.translation.z(), z - 1e-9);
+        z = q.translation.z();
+    }
+    EXPECT_NEAR(z, first, 1e-9);
+    const double flight_m = FindStairFlights(model)[0].LengthM();
+    EXPECT_GT(double(on_flight) * c.spacing_m, flight_m) << "the flight and the ways to it";
+}
+
+TEST(ReferenceWalk, TheReferenceSessionHasKeyframesOnTheFlight) {
+    test::TempDir tmp;
+    ReferenceSessionOptions o;
+    o.keyframe_gap_m = 1.0;
+    o.lidar = simulation::LidarModel::DefaultOs1_32(256);
+    const ReferenceSessionReport r = WriteReferenceSession(SampleOffice(), "ab12", tmp / "s", o);
+    EXPECT_EQ(r.flights_walked, 1u);
+    // 3.2 m of climb over about 4.5 m of flight, plus the ways to and from it.
+    EXPECT_GE(r.flight_keyframes, 5u);
+    size_t on_floors = 0;
+    for (const StoreyReport& s : r.storeys) on_floors += s.keyframes;
+    EXPECT_EQ(on_floors + r.flight_keyframes, r.keyframes);
+}
+
+TEST(ReferenceWalk, TheHallsThreeStoreysAreJoinedByItsTwoFlights) {
+    SampleBuildingOptions options;
+    options.layout = BuildingLayout::kHall;
+    const ReferenceWalk w = WalkAll(ParseIfc("hall.ifc", SampleBuildingIfc(options)));
+    EXPECT_EQ(w.storeys.size(), 3u);
+    EXPECT_EQ(w.flights_walked, 2u);
+    ASSERT_EQ(w.pieces.size(), 1u) << (w.notes.empty() ? "" : w.notes.front());
+    ExpectContinuous(w.pieces[0], 0.25);
+}
+
+TEST(ReferenceWalk, StoreysThatNoFlightJoinsAreWalkedApartWithANote) {
+    // The flight's representation removed from the file (as stairs_test.cpp does).
+    std::string text = SampleBuildingIfc();
+    const std::regex flight(R"((IFCSTAIRFLIGHT\('[^']*',#\d+,'[^']*',\$,\$,#\d+,)#\d+)");
+    ASSERT_TRUE(std::regex_search(text, flight));
+    text = std::regex_replace(text, flight, "$1$$");
+    const ReferenceWalk w = WalkAll(ParseIfc("office.ifc", text));
+    EXPECT_EQ(w.flights_walked, 0u);
+    ASSERT_EQ(w.pieces.size(), 2u);
+    EXPECT_GE(w.pieces[1].front().stamp_ns, w.pieces[0].back().stamp_ns + 1'000'000'000);
+    std::string all;
+    for (const std::string& n : w.notes) all += n + "\n";
+    EXPECT_NE(all.find("storeys 'Ground Floor' and 'First Floor' are not joined in the reference"),
+              std::string::npos)
+        << all;
+}
+
+TEST(ReferenceWalk, OneStoreyIsItsCoverageWalk) {
+    const BimModel model = SampleOffice();
+    const ReferenceWalk w = PlanReferenceWalk(model, {1}, GridConfig{}, PathConfig{});
+    ASSERT_EQ(w.pieces.size(), 1u);
+    EXPECT_EQ(w.flights_walked, 0u);
+    EXPECT_TRUE(w.notes.empty());
+    ASSERT_EQ(w.pieces[0].size(), w.coverage[0].poses.size());
+    EXPECT_EQ(w.pieces[0].back().stamp_ns, w.coverage[0].poses.back().stamp_ns);
+}
+
+}  // namespace
+}  // namespace bimslam::bim
