@@ -40,41 +40,18 @@
 #include "host_tools/evaluation/trajectory_metrics.hpp"
 #include "host_tools/replay/capture_odometry.hpp"
 #include "host_tools/simulate/simulate.hpp"
+#include "tests/benchmarks/anchor_benchmark_support.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-struct Building {
-    std::string name;
-    fs::path ifc, reference;
-    bim::BimModel model;
-    std::vector<Eigen::Isometry3d> reference_poses;
-};
-
-Building MakeBuilding(const fs::path& dir, const std::string& name, bim::BuildingLayout layout,
-                      bool entrances, double keyframe_gap = 1.0) {
-    Building b;
-    b.name = name;
-    fs::create_directories(dir);
-    b.ifc = dir / (name + ".ifc");
-    bim::SampleBuildingOptions o;
-    o.layout = layout;
-    o.exterior_doors = entrances;
-    bim::WriteSampleBuilding(b.ifc, o);
-    b.model = bim::LoadIfc(b.ifc);
-    b.reference = dir / (name + "_reference");
-    bim::ReferenceSessionOptions ro;
-    ro.keyframe_gap_m = keyframe_gap;
-    ro.overwrite = true;
-    bim::WriteReferenceSession(b.model, io::Sha256File(b.ifc), b.reference, ro);
-    for (const auto& kf : io::ReadSession(b.reference, {.load_clouds = false}).keyframes) {
-        b.reference_poses.push_back(kf.T_world_lidar);
-    }
-    return b;
-}
+using bench::Accuracy;
+using bench::Ape;
+using bench::Building;
+using bench::MakeBuilding;
+using bench::Spread;
 
 // Changes every building can take without knowing its GlobalIds: clutter, people crossing the
 // storey, every column removed, and with as_built every wall built off by N(0, 2 cm).
@@ -96,23 +73,6 @@ void ChangeBuilding(simulate::Scenario* s, const Building& b, uint64_t seed, boo
         p.to = {ux(rng), uy(rng)};
         s->edits.people.push_back(p);
     }
-}
-
-struct Accuracy {
-    double rmse_cm = NAN, max_cm = NAN, rot_rmse_deg = NAN, rot_max_deg = NAN;
-};
-
-Accuracy Ape(const std::vector<io::StampedPose>& est, const std::vector<io::StampedPose>& truth) {
-    evaluation::EvaluationConfig c;
-    c.align = evaluation::Alignment::kNone;
-    Accuracy a;
-    try {
-        const auto e = evaluation::Evaluate(est, truth, c);
-        a = {100 * e.ape_trans_m.rmse, 100 * e.ape_trans_m.max, e.ape_rot_deg.rmse,
-             e.ape_rot_deg.max};
-    } catch (const std::exception&) {
-    }
-    return a;
 }
 
 struct Outcome {
@@ -203,15 +163,6 @@ Outcome RunOne(const fs::path& tmp_dir, const Building& b, simulate::Scenario s,
     }
     o.recalled = size_t(std::count(recalled.begin(), recalled.end(), 1));
     return o;
-}
-
-void Spread(const char* what, std::vector<double> v) {
-    v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return std::isnan(x); }), v.end());
-    if (v.empty()) return;
-    std::sort(v.begin(), v.end());
-    const auto at = [&](double p) { return v[size_t(p * double(v.size() - 1) + 0.5)]; };
-    std::printf("  %-28s min %6.2f  p10 %6.2f  median %6.2f  p90 %6.2f  max %6.2f  (%zu)\n", what,
-                v.front(), at(0.1), at(0.5), at(0.9), v.back(), v.size());
 }
 
 void PrintRow(const std::string& name, const Outcome& o) {

@@ -1,0 +1,334 @@
+// Whole buildings walked by the stairs (issue 31's targets), measured against the simulator's
+// ground truth. A harness that prints tables, not timed assertions. Each run: a walk between
+// random places on two storeys that a flight joins (the start storey alternating with the seed:
+// odd seeds start on the lower storey, even ones on the upper), simulated with `storey: all`, the
+// odometry with the IMU (and the Go1's legs) and LiDAR-only, anchored against the building's
+// reference (every storey, joined by the stairs). Per run:
+//   odometry  APE after SE(3) alignment (rmse/max), with the IMU and LiDAR-only, and the
+//             odometry's own verdict (trusted / untrusted: a divergence it noticed)
+//   flights   the height error over each flight walked, |dz_est - dz_truth| between the last pose
+//             before it and the first after it (after the alignment), the worst one
+//   time      p99 of the odometry's time per scan on the flights (the budget is 50 ms)
+//   anchored  the verdict; the keyframes' APE with no alignment (rmse/max); keyframes placed on
+//             another storey (height off by more than half the storeys' spacing)
+// Suites (command line; default both):
+//   buildings  the sample office and hall, and from ../shared/data AC20-FZK-Haus, Duplex_A and
+//              Office_A (where present), Go1 and hand-held, BIMSLAM_STOREYS_SEEDS seeds (3)
+//   starts     20 walks on the sample office (two similar storeys), half starting upstairs:
+//              how many are anchored (BIMSLAM_STOREYS_STARTS: another count)
+// BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/stopwatch.hpp"
+#include "host_tools/anchor/anchor_output.hpp"
+#include "host_tools/anchor/anchoring.hpp"
+#include "host_tools/bim/building_graph.hpp"
+#include "host_tools/replay/capture_odometry.hpp"
+#include "host_tools/simulate/simulate.hpp"
+#include "host_tools/simulate/walk.hpp"
+#include "tests/benchmarks/anchor_benchmark_support.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using bench::Building;
+using simulate::Platform;
+
+struct StoreyRow {
+    bool flight = false;
+    std::string storey;
+};
+
+// ground_truth_storeys.csv: stamp_ns,storey,floor_z_m,on_flight.
+std::map<int64_t, StoreyRow> ReadStoreys(const fs::path& file) {
+    std::map<int64_t, StoreyRow> out;
+    std::ifstream in(file);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::stringstream row(line);
+        for (std::string c; std::getline(row, c, ',');) f.push_back(c);
+        if (f.size() == 4) out[std::stoll(f[0])] = {f[3] == "1", f[1]};
+    }
+    return out;
+}
+
+// A random place on the storey's grid with room around it (clearance + 0.3 m).
+Eigen::Vector2d RandomPlace(const bim::OccupancyGrid& g, double clearance, std::mt19937_64& rng) {
+    std::vector<size_t> cells;
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        if (g.cells[i] == bim::Cell::kFree && g.clearance[i] > clearance + 0.3) cells.push_back(i);
+    }
+    if (cells.empty()) return Eigen::Vector2d::Zero();
+    const size_t i = cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
+    return g.Center(int(i % size_t(g.width)), int(i / size_t(g.width)));
+}
+
+// The walk: from a random place on the start storey to two on the other, joined by the stairs.
+// Empty when the platform cannot reach two storeys.
+std::optional<simulate::Scenario> StoreyWalk(const Building& b, Platform platform, uint64_t seed) {
+    simulate::Scenario s = simulate::DefaultScenario(platform);
+    s.storey = simulate::kAllStoreys;
+    s.seed = seed;
+    s.model = b.ifc;
+    const double clearance = simulate::PathConfigFor(s).clearance_m;
+    const bim::BuildingGraph g = bim::BuildBuildingGraph(
+        b.model, bim::GridConfig{},
+        platform == Platform::kGo1 ? bim::StairLimits::Go1() : bim::StairLimits{}, clearance,
+        bim::DefaultWalkStorey(b.model));
+    if (g.reached.size() < 2) return std::nullopt;
+    const int lower = g.reached[0], upper = g.reached[1];
+    const int from = seed % 2 ? lower : upper, to = seed % 2 ? upper : lower;
+    std::mt19937_64 rng(seed * 7919);
+    s.path.mode = simulate::PathMode::kWaypoints;
+    s.path.waypoints = {RandomPlace(g.grids[size_t(from)], clearance, rng),
+                        RandomPlace(g.grids[size_t(to)], clearance, rng),
+                        RandomPlace(g.grids[size_t(to)], clearance, rng)};
+    s.path.waypoint_storeys = {b.model.storeys[size_t(from)].name,
+                               b.model.storeys[size_t(to)].name,
+                               b.model.storeys[size_t(to)].name};
+    return s;
+}
+
+struct Odometry {
+    bench::Accuracy ape;
+    double flight_dz_cm = 0;  // the worst flight's height error
+    size_t flights = 0;
+    double flight_p99_ms = 0;
+    std::string verdict;  // the odometry's own: trusted or untrusted (trajectory_trust.hpp)
+};
+
+// The odometry of the capture (with the IMU, or LiDAR only), scored after SE(3) alignment.
+Odometry RunOdometry(const fs::path& capture, bool lidar_only,
+                     const std::map<int64_t, StoreyRow>& storeys,
+                     const std::vector<io::StampedPose>& truth, const fs::path& session) {
+    replay::CaptureOdometryOptions o;
+    o.capture_dir = capture;
+    o.session_dir = session;
+    o.overwrite = true;
+    o.use_imu = o.use_can = !lidar_only;
+    std::vector<io::StampedPose> est;
+    std::vector<double> flight_ms;
+    o.on_scan = [&](const odometry::OdometryResult& r) {
+        est.push_back(io::StampedPose::FromIsometry(r.stamp_ns, r.T_odom_lidar));
+        const auto it = storeys.find(r.stamp_ns);
+        if (it != storeys.end() && it->second.flight) flight_ms.push_back(r.total_ms);
+    };
+    const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);
+    Odometry out;
+    out.verdict = rep.trust.Verdict();
+    evaluation::EvaluationConfig c;
+    c.align = evaluation::Alignment::kSe3;
+    const auto e = evaluation::Evaluate(est, truth, c);
+    out.ape = {100 * e.ape_trans_m.rmse, 100 * e.ape_trans_m.max, e.ape_rot_deg.rmse,
+               e.ape_rot_deg.max};
+    // Aligned positions by stamp, for the flights' height errors.
+    const auto pairs = evaluation::Associate(est, truth);
+    std::vector<Eigen::Vector3d> pe, pr;
+    for (const auto& p : pairs) {
+        pe.push_back(est[p.est].translation);
+        pr.push_back(truth[p.ref].translation);
+    }
+    const Eigen::Isometry3d A = evaluation::AlignUmeyama(pe, pr).T_ref_est;
+    std::map<int64_t, std::pair<double, double>> z;  // stamp -> (estimate, truth)
+    for (const auto& p : pairs) {
+        z[truth[p.ref].stamp_ns] = {(A * est[p.est].translation).z(), truth[p.ref].translation.z()};
+    }
+    std::optional<int64_t> before;
+    bool on = false;
+    for (const auto& [t, row] : storeys) {
+        if (!z.count(t)) continue;
+        if (row.flight && !on && before) on = true;
+        if (!row.flight && on) {  // the first pose after a flight
+            const double dz = (z[t].first - z[*before].first) - (z[t].second - z[*before].second);
+            out.flight_dz_cm = std::max(out.flight_dz_cm, 100 * std::abs(dz));
+            ++out.flights;
+            on = false;
+        }
+        if (!row.flight) before = t;
+    }
+    std::sort(flight_ms.begin(), flight_ms.end());
+    if (!flight_ms.empty()) out.flight_p99_ms = flight_ms[size_t(0.99 * double(flight_ms.size() - 1))];
+    return out;
+}
+
+struct Anchored {
+    std::string verdict;
+    bench::Accuracy keyframes;
+    size_t keyframe_count = 0, wrong_storey = 0;
+};
+
+Anchored RunAnchor(const Building& b, const fs::path& session,
+                   const std::vector<io::StampedPose>& truth) {
+    std::vector<anchor::AnchorSession> sessions;
+    sessions.push_back(anchor::LoadAnchorSession(b.reference, {}));
+    sessions.push_back(anchor::LoadAnchorSession(session, {}));
+    const anchor::AnchorResult r = anchor::Anchor(sessions, {});
+    Anchored a;
+    a.verdict = std::string(anchor::ToString(r.sessions[0].verdict));
+    if (r.sessions[0].verdict != anchor::Verdict::kAnchored) return a;
+    // Half the smallest spacing of the storeys' elevations: a keyframe further off in height is
+    // on another storey.
+    double spacing = 1e9;
+    for (size_t i = 1; i < b.model.storeys.size(); ++i) {
+        const double d = b.model.storeys[i].elevation_m - b.model.storeys[i - 1].elevation_m;
+        if (d > 1.5) spacing = std::min(spacing, d);
+    }
+    std::vector<io::StampedPose> kfs;
+    const anchor::AnchorSession& q = sessions[1];
+    std::map<int64_t, Eigen::Vector3d> at;
+    for (const auto& p : truth) at[p.stamp_ns] = p.translation;
+    for (size_t k = 0; k < q.keyframes(); ++k) {
+        const auto& T = r.sessions[0].world_poses[k];
+        kfs.push_back(io::StampedPose::FromIsometry(q.session.keyframes[k].stamp_ns, T));
+        const auto it = at.lower_bound(q.session.keyframes[k].stamp_ns - 1'000'000);
+        if (it != at.end() && std::abs(T.translation().z() - it->second.z()) > spacing / 2) {
+            ++a.wrong_storey;
+        }
+    }
+    a.keyframe_count = kfs.size();
+    a.keyframes = bench::Ape(kfs, truth);
+    return a;
+}
+
+struct Totals {
+    std::vector<double> imu, imu_max, lidar, flight_dz, flight_p99, kf, kf_max;
+    int runs = 0, anchored = 0, all_on_storey = 0;
+};
+
+void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t seed,
+            bool lidar_only, Totals* t) {
+    const std::string name = b.name + (platform == Platform::kGo1 ? " go1" : " handheld") +
+                             " seed " + std::to_string(seed) + (seed % 2 ? " (up)" : " (down)");
+    const char* only = std::getenv("BIMSLAM_STOREYS_ONLY");
+    if (only && name.find(only) == std::string::npos) return;
+    const std::optional<simulate::Scenario> s = StoreyWalk(b, platform, seed);
+    if (!s) {
+        std::printf("%-34s the platform reaches one storey only (bimslam bim stairs)\n",
+                    name.c_str());
+        return;
+    }
+    const fs::path dir = tmp / "run";
+    fs::remove_all(dir);
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        simulate::SimulateCapture(*s, b.model, "", dir / "capture");
+    } catch (const std::exception& e) {
+        std::printf("%-34s not simulated: %s\n", name.c_str(), e.what());
+        return;
+    }
+    const auto truth = io::ReadTum(dir / "capture" / "ground_truth.tum");
+    const auto storeys = ReadStoreys(dir / "capture" / "ground_truth_storeys.csv");
+    const Odometry imu = RunOdometry(dir / "capture", false, storeys, truth, dir / "session");
+    const Odometry lidar =
+        lidar_only ? RunOdometry(dir / "capture", true, storeys, truth, {}) : Odometry{};
+    const Anchored a = RunAnchor(b, dir / "session", truth);
+    std::printf(
+        "%-34s odometry %5.2f/%5.2f cm %s, lidar-only %6.2f/%6.2f cm %s | %zu flights, worst dz %5.2f "
+        "cm, p99 %5.1f ms | %-9s kf %5.2f/%5.2f cm, %zu of %zu on another storey | %5.1f s\n",
+        name.c_str(), imu.ape.rmse_cm, imu.ape.max_cm, imu.verdict.c_str(), lidar.ape.rmse_cm,
+        lidar.ape.max_cm, lidar.verdict.c_str(), imu.flights, imu.flight_dz_cm, imu.flight_p99_ms, a.verdict.c_str(), a.keyframes.rmse_cm,
+        a.keyframes.max_cm, a.wrong_storey, a.keyframe_count, common::SecondsSince(t0));
+    std::fflush(stdout);
+    ++t->runs;
+    t->imu.push_back(imu.ape.rmse_cm);
+    t->imu_max.push_back(imu.ape.max_cm);
+    if (lidar_only) t->lidar.push_back(lidar.ape.rmse_cm);
+    t->flight_dz.push_back(imu.flight_dz_cm);
+    t->flight_p99.push_back(imu.flight_p99_ms);
+    if (a.verdict == "anchored") {
+        ++t->anchored;
+        t->all_on_storey += a.wrong_storey == 0;
+        t->kf.push_back(a.keyframes.rmse_cm);
+        t->kf_max.push_back(a.keyframes.max_cm);
+    }
+}
+
+void PrintTotals(const Totals& t) {
+    bench::Spread("odometry, IMU rmse (cm)", t.imu);
+    bench::Spread("odometry, IMU max (cm)", t.imu_max);
+    bench::Spread("odometry, LiDAR-only (cm)", t.lidar);
+    bench::Spread("worst flight dz (cm)", t.flight_dz);
+    bench::Spread("p99 on flights (ms)", t.flight_p99);
+    bench::Spread("anchored keyframes (cm)", t.kf);
+    bench::Spread("anchored keyframes max (cm)", t.kf_max);
+    std::printf("  anchored %d of %d; every keyframe on its storey in %d of them\n", t.anchored,
+                t.runs, t.all_on_storey);
+}
+
+std::vector<Building> Buildings(const fs::path& dir) {
+    std::vector<Building> out;
+    out.push_back(bench::MakeBuilding(dir, "office", bim::BuildingLayout::kOffice, false));
+    out.push_back(bench::MakeBuilding(dir, "hall", bim::BuildingLayout::kHall, false));
+    const auto data = test::SharedDataDir();
+    if (!data) {
+        std::printf("(../shared/data is absent: the real models are not walked)\n");
+        return out;
+    }
+    for (const char* f : {"AC20-FZK-Haus.ifc", "Duplex_A_20110907.ifc", "Office_A_20110811.ifc"}) {
+        const fs::path ifc = *data / "ifc" / f;
+        if (!fs::exists(ifc)) {
+            std::printf("(%s is absent: not walked)\n", ifc.c_str());
+            continue;
+        }
+        out.push_back(bench::ReferenceOf(dir, fs::path(f).stem().string(), ifc));
+    }
+    return out;
+}
+
+}  // namespace
+}  // namespace bimslam
+
+int main(int argc, char** argv) {
+    using namespace bimslam;
+    std::vector<std::string> suites;
+    for (int i = 1; i < argc; ++i) {
+        if (argv[i][0] != '-') suites.push_back(argv[i]);  // ctest passes --benchmark_min_time
+    }
+    if (suites.empty()) suites = {"buildings", "starts"};
+    const auto wants = [&](const char* s) {
+        return std::find(suites.begin(), suites.end(), s) != suites.end();
+    };
+    const char* seeds_env = std::getenv("BIMSLAM_STOREYS_SEEDS");
+    const uint64_t seeds = seeds_env ? uint64_t(std::max(1, std::atoi(seeds_env))) : 3;
+    test::TempDir tmp;
+    if (wants("buildings")) {
+        std::printf("== buildings: walks between two storeys by the stairs, %llu seeds\n",
+                    static_cast<unsigned long long>(seeds));
+        Totals t;
+        for (const Building& b : Buildings(tmp / "b")) {
+            for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
+                for (uint64_t seed = 1; seed <= seeds; ++seed) RunOne(tmp.path(), b, p, seed, true, &t);
+            }
+        }
+        PrintTotals(t);
+    }
+    if (wants("starts")) {
+        const char* starts_env = std::getenv("BIMSLAM_STOREYS_STARTS");
+        const uint64_t starts = starts_env ? uint64_t(std::max(1, std::atoi(starts_env))) : 20;
+        std::printf("\n== starts: %llu walks on the sample office, half starting upstairs\n",
+                    static_cast<unsigned long long>(starts));
+        const Building office =
+            bench::MakeBuilding(tmp / "s", "office", bim::BuildingLayout::kOffice, false);
+        Totals t;
+        for (uint64_t seed = 1; seed <= starts; ++seed) {
+            RunOne(tmp.path(), office, seed % 4 < 2 ? Platform::kGo1 : Platform::kHandheld, seed + 100,
+                   false, &t);
+        }
+        PrintTotals(t);
+    }
+    return 0;
+}
