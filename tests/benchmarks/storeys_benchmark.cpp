@@ -8,7 +8,8 @@
 //             odometry's own verdict (trusted / untrusted: a divergence it noticed)
 //   flights   the height error over each flight walked, |dz_est - dz_truth| between the last pose
 //             before it and the first after it (after the alignment), the worst one
-//   time      p99 of the odometry's time per scan on the flights (the budget is 50 ms)
+//   time      p99 of the odometry's time per scan on the flights (wall; the budget is 50 ms of
+//             the thread's CPU time, so that the figures do not depend on the machine's load)
 //   anchored  the verdict; the keyframes' APE with no alignment (rmse/max); keyframes placed on
 //             another storey (height off by more than half the storeys' spacing)
 // Suites (command line; default both):
@@ -120,6 +121,10 @@ Odometry RunOdometry(const fs::path& capture, bool lidar_only,
     o.session_dir = session;
     o.overwrite = true;
     o.use_imu = o.use_can = !lidar_only;
+    // The 50 ms budget in the thread's CPU time: on this shared machine a wall-clock budget cuts
+    // scans short by the load (383 of 880 scans of a hand-held LiDAR-only run at load 6), and the
+    // figures would measure the load, not the odometry.
+    o.odometry.registration.cpu_time_budget = true;
     std::vector<io::StampedPose> est;
     std::vector<double> flight_ms;
     o.on_scan = [&](const odometry::OdometryResult& r) {
