@@ -360,20 +360,50 @@ struct Source {
     Kind kind = Kind::kFloat;
 };
 
-void ReadBinaryPoints(const std::string& name, const PcdHeader& h,
-                      const std::array<Source, kChannelCount>& src, Sink& sink) {
+// `load(channel, bytes)` gives a channel's value as double, each point's checked by the sink.
+template <class Load>
+void ReadBinaryPointsWith(const std::string& name, const PcdHeader& h,
+                          const std::array<Source, kChannelCount>& src, Sink& sink, Load load) {
     std::array<double, kChannelCount> v{};
     for (size_t i = 0; i < h.points; ++i) {
         for (int c = 0; c < kChannelCount; ++c) {
-            if (h.channel[c] >= 0) {
-                v[c] = LoadBinary(src[c].base + i * src[c].stride, src[c].size, src[c].kind);
-            }
+            if (h.channel[c] >= 0) v[c] = load(c, src[c].base + i * src[c].stride);
         }
         const int bad = sink.Store(v);
         if (bad >= 0) {
             throw FileError(StatusCode::kParseError, name, 0,
                             "point " + std::to_string(i) + ": " + sink.Describe(bad, v[bad]));
         }
+    }
+}
+
+template <typename T>
+double LoadAs(const char* p) {
+    T v;
+    std::memcpy(&v, p, sizeof(T));  // unaligned: PCD packs fields without padding
+    return static_cast<double>(v);
+}
+
+void ReadBinaryPoints(const std::string& name, const PcdHeader& h,
+                      const std::array<Source, kChannelCount>& src, Sink& sink) {
+    // The fields WritePcd writes (float32, ring uint16) are loaded without choosing a
+    // conversion per value: a session's keyframe clouds are read by the thousand.
+    bool written_by_us = true;
+    for (int c = 0; c < kChannelCount; ++c) {
+        const Kind kind = c == kRing ? Kind::kUint : Kind::kFloat;
+        const uint32_t size = c == kRing ? 2 : 4;
+        if (h.channel[c] >= 0 && (src[c].kind != kind || src[c].size != size)) {
+            written_by_us = false;
+        }
+    }
+    if (written_by_us) {
+        ReadBinaryPointsWith(name, h, src, sink, [](int c, const char* p) {
+            return c == kRing ? LoadAs<uint16_t>(p) : LoadAs<float>(p);
+        });
+    } else {
+        ReadBinaryPointsWith(name, h, src, sink, [&src](int c, const char* p) {
+            return LoadBinary(p, src[c].size, src[c].kind);
+        });
     }
 }
 

@@ -28,6 +28,20 @@ void OrientedCloudConfig::Validate() const {
 
 namespace {
 
+// The last voxel key looked up and its value. A scan's points come in sensor order, so about
+// half of them fall in the voxel of the point before (MakeOrientedCloud's thinning keeps about
+// half of a 32-beam scan): those skip the hash table, with the same result.
+struct RunOfKeys {
+    uint64_t key = common::VoxelHash::kEmpty;
+    uint32_t value = 0;
+    bool Same(uint64_t k) const { return k == key; }
+    uint32_t Remember(uint64_t k, uint32_t v) {
+        key = k;
+        value = v;
+        return v;
+    }
+};
+
 // The plane of each voxel of one size over the points: the normal (oriented towards the
 // origin, where the sensor is) per point, zero where its voxel holds no plane.
 void VoxelNormals(const std::vector<Eigen::Vector3f>& pts, double voxel, int min_points,
@@ -43,10 +57,14 @@ void VoxelNormals(const std::vector<Eigen::Vector3f>& pts, double voxel, int min
     common::VoxelHash table(pts.size() / 4 + 16);
     std::vector<Sums> sums;
     std::vector<uint32_t> voxel_of(pts.size());
+    RunOfKeys run;
     for (size_t k = 0; k < pts.size(); ++k) {
+        const uint64_t key = common::VoxelKey(pts[k], inv);
         bool fresh = false;
         const uint32_t i =
-            table.FindOrInsert(common::VoxelKey(pts[k], inv), uint32_t(sums.size()), &fresh);
+            run.Same(key)
+                ? run.value
+                : run.Remember(key, table.FindOrInsert(key, uint32_t(sums.size()), &fresh));
         if (fresh) sums.push_back({0, pts[k].cast<double>()});
         Sums& s = sums[size_t(i)];
         const Eigen::Vector3d q = pts[k].cast<double>() - s.origin;
@@ -101,12 +119,17 @@ OrientedCloud MakeOrientedCloud(const std::vector<Eigen::Vector3f>& points,
     // First point per thin_voxel_size voxel: a 32 x 1024 scan has 30 000 points, several per
     // few centimetres near the sensor, which add nothing to a plane fitted over 0.4 m.
     const float inv_thin = static_cast<float>(1.0 / config.thin_voxel_size);
-    common::VoxelHash thin(points.size() / 4 + 16);
+    // Sized for every point: about half of them are kept, and growing the table on the way
+    // costs more than the larger table.
+    common::VoxelHash thin(points.size() + 16);
+    RunOfKeys run;
     for (const Eigen::Vector3f& p : points) {
         const float r2 = p.squaredNorm();
         if (!p.allFinite() || r2 < min2 || r2 > max2) continue;
+        const uint64_t key = common::VoxelKey(p, inv_thin);
+        if (run.Same(key)) continue;
         bool fresh = false;
-        thin.FindOrInsert(common::VoxelKey(p, inv_thin), 0, &fresh);
+        run.Remember(key, thin.FindOrInsert(key, 0, &fresh));
         if (fresh) pts.push_back(p);
     }
     std::vector<Eigen::Vector3f> fine, coarse;
@@ -118,11 +141,14 @@ OrientedCloud MakeOrientedCloud(const std::vector<Eigen::Vector3f>& points,
     // One point per sample voxel: the first one on a plane.
     const float inv = static_cast<float>(1.0 / config.sample_voxel_size);
     common::VoxelHash taken(pts.size() / 4 + 16);
+    run = {};
     for (size_t k = 0; k < pts.size(); ++k) {
         const Eigen::Vector3f& n = fine[k].squaredNorm() > 0 ? fine[k] : coarse[k];
         if (n.squaredNorm() == 0) continue;
+        const uint64_t key = common::VoxelKey(pts[k], inv);
+        if (run.Same(key)) continue;
         bool fresh = false;
-        taken.FindOrInsert(common::VoxelKey(pts[k], inv), 0, &fresh);
+        run.Remember(key, taken.FindOrInsert(key, 0, &fresh));
         if (!fresh) continue;
         out.points.push_back(pts[k]);
         out.normals.push_back(n);

@@ -77,6 +77,8 @@ public:
     void Add(const OrientedCloud& cloud, const Eigen::Isometry3d& T_map_cloud);
     void Build();
     const SurfelMap& level(size_t i) const { return maps_.at(i); }
+    // One level alone: the levels are independent, so a caller may fill them in parallel.
+    SurfelMap& mutable_level(size_t i) { return maps_.at(i); }
     size_t levels() const { return maps_.size(); }
 
 private:

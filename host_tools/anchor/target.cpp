@@ -1,5 +1,8 @@
 #include "host_tools/anchor/target.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 
 #include "algorithms/common/status.hpp"
@@ -19,7 +22,6 @@ Target::Target(const std::vector<AnchorSession>& sessions,
         }
         sessions_.push_back(s);
         for (size_t k = 0; k < world.size(); ++k) {
-            map_->Add(session.clouds[k], world[k]);
             keyframes_.push_back({s, k, world[k]});
             const common::Status st = index_.Add(session.descriptors[k]);
             if (!st.ok()) {
@@ -29,8 +31,21 @@ Target::Target(const std::vector<AnchorSession>& sessions,
             }
         }
     }
-    map_->Build();
-    index_.Build();
+    // The map's levels on their own threads (each the same sums in the same order as one after
+    // another: the same maps), while the descriptor index builds.
+    tbb::parallel_invoke(
+        [&] {
+            tbb::parallel_for(size_t(0), map_->levels(), [&](size_t li) {
+                registration::SurfelMap& level = map_->mutable_level(li);
+                for (const auto& [s, world] : members) {
+                    for (size_t k = 0; k < world.size(); ++k) {
+                        level.Add(sessions[s].clouds[k], world[k]);
+                    }
+                }
+                level.Build();
+            });
+        },
+        [&] { index_.Build(); });
 }
 
 bool Target::Contains(size_t session) const {

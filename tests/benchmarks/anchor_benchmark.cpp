@@ -16,7 +16,8 @@
 //   robustness  30 % of the verified loops replaced by wrong pairs that registered, with each
 //               outlier method (pcm, gnc, none): accuracy and verdict.
 //   speed       about 1000 query keyframes against about 1000 reference keyframes: the time of
-//               each stage.
+//               each stage (BIMSLAM_ANCHOR_SPEED_DATA=DIR keeps its sessions in DIR for the
+//               next run).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -307,31 +308,52 @@ void RobustnessSuite(const fs::path& tmp, const Building& b) {
     }
 }
 
-void SpeedSuite(const fs::path& tmp) {
-    std::printf("\n== speed: ~1000 query keyframes against ~1000 reference keyframes\n");
+// The speed suite's reference and query session, simulated into `data` unless a previous run
+// left them there (BIMSLAM_ANCHOR_SPEED_DATA), so that the anchoring can be timed again without
+// the minutes of simulation and odometry.
+struct SpeedData {
+    fs::path reference, session, truth;
+};
+
+SpeedData MakeSpeedData(const fs::path& data) {
+    const SpeedData d{data / "speed" / "hall_reference", data / "speed_run" / "session",
+                      data / "speed_run" / "capture" / "ground_truth.tum"};
+    if (fs::exists(d.reference / "session.json") && fs::exists(d.session / "session.json") &&
+        fs::exists(d.truth)) {
+        std::printf("  (sessions kept from a previous run in %s)\n", data.c_str());
+        return d;
+    }
     // The hall's reference every 0.5 m along its walks; a long Go1 walk of it with keyframes
     // every 0.3 m.
-    const Building b = MakeBuilding(tmp / "speed", "hall", bim::BuildingLayout::kHall, false, 0.5);
+    const Building b = MakeBuilding(data / "speed", "hall", bim::BuildingLayout::kHall, false, 0.5);
     simulate::Scenario s = simulate::DefaultScenario(simulate::Platform::kGo1);
     s.duration_s = 600;
     s.model = b.ifc;
-    const fs::path dir = tmp / "speed_run";
+    const fs::path dir = data / "speed_run";
     simulate::SimulateCapture(s, b.model, "", dir / "capture");
     replay::CaptureOdometryOptions oo;
     oo.capture_dir = dir / "capture";
-    oo.session_dir = dir / "session";
+    oo.session_dir = d.session;
     oo.keyframes.distance_m = 0.3;
     replay::RunCaptureOdometry(oo);
     fs::remove(dir / "capture" / "lidar.pcap");
+    return d;
+}
+
+void SpeedSuite(const fs::path& tmp) {
+    std::printf("\n== speed: ~1000 query keyframes against ~1000 reference keyframes\n");
+    // BIMSLAM_ANCHOR_SPEED_DATA=DIR: the sessions are made once in DIR and kept there.
+    const char* keep = std::getenv("BIMSLAM_ANCHOR_SPEED_DATA");
+    const SpeedData d = MakeSpeedData(keep ? fs::path(keep) : tmp);
     const auto t0 = Clock::now();
     std::vector<anchor::AnchorSession> sessions;
-    sessions.push_back(anchor::LoadAnchorSession(b.reference, {}));
+    sessions.push_back(anchor::LoadAnchorSession(d.reference, {}));
     const double ref_s = common::SecondsSince(t0);
     const auto t1 = Clock::now();
-    sessions.push_back(anchor::LoadAnchorSession(dir / "session", {}));
+    sessions.push_back(anchor::LoadAnchorSession(d.session, {}));
     const double query_s = common::SecondsSince(t1);
     const anchor::AnchorResult r = anchor::Anchor(sessions, {});
-    const auto truth = io::ReadTum(dir / "capture" / "ground_truth.tum");
+    const auto truth = io::ReadTum(d.truth);
     const Accuracy a = Ape(anchor::WorldTrajectory(sessions[1], r.sessions[0].world_poses), truth);
     const anchor::StageTimes& t = r.times;
     std::printf("  reference %zu keyframes, query %zu keyframes: %s, APE %.2f cm\n",
