@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "algorithms/io/file_util.hpp"
 #include "host_tools/capture/udp_replay.hpp"
 #include "tests/integration/rig_test_support.hpp"
 
@@ -150,6 +151,26 @@ TEST_F(RigLcm, EveryChannelReachesASubscriber) {
     EXPECT_GT(sub.keyframe_points(), 10000);
 }
 
+// Publishes `channel` on `url` every 20 ms until the log file holds the channel's name (the
+// logger wrote the message), for at most 10 s. LCM is UDP multicast: a message sent before the
+// logger subscribed is lost, hence the repeats; the log is in order of arrival, so a marker sent
+// after the rig exited lands after the rig's messages.
+bool LoggerHolds(const std::string& url, const fs::path& log, const std::string& channel) {
+    lcm::LCM lcm(url);
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    const char byte = 0;
+    while (std::chrono::steady_clock::now() < end) {
+        lcm.publish(channel, &byte, 1);
+        std::error_code ec;
+        if (fs::exists(log, ec) &&
+            io::ReadFileToString(log).find(channel) != std::string::npos) {
+            return true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+}
+
 TEST_F(RigLcm, LcmLoggerRecordsARunAndLcmLogplayerPlaysItBack) {
     if (test::RunCommand("command -v lcm-logger && command -v lcm-logplayer").exit_code != 0) {
         GTEST_SKIP() << "lcm-logger / lcm-logplayer (liblcm-bin) are absent";
@@ -157,15 +178,18 @@ TEST_F(RigLcm, LcmLoggerRecordsARunAndLcmLogplayerPlaysItBack) {
     const fs::path cap = Capture("go1", 6);
     const std::string url = test::rig::PrivateLcmUrl();
     const fs::path log = Tmp() / "run.lcmlog";
-    const pid_t logger = test::rig::Spawn(
-        "lcm-logger -f --lcm-url='" + url + "&recv_buf_size=4194304' " + log.string(),
-        Tmp() / "logger.out", Tmp() / "logger.err");
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    // The logger flushes every 10 ms; a marker published until it shows in the file says that
+    // the logger listens (before the run) and has written everything before it (after the run),
+    // without a fixed sleep.
+    const pid_t logger = test::rig::Spawn("lcm-logger -f --flush-interval=10 --lcm-url='" + url +
+                                              "&recv_buf_size=4194304' " + log.string(),
+                                          Tmp() / "logger.out", Tmp() / "logger.err");
+    ASSERT_TRUE(LoggerHolds(url, log, "TEST_LOGGER_READY")) << "lcm-logger wrote nothing";
     const fs::path config = test::rig::WriteConfig(Tmp() / "log.yaml", "");
     const nlohmann::json j =
         test::rig::RigJson(kRig + " replay " + cap.string() + " --speed 2 --json --config " +
                            config.string() + " --no-record");
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    EXPECT_TRUE(LoggerHolds(url, log, "TEST_LOGGER_END")) << "lcm-logger stopped writing";
     ::kill(logger, SIGINT);
     test::rig::Wait(logger);
     ASSERT_FALSE(j.is_null());
