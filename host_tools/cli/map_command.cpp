@@ -193,7 +193,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");
     cmd->footer(
         "Steps, each into its own folder of OUT with a stamp in OUT/stamps/:\n"
-        "  reference  OUT/reference/   the BIM reference session (Step 1), cached by the model's "
+        "  reference  OUT/reference/   the BIM reference session (Step 1): every storey, joined "
+        "by walking the stairs, cast with the first recording's sensor; cached by the model's "
         "SHA-256\n"
         "  odometry   OUT/odometry/<recording>/ and <recording>.json (figures, time per scan)\n"
         "  anchor     OUT/anchor/      anchor.json, loops.json, sessions in BIM coordinates\n"
