@@ -176,11 +176,13 @@ TEST_F(OdometryLargeMotion, ShuffledScansAreReportedAsUntrusted) {
 }
 
 TEST_F(OdometryLargeMotion, TheFullRateFolderIsTrusted) {
-    // The same walk at 10 Hz: no scan fails its checks (no false alarm on a good run).
+    // The same walk at 10 Hz: no scan fails its checks (no false alarm on a good run). With a
+    // budget no scan reaches: a scan cut short by the 50 ms one (which depends on the machine)
+    // may fail its check, and this test is about the check on scans that had their work done.
     const fs::path all = Folder("go1");
     const fs::path ses = Tmp() / "all_session";
     const nlohmann::json odo = RunJson(kCli + " odometry " + all.string() + " -o " + ses.string() +
-                                       " --no-imu --budget-cpu --json");
+                                       " --no-imu --budget-ms 10000 --json");
     ASSERT_TRUE(odo.is_object());
     EXPECT_EQ(odo.at("verdict"), "trusted") << odo.at("failed_stretches").dump();
     EXPECT_EQ(odo.at("check_failed").get<size_t>(), 0u);
