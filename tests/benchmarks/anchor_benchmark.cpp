@@ -373,14 +373,7 @@ void SpeedSuite(const fs::path& tmp) {
 
 int main(int argc, char** argv) {
     using namespace bimslam;
-    std::vector<std::string> suites;
-    for (int i = 1; i < argc; ++i) {
-        if (argv[i][0] != '-') suites.push_back(argv[i]);  // ctest passes --benchmark_min_time
-    }
-    if (suites.empty()) suites = {"accuracy", "robustness", "speed"};
-    auto wants = [&](const char* s) {
-        return std::find(suites.begin(), suites.end(), s) != suites.end();
-    };
+    const bench::Suites wants(argc, argv, {"accuracy", "robustness", "speed"});
     test::TempDir tmp;
     const auto t0 = Clock::now();
     if (wants("accuracy") || wants("accuracy-asbuilt") || wants("robustness")) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "algorithms/io/session.hpp"
@@ -83,5 +84,23 @@ inline void Spread(const char* what, std::vector<double> v) {
     std::printf("  %-28s min %6.2f  p10 %6.2f  median %6.2f  p90 %6.2f  max %6.2f  (%zu)\n", what,
                 v.front(), at(0.1), at(0.5), at(0.9), v.back(), v.size());
 }
+
+// The suites named on the command line (arguments not starting with '-': ctest passes
+// --benchmark_min_time), or `defaults` when none is; wants("name") says whether to run one.
+class Suites {
+public:
+    Suites(int argc, char** argv, std::vector<std::string> defaults) {
+        for (int i = 1; i < argc; ++i) {
+            if (argv[i][0] != '-') names_.push_back(argv[i]);
+        }
+        if (names_.empty()) names_ = std::move(defaults);
+    }
+    bool operator()(const char* name) const {
+        return std::find(names_.begin(), names_.end(), name) != names_.end();
+    }
+
+private:
+    std::vector<std::string> names_;
+};
 
 }  // namespace bimslam::bench

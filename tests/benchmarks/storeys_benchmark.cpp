@@ -23,11 +23,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -52,17 +50,10 @@ struct StoreyRow {
     std::string storey;
 };
 
-// ground_truth_storeys.csv: stamp_ns,storey,floor_z_m,on_flight.
 std::map<int64_t, StoreyRow> ReadStoreys(const fs::path& file) {
     std::map<int64_t, StoreyRow> out;
-    std::ifstream in(file);
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-        std::vector<std::string> f;
-        std::stringstream row(line);
-        for (std::string c; std::getline(row, c, ',');) f.push_back(c);
-        if (f.size() == 4) out[std::stoll(f[0])] = {f[3] == "1", f[1]};
+    for (const test::StoreyTruthRow& r : test::ReadStoreyTruth(file)) {
+        out[r.stamp_ns] = {r.on_flight, r.storey};
     }
     return out;
 }
@@ -299,14 +290,7 @@ std::vector<Building> Buildings(const fs::path& dir) {
 
 int main(int argc, char** argv) {
     using namespace bimslam;
-    std::vector<std::string> suites;
-    for (int i = 1; i < argc; ++i) {
-        if (argv[i][0] != '-') suites.push_back(argv[i]);  // ctest passes --benchmark_min_time
-    }
-    if (suites.empty()) suites = {"buildings", "starts"};
-    const auto wants = [&](const char* s) {
-        return std::find(suites.begin(), suites.end(), s) != suites.end();
-    };
+    const bench::Suites wants(argc, argv, {"buildings", "starts"});
     const char* seeds_env = std::getenv("BIMSLAM_STOREYS_SEEDS");
     const uint64_t seeds = seeds_env ? uint64_t(std::max(1, std::atoi(seeds_env))) : 3;
     test::TempDir tmp;

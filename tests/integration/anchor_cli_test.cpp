@@ -17,7 +17,6 @@
 #include <functional>
 #include <map>
 #include <set>
-#include <sstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -422,14 +421,9 @@ TEST_F(AnchorCli, AWalkThatStartsUpstairsAndTakesTheStairsDownAnchorsOnBothStore
     // less the sensor's height above the truth's floor) nearest to the truth's.
     const auto truth = io::ReadTum(walk / "capture" / "ground_truth.tum");
     std::map<int64_t, std::pair<std::string, double>> storey_at;  // stamp -> storey, floor z
-    std::istringstream csv(io::ReadFileToString(walk / "capture" / "ground_truth_storeys.csv"));
-    std::string line;
-    std::getline(csv, line);  // header: stamp_ns,storey,floor_z_m,on_flight
-    while (std::getline(csv, line)) {
-        std::vector<std::string> f;
-        std::stringstream row(line);
-        for (std::string c; std::getline(row, c, ',');) f.push_back(c);
-        if (f.size() == 4 && f[3] == "0") storey_at[std::stoll(f[0])] = {f[1], std::stod(f[2])};
+    for (const test::StoreyTruthRow& r :
+         test::ReadStoreyTruth(walk / "capture" / "ground_truth_storeys.csv")) {
+        if (!r.on_flight) storey_at[r.stamp_ns] = {r.storey, r.floor_z_m};
     }
     size_t on_floor = 0, wrong_storey = 0, flights = 0;
     std::set<std::string> storeys;

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 
 namespace bimslam::test {
@@ -224,6 +225,24 @@ std::filesystem::path CachedFixture(const std::filesystem::path& root, const std
     fs::rename(tmp, dir, ec);  // fails when another process was first: use theirs
     if (ec) fs::remove_all(tmp);
     return dir;
+}
+
+std::vector<StoreyTruthRow> ReadStoreyTruth(const std::filesystem::path& csv) {
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);  // header: stamp_ns,storey,floor_z_m,on_flight
+    std::vector<StoreyTruthRow> out;
+    for (size_t n = 2; std::getline(in, line); ++n) {
+        std::vector<std::string> f;
+        std::stringstream row(line);
+        for (std::string c; std::getline(row, c, ',');) f.push_back(c);
+        if (f.size() != 4) {
+            throw std::runtime_error(csv.string() + ":" + std::to_string(n) +
+                                     ": not stamp_ns,storey,floor_z_m,on_flight");
+        }
+        out.push_back({std::stoll(f[0]), f[1], std::stod(f[2]), f[3] == "1"});
+    }
+    return out;
 }
 
 }  // namespace bimslam::test

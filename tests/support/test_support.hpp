@@ -125,4 +125,15 @@ std::filesystem::path FixtureRootFor(const std::filesystem::path& base,
 std::filesystem::path CachedFixture(const std::filesystem::path& root, const std::string& name,
                                     const std::function<void(const std::filesystem::path&)>& make);
 
+// One row of a simulated capture's ground_truth_storeys.csv (host_tools/simulate, `storey: all`):
+// a frame's stamp, the storey under the platform, that floor's height, on a flight or not.
+struct StoreyTruthRow {
+    int64_t stamp_ns = 0;
+    std::string storey;
+    double floor_z_m = 0;
+    bool on_flight = false;
+};
+// Every row, in order. Throws std::runtime_error naming the file and line on a malformed row.
+std::vector<StoreyTruthRow> ReadStoreyTruth(const std::filesystem::path& csv);
+
 }  // namespace bimslam::test

@@ -5,7 +5,6 @@
 // true storey's floor, and the walk is floor, flight, floor, flight, floor. About 3 s a platform.
 #include <gtest/gtest.h>
 
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,18 +29,12 @@ const bim::BimModel& Office() {
 // Per pose of the truth: its storey's index and whether it is on the flight.
 std::vector<std::pair<int, bool>> StoreyTruth(const std::filesystem::path& csv) {
     std::vector<std::pair<int, bool>> out;
-    std::stringstream lines(io::ReadFileToString(csv));
-    std::string line;
-    std::getline(lines, line);  // header
-    while (std::getline(lines, line)) {
-        std::vector<std::string> f;
-        std::stringstream fields(line);
-        for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+    for (const test::StoreyTruthRow& r : test::ReadStoreyTruth(csv)) {
         int storey = -1;
         for (size_t s = 0; s < Office().storeys.size(); ++s) {
-            if (Office().storeys[s].name == f.at(1)) storey = int(s);
+            if (Office().storeys[s].name == r.storey) storey = int(s);
         }
-        out.push_back({storey, f.at(3) == "1"});
+        out.push_back({storey, r.on_flight});
     }
     return out;
 }
