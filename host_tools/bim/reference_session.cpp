@@ -110,8 +110,8 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
         sr.rooms = path.rooms;
         sr.viewpoints = int(path.viewpoints.size());
         sr.unreachable_viewpoints = path.unreachable_viewpoints;
-        sr.free_area_m2 = double(walk.grids[k].FreeCells()) * walk.grids[k].resolution *
-                          walk.grids[k].resolution;
+        sr.free_area_m2 =
+            double(walk.grids[k].FreeCells()) * walk.grids[k].resolution * walk.grids[k].resolution;
         sr.walk_m = path.length_m;
         sr.walk_s = path.duration_s;
         report.storeys.push_back(sr);
@@ -200,8 +200,9 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
             if (seg.flight) {
                 ++report.flight_keyframes;
             } else {
-                const size_t k = size_t(std::find(walk.storeys.begin(), walk.storeys.end(),
-                                                  seg.storey) - walk.storeys.begin());
+                const size_t k =
+                    size_t(std::find(walk.storeys.begin(), walk.storeys.end(), seg.storey) -
+                           walk.storeys.begin());
                 ++report.storeys[k].keyframes;
             }
             if (options.progress) options.progress(report.keyframes, planned);

@@ -54,22 +54,22 @@ struct StoreyReport {
     int unreachable_viewpoints = 0;
     double free_area_m2 = 0;
     double walk_m = 0;
-    double walk_s = 0;  // the walk's duration at the path's walking speed
+    double walk_s = 0;     // the walk's duration at the path's walking speed
     size_t keyframes = 0;  // on its floor (not on a flight)
 };
 
 struct ReferenceSessionReport {
     std::vector<StoreyReport> storeys;  // by elevation
     size_t keyframes = 0;
-    size_t flights_walked = 0;    // flights joining the storeys' walks
-    size_t flight_keyframes = 0;  // on the flights and the ways to and from them
+    size_t flights_walked = 0;       // flights joining the storeys' walks
+    size_t flight_keyframes = 0;     // on the flights and the ways to and from them
     std::vector<std::string> notes;  // storeys not joined by a flight, and why
-    size_t points = 0;   // in all keyframe clouds
-    size_t rays = 0;     // cast
-    double walk_s = 0;   // real-time duration of the walk, flights included
-    double plan_s = 0;   // grids and paths
-    double simulate_s = 0;  // ray casting, descriptors
-    double write_s = 0;     // session files
+    size_t points = 0;               // in all keyframe clouds
+    size_t rays = 0;                 // cast
+    double walk_s = 0;               // real-time duration of the walk, flights included
+    double plan_s = 0;               // grids and paths
+    double simulate_s = 0;           // ray casting, descriptors
+    double write_s = 0;              // session files
 };
 
 // The files of a storey's plan in `dir`, named after the storey ("Ground Floor" ->

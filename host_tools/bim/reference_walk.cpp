@@ -36,7 +36,8 @@ std::vector<io::StampedPose> PosesAlong(const std::vector<Eigen::Vector3d>& way,
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
         T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
         T.translation() = pts[i] + Eigen::Vector3d(0, 0, c.sensor_height_m);
-        out.push_back(io::StampedPose::FromIsometry(start_ns + int64_t(std::llround(t_s * 1e9)), T));
+        out.push_back(
+            io::StampedPose::FromIsometry(start_ns + int64_t(std::llround(t_s * 1e9)), T));
     }
     return out;
 }
@@ -120,7 +121,8 @@ ReferenceWalk PlanReferenceWalk(const BimModel& model, std::vector<int> storeys,
     for (size_t k = 0; k < storeys.size(); ++k) {
         std::vector<io::StampedPose> poses = w.coverage[k].poses;
         if (k == 0) {
-            w.segments.push_back({storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
+            w.segments.push_back(
+                {storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
             w.pieces.push_back(std::move(poses));
             continue;
         }
@@ -137,7 +139,8 @@ ReferenceWalk PlanReferenceWalk(const BimModel& model, std::vector<int> storeys,
                               "' are not joined in the reference (the stairs are not walked): " +
                               (g ? why : "the graph of the building could not be built"));
             Shift(poses, here.stamp_ns + 1'000'000'000);
-            w.segments.push_back({storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
+            w.segments.push_back(
+                {storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
             w.pieces.push_back(std::move(poses));
             continue;
         }
@@ -147,8 +150,8 @@ ReferenceWalk PlanReferenceWalk(const BimModel& model, std::vector<int> storeys,
         for (size_t i = 1; i < way.size(); ++i) w.flight_m += (way[i] - way[i - 1]).norm();
         ++w.flights_walked;
         w.segments.push_back({storeys[k - 1], true, join.front().stamp_ns, join.back().stamp_ns});
-        Shift(poses, join.back().stamp_ns +
-                         int64_t(std::llround(path.spacing_m / path.speed_mps * 1e9)));
+        Shift(poses,
+              join.back().stamp_ns + int64_t(std::llround(path.spacing_m / path.speed_mps * 1e9)));
         w.segments.push_back({storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
         w.pieces.back().insert(w.pieces.back().end(), join.begin(), join.end());
         w.pieces.back().insert(w.pieces.back().end(), poses.begin(), poses.end());

@@ -23,22 +23,22 @@ namespace bimslam::bim {
 
 // A stretch of the walk in time: on a storey's floor, or on a flight.
 struct WalkSegment {
-    int storey = -1;         // the model storey walked on (on a flight: the one it left)
-    bool flight = false;     // on a flight, or on the way to or from one
-    int64_t start_ns = 0;    // the stretch's first and last pose
+    int storey = -1;       // the model storey walked on (on a flight: the one it left)
+    bool flight = false;   // on a flight, or on the way to or from one
+    int64_t start_ns = 0;  // the stretch's first and last pose
     int64_t end_ns = 0;
 };
 
 struct ReferenceWalk {
-    std::vector<int> storeys;               // in the order walked (by elevation)
-    std::vector<OccupancyGrid> grids;       // one per walked storey, same order
-    std::vector<CoveragePath> coverage;     // one per walked storey, same order
+    std::vector<int> storeys;            // in the order walked (by elevation)
+    std::vector<OccupancyGrid> grids;    // one per walked storey, same order
+    std::vector<CoveragePath> coverage;  // one per walked storey, same order
     // The walk in connected pieces (a new piece where storeys are not joined), one clock.
     std::vector<std::vector<io::StampedPose>> pieces;
-    std::vector<WalkSegment> segments;      // in time order
+    std::vector<WalkSegment> segments;  // in time order
     size_t flights_walked = 0;
-    double flight_m = 0;                    // along the flights and the ways to and from them
-    std::vector<std::string> notes;         // storeys not joined, and why
+    double flight_m = 0;             // along the flights and the ways to and from them
+    std::vector<std::string> notes;  // storeys not joined, and why
 
     // The segment a time falls in (the last whose start is at or before it).
     const WalkSegment& SegmentAt(int64_t stamp_ns) const;

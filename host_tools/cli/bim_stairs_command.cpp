@@ -4,8 +4,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/building_graph.hpp"
+#include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/cli/command.hpp"
 
 namespace bimslam::cli {

@@ -77,8 +77,8 @@ int RunDemo(const DemoOptions& opt) {
     //    two people), walked by a Go1 that starts 5 m outside the main entrance, goes in, through
     //    the ground floor and up the stairs to the first floor, recorded as the rig records it
     //    (host_tools/simulate).
-    simulate::Scenario scenario = simulate::ParseScenario(
-        "whole_building.yaml", ShippedScenario("whole_building.yaml"), "");
+    simulate::Scenario scenario =
+        simulate::ParseScenario("whole_building.yaml", ShippedScenario("whole_building.yaml"), "");
     scenario.model = building_file;
     scenario.duration_s = opt.duration_s;
     scenario.sensor.lidar_mode = std::to_string(opt.columns) + "x10";
@@ -86,10 +86,10 @@ int RunDemo(const DemoOptions& opt) {
         simulate::SimulateCapture(scenario, model, io::Sha256File(building_file), capture_dir);
     std::cout << "  captured " << cap.frames << " frames, " << cap.duration_s << " s of a Go1 "
               << "walking in from 5 m outside, through the ground floor and up the stairs to the "
-              << "first floor (" << cap.walk_length_m
-              << " m; OS-1-32 " << scenario.sensor.lidar_mode << ", " << cap.imu_packets
-              << " IMU packets, " << cap.can_frames << " Go1 CAN frames), simulated in "
-              << cap.wall_s << " s\n           in a changed building: "
+              << "first floor (" << cap.walk_length_m << " m; OS-1-32 "
+              << scenario.sensor.lidar_mode << ", " << cap.imu_packets << " IMU packets, "
+              << cap.can_frames << " Go1 CAN frames), simulated in " << cap.wall_s
+              << " s\n           in a changed building: "
               << scenario.edits.boxes.size() + scenario.edits.cylinders.size()
               << " objects added and clutter, elements removed and moved, walls built off, "
               << scenario.edits.people.size() << " people walking\n           "

@@ -63,7 +63,8 @@ struct Accuracy {
     double rmse_cm = NAN, max_cm = NAN, rot_rmse_deg = NAN, rot_max_deg = NAN;
 };
 
-inline Accuracy Ape(const std::vector<io::StampedPose>& est, const std::vector<io::StampedPose>& truth) {
+inline Accuracy Ape(const std::vector<io::StampedPose>& est,
+                    const std::vector<io::StampedPose>& truth) {
     evaluation::EvaluationConfig c;
     c.align = evaluation::Alignment::kNone;
     Accuracy a;

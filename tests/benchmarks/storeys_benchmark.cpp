@@ -89,8 +89,7 @@ std::optional<simulate::Scenario> StoreyWalk(const Building& b, Platform platfor
     s.path.waypoints = {RandomPlace(g.grids[size_t(from)], clearance, rng),
                         RandomPlace(g.grids[size_t(to)], clearance, rng),
                         RandomPlace(g.grids[size_t(to)], clearance, rng)};
-    s.path.waypoint_storeys = {b.model.storeys[size_t(from)].name,
-                               b.model.storeys[size_t(to)].name,
+    s.path.waypoint_storeys = {b.model.storeys[size_t(from)].name, b.model.storeys[size_t(to)].name,
                                b.model.storeys[size_t(to)].name};
     return s;
 }
@@ -157,7 +156,8 @@ Odometry RunOdometry(const fs::path& capture, bool lidar_only,
         if (!row.flight) before = t;
     }
     std::sort(flight_ms.begin(), flight_ms.end());
-    if (!flight_ms.empty()) out.flight_p99_ms = flight_ms[size_t(0.99 * double(flight_ms.size() - 1))];
+    if (!flight_ms.empty())
+        out.flight_p99_ms = flight_ms[size_t(0.99 * double(flight_ms.size() - 1))];
     return out;
 }
 
@@ -233,11 +233,13 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
         lidar_only ? RunOdometry(dir / "capture", true, storeys, truth, {}) : Odometry{};
     const Anchored a = RunAnchor(b, dir / "session", truth);
     std::printf(
-        "%-34s odometry %5.2f/%5.2f cm %s, lidar-only %6.2f/%6.2f cm %s | %zu flights, worst dz %5.2f "
+        "%-34s odometry %5.2f/%5.2f cm %s, lidar-only %6.2f/%6.2f cm %s | %zu flights, worst dz "
+        "%5.2f "
         "cm, p99 %5.1f ms | %-9s kf %5.2f/%5.2f cm, %zu of %zu on another storey | %5.1f s\n",
         name.c_str(), imu.ape.rmse_cm, imu.ape.max_cm, imu.verdict.c_str(), lidar.ape.rmse_cm,
-        lidar.ape.max_cm, lidar.verdict.c_str(), imu.flights, imu.flight_dz_cm, imu.flight_p99_ms, a.verdict.c_str(), a.keyframes.rmse_cm,
-        a.keyframes.max_cm, a.wrong_storey, a.keyframe_count, common::SecondsSince(t0));
+        lidar.ape.max_cm, lidar.verdict.c_str(), imu.flights, imu.flight_dz_cm, imu.flight_p99_ms,
+        a.verdict.c_str(), a.keyframes.rmse_cm, a.keyframes.max_cm, a.wrong_storey,
+        a.keyframe_count, common::SecondsSince(t0));
     std::fflush(stdout);
     ++t->runs;
     t->imu.push_back(imu.ape.rmse_cm);
@@ -300,7 +302,8 @@ int main(int argc, char** argv) {
         Totals t;
         for (const Building& b : Buildings(tmp / "b")) {
             for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
-                for (uint64_t seed = 1; seed <= seeds; ++seed) RunOne(tmp.path(), b, p, seed, true, &t);
+                for (uint64_t seed = 1; seed <= seeds; ++seed)
+                    RunOne(tmp.path(), b, p, seed, true, &t);
             }
         }
         PrintTotals(t);
@@ -314,8 +317,8 @@ int main(int argc, char** argv) {
             bench::MakeBuilding(tmp / "s", "office", bim::BuildingLayout::kOffice, false);
         Totals t;
         for (uint64_t seed = 1; seed <= starts; ++seed) {
-            RunOne(tmp.path(), office, seed % 4 < 2 ? Platform::kGo1 : Platform::kHandheld, seed + 100,
-                   false, &t);
+            RunOne(tmp.path(), office, seed % 4 < 2 ? Platform::kGo1 : Platform::kHandheld,
+                   seed + 100, false, &t);
         }
         PrintTotals(t);
     }

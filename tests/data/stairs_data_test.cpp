@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/building_graph.hpp"
+#include "host_tools/bim/ifc_model.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::bim {

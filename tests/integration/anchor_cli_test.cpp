@@ -16,8 +16,8 @@
 #include <filesystem>
 #include <functional>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 #include "algorithms/common/se3.hpp"
@@ -429,10 +429,9 @@ TEST_F(AnchorCli, AWalkThatStartsUpstairsAndTakesTheStairsDownAnchorsOnBothStore
     std::set<std::string> storeys;
     double max_dz = 0;
     for (const io::StampedPose& k : io::ReadTum(KeyframeTum(out / "session"))) {
-        const auto t = std::lower_bound(truth.begin(), truth.end(), k.stamp_ns,
-                                        [](const io::StampedPose& p, int64_t s) {
-                                            return p.stamp_ns < s;
-                                        });
+        const auto t =
+            std::lower_bound(truth.begin(), truth.end(), k.stamp_ns,
+                             [](const io::StampedPose& p, int64_t s) { return p.stamp_ns < s; });
         ASSERT_NE(t, truth.end());
         max_dz = std::max(max_dz, std::abs(k.translation.z() - t->translation.z()));
         const auto s = storey_at.find(t->stamp_ns);

@@ -162,8 +162,7 @@ bool LoggerHolds(const std::string& url, const fs::path& log, const std::string&
     while (std::chrono::steady_clock::now() < end) {
         lcm.publish(channel, &byte, 1);
         std::error_code ec;
-        if (fs::exists(log, ec) &&
-            io::ReadFileToString(log).find(channel) != std::string::npos) {
+        if (fs::exists(log, ec) && io::ReadFileToString(log).find(channel) != std::string::npos) {
             return true;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));

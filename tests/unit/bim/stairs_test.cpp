@@ -2,13 +2,12 @@
 // the project's sample buildings: the office's one flight (16 risers of 0.2 m, treads 0.28 m,
 // 1.2 m wide) and the hall's two; a stair without geometry and one too steep for the platform
 // leave the upper storeys unreached, with a message that names them and the reason.
-#include "host_tools/bim/building_graph.hpp"
-
 #include <gtest/gtest.h>
 
 #include <regex>
 #include <string>
 
+#include "host_tools/bim/building_graph.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
 
