@@ -196,241 +196,275 @@ ScanMotion LidarOdometry::MotionFor(const common::Vector6d& twist, double durati
 
 const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const Clock::time_point start = Clock::now();
-    const bool cpu_clock = config_.registration.cpu_time_budget;
-    const Clock::time_point budget_start = BudgetNow(cpu_clock);
-    const int64_t stamp = scan.stamp.ns;
-    if (initialized_ && stamp <= last_stamp_ns_) {
+    if (initialized_ && scan.stamp.ns <= last_stamp_ns_) {
         result_.flags = kTooFewPoints;
         return result_;
     }
-    OdometryResult& r = result_;
-    const Eigen::Isometry3d T_prev = r.T_odom_lidar;
-    r.flags = 0;
-    r.deskew_rounds = 0;
-    r.deskew_stop = DeskewStop::kNotTried;
-    r.check_reasons = 0;
-    r.stamp_ns = stamp;
-    ++scans_;
-
-    // 1. Prediction of the motion since the previous scan.
-    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-    Eigen::Isometry3d cv_delta = Eigen::Isometry3d::Identity();
-    common::Vector6d sigma = config_.constant_velocity_sigma;
-    const double dt = initialized_ ? double(stamp - last_stamp_ns_) * 1e-9 : 0.0;
-    if (!initialized_) {
-        r.flags |= kFirstScan;
-    } else {
-        delta = common::ExpSE3(velocity_ * dt);
-        cv_delta = delta;
-        if (config_.use_body_motion) {
-            if (const auto rel = body_prior_.Between(last_stamp_ns_, stamp)) {
-                const Eigen::Isometry3d& B = config_.T_base_lidar;
-                delta = B.inverse() * rel->T_a_b * B;
-                const common::Matrix6d cov = common::Adjoint(B.inverse()) * rel->covariance *
-                                             common::Adjoint(B.inverse()).transpose();
-                sigma = cov.diagonal().cwiseSqrt().cwiseMax(1e-3);
-                r.flags |= kBodyPriorUsed;
-            }
-        }
-        Eigen::Quaterniond q;
-        if (config_.use_imu && IntegrateGyro(last_stamp_ns_, stamp, &q)) {
-            delta.linear() = q.toRotationMatrix();
-            sigma.tail<3>().setConstant(config_.imu_rotation_sigma);
-            r.flags |= kImuUsed;
-        }
-    }
-
-    // The legs against the LiDAR's own velocity (body_translation_gate): a foot that slips. The
-    // scan is then deskewed and registered from the LiDAR's translation.
-    if ((r.flags & kBodyPriorUsed) && (r.flags & kImuUsed) && config_.body_translation_gate > 0 &&
-        !last_degenerate_ && past_count_ > size_t(config_.velocity_window) &&
-        (delta.translation() - cv_delta.translation()).norm() >
-            config_.body_translation_gate * dt) {
-        delta.translation() = cv_delta.translation();
-        r.flags |= kContradictsLegs;
-    }
-
+    BeginScan(scan);
+    Predict();
     // 2. Preprocessing, deskewed with the predicted velocity (the gyro inside the scan).
-    const double duration = Duration(scan);
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    w.duration = Duration(scan);
     const common::Vector6d twist =
-        dt > 0 ? common::Vector6d(common::LogSE3(delta) / dt) : common::Vector6d::Zero();
-    bool gyro = false;
-    ScanMotion motion = MotionFor(twist, duration, stamp, &gyro);
-    const auto preprocess = [&](const common::PointCloud& cloud, const ScanMotion& m) {
-        r.preprocess = preprocessor_.Run(cloud, m);
-        if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
-        r.edge_points = edges_.size();
-    };
-    preprocess(scan, motion);
+        w.dt > 0 ? common::Vector6d(common::LogSE3(w.delta) / w.dt) : common::Vector6d::Zero();
+    w.motion = MotionFor(twist, w.duration, w.stamp, &w.gyro);
+    PreprocessScan(scan, w.motion);
     const Clock::time_point preprocessed = Clock::now();
     r.preprocess_ms = Ms(preprocessed - start);
     // The scene's extent, smoothed over a few scans (the map radius and the threshold use it).
     const double range = std::min(60.0, r.preprocess.range_p90);
     extent_ = extent_ > 0 ? 0.8 * extent_ + 0.2 * range : range;
 
-    // 3. Registration to the local map.
-    const Eigen::Isometry3d T_pred = T_prev * delta;
+    // 3. Registration to the local map, from the prediction.
+    w.T_pred = w.T_prev * w.delta;
+    w.T = w.T_pred;
     r.registration = RegistrationResult{};
-    Eigen::Isometry3d T = T_pred;
-    r.covariance = sigma.cwiseAbs2().asDiagonal();
-    const auto deadline =
-        budget_start +
-        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(
-            config_.budget_ms * (1 - config_.map_update_share)));
+    r.covariance = w.sigma.cwiseAbs2().asDiagonal();
     // The adaptive threshold (header of the configuration).
     r.correspondence_distance =
         model_error_count_ < 3
             ? config_.initial_correspondence_distance
             : std::clamp(3.0 * std::sqrt(model_error_sq_), config_.min_correspondence_distance,
                          config_.max_correspondence_distance);
-    // Checked again after a second deskew, which can change the count.
-    const auto too_few = [&] {
-        return preprocessor_.registration_points().size() <
-               size_t(config_.registration.min_correspondences);
-    };
-    bool pin_rotation = false;  // the gyro's rotation, translation only (imu_rotation_gate)
-    const auto align = [&](const Eigen::Isometry3d& from) {
-        if (too_few()) {
-            r.flags |= kTooFewPoints | kRegistrationFailed;
-            return false;
-        }
-        AlignInput in;
-        in.points = preprocessor_.registration_points();
-        in.alpha = preprocessor_.registration_alpha();
-        in.T0 = from;
-        in.prior_sigma = sigma;
-        in.correction_sigma = config_.preprocess.deskew && scan.HasTime()
-                                  ? CorrectionSigma(gyro)
-                                  : common::Vector6d::Zero();
-        in.max_correspondence_distance = r.correspondence_distance;
-        in.fix_rotation = pin_rotation;
-        in.edges = edges_;
-        in.edge_map = edge_map_ ? &*edge_map_ : nullptr;
-        r.registration = registration_.Align(in, map_, deadline);
-        const RegistrationResult& reg = r.registration;
-        if (reg.failed) {
-            r.flags |= kRegistrationFailed;
-            return false;
-        }
-        T = reg.T_map_lidar;
-        r.covariance = reg.covariance;
-        r.flags &= ~uint32_t(kOverBudget | kDegenerate | kNotConverged);
-        if (reg.over_budget) r.flags |= kOverBudget;
-        if (reg.degenerate_directions > 0) r.flags |= kDegenerate;
-        if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
-        return true;
-    };
-    if (!initialized_ && too_few()) {
+    if (!initialized_ && TooFewPoints()) {
         // Nothing to start the map with: the odometry starts at the next scan that has points.
         r.flags |= kTooFewPoints;
         r.total_ms = Ms(Clock::now() - start);
         return r;
     }
-    bool registered_ok = false;
-    if (initialized_) registered_ok = align(T_pred);
+    if (initialized_) Register();
+    const Clock::time_point registered = Clock::now();
+    r.register_ms = Ms(registered - preprocessed);
+
+    UpdateMap();
+    if (!initialized_ && config_.start_refinements > 0) first_scan_ = scan;
+    UpdateVelocity();
+    const Clock::time_point end = Clock::now();
+    r.map_ms = Ms(end - registered);
+    r.total_ms = Ms(end - start);
+    return r;
+}
+
+void LidarOdometry::BeginScan(const common::PointCloud& scan) {
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    w.scan = &scan;
+    w.cpu_clock = config_.registration.cpu_time_budget;
+    w.budget_start = BudgetNow(w.cpu_clock);
+    w.stamp = scan.stamp.ns;
+    w.T_prev = r.T_odom_lidar;
+    w.dt = initialized_ ? double(w.stamp - last_stamp_ns_) * 1e-9 : 0.0;
+    w.gyro = false;
+    w.pin_rotation = false;
+    w.deadline = w.budget_start + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double, std::milli>(
+                                          config_.budget_ms * (1 - config_.map_update_share)));
+    r.flags = 0;
+    r.deskew_rounds = 0;
+    r.deskew_stop = DeskewStop::kNotTried;
+    r.check_reasons = 0;
+    r.stamp_ns = w.stamp;
+    ++scans_;
+}
+
+void LidarOdometry::Predict() {
+    // 1. Prediction of the motion since the previous scan.
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    w.delta = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d cv_delta = Eigen::Isometry3d::Identity();
+    w.sigma = config_.constant_velocity_sigma;
+    if (!initialized_) {
+        r.flags |= kFirstScan;
+        return;
+    }
+    w.delta = common::ExpSE3(velocity_ * w.dt);
+    cv_delta = w.delta;
+    if (config_.use_body_motion) {
+        if (const auto rel = body_prior_.Between(last_stamp_ns_, w.stamp)) {
+            const Eigen::Isometry3d& B = config_.T_base_lidar;
+            w.delta = B.inverse() * rel->T_a_b * B;
+            const common::Matrix6d cov = common::Adjoint(B.inverse()) * rel->covariance *
+                                         common::Adjoint(B.inverse()).transpose();
+            w.sigma = cov.diagonal().cwiseSqrt().cwiseMax(1e-3);
+            r.flags |= kBodyPriorUsed;
+        }
+    }
+    Eigen::Quaterniond q;
+    if (config_.use_imu && IntegrateGyro(last_stamp_ns_, w.stamp, &q)) {
+        w.delta.linear() = q.toRotationMatrix();
+        w.sigma.tail<3>().setConstant(config_.imu_rotation_sigma);
+        r.flags |= kImuUsed;
+    }
+    // The legs against the LiDAR's own velocity (body_translation_gate): a foot that slips. The
+    // scan is then deskewed and registered from the LiDAR's translation.
+    if ((r.flags & kBodyPriorUsed) && (r.flags & kImuUsed) && config_.body_translation_gate > 0 &&
+        !last_degenerate_ && past_count_ > size_t(config_.velocity_window) &&
+        (w.delta.translation() - cv_delta.translation()).norm() >
+            config_.body_translation_gate * w.dt) {
+        w.delta.translation() = cv_delta.translation();
+        r.flags |= kContradictsLegs;
+    }
+}
+
+void LidarOdometry::PreprocessScan(const common::PointCloud& cloud, const ScanMotion& motion) {
+    result_.preprocess = preprocessor_.Run(cloud, motion);
+    if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
+    result_.edge_points = edges_.size();
+}
+
+bool LidarOdometry::TooFewPoints() const {
+    // Checked again after a second deskew, which can change the count.
+    return preprocessor_.registration_points().size() <
+           size_t(config_.registration.min_correspondences);
+}
+
+bool LidarOdometry::Align(const Eigen::Isometry3d& from) {
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    if (TooFewPoints()) {
+        r.flags |= kTooFewPoints | kRegistrationFailed;
+        return false;
+    }
+    AlignInput in;
+    in.points = preprocessor_.registration_points();
+    in.alpha = preprocessor_.registration_alpha();
+    in.T0 = from;
+    in.prior_sigma = w.sigma;
+    in.correction_sigma = config_.preprocess.deskew && w.scan->HasTime() ? CorrectionSigma(w.gyro)
+                                                                         : common::Vector6d::Zero();
+    in.max_correspondence_distance = r.correspondence_distance;
+    in.fix_rotation = w.pin_rotation;
+    in.edges = edges_;
+    in.edge_map = edge_map_ ? &*edge_map_ : nullptr;
+    r.registration = registration_.Align(in, map_, w.deadline);
+    const RegistrationResult& reg = r.registration;
+    if (reg.failed) {
+        r.flags |= kRegistrationFailed;
+        return false;
+    }
+    w.T = reg.T_map_lidar;
+    r.covariance = reg.covariance;
+    r.flags &= ~uint32_t(kOverBudget | kDegenerate | kNotConverged);
+    if (reg.over_budget) r.flags |= kOverBudget;
+    if (reg.degenerate_directions > 0) r.flags |= kDegenerate;
+    if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
+    return true;
+}
+
+void LidarOdometry::Register() {
+    // From the prediction; then the gyro's gate, other headings, a start in motion, deskew rounds.
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    bool registered_ok = Align(w.T_pred);
     if (registered_ok && (r.flags & kImuUsed) && config_.imu_rotation_gate > 0 &&
-        common::RotationAngle(common::Between(T_pred, T)) >
+        common::RotationAngle(common::Between(w.T_pred, w.T)) >
             config_.imu_rotation_gate * config_.imu_rotation_sigma) {
         // The scan turned against the gyro (imu_rotation_gate): measured on the doors' captures,
         // where it did by 0.5-1.8 deg the estimate was wrong by as much (README.md, "Glass,
         // mirrors and moving doors"). Registered again from the prediction with the gyro's
         // rotation kept, the translation only (the later registrations of this scan keep it).
-        pin_rotation = true;
-        registered_ok = align(T_pred);
+        w.pin_rotation = true;
+        registered_ok = Align(w.T_pred);
         r.flags |= kContradictsGyro;
     }
-    if (registered_ok) {
-        // Large motion with a weak prediction: other headings when this one fails its checks.
-        registered_ok = TryOtherHeadings(
-            {&align,
-             [](const void* f, const Eigen::Isometry3d& from) {
-                 return (*static_cast<const std::remove_reference_t<decltype(align)>*>(f))(from);
-             }},
-            T_pred, sigma, &T, deadline);
+    // Large motion with a weak prediction: other headings when this one fails its checks.
+    if (registered_ok) registered_ok = TryOtherHeadings();
+    if (registered_ok) RefineStart();
+    if (registered_ok && !(r.flags & kStartRefined)) DeskewAgain();
+    if (!registered_ok) return;
+    JudgeScan(w.T_pred, w.T, w.sigma);
+    // The keyframe cloud and the map points where the registration put them.
+    const common::Vector6d& xi = r.registration.correction;
+    if (xi.head<3>().norm() + 10.0 * xi.tail<3>().norm() > config_.correction_flag_m) {
+        r.flags |= kMotionCorrected;
     }
+    preprocessor_.ApplyCorrection(xi);
+    // How far the prediction was off, for the adaptive threshold.
+    const Eigen::Isometry3d e = common::Between(w.T_pred, w.T);
+    const double err = e.translation().norm() + std::max(extent_, 1.0) * common::RotationAngle(e);
+    const double a = 1.0 / std::min(double(model_error_count_ + 1), config_.model_error_scans);
+    model_error_sq_ = (1 - a) * model_error_sq_ + a * err * err;
+    ++model_error_count_;
+}
+
+void LidarOdometry::RefineStart() {
     // Not when the registration was degenerate: along a weak direction the velocity is the
     // prediction's, not measured, and deskewing the first scan with it again moved a corridor
     // walk 18 cm off where it stays within 5 cm without (LidarOdometry corridor test).
-    if (registered_ok && past_count_ == 1 && config_.start_refinements > 0 && dt > 0 &&
-        !(r.flags & kDegenerate) && config_.preprocess.deskew && scan.HasTime() &&
-        first_scan_.HasTime()) {
-        // A start in motion (header, step 3): the first scan was deskewed with no motion, so its
-        // smear is in the map. With the velocity from the first two poses, deskew it again,
-        // rebuild the map from it and register this scan again.
-        const double first_duration = Duration(first_scan_);
-        for (int k = 0; k < config_.start_refinements && BudgetNow(cpu_clock) < deadline; ++k) {
-            const common::Vector6d v = common::LogSE3(T) / dt;  // the first pose is the identity
-            map_.Clear();
-            if (edge_map_) edge_map_->Clear();
-            preprocess(first_scan_, MotionFor(v, first_duration, first_scan_.stamp.ns));
-            map_.Insert(preprocessor_.map_points(), Eigen::Vector3f::Zero());
-            if (edge_map_) edge_map_->Insert(edges_);
-            motion = MotionFor(v, duration, stamp);
-            preprocess(scan, motion);
-            if (!align(T)) break;
-            r.flags |= kStartRefined;
-        }
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    if (past_count_ != 1 || config_.start_refinements <= 0 || w.dt <= 0 ||
+        (r.flags & kDegenerate) || !config_.preprocess.deskew || !w.scan->HasTime() ||
+        !first_scan_.HasTime()) {
+        return;
     }
-    const bool correcting = (config_.correction_sigma.array() > 0).all();
-    if (registered_ok && !correcting && !(r.flags & kStartRefined) && dt > 0 &&
-        config_.preprocess.deskew && scan.HasTime()) {
-        // The scan was deskewed with a predicted motion; while the estimated one differs by more
-        // than redeskew_threshold over the sweep (a start, a stop, a sudden turn without the
-        // IMU), the scan is deskewed again with it and registered once more (max_deskew_rounds).
-        // A round after the first starts only when the last one's time still fits before the
-        // deadline: a round started late ran the scan over budget (11 of 1800 hand-held scans
-        // without the IMU, the rounds' whole cost being the LiDAR-only case).
-        Clock::duration last_round{};
-        r.deskew_stop = DeskewStop::kRoundsDone;
-        for (int round = 0; round < config_.max_deskew_rounds; ++round) {
-            const Clock::time_point round_start = BudgetNow(cpu_clock);
-            if (round_start + last_round >= deadline) {
-                r.deskew_stop = DeskewStop::kDeadline;
-                break;
-            }
-            if (round > 0 && (r.flags & kDegenerate)) {
-                r.deskew_stop = DeskewStop::kDegenerate;
-                break;
-            }
-            const ScanMotion estimated =
-                MotionFor(common::LogSE3(common::Between(T_prev, T)) / dt, duration, stamp);
-            const Eigen::Isometry3d diff = common::Between(motion.End(), estimated.End());
-            if (diff.translation().norm() + 10.0 * common::RotationAngle(diff) <=
-                config_.redeskew_threshold) {
-                r.deskew_stop = DeskewStop::kHolds;
-                break;
-            }
-            motion = estimated;
-            preprocess(scan, motion);
-            if (!align(T)) {
-                r.deskew_stop = DeskewStop::kFailed;
-                break;
-            }
-            r.flags |= kDeskewedAgain;
-            ++r.deskew_rounds;
-            last_round = BudgetNow(cpu_clock) - round_start;
-        }
+    // A start in motion (header, step 3): the first scan was deskewed with no motion, so its
+    // smear is in the map. With the velocity from the first two poses, deskew it again,
+    // rebuild the map from it and register this scan again.
+    const double first_duration = Duration(first_scan_);
+    for (int k = 0; k < config_.start_refinements && BudgetNow(w.cpu_clock) < w.deadline; ++k) {
+        const common::Vector6d v = common::LogSE3(w.T) / w.dt;  // the first pose is the identity
+        map_.Clear();
+        if (edge_map_) edge_map_->Clear();
+        PreprocessScan(first_scan_, MotionFor(v, first_duration, first_scan_.stamp.ns));
+        map_.Insert(preprocessor_.map_points(), Eigen::Vector3f::Zero());
+        if (edge_map_) edge_map_->Insert(edges_);
+        w.motion = MotionFor(v, w.duration, w.stamp);
+        PreprocessScan(*w.scan, w.motion);
+        if (!Align(w.T)) break;
+        r.flags |= kStartRefined;
     }
-    if (registered_ok) JudgeScan(T_pred, T, sigma);
-    if (registered_ok) {
-        // The keyframe cloud and the map points where the registration put them.
-        const common::Vector6d& xi = r.registration.correction;
-        if (xi.head<3>().norm() + 10.0 * xi.tail<3>().norm() > config_.correction_flag_m) {
-            r.flags |= kMotionCorrected;
-        }
-        preprocessor_.ApplyCorrection(xi);
-        // How far the prediction was off, for the adaptive threshold.
-        const Eigen::Isometry3d e = common::Between(T_pred, T);
-        const double err =
-            e.translation().norm() + std::max(extent_, 1.0) * common::RotationAngle(e);
-        const double a = 1.0 / std::min(double(model_error_count_ + 1), config_.model_error_scans);
-        model_error_sq_ = (1 - a) * model_error_sq_ + a * err * err;
-        ++model_error_count_;
-    }
-    const Clock::time_point registered = Clock::now();
-    r.register_ms = Ms(registered - preprocessed);
+}
 
+void LidarOdometry::DeskewAgain() {
+    // The scan was deskewed with a predicted motion; while the estimated one differs by more
+    // than redeskew_threshold over the sweep (a start, a stop, a sudden turn without the
+    // IMU), the scan is deskewed again with it and registered once more (max_deskew_rounds).
+    // A round after the first starts only when the last one's time still fits before the
+    // deadline: a round started late ran the scan over budget (11 of 1800 hand-held scans
+    // without the IMU, the rounds' whole cost being the LiDAR-only case).
+    OdometryResult& r = result_;
+    ScanWork& w = work_;
+    const bool correcting = (config_.correction_sigma.array() > 0).all();
+    if (correcting || w.dt <= 0 || !config_.preprocess.deskew || !w.scan->HasTime()) return;
+    Clock::duration last_round{};
+    r.deskew_stop = DeskewStop::kRoundsDone;
+    for (int round = 0; round < config_.max_deskew_rounds; ++round) {
+        const Clock::time_point round_start = BudgetNow(w.cpu_clock);
+        if (round_start + last_round >= w.deadline) {
+            r.deskew_stop = DeskewStop::kDeadline;
+            break;
+        }
+        if (round > 0 && (r.flags & kDegenerate)) {
+            r.deskew_stop = DeskewStop::kDegenerate;
+            break;
+        }
+        const ScanMotion estimated =
+            MotionFor(common::LogSE3(common::Between(w.T_prev, w.T)) / w.dt, w.duration, w.stamp);
+        const Eigen::Isometry3d diff = common::Between(w.motion.End(), estimated.End());
+        if (diff.translation().norm() + 10.0 * common::RotationAngle(diff) <=
+            config_.redeskew_threshold) {
+            r.deskew_stop = DeskewStop::kHolds;
+            break;
+        }
+        w.motion = estimated;
+        PreprocessScan(*w.scan, w.motion);
+        if (!Align(w.T)) {
+            r.deskew_stop = DeskewStop::kFailed;
+            break;
+        }
+        r.flags |= kDeskewedAgain;
+        ++r.deskew_rounds;
+        last_round = BudgetNow(w.cpu_clock) - round_start;
+    }
+}
+
+void LidarOdometry::UpdateMap() {
     // 4. The map update at the estimated pose, and what lies beyond the scene's extent dropped.
+    OdometryResult& r = result_;
+    const Eigen::Isometry3d& T = work_.T;
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
     r.map_radius = std::clamp(config_.map_extent_factor * extent_, config_.min_map_radius,
@@ -445,31 +479,30 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     if (edge_map_) update(*edge_map_, edges_);
     r.map_voxels = map_.voxels();
     r.map_points = map_.points();
-    if (!initialized_ && config_.start_refinements > 0) first_scan_ = scan;
+}
 
-    r.T_prev_lidar = common::Between(T_prev, T);
-    r.T_odom_lidar = T;
+void LidarOdometry::UpdateVelocity() {
+    OdometryResult& r = result_;
+    const ScanWork& w = work_;
+    r.T_prev_lidar = common::Between(w.T_prev, w.T);
+    r.T_odom_lidar = w.T;
     // The velocity over the window: the relative motion from the oldest pose kept, expressed as
     // a twist in the current lidar frame.
-    past_[past_count_ % past_.size()] = {stamp, T};
+    past_[past_count_ % past_.size()] = {w.stamp, w.T};
     ++past_count_;
     if (past_count_ >= 2) {
         const size_t n = std::min(past_count_, past_.size());
         const PastPose& oldest = past_[(past_count_ - n) % past_.size()];
-        const double span = double(stamp - oldest.stamp_ns) * 1e-9;
+        const double span = double(w.stamp - oldest.stamp_ns) * 1e-9;
         if (span > 0) {
             const common::Vector6d xi =
-                common::LogSE3(common::Between(T, oldest.T_odom_lidar)) / span;
+                common::LogSE3(common::Between(w.T, oldest.T_odom_lidar)) / span;
             velocity_ = -xi;  // the motion from the oldest to now, seen from now
         }
     }
     initialized_ = true;
     last_degenerate_ = (r.flags & (kDegenerate | kRegistrationFailed)) != 0;
-    last_stamp_ns_ = stamp;
-    const Clock::time_point end = Clock::now();
-    r.map_ms = Ms(end - registered);
-    r.total_ms = Ms(end - start);
-    return r;
+    last_stamp_ns_ = w.stamp;
 }
 
 }  // namespace bimslam::odometry

@@ -249,20 +249,42 @@ private:
     // kCheckFailed and check_reasons (lidar_odometry_check.cpp).
     void JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T,
                    const common::Vector6d& sigma);
-    // A registration from a start pose (Process's step): sets result_ and *T, false on failure.
-    // Non-owning, so that calling it allocates nothing.
-    struct AlignFn {
-        const void* context;
-        bool (*call)(const void* context, const Eigen::Isometry3d& from);
-        bool operator()(const Eigen::Isometry3d& from) const { return call(context, from); }
-    };
+
+    // Process's steps (the header's numbers), each on work_ and result_.
+    void BeginScan(const common::PointCloud& scan);
+    void Predict();  // 1: work_.delta and sigma
+    void PreprocessScan(const common::PointCloud& cloud, const ScanMotion& motion);  // 2
+    bool TooFewPoints() const;  // fewer registration points than registration needs
+    // 3: from the prediction, the gyro's gate, other headings, a start in motion, deskew rounds.
+    void Register();
+    // One registration from `from`: sets result_ and work_.T; false on failure.
+    bool Align(const Eigen::Isometry3d& from);
     // A registration of result_ that fails its checks without the gyro is done again from other
-    // headings (RegistrationCheckConfig::retry_headings); result_ and *T become the first passing
-    // one's, else stay the prediction's.
-    // Returns whether a registration holds.
-    bool TryOtherHeadings(AlignFn align, const Eigen::Isometry3d& T_pred,
-                          const common::Vector6d& sigma, Eigen::Isometry3d* T,
-                          Clock::time_point deadline);
+    // headings (RegistrationCheckConfig::retry_headings); result_ and work_.T become the first
+    // passing one's, else stay the prediction's. Returns whether a registration holds.
+    bool TryOtherHeadings();
+    void RefineStart();     // the second scan of a start in motion (start_refinements)
+    void DeskewAgain();     // rounds of deskewing with the estimated motion (max_deskew_rounds)
+    void UpdateMap();       // 4
+    void UpdateVelocity();  // the pose kept, the constant velocity over the window
+
+    // One scan's values through the steps.
+    struct ScanWork {
+        const common::PointCloud* scan = nullptr;
+        int64_t stamp = 0;
+        double dt = 0;        // s since the previous scan (0 for the first)
+        double duration = 0;  // the sweep's, s
+        Eigen::Isometry3d T_prev = Eigen::Isometry3d::Identity();  // the previous scan's pose
+        Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();   // the predicted motion
+        Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  // T_prev * delta
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();       // the estimate so far
+        common::Vector6d sigma = common::Vector6d::Zero();         // the prediction's
+        ScanMotion motion;          // the one the scan is deskewed with
+        bool gyro = false;          // the gyro covered the sweep
+        bool pin_rotation = false;  // the gyro's rotation held (imu_rotation_gate)
+        bool cpu_clock = false;     // the budget counted in CPU time
+        Clock::time_point budget_start, deadline;
+    };
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 
     LidarOdometryConfig config_;
@@ -282,6 +304,7 @@ private:
     double extent_ = 0;  // the scene's extent (smoothed 90th range percentile), m
 
     OdometryResult result_;
+    ScanWork work_;
     bool initialized_ = false;
     int64_t last_stamp_ns_ = 0;
     // The constant-velocity model: the twist per second (lidar frame) over the last

@@ -18,10 +18,12 @@ void LidarOdometry::JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isom
     r.covariance.diagonal() += (common::Vector6d() << t2, t2, t2, r2, r2, r2).finished();
 }
 
-bool LidarOdometry::TryOtherHeadings(AlignFn align, const Eigen::Isometry3d& T_pred,
-                                     const common::Vector6d& sigma, Eigen::Isometry3d* T,
-                                     Clock::time_point deadline) {
+bool LidarOdometry::TryOtherHeadings() {
     OdometryResult& r = result_;
+    const Eigen::Isometry3d& T_pred = work_.T_pred;
+    const common::Vector6d& sigma = work_.sigma;
+    Eigen::Isometry3d* T = &work_.T;
+    const Clock::time_point deadline = work_.deadline;
     const RegistrationCheckConfig& c = config_.check;
     if (!c.enabled || c.retry_headings == 0 || (r.flags & kImuUsed) ||
         JudgeRegistration(r.registration, T_pred, *T, sigma.head<3>(), c) == 0) {
@@ -45,7 +47,7 @@ bool LidarOdometry::TryOtherHeadings(AlignFn align, const Eigen::Isometry3d& T_p
             Eigen::AngleAxisd(step * c.retry_yaw_step_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
                 .toRotationMatrix();
         r.flags = flags_before;
-        if (!align(from)) continue;
+        if (!Align(from)) continue;
         const double score = RegistrationScore(r.registration);
         const bool passes = JudgeRegistration(r.registration, T_pred, *T, sigma.head<3>(), c) == 0;
         // Only a start whose registration passes replaces the prediction's: a scan that fails for
