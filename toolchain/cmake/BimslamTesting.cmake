@@ -50,9 +50,11 @@ function(bimslam_test name)
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
     # unit tests build for the sanitizer run (target unit_tests); the others (scene, host,
     # integration, data) for Release (target integration_tests; tests/unit/CMakeLists.txt).
+    # fuzz (readers_fuzz_test): target fuzz_tests, run under the sanitizers only; the Release
+    # run (ctest --preset integration) never runs it, so integration_tests does not build it.
     if(ARG_LABEL STREQUAL "unit")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
-    else()
+    elseif(NOT ARG_LABEL STREQUAL "fuzz")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_INTEGRATION_TESTS ${name})
     endif()
 endfunction()
