@@ -1,5 +1,6 @@
 #include "host_tools/anchor/anchor_output.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -24,6 +25,35 @@ json PoseJson(const Eigen::Isometry3d& T) {
             {"yaw_deg", std::atan2(T.linear()(1, 0), T.linear()(0, 0)) * 180 / M_PI}};
 }
 
+// A session's (or a piece's) verdict and the numbers behind it.
+json ResultJson(const SessionResult& s) {
+    json hyps = json::array();
+    for (const Hypothesis& h : s.hypotheses) {
+        hyps.push_back({{"T_world_local", PoseJson(h.anchor)},
+                        {"clique_index", h.clique_index},
+                        {"clique", h.clique},
+                        {"loops", h.loops},
+                        {"covered_keyframes", h.covered},
+                        {"mean_inlier_ratio", h.mean_inlier_ratio},
+                        {"seen_through", h.seen_through},
+                        {"contradicted", h.contradicted},
+                        {"outweighed", h.outweighed},
+                        {"rounds", h.rounds}});
+    }
+    json e = {{"name", s.name},
+              {"verdict", ToString(s.verdict)},
+              {"reason", s.reason},
+              {"keyframes", s.keyframes},
+              {"candidates", s.candidates},
+              {"verified", s.verified},
+              {"accepted_loops", s.accepted_loops},
+              {"covered_keyframes", s.covered},
+              {"via_other_sessions", s.via_other_sessions},
+              {"hypotheses", hyps}};
+    if (s.verdict == Verdict::kAnchored) e["T_world_local"] = PoseJson(s.anchor);
+    return e;
+}
+
 }  // namespace
 
 std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
@@ -37,43 +67,46 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
         j["reference"]["model"] = {{"file", ref.session.manifest.model->file},
                                    {"sha256", ref.session.manifest.model->sha256}};
     }
-    std::string overall = "anchored";
+    Verdict overall = Verdict::kAnchored;
     json out = json::array();
     for (size_t q = 0; q < result.sessions.size(); ++q) {
         const SessionResult& s = result.sessions[q];
         const AnchorSession& in = sessions[q + 1];
-        json hyps = json::array();
-        for (const Hypothesis& h : s.hypotheses) {
-            hyps.push_back({{"T_world_local", PoseJson(h.anchor)},
-                            {"clique_index", h.clique_index},
-                            {"clique", h.clique},
-                            {"loops", h.loops},
-                            {"covered_keyframes", h.covered},
-                            {"mean_inlier_ratio", h.mean_inlier_ratio},
-                            {"seen_through", h.seen_through},
-                            {"contradicted", h.contradicted},
-                            {"outweighed", h.outweighed},
-                            {"rounds", h.rounds}});
+        json e = ResultJson(s);
+        e["dir"] = in.dir.string();
+        e["notes"] = in.notes;
+        e["odometry_verdict"] = in.odometry.verdict.empty() ? "not judged" : in.odometry.verdict;
+        if (!s.untrusted.empty()) {
+            json stretches = json::array();
+            for (const OdometryStretch& o : s.untrusted) {
+                stretches.push_back({{"first_scan", o.first_scan},
+                                     {"last_scan", o.last_scan},
+                                     {"first_s", o.first_s},
+                                     {"last_s", o.last_s},
+                                     {"failed", o.failed},
+                                     {"reasons", o.reasons},
+                                     {"text", o.Describe()}});
+            }
+            json pieces = json::array();
+            for (const PieceResult& p : s.pieces) {
+                json x = ResultJson(p.result);
+                x.erase("name");
+                x["first_keyframe"] = p.span.first;
+                x["last_keyframe"] = p.span.last;
+                pieces.push_back(x);
+            }
+            size_t placed = 0;
+            for (const bool b : s.placed) placed += b ? 1 : 0;
+            e["failed_stretches"] = stretches;
+            e["pieces"] = pieces;
+            e["keyframes_inside_stretches"] = s.inside;
+            e["placed_keyframes"] = placed;
         }
-        json e = {{"name", s.name},
-                  {"dir", in.dir.string()},
-                  {"verdict", ToString(s.verdict)},
-                  {"reason", s.reason},
-                  {"keyframes", s.keyframes},
-                  {"candidates", s.candidates},
-                  {"verified", s.verified},
-                  {"accepted_loops", s.accepted_loops},
-                  {"covered_keyframes", s.covered},
-                  {"via_other_sessions", s.via_other_sessions},
-                  {"hypotheses", hyps},
-                  {"notes", in.notes}};
-        if (s.verdict == Verdict::kAnchored) e["T_world_local"] = PoseJson(s.anchor);
-        if (s.verdict != Verdict::kAnchored && overall == "anchored") overall = ToString(s.verdict);
-        if (s.verdict == Verdict::kFailed) overall = "failed";
+        if (Severity(s.verdict) > Severity(overall)) overall = s.verdict;
         out.push_back(e);
     }
     j["sessions"] = out;
-    j["verdict"] = overall;
+    j["verdict"] = ToString(overall);
     const StageTimes& t = result.times;
     j["times_s"] = {{"maps", t.map_s},
                     {"candidates", t.candidates_s},
@@ -152,6 +185,51 @@ std::vector<io::StampedPose> WorldTrajectory(const AnchorSession& session,
     return out;
 }
 
+std::vector<io::StampedPose> WorldTrajectory(const AnchorSession& session,
+                                             const std::vector<Eigen::Isometry3d>& world,
+                                             const std::vector<bool>& placed) {
+    const std::vector<OdometryStretch>& st = session.odometry.stretches;
+    if (st.empty() && std::find(placed.begin(), placed.end(), false) == placed.end())
+        return WorldTrajectory(session, world);
+    const auto& kfs = session.session.keyframes;
+    std::vector<io::StampedPose> out;
+    if (session.session.trajectory.empty()) {
+        for (size_t k = 0; k < world.size(); ++k) {
+            if (placed[k]) out.push_back(io::StampedPose::FromIsometry(kfs[k].stamp_ns, world[k]));
+        }
+        return out;
+    }
+    std::vector<Eigen::Isometry3d> correction;  // T_world_local at each keyframe
+    for (size_t k = 0; k < world.size(); ++k)
+        correction.push_back(world[k] * session.poses[k].inverse());
+    const size_t n = kfs.size();
+    size_t k = 0;
+    for (const io::StampedPose& p : session.session.trajectory) {
+        const int64_t t = p.stamp_ns;
+        if (n == 0 || StretchBetween(st, t, t)) continue;
+        while (k + 1 < n && kfs[k + 1].stamp_ns <= t) ++k;
+        // The keyframes before and after the scan that the odometry joins to it.
+        const int64_t tk = kfs[k].stamp_ns;
+        const bool after_first = t >= tk;
+        const bool left = after_first && placed[k] && !StretchBetween(st, tk, t);
+        const size_t r = after_first ? k + 1 : 0;
+        const bool right = r < n && placed[r] && !StretchBetween(st, t, kfs[r].stamp_ns);
+        Eigen::Isometry3d C;
+        if (left && right) {
+            const double a = double(t - tk) / double(kfs[r].stamp_ns - tk);
+            C = common::Interpolate(correction[k], correction[r], a);
+        } else if (left) {
+            C = correction[k];
+        } else if (right) {
+            C = correction[r];
+        } else {
+            continue;
+        }
+        out.push_back(io::StampedPose::FromIsometry(t, C * p.Pose()));
+    }
+    return out;
+}
+
 std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
                                         const std::vector<AnchorSession>& sessions,
                                         const AnchorResult& result, const AnchorConfig& config,
@@ -166,9 +244,23 @@ std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
         const SessionResult& s = result.sessions[q];
         const AnchorSession& in = sessions[q + 1];
         fs::path dir = out / s.name;
-        if (s.verdict != Verdict::kAnchored) {
+        if (s.verdict != Verdict::kAnchored && s.verdict != Verdict::kAnchoredInParts) {
             if (overwrite) fs::remove_all(dir);
             continue;
+        }
+        // Anchored in parts: the keyframes of the anchored pieces, renumbered; an edge only
+        // within a piece.
+        const std::vector<bool> placed =
+            s.placed.empty() ? std::vector<bool>(in.keyframes(), true) : s.placed;
+        std::vector<int> piece(in.keyframes(), s.pieces.empty() ? 0 : -1);
+        for (size_t p = 0; p < s.pieces.size(); ++p) {
+            for (size_t k = s.pieces[p].span.first; k <= s.pieces[p].span.last; ++k)
+                piece[k] = int(p);
+        }
+        std::vector<long> index(in.keyframes(), -1);
+        long written_count = 0;
+        for (size_t k = 0; k < in.keyframes(); ++k) {
+            if (placed[k]) index[k] = written_count++;
         }
         io::SessionManifest m = in.session.manifest;
         m.world_frame = "bim";
@@ -183,6 +275,7 @@ std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
         io::SessionWriter w(
             dir, m, {.overwrite = overwrite, .flush_every = 1000000, .sync_each_file = false});
         for (size_t k = 0; k < in.keyframes(); ++k) {
+            if (!placed[k]) continue;
             io::SessionKeyframe kf;
             kf.stamp_ns = in.session.keyframes[k].stamp_ns;
             kf.T_world_lidar = s.world_poses[k];
@@ -191,8 +284,15 @@ std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
             kf.cloud = io::ReadPcd(io::KeyframeCloudPath(in.dir, k));
             w.AddKeyframe(kf);
         }
-        for (const io::SessionEdge& e : in.session.edges) w.AddEdge(e);
-        const std::vector<io::StampedPose> traj = WorldTrajectory(in, s.world_poses);
+        for (io::SessionEdge e : in.session.edges) {
+            if (e.from >= index.size() || e.to >= index.size() || index[e.from] < 0 ||
+                index[e.to] < 0 || piece[e.from] != piece[e.to])
+                continue;
+            e.from = uint32_t(index[e.from]);
+            e.to = uint32_t(index[e.to]);
+            w.AddEdge(e);
+        }
+        const std::vector<io::StampedPose> traj = WorldTrajectory(in, s.world_poses, placed);
         for (const io::StampedPose& p : traj) w.AddScanPose(p);
         w.Finish();
         io::WriteTum(dir / "trajectory_bim.tum", traj);

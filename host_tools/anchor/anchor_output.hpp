@@ -6,7 +6,8 @@
 //   OUT/posegraph.g2o      the multi-session graph (posegraph::SerializeMultiSessionG2o)
 //   OUT/<query>/           each anchored session in the session-data layout, world frame "bim",
 //                          with trajectory_bim.tum (every scan, placed by its odometry between
-//                          keyframes)
+//                          keyframes); of a session anchored in parts, the keyframes and scans of
+//                          its anchored pieces only
 #pragma once
 
 #include <filesystem>
@@ -27,6 +28,13 @@ std::string LoopsJson(const std::vector<AnchorSession>& sessions, const AnchorRe
 // theirs). Without a trajectory, the keyframes' world poses.
 std::vector<io::StampedPose> WorldTrajectory(const AnchorSession& session,
                                              const std::vector<Eigen::Isometry3d>& world_poses);
+// The same for a session anchored in parts: only keyframes with placed[k] count, and a scan is
+// placed from a keyframe only when no failed stretch of the session's odometry lies between them
+// (the correction is interpolated only between two such keyframes). Scans inside a stretch, or
+// with no such keyframe on either side, are left out.
+std::vector<io::StampedPose> WorldTrajectory(const AnchorSession& session,
+                                             const std::vector<Eigen::Isometry3d>& world_poses,
+                                             const std::vector<bool>& placed);
 
 // Writes everything to `out`. Refuses (common::FileError) an existing non-empty folder unless
 // overwrite. Returns the folders of the anchored sessions written.

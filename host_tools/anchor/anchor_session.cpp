@@ -119,6 +119,7 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
         s.session = io::ReadSession(dir, {.load_clouds = false, .allow_recovery = true});
         for (const std::string& n : s.session.notes) s.notes.push_back(n);
     }
+    s.odometry = ReadOdometryVerdict(dir);
     const size_t n = s.session.keyframes.size();
     if (n == 0) {
         throw FileError(StatusCode::kDataLoss, dir.string(), 0,

@@ -1,8 +1,8 @@
 // A session as anchoring uses it: its keyframes' poses in its own frame, their oriented clouds
-// for registration, their Scan Context descriptors, its odometry edges, and the scan poses of
-// trajectory.tum; read from a bimslam session, or from the layout SC-A-LOAM, LT-mapper and
-// FAST-LIO-SC write (Scans/*.pcd, odom_poses.txt, optimized_poses.txt, times.txt), whose missing
-// parts are derived and said:
+// for registration, their Scan Context descriptors, its odometry edges, the scan poses of
+// trajectory.tum and the odometry's verdict on it (pieces.hpp); read from a bimslam session, or
+// from the layout SC-A-LOAM, LT-mapper and FAST-LIO-SC write (Scans/*.pcd, odom_poses.txt,
+// optimized_poses.txt, times.txt), whose missing parts are derived and said:
 //   - no SCDs/: the descriptors are computed from the clouds (indoor Scan Context, the rig's);
 //   - no g2o: odometry edges between consecutive keyframes from the poses, with the stated
 //     default covariance (kDefaultEdgeSigma*), since those tools do not write theirs;
@@ -18,6 +18,7 @@
 #include "algorithms/registration/oriented_cloud.hpp"
 #include "algorithms/scancontext/config.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
+#include "host_tools/anchor/pieces.hpp"
 
 namespace bimslam::anchor {
 
@@ -38,6 +39,9 @@ struct AnchorSession {
     std::vector<scancontext::Descriptor> descriptors;
     std::vector<registration::OrientedCloud> clouds;
     std::vector<double> path_m;  // distance along the keyframes from the first
+    // The odometry's own verdict (odometry_verdict.json, pieces.hpp): where it failed, the
+    // session is anchored in pieces.
+    OdometryVerdict odometry;
     // What was missing and what was derived, for the user.
     std::vector<std::string> notes;
     size_t keyframes() const { return poses.size(); }

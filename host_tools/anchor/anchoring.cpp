@@ -13,6 +13,7 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/common/stopwatch.hpp"
 #include "algorithms/registration/free_space.hpp"
+#include "host_tools/anchor/anchor_pieces.hpp"
 #include "host_tools/anchor/graph_state.hpp"
 #include "host_tools/anchor/hypothesis.hpp"
 #include "host_tools/anchor/place_recognition.hpp"
@@ -251,6 +252,29 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
     return Verdict::kAnchored;
 }
 
+Verdict CombinePieces(const std::vector<Verdict>& pieces) {
+    Verdict v = Verdict::kFailed;
+    for (const Verdict p : pieces) {
+        if (p == Verdict::kAnchored) return Verdict::kAnchoredInParts;
+        if (p == Verdict::kAmbiguous) v = Verdict::kAmbiguous;
+    }
+    return v;
+}
+
+int Severity(Verdict v) {
+    switch (v) {
+        case Verdict::kAnchored:
+            return 0;
+        case Verdict::kAnchoredInParts:
+            return 1;
+        case Verdict::kAmbiguous:
+            return 2;
+        case Verdict::kFailed:
+            return 3;
+    }
+    return 3;
+}
+
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config) {
     return a.seen_through * config.outweigh_ratio <= b.seen_through &&
            b.seen_through - a.seen_through >= config.outweigh_gap;
@@ -260,6 +284,8 @@ std::string_view ToString(Verdict v) {
     switch (v) {
         case Verdict::kAnchored:
             return "anchored";
+        case Verdict::kAnchoredInParts:
+            return "anchored-in-parts";
         case Verdict::kAmbiguous:
             return "ambiguous";
         case Verdict::kFailed:
@@ -280,13 +306,11 @@ std::string_view ToString(LoopSource s) {
     return "?";
 }
 
-AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
-                    const Progress& progress) {
-    config.Validate();
-    if (sessions.size() < 2) {
-        throw common::Error(common::StatusCode::kInvalidArgument,
-                            "Anchor: a reference and at least one query session");
-    }
+namespace {
+
+// Steps 1-6 (anchoring.hpp) for sessions that are each anchored whole.
+AnchorResult AnchorWhole(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
+                         const Progress& progress) {
     std::unique_ptr<tbb::global_control> limit;
     if (config.threads > 0) {
         limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -381,6 +405,28 @@ AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConf
     }
     times.total_s = common::SecondsSince(t_start);
     return result;
+}
+
+}  // namespace
+
+AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
+                    const Progress& progress) {
+    config.Validate();
+    if (sessions.size() < 2) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "Anchor: a reference and at least one query session");
+    }
+    bool split = false;
+    for (size_t q = 1; q < sessions.size(); ++q)
+        split = split || !sessions[q].odometry.stretches.empty();
+    if (!split) {
+        AnchorResult r = AnchorWhole(sessions, config, progress);
+        for (SessionResult& s : r.sessions)
+            s.placed.assign(s.keyframes, s.verdict == Verdict::kAnchored);
+        return r;
+    }
+    const SplitQueries parts = SplitAtUntrustedOdometry(sessions);
+    return MergePieces(sessions, parts, AnchorWhole(parts.sessions, config, progress));
 }
 
 }  // namespace bimslam::anchor

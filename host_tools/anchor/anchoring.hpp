@@ -16,7 +16,10 @@
 //     near a reference keyframe), optimising again, until the accepted loops stop changing.
 //  4. Verdict: the hypothesis whose loops explain the most keyframes; "ambiguous" when a rival at
 //     a distinct anchor explains nearly as many (both reported), "failed" when none holds.
-//  5. Several query sessions: each is anchored to the reference first; then every session's
+//  5. A session whose odometry failed somewhere (its odometry_verdict.json) is split at the
+//     failed stretches into pieces, each anchored as a session of its own (pieces.hpp); its
+//     verdict is at best "anchored-in-parts".
+//  6. Several query sessions: each is anchored to the reference first; then every session's
 //     keyframes near another session's are registered to that session's map (loops between
 //     query sessions, lifelong mapping); a session that failed alone is tried again against the
 //     reference together with the anchored sessions; and all are optimised together.
@@ -34,8 +37,13 @@
 
 namespace bimslam::anchor {
 
-enum class Verdict { kAnchored, kAmbiguous, kFailed };
+// kAnchoredInParts: the session's odometry failed in places (pieces.hpp); the pieces on either
+// side were anchored on their own, at least one of them, and the keyframes inside the failed
+// stretches were not placed. Never "anchored": the whole session was not.
+enum class Verdict { kAnchored, kAnchoredInParts, kAmbiguous, kFailed };
 std::string_view ToString(Verdict v);
+// How bad a verdict is for the overall one: anchored < anchored-in-parts < ambiguous < failed.
+int Severity(Verdict v);
 
 enum class LoopSource { kScanContext, kProximity, kInjected };
 std::string_view ToString(LoopSource s);
@@ -79,6 +87,8 @@ struct Hypothesis {
     int rounds = 0;
 };
 
+struct PieceResult;
+
 struct SessionResult {
     std::string name;
     Verdict verdict = Verdict::kFailed;
@@ -92,6 +102,21 @@ struct SessionResult {
     size_t accepted_loops = 0;
     size_t covered = 0;
     bool via_other_sessions = false;  // anchored only with the help of other query sessions
+    // Per keyframe: world_poses[k] is an anchored pose. All true when anchored; for
+    // anchored-in-parts, the keyframes of the anchored pieces.
+    std::vector<bool> placed;
+    // A session whose odometry has failed stretches: the stretches, and the pieces it was split
+    // into, each with its own result (empty otherwise).
+    std::vector<OdometryStretch> untrusted;
+    std::vector<PieceResult> pieces;
+    std::vector<size_t> inside;  // keyframes inside a failed stretch, in no piece
+};
+
+// One piece of a split session: its keyframes (the session's indices) and its result as a session
+// of its own (world_poses, hypotheses and indices are the piece's).
+struct PieceResult {
+    KeyframeSpan span;
+    SessionResult result;
 };
 
 struct StageTimes {
@@ -136,8 +161,17 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                       const std::vector<Eigen::Isometry3d>& poses, const AnchorConfig& config,
                       std::string* reason);
 
+// The verdict on a session split at its odometry's failed stretches, from its pieces' verdicts:
+// anchored-in-parts when one piece or more is anchored (never anchored: the keyframes inside the
+// stretches are not placed, and no odometry ties the pieces together); else ambiguous when one
+// is; else failed (also for no piece at all).
+Verdict CombinePieces(const std::vector<Verdict>& pieces);
+
 // sessions[0] is the reference (held fixed, its frame is the world's); the rest are queries.
 // Every session must have been loaded with clouds. Throws common::Error for a bad config.
+// A query whose odometry is untrusted (AnchorSession::odometry) is anchored in pieces
+// (pieces.hpp): result.sessions still has one entry per query, with its pieces; the loops' indices
+// are the query's own keyframes; result.graph holds each piece as a session of its own.
 AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
                     const Progress& progress = {});
 

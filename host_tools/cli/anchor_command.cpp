@@ -29,6 +29,14 @@ struct AnchorArgs {
     bool json = false;
 };
 
+void PrintAnchor(const std::string& label, const anchor::SessionResult& s) {
+    const Eigen::Vector3d t = s.anchor.translation();
+    std::cout << "  " << label << ": t = (" << t.x() << ", " << t.y() << ", " << t.z()
+              << ") m, yaw "
+              << std::atan2(s.anchor.linear()(1, 0), s.anchor.linear()(0, 0)) * 180 / M_PI << " deg"
+              << (s.via_other_sessions ? " (through other sessions)" : "") << "\n";
+}
+
 int AnchorMain(const AnchorArgs& a) {
     anchor::AnchorConfig config;
     if (!anchor::ParseOutlierMethod(a.outliers, &config.outliers)) {
@@ -94,13 +102,21 @@ int AnchorMain(const AnchorArgs& a) {
                   << s.candidates << " Scan Context candidates registered, " << s.verified
                   << " verified\n";
         std::cout << "  " << anchor::ToString(s.verdict) << ": " << s.reason << "\n";
-        if (s.verdict == anchor::Verdict::kAnchored) {
-            const Eigen::Vector3d t = s.anchor.translation();
-            std::cout << "  T_bim_" << s.name << ": t = (" << t.x() << ", " << t.y() << ", "
-                      << t.z() << ") m, yaw "
-                      << std::atan2(s.anchor.linear()(1, 0), s.anchor.linear()(0, 0)) * 180 / M_PI
-                      << " deg" << (s.via_other_sessions ? " (through other sessions)" : "")
-                      << "\n";
+        if (s.verdict == anchor::Verdict::kAnchored) PrintAnchor("T_bim_" + s.name, s);
+        for (const anchor::PieceResult& p : s.pieces) {
+            const std::string span =
+                std::to_string(p.span.first) + "-" + std::to_string(p.span.last);
+            std::cout << "  piece " << span << ": " << anchor::ToString(p.result.verdict) << ": "
+                      << p.result.reason << "\n";
+            if (p.result.verdict == anchor::Verdict::kAnchored)
+                PrintAnchor("  T_bim_" + s.name + "[" + span + "]", p.result);
+        }
+        if (!s.inside.empty()) {
+            std::cout << "  not placed: " << s.inside.size()
+                      << " keyframes inside the odometry's failed stretches (";
+            for (size_t k = 0; k < s.inside.size() && k < 20; ++k)
+                std::cout << (k ? " " : "") << s.inside[k];
+            std::cout << (s.inside.size() > 20 ? " ...)\n" : ")\n");
         }
         for (size_t h = 0; h < s.hypotheses.size() && s.verdict == anchor::Verdict::kAmbiguous;
              ++h) {
@@ -154,11 +170,16 @@ void AddAnchorCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--overwrite", args->overwrite, "Replace an existing output folder");
     cmd->add_flag("--json", args->json, "Print anchor.json instead of the summary");
     cmd->footer(
-        "Writes OUT/anchor.json (the verdict per query: anchored, ambiguous or failed, with the "
-        "numbers behind it), OUT/loops.json (every loop candidate, accepted or rejected and why), "
-        "OUT/posegraph.g2o (multi-session graph), and per anchored query OUT/<name>/: the session "
-        "with world frame 'bim' and trajectory_bim.tum (every scan). Exit 0 when every query is "
-        "anchored, 1 when one is ambiguous or failed, 2 for bad or damaged input "
+        "Writes OUT/anchor.json (the verdict per query: anchored, anchored-in-parts, ambiguous or "
+        "failed, with the numbers behind it), OUT/loops.json (every loop candidate, accepted or "
+        "rejected and why), OUT/posegraph.g2o (multi-session graph), and per anchored query "
+        "OUT/<name>/: the session with world frame 'bim' and trajectory_bim.tum (every scan). "
+        "A query whose odometry failed somewhere (the odometry_verdict.json that bimslam odometry "
+        "writes into the session says untrusted, with its failed stretches) is split at those "
+        "stretches into pieces anchored on their own; keyframes inside a stretch are not placed, "
+        "and the best it gets is anchored-in-parts, each piece with its verdict (OUT/<name>/ "
+        "then holds the anchored pieces' keyframes only). Exit 0 when every query is anchored, "
+        "1 when one is anchored-in-parts, ambiguous or failed, 2 for bad or damaged input "
         "(host_tools/anchor/README.md).");
     cmd->callback([args, &exit_code] { exit_code = Run([&] { return AnchorMain(*args); }); });
 }

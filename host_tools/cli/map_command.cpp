@@ -110,8 +110,12 @@ int MapMain(MapArgs& a) {
     bar.Clear();
     bool anchored = true;
     std::vector<std::string> untrusted;  // recordings whose odometry failed its checks
+    std::vector<std::string> in_parts;   // recordings anchored in pieces (anchoring.hpp)
     for (const json& r : run.summary["recordings"]) {
-        anchored = anchored && !r["anchor"].is_null() && r["anchor"]["verdict"] == "anchored";
+        const std::string verdict =
+            r["anchor"].is_null() ? "" : r["anchor"]["verdict"].get<std::string>();
+        if (verdict == "anchored-in-parts") in_parts.push_back(r["name"].get<std::string>());
+        anchored = anchored && (verdict == "anchored" || verdict == "anchored-in-parts");
         if (!r["odometry"].is_null() && r["odometry"].value("verdict", "trusted") == "untrusted") {
             untrusted.push_back(r["name"].get<std::string>());
         }
@@ -133,11 +137,16 @@ int MapMain(MapArgs& a) {
         for (const std::string& name : untrusted) {
             std::cout << "ODOMETRY UNTRUSTED: " << name
                       << "'s trajectory failed its registration checks (the stretches above); "
-                         "its keyframe edges across them are marked as gaps for the anchoring, "
-                         "and its map, anchoring and changes there are not to be trusted\n";
+                         "the anchoring splits its session there into pieces that no odometry "
+                         "joins, and its map, anchoring and changes there are not to be trusted\n";
+        }
+        for (const std::string& name : in_parts) {
+            std::cout << "ANCHORED IN PARTS: " << name
+                      << ": only the pieces between its odometry's failed stretches that were "
+                         "anchored are placed in BIM coordinates and compared (see above)\n";
         }
     }
-    return anchored && untrusted.empty() ? kExitOk : kExitFailure;
+    return anchored && untrusted.empty() && in_parts.empty() ? kExitOk : kExitFailure;
 }
 
 int ReportMain(const std::string& out, std::string html) {
@@ -197,7 +206,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "by walking the stairs, cast with the first recording's sensor; cached by the model's "
         "SHA-256\n"
         "  odometry   OUT/odometry/<recording>/ and <recording>.json (figures, time per scan)\n"
-        "  anchor     OUT/anchor/      anchor.json, loops.json, sessions in BIM coordinates\n"
+        "  anchor     OUT/anchor/      anchor.json, loops.json, sessions in BIM coordinates; a "
+        "recording whose odometry failed somewhere is anchored in pieces split at the failed "
+        "stretches (verdict anchored-in-parts: only the anchored pieces are placed and compared)\n"
         "  changes    OUT/changes/<recording>/ as `bimslam changes` writes them (+ "
         "evaluation.json)\n"
         "  report     OUT/report/report.html (`bimslam report`)\n"
@@ -205,9 +216,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "changes.json beside the recording, the APE in BIM coordinates (no alignment) and the "
         "change scores: first of what the walk saw (objects with at least 20 beam hits; how many "
         "were out of sight), then of all. Exit 0 when every recording is anchored and its odometry "
-        "trusted, 1 when "
-        "one is not (its report "
-        "still written) or a step failed (the message names the step and the file), 2 for a model "
+        "trusted, 1 when one is not, or is anchored in parts only (its report still written) or a "
+        "step failed (the message names the step and the file), 2 for a model "
         "that is not IFC or a recording that is not an Ouster capture, before any step.");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return MapMain(*a); }); });
 

@@ -119,12 +119,15 @@ json ChangeParameters(const changes::ChangeDetectorConfig& c) {
             {"refine_sigma_m", c.refinement.element_sigma_m}};
 }
 
-// The anchored sessions in anchor.json (those with a folder in OUT/anchor).
+// The anchored sessions in anchor.json (those with a folder in OUT/anchor): a session anchored in
+// parts (its odometry failed somewhere) is compared over its anchored pieces, which its folder
+// holds.
 std::vector<std::string> AnchoredNames(const fs::path& anchor_dir) {
     std::vector<std::string> names;
     const json a = json::parse(io::ReadFileToString(anchor_dir / "anchor.json"));
     for (const json& q : a.at("sessions")) {
-        if (q.at("verdict") == "anchored") names.push_back(q.at("name").get<std::string>());
+        if (q.at("verdict") == "anchored" || q.at("verdict") == "anchored-in-parts")
+            names.push_back(q.at("name").get<std::string>());
     }
     return names;
 }
@@ -209,6 +212,9 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
         if (!r.files.capture_json.empty()) s.AddFileTime("capture_json", r.files.capture_json);
         s.AddParameter("budget_ms", config.odometry_budget_ms);
         s.AddParameter("budget_clock", "thread cpu");
+        // The session carries the odometry's verdict (odometry_verdict.json) since this version:
+        // an older session is made again, so that anchoring sees where it failed.
+        s.AddParameter("verdict_in_session", 1);
         const std::string step = "odometry " + r.name;
         stepper.Run(step, "odometry_" + r.name, s, r.files.packets.string(), [&] {
             replay::CaptureOdometryOptions o;

@@ -10,6 +10,7 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
+#include "algorithms/io/file_util.hpp"
 #include "algorithms/io/session.hpp"
 #include "algorithms/odometry/scan_registration.hpp"
 #include "algorithms/pipeline/scan_pipeline.hpp"
@@ -175,6 +176,13 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     pipeline::ScanInput scan;
     size_t next_body = 0;
     int64_t first_stamp = -1;
+    // The odometry's verdict on the scans a session holds goes into that session (before its
+    // session.json), so that anchoring does not join its keyframes across a failed stretch.
+    size_t session_first_scan = 0, last_scan = 0;
+    const auto write_verdict = [&](size_t last) {
+        io::WriteFileAtomic(writer->dir() / TrajectoryTrust::kSessionFile,
+                            report.trust.SessionJson(session_first_scan, last).dump(1) + "\n");
+    };
     // A capture that turns out corrupt part way: the error names the file and the byte; the
     // session so far stays on disk without session.json (SessionWriter's destructor flushes it),
     // recoverable up to its last complete keyframe, and the message says so.
@@ -203,10 +211,14 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
             report.mean_iterations += double(r.registration.iterations);
             report.mean_map_points += double(r.preprocess.map_points);
             report.capture_s = double(stamp - first_stamp) * 1e-9;
-            report.trust.Add(size_t(out.scan_index), report.capture_s, r.flags, r.check_reasons);
+            report.trust.Add(size_t(out.scan_index), report.capture_s, r.flags, r.check_reasons,
+                             out.stamp_ns);
+            last_scan = size_t(out.scan_index);
             if (writer && out.clock_jump) {
                 // A sensor restart or clock step: a new odometry frame, so a new session next
                 // to the first (SESSION-2, -3, ...).
+                if (last_scan > 0) write_verdict(last_scan - 1);
+                session_first_scan = last_scan;
                 writer->Finish();
                 const fs::path next =
                     o.session_dir.string() + "-" + std::to_string(join.stats().clock_jumps + 1);
@@ -253,7 +265,10 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     report.mean_iterations /= double(report.scans);
     report.mean_map_points /= double(report.scans);
     report.host_minus_sensor_ns = st.host_minus_sensor_ns;
-    if (writer) writer->Finish();
+    if (writer) {
+        write_verdict(last_scan);
+        writer->Finish();
+    }
     report.wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return report;

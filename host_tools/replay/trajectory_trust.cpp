@@ -19,7 +19,8 @@ std::vector<std::string> Reasons(const FailedStretch& s) {
 
 }  // namespace
 
-void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons) {
+void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons,
+                          int64_t stamp_ns) {
     const bool reg_failed = (flags & odometry::kRegistrationFailed) != 0;
     const bool check_failed = (flags & odometry::kCheckFailed) != 0;
     if (!reg_failed && !check_failed) return;
@@ -34,11 +35,12 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
         return;
     }
     if (stretches_.empty() || scan > stretches_.back().last_scan + merge_gap_) {
-        stretches_.push_back({scan, scan, t_s, t_s, 0, 0, false});
+        stretches_.push_back({scan, scan, t_s, t_s, stamp_ns, stamp_ns, 0, 0, false});
     }
     FailedStretch& s = stretches_.back();
     s.last_scan = scan;
     s.last_s = t_s;
+    s.last_ns = stamp_ns;
     ++s.failed;
     s.check_reasons |= check_reasons;
     s.registration_failed = s.registration_failed || reg_failed;
@@ -83,6 +85,27 @@ nlohmann::json TrajectoryTrust::ToJson() const {
                         {"reasons", Reasons(s)}});
     }
     return {{"verdict", Verdict()}, {"failed_stretches", list}, {"bridged_by_prior", bridged_}};
+}
+
+nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan) const {
+    nlohmann::json list = nlohmann::json::array();
+    for (const FailedStretch& s : stretches_) {
+        if (s.last_scan < first_scan || s.first_scan > last_scan) continue;
+        list.push_back({{"first_scan", s.first_scan},
+                        {"last_scan", s.last_scan},
+                        {"first_s", s.first_s},
+                        {"last_s", s.last_s},
+                        {"first_stamp_ns", s.first_ns},
+                        {"last_stamp_ns", s.last_ns},
+                        {"failed", s.failed},
+                        {"reasons", Reasons(s)}});
+    }
+    return {{"format", "bimslam-odometry-verdict"},
+            {"version", 1},
+            {"verdict", list.empty() ? "trusted" : "untrusted"},
+            {"first_scan", first_scan},
+            {"last_scan", last_scan},
+            {"failed_stretches", list}};
 }
 
 }  // namespace bimslam::replay

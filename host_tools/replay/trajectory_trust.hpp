@@ -18,6 +18,7 @@ namespace bimslam::replay {
 struct FailedStretch {
     size_t first_scan = 0, last_scan = 0;  // 0-based scan indices, inclusive
     double first_s = 0, last_s = 0;        // seconds since the first scan
+    int64_t first_ns = 0, last_ns = 0;     // the scans' stamps (sensor clock), as in the session
     size_t failed = 0;                     // failed scans in it
     uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
     bool registration_failed = false;      // some scan had too few correspondences
@@ -28,8 +29,9 @@ public:
     // Failed scans closer than merge_gap scans join one stretch.
     explicit TrajectoryTrust(size_t merge_gap = 10) : merge_gap_(merge_gap) {}
 
-    // Every scan, in order: its index, seconds since the first scan, odometry flags and reasons.
-    void Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons);
+    // Every scan, in order: its index, seconds since the first scan, odometry flags and reasons,
+    // and its stamp (the one trajectory.tum and times.txt carry).
+    void Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons, int64_t stamp_ns = 0);
 
     bool trusted() const { return stretches_.empty(); }
     // Scans whose registration found too few correspondences but whose prediction came from the
@@ -43,6 +45,13 @@ public:
     // {"verdict", "failed_stretches": [{first_scan, last_scan, first_s, last_s, failed,
     // reasons: [...]}]}.
     nlohmann::json ToJson() const;
+    // The verdict a session of scans [first_scan, last_scan] carries (kSessionFile in its folder):
+    // ToJson() of the stretches that overlap those scans, with their stamps, so that anchoring
+    // can find the keyframes on either side (host_tools/anchor/README.md, "Untrusted odometry").
+    nlohmann::json SessionJson(size_t first_scan, size_t last_scan) const;
+
+    // The file in a session folder that holds SessionJson().
+    static constexpr const char* kSessionFile = "odometry_verdict.json";
 
 private:
     size_t merge_gap_;

@@ -272,7 +272,10 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         const json& rec = recordings[r];
         const std::string name = rec.at("name");
         progress("session " + name, 0.4 + 0.5 * double(r) / double(recordings.size()));
-        const bool anchored = !rec.at("anchor").is_null() && rec["anchor"]["verdict"] == "anchored";
+        // Anchored in parts: the anchored pieces' keyframes and scans are in OUT/anchor/NAME.
+        const bool anchored =
+            !rec.at("anchor").is_null() && (rec["anchor"]["verdict"] == "anchored" ||
+                                            rec["anchor"]["verdict"] == "anchored-in-parts");
         json s = {{"name", name}, {"anchored", anchored}, {"anchor", rec.at("anchor")}};
         const fs::path anchored_dir = out / "anchor" / name;
         if (anchored) {

@@ -11,13 +11,16 @@
 //   time      p99 of the odometry's time per scan on the flights (wall; the budget is 50 ms of
 //             the thread's CPU time, so that the figures do not depend on the machine's load)
 //   anchored  the verdict; the keyframes' APE with no alignment (rmse/max); keyframes placed on
-//             another storey (height off by more than half the storeys' spacing)
+//             another storey (height off by more than half the storeys' spacing). A walk whose
+//             odometry failed in places is anchored in pieces (anchored-in-parts): the figures are
+//             over the keyframes of its anchored pieces, and how many of all they are.
 // Suites (command line; default both):
 //   buildings  the sample office and hall, and from ../shared/data AC20-FZK-Haus, Duplex_A and
 //              Office_A (where present), Go1 and hand-held, BIMSLAM_STOREYS_SEEDS seeds (3)
 //   starts     20 walks on the sample office (two similar storeys), half starting upstairs:
 //              how many are anchored (BIMSLAM_STOREYS_STARTS: another count)
-// BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it.
+// BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it (a building none of whose walks
+// is picked is not read).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -163,8 +166,9 @@ Odometry RunOdometry(const fs::path& capture, bool lidar_only,
 
 struct Anchored {
     std::string verdict;
-    bench::Accuracy keyframes;
-    size_t keyframe_count = 0, wrong_storey = 0;
+    bench::Accuracy keyframes;  // the placed ones (all, or the anchored pieces')
+    size_t keyframe_count = 0, placed = 0, wrong_storey = 0;
+    std::string pieces;  // anchored in parts: each piece's keyframes and verdict
 };
 
 Anchored RunAnchor(const Building& b, const fs::path& session,
@@ -174,8 +178,17 @@ Anchored RunAnchor(const Building& b, const fs::path& session,
     sessions.push_back(anchor::LoadAnchorSession(session, {}));
     const anchor::AnchorResult r = anchor::Anchor(sessions, {});
     Anchored a;
-    a.verdict = std::string(anchor::ToString(r.sessions[0].verdict));
-    if (r.sessions[0].verdict != anchor::Verdict::kAnchored) return a;
+    const anchor::SessionResult& res = r.sessions[0];
+    a.verdict = std::string(anchor::ToString(res.verdict));
+    a.keyframe_count = res.keyframes;
+    for (const anchor::PieceResult& p : res.pieces) {
+        a.pieces += (a.pieces.empty() ? "" : ", ") + std::to_string(p.span.first) + "-" +
+                    std::to_string(p.span.last) + " " + std::string(ToString(p.result.verdict));
+    }
+    for (const anchor::OdometryStretch& o : res.untrusted) a.pieces += "; failed " + o.Describe();
+    if (res.verdict != anchor::Verdict::kAnchored &&
+        res.verdict != anchor::Verdict::kAnchoredInParts)
+        return a;
     // Half the smallest spacing of the storeys' elevations: a keyframe further off in height is
     // on another storey.
     double spacing = 1e9;
@@ -188,27 +201,46 @@ Anchored RunAnchor(const Building& b, const fs::path& session,
     std::map<int64_t, Eigen::Vector3d> at;
     for (const auto& p : truth) at[p.stamp_ns] = p.translation;
     for (size_t k = 0; k < q.keyframes(); ++k) {
-        const auto& T = r.sessions[0].world_poses[k];
+        if (!res.placed[k]) continue;  // inside a failed stretch, or a piece not anchored
+        const auto& T = res.world_poses[k];
         kfs.push_back(io::StampedPose::FromIsometry(q.session.keyframes[k].stamp_ns, T));
         const auto it = at.lower_bound(q.session.keyframes[k].stamp_ns - 1'000'000);
         if (it != at.end() && std::abs(T.translation().z() - it->second.z()) > spacing / 2) {
             ++a.wrong_storey;
         }
     }
-    a.keyframe_count = kfs.size();
+    a.placed = kfs.size();
     a.keyframes = bench::Ape(kfs, truth);
     return a;
 }
 
 struct Totals {
-    std::vector<double> imu, imu_max, lidar, flight_dz, flight_p99, kf, kf_max;
-    int runs = 0, anchored = 0, all_on_storey = 0;
+    std::vector<double> imu, imu_max, lidar, flight_dz, flight_p99, kf, kf_max, parts, parts_max;
+    int runs = 0, anchored = 0, all_on_storey = 0, in_parts = 0;
 };
+
+// A walk's name; BIMSLAM_STOREYS_ONLY picks walks by it.
+std::string WalkName(const std::string& building, Platform platform, uint64_t seed) {
+    return building + (platform == Platform::kGo1 ? " go1" : " handheld") + " seed " +
+           std::to_string(seed) + (seed % 2 ? " (up)" : " (down)");
+}
+
+// Whether BIMSLAM_STOREYS_ONLY picks a walk of this building with one of these seeds (so that a
+// building none of whose walks runs is not read and cast).
+bool Picked(const std::string& building, uint64_t seeds) {
+    const char* only = std::getenv("BIMSLAM_STOREYS_ONLY");
+    if (!only) return true;
+    for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
+        for (uint64_t seed = 1; seed <= seeds; ++seed) {
+            if (WalkName(building, p, seed).find(only) != std::string::npos) return true;
+        }
+    }
+    return false;
+}
 
 void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t seed,
             bool lidar_only, Totals* t) {
-    const std::string name = b.name + (platform == Platform::kGo1 ? " go1" : " handheld") +
-                             " seed " + std::to_string(seed) + (seed % 2 ? " (up)" : " (down)");
+    const std::string name = WalkName(b.name, platform, seed);
     const char* only = std::getenv("BIMSLAM_STOREYS_ONLY");
     if (only && name.find(only) == std::string::npos) return;
     const std::optional<simulate::Scenario> s = StoreyWalk(b, platform, seed);
@@ -235,11 +267,13 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
     std::printf(
         "%-34s odometry %5.2f/%5.2f cm %s, lidar-only %6.2f/%6.2f cm %s | %zu flights, worst dz "
         "%5.2f "
-        "cm, p99 %5.1f ms | %-9s kf %5.2f/%5.2f cm, %zu of %zu on another storey | %5.1f s\n",
+        "cm, p99 %5.1f ms | %-9s kf %5.2f/%5.2f cm over %zu of %zu placed, %zu on another storey "
+        "| %5.1f s\n",
         name.c_str(), imu.ape.rmse_cm, imu.ape.max_cm, imu.verdict.c_str(), lidar.ape.rmse_cm,
         lidar.ape.max_cm, lidar.verdict.c_str(), imu.flights, imu.flight_dz_cm, imu.flight_p99_ms,
-        a.verdict.c_str(), a.keyframes.rmse_cm, a.keyframes.max_cm, a.wrong_storey,
-        a.keyframe_count, common::SecondsSince(t0));
+        a.verdict.c_str(), a.keyframes.rmse_cm, a.keyframes.max_cm, a.placed, a.keyframe_count,
+        a.wrong_storey, common::SecondsSince(t0));
+    if (!a.pieces.empty()) std::printf("    pieces (keyframes): %s\n", a.pieces.c_str());
     std::fflush(stdout);
     ++t->runs;
     t->imu.push_back(imu.ape.rmse_cm);
@@ -252,6 +286,10 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
         t->all_on_storey += a.wrong_storey == 0;
         t->kf.push_back(a.keyframes.rmse_cm);
         t->kf_max.push_back(a.keyframes.max_cm);
+    } else if (a.verdict == "anchored-in-parts") {
+        ++t->in_parts;
+        t->parts.push_back(a.keyframes.rmse_cm);
+        t->parts_max.push_back(a.keyframes.max_cm);
     }
 }
 
@@ -263,14 +301,20 @@ void PrintTotals(const Totals& t) {
     bench::Spread("p99 on flights (ms)", t.flight_p99);
     bench::Spread("anchored keyframes (cm)", t.kf);
     bench::Spread("anchored keyframes max (cm)", t.kf_max);
-    std::printf("  anchored %d of %d; every keyframe on its storey in %d of them\n", t.anchored,
-                t.runs, t.all_on_storey);
+    bench::Spread("anchored pieces' keyframes (cm)", t.parts);
+    bench::Spread("anchored pieces' max (cm)", t.parts_max);
+    std::printf(
+        "  anchored %d of %d; every keyframe on its storey in %d of them; anchored in parts (the "
+        "odometry failed in places) %d\n",
+        t.anchored, t.runs, t.all_on_storey, t.in_parts);
 }
 
-std::vector<Building> Buildings(const fs::path& dir) {
+std::vector<Building> Buildings(const fs::path& dir, uint64_t seeds) {
     std::vector<Building> out;
-    out.push_back(bench::MakeBuilding(dir, "office", bim::BuildingLayout::kOffice, false));
-    out.push_back(bench::MakeBuilding(dir, "hall", bim::BuildingLayout::kHall, false));
+    if (Picked("office", seeds))
+        out.push_back(bench::MakeBuilding(dir, "office", bim::BuildingLayout::kOffice, false));
+    if (Picked("hall", seeds))
+        out.push_back(bench::MakeBuilding(dir, "hall", bim::BuildingLayout::kHall, false));
     const auto data = test::SharedDataDir();
     if (!data) {
         std::printf("(../shared/data is absent: the real models are not walked)\n");
@@ -278,6 +322,7 @@ std::vector<Building> Buildings(const fs::path& dir) {
     }
     for (const char* f : {"AC20-FZK-Haus.ifc", "Duplex_A_20110907.ifc", "Office_A_20110811.ifc"}) {
         const fs::path ifc = *data / "ifc" / f;
+        if (!Picked(fs::path(f).stem().string(), seeds)) continue;
         if (!fs::exists(ifc)) {
             std::printf("(%s is absent: not walked)\n", ifc.c_str());
             continue;
@@ -300,7 +345,7 @@ int main(int argc, char** argv) {
         std::printf("== buildings: walks between two storeys by the stairs, %llu seeds\n",
                     static_cast<unsigned long long>(seeds));
         Totals t;
-        for (const Building& b : Buildings(tmp / "b")) {
+        for (const Building& b : Buildings(tmp / "b", seeds)) {
             for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
                 for (uint64_t seed = 1; seed <= seeds; ++seed)
                     RunOne(tmp.path(), b, p, seed, true, &t);

@@ -4,8 +4,9 @@
 // truth, which is in BIM coordinates); so does a query moved 100 m and turned 170 degrees, one
 // that starts outside the building, one in the SC-A-LOAM/LT-mapper layout, and two sessions at
 // once; injected false loops stay out of the accepted set; a mirror-symmetric building is
-// reported ambiguous and a ground-floor walk against a first-floor reference is not anchored;
-// damaged sessions exit 2 naming the file.
+// reported ambiguous and a ground-floor walk against a first-floor reference is not anchored; a
+// session whose odometry failed midway is anchored in parts, not anchored; damaged sessions exit 2
+// naming the file.
 //
 // The bounds are about twice the figures measured on these walks (ExpectTargets); the issue's
 // targets (3 cm / 8 cm, 0.5 / 1.5 deg) and the measured spread are anchor_benchmark's.
@@ -22,6 +23,7 @@
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/session.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -172,6 +174,8 @@ TEST_F(AnchorCli, AGo1WalkAnchorsWithinCentimetresAndWritesEverything) {
     const json summary = ReadJson(out / "anchor.json");
     EXPECT_EQ(summary["verdict"], "anchored");
     EXPECT_EQ(summary["sessions"][0]["verdict"], "anchored");
+    EXPECT_EQ(summary["sessions"][0]["odometry_verdict"], "trusted");
+    EXPECT_FALSE(summary["sessions"][0].contains("pieces"));
     ExpectTargets(out / "session", walk);
 
     // Every scan placed, the anchored session readable with world frame "bim".
@@ -518,11 +522,91 @@ TEST_F(AnchorCli, DamagedOrMissingSessionsExit2NamingTheFile) {
     EXPECT_NE(err.find("--overwrite"), std::string::npos) << err;
 }
 
+// A session whose odometry failed in the middle of the walk (issue 32, item 3; issue 31, item 5):
+// the Go1 walk's session with its odometry_verdict.json turned untrusted over the scans around
+// its middle keyframe, as `bimslam odometry` writes it when scans fail their checks (a simulated
+// 10 Hz walk does not fail; odometry_large_motion_test.cpp makes real failures). The session is
+// split there: each piece is anchored on its own, the keyframe inside the stretch is not placed,
+// the verdict is anchored-in-parts (never anchored) and the exit code 1.
+TEST_F(AnchorCli, ASessionWhoseOdometryFailedMidwayIsAnchoredInPartsNeverAnchored) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("go1", office, "--platform go1 --seed 11");
+    // `bimslam odometry` wrote its verdict into the session.
+    EXPECT_EQ(ReadJson(walk / "session" / "odometry_verdict.json").at("verdict"), "trusted");
+    const fs::path session = Out("walk");
+    fs::copy(walk / "session", session, fs::copy_options::recursive);
+    const std::vector<int64_t> times = io::ReadTimes(session / "times.txt");
+    const size_t n = times.size(), middle = n / 2;
+    ASSERT_GT(n, 12u);
+    json verdict = ReadJson(session / "odometry_verdict.json");
+    const int64_t first = times[middle] - 50'000'000, last = times[middle] + 50'000'000;
+    ASSERT_LT(times[middle - 1], first);
+    ASSERT_GT(times[middle + 1], last);
+    verdict["verdict"] = "untrusted";
+    verdict["failed_stretches"] = json::array({{{"first_scan", 200},
+                                                {"last_scan", 210},
+                                                {"first_s", 20.0},
+                                                {"last_s", 21.0},
+                                                {"first_stamp_ns", first},
+                                                {"last_stamp_ns", last},
+                                                {"failed", 3},
+                                                {"reasons", {"low overlap with the map"}}}});
+    io::WriteFileAtomic(session / "odometry_verdict.json", verdict.dump());
+
+    const fs::path out = Out("anchor");
+    const auto r = Cli("anchor --reference " + (office / "reference").string() + " --query " +
+                       session.string() + " -o " + out.string());
+    std::cout << r.out << r.err;
+    EXPECT_EQ(r.exit_code, 1) << "a session anchored in parts is not a good result";
+    const json a = ReadJson(out / "anchor.json");
+    EXPECT_EQ(a.at("verdict"), "anchored-in-parts");
+    const json& s = a.at("sessions").at(0);
+    EXPECT_EQ(s.at("verdict"), "anchored-in-parts");
+    EXPECT_EQ(s.at("odometry_verdict"), "untrusted");
+    EXPECT_FALSE(s.contains("T_world_local")) << "no one anchor for the whole session";
+    ASSERT_EQ(s.at("failed_stretches").size(), 1u);
+    EXPECT_EQ(s.at("failed_stretches")[0].at("text"),
+              "scans 200-210 (20.0-21.0 s: low overlap with the map)");
+    EXPECT_EQ(s.at("keyframes_inside_stretches"), json::array({middle}));
+    const json& pieces = s.at("pieces");
+    ASSERT_EQ(pieces.size(), 2u);
+    EXPECT_EQ(pieces[0].at("first_keyframe"), 0);
+    EXPECT_EQ(pieces[0].at("last_keyframe"), middle - 1);
+    EXPECT_EQ(pieces[1].at("first_keyframe"), middle + 1);
+    EXPECT_EQ(pieces[1].at("last_keyframe"), n - 1);
+    for (const json& p : pieces) {  // each half of the walk sees enough of the building
+        EXPECT_EQ(p.at("verdict"), "anchored") << p.dump(1);
+        EXPECT_TRUE(p.contains("T_world_local"));
+    }
+    EXPECT_EQ(s.at("placed_keyframes"), n - 1);
+    const std::string reason = s.at("reason");
+    EXPECT_NE(reason.find("the odometry is untrusted"), std::string::npos) << reason;
+    EXPECT_NE(reason.find("scans 200-210"), std::string::npos) << reason;
+    // Printed: the verdict, each piece, the keyframe not placed.
+    EXPECT_NE(r.out.find("  anchored-in-parts: the odometry is untrusted"), std::string::npos);
+    EXPECT_NE(r.out.find("  piece 0-" + std::to_string(middle - 1) + ": anchored"),
+              std::string::npos);
+    EXPECT_NE(r.out.find("  not placed: 1 keyframes inside the odometry's failed stretches (" +
+                         std::to_string(middle) + ")"),
+              std::string::npos);
+
+    // The anchored pieces' keyframes and scans in BIM coordinates, as precise as the whole walk;
+    // no scan of the failed stretch.
+    EXPECT_EQ(io::ReadKitti(out / "walk" / "optimized_poses.txt").size(), n - 1);
+    const auto scans = io::ReadTum(out / "walk" / "trajectory_bim.tum");
+    EXPECT_GT(scans.size(), io::ReadTum(session / "trajectory.tum").size() / 2);
+    for (const io::StampedPose& p : scans) {
+        EXPECT_FALSE(p.stamp_ns >= first && p.stamp_ns <= last) << p.stamp_ns;
+    }
+    ExpectTargets(out / "walk", walk);
+}
+
 TEST_F(AnchorCli, HelpNamesTheOutputs) {
     const auto r = Cli("anchor --help");
     EXPECT_EQ(r.exit_code, 0);
-    for (const char* word : {"--reference", "--query", "--outliers", "loops.json", "anchor.json",
-                             "trajectory_bim.tum", "posegraph.g2o", "ambiguous"}) {
+    for (const char* word :
+         {"--reference", "--query", "--outliers", "loops.json", "anchor.json", "trajectory_bim.tum",
+          "posegraph.g2o", "ambiguous", "anchored-in-parts", "odometry_verdict.json"}) {
         EXPECT_NE(r.out.find(word), std::string::npos) << word;
     }
 }

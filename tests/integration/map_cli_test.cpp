@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/trajectory.hpp"
 #include "host_tools/report/report_data.hpp"
 #include "tests/integration/map_test_support.hpp"
 #include "tests/support/test_support.hpp"
@@ -354,6 +355,38 @@ TEST(MapCli, AnUntrustedOdometryIsSaidInTheSummaryTheExitCodeAndTheReport) {
     // The fixture asserted exit 1; the page's banner is the browser test's.
     const std::string html = io::ReadFileToString(f / "out" / "report" / "report.html");
     EXPECT_NE(html.find("\"verdict\":\"untrusted\""), std::string::npos);
+}
+
+// A recording whose odometry failed midway (issue 32, item 3): the anchoring splits its session
+// there; both halves are anchored, the keyframe inside the stretch is not placed; the changes are
+// found over the anchored pieces; the summary, exit code and report say anchored in parts.
+TEST(MapCli, ARecordingWhoseOdometryFailedMidwayIsAnchoredInPartsNotAnchored) {
+    const fs::path f = InParts();
+    const json summary = ReadJson(f / "out" / "summary.json");
+    const json& r = summary.at("recordings").at(0);
+    EXPECT_EQ(r.at("anchor").at("verdict"), "anchored-in-parts") << r.at("anchor").dump(1);
+    const json a = ReadJson(f / "out" / "anchor" / "anchor.json");
+    const json& s = a.at("sessions").at(0);
+    ASSERT_EQ(s.at("pieces").size(), 2u) << s.dump(1);
+    for (const json& p : s.at("pieces")) EXPECT_EQ(p.at("verdict"), "anchored");
+    const size_t n = s.at("keyframes");
+    EXPECT_EQ(io::ReadKitti(f / "out" / "anchor" / "capture" / "optimized_poses.txt").size(),
+              n - 1);
+    // As precise as the whole walk anchored at once (2.94 cm both, the changed building's walls
+    // stand off their model).
+    const json whole = ReadJson(Mapped() / "out" / "summary.json").at("recordings").at(0);
+    ASSERT_TRUE(r.at("accuracy").is_object());
+    EXPECT_LT(r.at("accuracy").at("ape_trans_rmse_m").get<double>(),
+              whole.at("accuracy").at("ape_trans_rmse_m").get<double>() + 0.005);
+    EXPECT_TRUE(r.at("changes").is_object()) << "the anchored pieces are compared";
+    const std::string printed = io::ReadFileToString(f / "map.out");
+    EXPECT_NE(printed.find("  anchoring anchored-in-parts: the odometry is untrusted"),
+              std::string::npos)
+        << printed;
+    EXPECT_NE(printed.find("ANCHORED IN PARTS: capture"), std::string::npos) << printed;
+    EXPECT_EQ(printed.find("NOT ANCHORED"), std::string::npos) << printed;
+    const std::string html = io::ReadFileToString(f / "out" / "report" / "report.html");
+    EXPECT_NE(html.find("\"verdict\":\"anchored-in-parts\""), std::string::npos);
 }
 
 // The change scores' headline is what the walk saw (issue 31, item 8): the summary's seen_scores

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/session.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::map_test {
@@ -131,6 +132,46 @@ inline fs::path Untrusted() {
                                                           {"reasons", {"low overlap"}}}});
         io::WriteFileAtomic(odo_file, odo.dump() + "\n");
         fs::remove(d / "out" / "stamps" / "report.json");
+        const auto r = Cli(MapArgs(d / "capture", d / "out"));
+        EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+        io::WriteFileAtomic(d / "map.out", r.out + r.err);
+    });
+}
+
+// The mapped walk with the session's own odometry verdict (odometry_verdict.json, which the
+// anchoring reads) and capture.json turned untrusted over the scans around its middle keyframe, as
+// the odometry writes them when scans fail their checks: the anchoring splits the session there
+// (host_tools/anchor/README.md, "Untrusted odometry"). A copy of Mapped(): its first run redoes
+// the odometry (the stamps name the recording's path), then the verdict is edited and the anchor,
+// changes and report steps run again. map.out: what the second run printed (exit 1 asserted).
+inline fs::path InParts() {
+    return Fixture("in_parts", [](const fs::path& d) {
+        fs::copy(Mapped(), d, fs::copy_options::recursive);
+        MustRun(MapArgs(d / "capture", d / "out"));
+        const fs::path session = d / "out" / "odometry" / "capture";
+        const std::vector<int64_t> times = io::ReadTimes(session / "times.txt");
+        ASSERT_GT(times.size(), 12u);
+        const int64_t mid = times[times.size() / 2];
+        const nlohmann::json stretch = {{"first_scan", 200},
+                                        {"last_scan", 210},
+                                        {"first_s", 20.0},
+                                        {"last_s", 21.0},
+                                        {"first_stamp_ns", mid - 50'000'000},
+                                        {"last_stamp_ns", mid + 50'000'000},
+                                        {"failed", 3},
+                                        {"reasons", {"low overlap with the map"}}};
+        nlohmann::json v = ReadJson(session / "odometry_verdict.json");
+        v["verdict"] = "untrusted";
+        v["failed_stretches"] = nlohmann::json::array({stretch});
+        io::WriteFileAtomic(session / "odometry_verdict.json", v.dump());
+        const fs::path odo_file = d / "out" / "odometry" / "capture.json";
+        nlohmann::json odo = ReadJson(odo_file);
+        odo["verdict"] = "untrusted";
+        odo["verdict_text"] = "UNTRUSTED: 3 failed scans in 1 stretches: scans 200-210";
+        odo["failed_stretches"] = nlohmann::json::array({stretch});
+        io::WriteFileAtomic(odo_file, odo.dump() + "\n");
+        for (const char* step : {"anchor", "changes", "report"})
+            fs::remove(d / "out" / "stamps" / (std::string(step) + ".json"));
         const auto r = Cli(MapArgs(d / "capture", d / "out"));
         EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
         io::WriteFileAtomic(d / "map.out", r.out + r.err);

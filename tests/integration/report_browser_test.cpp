@@ -246,5 +246,22 @@ TEST(ReportBrowser, AnUntrustedOdometryGetsABannerNamingItsStretches) {
     EXPECT_GT(t.at("changes").get<int>(), 0);
 }
 
+TEST(ReportBrowser, ARecordingAnchoredInPartsGetsItsBannerAndItsAnchoredPieces) {
+    if (Chromium().empty()) {
+        GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
+                        "installs it through toolchain/install-deps.sh --test)";
+    }
+    const fs::path html = InParts() / "out" / "report" / "report.html";
+    const PageRun run = OpenPage(html, "report_in_parts.png");
+    const json& t = run.selftest;
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
+    EXPECT_TRUE(run.console.empty()) << run.console;
+    EXPECT_EQ(t.at("in_parts_banners"), 1);
+    EXPECT_EQ(t.at("untrusted_banners"), 1);
+    EXPECT_EQ(t.at("not_anchored_banners"), 0) << "its anchored pieces are placed and shown";
+    EXPECT_GT(t.at("changes").get<int>(), 0);
+}
+
 }  // namespace
 }  // namespace bimslam

@@ -77,10 +77,17 @@ function buildSummary() {
         s.last_scan + ' (' + fmt(s.first_s, 1) + '–' + fmt(s.last_s, 1) + ' s: ' +
         s.reasons.join(', ') + ')').join('; ');
       b.appendChild(document.createTextNode(o.failed + ' scans failed their registration ' +
-        'checks: ' + where + '. The keyframe edges across them are marked as gaps for the ' +
-        'anchoring; the map, its anchoring and its changes there are not to be trusted.'));
+        'checks: ' + where + '. The anchoring splits the session there into pieces placed on ' +
+        'their own, with no odometry between them; the map, its anchoring and its changes there ' +
+        'are not to be trusted.'));
     }
-    if (!a || a.verdict !== 'anchored') {
+    if (a && a.verdict === 'anchored-in-parts') {
+      const b = el('div', {class: 'banner anchored-in-parts'}, body);
+      el('strong', {}, b, 'Recording ' + r.name + ' is anchored in parts only. ');
+      b.appendChild(document.createTextNode(a.reason + '. Only the anchored pieces are placed ' +
+        'in BIM coordinates, shown and compared with the model; the keyframes inside the ' +
+        'odometry\'s failed stretches and the pieces not anchored are not.'));
+    } else if (!a || a.verdict !== 'anchored') {
       const b = el('div', {class: 'banner'}, body);
       el('strong', {}, b, 'Recording ' + r.name + ' is not anchored' + (a ? ' (' + a.verdict + ')' : '') + '. ');
       b.appendChild(document.createTextNode((a ? a.reason + '. ' : '') +
@@ -598,7 +605,9 @@ if (location.hash === '#selftest') {
     r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
     r.plots = document.querySelectorAll('#plots-body svg').length;
     r.changes = D.changes.length;
-    r.not_anchored_banners = document.querySelectorAll('#summary .banner:not(.odometry-untrusted)').length;
+    r.not_anchored_banners = document.querySelectorAll(
+      '#summary .banner:not(.odometry-untrusted):not(.anchored-in-parts)').length;
+    r.in_parts_banners = document.querySelectorAll('#summary .banner.anchored-in-parts').length;
     const untrusted = document.querySelectorAll('#summary .banner.odometry-untrusted');
     r.untrusted_banners = untrusted.length;
     r.untrusted_text = untrusted.length ? untrusted[0].textContent : '';
