@@ -79,10 +79,11 @@ nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesys
 // A recording's headline change scores (summary.json's `seen_scores`, issue 31 item 8): of what
 // the walk's keyframes saw (host_tools/changes/change_evaluation.hpp, "seen"). Added objects of
 // 0.3 m and more on which the keyframes put at least the detector's smallest object of map points
-// (30 more than 5 cm off the model, a quarter of them seen by two keyframes or more), and removed elements whose place the
-// keyframes' beams reached over 0.25 m^2 or more, count in recall ("in view"); the others are
-// counted apart (out of view; of those, how many no beam of any scan hit); the all-objects figures
-// are kept beside them. Null when the evaluation (evaluation.json) is null or older.
+// (30 more than 5 cm off the model, a quarter of them seen by two keyframes or more), and removed
+// elements whose place the keyframes' beams reached over 0.25 m^2 or more, count in recall ("in
+// view"); the others are counted apart (out of view; of those, how many no beam of any scan hit);
+// the all-objects figures are kept beside them. Null when the evaluation (evaluation.json) is
+// null or older.
 nlohmann::json SeenScores(const nlohmann::json& evaluation);
 // The rule, one line: "in view = the keyframes put >= 30 map points on it, more than 5 cm off
 // the model, 25 % of them seen twice; removed: >= 0.25 m2 of it in their beams".
