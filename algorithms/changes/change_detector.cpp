@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <string>
 
 #include "algorithms/changes/dbscan.hpp"
@@ -84,6 +85,31 @@ PointNormals EstimateNormals(std::span<const Eigen::Vector3f> points, float radi
     return out;
 }
 
+// The surface an object seen from above only stands on: the highest surface facing up that a ray
+// straight down from one of its points meets within `max_drop`, when the map holds no point on
+// it under the object's footprint (its box in plan, a voxel in from each side): the object hid
+// that surface from every keyframe, as a box does; a table's or a shelf's is seen between its
+// legs or from the side. Nothing (no surface, or the surface was seen): NaN.
+float UnseenSupport(const simulation::Scene& scene, std::span<const Eigen::Vector3f> map,
+                    std::span<const Eigen::Vector3f> object, const Eigen::AlignedBox3d& box,
+                    float max_drop, float voxel, float tolerance) {
+    float support = -std::numeric_limits<float>::infinity();
+    for (const Eigen::Vector3f& p : object) {
+        const auto hit = scene.Intersect(p, -Eigen::Vector3f::UnitZ(), 0.0f, max_drop);
+        if (hit && hit->normal.z() > 0.7f) support = std::max(support, p.z() - hit->t);
+    }
+    if (!std::isfinite(support)) return std::numeric_limits<float>::quiet_NaN();
+    const Eigen::Vector2f lo = box.min().head<2>().cast<float>() + Eigen::Vector2f::Constant(voxel);
+    const Eigen::Vector2f hi = box.max().head<2>().cast<float>() - Eigen::Vector2f::Constant(voxel);
+    for (const Eigen::Vector3f& q : map) {
+        if (q.x() > lo.x() && q.x() < hi.x() && q.y() > lo.y() && q.y() < hi.y() &&
+            std::abs(q.z() - support) <= tolerance) {
+            return std::numeric_limits<float>::quiet_NaN();  // seen under it
+        }
+    }
+    return support;
+}
+
 }  // namespace
 
 std::string_view ToString(PointClass c) {
@@ -121,6 +147,10 @@ void ChangeDetectorConfig::Validate() const {
                              std::to_string(band_threshold_m));
     }
     if (!(crop_margin_m >= 0)) common::ThrowInvalid("crop_margin_m must be >= 0");
+    if (!(max_unseen_support_drop_m >= 0)) {
+        common::ThrowInvalid("max_unseen_support_drop_m must be >= 0, not " +
+                             std::to_string(max_unseen_support_drop_m));
+    }
     if (!(min_multi_view_fraction >= 0 && min_multi_view_fraction <= 1)) {
         common::ThrowInvalid("min_multi_view_fraction must be in [0, 1], not " +
                              std::to_string(min_multi_view_fraction));
@@ -318,8 +348,9 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     for (auto& cluster : members) {
         if (cluster.size() < config.min_object_points) continue;
         if (keyframes.size() >= 2) {
-            const auto seen_twice = std::count_if(cluster.begin(), cluster.end(),
-                                                  [&](uint32_t i) { return out.map.keyframes[i] >= 2; });
+            const auto seen_twice = std::count_if(cluster.begin(), cluster.end(), [&](uint32_t i) {
+                return out.map.keyframes[i] >= 2;
+            });
             if (double(seen_twice) < config.min_multi_view_fraction * double(cluster.size())) {
                 ++out.counts.single_view_clusters;  // its points stay kUnexplained / kModel
                 continue;
@@ -348,6 +379,14 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
             if (hit && hit->normal.z() > 0.7f) floor_z[k] = pts[k].z() - hit->t;
         }
         for (const float z : floor_z) {
+            if (std::isfinite(z) && z < box.min().z()) {
+                box.min().z() = z;
+                obj.on_floor = true;
+            }
+        }
+        if (!obj.on_floor && config.max_unseen_support_drop_m > 0) {
+            const float z = UnseenSupport(scene, xyz, pts, box,
+                                          float(config.max_unseen_support_drop_m), voxel, low);
             if (std::isfinite(z) && z < box.min().z()) {
                 box.min().z() = z;
                 obj.on_floor = true;

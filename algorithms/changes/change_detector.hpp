@@ -55,7 +55,13 @@ struct ChangeDetectorConfig {
     // keyframes 13-21 cm off made slabs along the desks they saw, <= 5 % of each seen twice; every
     // true object had >= 48 %. Applies to sessions of two keyframes or more; 0 turns it off.
     double min_multi_view_fraction = 0.25;
-    double crop_margin_m = 0.5;     // map points outside the model's box + this are not compared
+    // An object whose lowest points are more than 2 voxels above the threshold over the surface
+    // below (seen from above only: a box's top from a hand-held sensor, its sides hidden) stands
+    // on that surface when the map holds none of it under the object's footprint, within this
+    // drop: the object hides it, as a box does and a table does not. 0 turns it off (README.md,
+    // step 4).
+    double max_unseen_support_drop_m = 3.0;
+    double crop_margin_m = 0.5;  // map points outside the model's box + this are not compared
     // Points off the model with no element below them (a ray straight down meets nothing: the
     // ground outside, things around the entrances) are outside the building, not new objects.
     bool crop_to_footprint = true;

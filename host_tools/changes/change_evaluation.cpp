@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <tuple>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
@@ -83,6 +85,21 @@ json Scores(const DetectionScores& s) {
             {"f1", s.f1()}};
 }
 
+// map_bim.ply's points, their distance to the model and keyframe counts (change_report.hpp).
+void ReadMap(const std::filesystem::path& file, FoundChanges* f) {
+    if (!std::filesystem::exists(file)) return;
+    const io::PlyData ply = io::ReadPly(file);
+    const io::PlyProperty* distance = ply.Find("scalar_distance");
+    const io::PlyProperty* keyframes = ply.Find("scalar_keyframes");
+    if (!distance || !keyframes) Bad(file, "no scalar_distance or scalar_keyframes property");
+    f->map.resize(ply.vertices.size());
+    for (size_t i = 0; i < ply.vertices.size(); ++i) {
+        f->map[i] = {ply.vertices[i], std::abs(float(distance->values[i])),
+                     uint32_t(std::max(0.0, keyframes->values[i]))};
+    }
+    f->has_map = true;
+}
+
 }  // namespace
 
 TruthChanges ReadTruthChanges(const std::filesystem::path& file) {
@@ -148,8 +165,17 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
         for (const json& t : j.at("transients")) {
             f.transients.push_back(Vec3(file, t.at("centroid"), "transients.centroid"));
         }
+        const json& parameters = j.at("parameters");
+        f.min_object_points = parameters.value("min_object_points", f.min_object_points);
+        f.band_threshold_m = parameters.value("band_threshold_m", f.band_threshold_m);
+        f.min_multi_view_fraction =
+            parameters.value("min_multi_view_fraction", f.min_multi_view_fraction);
+        if (parameters.contains("elements")) {
+            f.min_judged_area_m2 =
+                parameters.at("elements").value("min_judged_area_m2", f.min_judged_area_m2);
+        }
         // Files written before the datum existed have none.
-        const json& refinement = j.at("parameters").at("refinement");
+        const json& refinement = parameters.at("refinement");
         if (refinement.contains("datum")) {
             for (const json& d : refinement.at("datum")) {
                 f.datum.insert(d.at("global_id").get<std::string>());
@@ -158,6 +184,7 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
     } catch (const json::exception& e) {
         Bad(file, std::string("malformed: ") + e.what());
     }
+    ReadMap(dir / "map_bim.ply", &f);
     const std::filesystem::path csv = dir / "elements.csv";
     const std::string text = io::ReadFileToString(csv);
     size_t line_start = 0, line_number = 0;
@@ -300,10 +327,51 @@ void ScoreBoxes(const std::vector<Eigen::AlignedBox3d>& truth,
     }
 }
 
-// The scores of what the walk saw: recall over the true objects with enough beam hits (a true
-// object counts as matched when a found one matched it); precision as for all of them.
-void ScoreSeen(const TruthChanges& truth, const std::vector<int>& found_match,
-               const EvaluationConfig& config, ChangeEvaluation* ev) {
+// Distance from p to the surface of a box (inside or out).
+double BoxSurfaceDistance(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& p) {
+    if (!box.contains(p)) return box.exteriorDistance(p);
+    const Eigen::Vector3d below = p - box.min(), above = box.max() - p;
+    return std::min(below.minCoeff(), above.minCoeff());
+}
+
+// The map points the keyframes put on a true object: within on_object_m of its surface (its mesh,
+// else its box), nearer to it than to the model and farther than band_threshold_m from the model.
+// Returns {points, seen by two keyframes or more}.
+std::pair<size_t, size_t> PointsOnObject(const TruthChanges::Added& a, const FoundChanges& found,
+                                         double on_object_m) {
+    std::optional<simulation::Scene> scene;
+    if (!a.mesh.empty()) scene.emplace(a.mesh);
+    Eigen::AlignedBox3d reach = a.box;
+    reach.min().array() -= on_object_m;
+    reach.max().array() += on_object_m;
+    size_t points = 0, multi_view = 0;
+    for (const FoundChanges::MapPoint& m : found.map) {
+        const Eigen::Vector3d p = m.xyz.cast<double>();
+        if (!reach.contains(p) || m.model_distance_m <= found.band_threshold_m) continue;
+        double d = 0;
+        if (scene) {
+            const auto c = scene->ClosestPoint(m.xyz, float(on_object_m));
+            if (!c) continue;
+            d = c->distance;
+        } else {
+            d = BoxSurfaceDistance(a.box, p);
+            if (d > on_object_m) continue;
+        }
+        if (d >= m.model_distance_m) continue;
+        ++points;
+        multi_view += m.keyframes >= 2;
+    }
+    return {points, multi_view};
+}
+
+// The scores of what the walk saw (file comment of change_evaluation.hpp): recall over the true
+// objects in view (a true object counts as matched when a found one matched it); precision as for
+// all of them.
+void ScoreSeen(const TruthChanges& truth, const FoundChanges& found,
+               const std::vector<int>& found_match, const EvaluationConfig& config,
+               ChangeEvaluation* ev) {
+    ev->in_view_rule = {found.min_object_points, found.min_multi_view_fraction, config.on_object_m,
+                        found.band_threshold_m, found.min_judged_area_m2};
     std::vector<bool> matched(truth.added.size(), false);
     for (const int t : found_match) {
         if (t >= 0) matched[size_t(t)] = true;
@@ -314,17 +382,32 @@ void ScoreSeen(const TruthChanges& truth, const std::vector<int>& found_match,
     ev->added_seen_large.truth = ev->added_seen_large.truth_matched = 0;
     for (size_t t = 0; t < truth.added.size(); ++t) {
         const TruthChanges::Added& a = truth.added[t];
-        const bool large = a.box.sizes().maxCoeff() >= config.large_object_m;
-        if (a.beam_hits >= 0 && a.beam_hits < config.min_seen_beam_hits) {
-            ++ev->added_out_of_sight;
-            ev->added_large_out_of_sight += large;
+        ChangeEvaluation::AddedView v;
+        v.name = a.name;
+        v.large = a.box.sizes().maxCoeff() >= config.large_object_m;
+        v.found = matched[t];
+        v.beam_hits = a.beam_hits;
+        v.in_view = true;
+        if (found.has_map) {
+            std::tie(v.map_points, v.multi_view_points) =
+                PointsOnObject(a, found, config.on_object_m);
+            v.in_view =
+                v.map_points >= found.min_object_points &&
+                double(v.multi_view_points) >= found.min_multi_view_fraction * double(v.map_points);
+        }
+        ev->added_view.push_back(v);
+        if (!v.in_view) {
+            ++ev->added_out_of_view;
+            ev->added_large_out_of_view += v.large;
+            ev->added_no_beam += a.beam_hits == 0;
+            ev->added_large_no_beam += v.large && a.beam_hits == 0;
             continue;
         }
         ++ev->added_seen.truth;
-        ev->added_seen.truth_matched += matched[t];
-        if (large) {
+        ev->added_seen.truth_matched += v.found;
+        if (v.large) {
             ++ev->added_seen_large.truth;
-            ev->added_seen_large.truth_matched += matched[t];
+            ev->added_seen_large.truth_matched += v.found;
         }
     }
 }
@@ -334,13 +417,12 @@ void ScoreSeen(const TruthChanges& truth, const std::vector<int>& found_match,
 ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,
                                  const EvaluationConfig& config) {
     ChangeEvaluation ev;
-    ev.min_seen_beam_hits = config.min_seen_beam_hits;
     std::vector<Eigen::AlignedBox3d> truth_boxes, found_boxes;
     for (const auto& a : truth.added) truth_boxes.push_back(a.box);
     for (const auto& o : found.objects) found_boxes.push_back(o.box);
     std::vector<int> found_match;
     ScoreBoxes(truth_boxes, found_boxes, config, &ev.added, &ev.added_large, &found_match);
-    ScoreSeen(truth, found_match, config, &ev);
+    ScoreSeen(truth, found, found_match, config, &ev);
     // The same with touching true objects as one.
     const std::vector<int> group = TouchingGroups(truth, config.touch_m);
     std::map<int, Eigen::AlignedBox3d> union_box;
@@ -368,9 +450,17 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
         const bool hit = it != found.elements.end() && it->second.verdict == "missing";
         ++ev.removed.truth;
         ev.removed.truth_matched += hit;
-        const auto seen = truth.removed_beam_hits.find(id);
-        if (seen != truth.removed_beam_hits.end() && seen->second < config.min_seen_beam_hits) {
-            ++ev.removed_out_of_sight;
+        ChangeEvaluation::RemovedView v;
+        v.global_id = id;
+        v.found = hit;
+        v.expected_area_m2 = expected_area(id);
+        v.in_view = !found.has_map || v.expected_area_m2 >= found.min_judged_area_m2;
+        const auto beams = truth.removed_beam_hits.find(id);
+        if (beams != truth.removed_beam_hits.end()) v.beam_hits = beams->second;
+        ev.removed_view.push_back(v);
+        if (!v.in_view) {
+            ++ev.removed_out_of_view;
+            ev.removed_no_beam += v.beam_hits == 0;
         } else {
             ++ev.removed_seen.truth;
             ev.removed_seen.truth_matched += hit;
@@ -453,6 +543,45 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
     return ev;
 }
 
+json ChangeEvaluation::SeenJson() const {
+    json objects = json::array(), removed_elements = json::array();
+    for (const AddedView& v : added_view) {
+        objects.push_back({{"name", v.name},
+                           {"large", v.large},
+                           {"in_view", v.in_view},
+                           {"found", v.found},
+                           {"beam_hits", v.beam_hits},
+                           {"map_points", v.map_points},
+                           {"multi_view_points", v.multi_view_points}});
+    }
+    for (const RemovedView& v : removed_view) {
+        removed_elements.push_back({{"global_id", v.global_id},
+                                    {"in_view", v.in_view},
+                                    {"found", v.found},
+                                    {"beam_hits", v.beam_hits},
+                                    {"expected_area_m2", v.expected_area_m2}});
+    }
+    return {{"rule",
+             {{"min_map_points", in_view_rule.min_points},
+              {"min_multi_view_fraction", in_view_rule.min_multi_view_fraction},
+              {"on_object_m", in_view_rule.on_object_m},
+              {"off_model_m", in_view_rule.off_model_m},
+              {"min_expected_area_m2", in_view_rule.min_area_m2}}},
+            {"added", Scores(added_seen)},
+            {"added_large", Scores(added_seen_large)},
+            {"removed", Scores(removed_seen)},
+            {"out_of_view",
+             {{"added", added_out_of_view},
+              {"added_large", added_large_out_of_view},
+              {"removed", removed_out_of_view}}},
+            {"no_beam",
+             {{"added", added_no_beam},
+              {"added_large", added_large_no_beam},
+              {"removed", removed_no_beam}}},
+            {"objects", objects},
+            {"removed_elements", removed_elements}};
+}
+
 json ChangeEvaluation::ToJson() const {
     json moved_json = json::array(), walls_json = json::array();
     for (const MovedScore& m : moved) {
@@ -479,15 +608,7 @@ json ChangeEvaluation::ToJson() const {
             {"added_separable", Scores(added_separable)},
             {"added_separable_large", Scores(added_separable_large)},
             {"touching_groups", touching_groups},
-            {"seen",
-             {{"min_beam_hits", min_seen_beam_hits},
-              {"added", Scores(added_seen)},
-              {"added_large", Scores(added_seen_large)},
-              {"removed", Scores(removed_seen)},
-              {"out_of_sight",
-               {{"added", added_out_of_sight},
-                {"added_large", added_large_out_of_sight},
-                {"removed", removed_out_of_sight}}}}},
+            {"seen", SeenJson()},
             {"removed", Scores(removed)},
             {"removed_large", Scores(removed_large)},
             {"moved", moved_json},

@@ -16,12 +16,24 @@
 //   as-built walls    the measured offset against the true one (vector difference), for the walls
 //                     the session saw (support >= 30 points) and that were not surveyed (a wall
 //                     in `parameters.refinement.datum` is measured to its survey: counted apart).
-//   seen              (issue 31, item 8) the simulator writes how many beams hit each added
-//                     object and removed element (`beam_hits`); one hit by fewer than
-//                     min_seen_beam_hits over the whole walk was out of sight and cannot be found.
-//                     The "seen" scores count only the others in recall (precision is the same:
-//                     a found object that matches an unseen true one is no false alarm) and say
-//                     how many were out of sight. Truth files without beam_hits: every object seen.
+//   seen              (issue 31, item 8) the scores of what the walk's keyframes saw, which is
+//                     all change detection maps: a true added object is "in view" when the run's
+//                     map (map_bim.ply: the keyframes' points at the refined poses, one per 5 cm
+//                     voxel) has at least the detector's smallest object (`min_object_points`, 30)
+//                     of points on it (within on_object_m of its surface, nearer to it than to
+//                     the model and farther than `band_threshold_m`, 5 cm, from the model: a
+//                     nearer point the detector takes for the model's surface), of which at least
+//                     `min_multi_view_fraction` (a quarter) were seen by two keyframes or more:
+//                     less than that the detector cannot call an object (algorithms/changes/
+//                     README.md, step 4). A removed element is in view
+//                     when the keyframes' beams reached at least `min_judged_area_m2` (0.25 m^2)
+//                     of where it stood (elements.csv expected_area_m2; below it the detector says
+//                     not_observed). Thresholds are the run's own (changes.json parameters). The
+//                     "seen" scores count only objects in view in recall (precision is the same: a
+//                     found object that matches one out of view is no false alarm), say how many
+//                     were out of view and, of those, how many no beam of any scan hit (the
+//                     simulator's `beam_hits`), and list every object's figures. A run without
+//                     map_bim.ply: every object in view.
 //   people            found objects that match no added object and lie in a person's path (its
 //                     line widened by radius + 0.3 m, from its floor to its height): should be
 //                     none; people with a transient cluster on their line.
@@ -44,7 +56,7 @@ struct TruthChanges {
         std::string name, kind;
         Eigen::AlignedBox3d box;
         common::TriangleMesh mesh;  // empty when the file named none
-        long beam_hits = -1;        // beams on it over the walk; -1: the file does not say
+        long beam_hits = -1;        // beams of any scan on it; -1: the file does not say
     };
     struct Moved {
         std::string global_id, ifc_class, name, reason;  // reason: "moved" or "as_built"
@@ -57,7 +69,7 @@ struct TruthChanges {
     };
     std::vector<Added> added;
     std::vector<std::string> removed;               // GlobalIds
-    std::map<std::string, long> removed_beam_hits;  // by GlobalId, where the file says
+    std::map<std::string, long> removed_beam_hits;  // by GlobalId, where the file says (any scan)
     std::vector<Moved> moved;
     std::vector<Person> people;
 };
@@ -82,6 +94,21 @@ struct FoundChanges {
     std::vector<Eigen::Vector3d> transients;  // centroids
     std::map<std::string, Element> elements;  // by GlobalId
     std::set<std::string> datum;              // GlobalIds of the surveyed elements
+    // map_bim.ply: one point per map voxel, its unsigned distance to the model and how many
+    // keyframes saw it; `has_map` false when the run wrote none.
+    struct MapPoint {
+        Eigen::Vector3f xyz;
+        float model_distance_m = 0;
+        uint32_t keyframes = 0;
+    };
+    std::vector<MapPoint> map;
+    bool has_map = false;
+    // The detector's minimum, from changes.json's parameters (the defaults where a file lacks
+    // them).
+    size_t min_object_points = 30;
+    double band_threshold_m = 0.05;
+    double min_multi_view_fraction = 0.25;
+    double min_judged_area_m2 = 0.25;
 };
 FoundChanges ReadFoundChanges(const std::filesystem::path& dir);
 
@@ -93,9 +120,9 @@ struct EvaluationConfig {
     double person_margin_m = 0.3;
     size_t min_support_points = 30;
     double touch_m = 0.05;
-    // Fewer beam hits than this over the whole walk: out of sight (a DBSCAN core point needs 8
-    // points within one 5 cm voxel's reach; 20 scattered hits make no cluster).
-    long min_seen_beam_hits = 20;
+    // A map point within this of a true object's surface (one map voxel) and nearer to it than to
+    // the model is a point the keyframes put on it ("seen", above).
+    double on_object_m = 0.05;
 };
 
 struct DetectionScores {
@@ -112,11 +139,29 @@ struct ChangeEvaluation {
     DetectionScores added, added_large, added_separable, added_separable_large, removed,
         removed_large;
     size_t touching_groups = 0;  // groups of true objects that touch (more than one object)
-    // Of what the walk saw (see the file comment): recall over the seen true objects; and how
-    // many were out of sight.
+    // Of what the walk saw (see the file comment): recall over the true objects in view; how
+    // many were out of view, and of those how many no beam hit at all.
     DetectionScores added_seen, added_seen_large, removed_seen;
-    size_t added_out_of_sight = 0, added_large_out_of_sight = 0, removed_out_of_sight = 0;
-    long min_seen_beam_hits = 0;  // the config's: fewer beam hits than this were out of sight
+    size_t added_out_of_view = 0, added_large_out_of_view = 0, removed_out_of_view = 0;
+    size_t added_no_beam = 0, added_large_no_beam = 0, removed_no_beam = 0;
+    struct InViewRule {
+        size_t min_points = 0;
+        double min_multi_view_fraction = 0, on_object_m = 0, off_model_m = 0, min_area_m2 = 0;
+    } in_view_rule;
+    struct AddedView {
+        std::string name;
+        bool large = false, in_view = false, found = false;
+        long beam_hits = -1;                           // any scan's (the truth's), -1 unknown
+        size_t map_points = 0, multi_view_points = 0;  // the keyframes' map points on it
+    };
+    std::vector<AddedView> added_view;  // per true added object, in the truth's order
+    struct RemovedView {
+        std::string global_id;
+        bool in_view = false, found = false;
+        long beam_hits = -1;
+        double expected_area_m2 = 0;  // the keyframes' beams on where it stood
+    };
+    std::vector<RemovedView> removed_view;
     struct MovedScore {
         std::string global_id;
         bool found = false;
@@ -136,6 +181,7 @@ struct ChangeEvaluation {
     size_t people = 0, people_as_objects = 0, people_with_transients = 0;
 
     nlohmann::json ToJson() const;
+    nlohmann::json SeenJson() const;  // ToJson's "seen"
 };
 
 ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& found,

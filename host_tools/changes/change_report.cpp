@@ -211,6 +211,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                        {"dbscan", {{"eps_m", c.dbscan.eps_m}, {"min_points", c.dbscan.min_points}}},
                        {"min_object_points", c.min_object_points},
                        {"min_multi_view_fraction", c.min_multi_view_fraction},
+                       {"max_unseen_support_drop_m", c.max_unseen_support_drop_m},
                        {"crop_margin_m", c.crop_margin_m},
                        {"crop_to_footprint", c.crop_to_footprint},
                        {"transients",

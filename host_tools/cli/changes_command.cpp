@@ -252,11 +252,11 @@ int Changes(ChangesArgs& a) {
                           << Fixed(ev.added_seen_large.recall(), 2) << " F1 "
                           << Fixed(ev.added_seen_large.f1(), 2) << " ("
                           << ev.added_seen_large.truth_matched << "/" << ev.added_seen_large.truth
-                          << ", " << ev.added_large_out_of_sight
-                          << " out of sight); removed in view: R "
+                          << ", " << ev.added_large_out_of_view
+                          << " out of view); removed in view: R "
                           << Fixed(ev.removed_seen.recall(), 2) << " ("
                           << ev.removed_seen.truth_matched << "/" << ev.removed_seen.truth << ", "
-                          << ev.removed_out_of_sight << " out of sight)\n"
+                          << ev.removed_out_of_view << " out of view)\n"
                           << "          (" << (dir / "evaluation.json").string() << ")\n";
             }
         }

@@ -145,6 +145,7 @@ int RunDemo(const DemoOptions& opt) {
     if (!r["seen_scores"].is_null()) {  // what the walk saw first, then everything placed
         const nlohmann::json& e = r["change_scores"];
         std::cout << "  scores    " << mapping::SeenScoresText(r["seen_scores"]) << "\n"
+                  << "            (" << mapping::InViewRuleText(r["seen_scores"]) << ")\n"
                   << "            " << mapping::AllScoresText(r["seen_scores"])
                   << "; as-built walls within 1 cm: " << e["as_built"]["within_1cm"] << "/"
                   << e["as_built"]["observed"]

@@ -82,6 +82,7 @@ void PrintSummary(const mapping::MapRun& run) {
         if (!r["seen_scores"].is_null()) {  // what the walk saw first, then everything
             const json& e = r["change_scores"];
             std::cout << "  scores    " << mapping::SeenScoresText(r["seen_scores"]) << "\n"
+                      << "            (" << mapping::InViewRuleText(r["seen_scores"]) << ")\n"
                       << "            " << mapping::AllScoresText(r["seen_scores"])
                       << "; walls within 1 cm: " << e["as_built"]["within_1cm"] << "/"
                       << e["as_built"]["observed"]
@@ -214,10 +215,13 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "  report     OUT/report/report.html (`bimslam report`)\n"
         "OUT/summary.json gathers the figures; with a simulated capture's ground_truth.tum and "
         "changes.json beside the recording, the APE in BIM coordinates (no alignment) and the "
-        "change scores: first of what the walk saw (objects with at least 20 beam hits; how many "
-        "were out of sight), then of all. Exit 0 when every recording is anchored and its odometry "
-        "trusted, 1 when one is not, or is anchored in parts only (its report still written) or a "
-        "step failed (the message names the step and the file), 2 for a model "
+        "change scores: first of what the walk's keyframes saw (in view: added objects with at "
+        "least 30 of the map's points on them more than 5 cm off the model, a quarter seen by two "
+        "keyframes or more: the detector's smallest object; removed elements whose place the "
+        "keyframes' beams reached over 0.25 m2 or more; how many were out of view), then of all. "
+        "Exit 0 when every recording is anchored and its odometry trusted, 1 when one is not, or "
+        "is anchored in parts only (its report still written) or a step failed (the message names "
+        "the step and the file), 2 for a model "
         "that is not IFC or a recording that is not an Ouster capture, before any step.");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return MapMain(*a); }); });
 

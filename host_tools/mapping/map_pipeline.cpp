@@ -299,6 +299,8 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
     for (const RecordingInput& r : recordings) {
         if (!r.truth_changes.empty()) change.AddFileTime("truth_" + r.name, r.truth_changes);
     }
+    // The scores' in-view rule: an output scored by an older rule is scored again.
+    change.AddParameter("in_view_rule", "keyframes' map points on the object (issue 31)");
     if (!config.datum.empty()) change.AddFileTime("datum", config.datum);
     stepper.Run("changes", "changes", change, model_file, [&] {
         fs::remove_all(out / "changes");

@@ -77,15 +77,21 @@ nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesys
                             const std::vector<RecordingInput>& recordings);
 
 // A recording's headline change scores (summary.json's `seen_scores`, issue 31 item 8): of what
-// the walk saw. Added objects of 0.3 m and more and removed elements with at least
-// `min_beam_hits` beams on them over the walk count in recall ("in view"); the others were out of
-// sight and are counted apart; the all-objects figures are kept beside them. Null when the
-// evaluation (evaluation.json) is null.
+// the walk's keyframes saw (host_tools/changes/change_evaluation.hpp, "seen"). Added objects of
+// 0.3 m and more on which the keyframes put at least the detector's smallest object of map points
+// (30 more than 5 cm off the model, a quarter of them seen by two keyframes or more), and removed
+// elements whose place the keyframes' beams reached over 0.25 m^2 or more, count in recall ("in
+// view"); the others are counted apart (out of view; of those, how many no beam of any scan hit);
+// the all-objects figures are kept beside them. Null when the evaluation (evaluation.json) is
+// null or older.
 nlohmann::json SeenScores(const nlohmann::json& evaluation);
-// One line each, as `bimslam map` and `bimslam demo` print them: "in view (>= 20 beam hits):
-// added >= 0.3 m P 0.90 R 0.95 F1 0.92 (19 of 20, 12 out of sight); removed P 1.00 R 1.00 (3 of
-// 3, 1 out of sight)" and "all: added >= 0.3 m P .. R .. F1 .. (19 of 32); removed P .. R .. (3 of
-// 4)".
+// The rule, one line: "in view = the keyframes put >= 30 map points on it, more than 5 cm off
+// the model, 25 % of them seen twice; removed: >= 0.25 m2 of it in their beams".
+std::string InViewRuleText(const nlohmann::json& seen_scores);
+// One line each, as `bimslam map` and `bimslam demo` print them: "in view: added >= 0.3 m P 0.90
+// R 0.95 F1 0.92 (19 of 20; 12 out of view, 4 of them in no beam); removed P 1.00 R 1.00 (3 of 3;
+// 1 out of view, 0 of them in no beam)" and "all: added >= 0.3 m P .. R .. F1 .. (19 of 32);
+// removed P .. R .. (3 of 4)".
 std::string SeenScoresText(const nlohmann::json& seen_scores);
 std::string AllScoresText(const nlohmann::json& seen_scores);
 

@@ -54,26 +54,47 @@ std::string Of(const json& s) {
 }  // namespace
 
 json SeenScores(const json& e) {
-    if (e.is_null() || !e.contains("seen")) return nullptr;  // written before issue 31
+    // Null for an evaluation written before issue 31 or before the in-view rule followed the
+    // keyframes (its "seen" had min_beam_hits and no rule).
+    if (e.is_null() || !e.contains("seen") || !e.at("seen").contains("rule")) return nullptr;
     const json& seen = e.at("seen");
-    const json& out = seen.at("out_of_sight");
-    const long min_hits = change_detection::EvaluationConfig{}.min_seen_beam_hits;
-    return {{"min_beam_hits", seen.value("min_beam_hits", min_hits)},
+    const json& out = seen.at("out_of_view");
+    const json& no_beam = seen.at("no_beam");
+    return {{"in_view_rule", seen.at("rule")},
             {"added_in_view", seen.at("added_large")},
-            {"added_out_of_sight", out.at("added_large")},
+            {"added_out_of_view", out.at("added_large")},
+            {"added_no_beam", no_beam.at("added_large")},
             {"added_all", e.at("added_large")},
             {"removed_in_view", seen.at("removed")},
-            {"removed_out_of_sight", out.at("removed")},
+            {"removed_out_of_view", out.at("removed")},
+            {"removed_no_beam", no_beam.at("removed")},
             {"removed_all", e.at("removed")}};
 }
 
+std::string InViewRuleText(const json& s) {
+    const json& rule = s.at("in_view_rule");
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "in view = the keyframes put >= %zu map points on it, more than %.0f cm off the "
+                  "model, %.0f %% of them seen twice; removed: >= %.2f m2 of it in their beams",
+                  rule.at("min_map_points").get<size_t>(),
+                  100 * rule.at("off_model_m").get<double>(),
+                  100 * rule.at("min_multi_view_fraction").get<double>(),
+                  rule.at("min_expected_area_m2").get<double>());
+    return text;
+}
+
 std::string SeenScoresText(const json& s) {
-    return "in view (>= " + std::to_string(s.at("min_beam_hits").get<long>()) +
-           " beam hits): added >= 0.3 m " + Pr(s.at("added_in_view"), true) + " (" +
-           Of(s.at("added_in_view")) + ", " +
-           std::to_string(s.at("added_out_of_sight").get<size_t>()) + " out of sight); removed " +
-           Pr(s.at("removed_in_view"), false) + " (" + Of(s.at("removed_in_view")) + ", " +
-           std::to_string(s.at("removed_out_of_sight").get<size_t>()) + " out of sight)";
+    const auto out = [&](const char* kind) {
+        return std::to_string(s.at(std::string(kind) + "_out_of_view").get<size_t>()) +
+               " out of view, " +
+               std::to_string(s.at(std::string(kind) + "_no_beam").get<size_t>()) +
+               " of them in no beam";
+    };
+    return "in view: added >= 0.3 m " + Pr(s.at("added_in_view"), true) + " (" +
+           Of(s.at("added_in_view")) + "; " + out("added") + "); removed " +
+           Pr(s.at("removed_in_view"), false) + " (" + Of(s.at("removed_in_view")) + "; " +
+           out("removed") + ")";
 }
 
 std::string AllScoresText(const json& s) {

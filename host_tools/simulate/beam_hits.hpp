@@ -5,8 +5,11 @@
 //   removed elements: they are not in the scene, so their own geometry (as the model has it) is
 //     cast along the same beams, noiseless, and a beam counts where it would have hit the removed
 //     element before what it did hit (or where it had no return).
-// A change no beam hit cannot be found by any change detection: scores count it apart
-// (host_tools/changes/change_evaluation.hpp). Written into changes.json as `beam_hits`.
+// A change no beam hit cannot be found by any change detection. Written into changes.json as
+// `beam_hits`. Every scan counts here, while change detection maps only the keyframes (one scan in
+// about ten): the scores' "in view" is what the keyframes put on an object (the run's map), and
+// beam_hits only says, of those out of view, which no beam saw at all
+// (host_tools/changes/change_evaluation.hpp).
 #pragma once
 
 #include <Eigen/Geometry>

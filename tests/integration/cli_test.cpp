@@ -47,11 +47,13 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     ASSERT_EQ(demo.exit_code, 0) << demo.out << demo.err;
     EXPECT_NE(demo.out.find("demo finished"), std::string::npos) << demo.out;
     EXPECT_NE(demo.out.find("accuracy in BIM coordinates APE"), std::string::npos) << demo.out;
-    // The scores' headline counts what the walk saw and says how many were out of sight.
-    EXPECT_NE(demo.out.find("scores    in view (>= 20 beam hits): added >= 0.3 m P "),
+    // The scores' headline counts what the walk's keyframes saw, says how many were out of view
+    // and the rule.
+    EXPECT_NE(demo.out.find("scores    in view: added >= 0.3 m P "), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find(" of them in no beam); removed P "), std::string::npos) << demo.out;
+    EXPECT_NE(demo.out.find("            (in view = the keyframes put >= 30 map points on it"),
               std::string::npos)
         << demo.out;
-    EXPECT_NE(demo.out.find(" out of sight); removed P "), std::string::npos) << demo.out;
     EXPECT_NE(demo.out.find("            all: added >= 0.3 m P "), std::string::npos) << demo.out;
     const fs::path report = out / "map" / "report" / "report.html";
     EXPECT_NE(demo.out.find("report: " + fs::absolute(report).string()), std::string::npos)

@@ -86,23 +86,26 @@ bool IsPng(const fs::path& file) {
     return io::ReadFileToString(file).substr(0, 8) == "\x89PNG\r\n\x1a\n";
 }
 
-// The summary's change scores say first what the walk saw, with the counts of summary.json's
-// seen_scores (issue 31, item 8), then all objects.
+// The summary's change scores say first what the walk's keyframes saw, with the counts of
+// summary.json's seen_scores (issue 31, item 8), then all objects.
 void ExpectScoresInView(const json& t, const fs::path& fixture) {
     const json summary = ReadJson(fixture / "out" / "summary.json");
     const json& s = summary.at("recordings").at(0).at("seen_scores");
     ASSERT_TRUE(s.is_object());
     const std::string in_view = t.at("scores_in_view");
-    EXPECT_EQ(in_view.rfind("in view (≥ 20 beam hits): added ≥ 0.3 m P ", 0), 0u) << in_view;
-    const auto count = [](const json& x, const json& out) {
+    EXPECT_EQ(in_view.rfind("in view: added ≥ 0.3 m P ", 0), 0u) << in_view;
+    const auto count = [](const json& x, const json& out, const json& no_beam) {
         return "(" + std::to_string(x.at("truth_matched").get<size_t>()) + " of " +
-               std::to_string(x.at("truth").get<size_t>()) + ", " +
-               std::to_string(out.get<size_t>()) + " out of sight)";
+               std::to_string(x.at("truth").get<size_t>()) + "; " +
+               std::to_string(out.get<size_t>()) + " out of view, " +
+               std::to_string(no_beam.get<size_t>()) + " of them in no beam)";
     };
-    EXPECT_NE(in_view.find(count(s.at("added_in_view"), s.at("added_out_of_sight"))),
+    EXPECT_NE(in_view.find(
+                  count(s.at("added_in_view"), s.at("added_out_of_view"), s.at("added_no_beam"))),
               std::string::npos)
         << in_view;
-    EXPECT_NE(in_view.find(count(s.at("removed_in_view"), s.at("removed_out_of_sight"))),
+    EXPECT_NE(in_view.find(count(s.at("removed_in_view"), s.at("removed_out_of_view"),
+                                 s.at("removed_no_beam"))),
               std::string::npos)
         << in_view;
     EXPECT_EQ(t.at("scores_all").get<std::string>().rfind("all: added ≥ 0.3 m P ", 0), 0u)

@@ -97,18 +97,23 @@ function buildSummary() {
   });
 }
 
-// The change scores: first of what the walk saw (objects with enough beam hits over the walk),
-// with how many were out of sight; all of them below, smaller.
+// The change scores: first of what the walk's keyframes saw (summary.json's seen_scores: objects
+// in view by the rule it states), with how many were out of view; all of them below, smaller.
 function buildScores(td, r) {
   const sc = r.change_scores, s = r.seen_scores;
   if (!sc) { td.textContent = '–'; return; }
   const of = x => x.truth_matched + ' of ' + x.truth;
   if (s) {
-    const a = s.added_in_view, m = s.removed_in_view;
-    el('div', {class: 'in-view'}, td, 'in view (≥ ' + s.min_beam_hits + ' beam hits): added ≥ 0.3 m P ' +
-       fmt(a.precision, 2) + ' R ' + fmt(a.recall, 2) + ' F1 ' + fmt(a.f1, 2) + ' (' + of(a) + ', ' +
-       s.added_out_of_sight + ' out of sight); removed P ' + fmt(m.precision, 2) + ' R ' +
-       fmt(m.recall, 2) + ' (' + of(m) + ', ' + s.removed_out_of_sight + ' out of sight)');
+    const a = s.added_in_view, m = s.removed_in_view, rule = s.in_view_rule;
+    const out = (n, none) => n + ' out of view, ' + none + ' of them in no beam';
+    el('div', {class: 'in-view'}, td, 'in view: added ≥ 0.3 m P ' +
+       fmt(a.precision, 2) + ' R ' + fmt(a.recall, 2) + ' F1 ' + fmt(a.f1, 2) + ' (' + of(a) + '; ' +
+       out(s.added_out_of_view, s.added_no_beam) + '); removed P ' + fmt(m.precision, 2) + ' R ' +
+       fmt(m.recall, 2) + ' (' + of(m) + '; ' + out(s.removed_out_of_view, s.removed_no_beam) + ')');
+    el('div', {class: 'in-view-rule'}, td, 'in view = the keyframes put ≥ ' + rule.min_map_points +
+       ' map points on it, more than ' + fmt(100 * rule.off_model_m, 0) + ' cm off the model, ' +
+       fmt(100 * rule.min_multi_view_fraction, 0) + ' % of them seen twice; removed: ≥ ' +
+       fmt(rule.min_expected_area_m2, 2) + ' m² of it in their beams');
   }
   const a = sc.added_large, m = sc.removed;
   el('div', {class: s ? 'all-objects' : ''}, td, (s ? 'all: ' : '') + 'added ≥ 0.3 m P ' +

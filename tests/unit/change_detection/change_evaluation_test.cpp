@@ -18,43 +18,89 @@ TruthChanges::Added Added(const std::string& name, const Eigen::AlignedBox3d& bo
     return {name, "box", box, changes::test::SolidBox(box.min(), box.max())};
 }
 
-// Issue 31, item 8: what no beam hit cannot be found; the seen scores leave it out of recall
-// and say how many were out of sight. Precision does not change.
-TEST(ChangeEvaluation, SeenScoresCountOnlyWhatTheWalkSaw) {
+// Map points on the face x = x0 of an object (just outside it), `n` of them, 1 cm from it, 0.2 m
+// from the model (as if its floor were 0.2 m and more below), each seen by `keyframes` keyframes.
+void AddFace(FoundChanges* found, double x0, double y0, int n, uint32_t keyframes) {
+    for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3f p(float(x0 + 0.01), float(y0 + 0.05 * (k % 8)),
+                                0.2f + 0.04f * float(k / 8));
+        found->map.push_back({p, 0.2f, keyframes});
+    }
+}
+
+// Issue 31, item 8: the seen scores count in recall only what the walk's keyframes put enough
+// points on for the detector to call an object (the map points on it and off the model by more
+// than band_threshold_m: at least min_object_points, a quarter of them seen by two keyframes or
+// more), and removed elements whose place their beams reached over min_judged_area_m2; they say
+// how many were out of view, and of those how many no beam hit at all. Precision does not change.
+TEST(ChangeEvaluation, SeenScoresCountOnlyWhatTheKeyframesPutEnoughPointsOn) {
     TruthChanges truth;
     truth.added = {Added("big", Box(0, 0, 0.5)), Added("unseen", Box(10, 0, 0.6)),
-                   Added("glimpsed", Box(20, 0, 0.4))};
+                   Added("glimpsed", Box(20, 0, 0.4)), Added("seen once", Box(30, 0, 0.4)),
+                   Added("in the floor", Box(40, 0, 0.4))};
     truth.added[0].beam_hits = 5000;
-    truth.added[1].beam_hits = 0;
-    truth.added[2].beam_hits = 12;  // under min_seen_beam_hits (20)
-    truth.removed = {"column", "hidden column"};
-    truth.removed_beam_hits = {{"column", 900}, {"hidden column", 0}};
+    truth.added[1].beam_hits = 0;     // no beam of any scan
+    truth.added[2].beam_hits = 2000;  // many scans, but the keyframes put 20 points on it
+    truth.added[3].beam_hits = 3000;  // one keyframe alone saw most of it
+    truth.added[4].beam_hits = 900;
+    truth.removed = {"column", "hidden column", "far column"};
+    truth.removed_beam_hits = {{"column", 900}, {"hidden column", 0}, {"far column", 4000}};
     FoundChanges found;
-    found.objects = {{Box(0.02, 0.01, 0.5)}, {Box(30, 0, 0.5)}};  // big, and a false alarm
+    found.has_map = true;
+    AddFace(&found, 0.5, 0.0, 40, 3);   // big: 40 points, all seen twice or more
+    AddFace(&found, 20.4, 0.0, 20, 3);  // glimpsed: fewer than min_object_points (30)
+    AddFace(&found, 30.4, 0.0, 32, 1);  // seen once: 32 points, 8 of them (< 25 %) seen twice
+    for (int k = 0; k < 7; ++k) found.map[size_t(60 + k)].keyframes = 2;
+    for (int k = 0; k < 40; ++k) {  // 1 cm from the object, but nearer to the model (0.5 cm)
+        found.map.push_back({Eigen::Vector3f(40.41f, 0.01f * float(k), 0.005f), 0.005f, 4});
+    }
+    for (int k = 0; k < 40; ++k) {  // 1 cm from it and 4 cm from the model: taken for the model
+        found.map.push_back({Eigen::Vector3f(40.41f, 0.01f * float(k), 0.2f), 0.04f, 4});
+    }
+    found.objects = {{Box(0.02, 0.01, 0.5)}, {Box(50, 0, 0.5)}};  // big, and a false alarm
     found.elements["column"] = {"missing", 4.0, 0, {}, false, 0};
-    found.elements["hidden column"] = {"not_observed", 0.0, 0, {}, false, 0};
+    found.elements["hidden column"] = {"not_observed", 0.1, 0, {}, false, 0};
+    found.elements["far column"] = {"not_observed", 0.0, 0, {}, false, 0};
 
     const ChangeEvaluation ev = EvaluateChanges(truth, found);
-    EXPECT_NEAR(ev.added_large.recall(), 1.0 / 3, 1e-12);  // all three count
+    EXPECT_NEAR(ev.added_large.recall(), 1.0 / 5, 1e-12);  // all five count
+    ASSERT_EQ(ev.added_view.size(), 5u);
+    EXPECT_EQ(ev.added_view[0].map_points, 40u);
+    EXPECT_EQ(ev.added_view[0].multi_view_points, 40u);
+    EXPECT_EQ(ev.added_view[2].map_points, 20u);
+    EXPECT_EQ(ev.added_view[3].map_points, 32u);
+    EXPECT_EQ(ev.added_view[3].multi_view_points, 7u);
+    EXPECT_EQ(ev.added_view[4].map_points, 0u) << "points nearer to the model are not on it";
+    for (size_t k = 0; k < 5; ++k) EXPECT_EQ(ev.added_view[k].in_view, k == 0) << k;
     EXPECT_EQ(ev.added_seen_large.truth, 1u);
     EXPECT_EQ(ev.added_seen_large.truth_matched, 1u);
-    EXPECT_EQ(ev.added_large_out_of_sight, 2u);
-    EXPECT_EQ(ev.added_out_of_sight, 2u);
+    EXPECT_EQ(ev.added_large_out_of_view, 4u);
+    EXPECT_EQ(ev.added_out_of_view, 4u);
+    EXPECT_EQ(ev.added_no_beam, 1u);
     EXPECT_NEAR(ev.added_seen_large.recall(), 1.0, 1e-12);
     EXPECT_NEAR(ev.added_seen_large.precision(), ev.added_large.precision(), 1e-12);
     EXPECT_NEAR(ev.added_seen_large.precision(), 0.5, 1e-12);
-    EXPECT_NEAR(ev.removed.recall(), 0.5, 1e-12);
-    EXPECT_EQ(ev.removed_out_of_sight, 1u);
+    EXPECT_NEAR(ev.removed.recall(), 1.0 / 3, 1e-12);
+    EXPECT_EQ(ev.removed_out_of_view, 2u);
+    EXPECT_EQ(ev.removed_no_beam, 1u);
     EXPECT_NEAR(ev.removed_seen.recall(), 1.0, 1e-12);
     const nlohmann::json j = ev.ToJson();
-    EXPECT_EQ(j["seen"]["out_of_sight"]["added_large"], 2);
+    EXPECT_EQ(j["seen"]["out_of_view"]["added_large"], 4);
+    EXPECT_EQ(j["seen"]["no_beam"]["removed"], 1);
     EXPECT_EQ(j["seen"]["removed"]["recall"], 1.0);
+    EXPECT_EQ(j["seen"]["rule"]["min_map_points"], 30);
+    EXPECT_EQ(j["seen"]["objects"][2]["beam_hits"], 2000);
+    EXPECT_EQ(j["seen"]["objects"][2]["in_view"], false);
 
-    // A truth file that does not say: everything counts as seen.
-    for (auto& a : truth.added) a.beam_hits = -1;
-    truth.removed_beam_hits.clear();
+    // The run's own thresholds: a detector run with min_object_points 20 sees "glimpsed".
+    found.min_object_points = 20;
+    EXPECT_EQ(EvaluateChanges(truth, found).added_seen_large.truth, 2u);
+
+    // A run without a map: everything counts as in view.
+    found.has_map = false;
+    found.map.clear();
     const ChangeEvaluation all = EvaluateChanges(truth, found);
-    EXPECT_EQ(all.added_out_of_sight, 0u);
+    EXPECT_EQ(all.added_out_of_view, 0u);
     EXPECT_EQ(all.added_seen_large.truth, all.added_large.truth);
     EXPECT_EQ(all.removed_seen.truth, all.removed.truth);
 }
