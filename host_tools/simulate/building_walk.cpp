@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <tuple>
 
 #include "algorithms/common/status.hpp"
@@ -170,13 +171,7 @@ public:
                 if (g[best] + cost < g[j]) g[j] = g[best] + cost, parent[j] = best;
             }
         }
-        if (!std::isfinite(g[1])) {
-            throw common::Error(common::StatusCode::kInvalidArgument,
-                                "no way over the stairs from storey '" +
-                                    model_.storeys[size_t(from)].name + "' to (" +
-                                    std::to_string(to.x()) + ", " + std::to_string(to.y()) +
-                                    ") on storey '" + model_.storeys[size_t(to_storey)].name + "'");
-        }
+        if (!std::isfinite(g[1])) throw NoWay(from, to_storey, to);
         std::vector<size_t> chain;
         for (size_t i = 1; i != SIZE_MAX; i = parent[i]) chain.push_back(i);
         std::reverse(chain.begin(), chain.end());
@@ -194,6 +189,25 @@ public:
 
 private:
     static constexpr double kInf = std::numeric_limits<double>::infinity();
+
+    // Why Join found no way to `to`: the waypoint itself where the platform cannot stand (in an
+    // added object, too near a wall), no way on its own storey, or none over the stairs.
+    common::Error NoWay(int from, int to_storey, const Eigen::Vector2d& to) const {
+        std::ostringstream os;
+        os << "no way from storey '" << model_.storeys[size_t(from)].name << "' to the waypoint ("
+           << to.x() << ", " << to.y() << ") on storey '" << model_.storeys[size_t(to_storey)].name
+           << "': ";
+        try {
+            bim::PlanRoute(w_.graph.grids[size_t(to_storey)], pc_, to, to);
+            os << (from == to_storey ? "no route on the storey keeps the platform's "
+                                     : "no flight of stairs and route keep the platform's ")
+               << pc_.clearance_m << " m of clearance";
+        } catch (const common::Error&) {
+            os << "it is not free space with the platform's " << pc_.clearance_m
+               << " m of clearance (in an added object, or too near a wall?)";
+        }
+        return common::Error(common::StatusCode::kInvalidArgument, os.str());
+    }
 
     // The length of the way on the storey's grid (infinite where there is none), computed once.
     double RouteLength(int storey, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {

@@ -173,6 +173,28 @@ TEST(FlightWalkGo1, TheCanFramesCarryTheClimbAndTheNosingSlips) {
     EXPECT_GT(m["go1"]["nosing_slips"].get<int>(), 0);
 }
 
+// A waypoint inside an added object (the first floor's crate of the demo's walk) is named as not
+// free space, not as a missing way over the stairs; one beyond reach on the same storey as such.
+TEST(BuildingWalk, AWaypointWhereThePlatformCannotStandIsNamedAsSuch) {
+    Scenario s = DefaultScenario(Platform::kHandheld);
+    s.storey = kAllStoreys;
+    s.path.mode = PathMode::kWaypoints;
+    s.path.waypoints = {{14.0, 3.0}, {19.0, 1.2}};
+    s.path.waypoint_storeys = {"Ground Floor", "First Floor"};
+    s.edits.boxes.push_back({"crate", {19.0, 1.2, 3.6}, {1.0, 0.6, 0.8}, 0.0});
+    try {
+        PlanBuildingWalk(Office(), s);
+        FAIL() << "a waypoint inside a crate was walked to";
+    } catch (const common::Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(
+            m.find("the waypoint (19, 1.2) on storey 'First Floor': it is not free space with "
+                   "the platform's 0.35 m of clearance"),
+            std::string::npos)
+            << m;
+    }
+}
+
 TEST(BuildingWalk, AVehicleCannotWalkTheStoreys) {
     Scenario s = DefaultScenario(Platform::kVehicle);
     s.storey = kAllStoreys;
