@@ -136,16 +136,9 @@ private:
     std::atomic<bool> stop_{false};
 };
 
-// Starts `command` in the background (through sh, exec'd so the pid is the command's).
-inline pid_t Spawn(const std::string& command, const fs::path& out, const fs::path& err) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const std::string c = "exec " + command + " >" + out.string() + " 2>" + err.string();
-        ::execl("/bin/sh", "sh", "-c", c.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    return pid;
-}
+// Processes in the background (tests/support): Spawn, and Wait for the exit code.
+using ::bimslam::test::Spawn;
+using ::bimslam::test::Wait;
 
 // The systemd notify socket of a rig the test starts (`Env()` before its command): the test
 // waits for what the rig says (READY=1 once its sockets are bound and its threads run, the
@@ -215,15 +208,6 @@ bool WaitUntil(Done done, std::chrono::seconds limit = std::chrono::seconds(60))
         ::usleep(20'000);  // polling for what the test waits for, not a guess of how long it takes
     }
     return true;
-}
-
-// Its exit code (128 + signal when killed).
-inline int Wait(pid_t pid) {
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    if (WIFEXITED(status)) return WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-    return -1;
 }
 
 // Two consecutive free UDP ports on 127.0.0.1 (the first returned).
