@@ -60,12 +60,19 @@ test::CommandResult RunBridge(const FakeGo1& go1, const std::string& args,
             ::usleep(20'000);  // polling for the script's end, not a guess of how long it takes
         }
     };
-    while (!go1.Settled() && Clock::now() < guard) handle();
-    EXPECT_TRUE(go1.Settled()) << "the fake Go1's script did not end in 60 s: "
-                               << go1.commands.load() << " HighCmds received";
-    ::kill(pid, SIGINT);
     int status = 0;
-    while (::waitpid(pid, &status, WNOHANG) == 0) handle();
+    bool exited = false;  // before its end (a failure: the assertions on its output say why)
+    while (!go1.Settled() && Clock::now() < guard && !exited) {
+        handle();
+        exited = ::waitpid(pid, &status, WNOHANG) == pid;
+    }
+    EXPECT_TRUE(go1.Settled()) << "the fake Go1's script did not end"
+                               << (exited ? " (the bridge exited)" : " in 60 s") << ": "
+                               << go1.commands.load() << " HighCmds received";
+    if (!exited) {
+        ::kill(pid, SIGINT);
+        while (::waitpid(pid, &status, WNOHANG) == 0) handle();
+    }
     while (lcm != nullptr && lcm->handleTimeout(100) > 0) {
     }
     test::CommandResult r;
