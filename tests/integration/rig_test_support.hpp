@@ -17,12 +17,15 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -136,20 +139,17 @@ private:
     std::atomic<bool> stop_{false};
 };
 
-// Starts `command` in the background (through sh, exec'd so the pid is the command's).
-inline pid_t Spawn(const std::string& command, const fs::path& out, const fs::path& err) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        const std::string c = "exec " + command + " >" + out.string() + " 2>" + err.string();
-        ::execl("/bin/sh", "sh", "-c", c.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
-    return pid;
-}
+// Processes in the background (tests/support): Spawn, and Wait for the exit code.
+using ::bimslam::test::Spawn;
+using ::bimslam::test::Wait;
 
 // The systemd notify socket of a rig the test starts (`Env()` before its command): the test
 // waits for what the rig says (READY=1 once its sockets are bound and its threads run, the
 // health thread's STATUS lines with the scans done) instead of sleeping a fixed time.
+// A thread reads the socket all the time, as systemd does: the rig's sd_notify blocks once the
+// socket's queue is full (net.unix.max_dgram_qlen, 10 datagrams here), and a rig whose health
+// thread blocks there stops its LCM health messages and cannot stop on SIGINT. So a test that
+// waits on something else (LCM, a replay, the rig's exit) cannot stall the rig.
 class NotifySocket {
 public:
     explicit NotifySocket(const fs::path& path) : path_(path) {
@@ -159,8 +159,13 @@ public:
         std::strncpy(a.sun_path, path.c_str(), sizeof(a.sun_path) - 1);
         fs::remove(path);
         EXPECT_EQ(::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof(a)), 0) << path;
+        reader_ = std::thread([this] { Read(); });
     }
-    ~NotifySocket() { ::close(fd_); }
+    ~NotifySocket() {
+        stop_ = true;
+        reader_.join();
+        ::close(fd_);
+    }
     NotifySocket(const NotifySocket&) = delete;
     NotifySocket& operator=(const NotifySocket&) = delete;
 
@@ -168,22 +173,22 @@ public:
     std::string Env(const std::string& more = "") const {
         return "env NOTIFY_SOCKET=" + path_.string() + " " + more + " ";
     }
-    // Waits for a message for which `done` holds; false when none came before `limit` (a guard
-    // against a hung test, not a measurement: the test's assertions judge what happened).
+    // Goes through the messages in order of arrival, from the first not yet gone through, until
+    // one for which `done` holds; false when none came before `limit` (a guard against a hung
+    // test, not a measurement: the test's assertions judge what happened).
     template <typename Done>
     bool WaitFor(Done done, std::chrono::seconds limit = std::chrono::seconds(60)) {
         const auto end = std::chrono::steady_clock::now() + limit;
-        while (std::chrono::steady_clock::now() < end) {
-            pollfd p{fd_, POLLIN, 0};
-            if (::poll(&p, 1, 100) <= 0) continue;
-            char buf[4096];
-            const ssize_t n = ::recv(fd_, buf, sizeof(buf), 0);
-            if (n <= 0) continue;
-            const std::string m(buf, size_t(n));
-            messages_ += m + "\n";
-            if (done(m)) return true;
+        std::unique_lock<std::mutex> lock(m_);
+        for (;;) {
+            while (!queue_.empty()) {
+                const std::string m = std::move(queue_.front());
+                queue_.pop_front();
+                messages_ += m + "\n";
+                if (done(m)) return true;
+            }
+            if (!arrived_.wait_until(lock, end, [&] { return !queue_.empty(); })) return false;
         }
-        return false;
     }
     bool WaitForReady() {
         return WaitFor([](const std::string& m) { return m.find("READY=1") != m.npos; });
@@ -195,14 +200,33 @@ public:
             return at != m.npos && std::atoi(m.c_str() + at + 13) >= scans;
         });
     }
-    // Everything received so far, one message a line (for failure messages).
+    // The messages gone through so far (WaitFor), one a line (for failure messages).
     const std::string& messages() const { return messages_; }
-    int fd() const { return fd_; }
 
 private:
+    void Read() {
+        while (!stop_) {
+            pollfd p{fd_, POLLIN, 0};
+            if (::poll(&p, 1, 100) <= 0) continue;  // 100 ms: only to see stop_
+            char buf[4096];
+            const ssize_t n = ::recv(fd_, buf, sizeof(buf), 0);
+            if (n <= 0) continue;
+            {
+                std::lock_guard<std::mutex> lock(m_);
+                queue_.emplace_back(buf, size_t(n));
+            }
+            arrived_.notify_all();
+        }
+    }
+
     fs::path path_;
     int fd_ = -1;
-    std::string messages_;
+    std::mutex m_;
+    std::condition_variable arrived_;
+    std::deque<std::string> queue_;  // read, not yet gone through
+    std::string messages_;           // gone through (the test's thread only)
+    std::atomic<bool> stop_{false};
+    std::thread reader_;
 };
 
 // Waits until `done()` holds (polled; a guard `limit` against a hung test); false when it never
@@ -215,15 +239,6 @@ bool WaitUntil(Done done, std::chrono::seconds limit = std::chrono::seconds(60))
         ::usleep(20'000);  // polling for what the test waits for, not a guess of how long it takes
     }
     return true;
-}
-
-// Its exit code (128 + signal when killed).
-inline int Wait(pid_t pid) {
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    if (WIFEXITED(status)) return WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-    return -1;
 }
 
 // Two consecutive free UDP ports on 127.0.0.1 (the first returned).

@@ -73,6 +73,25 @@ CommandResult RunCommand(const std::string& command) {
     return r;
 }
 
+pid_t Spawn(const std::string& command, const std::filesystem::path& out,
+            const std::filesystem::path& err) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        const std::string c = "exec " + command + " >" + out.string() + " 2>" + err.string();
+        ::execl("/bin/sh", "sh", "-c", c.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    return pid;
+}
+
+int Wait(pid_t pid) {
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    if (WIFEXITED(status)) return WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+    return -1;
+}
+
 std::string OusterBagTool() {
     return std::string("/usr/bin/python3 '") + BIMSLAM_OUSTER_BAG_TOOL + "'";
 }

@@ -1,6 +1,8 @@
 // Helpers for tests and benchmarks.
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -76,6 +78,13 @@ struct CommandResult {
     std::string err;  // stderr
 };
 CommandResult RunCommand(const std::string& command);
+
+// Starts `command` in the background (through sh, exec'd so the pid is the command's), its
+// stdout and stderr into the files `out` and `err`.
+pid_t Spawn(const std::string& command, const std::filesystem::path& out,
+            const std::filesystem::path& err);
+// Waits for a Spawn'ed process; its exit code (128 + signal when killed).
+int Wait(pid_t pid);
 
 // tests/support/ouster_bag.py run by Debian's python3 (which has python3-rosbag; plain `python3`
 // may be another interpreter), ready for its arguments.
