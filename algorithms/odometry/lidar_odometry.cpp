@@ -250,16 +250,14 @@ void LidarOdometry::BeginScan(const common::PointCloud& scan) {
     OdometryResult& r = result_;
     ScanWork& w = work_;
     w.scan = &scan;
-    w.cpu_clock = config_.registration.cpu_time_budget;
-    w.budget_start = BudgetNow(w.cpu_clock);
     w.stamp = scan.stamp.ns;
     w.T_prev = r.T_odom_lidar;
     w.dt = initialized_ ? double(w.stamp - last_stamp_ns_) * 1e-9 : 0.0;
     w.gyro = false;
     w.pin_rotation = false;
-    w.deadline = w.budget_start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double, std::milli>(
-                                          config_.budget_ms * (1 - config_.map_update_share)));
+    w.deadline = BudgetClockNow() + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double, std::milli>(
+                                            config_.budget_ms * (1 - config_.map_update_share)));
     r.flags = 0;
     r.deskew_rounds = 0;
     r.deskew_stop = DeskewStop::kNotTried;
@@ -404,7 +402,7 @@ void LidarOdometry::RefineStart() {
     // smear is in the map. With the velocity from the first two poses, deskew it again,
     // rebuild the map from it and register this scan again.
     const double first_duration = Duration(first_scan_);
-    for (int k = 0; k < config_.start_refinements && BudgetNow(w.cpu_clock) < w.deadline; ++k) {
+    for (int k = 0; k < config_.start_refinements && BudgetClockNow() < w.deadline; ++k) {
         const common::Vector6d v = common::LogSE3(w.T) / w.dt;  // the first pose is the identity
         map_.Clear();
         if (edge_map_) edge_map_->Clear();
@@ -432,7 +430,7 @@ void LidarOdometry::DeskewAgain() {
     Clock::duration last_round{};
     r.deskew_stop = DeskewStop::kRoundsDone;
     for (int round = 0; round < config_.max_deskew_rounds; ++round) {
-        const Clock::time_point round_start = BudgetNow(w.cpu_clock);
+        const Clock::time_point round_start = BudgetClockNow();
         if (round_start + last_round >= w.deadline) {
             r.deskew_stop = DeskewStop::kDeadline;
             break;
@@ -457,7 +455,7 @@ void LidarOdometry::DeskewAgain() {
         }
         r.flags |= kDeskewedAgain;
         ++r.deskew_rounds;
-        last_round = BudgetNow(w.cpu_clock) - round_start;
+        last_round = BudgetClockNow() - round_start;
     }
 }
 

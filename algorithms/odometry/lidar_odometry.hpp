@@ -250,6 +250,10 @@ private:
     void JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T,
                    const common::Vector6d& sigma);
 
+    // Now on the budget's clock (wall, or this thread's CPU time: cpu_time_budget).
+    Clock::time_point BudgetClockNow() const {
+        return BudgetNow(config_.registration.cpu_time_budget);
+    }
     // Process's steps (the header's numbers), each on work_ and result_.
     void BeginScan(const common::PointCloud& scan);
     void Predict();  // 1: work_.delta and sigma
@@ -279,11 +283,10 @@ private:
         Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  // T_prev * delta
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();       // the estimate so far
         common::Vector6d sigma = common::Vector6d::Zero();         // the prediction's
-        ScanMotion motion;          // the one the scan is deskewed with
-        bool gyro = false;          // the gyro covered the sweep
-        bool pin_rotation = false;  // the gyro's rotation held (imu_rotation_gate)
-        bool cpu_clock = false;     // the budget counted in CPU time
-        Clock::time_point budget_start, deadline;
+        ScanMotion motion;           // the one the scan is deskewed with
+        bool gyro = false;           // the gyro covered the sweep
+        bool pin_rotation = false;   // the gyro's rotation held (imu_rotation_gate)
+        Clock::time_point deadline;  // on the budget's clock (BudgetClockNow)
     };
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 

@@ -36,9 +36,8 @@ bool LidarOdometry::TryOtherHeadings() {
     uint32_t best_flags = r.flags;
     double best_score = RegistrationScore(best);
     const uint32_t flags_before = r.flags;
-    const bool cpu_clock = config_.registration.cpu_time_budget;
     for (int k = 0; k < c.retry_headings; ++k) {
-        if (BudgetNow(cpu_clock) >= deadline) break;
+        if (BudgetClockNow() >= deadline) break;
         // +1, -1, +2, -2, ... steps.
         const double step = double(k / 2 + 1) * (k % 2 == 0 ? 1.0 : -1.0);
         Eigen::Isometry3d from = T_pred;
