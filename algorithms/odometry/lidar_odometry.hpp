@@ -23,9 +23,13 @@
 //    beyond the scene's extent.
 //
 // Time. The whole call is budgeted (budget_ms): registration stops at its share of the budget
-// with its best estimate and the kOverBudget flag. Frames: `lidar` is the Ouster sensor frame of
-// the points and of the IMU; `odom` is the lidar frame of the first scan. Time stamps: one clock
-// for scans, IMU and body motion (the sensor's; the caller converts the Go1's).
+// with its best estimate, a step that would not fit is not begun, and every step cut either way
+// sets kOverBudget and its BudgetStep bit (OdometryResult::budget_cut). A registration the
+// deadline stopped before its first iteration has no evidence: a later step's leaves the one
+// before it in place, the first's leaves the prediction (kRegistrationFailed). Frames: `lidar` is
+// the Ouster sensor frame of the points and of the IMU; `odom` is the lidar frame of the first
+// scan. Time stamps: one clock for scans, IMU and body motion (the sensor's; the caller converts
+// the Go1's).
 //
 // Allocation: none per scan after the first, except inside ceres::Solve, which builds its
 // evaluator on every call (measured in tests/unit/odometry/allocation_test.cpp).
@@ -36,6 +40,7 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "algorithms/common/point_cloud.hpp"
@@ -164,9 +169,9 @@ struct LidarOdometryConfig {
 
 enum OdometryFlag : uint32_t {
     kFirstScan = 1u << 0,
-    kOverBudget = 1u << 1,          // the best estimate when the budget ran out
+    kOverBudget = 1u << 1,          // the budget cut a step (OdometryResult::budget_cut)
     kDegenerate = 1u << 2,          // some directions came from the prediction
-    kRegistrationFailed = 1u << 3,  // too few correspondences: the prediction
+    kRegistrationFailed = 1u << 3,  // too few correspondences, or none in time: the prediction
     kNotConverged = 1u << 4,
     kBodyPriorUsed = 1u << 5,
     kImuUsed = 1u << 6,
@@ -179,6 +184,19 @@ enum OdometryFlag : uint32_t {
     kCheckFailed = 1u << 13,    // the registration failed its own evidence (registration_check.hpp)
     kHeadingsTried = 1u << 14,  // registered again from other headings (a weak prediction)
 };
+
+// The steps of a scan the budget cut (OdometryResult::budget_cut): a registration stopped at the
+// deadline, or a step not begun because the deadline had passed or it would not fit before it.
+enum BudgetStep : uint32_t {
+    kCutRegistration = 1u << 0,     // the registration from the prediction
+    kCutGyroGate = 1u << 1,         // the registration again with the gyro's rotation held
+    kCutHeadings = 1u << 2,         // other headings (a registration, or the ones not tried)
+    kCutStartRefinement = 1u << 3,  // a start in motion's second registration
+    kCutDeskewRound = 1u << 4,      // a round of deskewing again (its registration, or not begun)
+};
+
+// "registration, deskew round" for the BudgetStep bits set; "" for none.
+std::string BudgetCutText(uint32_t steps);
 
 // Why step 3's rounds of deskewing again ended (OdometryResult::deskew_stop).
 enum class DeskewStop : uint8_t {
@@ -198,6 +216,7 @@ struct OdometryResult {
     common::Matrix6d covariance = common::Matrix6d::Identity() * 1e-4;
     uint32_t flags = 0;
     uint32_t check_reasons = 0;  // with kCheckFailed: CheckReason bits
+    uint32_t budget_cut = 0;     // with kOverBudget: the BudgetStep bits of the steps cut
     PreprocessStats preprocess;
     RegistrationResult registration;
     size_t map_voxels = 0;
@@ -261,8 +280,10 @@ private:
     bool TooFewPoints() const;  // fewer registration points than registration needs
     // 3: from the prediction, the gyro's gate, other headings, a start in motion, deskew rounds.
     void Register();
-    // One registration from `from`: sets result_ and work_.T; false on failure.
-    bool Align(const Eigen::Isometry3d& from);
+    // One registration from `from`, step `step` of the scan: sets result_ and work_.T; false on
+    // failure, or when the deadline stopped it before its first iteration (work_.cut): then
+    // result_.registration is the one before, or, for the scan's first, a failure.
+    bool Align(const Eigen::Isometry3d& from, BudgetStep step);
     // A registration of result_ that fails its checks without the gyro is done again from other
     // headings (RegistrationCheckConfig::retry_headings); result_ and work_.T become the first
     // passing one's, else stay the prediction's. Returns whether a registration holds.
@@ -286,7 +307,12 @@ private:
         ScanMotion motion;           // the one the scan is deskewed with
         bool gyro = false;           // the gyro covered the sweep
         bool pin_rotation = false;   // the gyro's rotation held (imu_rotation_gate)
+        bool registered = false;     // a registration of this scan holds (result_.registration)
+        bool cut = false;            // the last Align: stopped before its first iteration
         Clock::time_point deadline;  // on the budget's clock (BudgetClockNow)
+        // On the budget's clock: the preprocessing's and the last registration's time, the cost
+        // of a round of deskewing again before one was made.
+        Clock::duration preprocess_time{}, align_time{};
     };
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 

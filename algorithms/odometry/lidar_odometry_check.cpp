@@ -37,7 +37,10 @@ bool LidarOdometry::TryOtherHeadings() {
     double best_score = RegistrationScore(best);
     const uint32_t flags_before = r.flags;
     for (int k = 0; k < c.retry_headings; ++k) {
-        if (BudgetClockNow() >= deadline) break;
+        if (BudgetClockNow() >= deadline) {
+            r.budget_cut |= kCutHeadings;  // headings left untried
+            break;
+        }
         // +1, -1, +2, -2, ... steps.
         const double step = double(k / 2 + 1) * (k % 2 == 0 ? 1.0 : -1.0);
         Eigen::Isometry3d from = T_pred;
@@ -46,7 +49,7 @@ bool LidarOdometry::TryOtherHeadings() {
             Eigen::AngleAxisd(step * c.retry_yaw_step_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
                 .toRotationMatrix();
         r.flags = flags_before;
-        if (!Align(from)) continue;
+        if (!Align(from, kCutHeadings)) continue;
         const double score = RegistrationScore(r.registration);
         const bool passes = JudgeRegistration(r.registration, T_pred, *T, sigma.head<3>(), c) == 0;
         // Only a start whose registration passes replaces the prediction's: a scan that fails for
@@ -64,6 +67,7 @@ bool LidarOdometry::TryOtherHeadings() {
     *T = best_T;
     r.covariance = best_cov;
     r.flags = best_flags | kHeadingsTried;
+    work_.registered = !best.failed;
     return !best.failed;
 }
 

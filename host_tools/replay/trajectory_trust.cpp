@@ -10,6 +10,7 @@ namespace {
 std::vector<std::string> Reasons(const FailedStretch& s) {
     std::vector<std::string> out;
     if (s.registration_failed) out.push_back("registration failed");
+    if (s.not_in_budget) out.push_back("not registered within the budget");
     using namespace odometry;
     for (const uint32_t bit : {kLowOverlap, kFewInliers, kHighResidual, kFarFromPrediction}) {
         if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
@@ -32,10 +33,11 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
     if (reg_failed && !check_failed &&
         (flags & (odometry::kImuUsed | odometry::kBodyPriorUsed)) != 0) {
         ++bridged_;
+        bridged_over_budget_ += (flags & odometry::kOverBudget) ? 1 : 0;
         return;
     }
     if (stretches_.empty() || scan > stretches_.back().last_scan + merge_gap_) {
-        stretches_.push_back({scan, scan, t_s, t_s, stamp_ns, stamp_ns, 0, 0, false});
+        stretches_.push_back({scan, scan, t_s, t_s, stamp_ns, stamp_ns, 0, 0, false, false});
     }
     FailedStretch& s = stretches_.back();
     s.last_scan = scan;
@@ -44,6 +46,8 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
     ++s.failed;
     s.check_reasons |= check_reasons;
     s.registration_failed = s.registration_failed || reg_failed;
+    // Too few correspondences, or none looked for: the budget stopped the registration first.
+    s.not_in_budget = s.not_in_budget || (reg_failed && (flags & odometry::kOverBudget) != 0);
 }
 
 std::string TrajectoryTrust::Describe() const {
@@ -54,7 +58,11 @@ std::string TrajectoryTrust::Describe() const {
                (bridged_ == 0 ? std::string()
                               : "; " + std::to_string(bridged_) +
                                     " scans with too few correspondences kept the gyro's or the "
-                                    "legs' prediction");
+                                    "legs' prediction" +
+                                    (bridged_over_budget_ == 0
+                                         ? std::string()
+                                         : " (" + std::to_string(bridged_over_budget_) +
+                                               " of them not registered within the budget)"));
     }
     size_t failed = 0;
     for (const FailedStretch& s : stretches_) failed += s.failed;
@@ -84,7 +92,10 @@ nlohmann::json TrajectoryTrust::ToJson() const {
                         {"failed", s.failed},
                         {"reasons", Reasons(s)}});
     }
-    return {{"verdict", Verdict()}, {"failed_stretches", list}, {"bridged_by_prior", bridged_}};
+    return {{"verdict", Verdict()},
+            {"failed_stretches", list},
+            {"bridged_by_prior", bridged_},
+            {"bridged_over_budget", bridged_over_budget_}};
 }
 
 nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan) const {

@@ -22,6 +22,7 @@ struct FailedStretch {
     size_t failed = 0;                     // failed scans in it
     uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
     bool registration_failed = false;      // some scan had too few correspondences
+    bool not_in_budget = false;            // some scan's registration the budget stopped first
 };
 
 class TrajectoryTrust {
@@ -37,6 +38,8 @@ public:
     // Scans whose registration found too few correspondences but whose prediction came from the
     // gyro or the legs: kept at that prediction, counted here, not untrusting the run.
     size_t bridged_by_prior() const { return bridged_; }
+    // Of those, the scans the budget stopped before their registration began (kOverBudget).
+    size_t bridged_over_budget() const { return bridged_over_budget_; }
     const std::vector<FailedStretch>& stretches() const { return stretches_; }
     // "trusted" or "untrusted".
     std::string Verdict() const { return trusted() ? "trusted" : "untrusted"; }
@@ -57,6 +60,7 @@ private:
     size_t merge_gap_;
     std::vector<FailedStretch> stretches_;
     size_t bridged_ = 0;
+    size_t bridged_over_budget_ = 0;
 };
 
 }  // namespace bimslam::replay

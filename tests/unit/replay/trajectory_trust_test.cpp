@@ -75,5 +75,28 @@ TEST(TrajectoryTrust, AFailedRegistrationBridgedByAMeasuredPriorIsCountedNotUntr
     EXPECT_EQ(lidar_only.bridged_by_prior(), 0u);
 }
 
+// A scan the budget stopped before its registration began (kOverBudget with kRegistrationFailed,
+// lidar_odometry.hpp) kept its prediction: bridged with the gyro or the legs, counted as cut by
+// the budget; without them a failed stretch that says so.
+TEST(TrajectoryTrust, AScanNotRegisteredWithinTheBudgetSaysSo) {
+    TrajectoryTrust t;
+    t.Add(5, 0.5, kRegistrationFailed | kOverBudget | kImuUsed | kBodyPriorUsed, 0);
+    t.Add(6, 0.6, kRegistrationFailed | kImuUsed, 0);
+    t.Add(7, 0.7, kOverBudget | kImuUsed, 0);  // cut after a registration: not failed
+    EXPECT_TRUE(t.trusted());
+    EXPECT_EQ(t.bridged_by_prior(), 2u);
+    EXPECT_EQ(t.bridged_over_budget(), 1u);
+    EXPECT_EQ(t.ToJson().at("bridged_over_budget"), 1);
+    EXPECT_NE(t.Describe().find("(1 of them not registered within the budget)"), std::string::npos)
+        << t.Describe();
+    TrajectoryTrust lidar_only;
+    lidar_only.Add(3, 0.3, kRegistrationFailed | kOverBudget, 0);
+    EXPECT_FALSE(lidar_only.trusted());
+    ASSERT_EQ(lidar_only.stretches().size(), 1u);
+    EXPECT_TRUE(lidar_only.stretches()[0].not_in_budget);
+    EXPECT_EQ(lidar_only.ToJson().at("failed_stretches")[0].at("reasons"),
+              nlohmann::json({"registration failed", "not registered within the budget"}));
+}
+
 }  // namespace
 }  // namespace bimslam::replay
