@@ -183,6 +183,9 @@ enum OdometryFlag : uint32_t {
     kContradictsLegs = 1u << 12,  // the legs' translation disagreed: the LiDAR's velocity used
     kCheckFailed = 1u << 13,    // the registration failed its own evidence (registration_check.hpp)
     kHeadingsTried = 1u << 14,  // registered again from other headings (a weak prediction)
+    // The registration judged was stopped by the deadline (kOverBudget): a check it fails is of
+    // an unfinished registration (TrajectoryTrust bridges it where the gyro or legs predicted).
+    kCutShort = 1u << 15,
 };
 
 // The steps of a scan the budget cut (OdometryResult::budget_cut): a registration stopped at the

@@ -9,6 +9,7 @@ namespace bimslam::odometry {
 void LidarOdometry::JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T,
                               const common::Vector6d& sigma) {
     OdometryResult& r = result_;
+    if (r.registration.over_budget) r.flags |= kCutShort;
     r.check_reasons = JudgeRegistration(r.registration, T_pred, T, sigma.head<3>(), config_.check);
     if (r.check_reasons == 0) return;
     r.flags |= kCheckFailed;

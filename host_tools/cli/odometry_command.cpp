@@ -123,6 +123,8 @@ int Odometry(const OdometryArgs& a) {
                             {"check_failed", rep.check_failed},
                             {"verdict", rep.trust.Verdict()},
                             {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
+                            {"bridged_by_prior", rep.trust.bridged_by_prior()},
+                            {"bridged_over_budget", rep.trust.bridged_over_budget()},
                             {"not_converged", rep.not_converged},
                             {"contradicted_gyro", rep.contradicted_gyro},
                             {"contradicted_legs", rep.contradicted_legs},

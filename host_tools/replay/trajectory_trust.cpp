@@ -10,7 +10,7 @@ namespace {
 std::vector<std::string> Reasons(const FailedStretch& s) {
     std::vector<std::string> out;
     if (s.registration_failed) out.push_back("registration failed");
-    if (s.not_in_budget) out.push_back("not registered within the budget");
+    if (s.cut_by_budget) out.push_back("cut by the budget");
     using namespace odometry;
     for (const uint32_t bit : {kLowOverlap, kFewInliers, kHighResidual, kFarFromPrediction}) {
         if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
@@ -30,10 +30,14 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
     // changed building left the map test's walk at 2.9 cm. Counted, not untrusted. Without a
     // measured prior it is a constant-velocity guess, and a scan that failed its own evidence
     // is never bridged.
-    if (reg_failed && !check_failed &&
+    // A check failed on a registration the budget stopped (kCutShort) judged an unfinished one,
+    // from a measured prediction: bridged the same way, and counted as cut.
+    const bool cut_short = check_failed && (flags & odometry::kCutShort) != 0;
+    const bool cut = cut_short || (reg_failed && (flags & odometry::kOverBudget) != 0);
+    if (((reg_failed && !check_failed) || cut_short) &&
         (flags & (odometry::kImuUsed | odometry::kBodyPriorUsed)) != 0) {
         ++bridged_;
-        bridged_over_budget_ += (flags & odometry::kOverBudget) ? 1 : 0;
+        bridged_over_budget_ += cut ? 1 : 0;
         return;
     }
     if (stretches_.empty() || scan > stretches_.back().last_scan + merge_gap_) {
@@ -46,8 +50,7 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
     ++s.failed;
     s.check_reasons |= check_reasons;
     s.registration_failed = s.registration_failed || reg_failed;
-    // Too few correspondences, or none looked for: the budget stopped the registration first.
-    s.not_in_budget = s.not_in_budget || (reg_failed && (flags & odometry::kOverBudget) != 0);
+    s.cut_by_budget = s.cut_by_budget || cut;
 }
 
 std::string TrajectoryTrust::Describe() const {
@@ -55,14 +58,14 @@ std::string TrajectoryTrust::Describe() const {
         // A bridged scan is no failed check, but a reader who sees `failed` > 0 beside "trusted"
         // must learn why.
         return "trusted: every registration passed its checks" +
-               (bridged_ == 0 ? std::string()
-                              : "; " + std::to_string(bridged_) +
-                                    " scans with too few correspondences kept the gyro's or the "
-                                    "legs' prediction" +
-                                    (bridged_over_budget_ == 0
-                                         ? std::string()
-                                         : " (" + std::to_string(bridged_over_budget_) +
-                                               " of them not registered within the budget)"));
+               (bridged_ == 0
+                    ? std::string()
+                    : "; " + std::to_string(bridged_) +
+                          " scans with too few correspondences kept the gyro's or the "
+                          "legs' prediction" +
+                          (bridged_over_budget_ == 0 ? std::string()
+                                                     : " (" + std::to_string(bridged_over_budget_) +
+                                                           " of them cut by the budget)"));
     }
     size_t failed = 0;
     for (const FailedStretch& s : stretches_) failed += s.failed;

@@ -2,8 +2,9 @@
 // failed (too few correspondences) or failed its own evidence (kCheckFailed,
 // algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.
 // A pose after a failed scan is only as good as the guess that scan kept, so the verdict is
-// "untrusted" as soon as one stretch exists (a registration with too few correspondences whose
-// prediction came from the gyro or the legs excepted: bridged_by_prior); the stretches say where to
+// "untrusted" as soon as one stretch exists (a registration with too few correspondences, none
+// within the budget, or a check failed on one the budget stopped, whose prediction came from the
+// gyro or the legs excepted: bridged_by_prior); the stretches say where to
 // look (and which part of the trajectory `bimslam map` must not present as good).
 #pragma once
 
@@ -22,7 +23,7 @@ struct FailedStretch {
     size_t failed = 0;                     // failed scans in it
     uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
     bool registration_failed = false;      // some scan had too few correspondences
-    bool not_in_budget = false;            // some scan's registration the budget stopped first
+    bool cut_by_budget = false;            // some scan's registration the budget stopped
 };
 
 class TrajectoryTrust {
@@ -38,7 +39,9 @@ public:
     // Scans whose registration found too few correspondences but whose prediction came from the
     // gyro or the legs: kept at that prediction, counted here, not untrusting the run.
     size_t bridged_by_prior() const { return bridged_; }
-    // Of those, the scans the budget stopped before their registration began (kOverBudget).
+    // Scans the budget cut whose prediction came from the gyro or the legs: not registered within
+    // the budget (kRegistrationFailed with kOverBudget), or whose check failed on a registration
+    // the deadline stopped (kCheckFailed with kCutShort). Counted in bridged_by_prior too.
     size_t bridged_over_budget() const { return bridged_over_budget_; }
     const std::vector<FailedStretch>& stretches() const { return stretches_; }
     // "trusted" or "untrusted".

@@ -76,26 +76,32 @@ TEST(TrajectoryTrust, AFailedRegistrationBridgedByAMeasuredPriorIsCountedNotUntr
 }
 
 // A scan the budget stopped before its registration began (kOverBudget with kRegistrationFailed,
-// lidar_odometry.hpp) kept its prediction: bridged with the gyro or the legs, counted as cut by
-// the budget; without them a failed stretch that says so.
-TEST(TrajectoryTrust, AScanNotRegisteredWithinTheBudgetSaysSo) {
+// lidar_odometry.hpp) kept its prediction, and one whose check failed on a registration the
+// deadline stopped (kCutShort) judged an unfinished one: bridged with the gyro or the legs,
+// counted as cut by the budget; without them a failed stretch that says so. A check failed on a
+// finished registration is never bridged, whatever else the budget cut in that scan.
+TEST(TrajectoryTrust, AScanTheBudgetCutIsBridgedByAMeasuredPriorAndSaysSo) {
     TrajectoryTrust t;
     t.Add(5, 0.5, kRegistrationFailed | kOverBudget | kImuUsed | kBodyPriorUsed, 0);
     t.Add(6, 0.6, kRegistrationFailed | kImuUsed, 0);
     t.Add(7, 0.7, kOverBudget | kImuUsed, 0);  // cut after a registration: not failed
+    t.Add(8, 0.8, kCheckFailed | kOverBudget | kCutShort | kImuUsed, kHighResidual);
     EXPECT_TRUE(t.trusted());
-    EXPECT_EQ(t.bridged_by_prior(), 2u);
-    EXPECT_EQ(t.bridged_over_budget(), 1u);
-    EXPECT_EQ(t.ToJson().at("bridged_over_budget"), 1);
-    EXPECT_NE(t.Describe().find("(1 of them not registered within the budget)"), std::string::npos)
+    EXPECT_EQ(t.bridged_by_prior(), 3u);
+    EXPECT_EQ(t.bridged_over_budget(), 2u);
+    EXPECT_EQ(t.ToJson().at("bridged_over_budget"), 2);
+    EXPECT_NE(t.Describe().find("(2 of them cut by the budget)"), std::string::npos)
         << t.Describe();
+    t.Add(9, 0.9, kCheckFailed | kOverBudget | kImuUsed, kLowOverlap);  // a deskew round cut
+    EXPECT_FALSE(t.trusted());
     TrajectoryTrust lidar_only;
     lidar_only.Add(3, 0.3, kRegistrationFailed | kOverBudget, 0);
+    lidar_only.Add(4, 0.4, kCheckFailed | kOverBudget | kCutShort, kHighResidual);
     EXPECT_FALSE(lidar_only.trusted());
     ASSERT_EQ(lidar_only.stretches().size(), 1u);
-    EXPECT_TRUE(lidar_only.stretches()[0].not_in_budget);
+    EXPECT_TRUE(lidar_only.stretches()[0].cut_by_budget);
     EXPECT_EQ(lidar_only.ToJson().at("failed_stretches")[0].at("reasons"),
-              nlohmann::json({"registration failed", "not registered within the budget"}));
+              nlohmann::json({"registration failed", "cut by the budget", "high residual"}));
 }
 
 }  // namespace
