@@ -58,12 +58,16 @@ public:
 
     // The file in a session folder that holds SessionJson().
     static constexpr const char* kSessionFile = "odometry_verdict.json";
+    // Scans cut by the budget in a row that a measured prior bridges (Add): one spike of the
+    // machine's load cuts one scan; a longer run is a failed stretch.
+    static constexpr size_t kMaxBridgedCuts = 3;
 
 private:
     size_t merge_gap_;
     std::vector<FailedStretch> stretches_;
     size_t bridged_ = 0;
     size_t bridged_over_budget_ = 0;
+    size_t cut_run_ = 0, last_cut_scan_ = 0;  // scans cut by the budget in a row, the last one
 };
 
 }  // namespace bimslam::replay

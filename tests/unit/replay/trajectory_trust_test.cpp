@@ -94,6 +94,15 @@ TEST(TrajectoryTrust, AScanTheBudgetCutIsBridgedByAMeasuredPriorAndSaysSo) {
         << t.Describe();
     t.Add(9, 0.9, kCheckFailed | kOverBudget | kImuUsed, kLowOverlap);  // a deskew round cut
     EXPECT_FALSE(t.trusted());
+    // More than kMaxBridgedCuts in a row: the prior's dead reckoning, a failed stretch.
+    TrajectoryTrust run;
+    for (size_t i = 20; i < 20 + TrajectoryTrust::kMaxBridgedCuts + 2; ++i) {
+        run.Add(i, 0.1 * double(i), kRegistrationFailed | kOverBudget | kImuUsed, 0);
+    }
+    EXPECT_EQ(run.bridged_over_budget(), TrajectoryTrust::kMaxBridgedCuts);
+    ASSERT_EQ(run.stretches().size(), 1u);
+    EXPECT_EQ(run.stretches()[0].first_scan, 20 + TrajectoryTrust::kMaxBridgedCuts);
+    EXPECT_EQ(run.stretches()[0].failed, 2u);
     TrajectoryTrust lidar_only;
     lidar_only.Add(3, 0.3, kRegistrationFailed | kOverBudget, 0);
     lidar_only.Add(4, 0.4, kCheckFailed | kOverBudget | kCutShort, kHighResidual);
