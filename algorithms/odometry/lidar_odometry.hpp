@@ -205,7 +205,7 @@ std::string BudgetCutText(uint32_t steps);
 enum class DeskewStop : uint8_t {
     kNotTried,    // not this scan (the first, no time per point, deskew off, a start refined)
     kHolds,       // the estimated motion agrees with the one the scan was deskewed with
-    kDeadline,    // another round would not fit before the deadline
+    kDeadline,    // another round needed would not fit before the deadline, or was stopped first
     kDegenerate,  // the last registration was degenerate: its velocity is the prediction's
     kRoundsDone,  // max_deskew_rounds made
     kFailed,      // a round's registration failed
