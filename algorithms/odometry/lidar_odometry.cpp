@@ -16,6 +16,21 @@ double Ms(LidarOdometry::Clock::duration d) {
 
 }  // namespace
 
+std::string BudgetCutText(uint32_t steps) {
+    std::string s;
+    const auto add = [&](uint32_t bit, const char* text) {
+        if (!(steps & bit)) return;
+        if (!s.empty()) s += ", ";
+        s += text;
+    };
+    add(kCutRegistration, "registration");
+    add(kCutGyroGate, "gyro gate");
+    add(kCutHeadings, "other headings");
+    add(kCutStartRefinement, "start refinement");
+    add(kCutDeskewRound, "deskew round");
+    return s;
+}
+
 void LidarOdometryConfig::Validate() const {
     const char* c = "LidarOdometryConfig";
     preprocess.Validate();
@@ -209,7 +224,9 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const common::Vector6d twist =
         w.dt > 0 ? common::Vector6d(common::LogSE3(w.delta) / w.dt) : common::Vector6d::Zero();
     w.motion = MotionFor(twist, w.duration, w.stamp, &w.gyro);
+    const Clock::time_point preprocess_start = BudgetClockNow();
     PreprocessScan(scan, w.motion);
+    w.preprocess_time = BudgetClockNow() - preprocess_start;
     const Clock::time_point preprocessed = Clock::now();
     r.preprocess_ms = Ms(preprocessed - start);
     // The scene's extent, smoothed over a few scans (the map radius and the threshold use it).
@@ -234,6 +251,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         return r;
     }
     if (initialized_) Register();
+    if (r.budget_cut != 0) r.flags |= kOverBudget;
     const Clock::time_point registered = Clock::now();
     r.register_ms = Ms(registered - preprocessed);
 
@@ -250,20 +268,22 @@ void LidarOdometry::BeginScan(const common::PointCloud& scan) {
     OdometryResult& r = result_;
     ScanWork& w = work_;
     w.scan = &scan;
-    w.cpu_clock = config_.registration.cpu_time_budget;
-    w.budget_start = BudgetNow(w.cpu_clock);
     w.stamp = scan.stamp.ns;
     w.T_prev = r.T_odom_lidar;
     w.dt = initialized_ ? double(w.stamp - last_stamp_ns_) * 1e-9 : 0.0;
     w.gyro = false;
     w.pin_rotation = false;
-    w.deadline = w.budget_start + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double, std::milli>(
-                                          config_.budget_ms * (1 - config_.map_update_share)));
+    w.registered = false;
+    w.cut = false;
+    w.align_time = {};
+    w.deadline = BudgetClockNow() + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double, std::milli>(
+                                            config_.budget_ms * (1 - config_.map_update_share)));
     r.flags = 0;
     r.deskew_rounds = 0;
     r.deskew_stop = DeskewStop::kNotTried;
     r.check_reasons = 0;
+    r.budget_cut = 0;
     r.stamp_ns = w.stamp;
     ++scans_;
 }
@@ -320,9 +340,10 @@ bool LidarOdometry::TooFewPoints() const {
            size_t(config_.registration.min_correspondences);
 }
 
-bool LidarOdometry::Align(const Eigen::Isometry3d& from) {
+bool LidarOdometry::Align(const Eigen::Isometry3d& from, BudgetStep step) {
     OdometryResult& r = result_;
     ScanWork& w = work_;
+    w.cut = false;
     if (TooFewPoints()) {
         r.flags |= kTooFewPoints | kRegistrationFailed;
         return false;
@@ -338,16 +359,34 @@ bool LidarOdometry::Align(const Eigen::Isometry3d& from) {
     in.fix_rotation = w.pin_rotation;
     in.edges = edges_;
     in.edge_map = edge_map_ ? &*edge_map_ : nullptr;
+    const RegistrationResult before = r.registration;
+    const Clock::time_point start = BudgetClockNow();
     r.registration = registration_.Align(in, map_, w.deadline);
+    w.align_time = BudgetClockNow() - start;
     const RegistrationResult& reg = r.registration;
-    if (reg.failed) {
-        r.flags |= kRegistrationFailed;
+    if (reg.over_budget) r.budget_cut |= step;
+    if (reg.over_budget && reg.iterations == 0) {
+        // Stopped before its first iteration: no correspondence was looked for, so there is no
+        // evidence to judge (the check read it as no overlap with the map: the demo's walk, scan
+        // 860, on a loaded CI machine). The registration before it stands; without one, the
+        // prediction does, as when a registration fails.
+        w.cut = true;
+        if (w.registered) {
+            r.registration = before;
+        } else {
+            r.flags |= kRegistrationFailed;
+        }
         return false;
     }
+    if (reg.failed) {
+        r.flags |= kRegistrationFailed;
+        w.registered = false;
+        return false;
+    }
+    w.registered = true;
     w.T = reg.T_map_lidar;
     r.covariance = reg.covariance;
-    r.flags &= ~uint32_t(kOverBudget | kDegenerate | kNotConverged);
-    if (reg.over_budget) r.flags |= kOverBudget;
+    r.flags &= ~uint32_t(kDegenerate | kNotConverged);
     if (reg.degenerate_directions > 0) r.flags |= kDegenerate;
     if (!reg.converged && !reg.over_budget) r.flags |= kNotConverged;
     return true;
@@ -357,7 +396,7 @@ void LidarOdometry::Register() {
     // From the prediction; then the gyro's gate, other headings, a start in motion, deskew rounds.
     OdometryResult& r = result_;
     ScanWork& w = work_;
-    bool registered_ok = Align(w.T_pred);
+    bool registered_ok = Align(w.T_pred, kCutRegistration);
     if (registered_ok && (r.flags & kImuUsed) && config_.imu_rotation_gate > 0 &&
         common::RotationAngle(common::Between(w.T_pred, w.T)) >
             config_.imu_rotation_gate * config_.imu_rotation_sigma) {
@@ -365,8 +404,9 @@ void LidarOdometry::Register() {
         // where it did by 0.5-1.8 deg the estimate was wrong by as much (README.md, "Glass,
         // mirrors and moving doors"). Registered again from the prediction with the gyro's
         // rotation kept, the translation only (the later registrations of this scan keep it).
+        // Cut before it began: the registration before it stands (budget_cut says so).
         w.pin_rotation = true;
-        registered_ok = Align(w.T_pred);
+        registered_ok = Align(w.T_pred, kCutGyroGate) || w.cut;
         r.flags |= kContradictsGyro;
     }
     // Large motion with a weak prediction: other headings when this one fails its checks.
@@ -404,7 +444,11 @@ void LidarOdometry::RefineStart() {
     // smear is in the map. With the velocity from the first two poses, deskew it again,
     // rebuild the map from it and register this scan again.
     const double first_duration = Duration(first_scan_);
-    for (int k = 0; k < config_.start_refinements && BudgetNow(w.cpu_clock) < w.deadline; ++k) {
+    for (int k = 0; k < config_.start_refinements; ++k) {
+        if (BudgetClockNow() >= w.deadline) {
+            r.budget_cut |= kCutStartRefinement;
+            break;
+        }
         const common::Vector6d v = common::LogSE3(w.T) / w.dt;  // the first pose is the identity
         map_.Clear();
         if (edge_map_) edge_map_->Clear();
@@ -413,7 +457,7 @@ void LidarOdometry::RefineStart() {
         if (edge_map_) edge_map_->Insert(edges_);
         w.motion = MotionFor(v, w.duration, w.stamp);
         PreprocessScan(*w.scan, w.motion);
-        if (!Align(w.T)) break;
+        if (!Align(w.T, kCutStartRefinement)) break;
         r.flags |= kStartRefined;
     }
 }
@@ -422,21 +466,19 @@ void LidarOdometry::DeskewAgain() {
     // The scan was deskewed with a predicted motion; while the estimated one differs by more
     // than redeskew_threshold over the sweep (a start, a stop, a sudden turn without the
     // IMU), the scan is deskewed again with it and registered once more (max_deskew_rounds).
-    // A round after the first starts only when the last one's time still fits before the
-    // deadline: a round started late ran the scan over budget (11 of 1800 hand-held scans
-    // without the IMU, the rounds' whole cost being the LiDAR-only case).
+    // A round starts only when its time still fits before the deadline: the last round's, or
+    // before the first, the preprocessing's and the last registration's. A round started late
+    // ran the scan over budget (11 of 1800 hand-held scans without the IMU, the rounds' whole
+    // cost being the LiDAR-only case), and one begun with no time left had its registration
+    // stopped before it began. A round that was needed and not made counts as cut.
     OdometryResult& r = result_;
     ScanWork& w = work_;
     const bool correcting = (config_.correction_sigma.array() > 0).all();
     if (correcting || w.dt <= 0 || !config_.preprocess.deskew || !w.scan->HasTime()) return;
-    Clock::duration last_round{};
+    Clock::duration last_round = w.preprocess_time + w.align_time;
     r.deskew_stop = DeskewStop::kRoundsDone;
     for (int round = 0; round < config_.max_deskew_rounds; ++round) {
-        const Clock::time_point round_start = BudgetNow(w.cpu_clock);
-        if (round_start + last_round >= w.deadline) {
-            r.deskew_stop = DeskewStop::kDeadline;
-            break;
-        }
+        const Clock::time_point round_start = BudgetClockNow();
         if (round > 0 && (r.flags & kDegenerate)) {
             r.deskew_stop = DeskewStop::kDegenerate;
             break;
@@ -449,15 +491,20 @@ void LidarOdometry::DeskewAgain() {
             r.deskew_stop = DeskewStop::kHolds;
             break;
         }
+        if (round_start + last_round >= w.deadline) {
+            r.deskew_stop = DeskewStop::kDeadline;
+            r.budget_cut |= kCutDeskewRound;
+            break;
+        }
         w.motion = estimated;
         PreprocessScan(*w.scan, w.motion);
-        if (!Align(w.T)) {
-            r.deskew_stop = DeskewStop::kFailed;
+        if (!Align(w.T, kCutDeskewRound)) {
+            r.deskew_stop = w.cut ? DeskewStop::kDeadline : DeskewStop::kFailed;
             break;
         }
         r.flags |= kDeskewedAgain;
         ++r.deskew_rounds;
-        last_round = BudgetNow(w.cpu_clock) - round_start;
+        last_round = BudgetClockNow() - round_start;
     }
 }
 

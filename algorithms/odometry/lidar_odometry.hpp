@@ -23,9 +23,13 @@
 //    beyond the scene's extent.
 //
 // Time. The whole call is budgeted (budget_ms): registration stops at its share of the budget
-// with its best estimate and the kOverBudget flag. Frames: `lidar` is the Ouster sensor frame of
-// the points and of the IMU; `odom` is the lidar frame of the first scan. Time stamps: one clock
-// for scans, IMU and body motion (the sensor's; the caller converts the Go1's).
+// with its best estimate, a step that would not fit is not begun, and every step cut either way
+// sets kOverBudget and its BudgetStep bit (OdometryResult::budget_cut). A registration the
+// deadline stopped before its first iteration has no evidence: a later step's leaves the one
+// before it in place, the first's leaves the prediction (kRegistrationFailed). Frames: `lidar` is
+// the Ouster sensor frame of the points and of the IMU; `odom` is the lidar frame of the first
+// scan. Time stamps: one clock for scans, IMU and body motion (the sensor's; the caller converts
+// the Go1's).
 //
 // Allocation: none per scan after the first, except inside ceres::Solve, which builds its
 // evaluator on every call (measured in tests/unit/odometry/allocation_test.cpp).
@@ -36,6 +40,7 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "algorithms/common/point_cloud.hpp"
@@ -164,9 +169,9 @@ struct LidarOdometryConfig {
 
 enum OdometryFlag : uint32_t {
     kFirstScan = 1u << 0,
-    kOverBudget = 1u << 1,          // the best estimate when the budget ran out
+    kOverBudget = 1u << 1,          // the budget cut a step (OdometryResult::budget_cut)
     kDegenerate = 1u << 2,          // some directions came from the prediction
-    kRegistrationFailed = 1u << 3,  // too few correspondences: the prediction
+    kRegistrationFailed = 1u << 3,  // too few correspondences, or none in time: the prediction
     kNotConverged = 1u << 4,
     kBodyPriorUsed = 1u << 5,
     kImuUsed = 1u << 6,
@@ -178,13 +183,29 @@ enum OdometryFlag : uint32_t {
     kContradictsLegs = 1u << 12,  // the legs' translation disagreed: the LiDAR's velocity used
     kCheckFailed = 1u << 13,    // the registration failed its own evidence (registration_check.hpp)
     kHeadingsTried = 1u << 14,  // registered again from other headings (a weak prediction)
+    // The registration judged was stopped by the deadline (kOverBudget): a check it fails is of
+    // an unfinished registration (TrajectoryTrust bridges it where the gyro or legs predicted).
+    kCutShort = 1u << 15,
 };
+
+// The steps of a scan the budget cut (OdometryResult::budget_cut): a registration stopped at the
+// deadline, or a step not begun because the deadline had passed or it would not fit before it.
+enum BudgetStep : uint32_t {
+    kCutRegistration = 1u << 0,     // the registration from the prediction
+    kCutGyroGate = 1u << 1,         // the registration again with the gyro's rotation held
+    kCutHeadings = 1u << 2,         // other headings (a registration, or the ones not tried)
+    kCutStartRefinement = 1u << 3,  // a start in motion's second registration
+    kCutDeskewRound = 1u << 4,      // a round of deskewing again (its registration, or not begun)
+};
+
+// "registration, deskew round" for the BudgetStep bits set; "" for none.
+std::string BudgetCutText(uint32_t steps);
 
 // Why step 3's rounds of deskewing again ended (OdometryResult::deskew_stop).
 enum class DeskewStop : uint8_t {
     kNotTried,    // not this scan (the first, no time per point, deskew off, a start refined)
     kHolds,       // the estimated motion agrees with the one the scan was deskewed with
-    kDeadline,    // another round would not fit before the deadline
+    kDeadline,    // another round needed would not fit before the deadline, or was stopped first
     kDegenerate,  // the last registration was degenerate: its velocity is the prediction's
     kRoundsDone,  // max_deskew_rounds made
     kFailed,      // a round's registration failed
@@ -198,6 +219,7 @@ struct OdometryResult {
     common::Matrix6d covariance = common::Matrix6d::Identity() * 1e-4;
     uint32_t flags = 0;
     uint32_t check_reasons = 0;  // with kCheckFailed: CheckReason bits
+    uint32_t budget_cut = 0;     // with kOverBudget: the BudgetStep bits of the steps cut
     PreprocessStats preprocess;
     RegistrationResult registration;
     size_t map_voxels = 0;
@@ -250,6 +272,10 @@ private:
     void JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T,
                    const common::Vector6d& sigma);
 
+    // Now on the budget's clock (wall, or this thread's CPU time: cpu_time_budget).
+    Clock::time_point BudgetClockNow() const {
+        return BudgetNow(config_.registration.cpu_time_budget);
+    }
     // Process's steps (the header's numbers), each on work_ and result_.
     void BeginScan(const common::PointCloud& scan);
     void Predict();  // 1: work_.delta and sigma
@@ -257,8 +283,10 @@ private:
     bool TooFewPoints() const;  // fewer registration points than registration needs
     // 3: from the prediction, the gyro's gate, other headings, a start in motion, deskew rounds.
     void Register();
-    // One registration from `from`: sets result_ and work_.T; false on failure.
-    bool Align(const Eigen::Isometry3d& from);
+    // One registration from `from`, step `step` of the scan: sets result_ and work_.T; false on
+    // failure, or when the deadline stopped it before its first iteration (work_.cut): then
+    // result_.registration is the one before, or, for the scan's first, a failure.
+    bool Align(const Eigen::Isometry3d& from, BudgetStep step);
     // A registration of result_ that fails its checks without the gyro is done again from other
     // headings (RegistrationCheckConfig::retry_headings); result_ and work_.T become the first
     // passing one's, else stay the prediction's. Returns whether a registration holds.
@@ -279,11 +307,15 @@ private:
         Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  // T_prev * delta
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();       // the estimate so far
         common::Vector6d sigma = common::Vector6d::Zero();         // the prediction's
-        ScanMotion motion;          // the one the scan is deskewed with
-        bool gyro = false;          // the gyro covered the sweep
-        bool pin_rotation = false;  // the gyro's rotation held (imu_rotation_gate)
-        bool cpu_clock = false;     // the budget counted in CPU time
-        Clock::time_point budget_start, deadline;
+        ScanMotion motion;           // the one the scan is deskewed with
+        bool gyro = false;           // the gyro covered the sweep
+        bool pin_rotation = false;   // the gyro's rotation held (imu_rotation_gate)
+        bool registered = false;     // a registration of this scan holds (result_.registration)
+        bool cut = false;            // the last Align: stopped before its first iteration
+        Clock::time_point deadline;  // on the budget's clock (BudgetClockNow)
+        // On the budget's clock: the preprocessing's and the last registration's time, the cost
+        // of a round of deskewing again before one was made.
+        Clock::duration preprocess_time{}, align_time{};
     };
     const ImuMeasurement& Imu(size_t i) const { return imu_[(imu_head_ + i) % imu_.size()]; }
 

@@ -9,6 +9,7 @@ namespace bimslam::odometry {
 void LidarOdometry::JudgeScan(const Eigen::Isometry3d& T_pred, const Eigen::Isometry3d& T,
                               const common::Vector6d& sigma) {
     OdometryResult& r = result_;
+    if (r.registration.over_budget) r.flags |= kCutShort;
     r.check_reasons = JudgeRegistration(r.registration, T_pred, T, sigma.head<3>(), config_.check);
     if (r.check_reasons == 0) return;
     r.flags |= kCheckFailed;
@@ -36,9 +37,11 @@ bool LidarOdometry::TryOtherHeadings() {
     uint32_t best_flags = r.flags;
     double best_score = RegistrationScore(best);
     const uint32_t flags_before = r.flags;
-    const bool cpu_clock = config_.registration.cpu_time_budget;
     for (int k = 0; k < c.retry_headings; ++k) {
-        if (BudgetNow(cpu_clock) >= deadline) break;
+        if (BudgetClockNow() >= deadline) {
+            r.budget_cut |= kCutHeadings;  // headings left untried
+            break;
+        }
         // +1, -1, +2, -2, ... steps.
         const double step = double(k / 2 + 1) * (k % 2 == 0 ? 1.0 : -1.0);
         Eigen::Isometry3d from = T_pred;
@@ -47,7 +50,7 @@ bool LidarOdometry::TryOtherHeadings() {
             Eigen::AngleAxisd(step * c.retry_yaw_step_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
                 .toRotationMatrix();
         r.flags = flags_before;
-        if (!Align(from)) continue;
+        if (!Align(from, kCutHeadings)) continue;
         const double score = RegistrationScore(r.registration);
         const bool passes = JudgeRegistration(r.registration, T_pred, *T, sigma.head<3>(), c) == 0;
         // Only a start whose registration passes replaces the prediction's: a scan that fails for
@@ -65,6 +68,7 @@ bool LidarOdometry::TryOtherHeadings() {
     *T = best_T;
     r.covariance = best_cov;
     r.flags = best_flags | kHeadingsTried;
+    work_.registered = !best.failed;
     return !best.failed;
 }
 

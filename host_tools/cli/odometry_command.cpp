@@ -68,7 +68,7 @@ int Odometry(const OdometryArgs& a) {
                                     "cannot be written");
         }
         csv << "scan,stamp_ns,flags,check_reasons,points,correspondences,inliers,rms_m,"
-               "correspondence_distance_m,motion_m,motion_deg,total_ms\n";
+               "correspondence_distance_m,motion_m,motion_deg,total_ms,deskew_rounds,budget_cut\n";
     }
     o.on_scan = [tty, n = 0, &csv](const odometry::OdometryResult& r) mutable {
         if (csv.is_open()) {
@@ -76,7 +76,8 @@ int Odometry(const OdometryArgs& a) {
             csv << n << "," << r.stamp_ns << "," << r.flags << "," << r.check_reasons << ","
                 << g.points << "," << g.correspondences << "," << g.inliers << "," << g.rms << ","
                 << r.correspondence_distance << "," << r.T_prev_lidar.translation().norm() << ","
-                << common::RotationAngle(r.T_prev_lidar) * 180 / M_PI << "," << r.total_ms << "\n";
+                << common::RotationAngle(r.T_prev_lidar) * 180 / M_PI << "," << r.total_ms << ","
+                << r.deskew_rounds << ",\"" << odometry::BudgetCutText(r.budget_cut) << "\"\n";
         }
         ++n;
         if (tty && n % 50 == 0) {
@@ -122,6 +123,8 @@ int Odometry(const OdometryArgs& a) {
                             {"check_failed", rep.check_failed},
                             {"verdict", rep.trust.Verdict()},
                             {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
+                            {"bridged_by_prior", rep.trust.bridged_by_prior()},
+                            {"bridged_over_budget", rep.trust.bridged_over_budget()},
                             {"not_converged", rep.not_converged},
                             {"contradicted_gyro", rep.contradicted_gyro},
                             {"contradicted_legs", rep.contradicted_legs},
@@ -218,9 +221,12 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--json", args->json,
                   "Print the summary as JSON (verdict: trusted or untrusted, failed_stretches: "
                   "the scans and times that failed their registration checks)");
-    cmd->add_option("--scans-csv", args->scans_csv,
-                    "Write every scan's registration evidence to this CSV (flags, check reasons, "
-                    "points, correspondences, inliers, rms, motion, time)");
+    cmd->add_option(
+        "--scans-csv", args->scans_csv,
+        "Write every scan's registration evidence to this CSV (flags, check reasons, "
+        "points, correspondences, inliers, rms, motion, time, deskew rounds, and the steps the "
+        "budget cut: registration, gyro gate, other headings, start refinement, "
+        "deskew round)");
     cmd->callback([args, &exit_code] { exit_code = Run([&] { return Odometry(*args); }); });
 }
 

@@ -258,6 +258,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
                                 {"verdict_text", rep.trust.Describe()},
                                 {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
                                 {"bridged_by_prior", rep.trust.bridged_by_prior()},
+                                {"bridged_over_budget", rep.trust.bridged_over_budget()},
                                 {"scan_ms", rep.scan_ms},
                                 {"notes", rep.notes}};
             io::WriteFileAtomic(out / "odometry" / (r.name + ".json"), stats.dump() + "\n");

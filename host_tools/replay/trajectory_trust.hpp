@@ -2,8 +2,9 @@
 // failed (too few correspondences) or failed its own evidence (kCheckFailed,
 // algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.
 // A pose after a failed scan is only as good as the guess that scan kept, so the verdict is
-// "untrusted" as soon as one stretch exists (a registration with too few correspondences whose
-// prediction came from the gyro or the legs excepted: bridged_by_prior); the stretches say where to
+// "untrusted" as soon as one stretch exists (a registration with too few correspondences, none
+// within the budget, or a check failed on one the budget stopped, whose prediction came from the
+// gyro or the legs excepted: bridged_by_prior); the stretches say where to
 // look (and which part of the trajectory `bimslam map` must not present as good).
 #pragma once
 
@@ -22,6 +23,7 @@ struct FailedStretch {
     size_t failed = 0;                     // failed scans in it
     uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
     bool registration_failed = false;      // some scan had too few correspondences
+    bool cut_by_budget = false;            // some scan's registration the budget stopped
 };
 
 class TrajectoryTrust {
@@ -37,6 +39,10 @@ public:
     // Scans whose registration found too few correspondences but whose prediction came from the
     // gyro or the legs: kept at that prediction, counted here, not untrusting the run.
     size_t bridged_by_prior() const { return bridged_; }
+    // Scans the budget cut whose prediction came from the gyro or the legs: not registered within
+    // the budget (kRegistrationFailed with kOverBudget), or whose check failed on a registration
+    // the deadline stopped (kCheckFailed with kCutShort). Counted in bridged_by_prior too.
+    size_t bridged_over_budget() const { return bridged_over_budget_; }
     const std::vector<FailedStretch>& stretches() const { return stretches_; }
     // "trusted" or "untrusted".
     std::string Verdict() const { return trusted() ? "trusted" : "untrusted"; }
@@ -52,11 +58,16 @@ public:
 
     // The file in a session folder that holds SessionJson().
     static constexpr const char* kSessionFile = "odometry_verdict.json";
+    // Scans cut by the budget in a row that a measured prior bridges (Add): one spike of the
+    // machine's load cuts one scan; a longer run is a failed stretch.
+    static constexpr size_t kMaxBridgedCuts = 3;
 
 private:
     size_t merge_gap_;
     std::vector<FailedStretch> stretches_;
     size_t bridged_ = 0;
+    size_t bridged_over_budget_ = 0;
+    size_t cut_run_ = 0, last_cut_scan_ = 0;  // scans cut by the budget in a row, the last one
 };
 
 }  // namespace bimslam::replay

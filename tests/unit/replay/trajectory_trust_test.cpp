@@ -75,5 +75,43 @@ TEST(TrajectoryTrust, AFailedRegistrationBridgedByAMeasuredPriorIsCountedNotUntr
     EXPECT_EQ(lidar_only.bridged_by_prior(), 0u);
 }
 
+// A scan the budget stopped before its registration began (kOverBudget with kRegistrationFailed,
+// lidar_odometry.hpp) kept its prediction, and one whose check failed on a registration the
+// deadline stopped (kCutShort) judged an unfinished one: bridged with the gyro or the legs,
+// counted as cut by the budget; without them a failed stretch that says so. A check failed on a
+// finished registration is never bridged, whatever else the budget cut in that scan.
+TEST(TrajectoryTrust, AScanTheBudgetCutIsBridgedByAMeasuredPriorAndSaysSo) {
+    TrajectoryTrust t;
+    t.Add(5, 0.5, kRegistrationFailed | kOverBudget | kImuUsed | kBodyPriorUsed, 0);
+    t.Add(6, 0.6, kRegistrationFailed | kImuUsed, 0);
+    t.Add(7, 0.7, kOverBudget | kImuUsed, 0);  // cut after a registration: not failed
+    t.Add(8, 0.8, kCheckFailed | kOverBudget | kCutShort | kImuUsed, kHighResidual);
+    EXPECT_TRUE(t.trusted());
+    EXPECT_EQ(t.bridged_by_prior(), 3u);
+    EXPECT_EQ(t.bridged_over_budget(), 2u);
+    EXPECT_EQ(t.ToJson().at("bridged_over_budget"), 2);
+    EXPECT_NE(t.Describe().find("(2 of them cut by the budget)"), std::string::npos)
+        << t.Describe();
+    t.Add(9, 0.9, kCheckFailed | kOverBudget | kImuUsed, kLowOverlap);  // a deskew round cut
+    EXPECT_FALSE(t.trusted());
+    // More than kMaxBridgedCuts in a row: the prior's dead reckoning, a failed stretch.
+    TrajectoryTrust run;
+    for (size_t i = 20; i < 20 + TrajectoryTrust::kMaxBridgedCuts + 2; ++i) {
+        run.Add(i, 0.1 * double(i), kRegistrationFailed | kOverBudget | kImuUsed, 0);
+    }
+    EXPECT_EQ(run.bridged_over_budget(), TrajectoryTrust::kMaxBridgedCuts);
+    ASSERT_EQ(run.stretches().size(), 1u);
+    EXPECT_EQ(run.stretches()[0].first_scan, 20 + TrajectoryTrust::kMaxBridgedCuts);
+    EXPECT_EQ(run.stretches()[0].failed, 2u);
+    TrajectoryTrust lidar_only;
+    lidar_only.Add(3, 0.3, kRegistrationFailed | kOverBudget, 0);
+    lidar_only.Add(4, 0.4, kCheckFailed | kOverBudget | kCutShort, kHighResidual);
+    EXPECT_FALSE(lidar_only.trusted());
+    ASSERT_EQ(lidar_only.stretches().size(), 1u);
+    EXPECT_TRUE(lidar_only.stretches()[0].cut_by_budget);
+    EXPECT_EQ(lidar_only.ToJson().at("failed_stretches")[0].at("reasons"),
+              nlohmann::json({"registration failed", "cut by the budget", "high residual"}));
+}
+
 }  // namespace
 }  // namespace bimslam::replay
