@@ -52,6 +52,14 @@ void LidarOdometryConfig::Validate() const {
     Require(imu_capacity >= 16, c, "imu_capacity", double(imu_capacity), "must be >= 16");
     Require(max_imu_gap_s > 0 && max_imu_gap_s <= 1, c, "max_imu_gap_s", max_imu_gap_s,
             "must be in (0, 1]");
+    Require(gravity_window_s > 0 && gravity_window_s <= 10, c, "gravity_window_s", gravity_window_s,
+            "must be in (0, 10]");
+    imu_height_filter.Validate();
+    Require(rest_accel_sigma > 0, c, "rest_accel_sigma", rest_accel_sigma, "must be > 0");
+    Require(rest_gyro > 0, c, "rest_gyro", rest_gyro, "must be > 0");
+    Require(height_seen_share > 0 && height_seen_share <= 1, c, "height_seen_share",
+            height_seen_share, "must be in (0, 1]");
+
     Require(constant_velocity_sigma.allFinite() && (constant_velocity_sigma.array() > 0).all(), c,
             "constant_velocity_sigma", constant_velocity_sigma.minCoeff(), "must all be > 0");
     Require(imu_rotation_sigma > 0, c, "imu_rotation_sigma", imu_rotation_sigma, "must be > 0");
@@ -115,7 +123,8 @@ LidarOdometry::LidarOdometry(const LidarOdometryConfig& config)
       registration_(config.registration,
                     config.preprocess.max_registration_points +
                         (config.edge_features ? 2 * config.edges.max_edges : 0)),
-      body_prior_(config.body_prior) {
+      body_prior_(config.body_prior),
+      imu_height_(config.imu_height_filter) {
     config_.Validate();
     if (config_.edge_features) {
         edge_extractor_.emplace(config_.edges, config_.preprocess.max_points);
@@ -160,13 +169,11 @@ void LidarOdometry::AddBodyMotion(const BodyMotionSample& sample) {
     if (!body_prior_.Add(sample).ok()) ++dropped_inputs_;
 }
 
-bool LidarOdometry::IntegrateGyro(int64_t t0, int64_t t1, Eigen::Quaterniond* q) const {
-    *q = Eigen::Quaterniond::Identity();
+template <typename Piece>
+bool LidarOdometry::ForImuPieces(int64_t t0, int64_t t1, Piece&& piece) const {
     if (imu_count_ < 2 || t1 < t0) return false;
     const int64_t gap = static_cast<int64_t>(config_.max_imu_gap_s * 1e9);
     if (Imu(0).t_ns > t0 + gap || Imu(imu_count_ - 1).t_ns < t1 - gap) return false;
-    // The gyro held piecewise constant from each sample to the next (the last one beyond it),
-    // integrated over the overlap of each piece with [t0, t1].
     size_t lo = 0, hi = imu_count_ - 1;  // the last sample at or before t0 (binary search)
     while (lo < hi) {
         const size_t mid = (lo + hi + 1) / 2;
@@ -175,19 +182,96 @@ bool LidarOdometry::IntegrateGyro(int64_t t0, int64_t t1, Eigen::Quaterniond* q)
         else
             hi = mid - 1;
     }
-    size_t i = lo;
-    for (; i < imu_count_; ++i) {
+    // The gaps first, so that nothing is called on an interval that is not covered.
+    size_t last = lo;
+    for (; last + 1 < imu_count_ && Imu(last).t_ns < t1; ++last) {
+        const int64_t a = std::max(t0, last == 0 ? t0 : Imu(last).t_ns);
+        const int64_t b = std::min(t1, Imu(last + 1).t_ns);
+        if (Imu(last + 1).t_ns - Imu(last).t_ns > gap && b > a) return false;
+    }
+    for (size_t i = lo; i < imu_count_; ++i) {
         const int64_t a = std::max(t0, i == 0 ? t0 : Imu(i).t_ns);
         const int64_t b = std::min(t1, i + 1 < imu_count_ ? Imu(i + 1).t_ns : t1);
-        if (i + 1 < imu_count_ && Imu(i + 1).t_ns - Imu(i).t_ns > gap && b > a) return false;
-        if (b > a) {
-            const Eigen::Vector3d phi = Imu(i).gyro * (double(b - a) * 1e-9);
-            *q = *q * Eigen::Quaterniond(common::ExpSO3(phi));
-        }
+        if (b > a) piece(Imu(i), double(b - a) * 1e-9);
         if (b >= t1) break;
     }
-    q->normalize();
     return true;
+}
+
+bool LidarOdometry::IntegrateGyro(int64_t t0, int64_t t1, Eigen::Quaterniond* q) const {
+    // The gyro held piecewise constant from each sample to the next (the last one beyond it),
+    // integrated over the overlap of each piece with [t0, t1].
+    *q = Eigen::Quaterniond::Identity();
+    Eigen::Quaterniond acc = Eigen::Quaterniond::Identity();
+    const bool covered = ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
+        acc = acc * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
+    });
+    if (!covered) return false;
+    *q = acc.normalized();
+    return true;
+}
+
+void LidarOdometry::StartImuHeight() {
+    // Gravity's direction: the accelerometers' mean over the gravity_window_s before this scan
+    // (a person's steps put +-2.5 m/s^2 on it at 2 Hz: a shorter mean was 20 % short), in the
+    // odometry frame (this scan's pose rotates it there). Still over the window (the specific
+    // force's spread and the gyro's largest rate under rest_accel_sigma and rest_gyro), the rig
+    // is at rest: its vertical velocity is known, and the vertical bias is the mean's size less
+    // gravity.
+    const int64_t t1 = work_.stamp;
+    const int64_t t0 = t1 - static_cast<int64_t>(config_.gravity_window_s * 1e9);
+    if (imu_count_ == 0 || Imu(0).t_ns > t0) return;  // not yet a whole window
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero();
+    double max_rate = 0;
+    int n = 0;
+    for (size_t i = 0; i < imu_count_; ++i) {
+        if (Imu(i).t_ns < t0 || Imu(i).t_ns > t1) continue;
+        sum += Imu(i).accel;
+        sum_sq += Imu(i).accel.cwiseAbs2();
+        max_rate = std::max(max_rate, Imu(i).gyro.norm());
+        ++n;
+    }
+    if (n < 2 || !(sum.norm() > 0)) return;
+    const Eigen::Vector3d mean = sum / n;
+    const double spread = std::sqrt(std::max(0.0, (sum_sq / n - mean.cwiseAbs2()).sum()));
+    const bool at_rest = spread < config_.rest_accel_sigma && max_rate < config_.rest_gyro;
+    const Eigen::Vector3d up = (work_.T.linear() * mean).normalized();
+    imu_height_.Reset(up.dot(work_.T.translation()), up, at_rest, mean.norm() - kStandardGravity);
+}
+
+bool LidarOdometry::PropagateImuHeight(int64_t t0, int64_t t1, const Eigen::Matrix3d& R0) {
+    // Each sample's specific force at the lidar's rotation halfway through its piece.
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    const bool covered = ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
+        const Eigen::Quaterniond half = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (dt / 2)));
+        imu_height_.Propagate(R0 * half.toRotationMatrix(), m.accel, dt);
+        q = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
+    });
+    if (!covered) imu_height_ = ImuHeight(config_.imu_height_filter);
+    return covered;
+}
+
+void LidarOdometry::PredictHeight() {
+    // After a scan that did not see the height, the predicted motion's vertical part is the
+    // accelerometers' (the horizontal keeps the constant velocity's or the legs': imu_height.hpp
+    // says why).
+    ScanWork& w = work_;
+    OdometryResult& r = result_;
+    if (!config_.use_imu || !config_.imu_height || !imu_height_.initialized()) return;
+    const bool ready = imu_height_.ready();
+    const double h0 = imu_height_.height();
+    if (!PropagateImuHeight(last_stamp_ns_, w.stamp, w.T_prev.linear())) return;
+    // Once it predicts, it goes on until a scan sees the height again, ready or not: the
+    // constant velocity's vertical part would only carry on the filter's last velocity.
+    const bool used_last = last_height_from_imu_;
+    last_height_from_imu_ = false;
+    if (!(ready || used_last) || last_height_seen_ || !(r.flags & kImuUsed)) return;
+    const Eigen::Vector3d& up = imu_height_.up();
+    const Eigen::Vector3d d_cv = w.T_prev.linear() * w.delta.translation();  // odometry frame
+    const double dh = imu_height_.height() - h0;
+    w.delta.translation() = w.T_prev.linear().transpose() * (d_cv + up * (dh - up.dot(d_cv)));
+    r.flags |= kImuHeight;
+    last_height_from_imu_ = true;
 }
 
 ScanMotion LidarOdometry::MotionFor(const common::Vector6d& twist, double duration, int64_t stamp,
@@ -317,6 +401,7 @@ void LidarOdometry::Predict() {
         w.sigma.tail<3>().setConstant(config_.imu_rotation_sigma);
         r.flags |= kImuUsed;
     }
+    PredictHeight();
     // The legs against the LiDAR's own velocity (body_translation_gate): a foot that slips. The
     // scan is then deskewed and registered from the LiDAR's translation.
     if ((r.flags & kBodyPriorUsed) && (r.flags & kImuUsed) && config_.body_translation_gate > 0 &&
@@ -359,6 +444,11 @@ bool LidarOdometry::Align(const Eigen::Isometry3d& from, BudgetStep step) {
     in.fix_rotation = w.pin_rotation;
     in.edges = edges_;
     in.edge_map = edge_map_ ? &*edge_map_ : nullptr;
+    if (imu_height_.initialized()) {  // what the scan sees of the height (imu_height.hpp)
+        in.axis = from.linear().transpose() * imu_height_.up();
+        // Predicted from the accelerometers: kept unless the scan sees it.
+        if (r.flags & kImuHeight) in.hold_axis_below = config_.height_seen_share;
+    }
     const RegistrationResult before = r.registration;
     const Clock::time_point start = BudgetClockNow();
     r.registration = registration_.Align(in, map_, w.deadline);
@@ -547,9 +637,35 @@ void LidarOdometry::UpdateVelocity() {
             velocity_ = -xi;  // the motion from the oldest to now, seen from now
         }
     }
+    UpdateImuHeight();
     initialized_ = true;
     last_degenerate_ = (r.flags & (kDegenerate | kRegistrationFailed)) != 0;
     last_stamp_ns_ = w.stamp;
+}
+
+void LidarOdometry::UpdateImuHeight() {
+    // The filter learns the scan's height where the scan saw it: surfaces facing up or down
+    // carried height_seen_share of its weights (the registration's own degenerate_ratio counts
+    // the walls' noise: in a 2.4 m shaft some scans passed it and reported the guess's height
+    // with a 5 mm sigma). A scan that failed (kept the prediction), failed its checks or did not
+    // see the height only moves the filter's height to the pose's.
+    if (!config_.use_imu || !config_.imu_height) return;
+    const OdometryResult& r = result_;
+    const ScanWork& w = work_;
+    if (!imu_height_.initialized()) {
+        if (!(r.flags & kTooFewPoints)) StartImuHeight();
+        last_height_seen_ = true;
+        return;
+    }
+    const Eigen::Vector3d up_lidar = w.T.linear().transpose() * imu_height_.up();
+    const double h = imu_height_.up().dot(w.T.translation());
+    const bool failed = (r.flags & (kRegistrationFailed | kCheckFailed | kTooFewPoints)) != 0;
+    last_height_seen_ = !failed && r.registration.axis_share >= config_.height_seen_share;
+    if (!last_height_seen_) {
+        imu_height_.Hold(h);
+        return;
+    }
+    imu_height_.Update(h, up_lidar.dot(r.covariance.topLeftCorner<3, 3>() * up_lidar));
 }
 
 }  // namespace bimslam::odometry

@@ -46,6 +46,7 @@
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/se3.hpp"
 #include "algorithms/odometry/edge_features.hpp"
+#include "algorithms/odometry/imu_height.hpp"
 #include "algorithms/odometry/motion_prior.hpp"
 #include "algorithms/odometry/preprocess.hpp"
 #include "algorithms/odometry/registration_check.hpp"
@@ -98,6 +99,20 @@ struct LidarOdometryConfig {
     common::Vector6d constant_velocity_sigma =
         (common::Vector6d() << 0.05, 0.05, 0.05, 0.02, 0.02, 0.02).finished();
     double imu_rotation_sigma = 0.003;  // rad per scan, the gyro's rotation
+    // With the IMU, after a scan that did not see the height: the height predicted from the
+    // accelerometers (imu_height.hpp) instead of the constant velocity's or the legs' (planar),
+    // once that filter knows its vertical velocity, and kept there unless the scan sees it
+    // (kImuHeight). Scans after one that saw the height are predicted and registered as before.
+    bool imu_height = true;
+    ImuHeightConfig imu_height_filter;
+    // A scan saw the height when the surfaces facing up or down it hit carry at least this share
+    // of its registration's weights (RegistrationResult::axis_share).
+    double height_seen_share = 0.01;
+    // At rest over the gravity window: the specific force's spread (m/s^2, the root of its
+    // per-axis variances' sum) and the gyro's largest rate (rad/s) under these.
+    double rest_accel_sigma = 0.1;
+    double rest_gyro = 0.05;
+    double gravity_window_s = 1.0;  // the accelerometers' mean over this long: gravity's direction
     // Scans the constant velocity is averaged over. One scan's motion is noisy, and a velocity
     // that is wrong deskews the next scan wrongly, whose pose is then wrong the other way: with
     // one scan this can ring (measured on hand-held captures); averaging over a few damps it.
@@ -186,6 +201,7 @@ enum OdometryFlag : uint32_t {
     // The registration judged was stopped by the deadline (kOverBudget): a check it fails is of
     // an unfinished registration (TrajectoryTrust bridges it where the gyro or legs predicted).
     kCutShort = 1u << 15,
+    kImuHeight = 1u << 16,  // the predicted height came from the accelerometers
 };
 
 // The steps of a scan the budget cut (OdometryResult::budget_cut): a registration stopped at the
@@ -259,6 +275,18 @@ private:
     // Rotation of the lidar at t1 in the lidar at t0 from the gyro; false when the buffer does
     // not cover [t0, t1].
     bool IntegrateGyro(int64_t t0_ns, int64_t t1_ns, Eigen::Quaterniond* q) const;
+    // Calls piece(sample, dt_s) for each IMU sample's share of [t0, t1] in time order (each held
+    // until the next); false, having called nothing, when the buffer does not cover [t0, t1] or
+    // has a gap longer than max_imu_gap_s in it.
+    template <typename Piece>
+    bool ForImuPieces(int64_t t0_ns, int64_t t1_ns, Piece&& piece) const;
+    // The accelerometers' height filter (imu_height): started at the first scan with the IMU
+    // (gravity's direction from the accelerometers' mean), moved on to t1 from the lidar's
+    // rotation R0 at t0 and the gyro (false, and the filter stopped to start again, when the IMU
+    // does not cover the interval), and told what each scan saw of the height.
+    void StartImuHeight();
+    bool PropagateImuHeight(int64_t t0_ns, int64_t t1_ns, const Eigen::Matrix3d& R0);
+    void PredictHeight();
     // The motion during a scan: constant velocity `twist`, the gyro's rotation when it covers it.
     // *used_gyro (optional): whether the gyro covered it.
     ScanMotion MotionFor(const common::Vector6d& twist, double duration, int64_t stamp,
@@ -291,10 +319,11 @@ private:
     // headings (RegistrationCheckConfig::retry_headings); result_ and work_.T become the first
     // passing one's, else stay the prediction's. Returns whether a registration holds.
     bool TryOtherHeadings();
-    void RefineStart();     // the second scan of a start in motion (start_refinements)
-    void DeskewAgain();     // rounds of deskewing with the estimated motion (max_deskew_rounds)
-    void UpdateMap();       // 4
-    void UpdateVelocity();  // the pose kept, the constant velocity over the window
+    void RefineStart();      // the second scan of a start in motion (start_refinements)
+    void DeskewAgain();      // rounds of deskewing with the estimated motion (max_deskew_rounds)
+    void UpdateMap();        // 4
+    void UpdateVelocity();   // the pose kept, the constant velocity over the window
+    void UpdateImuHeight();  // the accelerometers' filter learns what the scan saw of the height
 
     // One scan's values through the steps.
     struct ScanWork {
@@ -324,6 +353,9 @@ private:
     VoxelMap map_;
     ScanRegistration registration_;
     MotionPrior body_prior_;
+    ImuHeight imu_height_;
+    bool last_height_seen_ = true;       // whether the last scan saw the height (imu_height)
+    bool last_height_from_imu_ = false;  // whether its predicted height was the filter's
     std::optional<EdgeExtractor> edge_extractor_;  // with edge_features
     std::optional<VoxelMap> edge_map_;
     std::span<const Eigen::Vector3f> edges_;  // of the last preprocessing

@@ -216,6 +216,18 @@ const RegistrationResult& ScanRegistration::Align(std::span<const Eigen::Vector3
     return Align(in, map, deadline);
 }
 
+void ScanRegistration::HoldAxis(const AlignInput& in, common::Vector6d* scaled,
+                                common::Matrix6d* cov) {
+    const Eigen::Vector3d& u = in.axis;
+    if (!(u.squaredNorm() > 0.5) || result_.axis_share >= in.hold_axis_below) return;
+    // Translation is unscaled (scale's head is 1). The guess's variance along u.
+    scaled->head<3>() -= u * u.dot(scaled->head<3>());
+    cov->topLeftCorner<3, 3>() +=
+        u.cwiseAbs2().dot(in.prior_sigma.head<3>().cwiseAbs2()) * u * u.transpose();
+    result_.axis_held = true;
+    ++result_.degenerate_directions;
+}
+
 const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const VoxelMap& map,
                                                   Clock::time_point deadline) {
     const Eigen::Isometry3d& T0 = in.T0;
@@ -297,7 +309,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     // The normal equations at the solution, with rotation scaled to metres (header comment):
     // H over [delta, xi], the correction's prior added to its block.
     const RowModel m(T0, delta.data(), xi.data());
-    double mean_range = 0, weight_sum = 0, weighted_sq = 0;
+    double mean_range = 0, weight_sum = 0, weighted_sq = 0, axis_sum = 0;
     int inliers = 0;
     for (int i = 0; i < n; ++i) mean_range += corr_[size_t(i)].p.norm();
     mean_range = n > 0 ? std::max(1.0, mean_range / n) : 1.0;
@@ -316,6 +328,14 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         const double w = c.sqrt_w * c.sqrt_w;
         const double r = c.n.dot(m.R * L + m.t) - c.d;
         H.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+        // The axis's evidence: a surface facing it (its normal within 60 deg), hit by the ray at
+        // more than grazing incidence (cos > 0.1). A voxel holding one or two rings' points at a
+        // corner fits a "plane" across the walls, and the rays run along it: in a 2.4 m shaft
+        // such voxels at the map's upper and lower edge put 1-2 % of the weights on the height.
+        const double facing = in.axis.dot(J.head<3>());  // cos of the normal to the axis
+        if (std::abs(facing) >= 0.5 && std::abs(J.head<3>().dot(c.p)) > 0.1 * c.p.norm()) {
+            axis_sum += w * facing * facing;
+        }
         weight_sum += w;
         weighted_sq += w * r * r;
         inliers += std::abs(r) <= config_.inlier_distance ? 1 : 0;
@@ -345,6 +365,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(scale).cwiseAbs2();
     common::Matrix6d cov = common::Matrix6d::Zero();
     result_.min_eigen_ratio = weight_sum > 0 ? lambda(0) / weight_sum : 0;
+    result_.axis_share = weight_sum > 0 ? axis_sum / weight_sum : 0;
     for (int k = 0; k < 6; ++k) {
         const common::Vector6d v = V.col(k);
         if (weight_sum > 0 && lambda(k) / weight_sum >= config_.degenerate_ratio) {
@@ -372,6 +393,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         scaled -= (1.0 - keep) * v * v.dot(scaled);
         cov += 1.0 / (data_info + prior_info) * v * v.transpose();
     }
+    HoldAxis(in, &scaled, &cov);
     if (correcting && result_.degenerate_directions > 0) {
         // The correction's optimum given the delta kept: xi' += -Hxx^-1 Hxd (delta' - delta).
         const common::Vector6d scaled_xi =

@@ -100,6 +100,14 @@ struct AlignInput {
     bool fix_rotation = false;
     std::span<const Eigen::Vector3f> edges;  // LOAM edge points (alpha 0), with edge_map
     const VoxelMap* edge_map = nullptr;
+    // A direction (unit, T0's lidar frame; zero: none) whose evidence is measured (axis_share):
+    // the constraints of surfaces that face it (their normals within 60 deg of it or of its
+    // opposite). Walls whose normals noise tilts a few degrees constrain it in the normal
+    // equations, by noise; a floor, a tread or a ceiling constrains it in fact.
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    // When axis_share is under this, T0 is kept along the axis, as along a weak direction (the
+    // height predicted from the accelerometers in a stairwell: imu_height.hpp); 0: never.
+    double hold_axis_below = 0;
 };
 
 struct RegistrationResult {
@@ -113,6 +121,10 @@ struct RegistrationResult {
     int inliers = 0;  // correspondences within inlier_distance of their plane at the solution
     double rms = 0;   // m, of the weighted residuals at the end
     int degenerate_directions = 0;
+    // AlignInput::axis's evidence: the weights' share of the correspondences on surfaces that
+    // face it, each weighted by its normal's cos^2 to it (0 when no axis was given).
+    double axis_share = 0;
+    bool axis_held = false;      // T0 kept along AlignInput::axis (hold_axis_below)
     double min_eigen_ratio = 0;  // smallest constraint share over the 6 directions
     bool converged = false;
     bool over_budget = false;  // stopped by the deadline; the best estimate so far
@@ -169,6 +181,9 @@ private:
     class CorrectionPrior;
     int Associate(const AlignInput& in, const VoxelMap& map, const Eigen::Isometry3d& T,
                   const common::Vector6d& xi, double max_distance, double cauchy_scale);
+    // Where the scan's evidence along in.axis is under in.hold_axis_below, the solution `scaled`
+    // (and its covariance, scaled units) kept at T0 along it.
+    void HoldAxis(const AlignInput& in, common::Vector6d* scaled, common::Matrix6d* cov);
 
     RegistrationConfig config_;
     std::vector<Correspondence> corr_;

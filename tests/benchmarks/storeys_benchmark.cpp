@@ -14,11 +14,15 @@
 //             another storey (height off by more than half the storeys' spacing). A walk whose
 //             odometry failed in places is anchored in pieces (anchored-in-parts): the figures are
 //             over the keyframes of its anchored pieces, and how many of all they are.
-// Suites (command line; default both):
+// Suites (command line; default all):
 //   buildings  the sample office and hall, and from ../shared/data AC20-FZK-Haus, Duplex_A and
 //              Office_A (where present), Go1 and hand-held, BIMSLAM_STOREYS_SEEDS seeds (3)
 //   starts     20 walks on the sample office (two similar storeys), half starting upstairs:
 //              how many are anchored (BIMSLAM_STOREYS_STARTS: another count)
+//   odometry   the buildings' walks, Go1 and hand-held, odometry only (no reference, no
+//              anchoring), with the IMU: the height predicted from the accelerometers where the
+//              scans do not see it (the default, algorithms/odometry/imu_height.hpp) against
+//              the constant velocity's (or the legs'), same capture
 // BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it (a building none of whose walks
 // is picked is not read).
 #include <algorithm>
@@ -108,12 +112,14 @@ struct Odometry {
 // The odometry of the capture (with the IMU, or LiDAR only), scored after SE(3) alignment.
 Odometry RunOdometry(const fs::path& capture, bool lidar_only,
                      const std::map<int64_t, StoreyRow>& storeys,
-                     const std::vector<io::StampedPose>& truth, const fs::path& session) {
+                     const std::vector<io::StampedPose>& truth, const fs::path& session,
+                     bool imu_height = true) {
     replay::CaptureOdometryOptions o;
     o.capture_dir = capture;
     o.session_dir = session;
     o.overwrite = true;
     o.use_imu = o.use_can = !lidar_only;
+    o.odometry.imu_height = imu_height;
     // The 50 ms budget in the thread's CPU time: on this shared machine a wall-clock budget cuts
     // scans short by the load (383 of 880 scans of a hand-held LiDAR-only run at load 6), and the
     // figures would measure the load, not the odometry.
@@ -293,6 +299,53 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
     }
 }
 
+// The odometry suite: a walk's odometry with the IMU, its height predicted from the
+// accelerometers where the scans do not see it (the default) and from the constant velocity or
+// the legs (imu_height off), on the same capture. No reference, no anchoring.
+struct OdometryTotals {
+    std::vector<double> accel, accel_max, accel_dz, cv, cv_max, cv_dz;
+    int untrusted_accel = 0, untrusted_cv = 0;
+};
+
+void RunOdometryOnly(const fs::path& tmp, const Building& b, Platform p, uint64_t seed,
+                     OdometryTotals* t) {
+    const std::string name = b.name + (p == Platform::kGo1 ? " go1" : " handheld") + " seed " +
+                             std::to_string(seed) + (seed % 2 ? " (up)" : " (down)");
+    const char* only = std::getenv("BIMSLAM_STOREYS_ONLY");
+    if (only && name.find(only) == std::string::npos) return;
+    const std::optional<simulate::Scenario> s = StoreyWalk(b, p, seed);
+    if (!s) {
+        std::printf("%-34s reaches one storey only (bimslam bim stairs)\n", name.c_str());
+        return;
+    }
+    const fs::path dir = tmp / "run";
+    fs::remove_all(dir);
+    try {
+        simulate::SimulateCapture(*s, b.model, "", dir / "capture");
+    } catch (const std::exception& e) {
+        std::printf("%-34s not simulated: %s\n", name.c_str(), e.what());
+        return;
+    }
+    const auto truth = io::ReadTum(dir / "capture" / "ground_truth.tum");
+    const auto storeys = ReadStoreys(dir / "capture" / "ground_truth_storeys.csv");
+    const Odometry a = RunOdometry(dir / "capture", false, storeys, truth, {}, true);
+    const Odometry c = RunOdometry(dir / "capture", false, storeys, truth, {}, false);
+    std::printf(
+        "%-34s accelerometers %5.2f/%5.2f cm dz %5.2f cm %-9s | constant velocity %5.2f/%5.2f cm "
+        "dz %5.2f cm %s\n",
+        name.c_str(), a.ape.rmse_cm, a.ape.max_cm, a.flight_dz_cm, a.verdict.c_str(), c.ape.rmse_cm,
+        c.ape.max_cm, c.flight_dz_cm, c.verdict.c_str());
+    std::fflush(stdout);
+    t->accel.push_back(a.ape.rmse_cm);
+    t->accel_max.push_back(a.ape.max_cm);
+    t->accel_dz.push_back(a.flight_dz_cm);
+    t->cv.push_back(c.ape.rmse_cm);
+    t->cv_max.push_back(c.ape.max_cm);
+    t->cv_dz.push_back(c.flight_dz_cm);
+    t->untrusted_accel += a.verdict != "trusted";
+    t->untrusted_cv += c.verdict != "trusted";
+}
+
 void PrintTotals(const Totals& t) {
     bench::Spread("odometry, IMU rmse (cm)", t.imu);
     bench::Spread("odometry, IMU max (cm)", t.imu_max);
@@ -309,12 +362,26 @@ void PrintTotals(const Totals& t) {
         t.anchored, t.runs, t.all_on_storey, t.in_parts);
 }
 
-std::vector<Building> Buildings(const fs::path& dir, uint64_t seeds) {
+// The buildings walked, with their references (none when `reference` is false: the models only).
+std::vector<Building> Buildings(const fs::path& dir, uint64_t seeds, bool reference = true) {
     std::vector<Building> out;
-    if (Picked("office", seeds))
-        out.push_back(bench::MakeBuilding(dir, "office", bim::BuildingLayout::kOffice, false));
-    if (Picked("hall", seeds))
-        out.push_back(bench::MakeBuilding(dir, "hall", bim::BuildingLayout::kHall, false));
+    const auto of = [&](const std::string& name, const fs::path& ifc) {
+        if (reference) return bench::ReferenceOf(dir, name, ifc);
+        Building b;
+        b.name = name;
+        b.ifc = ifc;
+        b.model = bim::LoadIfc(ifc);
+        return b;
+    };
+    for (const auto& [name, layout] : {std::pair{"office", bim::BuildingLayout::kOffice},
+                                       std::pair{"hall", bim::BuildingLayout::kHall}}) {
+        if (!Picked(name, seeds)) continue;
+        fs::create_directories(dir);
+        bim::SampleBuildingOptions o;
+        o.layout = layout;
+        bim::WriteSampleBuilding(dir / (std::string(name) + ".ifc"), o);
+        out.push_back(of(name, dir / (std::string(name) + ".ifc")));
+    }
     const auto data = test::SharedDataDir();
     if (!data) {
         std::printf("(../shared/data is absent: the real models are not walked)\n");
@@ -327,7 +394,7 @@ std::vector<Building> Buildings(const fs::path& dir, uint64_t seeds) {
             std::printf("(%s is absent: not walked)\n", ifc.c_str());
             continue;
         }
-        out.push_back(bench::ReferenceOf(dir, fs::path(f).stem().string(), ifc));
+        out.push_back(of(fs::path(f).stem().string(), ifc));
     }
     return out;
 }
@@ -337,7 +404,7 @@ std::vector<Building> Buildings(const fs::path& dir, uint64_t seeds) {
 
 int main(int argc, char** argv) {
     using namespace bimslam;
-    const bench::Suites wants(argc, argv, {"buildings", "starts"});
+    const bench::Suites wants(argc, argv, {"buildings", "starts", "odometry"});
     const char* seeds_env = std::getenv("BIMSLAM_STOREYS_SEEDS");
     const uint64_t seeds = seeds_env ? uint64_t(std::max(1, std::atoi(seeds_env))) : 3;
     test::TempDir tmp;
@@ -352,6 +419,29 @@ int main(int argc, char** argv) {
             }
         }
         PrintTotals(t);
+    }
+    if (wants("odometry")) {
+        std::printf(
+            "\n== odometry: walks by the stairs, the height predicted from the accelerometers "
+            "where the scans do not see it and from the constant velocity (or the legs), %llu "
+            "seeds\n",
+            static_cast<unsigned long long>(seeds));
+        for (const Platform p : {Platform::kGo1, Platform::kHandheld}) {
+            OdometryTotals t;
+            for (const Building& b : Buildings(tmp / "o", seeds, false)) {
+                for (uint64_t seed = 1; seed <= seeds; ++seed)
+                    RunOdometryOnly(tmp.path(), b, p, seed, &t);
+            }
+            std::printf("  %s:\n", p == Platform::kGo1 ? "Go1" : "hand-held");
+            bench::Spread("accelerometers, rmse (cm)", t.accel);
+            bench::Spread("accelerometers, max (cm)", t.accel_max);
+            bench::Spread("accelerometers, worst flight dz (cm)", t.accel_dz);
+            bench::Spread("constant velocity, rmse (cm)", t.cv);
+            bench::Spread("constant velocity, max (cm)", t.cv_max);
+            bench::Spread("constant velocity, worst flight dz (cm)", t.cv_dz);
+            std::printf("  untrusted: accelerometers %d, constant velocity %d of %zu\n",
+                        t.untrusted_accel, t.untrusted_cv, t.accel.size());
+        }
     }
     if (wants("starts")) {
         const char* starts_env = std::getenv("BIMSLAM_STOREYS_STARTS");

@@ -45,12 +45,20 @@ struct OdometryRun {
     std::vector<OdometryResult> results;
 };
 
-// The body rates of the trajectory at t by central differences, in the lidar frame.
-void Rates(const Trajectory& traj, double t, Eigen::Vector3d* v, Eigen::Vector3d* w) {
+// The body rates of the trajectory at t by central differences, in the lidar frame, and the
+// specific force an accelerometer there measures: R^T (a - g), g = (0, 0, -9.81).
+void Rates(const Trajectory& traj, double t, Eigen::Vector3d* v, Eigen::Vector3d* w,
+           Eigen::Vector3d* f = nullptr) {
     const double h = 1e-4;
     const Eigen::Isometry3d a = traj(t - h), b = traj(t + h), c = traj(t);
     *v = c.linear().transpose() * (b.translation() - a.translation()) / (2 * h);
     *w = common::LogSO3(a.linear().transpose() * b.linear()) / (2 * h);
+    if (f != nullptr) {
+        const double H = 1e-2;  // wider for the second difference (rounding)
+        const Eigen::Vector3d acc =
+            (traj(t + H).translation() - 2 * c.translation() + traj(t - H).translation()) / (H * H);
+        *f = c.linear().transpose() * (acc + Eigen::Vector3d(0, 0, 9.81));
+    }
 }
 
 // These tests check what the odometry estimates, not how fast: under ASan on a loaded two-core
@@ -77,9 +85,9 @@ OdometryRun Odometry(const simulation::Scene& scene, const Trajectory& traj, int
         // IMU and body motion at 100 Hz up to the end of this scan.
         for (; fed_ns <= stamp + 100'000'000; fed_ns += 10'000'000) {
             const double t = double(fed_ns - kStart) * 1e-9;
-            Eigen::Vector3d v, w;
-            Rates(traj, t, &v, &w);
-            if (in.imu) lo.AddImu({fed_ns, w, Eigen::Vector3d(0, 0, 9.81)});
+            Eigen::Vector3d v, w, f;
+            Rates(traj, t, &v, &w, &f);
+            if (in.imu) lo.AddImu({fed_ns, w, f});
             if (in.body) {
                 BodyMotionSample s;
                 s.t_ns = fed_ns;
@@ -150,6 +158,32 @@ TEST(LidarOdometry, AFeaturelessCorridorDoesNotDivergeWithTheGo1Prior) {
     std::cout << "corridor, 6 s: error " << with.final_translation_error * 100
               << " cm with the Go1 prior, " << without.final_translation_error * 100
               << " cm without\n";
+}
+
+// Up a shaft 2.4 m square between walls only (a stairwell's walls seen from its flight: floor and
+// ceiling out of the field of view), from rest: 1.5 s still, then 3 m up (1 - cos over 3 s, up to
+// 1.6 m/s), and still again from 4.5 s, as on a landing. The registration keeps the prediction
+// along the unseen height.
+Eigen::Isometry3d ShaftStop(double t) {
+    const double s = std::clamp((t - 1.5) / 3.0, 0.0, 1.0);
+    return Pose(0.1, 0.2, 1.5 * (1 - std::cos(M_PI * s)), 0.3);
+}
+
+TEST(LidarOdometry, AStopInAShaftFollowsTheAccelerometersNotTheConstantVelocity) {
+    const simulation::Scene scene(test::Room(Eigen::Vector3d::Zero(), {2.4, 2.4, 300}));
+    LidarOdometryConfig cv = Unhurried();
+    cv.imu_height = false;
+    const OdometryRun accel = Odometry(scene, ShaftStop, 70, {.imu = true});
+    const OdometryRun constant = Odometry(scene, ShaftStop, 70, {.imu = true}, cv);
+    EXPECT_TRUE(accel.flags & kDegenerate) << "the height is not seen";
+    EXPECT_TRUE(accel.results.back().flags & kImuHeight);
+    EXPECT_FALSE(constant.flags & kImuHeight);
+    EXPECT_LT(accel.max_translation_error, 0.05)
+        << "3 m up a height no scan sees, then 2.5 s still";
+    EXPECT_GT(constant.max_translation_error, 3 * accel.max_translation_error);
+    std::cout << "shaft, up and a stop: error " << accel.max_translation_error * 100
+              << " cm from the accelerometers, " << constant.max_translation_error * 100
+              << " cm from the constant velocity\n";
 }
 
 // The walks below start at rest for half a second, as the rig does: the first scan cannot be
