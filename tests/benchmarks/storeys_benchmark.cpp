@@ -109,6 +109,20 @@ struct Odometry {
     std::string verdict;  // the odometry's own: trusted or untrusted (trajectory_trust.hpp)
 };
 
+// The walk simulated into dir/capture (dir emptied first); false, said on stdout, when it cannot
+// be.
+bool SimulateWalk(const simulate::Scenario& s, const Building& b, const fs::path& dir,
+                  const std::string& name) {
+    fs::remove_all(dir);
+    try {
+        simulate::SimulateCapture(s, b.model, "", dir / "capture");
+    } catch (const std::exception& e) {
+        std::printf("%-34s not simulated: %s\n", name.c_str(), e.what());
+        return false;
+    }
+    return true;
+}
+
 // The odometry of the capture (with the IMU, or LiDAR only), scored after SE(3) alignment.
 Odometry RunOdometry(const fs::path& capture, bool lidar_only,
                      const std::map<int64_t, StoreyRow>& storeys,
@@ -256,14 +270,8 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
         return;
     }
     const fs::path dir = tmp / "run";
-    fs::remove_all(dir);
     const auto t0 = std::chrono::steady_clock::now();
-    try {
-        simulate::SimulateCapture(*s, b.model, "", dir / "capture");
-    } catch (const std::exception& e) {
-        std::printf("%-34s not simulated: %s\n", name.c_str(), e.what());
-        return;
-    }
+    if (!SimulateWalk(*s, b, dir, name)) return;
     const auto truth = io::ReadTum(dir / "capture" / "ground_truth.tum");
     const auto storeys = ReadStoreys(dir / "capture" / "ground_truth_storeys.csv");
     const Odometry imu = RunOdometry(dir / "capture", false, storeys, truth, dir / "session");
@@ -319,13 +327,7 @@ void RunOdometryOnly(const fs::path& tmp, const Building& b, Platform p, uint64_
         return;
     }
     const fs::path dir = tmp / "run";
-    fs::remove_all(dir);
-    try {
-        simulate::SimulateCapture(*s, b.model, "", dir / "capture");
-    } catch (const std::exception& e) {
-        std::printf("%-34s not simulated: %s\n", name.c_str(), e.what());
-        return;
-    }
+    if (!SimulateWalk(*s, b, dir, name)) return;
     const auto truth = io::ReadTum(dir / "capture" / "ground_truth.tum");
     const auto storeys = ReadStoreys(dir / "capture" / "ground_truth_storeys.csv");
     const Odometry a = RunOdometry(dir / "capture", false, storeys, truth, {}, true);
