@@ -73,12 +73,8 @@ public:
         const std::function<bool(size_t)>& wanted,
         const std::function<bool(const TargetKeyframe&)>& use_target);
 
-    const std::vector<AnchorSession>& sessions() const { return sessions_; }
-    const AnchorConfig& config() const { return config_; }
-    const std::vector<State>& state() const { return state_; }
-    StageTimes* times() { return &result_.times; }
-
 private:
+    StageTimes* times() { return &result_.times; }
     using Members = std::vector<std::pair<size_t, std::vector<Eigen::Isometry3d>>>;
 
     // AnchorQuery's steps.
