@@ -8,6 +8,7 @@
 #include <string>
 
 #include "algorithms/registration/free_space.hpp"
+#include "host_tools/anchor/anchoring_problem.hpp"
 #include "host_tools/anchor/place_recognition.hpp"
 
 namespace bimslam::anchor {
@@ -18,29 +19,27 @@ bool Apart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double m, dou
     return d.translation().norm() > m || common::RotationAngle(d) > deg * M_PI / 180;
 }
 
-std::vector<LoopRecord> ProximityLoops(const std::vector<AnchorSession>& sessions,
-                                       const Target& target,
-                                       const std::vector<Eigen::Isometry3d>& world, size_t q,
-                                       const std::function<bool(size_t)>& wanted,
-                                       const std::function<bool(const TargetKeyframe&)>& use_target,
-                                       const AnchorConfig& config, StageTimes* times) {
+std::vector<LoopRecord> AnchoringProblem::ProximityLoops(
+    const Target& target, const std::vector<Eigen::Isometry3d>& world, size_t q,
+    const std::function<bool(size_t)>& wanted,
+    const std::function<bool(const TargetKeyframe&)>& use_target) {
     std::vector<LoopRecord> jobs;
     std::vector<Eigen::Isometry3d> init;
     for (size_t j = 0; j < world.size(); ++j) {
         if (wanted && !wanted(j)) continue;
-        const size_t t = target.Nearest(world[j].translation(), config.proximity_radius_m,
-                                        config.proximity_height_m);
+        const size_t t = target.Nearest(world[j].translation(), config_.proximity_radius_m,
+                                        config_.proximity_height_m);
         if (t == Target::kNone) continue;
         const TargetKeyframe& tk = target.keyframes()[t];
         if (use_target && !use_target(tk)) continue;
         jobs.push_back(NewLoop(q, j, tk, LoopSource::kProximity));
         init.push_back(world[j]);
     }
-    RegisterLoops(sessions, target, config, init, config.proximity_first_level, true, &jobs, times);
+    RegisterLoops(target, init, config_.proximity_first_level, true, &jobs);
     for (size_t k = 0; k < jobs.size(); ++k) {
         LoopRecord& r = jobs[k];
-        if (!r.verified || !Apart(r.registration.T_target_source, init[k], config.proximity_gate_m,
-                                  config.proximity_gate_deg)) {
+        if (!r.verified || !Apart(r.registration.T_target_source, init[k], config_.proximity_gate_m,
+                                  config_.proximity_gate_deg)) {
             continue;
         }
         r.verified = false;
@@ -48,103 +47,29 @@ std::vector<LoopRecord> ProximityLoops(const std::vector<AnchorSession>& session
         r.reason = "moved " + std::to_string(d.translation().norm()).substr(0, 4) + " m / " +
                    std::to_string(common::RotationAngle(d) * 180 / M_PI).substr(0, 4) +
                    " deg from the estimate (gate " +
-                   std::to_string(config.proximity_gate_m).substr(0, 4) + " m)";
+                   std::to_string(config_.proximity_gate_m).substr(0, 4) + " m)";
     }
     return jobs;
 }
 
-Evaluation FollowHypothesis(const std::vector<AnchorSession>& sessions, std::vector<State> state,
-                            size_t q, const Target& target, std::vector<LoopRecord> seed_loops,
-                            const Eigen::Isometry3d& anchor, const AnchorConfig& config,
-                            StageTimes* times) {
-    const AnchorSession& query = sessions[q];
+Evaluation AnchoringProblem::FollowHypothesis(size_t q, const Target& target,
+                                              std::vector<LoopRecord> seed_loops,
+                                              const Eigen::Isometry3d& anchor) {
+    std::vector<State> state = state_;
+    const AnchorSession& query = sessions_[q];
     const size_t n = query.keyframes();
     state[q] = {anchor, query.poses, false};
-    OptimizeStates(sessions, &state, seed_loops, config, times);
-
-    // The place-recognition loop of each keyframe, used where proximity finds none.
-    std::vector<std::optional<LoopRecord>> seed(n), near(n);
-    for (const LoopRecord& l : seed_loops) {
-        if (!seed[l.query_index] || l.registration.fitness.inlier_ratio >
-                                        seed[l.query_index]->registration.fitness.inlier_ratio) {
-            seed[l.query_index] = l;
-        }
-    }
-    std::vector<Eigen::Isometry3d> registered_at(n);
-    std::set<size_t> previous;
-    std::vector<LoopRecord> loops = seed_loops;
+    OptimizeStates(sessions_, &state, seed_loops, config_, times());
     Evaluation ev;
-    for (int round = 1; round <= config.max_rounds; ++round) {
-        ev.hypothesis.rounds = round;
-        const std::vector<Eigen::Isometry3d> world = state[q].World();
-        const auto wanted = [&](size_t j) {
-            // A keyframe that has not moved since its last registration keeps its result.
-            return !near[j] || Apart(world[j], registered_at[j], 0.02, 0.2);
-        };
-        const std::vector<LoopRecord> fresh =
-            ProximityLoops(sessions, target, world, q, wanted, {}, config, times);
-        for (size_t j = 0; j < n; ++j) {
-            if (target.Nearest(world[j].translation(), config.proximity_radius_m,
-                               config.proximity_height_m) == Target::kNone) {
-                near[j].reset();
-            }
-        }
-        for (const LoopRecord& r : fresh) {
-            near[r.query_index] = r;
-            registered_at[r.query_index] = world[r.query_index];
-        }
-        loops.clear();
-        std::set<size_t> covered;
-        for (size_t j = 0; j < n; ++j) {
-            if (near[j] && near[j]->verified) {
-                loops.push_back(*near[j]);
-            } else if (seed[j]) {
-                loops.push_back(*seed[j]);
-            } else {
-                continue;
-            }
-            covered.insert(j);
-        }
-        const double moved = OptimizeStates(sessions, &state, loops, config, times);
-        if (covered == previous && moved < config.converged_m) break;
-        previous = covered;
-    }
-    // Loops the solution cannot explain are dropped, and the rest optimised once more.
-    PoseGraph g = BuildGraph(sessions, state, loops, config);
-    std::vector<LoopRecord> kept;
-    for (size_t k = 0; k < loops.size(); ++k) {
-        const double chi2 = g.LoopChi2(k);
-        if (chi2 > config.max_loop_chi2) {
-            LoopRecord r = loops[k];
-            r.reason = "inconsistent with the solution: chi2 " + std::to_string(chi2).substr(0, 6);
-            ev.rejected.push_back(r);
-        } else {
-            kept.push_back(loops[k]);
-        }
-    }
-    if (kept.size() != loops.size()) OptimizeStates(sessions, &state, kept, config, times);
+    std::vector<std::optional<LoopRecord>> near(n);
+    const std::vector<LoopRecord> loops =
+        ProximityRounds(q, target, seed_loops, &state, &near, &ev.hypothesis.rounds);
+    std::vector<LoopRecord> kept = DropUnexplained(loops, &state, &ev.rejected);
     for (size_t j = 0; j < n; ++j) {
         if (near[j] && !near[j]->verified) ev.rejected.push_back(*near[j]);
     }
-    // Negative evidence: the query's rays through the target's surfaces, where it is near.
-    std::vector<registration::FreeSpaceResult> fs(n);
-    const registration::SurfelMap& fs_map = target.map().level(config.free_space_level);
-    tbb::parallel_for(size_t(0), n, [&](size_t j) {
-        const Eigen::Isometry3d T = state[q].anchor * state[q].poses[j];
-        if (target.Nearest(T.translation(), config.proximity_radius_m, config.proximity_height_m) ==
-            Target::kNone) {
-            return;
-        }
-        fs[j] = registration::CheckFreeSpace(query.clouds[j], fs_map, T, config.free_space);
-    });
-    std::vector<double> ratios;
-    for (const auto& f : fs) {
-        if (f.rays > 0) ratios.push_back(f.ratio());
-    }
-    if (!ratios.empty()) {
-        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-        ev.hypothesis.seen_through = ratios[ratios.size() / 2];
-    }
+    const std::vector<registration::FreeSpaceResult> fs =
+        SeenThrough(q, target, state[q], &ev.hypothesis.seen_through);
     for (LoopRecord& l : kept) l.seen_through = fs[l.query_index].ratio();
     double inliers = 0;
     for (const LoopRecord& l : kept) inliers += l.registration.fitness.inlier_ratio;
@@ -158,6 +83,103 @@ Evaluation FollowHypothesis(const std::vector<AnchorSession>& sessions, std::vec
     ev.query = state[q];
     ev.accepted = std::move(kept);
     return ev;
+}
+
+std::vector<LoopRecord> AnchoringProblem::ProximityRounds(
+    size_t q, const Target& target, const std::vector<LoopRecord>& seed_loops,
+    std::vector<State>* state, std::vector<std::optional<LoopRecord>>* near, int* rounds) {
+    const size_t n = sessions_[q].keyframes();
+    // The place-recognition loop of each keyframe, used where proximity finds none.
+    std::vector<std::optional<LoopRecord>> seed(n);
+    for (const LoopRecord& l : seed_loops) {
+        if (!seed[l.query_index] || l.registration.fitness.inlier_ratio >
+                                        seed[l.query_index]->registration.fitness.inlier_ratio) {
+            seed[l.query_index] = l;
+        }
+    }
+    std::vector<Eigen::Isometry3d> registered_at(n);
+    std::set<size_t> previous;
+    std::vector<LoopRecord> loops = seed_loops;
+    for (int round = 1; round <= config_.max_rounds; ++round) {
+        *rounds = round;
+        const std::vector<Eigen::Isometry3d> world = (*state)[q].World();
+        const auto wanted = [&](size_t j) {
+            // A keyframe that has not moved since its last registration keeps its result.
+            return !(*near)[j] || Apart(world[j], registered_at[j], 0.02, 0.2);
+        };
+        const std::vector<LoopRecord> fresh = ProximityLoops(target, world, q, wanted, {});
+        for (size_t j = 0; j < n; ++j) {
+            if (target.Nearest(world[j].translation(), config_.proximity_radius_m,
+                               config_.proximity_height_m) == Target::kNone) {
+                (*near)[j].reset();
+            }
+        }
+        for (const LoopRecord& r : fresh) {
+            (*near)[r.query_index] = r;
+            registered_at[r.query_index] = world[r.query_index];
+        }
+        loops.clear();
+        std::set<size_t> covered;
+        for (size_t j = 0; j < n; ++j) {
+            if ((*near)[j] && (*near)[j]->verified) {
+                loops.push_back(*(*near)[j]);
+            } else if (seed[j]) {
+                loops.push_back(*seed[j]);
+            } else {
+                continue;
+            }
+            covered.insert(j);
+        }
+        const double moved = OptimizeStates(sessions_, state, loops, config_, times());
+        if (covered == previous && moved < config_.converged_m) break;
+        previous = covered;
+    }
+    return loops;
+}
+
+std::vector<LoopRecord> AnchoringProblem::DropUnexplained(const std::vector<LoopRecord>& loops,
+                                                          std::vector<State>* state,
+                                                          std::vector<LoopRecord>* rejected) {
+    PoseGraph g = BuildGraph(sessions_, *state, loops, config_);
+    std::vector<LoopRecord> kept;
+    for (size_t k = 0; k < loops.size(); ++k) {
+        const double chi2 = g.LoopChi2(k);
+        if (chi2 > config_.max_loop_chi2) {
+            LoopRecord r = loops[k];
+            r.reason = "inconsistent with the solution: chi2 " + std::to_string(chi2).substr(0, 6);
+            rejected->push_back(r);
+        } else {
+            kept.push_back(loops[k]);
+        }
+    }
+    if (kept.size() != loops.size()) OptimizeStates(sessions_, state, kept, config_, times());
+    return kept;
+}
+
+std::vector<registration::FreeSpaceResult> AnchoringProblem::SeenThrough(size_t q,
+                                                                         const Target& target,
+                                                                         const State& query_state,
+                                                                         double* median) const {
+    const size_t n = sessions_[q].keyframes();
+    std::vector<registration::FreeSpaceResult> fs(n);
+    const registration::SurfelMap& fs_map = target.map().level(config_.free_space_level);
+    tbb::parallel_for(size_t(0), n, [&](size_t j) {
+        const Eigen::Isometry3d T = query_state.anchor * query_state.poses[j];
+        if (target.Nearest(T.translation(), config_.proximity_radius_m,
+                           config_.proximity_height_m) == Target::kNone) {
+            return;
+        }
+        fs[j] = registration::CheckFreeSpace(sessions_[q].clouds[j], fs_map, T, config_.free_space);
+    });
+    std::vector<double> ratios;
+    for (const auto& f : fs) {
+        if (f.rays > 0) ratios.push_back(f.ratio());
+    }
+    if (!ratios.empty()) {
+        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+        *median = ratios[ratios.size() / 2];
+    }
+    return fs;
 }
 
 }  // namespace bimslam::anchor

@@ -11,6 +11,7 @@
 #include "algorithms/posegraph/max_clique.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/scancontext/distance.hpp"
+#include "host_tools/anchor/anchoring_problem.hpp"
 
 namespace bimslam::anchor {
 namespace {
@@ -35,27 +36,26 @@ LoopRecord NewLoop(size_t query, size_t index, const TargetKeyframe& target, Loo
     return r;
 }
 
-void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& target,
-                   const AnchorConfig& config, const std::vector<Eigen::Isometry3d>& init,
-                   size_t first_level, bool proximity, std::vector<LoopRecord>* records,
-                   StageTimes* times) {
+void AnchoringProblem::RegisterLoops(const Target& target,
+                                     const std::vector<Eigen::Isometry3d>& init, size_t first_level,
+                                     bool proximity, std::vector<LoopRecord>* records) {
     const auto t0 = Clock::now();
     tbb::parallel_for(size_t(0), records->size(), [&](size_t k) {
         LoopRecord& r = (*records)[k];
-        const AnchorSession& q = sessions[r.query_session];
+        const AnchorSession& q = sessions_[r.query_session];
         r.registration = registration::Register(q.clouds[r.query_index], target.map(), init[k],
-                                                config.registration, first_level);
+                                                config_.registration, first_level);
         r.T_target_query = r.T_world_target.inverse() * r.registration.T_target_source;
         const registration::Fitness& f = r.registration.fitness;
         if (r.registration.failed) {
             r.reason = "registration failed: " + std::to_string(r.registration.correspondences) +
                        " correspondences";
-        } else if (f.inlier_ratio < config.min_inlier_ratio) {
+        } else if (f.inlier_ratio < config_.min_inlier_ratio) {
             r.reason = "inlier ratio " + std::to_string(f.inlier_ratio).substr(0, 4) + " < " +
-                       std::to_string(config.min_inlier_ratio).substr(0, 4);
-        } else if (f.inlier_rmse > config.max_inlier_rmse) {
+                       std::to_string(config_.min_inlier_ratio).substr(0, 4);
+        } else if (f.inlier_rmse > config_.max_inlier_rmse) {
             r.reason = "inlier rmse " + std::to_string(f.inlier_rmse * 100).substr(0, 4) + " cm";
-        } else if (!proximity && config.require_full_rank &&
+        } else if (!proximity && config_.require_full_rank &&
                    r.registration.degenerate_directions > 0) {
             r.reason = "degenerate: " + std::to_string(r.registration.degenerate_directions) +
                        " weak direction(s)";
@@ -66,31 +66,29 @@ void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& tar
         if (!r.registration.failed) {
             r.seen_through =
                 registration::CheckFreeSpace(q.clouds[r.query_index],
-                                             target.map().level(config.free_space_level),
-                                             r.registration.T_target_source, config.free_space)
+                                             target.map().level(config_.free_space_level),
+                                             r.registration.T_target_source, config_.free_space)
                     .ratio();
         }
     });
-    times->registration_s += common::SecondsSince(t0);
-    times->registrations += records->size();
+    times()->registration_s += common::SecondsSince(t0);
+    times()->registrations += records->size();
 }
 
-std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& sessions, size_t query,
-                                       const Target& target, const AnchorConfig& config,
-                                       StageTimes* times) {
+std::vector<LoopRecord> AnchoringProblem::FindPlaceLoops(size_t query, const Target& target) {
     const auto t0 = Clock::now();
-    const AnchorSession& q = sessions[query];
+    const AnchorSession& q = sessions_[query];
     std::vector<std::vector<LoopRecord>> per_keyframe(q.keyframes());
     tbb::parallel_for(size_t(0), q.keyframes(), [&](size_t j) {
-        const auto match = target.index().Query(q.descriptors[j], config.ring_key_candidates);
+        const auto match = target.index().Query(q.descriptors[j], config_.ring_key_candidates);
         if (!match) return;
         std::vector<scancontext::Candidate> c = match->candidates;
         std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) {
             return a.scan_context.distance < b.scan_context.distance;
         });
         for (const scancontext::Candidate& cand : c) {
-            if (int(per_keyframe[j].size()) >= config.sc_candidates) break;
-            if (cand.scan_context.distance > config.max_sc_distance) break;
+            if (int(per_keyframe[j].size()) >= config_.sc_candidates) break;
+            if (cand.scan_context.distance > config_.max_sc_distance) break;
             if (target.keyframes()[cand.index].session == query) continue;
             const TargetKeyframe& tk = target.keyframes()[cand.index];
             LoopRecord r = NewLoop(query, j, tk, LoopSource::kScanContext);
@@ -101,24 +99,23 @@ std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& session
     });
     std::vector<LoopRecord> records;
     for (auto& v : per_keyframe) records.insert(records.end(), v.begin(), v.end());
-    times->candidates_s += common::SecondsSince(t0);
+    times()->candidates_s += common::SecondsSince(t0);
 
     std::vector<Eigen::Isometry3d> init;
     for (const LoopRecord& r : records) init.push_back(r.T_world_target * Yaw(r.sc_yaw));
-    RegisterLoops(sessions, target, config, init, 0, false, &records, times);
+    RegisterLoops(target, init, 0, false, &records);
     return records;
 }
 
-void InjectFalseLoops(const std::vector<AnchorSession>& sessions, size_t query,
-                      const Target& target, const AnchorConfig& config,
-                      std::vector<LoopRecord>* records, StageTimes* times) {
-    if (config.inject_false_loops <= 0) return;
+void AnchoringProblem::InjectFalseLoops(size_t query, const Target& target,
+                                        std::vector<LoopRecord>* records) {
+    if (config_.inject_false_loops <= 0) return;
     size_t verified = 0;
     for (const LoopRecord& r : *records) verified += r.verified;
-    const double f = config.inject_false_loops;
+    const double f = config_.inject_false_loops;
     const size_t n = size_t(std::lround(f / (1 - f) * double(verified)));
-    std::mt19937_64 rng(config.seed);
-    std::uniform_int_distribution<size_t> pick_q(0, sessions[query].keyframes() - 1);
+    std::mt19937_64 rng(config_.seed);
+    std::uniform_int_distribution<size_t> pick_q(0, sessions_[query].keyframes() - 1);
     std::uniform_int_distribution<size_t> pick_t(0, target.keyframes().size() - 1);
     std::vector<LoopRecord> fake(n);
     std::vector<Eigen::Isometry3d> init(n);
@@ -128,13 +125,13 @@ void InjectFalseLoops(const std::vector<AnchorSession>& sessions, size_t query,
         const TargetKeyframe& tk = target.keyframes()[t];
         LoopRecord& r = fake[k];
         r = NewLoop(query, j, tk, LoopSource::kInjected);
-        const auto d = scancontext::Distance(sessions[query].descriptors[r.query_index],
+        const auto d = scancontext::Distance(sessions_[query].descriptors[r.query_index],
                                              target.index().descriptor(t), 1.0);
         r.sc_distance = d.distance;
         r.sc_yaw = d.yaw;
         init[k] = tk.T_world_lidar * Yaw(r.sc_yaw);
     }
-    RegisterLoops(sessions, target, config, init, 0, false, &fake, times);
+    RegisterLoops(target, init, 0, false, &fake);
     for (LoopRecord& r : fake) {
         if (r.registration.failed) continue;  // nothing to inject: no transform at all
         r.verified = true;                    // accepted whatever its fitness: the worst case

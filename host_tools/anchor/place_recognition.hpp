@@ -1,6 +1,6 @@
 // Steps 1 and 2 of anchoring (anchoring.hpp): loop candidates by Scan Context, verified by
-// registration; the hypotheses of mutually consistent loops (PCM); the false loops the
-// robustness benchmark injects.
+// registration (place_recognition.cpp defines them as AnchoringProblem's FindPlaceLoops,
+// InjectFalseLoops and RegisterLoops); the hypotheses of mutually consistent loops (PCM).
 #pragma once
 
 #include <vector>
@@ -12,25 +12,6 @@ namespace bimslam::anchor {
 
 // The loop of query keyframe (query, index) at a target keyframe, not registered yet.
 LoopRecord NewLoop(size_t query, size_t index, const TargetKeyframe& target, LoopSource source);
-
-// Registers each record's query keyframe to the target's map from `init[k]` (world frame) and
-// fills its registration, T_target_query and verified (the place-recognition test unless
-// `proximity`). Parallel; adds the wall time and the count to *times.
-void RegisterLoops(const std::vector<AnchorSession>& sessions, const Target& target,
-                   const AnchorConfig& config, const std::vector<Eigen::Isometry3d>& init,
-                   size_t first_level, bool proximity, std::vector<LoopRecord>* records,
-                   StageTimes* times);
-
-// Every query keyframe's best Scan Context candidates among the target's keyframes (of other
-// sessions than the query), registered and verified.
-std::vector<LoopRecord> FindPlaceLoops(const std::vector<AnchorSession>& sessions, size_t query,
-                                       const Target& target, const AnchorConfig& config,
-                                       StageTimes* times);
-
-// Replaces config.inject_false_loops of the verified loops by wrong pairs (see AnchorConfig).
-void InjectFalseLoops(const std::vector<AnchorSession>& sessions, size_t query,
-                      const Target& target, const AnchorConfig& config,
-                      std::vector<LoopRecord>* records, StageTimes* times);
 
 // T_world_local the loop implies for its query session: the registered pose times the inverse of
 // the keyframe's pose in its session.

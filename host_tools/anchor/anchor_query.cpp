@@ -1,0 +1,198 @@
+// Steps 1-4 of anchoring.hpp for one query session against a target (AnchoringProblem::
+// AnchorQuery): place recognition, the hypotheses, each followed, ranked, and the verdict.
+#include <algorithm>
+#include <chrono>
+#include <set>
+#include <string>
+
+#include "algorithms/common/stopwatch.hpp"
+#include "host_tools/anchor/anchoring_problem.hpp"
+#include "host_tools/anchor/place_recognition.hpp"
+
+namespace bimslam::anchor {
+namespace {
+using Clock = std::chrono::steady_clock;
+
+// The loop whose registration fits best.
+const LoopRecord& BestLoop(const std::vector<LoopRecord>& loops) {
+    return *std::max_element(loops.begin(), loops.end(), [](const auto& a, const auto& b) {
+        return a.registration.fitness.inlier_ratio < b.registration.fitness.inlier_ratio;
+    });
+}
+
+std::string Percent(double r) { return std::to_string(100 * r).substr(0, 4) + " %"; }
+
+// What an anchored verdict rests on: the best hypothesis's loops and free space, and why the
+// next one (ranked[1], if any) is not a rival.
+std::string AnchoredReason(const std::vector<Evaluation>& ranked, size_t keyframes) {
+    const Hypothesis& best = ranked[0].hypothesis;
+    std::string reason = std::to_string(best.loops) + " loops on " + std::to_string(best.covered) +
+                         " of " + std::to_string(keyframes) + " keyframes, mean inlier ratio " +
+                         std::to_string(best.mean_inlier_ratio).substr(0, 4) + ", " +
+                         Percent(best.seen_through) + " of rays through the model; ";
+    if (ranked.size() == 1) return reason + "no rival hypothesis";
+    const Hypothesis& next = ranked[1].hypothesis;
+    return reason + "the next hypothesis explains " + std::to_string(next.covered) +
+           (next.contradicted ? " and is contradicted (" + Percent(next.seen_through) + ")"
+            : next.outweighed ? " and is outweighed by free space (" + Percent(next.seen_through) +
+                                    " of rays through the model)"
+                              : std::string());
+}
+
+}  // namespace
+
+QueryOutcome AnchoringProblem::AnchorQuery(size_t q, const Target& target) {
+    QueryOutcome out;
+    const std::vector<size_t> verified = PlaceRecognition(q, target, &out);
+    const std::vector<std::vector<size_t>> cliques = Cliques(verified, &out.records);
+    std::vector<Evaluation> evals;
+    for (size_t h = 0; h < cliques.size(); ++h) {
+        std::optional<Evaluation> e = FollowClique(q, target, cliques[h], int(h), &out.records);
+        if (!e) continue;
+        evals.push_back(std::move(*e));
+        evals.back().clique = int(h);
+        evals.back().hypothesis.clique_index = int(h);
+        if (progress_) progress_("hypotheses: " + sessions_[q].name, h + 1, cliques.size());
+    }
+    // Free space marks and ranks the hypotheses; the verdict follows from the best two.
+    evals = Rank(std::move(evals), &out.result);
+    Decide(q, evals, &out);
+    if (out.result.verdict == Verdict::kAnchored) Accept(evals, sessions_[q].keyframes(), &out);
+    return out;
+}
+
+// Step 1: the candidates, registered and verified (and the injected false ones); returns the
+// indices of the verified ones.
+std::vector<size_t> AnchoringProblem::PlaceRecognition(size_t q, const Target& target,
+                                                       QueryOutcome* out) {
+    const AnchorSession& query = sessions_[q];
+    SessionResult& res = out->result;
+    res.name = query.name;
+    res.keyframes = query.keyframes();
+    if (progress_) progress_("place recognition: " + query.name, 0, query.keyframes());
+    out->records = FindPlaceLoops(q, target);
+    InjectFalseLoops(q, target, &out->records);
+    res.candidates = out->records.size();
+    std::vector<size_t> verified;
+    for (size_t k = 0; k < out->records.size(); ++k) {
+        if (out->records[k].verified) verified.push_back(k);
+    }
+    res.verified = verified.size();
+    if (progress_)
+        progress_("place recognition: " + query.name, query.keyframes(), query.keyframes());
+    return verified;
+}
+
+// Step 2: the hypotheses, cliques of consistent loops (PCM), or all verified loops together
+// (GNC, none).
+std::vector<std::vector<size_t>> AnchoringProblem::Cliques(const std::vector<size_t>& verified,
+                                                           std::vector<LoopRecord>* records) {
+    const auto t0 = Clock::now();
+    std::vector<std::vector<size_t>> cliques;
+    if (config_.outliers == OutlierMethod::kPcm) {
+        cliques = ConsistentHypotheses(*records, verified, sessions_, config_);
+    } else if (int(verified.size()) >= config_.min_clique) {
+        cliques.push_back(verified);
+    }
+    times()->consistency_s += common::SecondsSince(t0);
+    for (auto& r : *records) {
+        if (r.verified) r.reason = "not in a consistent set of loops";
+    }
+    return cliques;
+}
+
+// Step 3 for clique h: its loops (those GNC keeps, with GNC) followed from the anchor its best
+// loop implies; none when GNC keeps fewer than min_clique.
+std::optional<Evaluation> AnchoringProblem::FollowClique(size_t q, const Target& target,
+                                                         const std::vector<size_t>& clique, int h,
+                                                         std::vector<LoopRecord>* records) {
+    std::vector<LoopRecord> seeds;
+    for (size_t k : clique) {
+        (*records)[k].hypothesis = h;
+        (*records)[k].reason = "hypothesis " + std::to_string(h) + " (rejected)";
+        seeds.push_back((*records)[k]);
+    }
+    const Eigen::Isometry3d anchor = ImpliedAnchor(BestLoop(seeds), sessions_);
+    if (config_.outliers != OutlierMethod::kGnc) return FollowHypothesis(q, target, seeds, anchor);
+    std::vector<State> st = state_;
+    st[q] = {anchor, sessions_[q].poses, false};
+    const auto tg = Clock::now();
+    const std::vector<double> w = GncWeights(sessions_, &st, seeds, config_, times());
+    times()->consistency_s += common::SecondsSince(tg);
+    std::vector<LoopRecord> kept;
+    for (size_t k = 0; k < seeds.size(); ++k) {
+        LoopRecord& r = (*records)[clique[k]];
+        if (w[k] >= 0.5) {
+            kept.push_back(seeds[k]);
+        } else {
+            r.hypothesis = -1;
+            r.reason = "rejected by GNC: weight " + std::to_string(w[k]).substr(0, 4);
+        }
+    }
+    if (int(kept.size()) < config_.min_clique) return std::nullopt;
+    return FollowHypothesis(q, target, kept, st[q].anchor);
+}
+
+// Step 4: free space marks the hypotheses and ranks them (RankHypotheses); the result lists them
+// best first.
+std::vector<Evaluation> AnchoringProblem::Rank(std::vector<Evaluation> evals,
+                                               SessionResult* res) const {
+    std::vector<Hypothesis> hypotheses;
+    for (const Evaluation& e : evals) hypotheses.push_back(e.hypothesis);
+    const std::vector<size_t> order = RankHypotheses(hypotheses, config_);
+    std::vector<Evaluation> ranked;
+    for (size_t i : order) {
+        ranked.push_back(std::move(evals[i]));
+        ranked.back().hypothesis = hypotheses[i];
+        res->hypotheses.push_back(hypotheses[i]);
+    }
+    return ranked;
+}
+
+// Step 4: the verdict (DecideVerdict) and, unless anchored, why.
+void AnchoringProblem::Decide(size_t q, const std::vector<Evaluation>& ranked,
+                              QueryOutcome* out) const {
+    SessionResult& res = out->result;
+    res.verdict = DecideVerdict(res.hypotheses, sessions_[q].poses, config_, &res.reason);
+    if (ranked.empty()) {
+        res.reason = "no set of at least " + std::to_string(config_.min_clique) +
+                     " mutually consistent loops among " + std::to_string(res.verified) +
+                     " verified of " + std::to_string(res.candidates) + " candidates";
+    }
+}
+
+// An anchored query: its pose and loops from the best hypothesis; the records say which loops
+// were accepted, and gain the chosen hypothesis's proximity loops and its rejected ones.
+void AnchoringProblem::Accept(const std::vector<Evaluation>& ranked, size_t keyframes,
+                              QueryOutcome* out) {
+    const Evaluation& best = ranked[0];
+    SessionResult& res = out->result;
+    res.anchor = best.hypothesis.anchor;
+    res.world_poses = best.query.World();
+    res.accepted_loops = best.accepted.size();
+    res.covered = best.hypothesis.covered;
+    res.reason = AnchoredReason(ranked, keyframes);
+    out->state = best.query;
+    out->accepted = best.accepted;
+    std::set<std::pair<size_t, size_t>> accepted_pr;
+    for (const LoopRecord& l : best.accepted) {
+        if (l.source != LoopSource::kProximity) accepted_pr.insert({l.query_index, l.target_index});
+    }
+    for (LoopRecord& r : out->records) {
+        if (accepted_pr.count({r.query_index, r.target_index}) && r.verified) {
+            r.accepted = true;
+            r.reason = "accepted";
+        } else if (r.verified && r.hypothesis == best.clique) {
+            r.reason = "consistent; superseded by a proximity loop of the same keyframe";
+        }
+    }
+    for (LoopRecord l : best.accepted) {
+        if (l.source != LoopSource::kProximity) continue;
+        l.accepted = true;
+        l.reason = "accepted";
+        out->records.push_back(l);
+    }
+    for (const LoopRecord& l : best.rejected) out->records.push_back(l);
+}
+
+}  // namespace bimslam::anchor

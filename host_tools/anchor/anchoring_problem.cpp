@@ -1,0 +1,133 @@
+// The anchoring problem (anchoring_problem.hpp) and its Solve: each query against the reference,
+// a failed one again against the reference and the anchored ones, the loops between anchored
+// query sessions, and all optimised together (step 6 of anchoring.hpp).
+#include "host_tools/anchor/anchoring_problem.hpp"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <memory>
+
+#include "algorithms/common/stopwatch.hpp"
+
+namespace bimslam::anchor {
+namespace {
+using Clock = std::chrono::steady_clock;
+}  // namespace
+
+AnchoringProblem::AnchoringProblem(const std::vector<AnchorSession>& sessions,
+                                   const AnchorConfig& config, const Progress& progress)
+    : sessions_(sessions), config_(config), progress_(progress), state_(sessions.size()) {
+    for (size_t s = 0; s < sessions.size(); ++s) {
+        state_[s] = {Eigen::Isometry3d::Identity(), sessions[s].poses, true};
+    }
+}
+
+AnchorResult AnchoringProblem::Solve() {
+    std::unique_ptr<tbb::global_control> limit;
+    if (config_.threads > 0) {
+        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                      size_t(config_.threads));
+    }
+    const auto t_start = Clock::now();
+    // 1-4: each query against the reference.
+    if (progress_) progress_("reference map", 0, 1);
+    const Target reference = TargetOf({{0, state_[0].World()}});
+    for (size_t q = 1; q < sessions_.size(); ++q) {
+        outcomes_.push_back(AnchorQuery(q, reference));
+    }
+    for (size_t q : Anchored()) state_[q] = outcomes_[q - 1].state;
+    RetryWithAnchored();
+    // 6: loops between anchored query sessions, by proximity, then all together.
+    const std::vector<LoopRecord> joint = LoopsBetweenSessions();
+    const std::vector<size_t> now = Anchored();
+    for (size_t q : now) state_[q].fixed = false;
+    if (!now.empty()) {
+        OptimizeStates(sessions_, &state_, joint, config_, times(), {}, nullptr, &result_.graph);
+    }
+    Gather();
+    times()->total_s = common::SecondsSince(t_start);
+    return std::move(result_);
+}
+
+// The target of `members` (session index, world poses of its keyframes); its build time goes to
+// the stage times.
+Target AnchoringProblem::TargetOf(const Members& members) {
+    const auto t0 = Clock::now();
+    Target target(sessions_, members, config_);
+    times()->map_s += common::SecondsSince(t0);
+    return target;
+}
+
+// The queries anchored so far, in input order.
+std::vector<size_t> AnchoringProblem::Anchored() const {
+    std::vector<size_t> a;
+    for (size_t q = 1; q < sessions_.size(); ++q) {
+        if (outcomes_[q - 1].result.verdict == Verdict::kAnchored) a.push_back(q);
+    }
+    return a;
+}
+
+// A session that failed alone, against the reference and the sessions anchored alone; one
+// anchored so is placed at once, before the next is tried.
+void AnchoringProblem::RetryWithAnchored() {
+    const std::vector<size_t> alone = Anchored();
+    if (alone.empty() || alone.size() + 1 >= sessions_.size()) return;
+    Members members{{0, state_[0].World()}};
+    for (size_t q : alone) members.push_back({q, state_[q].World()});
+    const Target all = TargetOf(members);
+    for (size_t q = 1; q < sessions_.size(); ++q) {
+        if (outcomes_[q - 1].result.verdict == Verdict::kAnchored) continue;
+        QueryOutcome retry = AnchorQuery(q, all);
+        if (retry.result.verdict == Verdict::kAnchored) {
+            retry.result.via_other_sessions = true;
+            outcomes_[q - 1] = std::move(retry);
+            state_[q] = outcomes_[q - 1].state;
+        }
+    }
+}
+
+// Every anchored query's accepted loops, and the verified proximity loops from each anchored
+// query session to the earlier ones (each pair once), which also join their records.
+std::vector<LoopRecord> AnchoringProblem::LoopsBetweenSessions() {
+    std::vector<LoopRecord> joint;
+    const std::vector<size_t> now = Anchored();
+    for (size_t q : now) {
+        for (const LoopRecord& l : outcomes_[q - 1].accepted) joint.push_back(l);
+    }
+    if (now.size() < 2) return joint;
+    for (size_t q : now) {
+        Members others;
+        for (size_t o : now) {
+            if (o != q) others.push_back({o, state_[o].World()});
+        }
+        const Target target = TargetOf(others);
+        const std::vector<LoopRecord> loops =
+            ProximityLoops(target, state_[q].World(), q, {},
+                           [q](const TargetKeyframe& tk) { return tk.session < q; });
+        for (LoopRecord r : loops) {
+            if (r.verified) {
+                r.accepted = true;
+                r.reason = "accepted";
+                joint.push_back(r);
+            }
+            outcomes_[q - 1].records.push_back(r);
+        }
+    }
+    return joint;
+}
+
+// The result per query (an anchored one at its jointly optimised state) and every loop.
+void AnchoringProblem::Gather() {
+    for (size_t q = 1; q < sessions_.size(); ++q) {
+        QueryOutcome& o = outcomes_[q - 1];
+        if (o.result.verdict == Verdict::kAnchored) {
+            o.result.anchor = state_[q].anchor;
+            o.result.world_poses = state_[q].World();
+        }
+        result_.sessions.push_back(o.result);
+        for (LoopRecord& r : o.records) result_.loops.push_back(std::move(r));
+    }
+}
+
+}  // namespace bimslam::anchor
