@@ -272,8 +272,13 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
         const int64_t t0 = runtime::MonotonicNs();
         // CLOCK_REALTIME kernel stamps to CLOCK_MONOTONIC with the offset of this moment.
         const int64_t rt_minus_mono = runtime::RealtimeNs() - t0;
-        const net::UdpBatch lidar = m.lidar_socket->Receive(common::Duration{0});
-        const net::UdpBatch imu = m.imu_socket->Receive(common::Duration{0});
+        // Only the sockets poll found readable: a system call less per datagram.
+        const auto receive = [](net::UdpSource& socket, const pollfd& fd) {
+            return (fd.revents & (POLLIN | POLLERR)) ? socket.Receive(common::Duration{0})
+                                                     : net::UdpBatch{};
+        };
+        const net::UdpBatch lidar = receive(*m.lidar_socket, fds[0]);
+        const net::UdpBatch imu = receive(*m.imu_socket, fds[1]);
         if (lidar.code == common::StatusCode::kIoError || imu.code == common::StatusCode::kIoError)
             ++m.c.socket_errors;
         size_t i = 0, j = 0;

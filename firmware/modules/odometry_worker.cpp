@@ -63,6 +63,18 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         fill(*item);
         queue.CommitPush();
     };
+    // The odometry first: the LCM thread publishes it before the keyframe (encoding a keyframe
+    // of a whole scan takes milliseconds), and the keyframes' copies are not on its path.
+    times.handed = runtime::MonotonicNs();
+    push(q_.odometry_out, [&](OdometryItem& o) {
+        o.result = r;
+        o.scan_index = out.scan_index;
+        o.scan_end_ns = slot->scan.last_column_ns;
+        o.complete = out.complete;
+        o.keyframe = out.keyframe;
+        o.reset = out.clock_jump;
+        o.times = times;
+    });
     if (config_.record)
         push(q_.poses, [&](PoseItem& p) {
             p.pose = io::StampedPose::FromIsometry(out.stamp_ns, r.T_odom_lidar);
@@ -80,16 +92,6 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         if (config_.record) push(q_.keyframes_session, fill);
         push(q_.keyframes_lcm, fill);
     }
-    times.handed = runtime::MonotonicNs();
-    push(q_.odometry_out, [&](OdometryItem& o) {
-        o.result = r;
-        o.scan_index = out.scan_index;
-        o.scan_end_ns = slot->scan.last_column_ns;
-        o.complete = out.complete;
-        o.keyframe = out.keyframe;
-        o.reset = out.clock_jump;
-        o.times = times;
-    });
     const int64_t latency = times.handed - times.last_packet;
     if (latencies_.size() < latencies_.capacity()) latencies_.push_back(latency);
     stats.Cycle(latency, config_.deadline_ns);
