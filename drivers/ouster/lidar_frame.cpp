@@ -66,17 +66,37 @@ void ToPointCloud(const LidarFrame& frame, common::PointCloud* out) {
     out->frame = "os_sensor";
     if (frame.range.empty()) return;
     const bool use_reflectivity = !frame.reflectivity.empty();
+    // Sized for every pixel and written in place, then cut to the points kept: appending a point
+    // at a time cost a call and four capacity checks a point, and the rig does this between a
+    // frame's last packet and its odometry. Within a reserved cloud nothing is allocated.
+    const size_t pixels = static_cast<size_t>(frame.h) * static_cast<size_t>(frame.w);
+    out->xyz.resize(pixels);
+    out->intensity.resize(pixels);
+    out->ring.resize(pixels);
+    out->time_offset_ns.resize(pixels);
+    Eigen::Vector3f* xyz = out->xyz.data();
+    float* intensity = out->intensity.data();
+    uint16_t* ring = out->ring.data();
+    uint32_t* time = out->time_offset_ns.data();
+    size_t k = 0;
     for (int v = 0; v < frame.w; ++v) {
         if (!frame.ColumnValid(v)) continue;
         const auto dt = static_cast<uint32_t>(frame.timestamp[v] - frame.start_ns);
         for (int u = 0; u < frame.h; ++u) {
             const size_t i = frame.Index(u, v);
             if (frame.range[i] == 0) continue;
-            const float intensity =
+            xyz[k] = frame.xyz[i];
+            intensity[k] =
                 use_reflectivity ? frame.reflectivity[i] : static_cast<float>(frame.signal[i]);
-            out->PushBack(frame.xyz[i], intensity, static_cast<uint16_t>(u), dt);
+            ring[k] = static_cast<uint16_t>(u);
+            time[k] = dt;
+            ++k;
         }
     }
+    out->xyz.resize(k);
+    out->intensity.resize(k);
+    out->ring.resize(k);
+    out->time_offset_ns.resize(k);
 }
 
 }  // namespace bimslam::ouster

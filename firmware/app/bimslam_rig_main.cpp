@@ -54,6 +54,16 @@ nlohmann::json Stalls(const bimslam::rig::RunSummary& s) {
     return j;
 }
 
+// [{"stage": "receive", "p50": ms, "p99": ms, "max": ms}, ...] in the order a scan passes them.
+nlohmann::json Stages(const bimslam::rig::RunSummary& s) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const bimslam::rig::StageLatency& st : s.latency_stages) {
+        j.push_back(
+            {{"stage", st.name}, {"p50", st.p50_ms}, {"p99", st.p99_ms}, {"max", st.max_ms}});
+    }
+    return j;
+}
+
 void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
     if (json) {
         nlohmann::json j = {{"session", s.session_dir},
@@ -95,6 +105,7 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"latency_ms_p50", s.latency_p50_ms},
                             {"latency_ms_p99", s.latency_p99_ms},
                             {"latency_ms_max", s.latency_max_ms},
+                            {"latency_stages_ms", Stages(s)},
                             {"cpu_percent", s.cpu_percent},
                             {"rss_mb", s.rss_mb},
                             {"wall_s", s.wall_s},
@@ -111,6 +122,10 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
         (unsigned long long)s.deadline_misses, s.wall_s);
     std::printf("  latency last packet -> odometry on LCM: p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
                 s.latency_p50_ms, s.latency_p99_ms, s.latency_max_ms);
+    for (const bimslam::rig::StageLatency& st : s.latency_stages) {
+        std::printf("    %-9s p50 %.2f ms, p99 %.2f ms, max %.2f ms\n", st.name.c_str(), st.p50_ms,
+                    st.p99_ms, st.max_ms);
+    }
     std::printf("  CPU %.1f %% of one core, RSS %.0f MB\n", s.cpu_percent, s.rss_mb);
     std::printf(
         "  faults: %llu incomplete frames, %llu CRC failures, %llu silences, %llu sensor "

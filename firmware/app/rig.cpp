@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include "algorithms/common/se3.hpp"
@@ -41,6 +42,18 @@ double Percentile(std::vector<int64_t> v, double p) {
     return double(v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))]) * 1e-6;
 }
 
+// The latency's stages (LatencyStages, microseconds) as percentiles in ms.
+std::vector<StageLatency> StagePercentiles(const std::vector<LatencyStages>& scans) {
+    std::vector<StageLatency> out;
+    std::vector<int64_t> ns(scans.size());
+    for (size_t i = 0; i < LatencyStages::kCount; ++i) {
+        for (size_t k = 0; k < scans.size(); ++k) ns[k] = int64_t(scans[k].us[i]) * 1000;
+        out.push_back({LatencyStages::kNames[i], Percentile(ns, 0.5), Percentile(ns, 0.99),
+                       Percentile(ns, 1.0)});
+    }
+    return out;
+}
+
 Eigen::Isometry3d MountFrom(const std::vector<double>& m) {
     return common::PoseFromXyzRpyDeg({m[0], m[1], m[2]}, {m[3], m[4], m[5]});
 }
@@ -59,29 +72,35 @@ runtime::ThreadSpec Spec(const std::string& name, const ThreadConfig& t, int64_t
     return s;
 }
 
-}  // namespace
-
-RunSummary RunRig(const RunOptions& o) {
-    const RigConfig& cfg = o.config;
-    ValidateConfig(cfg);
-    const bool replay = !o.recording.empty();
-    RunSummary summary;
-
-    // The sensor, the recording and the mount.
+// The sensor, the recording and the mount, from the configuration and the recording.
+struct Inputs {
+    bool replay = false;
     io::CaptureFiles files;
-    std::string can_log = cfg.can_log;
-    std::string can_source = cfg.handheld ? "none" : cfg.can_source;
-    Eigen::Isometry3d T_base_lidar = MountFrom(cfg.mount);
-    if (replay) {
-        files = io::ResolveCapture(o.recording);
+    std::string can_log, can_source;
+    Eigen::Isometry3d T_base_lidar;
+    fs::path metadata_path;
+    ouster::SensorInfo info;
+};
+
+Inputs ResolveInputs(const RunOptions& o) {
+    const RigConfig& cfg = o.config;
+    Inputs in;
+    in.replay = !o.recording.empty();
+    in.can_log = cfg.can_log;
+    in.can_source = cfg.handheld ? "none" : cfg.can_source;
+    in.T_base_lidar = MountFrom(cfg.mount);
+    if (in.replay) {
+        in.files = io::ResolveCapture(o.recording);
         if (!cfg.handheld && cfg.can_source != "none") {
-            if (can_log.empty()) can_log = files.can_log.string();
-            can_source = can_log.empty() ? "none" : "log";
+            if (in.can_log.empty()) in.can_log = in.files.can_log.string();
+            in.can_source = in.can_log.empty() ? "none" : "log";
         }
-        if (!files.capture_json.empty()) {
-            if (const auto mount = io::ReadCaptureMount(files.capture_json)) T_base_lidar = *mount;
+        if (!in.files.capture_json.empty()) {
+            if (const auto mount = io::ReadCaptureMount(in.files.capture_json)) {
+                in.T_base_lidar = *mount;
+            }
         }
-    } else if (can_source == "log") {
+    } else if (in.can_source == "log") {
         throw common::Error(StatusCode::kInvalidArgument,
                             "can.source: log reads a recording, which only replay does; live "
                             "takes socketcan, lcm or none");
@@ -90,284 +109,356 @@ RunSummary RunRig(const RunOptions& o) {
                             "sensor.metadata: live mode needs the sensor's metadata JSON");
     }
     // A bag's metadata is one of its topics (unless sensor.metadata is set).
-    const fs::path metadata_path = replay ? files.metadata : fs::path(cfg.metadata);
-    const ouster::SensorInfo info = !metadata_path.empty() ? ouster::LoadMetadata(metadata_path)
-                                                           : LoadBagMetadata(files.packets);
+    in.metadata_path = in.replay ? in.files.metadata : fs::path(cfg.metadata);
+    in.info = !in.metadata_path.empty() ? ouster::LoadMetadata(in.metadata_path)
+                                        : LoadBagMetadata(in.files.packets);
+    return in;
+}
 
-    // Queues, every slot allocated here.
-    runtime::Wakeup worker_wakeup, writer_wakeup, lcm_wakeup;
-    const size_t points = size_t(std::max(1, info.format.pixels_per_column)) *
-                          size_t(std::max(1, info.format.columns_per_frame));
-    const auto reserve_scan = [points](ScanSlot& s) { s.scan.cloud.Reserve(points); };
-    const auto reserve_keyframe = [points](KeyframeItem& k) {
-        k.keyframe.cloud.Reserve(points);
-        k.keyframe.descriptor.resize(20, 60);
-    };
-    runtime::SpscQueue<ScanSlot> scans("scans", size_t(cfg.scan_queue), reserve_scan,
-                                       &worker_wakeup);
-    runtime::SpscQueue<ImuItem> imu("imu", size_t(cfg.imu_queue), {}, &worker_wakeup);
-    runtime::SpscQueue<BodyItem> bodies("go1_samples", size_t(cfg.body_queue), {}, &worker_wakeup);
-    runtime::SpscQueue<OdometryItem> odometry_out("odometry_out", size_t(cfg.publish_queue), {},
-                                                  &lcm_wakeup);
-    runtime::SpscQueue<KeyframeItem> keyframes_lcm("keyframes_lcm", size_t(cfg.keyframe_queue),
-                                                   reserve_keyframe, &lcm_wakeup);
-    runtime::SpscQueue<KeyframeItem> keyframes_session(
-        "keyframes_session", size_t(cfg.keyframe_queue), reserve_keyframe, &writer_wakeup);
-    runtime::SpscQueue<PoseItem> poses("poses", size_t(cfg.publish_queue) * 4, {}, &writer_wakeup);
-    runtime::SpscQueue<OusterImuItem> imu_lcm("imu_lcm", size_t(cfg.publish_queue) * 4, {},
-                                              &lcm_wakeup);
-    runtime::SpscQueue<Go1Item> go1_lcm("go1_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup);
-    runtime::SpscQueue<bimslam::rig_health_t> health_lcm("health_lcm", 4, {}, &lcm_wakeup);
-    runtime::SpscQueue<bimslam::ouster_stats_t> stats_lcm("ouster_stats_lcm", 4, {}, &lcm_wakeup);
-    const std::vector<const runtime::QueueBase*> all_queues = {
-        &scans, &imu,     &bodies,  &odometry_out, &keyframes_lcm, &keyframes_session,
-        &poses, &imu_lcm, &go1_lcm, &health_lcm,   &stats_lcm};
+// Every queue of the rig (firmware/runtime/README.md), every slot allocated here.
+struct Queues {
+    Queues(const RigConfig& cfg, size_t points)
+        : scans(
+              "scans", size_t(cfg.scan_queue),
+              [points](ScanSlot& s) { s.scan.cloud.Reserve(points); }, &worker_wakeup),
+          imu("imu", size_t(cfg.imu_queue), {}, &worker_wakeup),
+          bodies("go1_samples", size_t(cfg.body_queue), {}, &worker_wakeup),
+          odometry_out("odometry_out", size_t(cfg.publish_queue), {}, &lcm_wakeup),
+          keyframes_lcm("keyframes_lcm", size_t(cfg.keyframe_queue), ReserveKeyframe(points),
+                        &lcm_wakeup),
+          keyframes_session("keyframes_session", size_t(cfg.keyframe_queue),
+                            ReserveKeyframe(points), &writer_wakeup),
+          poses("poses", size_t(cfg.publish_queue) * 4, {}, &writer_wakeup),
+          imu_lcm("imu_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup),
+          go1_lcm("go1_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup),
+          health_lcm("health_lcm", 4, {}, &lcm_wakeup),
+          stats_lcm("ouster_stats_lcm", 4, {}, &lcm_wakeup) {}
 
-    // Modules.
-    ReplayClock clock;
-    clock.speed = o.speed;
-    LidarIngestConfig li;
-    li.bind_address = cfg.bind_address;
-    li.sensor_address = cfg.sensor_address;
-    // Live: the configured ports, else the metadata's. Replay: the recorded ones (the metadata's).
-    li.lidar_port =
-        uint16_t(cfg.lidar_port && !replay ? cfg.lidar_port : info.udp_port_lidar.value_or(7502));
-    li.imu_port =
-        uint16_t(cfg.imu_port && !replay ? cfg.imu_port : info.udp_port_imu.value_or(7503));
-    li.receive_buffer_bytes = cfg.receive_buffer_bytes;
-    li.sensor_timeout_ns = int64_t(cfg.sensor_timeout_s * 1e9);
-    li.publish_imu = cfg.publish_imu;
-    if (replay) li.recording = files.packets;
-    LidarIngest ingest(li, info, scans, imu, imu_lcm, replay ? &clock : nullptr);
-
-    std::optional<CanIngest> can;
-    if (can_source != "none") {
-        CanIngestConfig cc;
-        cc.source = can_source;
-        cc.interface_name = cfg.can_interface;
-        cc.log = can_log;
-        cc.lcm_url = cfg.lcm_url;
-        cc.lcm_channel = cfg.can_lcm_channel;
-        cc.publish_go1_state = cfg.publish_go1_state;
-        can.emplace(cc, bodies, go1_lcm, replay ? &clock : nullptr);
+    static std::function<void(KeyframeItem&)> ReserveKeyframe(size_t points) {
+        return [points](KeyframeItem& k) {
+            k.keyframe.cloud.Reserve(points);
+            k.keyframe.descriptor.resize(20, 60);
+        };
+    }
+    std::vector<const runtime::QueueBase*> All() const {
+        return {&scans, &imu,     &bodies,  &odometry_out, &keyframes_lcm, &keyframes_session,
+                &poses, &imu_lcm, &go1_lcm, &health_lcm,   &stats_lcm};
     }
 
-    OdometryWorkerConfig wc;
-    pipeline::ScanPipelineConfig& pc = wc.pipeline;
-    pc.odometry.budget_ms = cfg.budget_ms;
-    pc.odometry.preprocess.deskew = cfg.deskew;
-    pc.odometry.use_imu = cfg.use_imu;
-    pc.odometry.edge_features = cfg.edge_features;
-    pc.odometry.T_base_lidar = T_base_lidar;
-    pc.odometry.use_body_motion = can.has_value();
-    pc.keyframes.distance_m = cfg.keyframe_distance_m;
-    pc.keyframes.angle_deg = cfg.keyframe_angle_deg;
-    wc.can_wait_ns = int64_t(cfg.can_wait_ms * 1e6);
-    wc.deadline_ns = int64_t(cfg.deadline_ms * 1e6);
-    wc.lossless = replay;  // a replay loses nothing, at any speed
-    wc.record = cfg.record;
-    OdometryWorker worker(
-        wc,
-        {scans, imu, bodies, odometry_out, keyframes_lcm, keyframes_session, poses, worker_wakeup},
-        can ? &*can : nullptr);
+    runtime::Wakeup worker_wakeup, writer_wakeup, lcm_wakeup;  // declared first: built first
+    runtime::SpscQueue<ScanSlot> scans;
+    runtime::SpscQueue<ImuItem> imu;
+    runtime::SpscQueue<BodyItem> bodies;
+    runtime::SpscQueue<OdometryItem> odometry_out;
+    runtime::SpscQueue<KeyframeItem> keyframes_lcm, keyframes_session;
+    runtime::SpscQueue<PoseItem> poses;
+    runtime::SpscQueue<OusterImuItem> imu_lcm;
+    runtime::SpscQueue<Go1Item> go1_lcm;
+    runtime::SpscQueue<bimslam::rig_health_t> health_lcm;
+    runtime::SpscQueue<bimslam::ouster_stats_t> stats_lcm;
+};
 
-    std::optional<SessionRecorder> recorder;
-    if (cfg.record) {
+size_t PointsPerScan(const ouster::SensorInfo& info) {
+    return size_t(std::max(1, info.format.pixels_per_column)) *
+           size_t(std::max(1, info.format.columns_per_frame));
+}
+
+// One run of the rig: built from the options (the modules and their queues), then Run: the
+// threads started, the wait for the end, the orderly stop, the summary.
+class Rig {
+public:
+    explicit Rig(const RunOptions& o)
+        : o_(o), cfg_(o.config), in_(ResolveInputs(o)), q_(cfg_, PointsPerScan(in_.info)) {
+        clock_.speed = o.speed;
+        MakeModules();
+        AddThreads();
+    }
+
+    RunSummary Run() {
+        Start();
+        WaitForEnd();
+        StopInOrder();
+        Summarize();
+        return summary_;
+    }
+
+private:
+    void MakeModules();
+    void AddThreads();
+    void Start();
+    void WaitForEnd();
+    void StopInOrder();
+    void Summarize();
+    void SummarizeCan();
+
+    const RunOptions& o_;
+    const RigConfig& cfg_;
+    Inputs in_;
+    Queues q_;
+    ReplayClock clock_;
+    OdometryWorkerConfig wc_;
+    std::optional<LidarIngest> ingest_;
+    std::optional<CanIngest> can_;
+    std::optional<OdometryWorker> worker_;
+    std::optional<SessionRecorder> recorder_;
+    std::optional<LcmPublisher> publisher_;
+    std::atomic<bool> stop_sources_{false}, ingest_done_{false}, can_done_{true},
+        worker_done_{false}, health_stop_{false}, health_done_{false}, lcm_inputs_done_{false};
+    runtime::ThreadTable threads_;
+    runtime::SdNotifier notifier_;
+    std::optional<Health> health_;
+    sigset_t signals_{};
+    int64_t cpu0_ = 0, t0_ = 0;
+    RunSummary summary_;
+};
+
+void Rig::MakeModules() {
+    const bool replay = in_.replay;
+    LidarIngestConfig li;
+    li.bind_address = cfg_.bind_address;
+    li.sensor_address = cfg_.sensor_address;
+    // Live: the configured ports, else the metadata's. Replay: the recorded ones (the metadata's).
+    li.lidar_port = uint16_t(cfg_.lidar_port && !replay ? cfg_.lidar_port
+                                                        : in_.info.udp_port_lidar.value_or(7502));
+    li.imu_port =
+        uint16_t(cfg_.imu_port && !replay ? cfg_.imu_port : in_.info.udp_port_imu.value_or(7503));
+    li.receive_buffer_bytes = cfg_.receive_buffer_bytes;
+    li.sensor_timeout_ns = int64_t(cfg_.sensor_timeout_s * 1e9);
+    li.publish_imu = cfg_.publish_imu;
+    if (replay) li.recording = in_.files.packets;
+    ingest_.emplace(li, in_.info, q_.scans, q_.imu, q_.imu_lcm, replay ? &clock_ : nullptr);
+
+    if (in_.can_source != "none") {
+        CanIngestConfig cc;
+        cc.source = in_.can_source;
+        cc.interface_name = cfg_.can_interface;
+        cc.log = in_.can_log;
+        cc.lcm_url = cfg_.lcm_url;
+        cc.lcm_channel = cfg_.can_lcm_channel;
+        cc.publish_go1_state = cfg_.publish_go1_state;
+        can_.emplace(cc, q_.bodies, q_.go1_lcm, replay ? &clock_ : nullptr);
+        can_done_.store(false);
+    }
+
+    pipeline::ScanPipelineConfig& pc = wc_.pipeline;
+    pc.odometry.budget_ms = cfg_.budget_ms;
+    pc.odometry.preprocess.deskew = cfg_.deskew;
+    pc.odometry.use_imu = cfg_.use_imu;
+    pc.odometry.edge_features = cfg_.edge_features;
+    pc.odometry.T_base_lidar = in_.T_base_lidar;
+    pc.odometry.use_body_motion = can_.has_value();
+    pc.keyframes.distance_m = cfg_.keyframe_distance_m;
+    pc.keyframes.angle_deg = cfg_.keyframe_angle_deg;
+    wc_.can_wait_ns = int64_t(cfg_.can_wait_ms * 1e6);
+    wc_.deadline_ns = int64_t(cfg_.deadline_ms * 1e6);
+    wc_.lossless = replay;  // a replay loses nothing, at any speed
+    wc_.record = cfg_.record;
+    worker_.emplace(wc_,
+                    WorkerQueues{q_.scans, q_.imu, q_.bodies, q_.odometry_out, q_.keyframes_lcm,
+                                 q_.keyframes_session, q_.poses, q_.worker_wakeup},
+                    can_ ? &*can_ : nullptr);
+
+    if (cfg_.record) {
         SessionRecorderConfig rc;
-        rc.root = cfg.session_root;
-        rc.manifest =
-            pipeline::MakeSessionManifest(info, metadata_path.filename().string(), pc.keyframes);
-        rc.min_free_bytes = int64_t(cfg.min_free_mb * 1e6);
-        recorder.emplace(rc, poses, keyframes_session, writer_wakeup);
-        summary.session_dir = recorder->first_dir().string();
+        rc.root = cfg_.session_root;
+        rc.manifest = pipeline::MakeSessionManifest(in_.info, in_.metadata_path.filename().string(),
+                                                    pc.keyframes);
+        rc.min_free_bytes = int64_t(cfg_.min_free_mb * 1e6);
+        recorder_.emplace(rc, q_.poses, q_.keyframes_session, q_.writer_wakeup);
+        summary_.session_dir = recorder_->first_dir().string();
     }
     LcmOutputConfig lcm_output;
     if (replay) {  // live runs are never paced
-        lcm_output.pace_bytes_per_s = cfg.lcm_replay_rate_mb_s * 1e6;
-        lcm_output.pace_messages_per_s = cfg.lcm_replay_messages_per_s;
+        lcm_output.pace_bytes_per_s = cfg_.lcm_replay_rate_mb_s * 1e6;
+        lcm_output.pace_messages_per_s = cfg_.lcm_replay_messages_per_s;
     }
-    lcm_output.log_path = o.lcm_log;
-    LcmPublisher publisher(
-        cfg.lcm_url, pc.keyframes,
-        {odometry_out, keyframes_lcm, imu_lcm, go1_lcm, health_lcm, stats_lcm, lcm_wakeup},
-        lcm_output);
+    lcm_output.log_path = o_.lcm_log;
+    publisher_.emplace(cfg_.lcm_url, pc.keyframes,
+                       LcmQueues{q_.odometry_out, q_.keyframes_lcm, q_.imu_lcm, q_.go1_lcm,
+                                 q_.health_lcm, q_.stats_lcm, q_.lcm_wakeup},
+                       lcm_output);
+}
 
-    // The thread table (firmware/runtime/README.md).
-    std::atomic<bool> stop_sources{false}, ingest_done{false}, can_done{!can.has_value()},
-        worker_done{false}, health_stop{false}, health_done{false}, lcm_inputs_done{false};
-    runtime::ThreadTable threads;
-    threads.Add(Spec("ingest", cfg.ingest, 0, 0, "lidar/IMU datagrams",
-                     replay ? "the recording (paced)" : "the two UDP sockets"),
-                [&](runtime::ThreadStats& s) {
-                    ingest.Run(s, stop_sources);
-                    ingest_done.store(true);
-                    worker_wakeup.Notify();
-                });
-    if (can) {
-        threads.Add(Spec("can", cfg.can, 0, 0, "CAN frames",
-                         can_source == "log" ? "the log (paced)" : "the CAN source"),
-                    [&](runtime::ThreadStats& s) {
-                        can->Run(s, stop_sources);
-                        can_done.store(true);
-                    });
+// The thread table (firmware/runtime/README.md).
+void Rig::AddThreads() {
+    threads_.Add(Spec("ingest", cfg_.ingest, 0, 0, "lidar/IMU datagrams",
+                      in_.replay ? "the recording (paced)" : "the two UDP sockets"),
+                 [this](runtime::ThreadStats& s) {
+                     ingest_->Run(s, stop_sources_);
+                     ingest_done_.store(true);
+                     q_.worker_wakeup.Notify();
+                 });
+    if (can_) {
+        threads_.Add(Spec("can", cfg_.can, 0, 0, "CAN frames",
+                          in_.can_source == "log" ? "the log (paced)" : "the CAN source"),
+                     [this](runtime::ThreadStats& s) {
+                         can_->Run(s, stop_sources_);
+                         can_done_.store(true);
+                     });
     }
-    threads.Add(Spec("odometry", cfg.odometry, 0, wc.deadline_ns, "a scan (10 Hz)",
-                     "the scan queue; the CAN progress (bounded)"),
-                [&](runtime::ThreadStats& s) {
-                    worker.Run(s, stop_sources, ingest_done);
-                    worker_done.store(true);
-                    writer_wakeup.Notify();
-                    lcm_wakeup.Notify();
-                });
-    if (recorder) {
-        threads.Add(Spec("writer", cfg.writer, 0, 0, "poses, keyframes", "the disk (fsync)"),
-                    [&](runtime::ThreadStats& s) { recorder->Run(s, worker_done); });
+    threads_.Add(Spec("odometry", cfg_.odometry, 0, wc_.deadline_ns, "a scan (10 Hz)",
+                      "the scan queue; the CAN progress (bounded)"),
+                 [this](runtime::ThreadStats& s) {
+                     worker_->Run(s, stop_sources_, ingest_done_);
+                     worker_done_.store(true);
+                     q_.writer_wakeup.Notify();
+                     q_.lcm_wakeup.Notify();
+                 });
+    if (recorder_) {
+        threads_.Add(Spec("writer", cfg_.writer, 0, 0, "poses, keyframes", "the disk (fsync)"),
+                     [this](runtime::ThreadStats& s) { recorder_->Run(s, worker_done_); });
     }
-    threads.Add(Spec("lcm", cfg.lcm, 0, 0, "messages", "the LCM socket"),
-                [&](runtime::ThreadStats& s) { publisher.Run(s, lcm_inputs_done); });
-    runtime::SdNotifier notifier;
-    HealthInputs hi{threads,
-                    ingest,
-                    can ? &*can : nullptr,
-                    worker,
-                    recorder ? &*recorder : nullptr,
-                    publisher,
-                    all_queues,
-                    health_lcm,
-                    stats_lcm,
-                    notifier,
-                    cfg,
-                    info,
-                    health_stop,
-                    replay,
-                    replay && clock.unpaced()};
-    Health health(hi);
-    threads.Add(Spec("health", cfg.health, int64_t(cfg.health_period_s * 1e9), 0, "period",
-                     "nothing (reads atomics)"),
-                [&](runtime::ThreadStats& s) {
-                    health.Run(s);
-                    health_done.store(true);
-                    lcm_wakeup.Notify();
-                });
+    threads_.Add(Spec("lcm", cfg_.lcm, 0, 0, "messages", "the LCM socket"),
+                 [this](runtime::ThreadStats& s) { publisher_->Run(s, lcm_inputs_done_); });
+    health_.emplace(HealthInputs{threads_, *ingest_, can_ ? &*can_ : nullptr, *worker_,
+                                 recorder_ ? &*recorder_ : nullptr, *publisher_, q_.All(),
+                                 q_.health_lcm, q_.stats_lcm, notifier_, cfg_, in_.info,
+                                 health_stop_, in_.replay, in_.replay && clock_.unpaced()});
+    threads_.Add(Spec("health", cfg_.health, int64_t(cfg_.health_period_s * 1e9), 0, "period",
+                      "nothing (reads atomics)"),
+                 [this](runtime::ThreadStats& s) {
+                     health_->Run(s);
+                     health_done_.store(true);
+                     q_.lcm_wakeup.Notify();
+                 });
+}
 
-    // Start-up: memory, signals (handled by this thread only: blocked in every other), threads.
-    if (cfg.lock_memory) {
+// Start-up: memory, signals (handled by this thread only: blocked in every other), threads.
+void Rig::Start() {
+    if (cfg_.lock_memory) {
         const std::string w = runtime::LockMemory();
-        if (!w.empty()) summary.warnings.push_back(w);
+        if (!w.empty()) summary_.warnings.push_back(w);
     }
-    if (const std::string w = ingest.receive_buffer_warning(); !w.empty()) {
-        summary.warnings.push_back(w);
+    if (const std::string w = ingest_->receive_buffer_warning(); !w.empty()) {
+        summary_.warnings.push_back(w);
     }
-    sigset_t signals;
-    sigemptyset(&signals);
-    sigaddset(&signals, SIGINT);
-    sigaddset(&signals, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-    runtime::Log("info", ingest.description());
-    if (can) runtime::Log("info", can->description());
-    if (recorder) runtime::Log("info", "session " + recorder->first_dir().string());
-    runtime::Log("info", "threads:\n" + threads.Describe());
-    if (replay) {
+    sigemptyset(&signals_);
+    sigaddset(&signals_, SIGINT);
+    sigaddset(&signals_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals_, nullptr);
+    runtime::Log("info", ingest_->description());
+    if (can_) runtime::Log("info", can_->description());
+    if (recorder_) runtime::Log("info", "session " + recorder_->first_dir().string());
+    runtime::Log("info", "threads:\n" + threads_.Describe());
+    if (in_.replay) {
         const int64_t first =
-            std::min(ingest.first_capture_ns(), can ? can->first_capture_ns() : kEndOfStream);
-        clock.start_capture_ns.store(first);
-        clock.start_mono_ns = runtime::MonotonicNs();
+            std::min(ingest_->first_capture_ns(), can_ ? can_->first_capture_ns() : kEndOfStream);
+        clock_.start_capture_ns.store(first);
+        clock_.start_mono_ns = runtime::MonotonicNs();
     }
-    const int64_t cpu0 = runtime::ProcessCpuNs();
-    const int64_t t0 = runtime::MonotonicNs();
-    for (const std::string& w : threads.Start()) summary.warnings.push_back(w);
-    for (const std::string& w : summary.warnings) runtime::Log("warning", w);
-    notifier.Notify("READY=1\nSTATUS=running");
+    cpu0_ = runtime::ProcessCpuNs();
+    t0_ = runtime::MonotonicNs();
+    for (const std::string& w : threads_.Start()) summary_.warnings.push_back(w);
+    for (const std::string& w : summary_.warnings) runtime::Log("warning", w);
+    notifier_.Notify("READY=1\nSTATUS=running");
+}
 
-    // Wait for a signal, the end of the recording or the duration.
-    const int64_t end = o.duration_s > 0 ? t0 + int64_t(o.duration_s * 1e9) : kEndOfStream;
+// Waits for a signal, the end of the recording or the duration.
+void Rig::WaitForEnd() {
+    const int64_t end = o_.duration_s > 0 ? t0_ + int64_t(o_.duration_s * 1e9) : kEndOfStream;
     while (true) {
         const timespec wait{0, 100'000'000};
-        const int sig = sigtimedwait(&signals, nullptr, &wait);
+        const int sig = sigtimedwait(&signals_, nullptr, &wait);
         if (sig == SIGINT || sig == SIGTERM) {
-            summary.stop_signal = sig;
+            summary_.stop_signal = sig;
             break;
         }
-        if (ingest_done.load()) break;
+        if (ingest_done_.load()) break;
         if (runtime::MonotonicNs() >= end) break;
     }
-    notifier.Notify("STOPPING=1\nSTATUS=stopping: draining the queues, finishing the session");
-    // Orderly stop: sources, then (as each drains) the odometry, the writer, health, LCM.
-    stop_sources.store(true);
-    worker_wakeup.Notify();
-    while (!worker_done.load()) {
-        const timespec wait{0, 20'000'000};
-        if (sigtimedwait(&signals, nullptr, &wait) > 0) break;  // a second signal: hurry
-    }
-    while (!worker_done.load() || !can_done.load()) {
-        const timespec wait{0, 20'000'000};
-        nanosleep(&wait, nullptr);
-    }
-    health_stop.store(true);
-    while (!health_done.load()) {
-        const timespec wait{0, 20'000'000};
-        nanosleep(&wait, nullptr);
-    }
-    lcm_inputs_done.store(true);
-    lcm_wakeup.Notify();
-    threads.Join();
+}
 
-    // The summary.
-    summary.wall_s = double(runtime::MonotonicNs() - t0) * 1e-9;
-    summary.cpu_percent =
-        100.0 * double(runtime::ProcessCpuNs() - cpu0) * 1e-9 / std::max(summary.wall_s, 1e-9);
-    summary.rss_mb = double(runtime::ResidentBytes()) / 1e6;
-    const IngestCounters ic = ingest.counters();
-    const WorkerCounters w = worker.counters();
-    summary.scans = w.scans;
-    summary.keyframes = w.keyframes;
-    summary.scans_dropped = ic.scans_dropped;
-    summary.deadline_misses = w.deadline_misses;
-    summary.lidar_packets = ic.lidar_datagrams;
-    summary.imu_samples = ic.imu.samples;
-    summary.frames_incomplete = ic.lidar.frames_incomplete;
-    summary.columns_lost = ic.lidar.columns_lost;
-    summary.crc_failures = ic.lidar.Rejected(ouster::Reject::kCrc);
-    summary.silences = ic.silences;
-    summary.sensor_restarts = ic.init_id_changes;
-    summary.clock_jumps = w.clock_jumps;
-    summary.can_late = w.can_late;
-    if (can) {
-        const CanCounters cc = can->counters();
-        summary.go1_samples = cc.decoder.samples;
-        summary.can_timeouts = cc.decoder.timeout;
-        summary.can_e2e_errors = cc.decoder.crc + cc.decoder.counter_resync +
-                                 cc.decoder.counter_repeat + cc.decoder.counter_invalid;
-        summary.go1_bridge_link_down = cc.bridge_link_down;
-        summary.go1_bridge_not_running = cc.bridge_not_running;
-        summary.go1_bridge_lost = cc.bridge_lost;
-        summary.go1_bridge_state = cc.bridge_state;
+// Orderly stop: sources, then (as each drains) the odometry, the writer, health, LCM.
+void Rig::StopInOrder() {
+    notifier_.Notify("STOPPING=1\nSTATUS=stopping: draining the queues, finishing the session");
+    stop_sources_.store(true);
+    q_.worker_wakeup.Notify();
+    while (!worker_done_.load()) {
+        const timespec wait{0, 20'000'000};
+        if (sigtimedwait(&signals_, nullptr, &wait) > 0) break;  // a second signal: hurry
     }
-    for (const runtime::QueueBase* q : all_queues) summary.queue_drops += q->Stats().drops;
-    for (size_t i = 0; i < threads.size(); ++i) {
-        const uint64_t stalls = health.thread_stalls()[i];
-        if (stalls > 0) summary.threads_stalled.emplace_back(threads.spec(i).name, stalls);
+    while (!worker_done_.load() || !can_done_.load()) {
+        const timespec wait{0, 20'000'000};
+        nanosleep(&wait, nullptr);
     }
-    if (recorder) {
-        const RecorderCounters rc = recorder->counters();
-        summary.keyframes_written = rc.keyframes;
-        summary.keyframes_skipped_disk = rc.keyframes_skipped_disk;
-        summary.write_errors = rc.write_errors;
+    health_stop_.store(true);
+    while (!health_done_.load()) {
+        const timespec wait{0, 20'000'000};
+        nanosleep(&wait, nullptr);
     }
-    const LcmCounters lc = publisher.counters();
-    summary.lcm_failures = lc.failures;
-    summary.lcm_odometry = lc.odometry;
-    summary.lcm_keyframes = lc.keyframes;
-    summary.lcm_imu = lc.imu;
-    summary.lcm_go1_state = lc.go1;
-    summary.lcm_rig_health = lc.health;
-    summary.lcm_ouster_stats = lc.ouster_stats;
-    summary.lcm_logged = lc.logged;
-    summary.lcm_paced_s = double(lc.paced_ns) * 1e-9;
-    summary.latency_p50_ms = Percentile(publisher.latencies(), 0.5);
-    summary.latency_p99_ms = Percentile(publisher.latencies(), 0.99);
-    summary.latency_max_ms = Percentile(publisher.latencies(), 1.0);
-    return summary;
+    lcm_inputs_done_.store(true);
+    q_.lcm_wakeup.Notify();
+    threads_.Join();
+}
+
+void Rig::SummarizeCan() {
+    if (!can_) return;
+    const CanCounters cc = can_->counters();
+    summary_.go1_samples = cc.decoder.samples;
+    summary_.can_timeouts = cc.decoder.timeout;
+    summary_.can_e2e_errors = cc.decoder.crc + cc.decoder.counter_resync +
+                              cc.decoder.counter_repeat + cc.decoder.counter_invalid;
+    summary_.go1_bridge_link_down = cc.bridge_link_down;
+    summary_.go1_bridge_not_running = cc.bridge_not_running;
+    summary_.go1_bridge_lost = cc.bridge_lost;
+    summary_.go1_bridge_state = cc.bridge_state;
+}
+
+void Rig::Summarize() {
+    RunSummary& s = summary_;
+    s.wall_s = double(runtime::MonotonicNs() - t0_) * 1e-9;
+    s.cpu_percent =
+        100.0 * double(runtime::ProcessCpuNs() - cpu0_) * 1e-9 / std::max(s.wall_s, 1e-9);
+    s.rss_mb = double(runtime::ResidentBytes()) / 1e6;
+    const IngestCounters ic = ingest_->counters();
+    const WorkerCounters w = worker_->counters();
+    s.scans = w.scans;
+    s.keyframes = w.keyframes;
+    s.scans_dropped = ic.scans_dropped;
+    s.deadline_misses = w.deadline_misses;
+    s.lidar_packets = ic.lidar_datagrams;
+    s.imu_samples = ic.imu.samples;
+    s.frames_incomplete = ic.lidar.frames_incomplete;
+    s.columns_lost = ic.lidar.columns_lost;
+    s.crc_failures = ic.lidar.Rejected(ouster::Reject::kCrc);
+    s.silences = ic.silences;
+    s.sensor_restarts = ic.init_id_changes;
+    s.clock_jumps = w.clock_jumps;
+    s.can_late = w.can_late;
+    SummarizeCan();
+    for (const runtime::QueueBase* q : q_.All()) s.queue_drops += q->Stats().drops;
+    for (size_t i = 0; i < threads_.size(); ++i) {
+        const uint64_t stalls = health_->thread_stalls()[i];
+        if (stalls > 0) s.threads_stalled.emplace_back(threads_.spec(i).name, stalls);
+    }
+    if (recorder_) {
+        const RecorderCounters rc = recorder_->counters();
+        s.keyframes_written = rc.keyframes;
+        s.keyframes_skipped_disk = rc.keyframes_skipped_disk;
+        s.write_errors = rc.write_errors;
+    }
+    const LcmCounters lc = publisher_->counters();
+    s.lcm_failures = lc.failures;
+    s.lcm_odometry = lc.odometry;
+    s.lcm_keyframes = lc.keyframes;
+    s.lcm_imu = lc.imu;
+    s.lcm_go1_state = lc.go1;
+    s.lcm_rig_health = lc.health;
+    s.lcm_ouster_stats = lc.ouster_stats;
+    s.lcm_logged = lc.logged;
+    s.lcm_paced_s = double(lc.paced_ns) * 1e-9;
+    s.latency_p50_ms = Percentile(publisher_->latencies(), 0.5);
+    s.latency_p99_ms = Percentile(publisher_->latencies(), 0.99);
+    s.latency_max_ms = Percentile(publisher_->latencies(), 1.0);
+    s.latency_stages = StagePercentiles(publisher_->latency_stages());
+}
+
+}  // namespace
+
+RunSummary RunRig(const RunOptions& o) {
+    ValidateConfig(o.config);
+    Rig rig(o);
+    return rig.Run();
 }
 
 }  // namespace bimslam::rig

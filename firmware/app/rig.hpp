@@ -26,6 +26,12 @@ struct RunOptions {
     std::string lcm_log;
 };
 
+// One stage of the latency from a frame's last packet to its odometry_t on LCM (LatencyStages).
+struct StageLatency {
+    std::string name;
+    double p50_ms = 0, p99_ms = 0, max_ms = 0;
+};
+
 struct RunSummary {
     std::string session_dir;  // the first session folder ("" without recording)
     uint64_t scans = 0, keyframes = 0, scans_dropped = 0, deadline_misses = 0;
@@ -46,8 +52,9 @@ struct RunSummary {
     uint64_t lcm_rig_health = 0, lcm_ouster_stats = 0, lcm_logged = 0;
     double lcm_paced_s = 0;
     double latency_p50_ms = 0, latency_p99_ms = 0, latency_max_ms = 0;  // to LCM publication
-    double cpu_percent = 0;                                             // of one core, over the run
-    double rss_mb = 0;                                                  // at the end
+    std::vector<StageLatency> latency_stages;  // the same by stage (the first hour of scans)
+    double cpu_percent = 0;                    // of one core, over the run
+    double rss_mb = 0;                         // at the end
     double wall_s = 0;
     std::vector<std::string> warnings;  // what was refused at start-up
     int stop_signal = 0;

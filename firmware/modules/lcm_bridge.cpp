@@ -182,6 +182,15 @@ void ToMessage(const Go1Item& item, int64_t publish_ns, bimslam::go1_state_t* m)
     m->e2e_timeouts = int64_t(d.timeout);
 }
 
+LatencyStages LatencyStages::From(const ScanTimes& t, int64_t published_ns) {
+    const std::array<int64_t, kStages + 1> at = {
+        t.last_packet, t.ingested, t.queued, t.started, t.odometry_done, t.handed, published_ns};
+    LatencyStages s;
+    for (size_t i = 0; i < kStages; ++i) s.us[i] = int32_t((at[i + 1] - at[i]) / 1000);
+    s.us[kStages] = int32_t(t.odometry_cpu_ns / 1000);
+    return s;
+}
+
 PublishPacer::PublishPacer(double bytes_per_s, double messages_per_s, double burst_bytes)
     : rate_(bytes_per_s * 1e-9),
       min_cost_(bytes_per_s / messages_per_s),
@@ -225,6 +234,7 @@ LcmPublisher::LcmPublisher(const std::string& url, const keyframes::KeyframeConf
                                 "toolchain/setup-multicast.sh, or set lcm.url)");
     }
     latencies_.reserve(36000 * 4);
+    stages_.reserve(36000);
     counters_.Store(c_);
 }
 
@@ -276,8 +286,12 @@ void LcmPublisher::Run(runtime::ThreadStats& stats, const std::atomic<bool>& pro
         while (OdometryItem* o = q_.odometry.Front()) {
             ToMessage(*o, runtime::RealtimeNs(), &odometry);
             Publish(kOdometryChannel, odometry);
+            const int64_t published = runtime::MonotonicNs();
             if (latencies_.size() < latencies_.capacity()) {
-                latencies_.push_back(runtime::MonotonicNs() - o->last_packet_mono_ns);
+                latencies_.push_back(published - o->times.last_packet);
+            }
+            if (stages_.size() < stages_.capacity()) {
+                stages_.push_back(LatencyStages::From(o->times, published));
             }
             q_.odometry.Pop();
             ++c_.odometry;

@@ -4,6 +4,7 @@
 // assembles once a period. Publishing (encode, sendmsg) happens here only, off the hot threads.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <bimslam/go1_state_t.hpp>
 #include <bimslam/imu_sample_t.hpp>
@@ -91,6 +92,20 @@ struct LcmCounters {
     int64_t paced_ns = 0;  // time a replay's output waited for the pacer
 };
 
+// One scan's latency split by stage (ScanTimes), in microseconds: last packet -> taken up by the
+// ingest thread (receive) -> scan assembled and queued (assemble) -> taken by the odometry thread
+// (handoff) -> ScanPipeline::Process done (odometry) -> queued for LCM (outputs) -> odometry_t
+// published (publish); then, not a stage, the odometry thread's CPU time in the odometry stage
+// (odometry_cpu).
+struct LatencyStages {
+    static constexpr size_t kStages = 6;
+    static constexpr size_t kCount = kStages + 1;
+    static constexpr std::array<const char*, kCount> kNames = {
+        "receive", "assemble", "handoff", "odometry", "outputs", "publish", "odometry_cpu"};
+    std::array<int32_t, kCount> us{};
+    static LatencyStages From(const ScanTimes& t, int64_t published_ns);
+};
+
 class LcmPublisher {
 public:
     // Throws common::Error (kUnavailable) naming the URL when LCM cannot be opened, and
@@ -104,6 +119,8 @@ public:
     LcmCounters counters() const { return counters_.Load(); }
     // Each scan's latency from its last packet to its odometry_t being published (ns).
     const std::vector<int64_t>& latencies() const { return latencies_; }
+    // The same split by stage, for the first hour of scans (36000 slots, reserved at start).
+    const std::vector<LatencyStages>& latency_stages() const { return stages_; }
 
 private:
     template <typename Msg>
@@ -120,6 +137,7 @@ private:
     LcmCounters c_;
     runtime::Seqlock<LcmCounters> counters_;
     std::vector<int64_t> latencies_;
+    std::vector<LatencyStages> stages_;
 };
 
 }  // namespace bimslam::rig

@@ -84,7 +84,10 @@ struct LidarIngest::Impl {
         return q.BeginPushWaiting(replay != nullptr, stop);
     }
 
-    void Emit(int64_t arrival_ns, int64_t mono_ns, const std::atomic<bool>& stop) {
+    // taken_ns: when this thread took up the packet that completed the frames (the latency's
+    // breakdown: receive, then decode and assembly).
+    void Emit(int64_t arrival_ns, int64_t mono_ns, int64_t taken_ns,
+              const std::atomic<bool>& stop) {
         for (const ouster::LidarFrame* frame : batcher.ready()) {
             ScanSlot* slot = Slot(scans, stop);
             if (slot == nullptr) {
@@ -93,7 +96,9 @@ struct LidarIngest::Impl {
                 continue;
             }
             pipeline::FrameToScan(*frame, arrival_ns, imu_pushed, &slot->scan);
-            slot->last_packet_mono_ns = mono_ns;
+            slot->times.last_packet = mono_ns;
+            slot->times.ingested = taken_ns;
+            slot->times.queued = runtime::MonotonicNs();
             scans.CommitPush();
             ++c.scans_queued;
         }
@@ -110,6 +115,7 @@ struct LidarIngest::Impl {
         }
         last_arrival_ns = last_lidar_arrival_ns = arrival_ns;
         c.last_packet_mono_ns = mono_ns;
+        const int64_t taken_ns = runtime::MonotonicNs();
         const ouster::PacketResult r = batcher.AddPacket(data, size, arrival_ns);
         if (r.rejected == ouster::Reject::kInitId) {
             // Adopt a new init_id once it persists: the sensor restarted.
@@ -126,7 +132,7 @@ struct LidarIngest::Impl {
         } else if (!r.rejected) {
             candidate_count = 0;
         }
-        if (r.frames > 0) Emit(arrival_ns, mono_ns, stop);
+        if (r.frames > 0) Emit(arrival_ns, mono_ns, taken_ns, stop);
     }
 
     void Imu(const uint8_t* data, size_t size, const std::atomic<bool>& stop) {
@@ -247,7 +253,8 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
         }
         if (!stop.load()) {
             m.batcher.Flush();
-            m.Emit(kEndOfStream, runtime::MonotonicNs(), stop);
+            const int64_t now = runtime::MonotonicNs();
+            m.Emit(kEndOfStream, now, now, stop);
         }
         m.c.finished = true;
         publish(true);
@@ -265,8 +272,13 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
         const int64_t t0 = runtime::MonotonicNs();
         // CLOCK_REALTIME kernel stamps to CLOCK_MONOTONIC with the offset of this moment.
         const int64_t rt_minus_mono = runtime::RealtimeNs() - t0;
-        const net::UdpBatch lidar = m.lidar_socket->Receive(common::Duration{0});
-        const net::UdpBatch imu = m.imu_socket->Receive(common::Duration{0});
+        // Only the sockets poll found readable: a system call less per datagram.
+        const auto receive = [](net::UdpSource& socket, const pollfd& fd) {
+            return (fd.revents & (POLLIN | POLLERR)) ? socket.Receive(common::Duration{0})
+                                                     : net::UdpBatch{};
+        };
+        const net::UdpBatch lidar = receive(*m.lidar_socket, fds[0]);
+        const net::UdpBatch imu = receive(*m.imu_socket, fds[1]);
         if (lidar.code == common::StatusCode::kIoError || imu.code == common::StatusCode::kIoError)
             ++m.c.socket_errors;
         size_t i = 0, j = 0;

@@ -2,6 +2,8 @@
 
 #include <thread>
 
+#include "firmware/runtime/process_stats.hpp"
+
 namespace bimslam::rig {
 
 OdometryWorker::OdometryWorker(const OdometryWorkerConfig& config, WorkerQueues queues,
@@ -39,7 +41,12 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         pipeline_.AddBody(b->body);
         q_.bodies.Pop();
     }
+    ScanTimes times = slot->times;
+    times.started = runtime::MonotonicNs();
+    const int64_t cpu0 = runtime::ThreadCpuNs();
     const pipeline::ScanOutput& out = pipeline_.Process(slot->scan);
+    times.odometry_cpu_ns = runtime::ThreadCpuNs() - cpu0;
+    times.odometry_done = runtime::MonotonicNs();
     const odometry::OdometryResult& r = *out.odometry;
     if (out.clock_jump) {
         ++segment_;
@@ -56,6 +63,18 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         fill(*item);
         queue.CommitPush();
     };
+    // The odometry first: the LCM thread publishes it before the keyframe (encoding a keyframe
+    // of a whole scan takes milliseconds), and the keyframes' copies are not on its path.
+    times.handed = runtime::MonotonicNs();
+    push(q_.odometry_out, [&](OdometryItem& o) {
+        o.result = r;
+        o.scan_index = out.scan_index;
+        o.scan_end_ns = slot->scan.last_column_ns;
+        o.complete = out.complete;
+        o.keyframe = out.keyframe;
+        o.reset = out.clock_jump;
+        o.times = times;
+    });
     if (config_.record)
         push(q_.poses, [&](PoseItem& p) {
             p.pose = io::StampedPose::FromIsometry(out.stamp_ns, r.T_odom_lidar);
@@ -73,18 +92,7 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         if (config_.record) push(q_.keyframes_session, fill);
         push(q_.keyframes_lcm, fill);
     }
-    const int64_t done = runtime::MonotonicNs();
-    push(q_.odometry_out, [&](OdometryItem& o) {
-        o.result = r;
-        o.scan_index = out.scan_index;
-        o.scan_end_ns = slot->scan.last_column_ns;
-        o.complete = out.complete;
-        o.keyframe = out.keyframe;
-        o.reset = out.clock_jump;
-        o.last_packet_mono_ns = slot->last_packet_mono_ns;
-        o.processed_mono_ns = done;
-    });
-    const int64_t latency = done - slot->last_packet_mono_ns;
+    const int64_t latency = times.handed - times.last_packet;
     if (latencies_.size() < latencies_.capacity()) latencies_.push_back(latency);
     stats.Cycle(latency, config_.deadline_ns);
     if (latency > config_.deadline_ns) ++c_.deadline_misses;

@@ -21,11 +21,24 @@ namespace bimslam::rig {
 
 inline constexpr int64_t kEndOfStream = std::numeric_limits<int64_t>::max();
 
-// A frame's points and what the join needs, plus when its last packet reached the rig
-// (CLOCK_MONOTONIC: the start of the latency to its odometry message).
+// When a scan passed each stage from its last packet to its odometry_t on LCM (CLOCK_MONOTONIC
+// ns): the latency and its breakdown by stage in the summary (firmware/app/README.md).
+struct ScanTimes {
+    int64_t last_packet = 0;    // the frame's last packet reached the rig (kernel receive time)
+    int64_t ingested = 0;       // the ingest thread took that packet up
+    int64_t queued = 0;         // the scan assembled and in the scan queue
+    int64_t started = 0;        // the odometry thread took the scan (after any wait for CAN)
+    int64_t odometry_done = 0;  // ScanPipeline::Process returned (odometry, keyframe selection)
+    int64_t handed = 0;         // the odometry queued for the LCM thread
+    // The odometry thread's CPU time from `started` to `odometry_done`: the odometry stage less
+    // this is time the thread waited for a CPU (a loaded machine, a higher priority).
+    int64_t odometry_cpu_ns = 0;
+};
+
+// A frame's points and what the join needs, plus when it passed the ingest's stages.
 struct ScanSlot {
     pipeline::ScanInput scan;
-    int64_t last_packet_mono_ns = 0;
+    ScanTimes times;  // last_packet, ingested, queued
 };
 
 struct ImuItem {
@@ -57,8 +70,7 @@ struct OdometryItem {
     bool complete = true;
     bool keyframe = false;
     bool reset = false;
-    int64_t last_packet_mono_ns = 0;
-    int64_t processed_mono_ns = 0;
+    ScanTimes times;  // every stage up to `handed`
 };
 
 // A keyframe for the session writer or the LCM thread.

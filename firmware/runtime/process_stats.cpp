@@ -14,6 +14,12 @@ int64_t ProcessCpuNs() {
     return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
 }
 
+int64_t ThreadCpuNs() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
+
 int64_t ResidentBytes() {
     FILE* f = std::fopen("/proc/self/statm", "r");
     if (f == nullptr) return -1;

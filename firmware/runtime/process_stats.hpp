@@ -8,6 +8,7 @@
 namespace bimslam::runtime {
 
 int64_t ProcessCpuNs();   // CLOCK_PROCESS_CPUTIME_ID
+int64_t ThreadCpuNs();    // CLOCK_THREAD_CPUTIME_ID: the calling thread's
 int64_t ResidentBytes();  // /proc/self/statm, -1 when unreadable
 // Free bytes for unprivileged users on the file system of `path` (statvfs), -1 when unknown.
 int64_t FreeDiskBytes(const std::string& path);

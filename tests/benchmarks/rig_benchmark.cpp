@@ -8,7 +8,11 @@
 //   rig_benchmark                       60 s at 1x and at max
 //   BIMSLAM_BENCH_LONG=1 rig_benchmark  30 minutes at 1x (RSS at 5 and 30 min, misses over the
 //                                       first 10), about 7.7 GB of pcap under $TMPDIR
-// Set BIMSLAM_BENCH_SECONDS to choose another length.
+// Set BIMSLAM_BENCH_SECONDS to choose another length, BIMSLAM_BENCH_RIG to measure another
+// bimslam-rig binary (a build of another commit, for before/after runs interleaved).
+// The latency is also printed by stage (LatencyStages, firmware/modules/lcm_bridge.hpp): the
+// last packet taken up by the ingest thread, the scan assembled and queued, taken by the
+// odometry thread, its odometry done, queued for LCM, published.
 #include <signal.h>
 
 #include <bimslam/rig_health_t.hpp>
@@ -44,32 +48,58 @@ struct RssWatch {
     }
 };
 
+// The latency by stage (bimslam-rig --json's latency_stages_ms; absent from older builds).
+void PrintStages(const nlohmann::json& run) {
+    if (!run.contains("latency_stages_ms")) return;
+    std::printf(
+        "  latency by stage (each stage's own percentiles; they do not add up; odometry_cpu: the\n"
+        "  odometry thread's CPU time in the odometry stage, the rest of that stage it waited):\n");
+    for (const auto& st : run["latency_stages_ms"]) {
+        std::printf("    %-9s p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms\n",
+                    st["stage"].get<std::string>().c_str(), st["p50"].get<double>(),
+                    st["p99"].get<double>(), st["max"].get<double>());
+    }
+}
+
 }  // namespace
 
 int main() {
     const bool long_run = std::getenv("BIMSLAM_BENCH_LONG") != nullptr;
     int seconds = long_run ? 1800 : 60;
     if (const char* s = std::getenv("BIMSLAM_BENCH_SECONDS")) seconds = std::atoi(s);
+    const char* rig_env = std::getenv("BIMSLAM_BENCH_RIG");
+    const std::string rig_path = rig_env != nullptr ? rig_env : kRig;
+    // BIMSLAM_BENCH_FIFO=1: the thread table of the shipped handheld.yaml (ingest and odometry
+    // SCHED_FIFO on CPU 1; needs the privilege, else the rig warns and runs them normally).
+    const bool fifo = std::getenv("BIMSLAM_BENCH_FIFO") != nullptr;
     bimslam::test::TempDir tmp;
-    const fs::path model = tmp / "building.ifc";
-    bimslam::test::RunCommand(kCli + " bim sample -o " + model.string());
-    const fs::path cap = tmp / "capture";
-    std::ofstream(tmp / "s.yaml") << "platform: handheld\n";
-    std::printf("simulating %d s of a handheld walk (OS1-32 1024x10)...\n", seconds);
-    std::fflush(stdout);
-    auto r = bimslam::test::RunCommand(kCli + " simulate --model " + model.string() +
-                                       " --scenario " + (tmp / "s.yaml").string() + " --duration " +
-                                       std::to_string(seconds) + " -o " + cap.string());
-    if (r.exit_code != 0) {
-        std::fprintf(stderr, "simulate failed: %s\n", r.err.c_str());
-        return 1;
+    // BIMSLAM_BENCH_CAPTURE=DIR: simulate into DIR once and reuse it on later runs.
+    const char* cap_env = std::getenv("BIMSLAM_BENCH_CAPTURE");
+    const fs::path cap = cap_env != nullptr ? fs::path(cap_env) : tmp / "capture";
+    bimslam::test::CommandResult r;
+    if (!fs::exists(cap / "metadata.json")) {
+        const fs::path model = tmp / "building.ifc";
+        bimslam::test::RunCommand(kCli + " bim sample -o " + model.string());
+        std::ofstream(tmp / "s.yaml") << "platform: handheld\n";
+        std::printf("simulating %d s of a handheld walk (OS1-32 1024x10)...\n", seconds);
+        std::fflush(stdout);
+        r = bimslam::test::RunCommand(kCli + " simulate --model " + model.string() +
+                                      " --scenario " + (tmp / "s.yaml").string() + " --duration " +
+                                      std::to_string(seconds) + " -o " + cap.string());
+        if (r.exit_code != 0) {
+            std::fprintf(stderr, "simulate failed: %s\n", r.err.c_str());
+            return 1;
+        }
     }
     const int port = FreeUdpPortPair();
     const std::string url = "udpm://239.255.76.67:7671?ttl=0";
     std::ofstream(tmp / "live.yaml")
         << "sensor:\n  metadata: " << (cap / "metadata.json").string()
         << "\n  bind_address: 127.0.0.1\n  lidar_port: " << port << "\n  imu_port: " << port + 1
-        << "\ncan:\n  source: none\nlcm:\n  url: " << url << "\nruntime:\n  lock_memory: false\n";
+        << "\ncan:\n  source: none\nlcm:\n  url: " << url << "\nruntime:\n  lock_memory: false\n"
+        << (fifo
+                ? "threads:\n  ingest: {priority: 80, cpu: 1}\n  odometry: {priority: 60, cpu: 1}\n"
+                : "");
     RssWatch watch;
     lcm::LCM lcm(url);
     lcm.subscribe("BIMSLAM_RIG_HEALTH", &RssWatch::Handle, &watch);
@@ -77,7 +107,7 @@ int main() {
     std::thread listener([&] {
         while (!stop) lcm.handleTimeout(100);
     });
-    const pid_t rig = Spawn(kRig + " live --json --config " + (tmp / "live.yaml").string() +
+    const pid_t rig = Spawn(rig_path + " live --json --config " + (tmp / "live.yaml").string() +
                                 " --session-root " + (tmp / "sessions").string(),
                             tmp / "live.json", tmp / "live.err");
     std::this_thread::sleep_for(std::chrono::seconds(2));
@@ -107,8 +137,9 @@ int main() {
         watch.At(t2), t2, live["scans"].get<int>(), live["scans_dropped"].get<int>(),
         live["deadline_misses"].get<int>(),
         nlohmann::json::parse(r.out, nullptr, false).value("max_late_ms", -1.0));
+    PrintStages(live);
     const auto max =
-        RigJson(kRig + " replay " + cap.string() + " --speed max --json --no-record --config " +
+        RigJson(rig_path + " replay " + cap.string() + " --speed max --json --no-record --config " +
                 (tmp / "live.yaml").string());
     if (!max.is_null()) {
         std::printf(
