@@ -69,6 +69,8 @@ void LidarOdometryConfig::Validate() const {
     Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
     Require(max_deskew_rounds >= 0 && max_deskew_rounds <= 5, c, "max_deskew_rounds",
             max_deskew_rounds, "must be in [0, 5]");
+    Require(deskew_step > 0 && deskew_step <= 1, c, "deskew_step", deskew_step,
+            "must be in (0, 1]");
     Require(correction_sigma.allFinite() && (correction_sigma.array() >= 0).all(), c,
             "correction_sigma", correction_sigma.minCoeff(), "must all be >= 0");
     Require(imu_correction_sigma > 0, c, "imu_correction_sigma", imu_correction_sigma,
@@ -573,8 +575,7 @@ void LidarOdometry::DeskewAgain() {
             r.deskew_stop = DeskewStop::kDegenerate;
             break;
         }
-        const ScanMotion estimated =
-            MotionFor(common::LogSE3(common::Between(w.T_prev, w.T)) / w.dt, w.duration, w.stamp);
+        const ScanMotion estimated = EstimatedMotion();
         const Eigen::Isometry3d diff = common::Between(w.motion.End(), estimated.End());
         if (diff.translation().norm() + 10.0 * common::RotationAngle(diff) <=
             config_.redeskew_threshold) {
@@ -596,6 +597,18 @@ void LidarOdometry::DeskewAgain() {
         ++r.deskew_rounds;
         last_round = BudgetClockNow() - round_start;
     }
+}
+
+ScanMotion LidarOdometry::EstimatedMotion() const {
+    // The motion the pose implies over the sweep, a deskew_step of the way from the one the scan
+    // was deskewed with (without the gyro; lidar_odometry.hpp says why).
+    const ScanWork& w = work_;
+    common::Vector6d twist = common::LogSE3(common::Between(w.T_prev, w.T)) / w.dt;
+    if (!w.gyro && config_.deskew_step < 1) {
+        const common::Vector6d used = common::LogSE3(w.motion.End()) / w.duration;
+        twist = used + config_.deskew_step * (twist - used);
+    }
+    return MotionFor(twist, w.duration, w.stamp);
 }
 
 void LidarOdometry::UpdateMap() {

@@ -129,6 +129,15 @@ struct LidarOdometryConfig {
     // after the first are not made when the registration was degenerate: along a weak direction
     // the motion is the prediction's, and iterating on it moved Office_A's Go1 walk 4 -> 14 cm.
     int max_deskew_rounds = 3;
+    // Without the gyro, a round deskews with a motion moved this share of the way from the one
+    // the scan was deskewed with to the estimated one (an under-relaxed fixed-point step). A scan
+    // deskewed with a motion that is off by e over the sweep fits best at the sweep's middle, so
+    // the pose at its start, and the motion estimated from it, come out off by about -e/2: full
+    // steps (1) halve the difference and flip its sign each round (median 35, 18, 9 cm over three
+    // rounds on a Go1 minute, so redeskew_threshold never ended them), and a step of 2/3 lands on
+    // the fixed point of e -> -e/2 at once (README.md, "Deskew rounds that converge"). With the
+    // gyro the sweep's rotation is measured, not iterated, and the step is a full one.
+    double deskew_step = 2.0 / 3.0;
     // The prior of the sweep's motion correction (scan_registration.hpp) [m m m rad rad rad] over
     // one sweep: how far the predicted motion during a scan may be off. Without the IMU the trot's
     // wobble puts the rotation up to 2 deg off; with it, the gyro's rotation is good to a few
@@ -319,8 +328,10 @@ private:
     // headings (RegistrationCheckConfig::retry_headings); result_ and work_.T become the first
     // passing one's, else stay the prediction's. Returns whether a registration holds.
     bool TryOtherHeadings();
-    void RefineStart();      // the second scan of a start in motion (start_refinements)
-    void DeskewAgain();      // rounds of deskewing with the estimated motion (max_deskew_rounds)
+    void RefineStart();  // the second scan of a start in motion (start_refinements)
+    void DeskewAgain();  // rounds of deskewing with the estimated motion (max_deskew_rounds)
+    // The next round's motion: the estimated one, a deskew_step of the way from the last.
+    ScanMotion EstimatedMotion() const;
     void UpdateMap();        // 4
     void UpdateVelocity();   // the pose kept, the constant velocity over the window
     void UpdateImuHeight();  // the accelerometers' filter learns what the scan saw of the height
