@@ -1,5 +1,5 @@
-// Whether a replayed trajectory can be trusted (issue 32, item 3): the scans whose registration
-// failed (too few correspondences) or failed its own evidence (kCheckFailed,
+// Whether a trajectory (replayed, or the rig's) can be trusted (issue 32, item 3): the scans whose
+// registration failed (too few correspondences) or failed its own evidence (kCheckFailed,
 // algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.
 // A pose after a failed scan is only as good as the guess that scan kept, so the verdict is
 // "untrusted" as soon as one stretch exists (a registration with too few correspondences, none
@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace bimslam::replay {
+namespace bimslam::odometry {
 
 struct FailedStretch {
     size_t first_scan = 0, last_scan = 0;  // 0-based scan indices, inclusive
@@ -88,4 +88,4 @@ private:
     FailedStretch& StretchFor(size_t first, double first_s, int64_t first_ns, size_t scan);
 };
 
-}  // namespace bimslam::replay
+}  // namespace bimslam::odometry

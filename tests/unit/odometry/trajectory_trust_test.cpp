@@ -1,4 +1,4 @@
-#include "host_tools/replay/trajectory_trust.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,9 +6,8 @@
 
 #include "algorithms/odometry/lidar_odometry.hpp"
 
-namespace bimslam::replay {
+namespace bimslam::odometry {
 namespace {
-using namespace odometry;
 
 TEST(TrajectoryTrust, ARunWithNoFailedScanIsTrusted) {
     TrajectoryTrust t;
@@ -156,4 +155,4 @@ TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsAStretchNotToTrust) {
 }
 
 }  // namespace
-}  // namespace bimslam::replay
+}  // namespace bimslam::odometry

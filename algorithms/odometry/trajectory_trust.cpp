@@ -1,11 +1,11 @@
-#include "host_tools/replay/trajectory_trust.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
 #include "algorithms/odometry/lidar_odometry.hpp"
 
-namespace bimslam::replay {
+namespace bimslam::odometry {
 namespace {
 
 std::vector<std::string> Reasons(const FailedStretch& s) {
@@ -17,7 +17,6 @@ std::vector<std::string> Reasons(const FailedStretch& s) {
         std::snprintf(buf, sizeof buf, "height not seen for %.1f s", s.height_unseen_s);
         out.push_back(buf);
     }
-    using namespace odometry;
     for (const uint32_t bit : {kLowOverlap, kFewInliers, kHighResidual, kFarFromPrediction}) {
         if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
     }
@@ -180,4 +179,4 @@ nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan)
             {"failed_stretches", list}};
 }
 
-}  // namespace bimslam::replay
+}  // namespace bimslam::odometry
