@@ -331,6 +331,7 @@ RunSummary RunRig(const RunOptions& o) {
     summary.silences = ic.silences;
     summary.sensor_restarts = ic.init_id_changes;
     summary.clock_jumps = w.clock_jumps;
+    summary.trust = worker.trust();
     summary.can_late = w.can_late;
     if (can) {
         const CanCounters cc = can->counters();
