@@ -675,6 +675,7 @@ void LidarOdometry::UpdateImuHeight() {
     const bool failed = (r.flags & (kRegistrationFailed | kCheckFailed | kTooFewPoints)) != 0;
     last_height_seen_ = !failed && r.registration.axis_share >= config_.height_seen_share;
     if (!last_height_seen_) {
+        result_.flags |= kHeightUnseen;
         imu_height_.Hold(h);
         return;
     }

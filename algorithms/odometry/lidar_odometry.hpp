@@ -211,6 +211,9 @@ enum OdometryFlag : uint32_t {
     // an unfinished registration (TrajectoryTrust bridges it where the gyro or legs predicted).
     kCutShort = 1u << 15,
     kImuHeight = 1u << 16,  // the predicted height came from the accelerometers
+    // With the IMU: the scan did not see the height (height_seen_share), so its height is a
+    // prediction's (TrajectoryTrust counts how long in a row).
+    kHeightUnseen = 1u << 17,
 };
 
 // The steps of a scan the budget cut (OdometryResult::budget_cut): a registration stopped at the

@@ -110,7 +110,12 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"rss_mb", s.rss_mb},
                             {"wall_s", s.wall_s},
                             {"stop_signal", s.stop_signal},
-                            {"warnings", s.warnings}};
+                            {"warnings", s.warnings},
+                            // The keys `bimslam odometry --json` gives the same verdict.
+                            {"verdict", s.trust.Verdict()},
+                            {"failed_stretches", s.trust.ToJson().at("failed_stretches")},
+                            {"bridged_by_prior", s.trust.bridged_by_prior()},
+                            {"bridged_over_budget", s.trust.bridged_over_budget()}};
         std::cout << j.dump(2) << std::endl;
         return;
     }
@@ -136,6 +141,7 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
         (unsigned long long)s.clock_jumps, (unsigned long long)s.can_timeouts,
         (unsigned long long)s.can_e2e_errors, (unsigned long long)s.queue_drops,
         (unsigned long long)s.go1_bridge_link_down, (unsigned long long)s.go1_bridge_not_running);
+    std::printf("  trajectory %s\n", s.trust.Describe().c_str());
     for (const auto& [name, stalls] : s.threads_stalled) {
         std::printf("  thread '%s' stalled %llu times (FAULT_THREAD_STALLED)\n", name.c_str(),
                     (unsigned long long)stalls);

@@ -424,6 +424,7 @@ void Rig::Summarize() {
     s.silences = ic.silences;
     s.sensor_restarts = ic.init_id_changes;
     s.clock_jumps = w.clock_jumps;
+    s.trust = worker_->trust();
     s.can_late = w.can_late;
     SummarizeCan();
     for (const runtime::QueueBase* q : q_.All()) s.queue_drops += q->Stats().drops;

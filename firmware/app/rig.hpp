@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "algorithms/odometry/trajectory_trust.hpp"
 #include "firmware/app/rig_config.hpp"
 
 namespace bimslam::rig {
@@ -57,6 +58,9 @@ struct RunSummary {
     double rss_mb = 0;                         // at the end
     double wall_s = 0;
     std::vector<std::string> warnings;  // what was refused at start-up
+    // The odometry's verdict over the run (trusted / untrusted, the failed stretches), as
+    // `bimslam odometry` gives it; each session's share is its odometry_verdict.json.
+    odometry::TrajectoryTrust trust;
     int stop_signal = 0;
 };
 

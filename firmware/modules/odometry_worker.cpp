@@ -52,6 +52,11 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         ++segment_;
         ++c_.clock_jumps;
     }
+    // As host_tools/replay/capture_odometry.cpp: seconds since the run's first scan, the scan's
+    // index over the whole run (sessions after a clock jump continue it).
+    if (first_stamp_ns_ < 0) first_stamp_ns_ = out.stamp_ns;
+    const double t_s = double(out.stamp_ns - first_stamp_ns_) * 1e-9;
+    trust_.Add(size_t(out.scan_index), t_s, r.flags, r.check_reasons, out.stamp_ns);
     // Outputs. A full queue drops the item and counts it (the consumer is behind).
     const auto push = [&](auto& queue, auto&& fill) {
         auto* item = queue.BeginPushWaiting(config_.lossless, stop);
@@ -79,6 +84,10 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         push(q_.poses, [&](PoseItem& p) {
             p.pose = io::StampedPose::FromIsometry(out.stamp_ns, r.T_odom_lidar);
             p.segment = segment_;
+            p.scan_index = out.scan_index;
+            p.t_s = t_s;
+            p.flags = r.flags;
+            p.check_reasons = r.check_reasons;
         });
     if (out.keyframe) {
         const auto fill = [&](KeyframeItem& k) {

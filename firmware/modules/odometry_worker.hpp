@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "algorithms/odometry/trajectory_trust.hpp"
 #include "algorithms/pipeline/scan_pipeline.hpp"
 #include "firmware/modules/can_ingest.hpp"
 #include "firmware/modules/rig_types.hpp"
@@ -64,6 +65,9 @@ public:
     WorkerCounters counters() const { return counters_.Load(); }
     // Every scan's time from its last packet to its odometry being queued for LCM (ns).
     const std::vector<int64_t>& latencies() const { return latencies_; }
+    // Every scan's flags in stretches, the run's verdict (as `bimslam odometry` gives it); read
+    // after Run returns.
+    const odometry::TrajectoryTrust& trust() const { return trust_; }
 
 private:
     bool ProcessOne(runtime::ThreadStats& stats, const std::atomic<bool>& stop);
@@ -77,6 +81,8 @@ private:
     WorkerCounters c_;
     runtime::Seqlock<WorkerCounters> counters_;
     std::vector<int64_t> latencies_;  // reserved for a long run; read after Run returns
+    odometry::TrajectoryTrust trust_;
+    int64_t first_stamp_ns_ = -1;  // the run's first scan's stamp: TrajectoryTrust's seconds
 };
 
 }  // namespace bimslam::rig

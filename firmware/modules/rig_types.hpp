@@ -85,6 +85,12 @@ struct KeyframeItem {
 struct PoseItem {
     io::StampedPose pose;
     uint32_t segment = 0;
+    // The scan's odometry verdict, for the session's odometry_verdict.json (SessionRecorder feeds
+    // them to its odometry::TrajectoryTrust): the scan's index, seconds since the run's first
+    // scan, OdometryResult flags and check reasons.
+    uint64_t scan_index = 0;
+    double t_s = 0;
+    uint32_t flags = 0, check_reasons = 0;
 };
 
 // The Go1 state for LCM: the sample and the decoder's counters when it was emitted.

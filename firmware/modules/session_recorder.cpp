@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
 #include "firmware/runtime/process_stats.hpp"
 
 namespace bimslam::rig {
@@ -81,8 +82,38 @@ void SessionRecorder::Write(const KeyframeItem& k) {
     c_.bytes_written += int64_t(k.keyframe.cloud.size()) * 22 + 8 * 1200;
 }
 
+void SessionRecorder::AddVerdict(const PoseItem& p) {
+    const size_t scan = size_t(p.scan_index);
+    if (!session_has_scans_) session_first_scan_ = scan;
+    session_has_scans_ = true;
+    session_last_scan_ = scan;
+    const std::vector<odometry::FailedStretch>& s = trust_.stretches();
+    const size_t before = s.size();
+    const size_t last_before = before > 0 ? s.back().last_scan : 0;
+    trust_.Add(scan, p.t_s, p.flags, p.check_reasons, p.pose.stamp_ns);
+    if (s.size() > verdict_stretches_) {
+        WriteVerdict();  // a new stretch: on disk now, whatever happens to the rig next
+    } else if (s.size() != before || (before > 0 && s.back().last_scan != last_before)) {
+        verdict_dirty_ = true;  // the last stretch grew: written with the next flush
+    }
+}
+
+void SessionRecorder::WriteVerdict() {
+    // A failed write is counted (FAULT_DISK_WRITE) and does not stop the poses and keyframes.
+    try {
+        io::WriteFileAtomic(
+            dir_ / odometry::TrajectoryTrust::kSessionFile,
+            trust_.SessionJson(session_first_scan_, session_last_scan_).dump(1) + "\n");
+        verdict_stretches_ = trust_.stretches().size();
+        verdict_dirty_ = false;
+    } catch (const std::exception&) {
+        ++c_.write_errors;
+    }
+}
+
 void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& producer_done) {
     int64_t last_flush = runtime::MonotonicNs();
+    int64_t last_verdict = last_flush;
     bool dirty = false;
     for (;;) {
         stats.Beat();
@@ -99,11 +130,14 @@ void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& 
                         Write(*k);
                         keyframes_.Pop();
                     }
+                    WriteVerdict();
                     writer_->Finish();
                     segment_ = p->segment;
                     Open();
+                    session_has_scans_ = false;
                 }
                 writer_->AddScanPose(p->pose);
+                AddVerdict(*p);
                 ++c_.poses;
                 dirty = true;
                 poses_.Pop();
@@ -121,6 +155,10 @@ void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& 
                 dirty = false;
                 last_flush = runtime::MonotonicNs();
             }
+            if (verdict_dirty_ && runtime::MonotonicNs() - last_verdict > config_.flush_period_ns) {
+                WriteVerdict();
+                last_verdict = runtime::MonotonicNs();
+            }
         } catch (const std::exception& e) {
             ++c_.write_errors;  // the health thread logs FAULT_DISK_WRITE
             if (poses_.Front()) poses_.Pop();
@@ -133,6 +171,7 @@ void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& 
         }
         if (!worked) wakeup_.Wait(seen, 100'000'000);
     }
+    WriteVerdict();  // before session.json, as `bimslam odometry` writes it
     try {
         writer_->Finish();
     } catch (const std::exception&) {

@@ -8,6 +8,12 @@
 // overwriting. A clock jump (the odometry started again) closes the session and opens the next.
 // Disk almost full: below min_free_bytes no keyframe is written any more (counted); the poses
 // still are, the odometry and LCM go on.
+//
+// odometry_verdict.json (odometry::TrajectoryTrust::kSessionFile, the file `bimslam odometry`
+// writes): the odometry's verdict on the session's scans, from the flags each pose carries,
+// written atomically when a new failed stretch appears (a rig killed afterwards still leaves
+// it), with the stretch as it has grown at each flush of trajectory.tum, and when the session
+// closes (before session.json).
 #pragma once
 
 #include <atomic>
@@ -18,6 +24,7 @@
 #include <string>
 
 #include "algorithms/io/session.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 #include "firmware/modules/rig_types.hpp"
 #include "firmware/runtime/seqlock.hpp"
 #include "firmware/runtime/thread_table.hpp"
@@ -60,6 +67,8 @@ public:
 private:
     void Open();
     void Write(const KeyframeItem& k);
+    void AddVerdict(const PoseItem& p);
+    void WriteVerdict();
 
     SessionRecorderConfig config_;
     runtime::SpscQueue<PoseItem>& poses_;
@@ -70,6 +79,12 @@ private:
     std::filesystem::path dir_;
     uint32_t segment_ = 0;
     int64_t last_written_selector_ = -1;  // selector index of the last keyframe written
+    // The odometry's verdict over the run; the scans of the current session.
+    odometry::TrajectoryTrust trust_;
+    size_t session_first_scan_ = 0, session_last_scan_ = 0;
+    bool session_has_scans_ = false;
+    bool verdict_dirty_ = false;    // the stretches changed since odometry_verdict.json
+    size_t verdict_stretches_ = 0;  // stretches when it was last written
     RecorderCounters c_;
     runtime::Seqlock<RecorderCounters> counters_;
     mutable std::mutex dir_mutex_;  // between two slow threads (writer, health)

@@ -1,6 +1,6 @@
 // A query session whose odometry failed somewhere (issue 32, item 3; issue 31, item 5): the
 // odometry's own verdict, written into the session by `bimslam odometry` / `bimslam map`
-// (odometry_verdict.json: host_tools/replay/trajectory_trust.hpp), names the stretches of scans
+// (odometry_verdict.json: algorithms/odometry/trajectory_trust.hpp), names the stretches of scans
 // whose registration failed. A keyframe's pose across such a stretch is only as good as the guess
 // the failed scans kept, so anchoring splits the session there: each piece (a run of keyframes
 // with no failed scan between any two of them) is anchored on its own, as a session of its own,

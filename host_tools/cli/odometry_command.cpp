@@ -68,7 +68,8 @@ int Odometry(const OdometryArgs& a) {
                                     "cannot be written");
         }
         csv << "scan,stamp_ns,flags,check_reasons,points,correspondences,inliers,rms_m,"
-               "correspondence_distance_m,motion_m,motion_deg,total_ms,deskew_rounds,budget_cut\n";
+               "correspondence_distance_m,motion_m,motion_deg,total_ms,deskew_rounds,budget_cut,"
+               "height_share\n";
     }
     o.on_scan = [tty, n = 0, &csv](const odometry::OdometryResult& r) mutable {
         if (csv.is_open()) {
@@ -77,7 +78,8 @@ int Odometry(const OdometryArgs& a) {
                 << g.points << "," << g.correspondences << "," << g.inliers << "," << g.rms << ","
                 << r.correspondence_distance << "," << r.T_prev_lidar.translation().norm() << ","
                 << common::RotationAngle(r.T_prev_lidar) * 180 / M_PI << "," << r.total_ms << ","
-                << r.deskew_rounds << ",\"" << odometry::BudgetCutText(r.budget_cut) << "\"\n";
+                << r.deskew_rounds << ",\"" << odometry::BudgetCutText(r.budget_cut) << "\","
+                << g.axis_share << "\n";
         }
         ++n;
         if (tty && n % 50 == 0) {
@@ -226,7 +228,8 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
         "Write every scan's registration evidence to this CSV (flags, check reasons, "
         "points, correspondences, inliers, rms, motion, time, deskew rounds, and the steps the "
         "budget cut: registration, gyro gate, other headings, start refinement, "
-        "deskew round)");
+        "deskew round; with the IMU, the share of the registration's weights on surfaces "
+        "facing up or down: under 0.01 the scan did not see the height)");
     cmd->callback([args, &exit_code] { exit_code = Run([&] { return Odometry(*args); }); });
 }
 

@@ -180,7 +180,7 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     // session.json), so that anchoring does not join its keyframes across a failed stretch.
     size_t session_first_scan = 0, last_scan = 0;
     const auto write_verdict = [&](size_t last) {
-        io::WriteFileAtomic(writer->dir() / TrajectoryTrust::kSessionFile,
+        io::WriteFileAtomic(writer->dir() / odometry::TrajectoryTrust::kSessionFile,
                             report.trust.SessionJson(session_first_scan, last).dump(1) + "\n");
     };
     // A capture that turns out corrupt part way: the error names the file and the byte; the

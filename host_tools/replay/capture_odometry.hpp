@@ -21,7 +21,7 @@
 
 #include "algorithms/keyframes/keyframe_selector.hpp"
 #include "algorithms/odometry/lidar_odometry.hpp"
-#include "host_tools/replay/trajectory_trust.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 
 namespace bimslam::replay {
 
@@ -67,12 +67,12 @@ struct CaptureOdometryReport {
     // failed: too few correspondences, or the registration failed its own evidence
     // (check_failed, algorithms/odometry/registration_check.hpp).
     size_t over_budget = 0, degenerate = 0, failed = 0, not_converged = 0, check_failed = 0;
-    TrajectoryTrust trust;         // the failed scans in stretches, the run's verdict
-    size_t contradicted_gyro = 0;  // scans that turned against the gyro (kContradictsGyro)
-    size_t contradicted_legs = 0;  // the Go1's legs against the LiDAR (kContradictsLegs)
-    double distance_m = 0;         // along the odometry trajectory
-    double capture_s = 0;          // sensor time from the first to the last scan
-    double wall_s = 0;             // this run
+    odometry::TrajectoryTrust trust;  // the failed scans in stretches, the run's verdict
+    size_t contradicted_gyro = 0;     // scans that turned against the gyro (kContradictsGyro)
+    size_t contradicted_legs = 0;     // the Go1's legs against the LiDAR (kContradictsLegs)
+    double distance_m = 0;            // along the odometry trajectory
+    double capture_s = 0;             // sensor time from the first to the last scan
+    double wall_s = 0;                // this run
     int64_t host_minus_sensor_ns = 0;
     std::vector<std::string> notes;  // what was missing or skipped, for the user
 };

@@ -24,8 +24,9 @@
 //              scans do not see it (the default, algorithms/odometry/imu_height.hpp) against
 //              the constant velocity's (or the legs'), same capture
 // BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it (a building none of whose walks
-// is picked is not read).
+// is picked is not read). BIMSLAM_STOREYS_KEEP=DIR: each walk's capture is copied to DIR/<name>.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -119,6 +120,18 @@ bool SimulateWalk(const simulate::Scenario& s, const Building& b, const fs::path
     } catch (const std::exception& e) {
         std::printf("%-34s not simulated: %s\n", name.c_str(), e.what());
         return false;
+    }
+    // Kept for a closer look (bimslam odometry, zerr): the walk's name as a folder name.
+    if (const char* keep = std::getenv("BIMSLAM_STOREYS_KEEP"); keep && *keep) {
+        std::string folder = name;
+        for (char& c : folder) {
+            if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+        }
+        const fs::path to = fs::path(keep) / folder;
+        fs::remove_all(to);
+        fs::create_directories(to);
+        fs::copy(dir / "capture", to, fs::copy_options::recursive);
+        std::printf("%-34s capture kept in %s\n", name.c_str(), to.c_str());
     }
     return true;
 }

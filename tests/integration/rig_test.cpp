@@ -3,7 +3,8 @@
 // restarting, a CAN outage, a full disk), signals (SIGTERM finishes the session, SIGKILL leaves
 // one `bimslam session info` recovers), the configuration (every shipped file loads; a wrong key,
 // type or value exits 2 naming it), live on loopback fed by `bimslam ouster replay`, scheduling
-// refused, SocketCAN absent. LCM and systemd: rig_lcm_test.cpp.
+// refused, SocketCAN absent, the odometry's verdict (trusted; untrusted with a 1 ms budget, in the
+// summary and the session, also after SIGKILL). LCM and systemd: rig_lcm_test.cpp.
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -52,11 +53,65 @@ TEST_F(Rig, ReplayWritesTheSessionOfBimslamOdometry) {
     EXPECT_EQ(rig["scans_dropped"], 0);
     const fs::path session = rig["session"].get<std::string>();
     for (const char* f : {"trajectory.tum", "optimized_poses.txt", "odom_poses.txt", "times.txt",
-                          "singlesession_posegraph.g2o"}) {
+                          "singlesession_posegraph.g2o", "odometry_verdict.json"}) {
         EXPECT_EQ(Slurp(session / f), Slurp(offline / f)) << f << " differs";
     }
     EXPECT_EQ(Slurp(session / "Scans" / "000003.pcd"), Slurp(offline / "Scans" / "000003.pcd"));
     EXPECT_TRUE(fs::exists(session / "session.json"));
+    // The odometry's verdict, in the summary as in the session (compared above).
+    EXPECT_EQ(odo["verdict"], "trusted");
+    EXPECT_EQ(rig["verdict"], "trusted");
+    EXPECT_EQ(rig["failed_stretches"].size(), 0u);
+}
+
+// A budget of 1 ms cuts every registration short (issue 32, item 3): past the few scans the gyro
+// bridges, one failed stretch to the end. The summary says untrusted and names the stretch; the
+// session's odometry_verdict.json (what `bimslam anchor` splits a session at) says the same.
+TEST_F(Rig, AnOdometryThatFailsIsUntrustedInTheSummaryAndTheSession) {
+    const fs::path cap = Capture("go1", 8);
+    const fs::path config = WriteConfig(Tmp() / "tiny_budget.yaml", "odometry:\n  budget_ms: 1\n");
+    const nlohmann::json rig =
+        RigJson(kRig + " replay " + cap.string() + " --speed max --json --config " +
+                config.string() + " --session-root " + (Tmp() / "tiny_budget").string());
+    ASSERT_FALSE(rig.is_null());
+    EXPECT_EQ(rig["verdict"], "untrusted");
+    ASSERT_EQ(rig["failed_stretches"].size(), 1u) << rig.dump(1);
+    const nlohmann::json& said = rig["failed_stretches"][0];
+    EXPECT_EQ(said["last_scan"], rig["scans"].get<int>() - 1) << said.dump();
+    const fs::path session = rig["session"].get<std::string>();
+    EXPECT_TRUE(fs::exists(session / "session.json"));
+    const auto v = nlohmann::json::parse(Slurp(session / "odometry_verdict.json"));
+    EXPECT_EQ(v["verdict"], "untrusted");
+    ASSERT_EQ(v["failed_stretches"].size(), 1u) << v.dump(1);
+    const nlohmann::json& s = v["failed_stretches"][0];
+    for (const char* k : {"first_scan", "last_scan", "failed", "reasons"})
+        EXPECT_EQ(s[k], said[k]) << k;
+    EXPECT_LT(s["first_stamp_ns"].get<int64_t>(), s["last_stamp_ns"].get<int64_t>());
+}
+
+// A rig killed after a stretch appeared leaves the verdict in the session: the file is written
+// when a stretch appears, not only when the session closes.
+TEST_F(Rig, SigkillAfterAFailedStretchLeavesTheUntrustedVerdict) {
+    const fs::path cap = Capture("go1", 8);
+    const fs::path root = Tmp() / "kill_untrusted";
+    const fs::path config =
+        WriteConfig(Tmp() / "kill_untrusted.yaml", "odometry:\n  budget_ms: 1\n");
+    test::rig::NotifySocket notify(Tmp() / "kill_untrusted.sock");
+    const pid_t pid =
+        Spawn(notify.Env() + kRig + " replay " + cap.string() + " --speed 1 --config " +
+                  config.string() + " --session-root " + root.string(),
+              Tmp() / "kill_untrusted.out", Tmp() / "kill_untrusted.err");
+    EXPECT_TRUE(notify.WaitForReady()) << notify.messages();
+    ASSERT_TRUE(fs::is_directory(root));
+    const fs::path session = fs::directory_iterator(root)->path();
+    EXPECT_TRUE(
+        test::rig::WaitUntil([&] { return fs::exists(session / "odometry_verdict.json"); }));
+    ::kill(pid, SIGKILL);
+    EXPECT_EQ(Wait(pid), 128 + SIGKILL);
+    EXPECT_FALSE(fs::exists(session / "session.json"));
+    const auto v = nlohmann::json::parse(Slurp(session / "odometry_verdict.json"));
+    EXPECT_EQ(v["verdict"], "untrusted");
+    EXPECT_EQ(v["failed_stretches"].size(), 1u) << v.dump(1);
 }
 
 TEST_F(Rig, KeepsRunningThroughFaultsAndCountsThem) {

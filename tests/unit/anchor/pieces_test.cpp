@@ -1,7 +1,7 @@
 // A session whose odometry failed in places, split for anchoring (host_tools/anchor/pieces.hpp,
 // anchor_pieces.hpp): where the pieces end, what a piece holds, the verdict of a split session,
 // the loops renumbered, the scans placed only from keyframes the odometry joins them to, and the
-// verdict file as the odometry writes it (host_tools/replay/trajectory_trust.hpp).
+// verdict file as the odometry writes it (algorithms/odometry/trajectory_trust.hpp).
 #include "host_tools/anchor/pieces.hpp"
 
 #include <gtest/gtest.h>
@@ -9,9 +9,9 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/odometry/lidar_odometry.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 #include "host_tools/anchor/anchor_output.hpp"
 #include "host_tools/anchor/anchor_pieces.hpp"
-#include "host_tools/replay/trajectory_trust.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::anchor {
@@ -250,7 +250,7 @@ TEST(WorldTrajectory, ScansArePlacedOnlyFromKeyframesTheOdometryJoinsThemTo) {
 }
 
 TEST(OdometryVerdictFile, WrittenByTheOdometryReadByTheAnchoring) {
-    replay::TrajectoryTrust trust(/*merge_gap=*/3);
+    odometry::TrajectoryTrust trust(/*merge_gap=*/3);
     for (size_t scan = 0; scan < 60; ++scan) {
         const bool failed = scan == 20 || scan == 22 || scan == 50;
         trust.Add(scan, 0.1 * double(scan), failed ? uint32_t(odometry::kCheckFailed) : 0u,

@@ -149,6 +149,7 @@ TEST(LidarOdometry, AFeaturelessCorridorDoesNotDivergeWithTheGo1Prior) {
     const OdometryRun without = Odometry(scene, CorridorWalk, 60, {.imu = true, .body = false});
     EXPECT_TRUE(with.flags & kDegenerate) << "the corridor's axis is detected";
     EXPECT_TRUE(with.flags & kBodyPriorUsed);
+    EXPECT_FALSE(with.flags & kHeightUnseen) << "the floor is in view";
     EXPECT_TRUE(with.finite);
     EXPECT_LT(with.max_translation_error, 0.05) << "6 s, about 5 m, along a featureless axis";
     EXPECT_LT(with.max_rotation_error_deg, 1.0);
@@ -177,6 +178,7 @@ TEST(LidarOdometry, AStopInAShaftFollowsTheAccelerometersNotTheConstantVelocity)
     const OdometryRun constant = Odometry(scene, ShaftStop, 70, {.imu = true}, cv);
     EXPECT_TRUE(accel.flags & kDegenerate) << "the height is not seen";
     EXPECT_TRUE(accel.results.back().flags & kImuHeight);
+    EXPECT_TRUE(accel.results.back().flags & kHeightUnseen) << "said, for the trust verdict";
     EXPECT_FALSE(constant.flags & kImuHeight);
     EXPECT_LT(accel.max_translation_error, 0.05)
         << "3 m up a height no scan sees, then 2.5 s still";

@@ -1,11 +1,13 @@
-// Whether a replayed trajectory can be trusted (issue 32, item 3): the scans whose registration
-// failed (too few correspondences) or failed its own evidence (kCheckFailed,
+// Whether a trajectory (replayed, or the rig's) can be trusted (issue 32, item 3): the scans whose
+// registration failed (too few correspondences) or failed its own evidence (kCheckFailed,
 // algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.
 // A pose after a failed scan is only as good as the guess that scan kept, so the verdict is
 // "untrusted" as soon as one stretch exists (a registration with too few correspondences, none
 // within the budget, or a check failed on one the budget stopped, whose prediction came from the
 // gyro or the legs excepted: bridged_by_prior); the stretches say where to
-// look (and which part of the trajectory `bimslam map` must not present as good).
+// look (and which part of the trajectory `bimslam map` must not present as good). A stretch is
+// also where the scans did not see the height for longer than kMaxHeightUnseenS in a row (with
+// the IMU, odometry::kHeightUnseen): the height there is the accelerometers' dead reckoning.
 #pragma once
 
 #include <cstddef>
@@ -14,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace bimslam::replay {
+namespace bimslam::odometry {
 
 struct FailedStretch {
     size_t first_scan = 0, last_scan = 0;  // 0-based scan indices, inclusive
@@ -24,6 +26,7 @@ struct FailedStretch {
     uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
     bool registration_failed = false;      // some scan had too few correspondences
     bool cut_by_budget = false;            // some scan's registration the budget stopped
+    double height_unseen_s = 0;            // the longest run in it of scans blind to the height
 };
 
 class TrajectoryTrust {
@@ -61,6 +64,12 @@ public:
     // Scans cut by the budget in a row that a measured prior bridges (Add): one spike of the
     // machine's load cuts one scan; a longer run is a failed stretch.
     static constexpr size_t kMaxBridgedCuts = 3;
+    // Seconds in a row the scans may not see the height (odometry::kHeightUnseen) before the
+    // height is not to be trusted. The accelerometers' height drifts by a t^2 / 2: a = 0.05 m/s^2
+    // (a tilt error of 0.3 deg on a rig pitched 30 deg on a flight, and the sensor's bias turned
+    // with it) gives 10 cm in 2 s. Office_A's stairwell: runs of 3.2 and 4.7 s ended flights
+    // 34 and 40 cm off; runs up to 0.3 s, 2-4 cm.
+    static constexpr double kMaxHeightUnseenS = 2.0;
 
 private:
     size_t merge_gap_;
@@ -68,6 +77,15 @@ private:
     size_t bridged_ = 0;
     size_t bridged_over_budget_ = 0;
     size_t cut_run_ = 0, last_cut_scan_ = 0;  // scans cut by the budget in a row, the last one
+    // The run of scans blind to the height: its first scan (stamp, time) and its last scan.
+    size_t unseen_first_ = 0, unseen_last_ = 0;
+    double unseen_first_s_ = 0;
+    int64_t unseen_first_ns_ = 0;
+    bool unseen_run_ = false;
+
+    void AddHeightUnseen(size_t scan, double t_s, int64_t stamp_ns);
+    // The stretch a problem at `scan` belongs to: the last one, or a new one from `first`.
+    FailedStretch& StretchFor(size_t first, double first_s, int64_t first_ns, size_t scan);
 };
 
-}  // namespace bimslam::replay
+}  // namespace bimslam::odometry

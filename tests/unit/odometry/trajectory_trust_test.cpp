@@ -1,12 +1,13 @@
-#include "host_tools/replay/trajectory_trust.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "algorithms/odometry/lidar_odometry.hpp"
 
-namespace bimslam::replay {
+namespace bimslam::odometry {
 namespace {
-using namespace odometry;
 
 TEST(TrajectoryTrust, ARunWithNoFailedScanIsTrusted) {
     TrajectoryTrust t;
@@ -113,5 +114,45 @@ TEST(TrajectoryTrust, AScanTheBudgetCutIsBridgedByAMeasuredPriorAndSaysSo) {
               nlohmann::json({"registration failed", "cut by the budget", "high residual"}));
 }
 
+// Scans blind to the height (with the IMU) leave it to the accelerometers' dead reckoning: a run
+// longer than kMaxHeightUnseenS is a stretch not to trust; shorter runs, however many, are not.
+TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsAStretchNotToTrust) {
+    const double limit = TrajectoryTrust::kMaxHeightUnseenS;
+    const auto walk = [](TrajectoryTrust* t, double unseen_s, int runs) {
+        size_t scan = 0;
+        const auto add = [&](uint32_t flags) {
+            t->Add(scan, 0.1 * double(scan), flags | kImuUsed, 0, int64_t(scan) * 100000000);
+            ++scan;
+        };
+        for (int r = 0; r < runs; ++r) {
+            for (int k = 0; k < 30; ++k) add(0);
+            for (int k = 0; k <= int(std::lround(unseen_s * 10)); ++k) add(kHeightUnseen);
+        }
+        for (int k = 0; k < 30; ++k) add(0);
+    };
+    TrajectoryTrust short_runs;
+    walk(&short_runs, limit - 0.3, 5);
+    EXPECT_TRUE(short_runs.trusted()) << short_runs.Describe();
+
+    TrajectoryTrust long_run;
+    walk(&long_run, limit + 1.0, 1);
+    ASSERT_FALSE(long_run.trusted());
+    ASSERT_EQ(long_run.stretches().size(), 1u);
+    const FailedStretch& s = long_run.stretches()[0];
+    EXPECT_EQ(s.first_scan, 30u);  // from the run's first scan, not where it became too long
+    EXPECT_EQ(s.last_scan, 30u + size_t(std::lround((limit + 1.0) * 10)));
+    EXPECT_EQ(s.first_ns, 3000000000);
+    EXPECT_EQ(s.failed, 0u);
+    EXPECT_NEAR(s.height_unseen_s, limit + 1.0, 1e-9);
+    EXPECT_EQ(long_run.ToJson().at("failed_stretches")[0].at("reasons"),
+              nlohmann::json({"height not seen for 3.0 s"}));
+    EXPECT_NE(long_run.Describe().find(
+                  "0 failed scans in 1 stretches (the height not seen for over 2 s in 1)"),
+              std::string::npos)
+        << long_run.Describe();
+    // The session's verdict file carries it, for anchoring to split the walk there.
+    EXPECT_EQ(long_run.SessionJson(0, 100).at("verdict"), "untrusted");
+}
+
 }  // namespace
-}  // namespace bimslam::replay
+}  // namespace bimslam::odometry

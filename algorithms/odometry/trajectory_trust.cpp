@@ -1,17 +1,22 @@
-#include "host_tools/replay/trajectory_trust.hpp"
+#include "algorithms/odometry/trajectory_trust.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "algorithms/odometry/lidar_odometry.hpp"
 
-namespace bimslam::replay {
+namespace bimslam::odometry {
 namespace {
 
 std::vector<std::string> Reasons(const FailedStretch& s) {
     std::vector<std::string> out;
     if (s.registration_failed) out.push_back("registration failed");
     if (s.cut_by_budget) out.push_back("cut by the budget");
-    using namespace odometry;
+    if (s.height_unseen_s > 0) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "height not seen for %.1f s", s.height_unseen_s);
+        out.push_back(buf);
+    }
     for (const uint32_t bit : {kLowOverlap, kFewInliers, kHighResidual, kFarFromPrediction}) {
         if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
     }
@@ -20,8 +25,50 @@ std::vector<std::string> Reasons(const FailedStretch& s) {
 
 }  // namespace
 
+FailedStretch& TrajectoryTrust::StretchFor(size_t first, double first_s, int64_t first_ns,
+                                           size_t scan) {
+    if (stretches_.empty() || first > stretches_.back().last_scan + merge_gap_) {
+        FailedStretch s;
+        s.first_scan = first;
+        s.first_s = first_s;
+        s.first_ns = first_ns;
+        stretches_.push_back(s);
+    }
+    FailedStretch& s = stretches_.back();
+    if (first < s.first_scan) {  // a run blind to the height that began before a failed scan
+        s.first_scan = first;
+        s.first_s = first_s;
+        s.first_ns = first_ns;
+    }
+    s.last_scan = std::max(s.last_scan, scan);
+    return s;
+}
+
+void TrajectoryTrust::AddHeightUnseen(size_t scan, double t_s, int64_t stamp_ns) {
+    if (!unseen_run_ || scan != unseen_last_ + 1) {
+        unseen_run_ = true;
+        unseen_first_ = scan;
+        unseen_first_s_ = t_s;
+        unseen_first_ns_ = stamp_ns;
+    }
+    unseen_last_ = scan;
+    const double run_s = t_s - unseen_first_s_;
+    if (run_s <= kMaxHeightUnseenS) return;
+    FailedStretch& s = StretchFor(unseen_first_, unseen_first_s_, unseen_first_ns_, scan);
+    if (s.last_scan == scan) {
+        s.last_s = t_s;
+        s.last_ns = stamp_ns;
+    }
+    s.height_unseen_s = std::max(s.height_unseen_s, run_s);
+}
+
 void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons,
                           int64_t stamp_ns) {
+    if (flags & odometry::kHeightUnseen) {
+        AddHeightUnseen(scan, t_s, stamp_ns);
+    } else {
+        unseen_run_ = false;
+    }
     const bool reg_failed = (flags & odometry::kRegistrationFailed) != 0;
     const bool check_failed = (flags & odometry::kCheckFailed) != 0;
     if (!reg_failed && !check_failed) return;
@@ -46,11 +93,7 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
         bridged_over_budget_ += cut ? 1 : 0;
         return;
     }
-    if (stretches_.empty() || scan > stretches_.back().last_scan + merge_gap_) {
-        stretches_.push_back({scan, scan, t_s, t_s, stamp_ns, stamp_ns, 0, 0, false, false});
-    }
-    FailedStretch& s = stretches_.back();
-    s.last_scan = scan;
+    FailedStretch& s = StretchFor(scan, t_s, stamp_ns, scan);
     s.last_s = t_s;
     s.last_ns = stamp_ns;
     ++s.failed;
@@ -73,10 +116,18 @@ std::string TrajectoryTrust::Describe() const {
                                                      : " (" + std::to_string(bridged_over_budget_) +
                                                            " of them cut by the budget)"));
     }
-    size_t failed = 0;
-    for (const FailedStretch& s : stretches_) failed += s.failed;
-    std::string text = "UNTRUSTED: " + std::to_string(failed) + " failed scans in " +
-                       std::to_string(stretches_.size()) + " stretches:";
+    size_t failed = 0, blind = 0;
+    for (const FailedStretch& s : stretches_) {
+        failed += s.failed;
+        blind += s.height_unseen_s > 0 ? 1 : 0;
+    }
+    std::string text =
+        "UNTRUSTED: " + std::to_string(failed) + " failed scans in " +
+        std::to_string(stretches_.size()) + " stretches" +
+        (blind == 0 ? std::string()
+                    : " (the height not seen for over " + std::to_string(int(kMaxHeightUnseenS)) +
+                          " s in " + std::to_string(blind) + ")") +
+        ":";
     char buf[160];
     for (size_t k = 0; k < stretches_.size() && k < 8; ++k) {
         const FailedStretch& s = stretches_[k];
@@ -128,4 +179,4 @@ nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan)
             {"failed_stretches", list}};
 }
 
-}  // namespace bimslam::replay
+}  // namespace bimslam::odometry
