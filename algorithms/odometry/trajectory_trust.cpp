@@ -1,6 +1,7 @@
 #include "algorithms/odometry/trajectory_trust.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 
 #include "algorithms/odometry/lidar_odometry.hpp"
@@ -12,11 +13,6 @@ std::vector<std::string> Reasons(const FailedStretch& s) {
     std::vector<std::string> out;
     if (s.registration_failed) out.push_back("registration failed");
     if (s.cut_by_budget) out.push_back("cut by the budget");
-    if (s.height_unseen_s > 0) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "height not seen for %.1f s", s.height_unseen_s);
-        out.push_back(buf);
-    }
     for (const uint32_t bit : {kLowOverlap, kFewInliers, kHighResidual, kFarFromPrediction}) {
         if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
     }
@@ -54,12 +50,18 @@ void TrajectoryTrust::AddHeightUnseen(size_t scan, double t_s, int64_t stamp_ns)
     unseen_last_ = scan;
     const double run_s = t_s - unseen_first_s_;
     if (run_s <= kMaxHeightUnseenS) return;
-    FailedStretch& s = StretchFor(unseen_first_, unseen_first_s_, unseen_first_ns_, scan);
-    if (s.last_scan == scan) {
-        s.last_s = t_s;
-        s.last_ns = stamp_ns;
+    if (blind_.empty() || blind_.back().first_scan != unseen_first_) {
+        FailedStretch b;
+        b.first_scan = unseen_first_;
+        b.first_s = unseen_first_s_;
+        b.first_ns = unseen_first_ns_;
+        blind_.push_back(b);
     }
-    s.height_unseen_s = std::max(s.height_unseen_s, run_s);
+    FailedStretch& b = blind_.back();
+    b.last_scan = scan;
+    b.last_s = t_s;
+    b.last_ns = stamp_ns;
+    b.height_unseen_s = run_s;
 }
 
 void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons,
@@ -103,31 +105,25 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
 }
 
 std::string TrajectoryTrust::Describe() const {
-    if (trusted()) {
-        // A bridged scan is no failed check, but a reader who sees `failed` > 0 beside "trusted"
-        // must learn why.
-        return "trusted: every registration passed its checks" +
-               (bridged_ == 0
-                    ? std::string()
-                    : "; " + std::to_string(bridged_) +
-                          " scans with too few correspondences kept the gyro's or the "
-                          "legs' prediction" +
-                          (bridged_over_budget_ == 0 ? std::string()
-                                                     : " (" + std::to_string(bridged_over_budget_) +
-                                                           " of them cut by the budget)"));
-    }
-    size_t failed = 0, blind = 0;
-    for (const FailedStretch& s : stretches_) {
-        failed += s.failed;
-        blind += s.height_unseen_s > 0 ? 1 : 0;
-    }
-    std::string text =
-        "UNTRUSTED: " + std::to_string(failed) + " failed scans in " +
-        std::to_string(stretches_.size()) + " stretches" +
-        (blind == 0 ? std::string()
-                    : " (the height not seen for over " + std::to_string(int(kMaxHeightUnseenS)) +
-                          " s in " + std::to_string(blind) + ")") +
-        ":";
+    return (trusted() ? DescribeTrusted() : DescribeFailed()) + DescribeBlind();
+}
+
+std::string TrajectoryTrust::DescribeTrusted() const {
+    // A bridged scan is no failed check, but a reader who sees `failed` > 0 beside "trusted"
+    // must learn why.
+    if (bridged_ == 0) return "trusted: every registration passed its checks";
+    return "trusted: every registration passed its checks; " + std::to_string(bridged_) +
+           " scans with too few correspondences kept the gyro's or the legs' prediction" +
+           (bridged_over_budget_ == 0
+                ? std::string()
+                : " (" + std::to_string(bridged_over_budget_) + " of them cut by the budget)");
+}
+
+std::string TrajectoryTrust::DescribeFailed() const {
+    size_t failed = 0;
+    for (const FailedStretch& s : stretches_) failed += s.failed;
+    std::string text = "UNTRUSTED: " + std::to_string(failed) + " failed scans in " +
+                       std::to_string(stretches_.size()) + " stretches:";
     char buf[160];
     for (size_t k = 0; k < stretches_.size() && k < 8; ++k) {
         const FailedStretch& s = stretches_[k];
@@ -140,6 +136,36 @@ std::string TrajectoryTrust::Describe() const {
     }
     if (stretches_.size() > 8) text += " ... (--json lists them all)";
     return text;
+}
+
+std::string TrajectoryTrust::DescribeBlind() const {
+    if (blind_.empty()) return "";
+    std::string text = "; the height not seen for over " + std::to_string(int(kMaxHeightUnseenS)) +
+                       " s (the accelerometers' alone) at";
+    char buf[96];
+    for (size_t k = 0; k < blind_.size() && k < 8; ++k) {
+        const FailedStretch& b = blind_[k];
+        std::snprintf(buf, sizeof buf, " scans %zu-%zu (%.1f-%.1f s)%s", b.first_scan, b.last_scan,
+                      b.first_s, b.last_s, k + 1 < blind_.size() ? "," : "");
+        text += buf;
+    }
+    if (blind_.size() > 8) text += " ...";
+    return text;
+}
+
+nlohmann::json TrajectoryTrust::BlindJson(size_t first_scan, size_t last_scan) const {
+    nlohmann::json list = nlohmann::json::array();
+    for (const FailedStretch& b : blind_) {
+        if (b.last_scan < first_scan || b.first_scan > last_scan) continue;
+        list.push_back({{"first_scan", b.first_scan},
+                        {"last_scan", b.last_scan},
+                        {"first_s", b.first_s},
+                        {"last_s", b.last_s},
+                        {"first_stamp_ns", b.first_ns},
+                        {"last_stamp_ns", b.last_ns},
+                        {"seconds", b.height_unseen_s}});
+    }
+    return list;
 }
 
 nlohmann::json TrajectoryTrust::ToJson() const {
@@ -155,7 +181,8 @@ nlohmann::json TrajectoryTrust::ToJson() const {
     return {{"verdict", Verdict()},
             {"failed_stretches", list},
             {"bridged_by_prior", bridged_},
-            {"bridged_over_budget", bridged_over_budget_}};
+            {"bridged_over_budget", bridged_over_budget_},
+            {"height_unseen_stretches", BlindJson(0, SIZE_MAX)}};
 }
 
 nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan) const {
@@ -176,7 +203,8 @@ nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan)
             {"verdict", list.empty() ? "trusted" : "untrusted"},
             {"first_scan", first_scan},
             {"last_scan", last_scan},
-            {"failed_stretches", list}};
+            {"failed_stretches", list},
+            {"height_unseen_stretches", BlindJson(first_scan, last_scan)}};
 }
 
 }  // namespace bimslam::odometry

@@ -5,9 +5,11 @@
 // "untrusted" as soon as one stretch exists (a registration with too few correspondences, none
 // within the budget, or a check failed on one the budget stopped, whose prediction came from the
 // gyro or the legs excepted: bridged_by_prior); the stretches say where to
-// look (and which part of the trajectory `bimslam map` must not present as good). A stretch is
-// also where the scans did not see the height for longer than kMaxHeightUnseenS in a row (with
-// the IMU, odometry::kHeightUnseen): the height there is the accelerometers' dead reckoning.
+// look (and which part of the trajectory `bimslam map` must not present as good). Apart from
+// them, the stretches where the scans did not see the height for longer than kMaxHeightUnseenS
+// in a row (with the IMU, odometry::kHeightUnseen): the height there is the accelerometers' dead
+// reckoning, said, not untrusted (anchoring the whole walk measured better than in pieces there:
+// algorithms/odometry/README.md, "The height in stairwells").
 #pragma once
 
 #include <cstddef>
@@ -26,7 +28,7 @@ struct FailedStretch {
     uint32_t check_reasons = 0;            // odometry::CheckReason bits over its scans
     bool registration_failed = false;      // some scan had too few correspondences
     bool cut_by_budget = false;            // some scan's registration the budget stopped
-    double height_unseen_s = 0;            // the longest run in it of scans blind to the height
+    double height_unseen_s = 0;            // height_unseen(): seconds without the height
 };
 
 class TrajectoryTrust {
@@ -47,15 +49,18 @@ public:
     // the deadline stopped (kCheckFailed with kCutShort). Counted in bridged_by_prior too.
     size_t bridged_over_budget() const { return bridged_over_budget_; }
     const std::vector<FailedStretch>& stretches() const { return stretches_; }
+    // The runs of scans blind to the height longer than kMaxHeightUnseenS (failed is 0).
+    const std::vector<FailedStretch>& height_unseen() const { return blind_; }
     // "trusted" or "untrusted".
     std::string Verdict() const { return trusted() ? "trusted" : "untrusted"; }
-    // One line for a person: what failed where.
+    // One line for a person: what failed where, and where the height was not seen.
     std::string Describe() const;
     // {"verdict", "failed_stretches": [{first_scan, last_scan, first_s, last_s, failed,
-    // reasons: [...]}]}.
+    // reasons: [...]}], "height_unseen_stretches": [{..., seconds}]}.
     nlohmann::json ToJson() const;
     // The verdict a session of scans [first_scan, last_scan] carries (kSessionFile in its folder):
-    // ToJson() of the stretches that overlap those scans, with their stamps, so that anchoring
+    // ToJson() of the stretches (and height_unseen_stretches) that overlap those scans, with their
+    // stamps, so that anchoring
     // can find the keyframes on either side (host_tools/anchor/README.md, "Untrusted odometry").
     nlohmann::json SessionJson(size_t first_scan, size_t last_scan) const;
 
@@ -65,7 +70,7 @@ public:
     // machine's load cuts one scan; a longer run is a failed stretch.
     static constexpr size_t kMaxBridgedCuts = 3;
     // Seconds in a row the scans may not see the height (odometry::kHeightUnseen) before the
-    // height is not to be trusted. The accelerometers' height drifts by a t^2 / 2: a = 0.05 m/s^2
+    // run says so (height_unseen()). The accelerometers' height drifts by a t^2 / 2: a = 0.05 m/s^2
     // (a tilt error of 0.3 deg on a rig pitched 30 deg on a flight, and the sensor's bias turned
     // with it) gives 10 cm in 2 s. Office_A's stairwell: runs of 3.2 and 4.7 s ended flights
     // 34 and 40 cm off; runs up to 0.3 s, 2-4 cm.
@@ -74,6 +79,7 @@ public:
 private:
     size_t merge_gap_;
     std::vector<FailedStretch> stretches_;
+    std::vector<FailedStretch> blind_;  // height_unseen()
     size_t bridged_ = 0;
     size_t bridged_over_budget_ = 0;
     size_t cut_run_ = 0, last_cut_scan_ = 0;  // scans cut by the budget in a row, the last one
@@ -84,6 +90,10 @@ private:
     bool unseen_run_ = false;
 
     void AddHeightUnseen(size_t scan, double t_s, int64_t stamp_ns);
+    std::string DescribeTrusted() const;
+    std::string DescribeFailed() const;
+    std::string DescribeBlind() const;
+    nlohmann::json BlindJson(size_t first_scan, size_t last_scan) const;
     // The stretch a problem at `scan` belongs to: the last one, or a new one from `first`.
     FailedStretch& StretchFor(size_t first, double first_s, int64_t first_ns, size_t scan);
 };

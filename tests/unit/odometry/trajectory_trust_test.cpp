@@ -115,8 +115,9 @@ TEST(TrajectoryTrust, AScanTheBudgetCutIsBridgedByAMeasuredPriorAndSaysSo) {
 }
 
 // Scans blind to the height (with the IMU) leave it to the accelerometers' dead reckoning: a run
-// longer than kMaxHeightUnseenS is a stretch not to trust; shorter runs, however many, are not.
-TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsAStretchNotToTrust) {
+// longer than kMaxHeightUnseenS is said, with where it was; shorter runs, however many, are not.
+// Neither untrusts the run: anchoring the whole walk measured better than in pieces there.
+TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsSaidWithWhere) {
     const double limit = TrajectoryTrust::kMaxHeightUnseenS;
     const auto walk = [](TrajectoryTrust* t, double unseen_s, int runs) {
         size_t scan = 0;
@@ -132,26 +133,30 @@ TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsAStretchNotToTrust) {
     };
     TrajectoryTrust short_runs;
     walk(&short_runs, limit - 0.3, 5);
-    EXPECT_TRUE(short_runs.trusted()) << short_runs.Describe();
+    EXPECT_TRUE(short_runs.height_unseen().empty());
+    EXPECT_EQ(short_runs.Describe(), "trusted: every registration passed its checks");
 
-    TrajectoryTrust long_run;
-    walk(&long_run, limit + 1.0, 1);
-    ASSERT_FALSE(long_run.trusted());
-    ASSERT_EQ(long_run.stretches().size(), 1u);
-    const FailedStretch& s = long_run.stretches()[0];
+    TrajectoryTrust long_runs;
+    walk(&long_runs, limit + 1.0, 2);
+    EXPECT_TRUE(long_runs.trusted());
+    ASSERT_EQ(long_runs.height_unseen().size(), 2u);
+    const FailedStretch& s = long_runs.height_unseen()[0];
     EXPECT_EQ(s.first_scan, 30u);  // from the run's first scan, not where it became too long
     EXPECT_EQ(s.last_scan, 30u + size_t(std::lround((limit + 1.0) * 10)));
     EXPECT_EQ(s.first_ns, 3000000000);
-    EXPECT_EQ(s.failed, 0u);
     EXPECT_NEAR(s.height_unseen_s, limit + 1.0, 1e-9);
-    EXPECT_EQ(long_run.ToJson().at("failed_stretches")[0].at("reasons"),
-              nlohmann::json({"height not seen for 3.0 s"}));
-    EXPECT_NE(long_run.Describe().find(
-                  "0 failed scans in 1 stretches (the height not seen for over 2 s in 1)"),
+    EXPECT_NE(long_runs.Describe().find("trusted: every registration passed its checks; the height "
+                                        "not seen for over 2 s (the accelerometers' alone) at "
+                                        "scans 30-60 (3.0-6.0 s), scans 91-121"),
               std::string::npos)
-        << long_run.Describe();
-    // The session's verdict file carries it, for anchoring to split the walk there.
-    EXPECT_EQ(long_run.SessionJson(0, 100).at("verdict"), "untrusted");
+        << long_runs.Describe();
+    EXPECT_EQ(long_runs.ToJson().at("height_unseen_stretches").size(), 2u);
+    // The session's file carries the stretches within its scans; its verdict stays trusted.
+    const nlohmann::json session = long_runs.SessionJson(0, 70);
+    EXPECT_EQ(session.at("verdict"), "trusted");
+    ASSERT_EQ(session.at("height_unseen_stretches").size(), 1u);
+    EXPECT_EQ(session.at("height_unseen_stretches")[0].at("first_stamp_ns"), 3000000000);
+    EXPECT_DOUBLE_EQ(session.at("height_unseen_stretches")[0].at("seconds"), limit + 1.0);
 }
 
 }  // namespace
