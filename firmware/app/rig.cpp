@@ -36,20 +36,13 @@ ouster::SensorInfo LoadBagMetadata(const fs::path& bag_path) {
                                  bag.ReadMetadata());
 }
 
-double Percentile(std::vector<int64_t> v, double p) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return double(v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))]) * 1e-6;
-}
-
-// The latency's stages (LatencyStages, microseconds) as percentiles in ms.
-std::vector<StageLatency> StagePercentiles(const std::vector<LatencyStages>& scans) {
+// The latency's stages as percentiles in ms.
+std::vector<StageLatency> StagePercentiles(
+    const std::array<runtime::LatencyHistogram, LatencyStages::kCount>& stages) {
     std::vector<StageLatency> out;
-    std::vector<int64_t> ns(scans.size());
     for (size_t i = 0; i < LatencyStages::kCount; ++i) {
-        for (size_t k = 0; k < scans.size(); ++k) ns[k] = int64_t(scans[k].us[i]) * 1000;
-        out.push_back({LatencyStages::kNames[i], Percentile(ns, 0.5), Percentile(ns, 0.99),
-                       Percentile(ns, 1.0)});
+        out.push_back({LatencyStages::kNames[i], stages[i].PercentileMs(0.5),
+                       stages[i].PercentileMs(0.99), stages[i].PercentileMs(1.0)});
     }
     return out;
 }
@@ -448,9 +441,9 @@ void Rig::Summarize() {
     s.lcm_ouster_stats = lc.ouster_stats;
     s.lcm_logged = lc.logged;
     s.lcm_paced_s = double(lc.paced_ns) * 1e-9;
-    s.latency_p50_ms = Percentile(publisher_->latencies(), 0.5);
-    s.latency_p99_ms = Percentile(publisher_->latencies(), 0.99);
-    s.latency_max_ms = Percentile(publisher_->latencies(), 1.0);
+    s.latency_p50_ms = publisher_->latency().PercentileMs(0.5);
+    s.latency_p99_ms = publisher_->latency().PercentileMs(0.99);
+    s.latency_max_ms = publisher_->latency().PercentileMs(1.0);
     s.latency_stages = StagePercentiles(publisher_->latency_stages());
 }
 

@@ -233,8 +233,6 @@ LcmPublisher::LcmPublisher(const std::string& url, const keyframes::KeyframeConf
                                 ": cannot open (UDP multicast needs a route: "
                                 "toolchain/setup-multicast.sh, or set lcm.url)");
     }
-    latencies_.reserve(36000 * 4);
-    stages_.reserve(36000);
     counters_.Store(c_);
 }
 
@@ -287,11 +285,10 @@ void LcmPublisher::Run(runtime::ThreadStats& stats, const std::atomic<bool>& pro
             ToMessage(*o, runtime::RealtimeNs(), &odometry);
             Publish(kOdometryChannel, odometry);
             const int64_t published = runtime::MonotonicNs();
-            if (latencies_.size() < latencies_.capacity()) {
-                latencies_.push_back(published - o->times.last_packet);
-            }
-            if (stages_.size() < stages_.capacity()) {
-                stages_.push_back(LatencyStages::From(o->times, published));
+            latency_.Add(published - o->times.last_packet);
+            const LatencyStages stages = LatencyStages::From(o->times, published);
+            for (size_t i = 0; i < LatencyStages::kCount; ++i) {
+                stages_[i].Add(int64_t(stages.us[i]) * 1000);
             }
             q_.odometry.Pop();
             ++c_.odometry;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "firmware/modules/rig_types.hpp"
+#include "firmware/runtime/latency_histogram.hpp"
 #include "firmware/runtime/seqlock.hpp"
 #include "firmware/runtime/thread_table.hpp"
 
@@ -117,10 +118,13 @@ public:
     // Until `producers_done` and every queue is empty.
     void Run(runtime::ThreadStats& stats, const std::atomic<bool>& producers_done);
     LcmCounters counters() const { return counters_.Load(); }
-    // Each scan's latency from its last packet to its odometry_t being published (ns).
-    const std::vector<int64_t>& latencies() const { return latencies_; }
-    // The same split by stage, for the first hour of scans (36000 slots, reserved at start).
-    const std::vector<LatencyStages>& latency_stages() const { return stages_; }
+    // The latencies from each scan's last packet to its odometry_t being published, the whole
+    // run's, in fixed memory; read after Run returns.
+    const runtime::LatencyHistogram& latency() const { return latency_; }
+    // The same split by stage (LatencyStages::kNames).
+    const std::array<runtime::LatencyHistogram, LatencyStages::kCount>& latency_stages() const {
+        return stages_;
+    }
 
 private:
     template <typename Msg>
@@ -136,8 +140,8 @@ private:
     LcmQueues q_;
     LcmCounters c_;
     runtime::Seqlock<LcmCounters> counters_;
-    std::vector<int64_t> latencies_;
-    std::vector<LatencyStages> stages_;
+    runtime::LatencyHistogram latency_;
+    std::array<runtime::LatencyHistogram, LatencyStages::kCount> stages_;
 };
 
 }  // namespace bimslam::rig

@@ -9,7 +9,6 @@ namespace bimslam::rig {
 OdometryWorker::OdometryWorker(const OdometryWorkerConfig& config, WorkerQueues queues,
                                const CanIngest* can)
     : config_(config), q_(queues), can_(can), pipeline_(config.pipeline) {
-    latencies_.reserve(36000 * 4);  // 4 hours at 10 Hz before it grows
     counters_.Store(c_);
 }
 
@@ -102,7 +101,6 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         push(q_.keyframes_lcm, fill);
     }
     const int64_t latency = times.handed - times.last_packet;
-    if (latencies_.size() < latencies_.capacity()) latencies_.push_back(latency);
     stats.Cycle(latency, config_.deadline_ns);
     if (latency > config_.deadline_ns) ++c_.deadline_misses;
     q_.scans.Pop();

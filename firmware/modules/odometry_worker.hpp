@@ -63,8 +63,6 @@ public:
              const std::atomic<bool>& inputs_done);
 
     WorkerCounters counters() const { return counters_.Load(); }
-    // Every scan's time from its last packet to its odometry being queued for LCM (ns).
-    const std::vector<int64_t>& latencies() const { return latencies_; }
     // Every scan's flags in stretches, the run's verdict (as `bimslam odometry` gives it); read
     // after Run returns.
     const odometry::TrajectoryTrust& trust() const { return trust_; }
@@ -80,7 +78,6 @@ private:
     uint32_t segment_ = 0;
     WorkerCounters c_;
     runtime::Seqlock<WorkerCounters> counters_;
-    std::vector<int64_t> latencies_;  // reserved for a long run; read after Run returns
     odometry::TrajectoryTrust trust_;
     int64_t first_stamp_ns_ = -1;  // the run's first scan's stamp: TrajectoryTrust's seconds
 };
