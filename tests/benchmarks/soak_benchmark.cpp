@@ -5,6 +5,8 @@
 //   BIMSLAM_SOAK_MINUTES=120 soak_benchmark     two hours (default 10 minutes)
 //   BIMSLAM_SOAK_RECORDING_S=120                the recording replayed in a loop (default 120 s:
 //                                               ~0.5 GB of pcap under $TMPDIR)
+//   BIMSLAM_SOAK_LOCK_MEMORY=0                  the rig's memory not locked (default: locked, as
+//                                               the shipped go1.yaml; see LockMemory below)
 // Each pass is a sensor restart, as a power cycle gives: the passes alternate between the
 // recording and a copy whose lidar packets carry another init_id (CRC-64 footers recomputed),
 // and the clock and frame ids start again. The rig adopts the new init_id and starts a new
@@ -70,6 +72,15 @@ struct HealthLog {
 int Minutes() {
     const char* m = std::getenv("BIMSLAM_SOAK_MINUTES");
     return m ? std::max(1, std::atoi(m)) : 10;
+}
+
+// The rig's memory locked (mlockall, as the shipped go1.yaml has it), unless
+// BIMSLAM_SOAK_LOCK_MEMORY=0. Locked, RSS is what the rig holds from the start: its reserved
+// buffers (the odometry's voxel map, ~40 MB) are faulted in at once. Unlocked, RSS counts only
+// the pages touched so far, and grows for an hour as the map's reserve is first written.
+bool LockMemory() {
+    const char* l = std::getenv("BIMSLAM_SOAK_LOCK_MEMORY");
+    return !(l && std::string(l) == "0");
 }
 
 int RecordingSeconds() {
@@ -146,8 +157,8 @@ int main() {
     bimslam::test::TempDir tmp;
     std::printf(
         "soak: %d min of bimslam-rig live, fed a %d s handheld recording (OS1-32 1024x10) "
-        "in a loop at 1x over loopback\n",
-        minutes, recording_s);
+        "in a loop at 1x over loopback, memory %s\n",
+        minutes, recording_s, LockMemory() ? "locked" : "not locked (BIMSLAM_SOAK_LOCK_MEMORY=0)");
     std::fflush(stdout);
     const fs::path cap = Simulate(tmp.path(), recording_s);
     const fs::path restarted = RestartedCopy(cap, tmp / "restarted");
@@ -156,7 +167,8 @@ int main() {
     std::ofstream(tmp / "live.yaml")
         << "sensor:\n  metadata: " << (cap / "metadata.json").string()
         << "\n  bind_address: 127.0.0.1\n  lidar_port: " << port << "\n  imu_port: " << port + 1
-        << "\ncan:\n  source: none\nlcm:\n  url: " << url << "\nruntime:\n  lock_memory: false\n";
+        << "\ncan:\n  source: none\nlcm:\n  url: " << url
+        << "\nruntime:\n  lock_memory: " << (LockMemory() ? "true" : "false") << "\n";
     HealthLog log;
     lcm::LCM lcm(url);
     lcm.subscribe("BIMSLAM_RIG_HEALTH", &HealthLog::Handle, &log);
