@@ -30,24 +30,28 @@ Eigen::Isometry3d ParsePose(const LineReader& r, const std::vector<std::string_v
 }
 }  // namespace
 
+void AppendG2oVertex(std::string& out, size_t id, const Eigen::Isometry3d& T) {
+    out += "VERTEX_SE3:QUAT " + std::to_string(id);
+    AppendPose(out, T);
+    out += '\n';
+}
+
+void AppendG2oEdge(std::string& out, const SessionEdge& e) {
+    out += "EDGE_SE3:QUAT " + std::to_string(e.from) + " " + std::to_string(e.to);
+    AppendPose(out, e.T_from_to);
+    for (int r = 0; r < 6; ++r) {
+        for (int c = r; c < 6; ++c) {
+            out += ' ';
+            out += FormatDouble(e.information(r, c));
+        }
+    }
+    out += '\n';
+}
+
 std::string SerializeG2o(const G2oGraph& graph) {
     std::string out;
-    for (size_t i = 0; i < graph.vertices.size(); ++i) {
-        out += "VERTEX_SE3:QUAT " + std::to_string(i);
-        AppendPose(out, graph.vertices[i]);
-        out += '\n';
-    }
-    for (const SessionEdge& e : graph.edges) {
-        out += "EDGE_SE3:QUAT " + std::to_string(e.from) + " " + std::to_string(e.to);
-        AppendPose(out, e.T_from_to);
-        for (int r = 0; r < 6; ++r) {
-            for (int c = r; c < 6; ++c) {
-                out += ' ';
-                out += FormatDouble(e.information(r, c));
-            }
-        }
-        out += '\n';
-    }
+    for (size_t i = 0; i < graph.vertices.size(); ++i) AppendG2oVertex(out, i, graph.vertices[i]);
+    for (const SessionEdge& e : graph.edges) AppendG2oEdge(out, e);
     return out;
 }
 

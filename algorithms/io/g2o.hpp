@@ -18,6 +18,10 @@ struct G2oGraph {
 };
 
 std::string SerializeG2o(const G2oGraph& graph);
+// One line of it each (SerializeG2o is the vertices' lines, then the edges'): a writer that
+// keeps its text appends a line per item instead of formatting the whole graph again.
+void AppendG2oVertex(std::string& out, size_t id, const Eigen::Isometry3d& T);
+void AppendG2oEdge(std::string& out, const SessionEdge& e);
 // Vertices must have ids 0, 1, 2, ... in order, edges must join existing vertices, every number
 // must be finite and the information matrix positive semi-definite on its diagonal. Other g2o
 // tags (FIX, PARAMS_SE3OFFSET, ...) are rejected: they would change the meaning of the graph.

@@ -156,21 +156,24 @@ public:
     // Flushes and writes session.json. Further calls are errors.
     void Finish();
 
-    size_t keyframe_count() const { return keyframes_.size(); }
+    size_t keyframe_count() const { return keyframes_; }
     const std::filesystem::path& dir() const { return dir_; }
 
 private:
-    struct Written {
-        int64_t stamp_ns;
-        Eigen::Isometry3d T_world_lidar;
-        std::optional<Eigen::Isometry3d> T_odom_lidar;
+    // The line files' text so far: each item is formatted once, when it is added, and a flush
+    // writes the texts (a flush that formatted every scan's pose again cost O(scans) per
+    // keyframe: 34 ms and 6 allocations a number at two hours of 10 Hz scans).
+    struct Text {
+        std::string times, world, odom, vertices, edges, trajectory;
     };
     std::filesystem::path dir_;
     SessionManifest manifest_;
     SessionWriterOptions options_;
-    std::vector<Written> keyframes_;
-    std::vector<SessionEdge> edges_;
-    std::vector<StampedPose> trajectory_;
+    Text text_;
+    size_t keyframes_ = 0;
+    bool keyframes_have_odom_ = false;  // the first keyframe's; every keyframe's must agree
+    size_t scans_ = 0;
+    int64_t last_scan_ns_ = 0;
     size_t unflushed_ = 0;
     bool finished_ = false;
     Sync sync() const { return options_.sync_each_file ? Sync::kNow : Sync::kDeferred; }

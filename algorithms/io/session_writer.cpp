@@ -105,7 +105,7 @@ SessionWriter::~SessionWriter() {
 }
 
 size_t SessionWriter::AddKeyframe(const SessionKeyframe& kf) {
-    const size_t i = keyframes_.size();
+    const size_t i = keyframes_;
     const std::string what = dir_.string() + " keyframe " + std::to_string(i);
     if (finished_) throw common::Error(StatusCode::kInvalidArgument, what + ": session finished");
     if (kf.descriptor.rows() != manifest_.descriptor.rings ||
@@ -120,7 +120,7 @@ size_t SessionWriter::AddKeyframe(const SessionKeyframe& kf) {
         (kf.T_odom_lidar && !common::IsValidRigid(*kf.T_odom_lidar, 1e-6))) {
         throw common::Error(StatusCode::kInvalidArgument, what + ": pose is not a rigid transform");
     }
-    if (i > 0 && kf.T_odom_lidar.has_value() != keyframes_[0].T_odom_lidar.has_value()) {
+    if (i > 0 && kf.T_odom_lidar.has_value() != keyframes_have_odom_) {
         throw common::Error(StatusCode::kInvalidArgument,
                             what + ": odometry poses must be given for all keyframes or none");
     }
@@ -137,13 +137,18 @@ size_t SessionWriter::AddKeyframe(const SessionKeyframe& kf) {
     }
     WriteFileAtomic(cloud_path, bytes, sync());
     WriteFileAtomic(KeyframeDescriptorPath(dir_, i), SerializeScd(kf.descriptor), sync());
-    keyframes_.push_back({kf.stamp_ns, kf.T_world_lidar, kf.T_odom_lidar});
+    text_.times += FormatNsAsSeconds(kf.stamp_ns) + "\n";
+    AppendKittiLine(text_.world, kf.T_world_lidar);
+    if (kf.T_odom_lidar) AppendKittiLine(text_.odom, *kf.T_odom_lidar);
+    AppendG2oVertex(text_.vertices, i, kf.T_world_lidar);
+    if (i == 0) keyframes_have_odom_ = kf.T_odom_lidar.has_value();
+    ++keyframes_;
     if (++unflushed_ >= options_.flush_every) Flush();
     return i;
 }
 
 void SessionWriter::AddEdge(const SessionEdge& e) {
-    if (e.from >= keyframes_.size() || e.to >= keyframes_.size() || e.from == e.to) {
+    if (e.from >= keyframes_ || e.to >= keyframes_ || e.from == e.to) {
         throw common::Error(StatusCode::kInvalidArgument,
                             dir_.string() + ": edge " + std::to_string(e.from) + " -> " +
                                 std::to_string(e.to) + " does not join two written keyframes");
@@ -153,34 +158,30 @@ void SessionWriter::AddEdge(const SessionEdge& e) {
                             dir_.string() + ": edge " + std::to_string(e.from) + " -> " +
                                 std::to_string(e.to) + " has a non-finite or non-rigid value");
     }
-    edges_.push_back(e);
+    AppendG2oEdge(text_.edges, e);
 }
 
 void SessionWriter::AddScanPose(const StampedPose& pose) {
-    if (!trajectory_.empty() && pose.stamp_ns < trajectory_.back().stamp_ns) {
+    if (scans_ > 0 && pose.stamp_ns < last_scan_ns_) {
         throw common::Error(StatusCode::kInvalidArgument,
                             dir_.string() + ": scan poses must come in time order");
     }
-    trajectory_.push_back(pose);
+    AppendTumLine(text_.trajectory, pose);
+    last_scan_ns_ = pose.stamp_ns;
+    ++scans_;
 }
 
 void SessionWriter::Flush() {
-    std::string times;
-    std::vector<Eigen::Isometry3d> world, odom;
-    for (const Written& k : keyframes_) {
-        times += FormatNsAsSeconds(k.stamp_ns) + "\n";
-        world.push_back(k.T_world_lidar);
-        if (k.T_odom_lidar) odom.push_back(*k.T_odom_lidar);
-    }
-    WriteFileAtomic(dir_ / "times.txt", times, sync());
-    WriteFileAtomic(dir_ / "optimized_poses.txt", SerializeKitti(world), sync());
+    WriteFileAtomic(dir_ / "times.txt", text_.times, sync());
+    WriteFileAtomic(dir_ / "optimized_poses.txt", text_.world, sync());
     // A rig session has odometry poses even before its first keyframe (the reader requires the
     // file of a complete rig session; a full disk can leave it without keyframes).
-    if (!odom.empty() || manifest_.source == "rig") {
-        WriteFileAtomic(dir_ / "odom_poses.txt", SerializeKitti(odom), sync());
+    if (!text_.odom.empty() || manifest_.source == "rig") {
+        WriteFileAtomic(dir_ / "odom_poses.txt", text_.odom, sync());
     }
-    WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", SerializeG2o({world, edges_}), sync());
-    WriteFileAtomic(dir_ / "trajectory.tum", SerializeTum(trajectory_), sync());
+    // The g2o file is every vertex, then every edge (SerializeG2o's order).
+    WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", text_.vertices + text_.edges, sync());
+    WriteFileAtomic(dir_ / "trajectory.tum", text_.trajectory, sync());
     unflushed_ = 0;
 }
 
@@ -189,8 +190,8 @@ void SessionWriter::Finish() {
         throw common::Error(StatusCode::kInvalidArgument, dir_.string() + ": already finished");
     }
     Flush();
-    manifest_.counts.keyframes = keyframes_.size();
-    manifest_.counts.scans = trajectory_.size();
+    manifest_.counts.keyframes = keyframes_;
+    manifest_.counts.scans = scans_;
     if (manifest_.created.empty()) manifest_.created = IsoUtcNow();
     if (!options_.sync_each_file) SyncFileSystem(dir_);
     WriteFileAtomic(dir_ / "session.json", SerializeManifest(manifest_));

@@ -79,18 +79,20 @@ std::vector<StampedPose> ReadTum(const std::filesystem::path& path) {
     return ParseTum(path.string(), text);
 }
 
+void AppendTumLine(std::string& out, const StampedPose& p) {
+    const Eigen::Quaterniond& q = p.rotation;
+    const Eigen::Vector3d& t = p.translation;
+    out += FormatNsAsSeconds(p.stamp_ns);
+    for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) {
+        out += ' ';
+        out += FormatDouble(v);
+    }
+    out += '\n';
+}
+
 std::string SerializeTum(const std::vector<StampedPose>& poses) {
     std::string out;
-    for (const auto& p : poses) {
-        const Eigen::Quaterniond& q = p.rotation;
-        const Eigen::Vector3d& t = p.translation;
-        out += FormatNsAsSeconds(p.stamp_ns);
-        for (double v : {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()}) {
-            out += ' ';
-            out += FormatDouble(v);
-        }
-        out += '\n';
-    }
+    for (const auto& p : poses) AppendTumLine(out, p);
     return out;
 }
 
@@ -139,15 +141,17 @@ std::vector<Eigen::Isometry3d> ReadKitti(const std::filesystem::path& path) {
     return ParseKitti(path.string(), text);
 }
 
+void AppendKittiLine(std::string& out, const Eigen::Isometry3d& T) {
+    for (int i = 0; i < 12; ++i) {
+        if (i > 0) out += ' ';
+        out += FormatDouble(T.matrix()(i / 4, i % 4));
+    }
+    out += '\n';
+}
+
 std::string SerializeKitti(const std::vector<Eigen::Isometry3d>& poses) {
     std::string out;
-    for (const auto& T : poses) {
-        for (int i = 0; i < 12; ++i) {
-            if (i > 0) out += ' ';
-            out += FormatDouble(T.matrix()(i / 4, i % 4));
-        }
-        out += '\n';
-    }
+    for (const auto& T : poses) AppendKittiLine(out, T);
     return out;
 }
 

@@ -32,6 +32,8 @@ std::vector<StampedPose> ParseTum(const std::string& name, std::string_view text
 // Writes exact seconds ("s.nnnnnnnnn") and shortest round-trip numbers; atomic.
 void WriteTum(const std::filesystem::path& path, const std::vector<StampedPose>& poses);
 std::string SerializeTum(const std::vector<StampedPose>& poses);
+// One pose's line of it (SerializeTum is these lines in order).
+void AppendTumLine(std::string& out, const StampedPose& pose);
 
 // KITTI: every line exactly 12 finite numbers whose 3x3 part is a rotation within 1e-4 (it is
 // re-orthonormalised on read).
@@ -39,5 +41,6 @@ std::vector<Eigen::Isometry3d> ReadKitti(const std::filesystem::path& path);
 std::vector<Eigen::Isometry3d> ParseKitti(const std::string& name, std::string_view text);
 void WriteKitti(const std::filesystem::path& path, const std::vector<Eigen::Isometry3d>& poses);
 std::string SerializeKitti(const std::vector<Eigen::Isometry3d>& poses);
+void AppendKittiLine(std::string& out, const Eigen::Isometry3d& T);
 
 }  // namespace bimslam::io

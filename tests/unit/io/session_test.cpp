@@ -7,6 +7,7 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/g2o.hpp"
+#include "algorithms/io/text_reader.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::io {
@@ -150,6 +151,27 @@ TEST(Session, DeferredSyncWritesTheSameSession) {
     for (const auto& e : fs::recursive_directory_iterator(tmp / "later")) {
         EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
     }
+}
+
+// The writer formats each item once, as it is added, and a flush writes the text kept so far:
+// the files must be what formatting the whole session at once gives (the writer before did
+// that at every flush), edges added between keyframes included.
+TEST(Session, EachFileIsTheWholeSessionFormattedAtOnce) {
+    test::TempDir tmp;
+    const Written w = WriteSession(tmp / "s", 9, true);
+    std::string times;
+    std::vector<Eigen::Isometry3d> world, odom;
+    for (const SessionKeyframe& k : w.keyframes) {
+        times += FormatNsAsSeconds(k.stamp_ns) + "\n";
+        world.push_back(k.T_world_lidar);
+        odom.push_back(*k.T_odom_lidar);
+    }
+    EXPECT_EQ(ReadFileToString(tmp / "s" / "times.txt"), times);
+    EXPECT_EQ(ReadFileToString(tmp / "s" / "optimized_poses.txt"), SerializeKitti(world));
+    EXPECT_EQ(ReadFileToString(tmp / "s" / "odom_poses.txt"), SerializeKitti(odom));
+    EXPECT_EQ(ReadFileToString(tmp / "s" / "singlesession_posegraph.g2o"),
+              SerializeG2o({world, w.edges}));
+    EXPECT_EQ(ReadFileToString(tmp / "s" / "trajectory.tum"), SerializeTum(w.trajectory));
 }
 
 TEST(Session, ManifestRoundTripAndBimModel) {
