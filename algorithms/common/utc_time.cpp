@@ -22,9 +22,9 @@ std::string Format(int64_t unix_ns, const char* format) {
 
 int64_t ParseUtcTime(std::string_view iso) {
     const auto bad = [&](const char* why) {
-        return Error(StatusCode::kInvalidArgument,
-                     "'" + std::string(iso) + "': not an ISO 8601 date-time (" + why +
-                         "; e.g. 2026-03-02T09:30:00Z)");
+        return Error(StatusCode::kInvalidArgument, "'" + std::string(iso) +
+                                                       "': not an ISO 8601 date-time (" + why +
+                                                       "; e.g. 2026-03-02T09:30:00Z)");
     };
     size_t i = 0;
     const auto digits = [&](size_t n) {

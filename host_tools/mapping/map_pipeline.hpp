@@ -27,9 +27,15 @@
 namespace bimslam::mapping {
 
 struct MapConfig {
+    // Empty: the project's in `out` (`bimslam map OUT --add ...`), which must exist.
     std::filesystem::path model;
+    // New visits' recordings, or the project's again (recognised: map_project.hpp). May be empty
+    // when `out` holds a project.
     std::vector<std::filesystem::path> recordings;
     std::filesystem::path out;
+    // The visit the new recordings go to (--visit); empty: each its UTC day's.
+    std::string visit;
+    bool adding = false;          // --add: a recording already in the project is noted as not added
     bool force = false;           // run every step, stamps or not
     bool report = true;           // the report step
     int threads = 0;              // anchoring (0: all cores)
@@ -55,13 +61,17 @@ private:
 };
 
 struct StepRun {
-    std::string step;  // "reference", "odometry <name>", "anchor", "changes", "report"
+    std::string
+        step;  // "reference", "odometry <name>", "anchor <visit>", "changes <visit>", "report"
     bool skipped = false;
     double seconds = 0;
 };
 
 struct MapRun {
     std::vector<StepRun> steps;
+    // What the user should know of the inputs: a recording given again under another path, or
+    // given to --add while already in the project.
+    std::vector<std::string> notes;
     nlohmann::json summary;  // what OUT/summary.json holds
 };
 
@@ -72,8 +82,11 @@ using MapProgress = std::function<void(const std::string&, double)>;
 // steps. Throws StepFailure when a step fails.
 MapRun RunMap(const MapConfig& config, const MapProgress& progress = {});
 
-// OUT/summary.json from the files the steps wrote (also read by `bimslam report`).
-nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& model,
+// A visit's summary from the files its steps wrote in `visit` (OUT/visits/<label>) and the
+// reference in `out`: OUT/visits/<label>/summary.json; OUT/summary.json is the newest visit's
+// with the list of every visit (`visits`, `visit`), which `bimslam report` reads.
+nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& visit,
+                            const std::filesystem::path& model,
                             const std::vector<RecordingInput>& recordings);
 
 // A recording's headline change scores (summary.json's `seen_scores`, issue 31 item 8): of what

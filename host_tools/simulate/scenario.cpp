@@ -267,7 +267,8 @@ void Scenario::Validate() const {
         try {
             (void)common::ParseUtcTime(date);
         } catch (const common::Error& e) {
-            throw common::Error(common::StatusCode::kInvalidArgument, "date = " + std::string(e.what()));
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "date = " + std::string(e.what()));
         }
     }
 }

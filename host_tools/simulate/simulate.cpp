@@ -227,7 +227,8 @@ uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& 
             sample = model.Next(t);
             sample.bridge_time_ns = kBridgeBootNs + tick * kCanTickNs;
         }
-        const int64_t host = kSensorBootNs + HostMinusSensorNs(s) + tick * kCanTickNs + kCanLatencyNs;
+        const int64_t host =
+            kSensorBootNs + HostMinusSensorNs(s) + tick * kCanTickNs + kCanLatencyNs;
         const size_t n = encoder.Tick(&sample, host, frames);
         for (size_t i = 0; i < n; ++i) {
             log.Write(frames[i], "can0");

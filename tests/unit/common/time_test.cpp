@@ -1,9 +1,10 @@
 #include "algorithms/common/time.hpp"
-#include "algorithms/common/utc_time.hpp"
 
 #include <gtest/gtest.h>
 
 #include <type_traits>
+
+#include "algorithms/common/utc_time.hpp"
 
 namespace bimslam::common {
 namespace {
