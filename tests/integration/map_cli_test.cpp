@@ -116,8 +116,8 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     ASSERT_EQ(third.exit_code, 0) << third.err;
     const json again = Steps(json::parse(third.out));
     EXPECT_EQ(again.at("reference"), true);
-    for (const std::string s :
-         {"odometry capture", "anchor " + kVisit, "changes " + kVisit, "report"}) {
+    for (const std::string& s : std::vector<std::string>{"odometry capture", "anchor " + kVisit,
+                                                         "changes " + kVisit, "report"}) {
         EXPECT_EQ(again.at(s), false) << s;
     }
 
@@ -140,7 +140,8 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     const auto fourth = Cli(args + " --datum " + (tmp / "survey.csv").string());
     ASSERT_EQ(fourth.exit_code, 0) << fourth.err << datum;
     const json surveyed = Steps(json::parse(fourth.out));
-    for (const std::string s : {"reference", "odometry capture", "anchor " + kVisit}) {
+    for (const std::string& s :
+         std::vector<std::string>{"reference", "odometry capture", "anchor " + kVisit}) {
         EXPECT_EQ(surveyed.at(s), true) << s;
     }
     EXPECT_EQ(surveyed.at("changes " + kVisit), false);
@@ -184,8 +185,8 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     const auto after = Cli(same + " --json");
     ASSERT_EQ(after.exit_code, 0) << after.err;
     const json rerun = Steps(json::parse(after.out));
-    for (const std::string s :
-         {"reference", "odometry capture", "anchor " + kVisit, "changes " + kVisit}) {
+    for (const std::string& s : std::vector<std::string>{"reference", "odometry capture",
+                                                         "anchor " + kVisit, "changes " + kVisit}) {
         EXPECT_EQ(rerun.at(s), true) << s;
     }
     EXPECT_EQ(rerun.at("report"), false) << "the failed step runs again";

@@ -153,15 +153,18 @@ TEST(MapVisits, VisitsAddedOneAtATimeGiveTheSameProjectAsAllAtOnce) {
     // Earlier visits are not processed again: adding a (an earlier day) ran its steps only;
     // adding c (b's day) ran c's odometry and b's day's anchoring and changes, not a's.
     const json second = Steps(ReadJson(OneAtATime() / "run2.json"));
-    for (const std::string s : {"odometry b", "anchor " + kDayB, "changes " + kDayB})
+    for (const std::string& s :
+         std::vector<std::string>{"odometry b", "anchor " + kDayB, "changes " + kDayB})
         EXPECT_EQ(second.at(s), true) << s << " " << second.dump();
-    for (const std::string s : {"odometry lidar", "anchor " + kDayA, "changes " + kDayA})
+    for (const std::string& s :
+         std::vector<std::string>{"odometry lidar", "anchor " + kDayA, "changes " + kDayA})
         EXPECT_EQ(second.at(s), false) << s << " " << second.dump();
     const json third = Steps(ReadJson(OneAtATime() / "run3.json"));
-    for (const std::string s :
-         {"reference", "odometry lidar", "anchor " + kDayA, "changes " + kDayA, "odometry b"})
+    for (const std::string& s : std::vector<std::string>{
+             "reference", "odometry lidar", "anchor " + kDayA, "changes " + kDayA, "odometry b"})
         EXPECT_EQ(third.at(s), true) << s << " " << third.dump();
-    for (const std::string s : {"odometry c", "anchor " + kDayB, "changes " + kDayB, "report"})
+    for (const std::string& s :
+         std::vector<std::string>{"odometry c", "anchor " + kDayB, "changes " + kDayB, "report"})
         EXPECT_EQ(third.at(s), false) << s << " " << third.dump();
 }
 
@@ -258,10 +261,11 @@ TEST(MapVisits, ADamagedVisitFolderIsReportedAndTheOtherVisitsAreKept) {
     const auto a_files = Mtimes(day_a);
     fs::remove_all(day_b);
     const json steps = Steps(MapJson("map " + out.string()));
-    for (const std::string s :
-         {"reference", "odometry lidar", "anchor " + kDayA, "changes " + kDayA})
+    for (const std::string& s : std::vector<std::string>{"reference", "odometry lidar",
+                                                         "anchor " + kDayA, "changes " + kDayA})
         EXPECT_EQ(steps.at(s), true) << s;
-    for (const std::string s : {"odometry b", "odometry c", "anchor " + kDayB, "changes " + kDayB})
+    for (const std::string& s : std::vector<std::string>{"odometry b", "odometry c",
+                                                         "anchor " + kDayB, "changes " + kDayB})
         EXPECT_EQ(steps.at(s), false) << s;
     EXPECT_EQ(Mtimes(day_a), a_files) << "the other visit untouched";
     EXPECT_TRUE(fs::exists(day_b / "changes" / "b" / "changes.json"));

@@ -4,6 +4,7 @@
 
 #include <type_traits>
 
+#include "algorithms/common/status.hpp"
 #include "algorithms/common/utc_time.hpp"
 
 namespace bimslam::common {
