@@ -166,6 +166,27 @@ void CheckVisitLabel(const std::string& label) {
     }
 }
 
+namespace {
+// A recording of the project whose path now holds another recording (re-recorded in place) is
+// no longer in the project: the new one is added as any other (its visit by its date; a visit
+// left with no recording is dropped from project.json, its folder left as it is).
+void DropReplaced(Project& project, const ProjectRecording& r, std::set<std::string>* names,
+                  std::vector<std::string>* notes) {
+    for (Visit& v : project.visits) {
+        for (auto k = v.recordings.begin(); k != v.recordings.end(); ++k) {
+            if (k->path != r.path || k->identity == r.identity) continue;
+            notes->push_back(r.path.string() + ": not the recording " + k->name + " of visit " +
+                             v.label + " any more (another size, first packet or first MiB): " +
+                             "mapped as a new recording");
+            names->erase(k->name);
+            v.recordings.erase(k);
+            break;
+        }
+    }
+    std::erase_if(project.visits, [](const Visit& v) { return v.recordings.empty(); });
+}
+}  // namespace
+
 std::vector<std::string> AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
                                        const std::string& visit_label, bool adding,
                                        std::vector<std::string>* notes) {
@@ -175,6 +196,7 @@ std::vector<std::string> AddRecordings(Project& project, std::vector<RecordingIn
     std::vector<std::string> labels;
     for (RecordingInput& in : inputs) {
         ProjectRecording r = DescribeRecording(in);
+        DropReplaced(project, r, &names, notes);
         ProjectRecording* known = nullptr;
         std::string known_visit;
         for (Visit& v : project.visits) {

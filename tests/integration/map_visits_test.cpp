@@ -5,7 +5,8 @@
 //   them, whatever order the recordings are given in; recordings of one UTC day form one visit;
 // - a re-run with no new recording does nothing (every step skipped, no file written);
 // - a damaged visit folder exits 2 naming it, and the other visits are kept;
-// - --add to a folder that is not a project exits 2 naming it.
+// - --add to a folder that is not a project exits 2 naming it;
+// - a recording re-recorded in place replaces the old one.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -299,6 +300,28 @@ TEST(MapVisits, AddingToAFolderThatIsNotAProjectOrABadVisitLabelExits2) {
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("--visit '../up'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(tmp / "out"));
+}
+
+// A folder re-recorded in place (another walk at the same path) is not the recording the project
+// had: it replaces it, dated by itself, with a note.
+TEST(MapVisits, ARecordingReRecordedInPlaceReplacesTheOldOne) {
+    test::TempDir tmp;
+    fs::copy(Walks() / "b", tmp / "walk", fs::copy_options::recursive);
+    const std::string out = (tmp / "out").string();
+    MapJson("map " + Model() + " " + (tmp / "walk").string() + " -o " + out);
+    fs::remove_all(tmp / "walk");
+    fs::copy(Walks() / "a", tmp / "walk", fs::copy_options::recursive);  // another day's walk
+    const auto r = Cli("map " + Model() + " " + (tmp / "walk").string() + " -o " + out + kBudget);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find(": not the recording walk of visit " + kDayB + " any more"),
+              std::string::npos)
+        << r.err;
+    const json p = ReadJson(tmp / "out" / "project.json");
+    ASSERT_EQ(p.at("visits").size(), 1u) << p.dump(1);
+    EXPECT_EQ(p["visits"][0].at("label"), kDayA);
+    ASSERT_EQ(p["visits"][0].at("recordings").size(), 1u);
+    EXPECT_EQ(p["visits"][0]["recordings"][0].at("name"), "walk");
+    EXPECT_EQ(ReadJson(tmp / "out" / "summary.json").at("visit").at("label"), kDayA);
 }
 
 }  // namespace
