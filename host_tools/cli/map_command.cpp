@@ -212,6 +212,7 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
                     "capture folders (lidar.pcap, metadata.json, go1_can.log ...), x.pcap with "
                     "x.json beside it, or ROS 1 bags from ouster-ros (.bag); without -o: OUT, a "
                     "project folder")
+        ->type_name("MODEL RECORDING ...|OUT")
         ->required();
     cmd->add_option("-o,--output", a->out,
                     "output folder: the project (kept between runs; a later run adds its new "
@@ -258,7 +259,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "recordings of the same calendar day (UTC) form one visit labelled YYYY-MM-DD unless "
         "--visit names it. A recording already in the project (the same size, first packet and "
         "first MiB: a copy or a move too) is not added again (a note says so; a moved one takes "
-        "its new path). Earlier visits are not processed again (their stamps hold).\n"
+        "its new path; one re-recorded at a path of the project replaces the old one). Earlier "
+        "visits are not processed again (their stamps hold).\n"
         "Steps, each into its own folder with a stamp in its stamps/ folder:\n"
         "  reference  OUT/reference/   the BIM reference session (Step 1): every storey, joined "
         "by walking the stairs, cast with the earliest visit's first recording's sensor; cached "

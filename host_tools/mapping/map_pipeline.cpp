@@ -157,7 +157,6 @@ ReferenceSensor ReferenceSensorOf(const std::vector<RecordingInput>& recordings)
     return s;
 }
 
-
 // What every step reads: the configuration, the output folder, the model (read on first use:
 // IFC++ takes seconds for a big one, and only the steps that run need it).
 struct MapContext {
@@ -390,92 +389,14 @@ void ReportStep(MapContext& c, Stepper& stepper, const StepStamp& newest_changes
     (*summary)["report"] = html.string();
 }
 
-// The project with this run's recordings in it (checked, not written yet), and every visit's
-// recordings resolved, in the project's order.
-struct ProjectInputs {
-    Project project;
-    std::vector<std::vector<RecordingInput>> visits;  // as project.visits
-    std::vector<std::string> notes;
-};
-
-ProjectInputs OpenProject(const MapConfig& config) {
-    ProjectInputs p;
-    const bool exists = LoadProject(config.out, &p.project);
-    if (config.model.empty() && !exists) {
-        throw common::FileError(common::StatusCode::kNotFound, config.out.string(), 0,
-                                "not a `bimslam map` project (no project.json): map a model and "
-                                "recordings into it first");
-    }
-    if (!exists && config.recordings.empty()) common::ThrowInvalid("no recording given");
-    const fs::path model =
-        config.model.empty() ? p.project.model : fs::absolute(config.model).lexically_normal();
-    CheckModelFile(model);
-    const std::string sha256 = io::Sha256File(model);
-    if (exists && sha256 != p.project.model_sha256) {
-        p.notes.push_back(model.string() +
-                          ": not the model the project's visits were mapped "
-                          "against (its SHA-256 differs): every visit is "
-                          "processed again");
-    }
-    p.project.model = model;
-    p.project.model_sha256 = sha256;
-    if (!config.visit.empty()) CheckVisitLabel(config.visit);
-    std::vector<RecordingInput> given = CheckRecordings(config.recordings);
-    AddRecordings(p.project, given, config.visit, config.adding, &p.notes);
-    for (const Visit& v : p.project.visits) {
-        std::vector<RecordingInput>& inputs = p.visits.emplace_back();
-        for (const ProjectRecording& r : v.recordings) {
-            auto g = std::find_if(given.begin(), given.end(),
-                                  [&](const RecordingInput& x) { return x.name == r.name; });
-            inputs.push_back(g != given.end() ? *g : CheckRecordings({r.path}).front());
-            inputs.back().name = r.name;
-        }
-    }
-    return p;
-}
-
-// OUT/summary.json: the newest visit's (as one visit's summary, which the report reads), with
-// the list of every visit, its date and its recordings' verdicts.
-json ProjectSummary(const fs::path& out, const Project& project,
-                    std::vector<json> visit_summaries) {
-    json visits = json::array();
-    for (size_t v = 0; v < project.visits.size(); ++v) {
-        const Visit& visit = project.visits[v];
-        json recs = json::array();
-        for (size_t k = 0; k < visit.recordings.size(); ++k) {
-            const ProjectRecording& r = visit.recordings[k];
-            const json& s = visit_summaries[v].at("recordings").at(k);
-            recs.push_back(
-                {{"name", r.name},
-                 {"path", r.path.string()},
-                 {"start", common::FormatUtcTime(r.start_ns)},
-                 {"start_from", r.start_from},
-                 {"odometry_verdict", s.at("odometry").is_null()
-                                          ? json(nullptr)
-                                          : s["odometry"].value("verdict", json("trusted"))},
-                 {"anchor_verdict",
-                  s.at("anchor").is_null() ? json(nullptr) : s["anchor"].at("verdict")},
-                 {"changes", s.at("changes")}});
-        }
-        visits.push_back({{"label", visit.label},
-                          {"start", common::FormatUtcTime(visit.start_ns())},
-                          {"dir", (fs::path("visits") / visit.label).string()},
-                          {"recordings", recs}});
-    }
-    json s = std::move(visit_summaries.back());
-    s["output"] = out.string();
-    s["visit"] = visits.back();
-    s["visits"] = visits;
-    return s;
-}
-
 }  // namespace
 
 MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
     config.Validate();
     // Every input checked before any step (the model, every recording of the project, the
     // earlier visits' folders): exit 2 names the file, and nothing is written.
-    ProjectInputs p = OpenProject(config);
+    ProjectInputs p =
+        OpenProject(config.out, config.model, config.recordings, config.visit, config.adding);
     for (const Visit& v : p.project.visits) CheckVisitFolder(config.out, v);
     const MapProgress quiet = [](const std::string&, double) {};
     MapContext c{config,          progress ? progress : quiet, config.out,

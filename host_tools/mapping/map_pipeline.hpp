@@ -1,16 +1,19 @@
 // `bimslam map`: an IFC model and rig recordings to an anchored map, a change report and one
-// HTML page, in-process, step by step (README.md of this folder):
+// HTML page, in-process, step by step (README.md of this folder), into a project of the
+// building's visits (map_project.hpp: OUT/project.json; V = OUT/visits/<label>/):
 //   reference  the BIM reference session (Step 1), OUT/reference/; reused while the model's
 //              SHA-256 and the parameters are the same
-//   odometry   each recording through the on-board odometry, OUT/odometry/<name>/ (+ <name>.json:
+//   odometry   each recording through the on-board odometry, V/odometry/<name>/ (+ <name>.json:
 //              the run's figures and every scan's time)
-//   anchor     every session into BIM coordinates (Step 2), OUT/anchor/
-//   changes    each anchored session against the model (Step 3), OUT/changes/<name>/
-//   report     OUT/report/report.html (host_tools/report)
-// OUT/stamps/<step>.json records what each step was made from (StepStamp); a re-run skips the
-// steps whose stamp still holds. OUT/summary.json gathers the figures from the steps' files, and,
-// for simulated captures (ground_truth.tum, changes.json beside the pcap), the APE in BIM
-// coordinates with no alignment and the change scores.
+//   anchor     each visit's sessions into BIM coordinates (Step 2), V/anchor/
+//   changes    each anchored session against the model (Step 3), V/changes/<name>/
+//   report     OUT/report/report.html of the newest visit (host_tools/report)
+// <stamps>/<step>.json records what each step was made from (StepStamp; OUT/stamps for the
+// reference and report, V/stamps for the others); a re-run skips the steps whose stamp still
+// holds, so an earlier visit is not processed again. V/summary.json gathers a visit's figures
+// from its steps' files, and, for simulated captures (ground_truth.tum, changes.json beside the
+// pcap), the APE in BIM coordinates with no alignment and the change scores; OUT/summary.json is
+// the newest visit's with the list of visits.
 #pragma once
 
 #include <filesystem>
@@ -23,6 +26,7 @@
 #include "algorithms/changes/change_detector.hpp"
 #include "host_tools/anchor/anchor_config.hpp"
 #include "host_tools/mapping/map_inputs.hpp"
+#include "host_tools/mapping/map_project.hpp"
 
 namespace bimslam::mapping {
 
@@ -88,6 +92,11 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress = {});
 nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& visit,
                             const std::filesystem::path& model,
                             const std::vector<RecordingInput>& recordings);
+// OUT/summary.json: the newest visit's summary (the last of `visit_summaries`, one per visit of
+// the project), with `visit` and `visits`: every visit's label, date-time, folder and recordings
+// (name, path, date-time, odometry and anchoring verdicts, change counts).
+nlohmann::json ProjectSummary(const std::filesystem::path& out, const Project& project,
+                              std::vector<nlohmann::json> visit_summaries);
 
 // A recording's headline change scores (summary.json's `seen_scores`, issue 31 item 8): of what
 // the walk's keyframes saw (host_tools/changes/change_evaluation.hpp, "seen"). Added objects of

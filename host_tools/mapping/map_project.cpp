@@ -293,4 +293,41 @@ void CheckVisitFolder(const fs::path& out, const Visit& visit) {
         need(fs::path("changes") / name / "changes.json", true);
 }
 
+ProjectInputs OpenProject(const fs::path& out, const fs::path& model_given,
+                          const std::vector<fs::path>& recordings, const std::string& visit,
+                          bool adding) {
+    ProjectInputs p;
+    const bool exists = LoadProject(out, &p.project);
+    if (model_given.empty() && !exists) {
+        throw common::FileError(common::StatusCode::kNotFound, out.string(), 0,
+                                "not a `bimslam map` project (no project.json): map a model and "
+                                "recordings into it first");
+    }
+    if (!exists && recordings.empty()) common::ThrowInvalid("no recording given");
+    const fs::path model =
+        model_given.empty() ? p.project.model : fs::absolute(model_given).lexically_normal();
+    CheckModelFile(model);
+    const std::string sha256 = io::Sha256File(model);
+    if (exists && sha256 != p.project.model_sha256) {
+        p.notes.push_back(model.string() +
+                          ": not the model the project's visits were mapped against (its "
+                          "SHA-256 differs): every visit is processed again");
+    }
+    p.project.model = model;
+    p.project.model_sha256 = sha256;
+    if (!visit.empty()) CheckVisitLabel(visit);
+    std::vector<RecordingInput> given = CheckRecordings(recordings);
+    AddRecordings(p.project, given, visit, adding, &p.notes);
+    for (const Visit& v : p.project.visits) {
+        std::vector<RecordingInput>& inputs = p.visits.emplace_back();
+        for (const ProjectRecording& r : v.recordings) {
+            auto g = std::find_if(given.begin(), given.end(),
+                                  [&](const RecordingInput& x) { return x.name == r.name; });
+            inputs.push_back(g != given.end() ? *g : CheckRecordings({r.path}).front());
+            inputs.back().name = r.name;
+        }
+    }
+    return p;
+}
+
 }  // namespace bimslam::mapping

@@ -72,6 +72,19 @@ void WriteIfChanged(const std::filesystem::path& file, const std::string& text);
 // OUT/visits/<label>.
 std::filesystem::path VisitDir(const std::filesystem::path& out, const std::string& label);
 
+// The project in `out` with this run's recordings in it (checked, not written yet: exit-2
+// material is thrown before any step), and every visit's recordings resolved, in the project's
+// order. `model` empty: the project's (`--add`), which must exist. Every recording of the project
+// is checked (CheckRecordings) at its last path.
+struct ProjectInputs {
+    Project project;
+    std::vector<std::vector<RecordingInput>> visits;  // as project.visits
+    std::vector<std::string> notes;                   // AddRecordings', and a model that changed
+};
+ProjectInputs OpenProject(const std::filesystem::path& out, const std::filesystem::path& model,
+                          const std::vector<std::filesystem::path>& recordings,
+                          const std::string& visit, bool adding);
+
 // Throws common::FileError (kDataLoss) naming the visit's folder when a step's stamp there says
 // it was made but one of its files is missing or unreadable (what is wrong, and how to make the
 // visit again). Reads only: nothing is changed.

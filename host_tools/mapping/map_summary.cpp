@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/utc_time.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
@@ -172,6 +173,39 @@ json BuildSummary(const fs::path& out, const fs::path& visit, const fs::path& mo
         recs.push_back(j);
     }
     s["recordings"] = recs;
+    return s;
+}
+
+json ProjectSummary(const fs::path& out, const Project& project,
+                    std::vector<json> visit_summaries) {
+    json visits = json::array();
+    for (size_t v = 0; v < project.visits.size(); ++v) {
+        const Visit& visit = project.visits[v];
+        json recs = json::array();
+        for (size_t k = 0; k < visit.recordings.size(); ++k) {
+            const ProjectRecording& r = visit.recordings[k];
+            const json& s = visit_summaries[v].at("recordings").at(k);
+            recs.push_back(
+                {{"name", r.name},
+                 {"path", r.path.string()},
+                 {"start", common::FormatUtcTime(r.start_ns)},
+                 {"start_from", r.start_from},
+                 {"odometry_verdict", s.at("odometry").is_null()
+                                          ? json(nullptr)
+                                          : s["odometry"].value("verdict", json("trusted"))},
+                 {"anchor_verdict",
+                  s.at("anchor").is_null() ? json(nullptr) : s["anchor"].at("verdict")},
+                 {"changes", s.at("changes")}});
+        }
+        visits.push_back({{"label", visit.label},
+                          {"start", common::FormatUtcTime(visit.start_ns())},
+                          {"dir", (fs::path("visits") / visit.label).string()},
+                          {"recordings", recs}});
+    }
+    json s = std::move(visit_summaries.back());
+    s["output"] = out.string();
+    s["visit"] = visits.back();
+    s["visits"] = visits;
     return s;
 }
 
