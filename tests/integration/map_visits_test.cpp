@@ -2,7 +2,8 @@
 // on three short hand-held walks of the sample office on two days:
 // - visits added one at a time give the same project, figures and files as all at once;
 // - the visits' dates come from the recordings (capture.json, else the first packet) and order
-//   them, whatever order the recordings are given in; recordings of one UTC day form one visit;
+//   them, whatever order the recordings are given in; recordings of one UTC day form one visit,
+//   unless --visit names it;
 // - a re-run with no new recording does nothing (every step skipped, no file written);
 // - a damaged visit folder exits 2 naming it, and the other visits are kept;
 // - --add to a folder that is not a project exits 2 naming it;
@@ -300,6 +301,28 @@ TEST(MapVisits, AddingToAFolderThatIsNotAProjectOrABadVisitLabelExits2) {
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find("--visit '../up'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(tmp / "out"));
+}
+
+// --visit names the visit of the run's new recordings, whatever their days; a named visit is not
+// joined by date: a later recording of b's day makes a visit of its own.
+TEST(MapVisits, VisitNamesAVisitOfRecordingsOfSeveralDaysThatNoDateJoins) {
+    test::TempDir tmp;
+    const std::string out = (tmp / "out").string();
+    MapJson("map " + Model() + " " + A() + " " + B() + " -o " + out + " --visit survey-1");
+    const json steps = Steps(MapJson("map " + out + " --add " + C()));
+    EXPECT_EQ(steps.at("anchor survey-1"), true) << steps.dump();
+    EXPECT_EQ(steps.at("anchor " + kDayB), false) << steps.dump();
+    const json p = ReadJson(tmp / "out" / "project.json");
+    ASSERT_EQ(p.at("visits").size(), 2u) << p.dump(1);
+    EXPECT_EQ(p["visits"][0].at("label"), "survey-1");
+    EXPECT_EQ(p["visits"][0].at("named"), true);
+    EXPECT_EQ(p["visits"][0].at("start"), p["visits"][0]["recordings"][0].at("start"));
+    ASSERT_EQ(p["visits"][0].at("recordings").size(), 2u);
+    EXPECT_EQ(p["visits"][0]["recordings"][0].at("name"), "lidar");
+    EXPECT_EQ(p["visits"][0]["recordings"][1].at("name"), "b");
+    EXPECT_EQ(p["visits"][1].at("label"), kDayB);
+    ASSERT_EQ(p["visits"][1].at("recordings").size(), 1u);
+    EXPECT_EQ(p["visits"][1]["recordings"][0].at("name"), "c");
 }
 
 // A folder re-recorded in place (another walk at the same path) is not the recording the project
