@@ -185,65 +185,66 @@ void DropReplaced(Project& project, const ProjectRecording& r, std::set<std::str
     }
     std::erase_if(project.visits, [](const Visit& v) { return v.recordings.empty(); });
 }
+
+// The recording of the project that `r` is (the same identity), given again: it keeps its visit
+// and name and takes the path given now. False when `r` is new.
+bool TakeKnown(Project& project, const ProjectRecording& r, bool adding, RecordingInput& in,
+               std::vector<std::string>* notes) {
+    for (Visit& v : project.visits) {
+        for (ProjectRecording& k : v.recordings) {
+            if (k.identity != r.identity) continue;
+            if (k.path != r.path) {
+                notes->push_back(r.path.string() + ": the recording " + k.name + " of visit " +
+                                 v.label +
+                                 " (the same size, first packet and first MiB), moved "
+                                 "or copied: its path is now this one");
+                k.path = r.path;
+            } else if (adding) {
+                notes->push_back(r.path.string() + ": already in visit " + v.label + " (as " +
+                                 k.name + "), not added again");
+            }
+            in.name = k.name;
+            return true;
+        }
+    }
+    return false;
+}
+
+// The visit `label` (named by --visit or a day's), made when there is none.
+Visit& VisitFor(Project& project, const std::string& label, bool named) {
+    for (Visit& v : project.visits) {
+        if (v.label != label) continue;
+        if (v.named != named) {
+            common::ThrowInvalid("visit " + label + ": the label of a visit " +
+                                 (named ? "of that day" : "named by --visit") +
+                                 " already: give --visit another label");
+        }
+        return v;
+    }
+    return project.visits.emplace_back(Visit{label, named, {}});
+}
 }  // namespace
 
-std::vector<std::string> AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
-                                       const std::string& visit_label, bool adding,
-                                       std::vector<std::string>* notes) {
+void AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
+                   const std::string& visit_label, bool adding, std::vector<std::string>* notes) {
     std::set<std::string> names;
     for (const Visit& v : project.visits)
         for (const ProjectRecording& r : v.recordings) names.insert(r.name);
-    std::vector<std::string> labels;
     for (RecordingInput& in : inputs) {
         ProjectRecording r = DescribeRecording(in);
         DropReplaced(project, r, &names, notes);
-        ProjectRecording* known = nullptr;
-        std::string known_visit;
-        for (Visit& v : project.visits) {
-            for (ProjectRecording& k : v.recordings) {
-                if (k.identity == r.identity) known = &k, known_visit = v.label;
-            }
-        }
-        if (known) {
-            if (known->path != r.path) {
-                notes->push_back(r.path.string() + ": the recording " + known->name + " of visit " +
-                                 known_visit +
-                                 " (the same size, first packet and "
-                                 "first MiB), moved or copied: its path is now this one");
-                known->path = r.path;
-            } else if (adding) {
-                notes->push_back(r.path.string() + ": already in visit " + known_visit + " (as " +
-                                 known->name + "), not added again");
-            }
-            in.name = known->name;
-            labels.push_back(known_visit);
-            continue;
-        }
-        // A new recording: a name no other recording of the project has.
+        if (TakeKnown(project, r, adding, in, notes)) continue;
+        // A new recording: a name no other recording of the project has, its day's visit or
+        // the one --visit names.
         std::string name = r.name;
         for (int k = 2; names.count(name); ++k) name = r.name + "_" + std::to_string(k);
         names.insert(name);
         r.name = in.name = name;
-        const std::string label =
-            visit_label.empty() ? common::FormatUtcDay(r.start_ns) : visit_label;
-        auto v = std::find_if(project.visits.begin(), project.visits.end(), [&](const Visit& x) {
-            return x.label == label && (x.named == !visit_label.empty());
-        });
-        if (v == project.visits.end()) {
-            if (std::any_of(project.visits.begin(), project.visits.end(),
-                            [&](const Visit& x) { return x.label == label; })) {
-                common::ThrowInvalid("visit " + label + ": the label of a visit " +
-                                     (visit_label.empty() ? "named by --visit" : "of that day") +
-                                     " already: give --visit another label");
-            }
-            project.visits.push_back(Visit{label, !visit_label.empty(), {}});
-            v = project.visits.end() - 1;
-        }
-        v->recordings.push_back(std::move(r));
-        labels.push_back(label);
+        const bool named = !visit_label.empty();
+        VisitFor(project, named ? visit_label : common::FormatUtcDay(r.start_ns), named)
+            .recordings.push_back(std::move(r));
     }
     SortVisits(project);
-    return labels;
 }
 
 void CheckVisitFolder(const fs::path& out, const Visit& visit) {

@@ -54,13 +54,13 @@ void SaveProject(const std::filesystem::path& out, const Project& project);  // 
 // A recording's date-time and identity (reads its first packet and first MiB).
 ProjectRecording DescribeRecording(const RecordingInput& input);
 
-// Adds the recordings not in the project yet (see the rules above) and returns, for each input,
-// the visit label it belongs to. A recording already there keeps its visit and name, takes the
-// path given now, and is noted in `notes` when it was given under another path or with
-// `adding` (`--add`: "already in visit L, not added again").
-std::vector<std::string> AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
-                                       const std::string& visit_label, bool adding,
-                                       std::vector<std::string>* notes);
+// Adds the recordings not in the project yet (see the rules above; each input's name becomes its
+// name in the project). A recording already there keeps its visit and name, takes the path given
+// now, and is noted in `notes` when it was given under another path or with `adding` (`--add`:
+// "already in visit L, not added again"); one that replaced a recording at its path (another
+// identity) drops that one, with a note.
+void AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
+                   const std::string& visit_label, bool adding, std::vector<std::string>* notes);
 
 // Throws common::Error (kInvalidArgument) for a --visit label that cannot be a folder name.
 void CheckVisitLabel(const std::string& label);
