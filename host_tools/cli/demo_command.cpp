@@ -160,7 +160,8 @@ int RunDemo(const DemoOptions& opt) {
               << "  capture/      the rig's recording of the changed building and its truth\n"
               << "  session/      bimslam-rig's session (bimslam session info "
               << session_dir.string() << ")\n"
-              << "  map/          reference/, odometry/, anchor/, changes/, report/, summary.json\n"
+              << "  map/          project.json, reference/, visits/<date>/ (odometry/, anchor/, "
+                 "changes/), report/, summary.json\n"
               << "report: " << fs::absolute(report).string() << "\n"
               << "demo " << (anchored ? "finished" : "FAILED") << " in " << Seconds(t_start)
               << " s\n";

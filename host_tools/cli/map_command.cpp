@@ -20,8 +20,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct MapArgs {
-    std::string model;
-    std::vector<std::string> recordings;
+    std::vector<std::string> inputs;  // MODEL RECORDING ... (with -o), or OUT (a project)
+    std::vector<std::string> add;     // --add RECORDING ...
+    std::string visit;
     std::string out;
     std::string outliers = "pcm";
     bool force = false;
@@ -32,7 +33,22 @@ struct MapArgs {
     mapping::MapConfig config;
 };
 
-// The summary as the user reads it: per recording what each step found.
+// Every visit's recordings and their verdicts ("visits" of summary.json).
+void PrintVisits(const json& visits) {
+    for (const json& v : visits) {
+        std::cout << "visit     " << v["label"].get<std::string>() << " ("
+                  << v["start"].get<std::string>() << ", " << v["dir"].get<std::string>() << "):";
+        for (const json& r : v["recordings"]) {
+            std::cout << " " << r["name"].get<std::string>() << " "
+                      << (r["anchor_verdict"].is_null() ? std::string("not anchored")
+                                                        : r["anchor_verdict"].get<std::string>());
+        }
+        std::cout << "\n";
+    }
+}
+
+// The summary as the user reads it: every visit, then per recording of the newest what each step
+// found.
 void PrintSummary(const mapping::MapRun& run) {
     std::cout << "steps     ";
     for (size_t k = 0; k < run.steps.size(); ++k) {
@@ -47,6 +63,8 @@ void PrintSummary(const mapping::MapRun& run) {
         std::cout << " (reference session: " << S["reference"]["keyframes"] << " keyframes)";
     }
     std::cout << "\n";
+    PrintVisits(S["visits"]);
+    std::cout << "newest    " << S["visit"]["label"].get<std::string>() << "\n";
     for (const json& r : S["recordings"]) {
         std::cout << "recording " << r["name"].get<std::string>() << " ("
                   << r["path"].get<std::string>() << ")\n";
@@ -98,9 +116,26 @@ int MapMain(MapArgs& a) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "--outliers " + a.outliers + ": expected pcm, gnc or none");
     }
-    c.model = a.model;
-    c.recordings.assign(a.recordings.begin(), a.recordings.end());
-    c.out = a.out;
+    if (a.out.empty()) {  // bimslam map OUT [--add RECORDING ...]: the project's model
+        if (a.inputs.size() != 1) {
+            common::ThrowInvalid(
+                "-o: no output folder given (bimslam map MODEL RECORDING ... -o "
+                "OUT, or bimslam map OUT --add RECORDING ...)");
+        }
+        c.out = a.inputs[0];
+        c.recordings.assign(a.add.begin(), a.add.end());
+        c.adding = true;
+    } else {
+        if (!a.add.empty()) {
+            common::ThrowInvalid(
+                "--add: give the project folder, not -o (bimslam map OUT --add "
+                "RECORDING ...), or the recordings after the model");
+        }
+        c.model = a.inputs[0];
+        c.recordings.assign(a.inputs.begin() + 1, a.inputs.end());
+        c.out = a.out;
+    }
+    c.visit = a.visit;
     c.force = a.force;
     c.report = !a.no_report;
     c.changes.refinement.enabled = !a.no_refine;
@@ -109,16 +144,20 @@ int MapMain(MapArgs& a) {
     const mapping::MapRun run =
         mapping::RunMap(c, [&](const std::string& step, double f) { bar.Update(step, f); });
     bar.Clear();
+    for (const std::string& note : run.notes) std::cerr << "bimslam: note: " << note << "\n";
+    // Every visit's recordings: one not anchored, anchored in parts or untrusted stays a failure
+    // (exit 1) in every later run, until it is mapped again.
     bool anchored = true;
     std::vector<std::string> untrusted;  // recordings whose odometry failed its checks
     std::vector<std::string> in_parts;   // recordings anchored in pieces (anchoring.hpp)
-    for (const json& r : run.summary["recordings"]) {
-        const std::string verdict =
-            r["anchor"].is_null() ? "" : r["anchor"]["verdict"].get<std::string>();
-        if (verdict == "anchored-in-parts") in_parts.push_back(r["name"].get<std::string>());
-        anchored = anchored && (verdict == "anchored" || verdict == "anchored-in-parts");
-        if (!r["odometry"].is_null() && r["odometry"].value("verdict", "trusted") == "untrusted") {
-            untrusted.push_back(r["name"].get<std::string>());
+    for (const json& v : run.summary["visits"]) {
+        for (const json& r : v["recordings"]) {
+            const std::string verdict =
+                r["anchor_verdict"].is_null() ? "" : r["anchor_verdict"].get<std::string>();
+            if (verdict == "anchored-in-parts") in_parts.push_back(r["name"].get<std::string>());
+            anchored = anchored && (verdict == "anchored" || verdict == "anchored-in-parts");
+            if (r["odometry_verdict"] == "untrusted")
+                untrusted.push_back(r["name"].get<std::string>());
         }
     }
     if (a.json) {
@@ -168,12 +207,22 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "map",
         "an IFC model and rig recordings to an anchored map, changes and a report: every step, "
         "re-runs skip what is up to date");
-    cmd->add_option("model", a->model, "the IFC model (IFC2X3 or IFC4)")->required();
-    cmd->add_option("recordings", a->recordings,
-                    "recordings: capture folders (lidar.pcap, metadata.json, go1_can.log ...), "
-                    "x.pcap with x.json beside it, or ROS 1 bags from ouster-ros (.bag)")
+    cmd->add_option("inputs", a->inputs,
+                    "MODEL RECORDING ... with -o: the IFC model (IFC2X3 or IFC4) and recordings: "
+                    "capture folders (lidar.pcap, metadata.json, go1_can.log ...), x.pcap with "
+                    "x.json beside it, or ROS 1 bags from ouster-ros (.bag); without -o: OUT, a "
+                    "project folder")
+        ->type_name("MODEL RECORDING ...|OUT")
         ->required();
-    cmd->add_option("-o,--output", a->out, "output folder (kept between runs)")->required();
+    cmd->add_option("-o,--output", a->out,
+                    "output folder: the project (kept between runs; a later run adds its new "
+                    "recordings as visits)");
+    cmd->add_option("--add", a->add,
+                    "bimslam map OUT --add RECORDING ...: new recordings into the project OUT, "
+                    "mapped against its model");
+    cmd->add_option("--visit", a->visit,
+                    "the visit the new recordings go to (default: each its recording's UTC day, "
+                    "YYYY-MM-DD)");
     cmd->add_option("--outliers", a->outliers, "anchoring's outlier rejection: pcm, gnc or none")
         ->capture_default_str();
     cmd->add_option("--threads", a->config.threads, "anchoring threads (0: all cores)")
@@ -202,27 +251,44 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--no-report", a->no_report, "skip the HTML report");
     cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");
     cmd->footer(
-        "Steps, each into its own folder of OUT with a stamp in OUT/stamps/:\n"
+        "bimslam map MODEL RECORDING ... -o OUT, then bimslam map OUT --add RECORDING ... (or the "
+        "first command line again with more recordings): OUT is a project, the building's "
+        "visits. OUT/project.json: the model (path, SHA-256) and the visits in date order, each "
+        "with its label, date-time and recordings. A recording's date-time is its capture's "
+        "(capture.json's start), else its first packet's (a pcap record's, a bag message's); "
+        "recordings of the same calendar day (UTC) form one visit labelled YYYY-MM-DD unless "
+        "--visit names it. A recording already in the project (the same size, first packet and "
+        "first MiB: a copy or a move too) is not added again (a note says so; a moved one takes "
+        "its new path; one re-recorded at a path of the project replaces the old one). Earlier "
+        "visits are not processed again (their stamps hold).\n"
+        "Steps, each into its own folder with a stamp in its stamps/ folder:\n"
         "  reference  OUT/reference/   the BIM reference session (Step 1): every storey, joined "
-        "by walking the stairs, cast with the first recording's sensor; cached by the model's "
-        "SHA-256\n"
-        "  odometry   OUT/odometry/<recording>/ and <recording>.json (figures, time per scan)\n"
-        "  anchor     OUT/anchor/      anchor.json, loops.json, sessions in BIM coordinates; a "
-        "recording whose odometry failed somewhere is anchored in pieces split at the failed "
-        "stretches (verdict anchored-in-parts: only the anchored pieces are placed and compared)\n"
-        "  changes    OUT/changes/<recording>/ as `bimslam changes` writes them (+ "
-        "evaluation.json)\n"
-        "  report     OUT/report/report.html (`bimslam report`)\n"
-        "OUT/summary.json gathers the figures; with a simulated capture's ground_truth.tum and "
+        "by walking the stairs, cast with the earliest visit's first recording's sensor; cached "
+        "by the model's SHA-256\n"
+        "  odometry   OUT/visits/<visit>/odometry/<recording>/ and <recording>.json (figures, "
+        "time per scan)\n"
+        "  anchor     OUT/visits/<visit>/anchor/   the visit's recordings together against the "
+        "reference: anchor.json, loops.json, sessions in BIM coordinates; a recording whose "
+        "odometry failed somewhere is anchored in pieces split at the failed stretches (verdict "
+        "anchored-in-parts: only the anchored pieces are placed and compared)\n"
+        "  changes    OUT/visits/<visit>/changes/<recording>/ as `bimslam changes` writes them "
+        "(+ evaluation.json)\n"
+        "  report     OUT/report/report.html (`bimslam report`) of the newest visit\n"
+        "OUT/visits/<visit>/summary.json gathers a visit's figures, OUT/summary.json the newest "
+        "visit's with the list of every visit (`visits`); with a simulated capture's "
+        "ground_truth.tum and "
         "changes.json beside the recording, the APE in BIM coordinates (no alignment) and the "
         "change scores: first of what the walk's keyframes saw (in view: added objects with at "
         "least 30 of the map's points on them more than 5 cm off the model, a quarter seen by two "
         "keyframes or more: the detector's smallest object; removed elements whose place the "
         "keyframes' beams reached over 0.25 m2 or more; how many were out of view), then of all. "
-        "Exit 0 when every recording is anchored and its odometry trusted, 1 when one is not, or "
-        "is anchored in parts only (its report still written) or a step failed (the message names "
-        "the step and the file), 2 for a model "
-        "that is not IFC or a recording that is not an Ouster capture, before any step.");
+        "Exit 0 when every visit's recordings are anchored and their odometry trusted, 1 when "
+        "one is not, or is anchored in parts only (its report still written) or a step failed "
+        "(the message names the step and the file); a re-run with nothing new skips every step "
+        "and exits as the run before. Exit 2 before any step (nothing written) for a model that "
+        "is not IFC, a recording that is not an Ouster capture, an OUT that is not a project "
+        "(--add), or a damaged visit folder (a file its stamps say was made is missing or "
+        "unreadable: the message names the folder; remove it to process that visit again).");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return MapMain(*a); }); });
 
     auto out = std::make_shared<std::string>();

@@ -26,6 +26,7 @@ struct SimulateArgs {
     std::string sensor;
     double duration_s = -1;
     int64_t seed = -1;
+    std::string start;
     std::string out;
     bool overwrite = false;
     bool json = false;
@@ -51,6 +52,7 @@ int Simulate(const SimulateArgs& a) {
         s.sensor.metadata.clear();
     }
     if (a.seed >= 0) s.seed = uint64_t(a.seed);
+    if (!a.start.empty()) s.date = a.start;
     if (s.model.empty()) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "no model: give --model or set `model` in the scenario");
@@ -161,6 +163,10 @@ void AddSimulateCommand(CLI::App& app, int& exit_code) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--seed", a->seed, "random seed (overrides the scenario's)")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--start", a->start,
+                    "when the walk starts, ISO 8601 (e.g. 2026-03-02T09:30:00Z; overrides the "
+                    "scenario's date; default 2023-11-14T22:13:20Z): the pcap's and CAN log's "
+                    "clock, which `bimslam map` dates its visits by");
     cmd->add_option("-o,--output", a->out, "capture directory")->required();
     cmd->add_flag("--overwrite", a->overwrite,
                   "replace the files of an existing capture directory");

@@ -1,10 +1,13 @@
 #include "host_tools/mapping/map_pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <optional>
 #include <system_error>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/common/stopwatch.hpp"
+#include "algorithms/common/utc_time.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/sha256.hpp"
 #include "host_tools/anchor/anchor_output.hpp"
@@ -20,6 +23,7 @@
 #include "host_tools/changes/ifc_update.hpp"
 #include "host_tools/changes/session_input.hpp"
 #include "host_tools/changes/survey_datum.hpp"
+#include "host_tools/mapping/map_project.hpp"
 #include "host_tools/mapping/step_stamp.hpp"
 #include "host_tools/replay/capture_odometry.hpp"
 #include "host_tools/report/report_page.hpp"
@@ -33,7 +37,6 @@ void MapConfig::Validate() const {
     auto bad = [](const std::string& what) {
         throw common::Error(common::StatusCode::kInvalidArgument, what);
     };
-    if (recordings.empty()) bad("no recording given");
     if (out.empty()) bad("-o: no output folder given");
     if (!(keyframe_gap_m > 0)) bad("keyframe_gap_m " + std::to_string(keyframe_gap_m));
     if (!(odometry_budget_ms > 0)) bad("odometry_budget_ms " + std::to_string(odometry_budget_ms));
@@ -60,12 +63,12 @@ uint64_t Fnv1a(std::string_view s) {  // as `bimslam changes` seeds the new obje
 // removed first, so that an interrupted step runs again next time.
 class Stepper {
 public:
-    Stepper(const fs::path& out, bool force, MapRun* run) : out_(out), force_(force), run_(run) {
-        fs::create_directories(out_ / "stamps");
-    }
-    bool Run(const std::string& step, const std::string& stamp_name, StepStamp& stamp,
-             const std::string& file, const std::function<void()>& body) {
-        const fs::path file_stamp = out_ / "stamps" / (stamp_name + ".json");
+    Stepper(bool force, MapRun* run) : force_(force), run_(run) {}
+    // `stamps`: the folder of the step's stamp (OUT/stamps, or a visit's).
+    bool Run(const std::string& step, const fs::path& stamps, const std::string& stamp_name,
+             StepStamp& stamp, const std::string& file, const std::function<void()>& body) {
+        fs::create_directories(stamps);
+        const fs::path file_stamp = stamps / (stamp_name + ".json");
         const auto t0 = Clock::now();
         if (!force_ && stamp.Matches(file_stamp)) {
             run_->steps.push_back({step, true, 0.0});
@@ -87,7 +90,6 @@ public:
     }
 
 private:
-    fs::path out_;
     bool force_;
     MapRun* run_;
 };
@@ -155,222 +157,281 @@ ReferenceSensor ReferenceSensorOf(const std::vector<RecordingInput>& recordings)
     return s;
 }
 
-}  // namespace
-
-MapRun RunMap(const MapConfig& config, const MapProgress& progress_in) {
-    config.Validate();
-    // Every input checked before any step: exit 2 names the file, and nothing is written.
-    CheckModelFile(config.model);
-    const std::vector<RecordingInput> recordings = CheckRecordings(config.recordings);
-    const MapProgress progress = progress_in ? progress_in : [](const std::string&, double) {};
-
-    // The model is read (IFC++, seconds for a big one) only by the steps that run, and for a datum.
+// What every step reads: the configuration, the output folder, the model (read on first use:
+// IFC++ takes seconds for a big one, and only the steps that run need it).
+struct MapContext {
+    const MapConfig& config;
+    MapProgress progress;
+    fs::path out;
+    fs::path model_file;
+    std::string sha256;
     std::optional<bim::BimModel> plain_model;
-    auto model = [&]() -> const bim::BimModel& {
+
+    const bim::BimModel& Model() {
         if (!plain_model) {
             progress("reading the model", 0.0);
-            plain_model = bim::LoadIfc(config.model);
+            plain_model = bim::LoadIfc(model_file);
         }
         return *plain_model;
-    };
-    // The datum names the model's GlobalIds: checked against it now, as the other inputs.
-    if (!config.datum.empty()) (void)change_detection::ReadSurveyDatum(config.datum, model());
+    }
+};
 
-    const fs::path& out = config.out;
-    MapRun run;
-    Stepper stepper(out, config.force, &run);
-    const std::string model_file = config.model.string();
-    const std::string sha256 = io::Sha256File(config.model);
-
-    // 1. The reference session, by the model's content.
-    // It is cast with the first recording's sensor (its beam table and columns), so that its
-    // scans and descriptors look like the recordings' own; the walk takes the stairs between the
-    // storeys (bim/reference_walk.hpp).
-    const ReferenceSensor sensor = ReferenceSensorOf(recordings);
+// 1. The reference session, by the model's content. It is cast with the project's first
+// recording's sensor (its beam table and columns), so that its scans and descriptors look like
+// the recordings' own; the walk takes the stairs between the storeys (bim/reference_walk.hpp).
+StepStamp ReferenceStep(MapContext& c, Stepper& stepper, const ReferenceSensor& sensor) {
     StepStamp reference("reference");
-    reference.AddParameter("model_sha256", sha256);
-    reference.AddParameter("keyframe_gap_m", config.keyframe_gap_m);
+    reference.AddParameter("model_sha256", c.sha256);
+    reference.AddParameter("keyframe_gap_m", c.config.keyframe_gap_m);
     reference.AddParameter("lidar", sensor.stamp);
     reference.AddParameter("walk", "every storey, joined by the stairs");
-    stepper.Run("reference", "reference", reference, model_file, [&] {
+    stepper.Run("reference", c.out / "stamps", "reference", reference, c.model_file.string(), [&] {
         bim::ReferenceSessionOptions ro;
         ro.overwrite = true;
         ro.lidar = sensor.lidar;
         ro.sensor_model = sensor.name;
-        ro.keyframe_gap_m = config.keyframe_gap_m;
-        ro.progress = [&](size_t d, size_t n) { progress("reference", n ? double(d) / n : 0.0); };
-        bim::WriteReferenceSession(model(), sha256, out / "reference", ro);
+        ro.keyframe_gap_m = c.config.keyframe_gap_m;
+        ro.progress = [&](size_t d, size_t n) { c.progress("reference", n ? double(d) / n : 0.0); };
+        bim::WriteReferenceSession(c.Model(), c.sha256, c.out / "reference", ro);
     });
+    return reference;
+}
 
-    // 2. Odometry of each recording.
-    std::vector<StepStamp> odometry;
-    for (const RecordingInput& r : recordings) {
-        StepStamp s("odometry_" + r.name);
-        s.AddFileTime("pcap", r.files.packets);  // a pcap or a bag
-        if (!r.files.metadata.empty()) s.AddFileTime("metadata", r.files.metadata);
-        if (!r.files.can_log.empty()) s.AddFileTime("can_log", r.files.can_log);
-        if (!r.files.capture_json.empty()) s.AddFileTime("capture_json", r.files.capture_json);
-        s.AddParameter("budget_ms", config.odometry_budget_ms);
-        s.AddParameter("budget_clock", "thread cpu");
-        // The session carries the odometry's verdict (odometry_verdict.json) since this version:
-        // an older session is made again, so that anchoring sees where it failed.
-        s.AddParameter("verdict_in_session", 1);
-        const std::string step = "odometry " + r.name;
-        stepper.Run(step, "odometry_" + r.name, s, r.files.packets.string(), [&] {
-            replay::CaptureOdometryOptions o;
-            o.capture_dir = r.path;
-            o.session_dir = out / "odometry" / r.name;
-            o.overwrite = true;
-            o.odometry.budget_ms = config.odometry_budget_ms;
-            // Counted in the thread's CPU time: an offline run's results depend on the work, not
-            // on what else the machine does (a scan preempted for 170 ms of wall time was cut
-            // short, failed its checks and made a whole run untrusted on a loaded machine).
-            o.odometry.registration.cpu_time_budget = true;
-            double capture_s = 0;
-            o.on_scan = [&, n = size_t(0),
-                         first = int64_t(-1)](const odometry::OdometryResult& res) mutable {
-                const int64_t t = res.stamp_ns;
-                if (first < 0) first = t;
-                if (++n % 20 == 0) progress(step + " (" + std::to_string(n) + " scans)", 0.0);
-                capture_s = double(t - first) * 1e-9;
-            };
-            fs::create_directories(out / "odometry");
-            const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);
-            const json stats = {{"recording", r.path.string()},
-                                {"pcap", r.files.packets.string()},
-                                {"scans", rep.scans},
-                                {"keyframes", rep.keyframes},
-                                {"incomplete_frames", rep.incomplete_frames},
-                                {"imu_samples", rep.imu_samples},
-                                {"body_samples", rep.body_samples},
-                                {"used_can", rep.used_can},
-                                {"distance_m", rep.distance_m},
-                                {"capture_s", rep.capture_s},
-                                {"wall_s", rep.wall_s},
-                                {"scan_ms_p50", replay::Percentile(rep.scan_ms, 0.5)},
-                                {"scan_ms_p99", replay::Percentile(rep.scan_ms, 0.99)},
-                                {"scan_ms_max", replay::Percentile(rep.scan_ms, 1.0)},
-                                {"over_budget", rep.over_budget},
-                                {"degenerate", rep.degenerate},
-                                {"failed", rep.failed},
-                                {"check_failed", rep.check_failed},
-                                {"verdict", rep.trust.Verdict()},
-                                {"verdict_text", rep.trust.Describe()},
-                                {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
-                                {"bridged_by_prior", rep.trust.bridged_by_prior()},
-                                {"bridged_over_budget", rep.trust.bridged_over_budget()},
-                                {"scan_ms", rep.scan_ms},
-                                {"notes", rep.notes}};
-            io::WriteFileAtomic(out / "odometry" / (r.name + ".json"), stats.dump() + "\n");
-        });
-        odometry.push_back(std::move(s));
-    }
+// The odometry's figures and every scan's time: odometry/<name>.json.
+json OdometryStats(const RecordingInput& r, const replay::CaptureOdometryReport& rep) {
+    return {{"recording", r.path.string()},
+            {"pcap", r.files.packets.string()},
+            {"scans", rep.scans},
+            {"keyframes", rep.keyframes},
+            {"incomplete_frames", rep.incomplete_frames},
+            {"imu_samples", rep.imu_samples},
+            {"body_samples", rep.body_samples},
+            {"used_can", rep.used_can},
+            {"distance_m", rep.distance_m},
+            {"capture_s", rep.capture_s},
+            {"wall_s", rep.wall_s},
+            {"scan_ms_p50", replay::Percentile(rep.scan_ms, 0.5)},
+            {"scan_ms_p99", replay::Percentile(rep.scan_ms, 0.99)},
+            {"scan_ms_max", replay::Percentile(rep.scan_ms, 1.0)},
+            {"over_budget", rep.over_budget},
+            {"degenerate", rep.degenerate},
+            {"failed", rep.failed},
+            {"check_failed", rep.check_failed},
+            {"verdict", rep.trust.Verdict()},
+            {"verdict_text", rep.trust.Describe()},
+            {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
+            {"bridged_by_prior", rep.trust.bridged_by_prior()},
+            {"bridged_over_budget", rep.trust.bridged_over_budget()},
+            {"scan_ms", rep.scan_ms},
+            {"notes", rep.notes}};
+}
 
-    // 3. Anchoring: every session at once (loops between them help).
+// 2. Odometry of one recording of a visit, into the visit's folder.
+StepStamp OdometryStep(MapContext& c, Stepper& stepper, const fs::path& visit,
+                       const RecordingInput& r) {
+    StepStamp s("odometry_" + r.name);
+    s.AddFileTime("pcap", r.files.packets);  // a pcap or a bag
+    if (!r.files.metadata.empty()) s.AddFileTime("metadata", r.files.metadata);
+    if (!r.files.can_log.empty()) s.AddFileTime("can_log", r.files.can_log);
+    if (!r.files.capture_json.empty()) s.AddFileTime("capture_json", r.files.capture_json);
+    s.AddParameter("budget_ms", c.config.odometry_budget_ms);
+    s.AddParameter("budget_clock", "thread cpu");
+    // The session carries the odometry's verdict (odometry_verdict.json) since this version:
+    // an older session is made again, so that anchoring sees where it failed.
+    s.AddParameter("verdict_in_session", 1);
+    const std::string step = "odometry " + r.name;
+    stepper.Run(step, visit / "stamps", "odometry_" + r.name, s, r.files.packets.string(), [&] {
+        replay::CaptureOdometryOptions o;
+        o.capture_dir = r.path;
+        o.session_dir = visit / "odometry" / r.name;
+        o.overwrite = true;
+        o.odometry.budget_ms = c.config.odometry_budget_ms;
+        // Counted in the thread's CPU time: an offline run's results depend on the work, not
+        // on what else the machine does (a scan preempted for 170 ms of wall time was cut
+        // short, failed its checks and made a whole run untrusted on a loaded machine).
+        o.odometry.registration.cpu_time_budget = true;
+        o.on_scan = [&, n = size_t(0)](const odometry::OdometryResult&) mutable {
+            if (++n % 20 == 0) c.progress(step + " (" + std::to_string(n) + " scans)", 0.0);
+        };
+        fs::create_directories(visit / "odometry");
+        const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);
+        io::WriteFileAtomic(visit / "odometry" / (r.name + ".json"),
+                            OdometryStats(r, rep).dump() + "\n");
+    });
+    return s;
+}
+
+// 3. Anchoring: the visit's sessions at once (loops between them help), against the reference.
+StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
+                     const std::string& label, const std::vector<RecordingInput>& recordings,
+                     const StepStamp& reference, const std::vector<StepStamp>& odometry) {
     StepStamp anchoring("anchor");
     anchoring.AddUpstream(reference);
     for (const StepStamp& s : odometry) anchoring.AddUpstream(s);
-    anchoring.AddParameter("anchor", AnchorParameters(config.anchor));
-    stepper.Run("anchor", "anchor", anchoring, (out / "odometry").string(), [&] {
-        anchor::AnchorConfig ac = config.anchor;
-        ac.threads = config.threads;
+    anchoring.AddParameter("anchor", AnchorParameters(c.config.anchor));
+    const std::string step = "anchor " + label;
+    stepper.Run(step, visit / "stamps", "anchor", anchoring, (visit / "odometry").string(), [&] {
+        anchor::AnchorConfig ac = c.config.anchor;
+        ac.threads = c.config.threads;
         anchor::LoadOptions lo;
         lo.cloud = ac.cloud;
         lo.descriptor = ac.descriptor;
-        lo.threads = config.threads;
+        lo.threads = c.config.threads;
         std::vector<anchor::AnchorSession> sessions;
-        sessions.push_back(anchor::LoadAnchorSession(out / "reference", lo));
+        sessions.push_back(anchor::LoadAnchorSession(c.out / "reference", lo));
         for (size_t k = 0; k < recordings.size(); ++k) {
-            progress("anchor: reading " + recordings[k].name, double(k) / recordings.size());
+            c.progress(step + ": reading " + recordings[k].name, double(k) / recordings.size());
             sessions.push_back(
-                anchor::LoadAnchorSession(out / "odometry" / recordings[k].name, lo));
+                anchor::LoadAnchorSession(visit / "odometry" / recordings[k].name, lo));
         }
         const anchor::AnchorResult r =
             anchor::Anchor(sessions, ac, [&](const std::string& s, size_t d, size_t n) {
-                progress("anchor: " + s, n ? double(d) / double(n) : 0.0);
+                c.progress(step + ": " + s, n ? double(d) / double(n) : 0.0);
             });
-        anchor::WriteAnchorOutput(out / "anchor", sessions, r, ac, true);
+        anchor::WriteAnchorOutput(visit / "anchor", sessions, r, ac, true);
     });
+    return anchoring;
+}
 
-    // 4. Change detection of each anchored session, as `bimslam changes` does it.
+// The changes of one anchored session against the model, as `bimslam changes` finds them, with
+// the updated IFC and, given the simulator's truth, their scores.
+void SessionChanges(MapContext& c, const fs::path& visit, const std::string& label,
+                    const bim::BimModel& m, const changes::ChangeModel& change_model,
+                    const changes::ChangeDetectorConfig& detector, const std::string& original,
+                    const std::vector<RecordingInput>& recordings) {
+    const change_detection::ModelInfo info{c.model_file, c.sha256};
+    const fs::path dir = visit / "changes" / label;
+    const change_detection::SessionInput input =
+        change_detection::LoadAnchoredSession(visit / "anchor" / label, m.origin_m);
+    change_detection::SessionChanges found;
+    found.label = label;
+    found.input = &input;
+    found.result =
+        changes::DetectChanges(change_model, input.keyframes, input.edges, detector,
+                               [&](std::string_view stage, double f) {
+                                   c.progress("changes " + label + ": " + std::string(stage), f);
+                               });
+    found.places = change_detection::PlaceObjects(m, found.result.objects);
+    const uint64_t seed = Fnv1a(info.sha256 + "/" + label);
+    for (size_t o = 0; o < found.result.objects.size(); ++o) {
+        found.object_global_ids.push_back(
+            bim::IfcWriter::GlobalId(seed, "new object " + std::to_string(o)));
+    }
+    fs::create_directories(dir);
+    change_detection::WriteChangeFiles(dir, m, info, found, detector);
+    io::WriteFileAtomic(
+        dir / "model_updated.ifc",
+        change_detection::UpdateIfc(c.model_file.string(), original, m, found, seed).text);
+    for (const RecordingInput& r : recordings) {
+        if (r.name != label || r.truth_changes.empty()) continue;
+        const change_detection::ChangeEvaluation ev =
+            change_detection::EvaluateChanges(change_detection::ReadTruthChanges(r.truth_changes),
+                                              change_detection::ReadFoundChanges(dir));
+        io::WriteFileAtomic(dir / "evaluation.json", ev.ToJson().dump(2) + "\n");
+    }
+}
+
+// 4. Change detection of each anchored session of the visit, as `bimslam changes` does it.
+StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
+                      const std::string& label, const std::vector<RecordingInput>& recordings,
+                      const StepStamp& anchoring) {
     StepStamp change("changes");
     change.AddUpstream(anchoring);
-    change.AddParameter("model_sha256", sha256);
-    change.AddParameter("changes", ChangeParameters(config.changes));
+    change.AddParameter("model_sha256", c.sha256);
+    change.AddParameter("changes", ChangeParameters(c.config.changes));
     for (const RecordingInput& r : recordings) {
         if (!r.truth_changes.empty()) change.AddFileTime("truth_" + r.name, r.truth_changes);
     }
     // The scores' in-view rule: an output scored by an older rule is scored again.
     change.AddParameter("in_view_rule", "keyframes' map points on the object (issue 31)");
-    if (!config.datum.empty()) change.AddFileTime("datum", config.datum);
-    stepper.Run("changes", "changes", change, model_file, [&] {
-        fs::remove_all(out / "changes");
-        fs::create_directories(out / "changes");
-        const std::vector<std::string> anchored = AnchoredNames(out / "anchor");
-        if (anchored.empty()) return;  // nothing in BIM coordinates to compare
-        bim::IfcLoadOptions load;
-        load.space_geometry = true;
-        load.progress = [&](double f) { progress("changes: reading the model", f); };
-        const bim::BimModel m = bim::LoadIfc(config.model, load);
-        const changes::ChangeModel change_model = change_detection::ToChangeModel(m);
-        changes::ChangeDetectorConfig detector = config.changes;
-        if (!config.datum.empty()) {
-            detector.refinement.datum = change_detection::ReadSurveyDatum(config.datum, m);
-        }
-        const std::string original = io::ReadFileToString(config.model);
-        const change_detection::ModelInfo info{config.model, sha256};
-        for (const std::string& label : anchored) {
-            const fs::path dir = out / "changes" / label;
-            const change_detection::SessionInput input =
-                change_detection::LoadAnchoredSession(out / "anchor" / label, m.origin_m);
-            change_detection::SessionChanges found;
-            found.label = label;
-            found.input = &input;
-            found.result = changes::DetectChanges(
-                change_model, input.keyframes, input.edges, detector,
-                [&](std::string_view stage, double f) {
-                    progress("changes " + label + ": " + std::string(stage), f);
-                });
-            found.places = change_detection::PlaceObjects(m, found.result.objects);
-            const uint64_t seed = Fnv1a(info.sha256 + "/" + label);
-            for (size_t o = 0; o < found.result.objects.size(); ++o) {
-                found.object_global_ids.push_back(
-                    bim::IfcWriter::GlobalId(seed, "new object " + std::to_string(o)));
+    if (!c.config.datum.empty()) change.AddFileTime("datum", c.config.datum);
+    stepper.Run(
+        "changes " + label, visit / "stamps", "changes", change, c.model_file.string(), [&] {
+            fs::remove_all(visit / "changes");
+            fs::create_directories(visit / "changes");
+            const std::vector<std::string> anchored = AnchoredNames(visit / "anchor");
+            if (anchored.empty()) return;  // nothing in BIM coordinates to compare
+            bim::IfcLoadOptions load;
+            load.space_geometry = true;
+            load.progress = [&](double f) { c.progress("changes: reading the model", f); };
+            const bim::BimModel m = bim::LoadIfc(c.model_file, load);
+            const changes::ChangeModel change_model = change_detection::ToChangeModel(m);
+            changes::ChangeDetectorConfig detector = c.config.changes;
+            if (!c.config.datum.empty()) {
+                detector.refinement.datum = change_detection::ReadSurveyDatum(c.config.datum, m);
             }
-            fs::create_directories(dir);
-            change_detection::WriteChangeFiles(dir, m, info, found, detector);
-            io::WriteFileAtomic(
-                dir / "model_updated.ifc",
-                change_detection::UpdateIfc(model_file, original, m, found, seed).text);
-            for (const RecordingInput& r : recordings) {
-                if (r.name != label || r.truth_changes.empty()) continue;
-                const change_detection::ChangeEvaluation ev = change_detection::EvaluateChanges(
-                    change_detection::ReadTruthChanges(r.truth_changes),
-                    change_detection::ReadFoundChanges(dir));
-                io::WriteFileAtomic(dir / "evaluation.json", ev.ToJson().dump(2) + "\n");
+            const std::string original = io::ReadFileToString(c.model_file);
+            for (const std::string& name : anchored) {
+                SessionChanges(c, visit, name, m, change_model, detector, original, recordings);
             }
-        }
-    });
-
-    run.summary = BuildSummary(out, config.model, recordings);
-    io::WriteFileAtomic(out / "summary.json", run.summary.dump(2) + "\n");
-
-    // 5. The report.
-    if (config.report) {
-        StepStamp page("report");
-        page.AddUpstream(change);
-        for (const StepStamp& s : odometry) page.AddUpstream(s);
-        page.AddParameter("page", report::PageVersion());
-        for (const RecordingInput& r : recordings) {  // the APE over time in the page
-            if (!r.ground_truth.empty()) page.AddFileTime("truth_" + r.name, r.ground_truth);
-        }
-        const fs::path html = out / "report" / "report.html";
-        stepper.Run("report", "report", page, html.string(), [&] {
-            fs::create_directories(out / "report");
-            report::WriteReport(
-                out, html, [&](const std::string& s, double f) { progress("report: " + s, f); });
         });
-        run.summary["report"] = html.string();
+    return change;
+}
+
+// 5. The report of the newest visit, with the list of every visit (OUT/summary.json).
+void ReportStep(MapContext& c, Stepper& stepper, const StepStamp& newest_changes,
+                const std::vector<StepStamp>& newest_odometry,
+                const std::vector<RecordingInput>& newest, const json& visits, json* summary) {
+    StepStamp page("report");
+    page.AddUpstream(newest_changes);
+    for (const StepStamp& s : newest_odometry) page.AddUpstream(s);
+    page.AddParameter("page", report::PageVersion());
+    page.AddParameter("visits", visits);
+    for (const RecordingInput& r : newest) {  // the APE over time in the page
+        if (!r.ground_truth.empty()) page.AddFileTime("truth_" + r.name, r.ground_truth);
+    }
+    const fs::path html = c.out / "report" / "report.html";
+    stepper.Run("report", c.out / "stamps", "report", page, html.string(), [&] {
+        fs::create_directories(c.out / "report");
+        report::WriteReport(c.out, html,
+                            [&](const std::string& s, double f) { c.progress("report: " + s, f); });
+    });
+    (*summary)["report"] = html.string();
+}
+
+}  // namespace
+
+MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
+    config.Validate();
+    // Every input checked before any step (the model, every recording of the project, the
+    // earlier visits' folders): exit 2 names the file, and nothing is written.
+    ProjectInputs p =
+        OpenProject(config.out, config.model, config.recordings, config.visit, config.adding);
+    for (const Visit& v : p.project.visits) CheckVisitFolder(config.out, v);
+    const MapProgress quiet = [](const std::string&, double) {};
+    MapContext c{config,          progress ? progress : quiet, config.out,
+                 p.project.model, p.project.model_sha256,      std::nullopt};
+    // The datum names the model's GlobalIds: checked against it now, as the other inputs.
+    if (!config.datum.empty()) (void)change_detection::ReadSurveyDatum(config.datum, c.Model());
+    SaveProject(config.out, p.project);
+
+    MapRun run;
+    run.notes = p.notes;
+    Stepper stepper(config.force, &run);
+    const StepStamp reference = ReferenceStep(c, stepper, ReferenceSensorOf(p.visits.front()));
+
+    // Each visit in date order; an earlier one's stamps hold, so only new visits run.
+    std::vector<json> summaries;
+    std::vector<StepStamp> odometry;
+    std::optional<StepStamp> change;
+    for (size_t v = 0; v < p.project.visits.size(); ++v) {
+        const std::string& label = p.project.visits[v].label;
+        const std::vector<RecordingInput>& recordings = p.visits[v];
+        const fs::path dir = VisitDir(config.out, label);
+        odometry.clear();
+        for (const RecordingInput& r : recordings)
+            odometry.push_back(OdometryStep(c, stepper, dir, r));
+        const StepStamp anchoring =
+            AnchorStep(c, stepper, dir, label, recordings, reference, odometry);
+        change = ChangesStep(c, stepper, dir, label, recordings, anchoring);
+        summaries.push_back(BuildSummary(config.out, dir, p.project.model, recordings));
+        WriteIfChanged(dir / "summary.json", summaries.back().dump(2) + "\n");
+    }
+    run.summary = ProjectSummary(config.out, p.project, std::move(summaries));
+    WriteIfChanged(config.out / "summary.json", run.summary.dump(2) + "\n");
+    if (config.report) {
+        ReportStep(c, stepper, *change, odometry, p.visits.back(), run.summary.at("visits"),
+                   &run.summary);
     }
     return run;
 }

@@ -1,16 +1,19 @@
 // `bimslam map`: an IFC model and rig recordings to an anchored map, a change report and one
-// HTML page, in-process, step by step (README.md of this folder):
+// HTML page, in-process, step by step (README.md of this folder), into a project of the
+// building's visits (map_project.hpp: OUT/project.json; V = OUT/visits/<label>/):
 //   reference  the BIM reference session (Step 1), OUT/reference/; reused while the model's
 //              SHA-256 and the parameters are the same
-//   odometry   each recording through the on-board odometry, OUT/odometry/<name>/ (+ <name>.json:
+//   odometry   each recording through the on-board odometry, V/odometry/<name>/ (+ <name>.json:
 //              the run's figures and every scan's time)
-//   anchor     every session into BIM coordinates (Step 2), OUT/anchor/
-//   changes    each anchored session against the model (Step 3), OUT/changes/<name>/
-//   report     OUT/report/report.html (host_tools/report)
-// OUT/stamps/<step>.json records what each step was made from (StepStamp); a re-run skips the
-// steps whose stamp still holds. OUT/summary.json gathers the figures from the steps' files, and,
-// for simulated captures (ground_truth.tum, changes.json beside the pcap), the APE in BIM
-// coordinates with no alignment and the change scores.
+//   anchor     each visit's sessions into BIM coordinates (Step 2), V/anchor/
+//   changes    each anchored session against the model (Step 3), V/changes/<name>/
+//   report     OUT/report/report.html of the newest visit (host_tools/report)
+// <stamps>/<step>.json records what each step was made from (StepStamp; OUT/stamps for the
+// reference and report, V/stamps for the others); a re-run skips the steps whose stamp still
+// holds, so an earlier visit is not processed again. V/summary.json gathers a visit's figures
+// from its steps' files, and, for simulated captures (ground_truth.tum, changes.json beside the
+// pcap), the APE in BIM coordinates with no alignment and the change scores; OUT/summary.json is
+// the newest visit's with the list of visits.
 #pragma once
 
 #include <filesystem>
@@ -23,13 +26,20 @@
 #include "algorithms/changes/change_detector.hpp"
 #include "host_tools/anchor/anchor_config.hpp"
 #include "host_tools/mapping/map_inputs.hpp"
+#include "host_tools/mapping/map_project.hpp"
 
 namespace bimslam::mapping {
 
 struct MapConfig {
+    // Empty: the project's in `out` (`bimslam map OUT --add ...`), which must exist.
     std::filesystem::path model;
+    // New visits' recordings, or the project's again (recognised: map_project.hpp). May be empty
+    // when `out` holds a project.
     std::vector<std::filesystem::path> recordings;
     std::filesystem::path out;
+    // The visit the new recordings go to (--visit); empty: each its UTC day's.
+    std::string visit;
+    bool adding = false;          // --add: a recording already in the project is noted as not added
     bool force = false;           // run every step, stamps or not
     bool report = true;           // the report step
     int threads = 0;              // anchoring (0: all cores)
@@ -55,13 +65,17 @@ private:
 };
 
 struct StepRun {
-    std::string step;  // "reference", "odometry <name>", "anchor", "changes", "report"
+    std::string
+        step;  // "reference", "odometry <name>", "anchor <visit>", "changes <visit>", "report"
     bool skipped = false;
     double seconds = 0;
 };
 
 struct MapRun {
     std::vector<StepRun> steps;
+    // What the user should know of the inputs: a recording given again under another path, or
+    // given to --add while already in the project.
+    std::vector<std::string> notes;
     nlohmann::json summary;  // what OUT/summary.json holds
 };
 
@@ -72,9 +86,17 @@ using MapProgress = std::function<void(const std::string&, double)>;
 // steps. Throws StepFailure when a step fails.
 MapRun RunMap(const MapConfig& config, const MapProgress& progress = {});
 
-// OUT/summary.json from the files the steps wrote (also read by `bimslam report`).
-nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& model,
+// A visit's summary from the files its steps wrote in `visit` (OUT/visits/<label>) and the
+// reference in `out`: OUT/visits/<label>/summary.json; OUT/summary.json is the newest visit's
+// with the list of every visit (`visits`, `visit`), which `bimslam report` reads.
+nlohmann::json BuildSummary(const std::filesystem::path& out, const std::filesystem::path& visit,
+                            const std::filesystem::path& model,
                             const std::vector<RecordingInput>& recordings);
+// OUT/summary.json: the newest visit's summary (the last of `visit_summaries`, one per visit of
+// the project), with `visit` and `visits`: every visit's label, date-time, folder and recordings
+// (name, path, date-time, odometry and anchoring verdicts, change counts).
+nlohmann::json ProjectSummary(const std::filesystem::path& out, const Project& project,
+                              std::vector<nlohmann::json> visit_summaries);
 
 // A recording's headline change scores (summary.json's `seen_scores`, issue 31 item 8): of what
 // the walk's keyframes saw (host_tools/changes/change_evaluation.hpp, "seen"). Added objects of

@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/utc_time.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
@@ -102,11 +103,12 @@ std::string AllScoresText(const json& s) {
            "); removed " + Pr(s.at("removed_all"), false) + " (" + Of(s.at("removed_all")) + ")";
 }
 
-json BuildSummary(const fs::path& out, const fs::path& model,
+json BuildSummary(const fs::path& out, const fs::path& visit, const fs::path& model,
                   const std::vector<RecordingInput>& recordings) {
     json s = {{"format", "bimslam-map-summary"},
-              {"version", 1},
+              {"version", 2},
               {"output", out.string()},
+              {"visit_dir", visit.lexically_relative(out).string()},
               {"model", {{"file", model.string()}}}};
     const json session = ReadJsonIf(out / "reference" / "session.json");
     if (!session.is_null()) {
@@ -115,7 +117,7 @@ json BuildSummary(const fs::path& out, const fs::path& model,
             {"dir", (out / "reference").string()},
             {"keyframes", session.value("/counts/keyframes"_json_pointer, size_t(0))}};
     }
-    const json anchor = ReadJsonIf(out / "anchor" / "anchor.json");
+    const json anchor = ReadJsonIf(visit / "anchor" / "anchor.json");
     if (!anchor.is_null()) s["anchor_times_s"] = anchor.at("times_s");
     json recs = json::array();
     for (const RecordingInput& r : recordings) {
@@ -131,7 +133,7 @@ json BuildSummary(const fs::path& out, const fs::path& model,
                   {"changes", nullptr},
                   {"change_scores", nullptr},
                   {"seen_scores", nullptr}};
-        json odo = ReadJsonIf(out / "odometry" / (r.name + ".json"));
+        json odo = ReadJsonIf(visit / "odometry" / (r.name + ".json"));
         if (!odo.is_null()) {
             odo.erase(
                 "scan_ms");  // per scan: the report plots it, the summary needs only quantiles
@@ -149,7 +151,7 @@ json BuildSummary(const fs::path& out, const fs::path& model,
                                {"covered_keyframes", q.at("covered_keyframes")}};
             }
         }
-        const fs::path trajectory = out / "anchor" / r.name / "trajectory_bim.tum";
+        const fs::path trajectory = visit / "anchor" / r.name / "trajectory_bim.tum";
         std::error_code ec;
         if (!r.ground_truth.empty() && fs::is_regular_file(trajectory, ec)) {
             // In BIM coordinates with no alignment: what anchoring alone achieved.
@@ -164,13 +166,46 @@ json BuildSummary(const fs::path& out, const fs::path& model,
                              {"ape_rot_rmse_deg", e.ape_rot_deg.rmse},
                              {"ape_rot_max_deg", e.ape_rot_deg.max}};
         }
-        const json changes = ReadJsonIf(out / "changes" / r.name / "changes.json");
+        const json changes = ReadJsonIf(visit / "changes" / r.name / "changes.json");
         if (!changes.is_null()) j["changes"] = ChangeCounts(changes);
-        j["change_scores"] = ReadJsonIf(out / "changes" / r.name / "evaluation.json");
+        j["change_scores"] = ReadJsonIf(visit / "changes" / r.name / "evaluation.json");
         j["seen_scores"] = SeenScores(j["change_scores"]);
         recs.push_back(j);
     }
     s["recordings"] = recs;
+    return s;
+}
+
+json ProjectSummary(const fs::path& out, const Project& project,
+                    std::vector<json> visit_summaries) {
+    json visits = json::array();
+    for (size_t v = 0; v < project.visits.size(); ++v) {
+        const Visit& visit = project.visits[v];
+        json recs = json::array();
+        for (size_t k = 0; k < visit.recordings.size(); ++k) {
+            const ProjectRecording& r = visit.recordings[k];
+            const json& s = visit_summaries[v].at("recordings").at(k);
+            recs.push_back(
+                {{"name", r.name},
+                 {"path", r.path.string()},
+                 {"start", common::FormatUtcTime(r.start_ns)},
+                 {"start_from", r.start_from},
+                 {"odometry_verdict", s.at("odometry").is_null()
+                                          ? json(nullptr)
+                                          : s["odometry"].value("verdict", json("trusted"))},
+                 {"anchor_verdict",
+                  s.at("anchor").is_null() ? json(nullptr) : s["anchor"].at("verdict")},
+                 {"changes", s.at("changes")}});
+        }
+        visits.push_back({{"label", visit.label},
+                          {"start", common::FormatUtcTime(visit.start_ns())},
+                          {"dir", (fs::path("visits") / visit.label).string()},
+                          {"recordings", recs}});
+    }
+    json s = std::move(visit_summaries.back());
+    s["output"] = out.string();
+    s["visit"] = visits.back();
+    s["visits"] = visits;
     return s;
 }
 

@@ -259,9 +259,12 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
             StoreyRuns(Translations(keyframes["reference"]), model, config.max_trajectory_points);
     }
 
-    // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored.
-    const json loops = Exists(out / "anchor" / "loops.json")
-                           ? ReadJson(out / "anchor" / "loops.json")
+    // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored. The
+    // recordings of the visit the summary describes (`bimslam map`'s newest: OUT/visits/<label>;
+    // a summary without visit_dir, of an older bimslam: OUT itself).
+    const fs::path visit = out / summary.value("visit_dir", std::string());
+    const json loops = Exists(visit / "anchor" / "loops.json")
+                           ? ReadJson(visit / "anchor" / "loops.json")
                            : json::array();
     json sessions = json::array();
     std::vector<size_t> missing_elements;
@@ -277,7 +280,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
             !rec.at("anchor").is_null() && (rec["anchor"]["verdict"] == "anchored" ||
                                             rec["anchor"]["verdict"] == "anchored-in-parts");
         json s = {{"name", name}, {"anchored", anchored}, {"anchor", rec.at("anchor")}};
-        const fs::path anchored_dir = out / "anchor" / name;
+        const fs::path anchored_dir = visit / "anchor" / name;
         if (anchored) {
             keyframes[name] = io::ReadKitti(anchored_dir / "optimized_poses.txt");
             const std::vector<Eigen::Vector3d> trajectory =
@@ -288,17 +291,17 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
                 s["ape"] = ApeOverTime(anchored_dir / "trajectory_bim.tum",
                                        rec["ground_truth"].get<std::string>());
             }
-        } else if (Exists(out / "odometry" / name / "session.json")) {
-            s["own_frame"] = OwnFrameMap(out / "odometry" / name, config.max_map_points / 4);
+        } else if (Exists(visit / "odometry" / name / "session.json")) {
+            s["own_frame"] = OwnFrameMap(visit / "odometry" / name, config.max_map_points / 4);
         }
-        const fs::path odo = out / "odometry" / (name + ".json");
+        const fs::path odo = visit / "odometry" / (name + ".json");
         if (Exists(odo)) {
             const json o = ReadJson(odo);
             s["scan_ms"] = o.at("scan_ms");
         }
         sessions.push_back(s);
 
-        const fs::path cdir = out / "changes" / name;
+        const fs::path cdir = visit / "changes" / name;
         if (!Exists(cdir / "changes.json")) continue;
         const json c = ReadJson(cdir / "changes.json");
         for (const json& o : c.at("new_objects")) {

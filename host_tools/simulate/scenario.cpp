@@ -6,6 +6,7 @@
 #include <string>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/utc_time.hpp"
 
 namespace bimslam::simulate {
 namespace {
@@ -262,6 +263,14 @@ void Scenario::Validate() const {
     RequireProbability("network.packet_loss", network.packet_loss);
     ValidateNoise(noise);
     ValidateEdits(edits);
+    if (!date.empty()) {
+        try {
+            (void)common::ParseUtcTime(date);
+        } catch (const common::Error& e) {
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "date = " + std::string(e.what()));
+        }
+    }
 }
 
 Scenario DefaultScenario(Platform platform) {

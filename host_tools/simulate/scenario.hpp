@@ -253,6 +253,9 @@ struct Scenario {
     NetworkSpec network;
     NoiseSpec noise;
     uint64_t seed = 1;
+    // When the walk starts, ISO 8601 (common::ParseUtcTime, e.g. 2026-03-02T09:30:00Z): the pcap's
+    // and CAN log's host clock at t = 0. Empty: 2023-11-14T22:13:20Z (kDefaultStartNs).
+    std::string date;
     EditsSpec edits;
 
     // Throws common::Error (kInvalidArgument) naming the field (as in the YAML, e.g.

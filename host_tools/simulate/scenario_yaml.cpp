@@ -339,7 +339,7 @@ void ReadEdits(Reader& r, const Node& n, EditsSpec& out) {
 Scenario ReadScenario(Reader& r, const Node& root) {
     r.Keys(root, "",
            {"model", "storey", "platform", "path", "speed", "duration_s", "sensor", "network",
-            "noise", "seed", "edits"});
+            "noise", "seed", "date", "edits"});
     // The platform picks the defaults the other keys overlay.
     Platform platform = Platform::kGo1;
     r.Get(root, "", "platform", platform);
@@ -389,6 +389,7 @@ Scenario ReadScenario(Reader& r, const Node& root) {
 
     ReadNoise(r, Reader::At(root, "noise"), s.noise);
     r.Get(root, "", "seed", s.seed);
+    r.Get(root, "", "date", s.date);
     ReadEdits(r, Reader::At(root, "edits"), s.edits);
     return s;
 }

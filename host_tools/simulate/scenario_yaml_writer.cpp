@@ -209,6 +209,7 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.EndMap();
 
     w.Key("seed").out() << std::to_string(s.seed);
+    if (!s.date.empty()) w.Str("date", s.date);
     WriteEdits(w, s.edits);
     out << YAML::EndMap;
     return std::string(out.c_str()) + "\n";

@@ -7,6 +7,7 @@
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/utc_time.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/simulation/body_trajectory.hpp"
@@ -197,7 +198,7 @@ void WriteHighStates(const simulation::BodyTrajectory& trajectory, const Scenari
         h.velocity = {float(g.vx), float(g.vy), float(g.vz)};  // [2]: rotateSpeed (comm.h)
         h.yaw_speed = float(g.yaw_rate);
         go1::SerializeHighState(h, bytes, s.network.go1_highstate_crc);
-        const int64_t host0 = kSensorBootNs + kHostMinusSensorNs + t_ns;
+        const int64_t host0 = kSensorBootNs + HostMinusSensorNs(s) + t_ns;
         for (int64_t k = 0; k < 5; ++k) {
             pcap.WriteUdp(host0 + k * 2'000'000, go1_ip, 8082, bridge_ip, 8090, bytes);
         }
@@ -226,7 +227,8 @@ uint64_t WriteCan(const simulation::BodyTrajectory& trajectory, const Scenario& 
             sample = model.Next(t);
             sample.bridge_time_ns = kBridgeBootNs + tick * kCanTickNs;
         }
-        const int64_t host = kSensorBootNs + kHostMinusSensorNs + tick * kCanTickNs + kCanLatencyNs;
+        const int64_t host =
+            kSensorBootNs + HostMinusSensorNs(s) + tick * kCanTickNs + kCanLatencyNs;
         const size_t n = encoder.Tick(&sample, host, frames);
         for (size_t i = 0; i < n; ++i) {
             log.Write(frames[i], "can0");
@@ -384,6 +386,9 @@ void WriteManifest(const Scenario& s, const bim::BimModel& model, const std::str
     manifest["version"] = 1;
     manifest["model"] = {{"file", model.file}, {"sha256", model_sha256}, {"storey", r.storey}};
     manifest["platform"] = ToString(s.platform);
+    // When the walk started (the host clock at t = 0): `bimslam map` dates its visits by it.
+    manifest["start"] = common::FormatUtcTime(CaptureStartNs(s));
+    manifest["start_ns"] = CaptureStartNs(s);
     manifest["files"] = {{"lidar_pcap", "lidar.pcap"},
                          {"metadata", "metadata.json"},
                          {"ground_truth", "ground_truth.tum"},
@@ -395,7 +400,7 @@ void WriteManifest(const Scenario& s, const bim::BimModel& model, const std::str
     }
     manifest["ground_truth"] = "T_bim_sensor at column 0 of each lidar frame, sensor clock";
     manifest["clocks"] = {{"sensor_ns_at_start", kSensorBootNs},
-                          {"host_minus_sensor_ns", kHostMinusSensorNs},
+                          {"host_minus_sensor_ns", HostMinusSensorNs(s)},
                           {"bridge_ns_at_start", kBridgeBootNs}};
     manifest["sensor"] = {{"lidar_mode", info.lidar_mode},
                           {"udp_profile_lidar", ouster::ToString(info.format.lidar_profile)},
@@ -433,6 +438,10 @@ void WriteManifest(const Scenario& s, const bim::BimModel& model, const std::str
 
 }  // namespace
 
+int64_t CaptureStartNs(const Scenario& s) {
+    return s.date.empty() ? kDefaultStartNs : common::ParseUtcTime(s.date);
+}
+
 CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
                               const std::string& model_sha256, const std::filesystem::path& dir,
                               const std::function<void(double)>& progress) {
@@ -461,7 +470,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     std::filesystem::create_directories(dir);
     io::WriteFileAtomic(dir / "metadata.json", ouster::SerializeMetadata(info));
     net::PcapWriter pcap(dir / "lidar.pcap");
-    OusterWriter writer(info, pcap, s.network, s.seed, kHostMinusSensorNs);
+    OusterWriter writer(info, pcap, s.network, s.seed, HostMinusSensorNs(s));
     const double period_s = 1.0 / double(bim::LidarModelFromSensorInfo(info).frame_rate_hz);
     const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
     BeamHitCounter hits(model, world);

@@ -28,7 +28,13 @@
 namespace bimslam::simulate {
 
 inline constexpr int64_t kSensorBootNs = 42'000'000'000;  // up 42 s at t = 0
-inline constexpr int64_t kHostMinusSensorNs = 1'700'000'000'000'000'000 - kSensorBootNs;
+// The host clock at t = 0 (UNIX epoch) unless the scenario's `date` says: 2023-11-14T22:13:20Z.
+inline constexpr int64_t kDefaultStartNs = 1'700'000'000'000'000'000;
+inline constexpr int64_t kHostMinusSensorNs = kDefaultStartNs - kSensorBootNs;
+// The host clock at t = 0 of this scenario's capture (its `date`, else kDefaultStartNs), and the
+// host clock minus the sensor's.
+int64_t CaptureStartNs(const Scenario& s);
+inline int64_t HostMinusSensorNs(const Scenario& s) { return CaptureStartNs(s) - kSensorBootNs; }
 inline constexpr int64_t kBridgeBootNs = 17'000'000'000;
 
 struct CaptureReport {

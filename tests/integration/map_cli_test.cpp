@@ -30,37 +30,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
 
-// a and b have the same structure, strings and integers, and floating-point numbers within tol.
-// Ceres evaluates residual blocks on several threads and sums them in the order they finish, so
-// two runs of the same anchoring may differ in the last digits (an as-built wall's offset came
-// out 0.012134 m and 0.012142 m in two runs of 8).
-void ExpectJsonNear(const json& a, const json& b, double tol, const std::string& path = "") {
-    if (a.is_number_float() || b.is_number_float()) {
-        ASSERT_TRUE(a.is_number() && b.is_number()) << path;
-        EXPECT_NEAR(a.get<double>(), b.get<double>(), tol) << path;
-    } else if (a.is_object() && b.is_object()) {
-        ASSERT_EQ(a.size(), b.size()) << path;
-        for (const auto& [key, value] : a.items()) {
-            ASSERT_TRUE(b.contains(key)) << path << "/" << key;
-            ExpectJsonNear(value, b.at(key), tol, path + "/" + key);
-        }
-    } else if (a.is_array() && b.is_array()) {
-        ASSERT_EQ(a.size(), b.size()) << path;
-        for (size_t i = 0; i < a.size(); ++i) {
-            ExpectJsonNear(a[i], b[i], tol, path + "/" + std::to_string(i));
-        }
-    } else {
-        EXPECT_EQ(a, b) << path;
-    }
-}
-
-json Steps(const json& j) {
-    json s = json::object();
-    for (const json& step : j.at("steps"))
-        s[step.at("step").get<std::string>()] = step.at("skipped");
-    return s;
-}
-
 // The page's data, as embedded in report.html.
 json PageData(const fs::path& html_file) {
     const std::string html = io::ReadFileToString(html_file);
@@ -72,14 +41,16 @@ json PageData(const fs::path& html_file) {
 
 TEST(MapCli, EveryStepWritesItsFolderAndTheSummaryEqualsTheIndividualCommands) {
     const fs::path m = Mapped();
-    for (const char* f :
-         {"reference/session.json", "odometry/capture/session.json", "odometry/capture.json",
-          "anchor/anchor.json", "anchor/loops.json", "anchor/capture/trajectory_bim.tum",
-          "changes/capture/changes.json", "changes/capture/evaluation.json",
-          "changes/capture/model_updated.ifc", "report/report.html", "summary.json",
-          "stamps/reference.json", "stamps/odometry_capture.json", "stamps/anchor.json",
-          "stamps/changes.json", "stamps/report.json"}) {
+    for (const char* f : {"project.json", "reference/session.json", "report/report.html",
+                          "summary.json", "stamps/reference.json", "stamps/report.json"}) {
         EXPECT_TRUE(fs::exists(m / "out" / f)) << f;
+    }
+    for (const char* f :
+         {"odometry/capture/session.json", "odometry/capture.json", "anchor/anchor.json",
+          "anchor/loops.json", "anchor/capture/trajectory_bim.tum", "changes/capture/changes.json",
+          "changes/capture/evaluation.json", "changes/capture/model_updated.ifc", "summary.json",
+          "stamps/odometry_capture.json", "stamps/anchor.json", "stamps/changes.json"}) {
+        EXPECT_TRUE(fs::exists(VisitOf(m / "out") / f)) << f;
     }
     const json summary = ReadJson(m / "out" / "summary.json");
     const json& r = summary.at("recordings").at(0);
@@ -145,7 +116,8 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     ASSERT_EQ(third.exit_code, 0) << third.err;
     const json again = Steps(json::parse(third.out));
     EXPECT_EQ(again.at("reference"), true);
-    for (const char* s : {"odometry capture", "anchor", "changes", "report"}) {
+    for (const std::string& s : std::vector<std::string>{"odometry capture", "anchor " + kVisit,
+                                                         "changes " + kVisit, "report"}) {
         EXPECT_EQ(again.at(s), false) << s;
     }
 
@@ -168,14 +140,16 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     const auto fourth = Cli(args + " --datum " + (tmp / "survey.csv").string());
     ASSERT_EQ(fourth.exit_code, 0) << fourth.err << datum;
     const json surveyed = Steps(json::parse(fourth.out));
-    for (const char* s : {"reference", "odometry capture", "anchor"}) {
+    for (const std::string& s :
+         std::vector<std::string>{"reference", "odometry capture", "anchor " + kVisit}) {
         EXPECT_EQ(surveyed.at(s), true) << s;
     }
-    EXPECT_EQ(surveyed.at("changes"), false);
-    const json changes = ReadJson(tmp / "out" / "changes" / "capture" / "changes.json");
+    EXPECT_EQ(surveyed.at("changes " + kVisit), false);
+    const fs::path visit = VisitOf(tmp / "out");
+    const json changes = ReadJson(visit / "changes" / "capture" / "changes.json");
     EXPECT_EQ(changes.at("parameters").at("refinement").at("datum").size(), 2u) << datum;
     EXPECT_EQ(changes.at("counts").at("refinement").at("datum_seen"), 2);
-    const json scores = ReadJson(tmp / "out" / "changes" / "capture" / "evaluation.json");
+    const json scores = ReadJson(visit / "changes" / "capture" / "evaluation.json");
     EXPECT_EQ(scores.at("as_built").at("surveyed"), 2);
 
     // A datum file that does not exist, one naming an element the model does not have, or one
@@ -197,7 +171,7 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     // report's stamp gone (as after an interrupted run). With the datum of the last run, so
     // that no other step's inputs changed.
     const std::string same = args + " --datum " + (tmp / "survey.csv").string();
-    const fs::path damaged = tmp / "out" / "changes" / "capture" / "map_bim.ply";
+    const fs::path damaged = visit / "changes" / "capture" / "map_bim.ply";
     const std::string kept = io::ReadFileToString(damaged);
     io::WriteFileAtomic(damaged, "ply\nformat of no kind\n");
     fs::remove(tmp / "out" / "stamps" / "report.json");
@@ -205,13 +179,14 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     EXPECT_EQ(failed.exit_code, 1) << failed.out << failed.err;
     EXPECT_NE(failed.err.find("step 'report' failed on " + damaged.string()), std::string::npos)
         << failed.err;
-    EXPECT_TRUE(fs::exists(tmp / "out" / "stamps" / "changes.json")) << "the steps before kept";
+    EXPECT_TRUE(fs::exists(visit / "stamps" / "changes.json")) << "the steps before kept";
     EXPECT_FALSE(fs::exists(tmp / "out" / "stamps" / "report.json"));
     io::WriteFileAtomic(damaged, kept);
     const auto after = Cli(same + " --json");
     ASSERT_EQ(after.exit_code, 0) << after.err;
     const json rerun = Steps(json::parse(after.out));
-    for (const char* s : {"reference", "odometry capture", "anchor", "changes"}) {
+    for (const std::string& s : std::vector<std::string>{"reference", "odometry capture",
+                                                         "anchor " + kVisit, "changes " + kVisit}) {
         EXPECT_EQ(rerun.at(s), true) << s;
     }
     EXPECT_EQ(rerun.at("report"), false) << "the failed step runs again";
@@ -288,7 +263,7 @@ TEST(MapCli, ATwoStoreyWalksChangesArePlacedOnTheirStoreysAndItsTrajectorySplitB
     ASSERT_EQ(summary.at("recordings").at(0).at("anchor").at("verdict"), "anchored")
         << summary.dump(1);
     const json truth = ReadJson(f / "capture" / "changes.json");
-    const json found = ReadJson(f / "out" / "changes" / "capture" / "changes.json");
+    const json found = ReadJson(VisitOf(f / "out") / "changes" / "capture" / "changes.json");
     ASSERT_EQ(truth.at("added").size(), 2u);
     ASSERT_EQ(found.at("new_objects").size(), 2u) << found.at("new_objects").dump();
     std::set<std::string> storeys;
@@ -365,13 +340,14 @@ TEST(MapCli, ARecordingWhoseOdometryFailedMidwayIsAnchoredInPartsNotAnchored) {
     const json summary = ReadJson(f / "out" / "summary.json");
     const json& r = summary.at("recordings").at(0);
     EXPECT_EQ(r.at("anchor").at("verdict"), "anchored-in-parts") << r.at("anchor").dump(1);
-    const json a = ReadJson(f / "out" / "anchor" / "anchor.json");
+    const json a = ReadJson(VisitOf(f / "out") / "anchor" / "anchor.json");
     const json& s = a.at("sessions").at(0);
     ASSERT_EQ(s.at("pieces").size(), 2u) << s.dump(1);
     for (const json& p : s.at("pieces")) EXPECT_EQ(p.at("verdict"), "anchored");
     const size_t n = s.at("keyframes");
-    EXPECT_EQ(io::ReadKitti(f / "out" / "anchor" / "capture" / "optimized_poses.txt").size(),
-              n - 1);
+    EXPECT_EQ(
+        io::ReadKitti(VisitOf(f / "out") / "anchor" / "capture" / "optimized_poses.txt").size(),
+        n - 1);
     // As precise as the whole walk anchored at once (2.94 cm both, the changed building's walls
     // stand off their model).
     const json whole = ReadJson(Mapped() / "out" / "summary.json").at("recordings").at(0);

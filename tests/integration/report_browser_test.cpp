@@ -133,6 +133,10 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
         << "the 3D view is (nearly) blank";
     ASSERT_GT(t.at("changes").get<int>(), 0);
     EXPECT_EQ(t.at("selected_row"), true);
+    // The project's visits: the page is of the newest, the only one here.
+    EXPECT_EQ(t.at("visits_text"), "Visit " + kVisit + " (" + kVisit +
+                                       "T22:13:20Z), the newest of 1: " + kVisit + " (" + kVisit +
+                                       "T22:13:20Z: capture anchored).");
     EXPECT_EQ(t.at("selected_change"), 0);
     EXPECT_GE(t.at("selected_plan").get<int>(), 1);
     // The model's class toggles change what is drawn: all off draws less, on again as before.

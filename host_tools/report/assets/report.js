@@ -43,6 +43,13 @@ function buildSummary() {
   el('p', {}, body, 'Model ' + D.model.file + ' (' + D.model.schema + ', ' + D.model.elements +
      ' elements, ' + D.storeys.length + ' storeys); reference session of ' +
      (S.reference ? S.reference.keyframes : '?') + ' keyframes along a walk through every room.');
+  // The project's visits (bimslam map, issue 33 item 1): this page is of the newest.
+  if (S.visits && S.visit) {
+    el('p', {class: 'visits'}, body, 'Visit ' + S.visit.label + ' (' + S.visit.start +
+       '), the newest of ' + S.visits.length + ': ' + S.visits.map(v => v.label + ' (' +
+       v.start + ': ' + v.recordings.map(r => r.name + ' ' +
+       (r.anchor_verdict || 'not anchored')).join(', ') + ')').join('; ') + '.');
+  }
   const t = el('table', {}, body);
   const h = el('tr', {}, t);
   ['recording', 'odometry', 'anchoring', 'loops', 'accuracy (BIM, no alignment)', 'changes',
@@ -620,6 +627,8 @@ if (location.hash === '#selftest') {
     r.scores_in_view = scores && scores.querySelector('.in-view') ? scores.querySelector('.in-view').textContent : '';
     r.scores_all = scores && scores.querySelector('.all-objects') ? scores.querySelector('.all-objects').textContent : '';
     r.own_frame_plans = document.querySelectorAll('.plan.own-frame svg').length;
+    const visits = document.querySelector('#summary p.visits');
+    r.visits_text = visits ? visits.textContent : '';
     r.pixels = view ? view.drawnPixels() : null;
     // The class toggles: every model class switched off draws fewer pixels; on again, as many.
     const classes = [...document.querySelectorAll('#layers input')].slice(0, D.model3d.classes.length);

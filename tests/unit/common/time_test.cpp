@@ -4,6 +4,9 @@
 
 #include <type_traits>
 
+#include "algorithms/common/status.hpp"
+#include "algorithms/common/utc_time.hpp"
+
 namespace bimslam::common {
 namespace {
 
@@ -39,6 +42,23 @@ TEST(Time, HostClocksAdvance) {
     const MonotonicTime b = MonotonicNow();
     EXPECT_GE(b.ns, a.ns);
     EXPECT_GT(HostNow().Seconds(), 1.6e9);  // after 2020
+}
+
+// The simulator's default start (1.7e18 ns) and the forms `bimslam simulate --start` takes.
+TEST(Time, Iso8601DateTimesParseAndFormatInUtc) {
+    constexpr int64_t kS = 1'000'000'000;
+    EXPECT_EQ(FormatUtcTime(1'700'000'000 * kS), "2023-11-14T22:13:20Z");
+    EXPECT_EQ(ParseUtcTime("2023-11-14T22:13:20Z"), 1'700'000'000 * kS);
+    EXPECT_EQ(ParseUtcTime("2023-11-14T23:13:20+01:00"), 1'700'000'000 * kS);
+    EXPECT_EQ(ParseUtcTime("2023-11-14T21:13:20.25-01:00"), 1'700'000'000 * kS + kS / 4);
+    EXPECT_EQ(ParseUtcTime("1970-01-01"), 0);
+    EXPECT_EQ(ParseUtcTime("2024-02-29T00:00"), 1'709'164'800 * kS);  // a leap day
+    EXPECT_EQ(FormatUtcDay(1'709'164'800 * kS - 1), "2024-02-28");
+    EXPECT_EQ(FormatUtcTime(-1), "1969-12-31T23:59:59Z");
+    for (const char* bad : {"2023-02-29", "2023-13-01", "2023-11-14T25:00", "14/11/2023",
+                            "2023-11-14T22:13:20Zjunk", ""}) {
+        EXPECT_THROW(ParseUtcTime(bad), Error) << bad;
+    }
 }
 
 }  // namespace

@@ -164,6 +164,8 @@ TEST(ScenarioTest, WrongValueNamesTheField) {
         {"path: {start: {xy: [1, .inf]}}", "path.start.xy = [1, inf]: must be finite"},
         {"duration_s: -1", "duration_s = -1: must be >= 0"},
         {"seed: -3", "seed: expected a whole number >= 0, got '-3'"},
+        {"date: 2026-02-30", "date = '2026-02-30': not an ISO 8601 date-time (no such day"},
+        {"date: yesterday", "date = 'yesterday': not an ISO 8601 date-time"},
         {"edits: {boxes: [{}, {size: [1, 0, 1]}]}", "edits.boxes[1].size = [1, 0, 1]"},
         {"edits: {cylinders: [{radius_m: 0}]}", "edits.cylinders[0].radius_m = 0: must be > 0"},
         {"edits: {meshes: [{name: chair}]}", "edits.meshes[0].file = '': must not be empty"},
@@ -264,6 +266,7 @@ Scenario Everything() {
     s.path.mode = PathMode::kWaypoints;
     s.path.waypoints = {{1.5, 7.2}, {0.1, -3e-7}};
     s.path.start = Pose2d{{-5, 7.5}, 12.25};
+    s.date = "2026-03-02T09:30:00+01:00";
     s.speed = {0.7, 0.4, 45, 0.3, true};
     s.duration_s = 600.5;
     s.sensor.metadata = "/data/os1 metadata.json";

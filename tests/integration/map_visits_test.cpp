@@ -1,0 +1,351 @@
+// `bimslam map`'s project of visits (issue 33, item 1; host_tools/mapping/README.md, "Visits"),
+// on three short hand-held walks of the sample office on two days:
+// - visits added one at a time give the same project, figures and files as all at once;
+// - the visits' dates come from the recordings (capture.json, else the first packet) and order
+//   them, whatever order the recordings are given in; recordings of one UTC day form one visit,
+//   unless --visit names it;
+// - a re-run with no new recording does nothing (every step skipped, no file written);
+// - a damaged visit folder exits 2 naming it, and the other visits are kept;
+// - --add to a folder that is not a project exits 2 naming it;
+// - a recording re-recorded in place replaces the old one.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "algorithms/io/file_util.hpp"
+#include "tests/integration/map_test_support.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace bimslam {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace map_test;
+
+// Walk a on 2 March, b and c on 9 March (morning and afternoon): two visits.
+const std::string kDayA = "2026-03-02", kDayB = "2026-03-09";
+struct Walk {
+    const char* name;
+    const char* start;
+    int seed;
+};
+const Walk kWalks[] = {{"a", "2026-03-02T09:00:00Z", 11},
+                       {"b", "2026-03-09T09:00:00Z", 12},
+                       {"c", "2026-03-09T15:30:00Z", 13}};
+
+// Hand-held, OS1-16 at 512x10 and 30 s to stay cheap (about 2 s to simulate each).
+fs::path Walks() {
+    return Fixture("visit_walks", [](const fs::path& d) {
+        for (const Walk& w : kWalks) {
+            io::WriteFileAtomic(d / (std::string(w.name) + ".yaml"),
+                                "platform: handheld\nseed: " + std::to_string(w.seed) +
+                                    "\nduration_s: 30\nsensor: {model: OS1-16, lidar_mode: "
+                                    "512x10}\n");
+            MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
+                    (d / (std::string(w.name) + ".yaml")).string() + " --start " + w.start +
+                    " -o " + (d / w.name).string());
+        }
+    });
+}
+
+std::string Model() { return (Building() / "building.ifc").string(); }
+
+// a is given as its pcap (metadata.json beside it, no capture.json): dated by its first packet,
+// named "lidar".
+std::string A() { return (Walks() / "a" / "lidar.pcap").string(); }
+std::string B() { return (Walks() / "b").string(); }
+std::string C() { return (Walks() / "c").string(); }
+
+json MapJson(const std::string& args, int exit_code = 0) {
+    const auto r = Cli(args + kBudget + " --json");
+    EXPECT_EQ(r.exit_code, exit_code) << args << "\n" << r.err;
+    return r.exit_code == 0 ? json::parse(r.out) : json(nullptr);
+}
+
+// All at once, given in reverse order of their dates. out.json: what it printed.
+fs::path AllAtOnce() {
+    return Fixture("visits_all", [](const fs::path& d) {
+        const json j = MapJson("map " + Model() + " " + C() + " " + B() + " " + A() + " -o " +
+                               (d / "out").string());
+        io::WriteFileAtomic(d / "out.json", j.dump(1));
+    });
+}
+
+// One at a time: b, then a (an earlier date), then c (b's day). run<k>.json: what each printed.
+fs::path OneAtATime() {
+    return Fixture("visits_one", [](const fs::path& d) {
+        const std::string out = (d / "out").string();
+        const json runs[] = {MapJson("map " + Model() + " " + B() + " -o " + out),
+                             MapJson("map " + out + " --add " + A()),
+                             MapJson("map " + out + " --add " + C())};
+        for (size_t k = 0; k < 3; ++k)
+            io::WriteFileAtomic(d / ("run" + std::to_string(k + 1) + ".json"), runs[k].dump(1));
+    });
+}
+
+// A visit's summary without what names its folder or measures time.
+json Comparable(json s) {
+    s.erase("output");
+    s.erase("anchor_times_s");
+    s["reference"].erase("dir");
+    for (json& r : s.at("recordings")) {
+        r.erase("path");
+        if (r["odometry"].is_object()) {
+            for (const char* k :
+                 {"recording", "pcap", "wall_s", "scan_ms_p50", "scan_ms_p99", "scan_ms_max"}) {
+                r["odometry"].erase(k);
+            }
+        }
+    }
+    return s;
+}
+
+// A copy of the one-at-a-time project in tmp/out, run once: the summaries name their folder
+// ("output"), so that run writes them (every step skipped); the test starts after it.
+fs::path CopyOfProject(const test::TempDir& tmp) {
+    fs::copy(OneAtATime() / "out", tmp / "out", fs::copy_options::recursive);
+    const json steps = Steps(MapJson("map " + (tmp / "out").string()));
+    for (const auto& [step, skipped] : steps.items()) EXPECT_TRUE(skipped.get<bool>()) << step;
+    return tmp / "out";
+}
+
+// Every file under `dir` with its modification time.
+using Mtimes = std::map<std::string, fs::file_time_type>;
+Mtimes MtimesOf(const fs::path& dir) {
+    Mtimes m;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) m[e.path().lexically_relative(dir).string()] = e.last_write_time();
+    }
+    return m;
+}
+
+// The files written (made, changed or removed) between two listings: none is expected.
+std::vector<std::string> Written(const Mtimes& before, const Mtimes& after) {
+    std::vector<std::string> w;
+    for (const auto& [file, t] : after) {
+        const auto b = before.find(file);
+        if (b == before.end() || b->second != t) w.push_back(file);
+    }
+    for (const auto& [file, t] : before) {
+        if (!after.count(file)) w.push_back(file + " (removed)");
+    }
+    return w;
+}
+
+TEST(MapVisits, VisitsAddedOneAtATimeGiveTheSameProjectAsAllAtOnce) {
+    const fs::path all = AllAtOnce() / "out", one = OneAtATime() / "out";
+    const json pa = ReadJson(all / "project.json"), po = ReadJson(one / "project.json");
+    ASSERT_EQ(pa.at("visits").size(), 2u) << pa.dump(1);
+    ASSERT_EQ(po.at("visits").size(), 2u) << po.dump(1);
+    for (size_t v = 0; v < 2; ++v) {
+        const json &a = pa["visits"][v], &o = po["visits"][v];
+        EXPECT_EQ(a.at("label"), o.at("label"));
+        EXPECT_EQ(a.at("start"), o.at("start"));
+        ASSERT_EQ(a.at("recordings").size(), o.at("recordings").size()) << v;
+        for (size_t k = 0; k < a["recordings"].size(); ++k) {
+            json ra = a["recordings"][k], ro = o["recordings"][k];
+            EXPECT_EQ(ra, ro) << "the same names, paths, dates and identities";
+        }
+        // The same figures: odometry, anchoring, accuracy, changes and their scores (to 0.1 mm:
+        // map_test_support.hpp, ExpectJsonNear).
+        const std::string dir = a.at("dir");
+        const json sa = ReadJson(all / dir / "summary.json"),
+                   so = ReadJson(one / dir / "summary.json");
+        ASSERT_TRUE(sa.at("recordings").at(0).at("anchor").is_object()) << sa.dump(1);
+        EXPECT_EQ(sa["recordings"][0]["anchor"]["verdict"], "anchored") << sa.dump(1);
+        ExpectJsonNear(Comparable(sa), Comparable(so), 1e-4, dir);
+    }
+    // OUT/summary.json describes the newest visit (b and c) and lists both.
+    const json top = ReadJson(one / "summary.json");
+    EXPECT_EQ(top.at("visit").at("label"), kDayB);
+    EXPECT_EQ(top.at("visits").size(), 2u);
+    EXPECT_EQ(top.at("recordings").size(), 2u);
+    ExpectJsonNear(Comparable(ReadJson(all / "summary.json")), Comparable(top), 1e-4, "summary");
+
+    // Earlier visits are not processed again: adding a (an earlier day) ran its steps only;
+    // adding c (b's day) ran c's odometry and b's day's anchoring and changes, not a's.
+    const json second = Steps(ReadJson(OneAtATime() / "run2.json"));
+    for (const std::string& s :
+         std::vector<std::string>{"odometry b", "anchor " + kDayB, "changes " + kDayB})
+        EXPECT_EQ(second.at(s), true) << s << " " << second.dump();
+    for (const std::string& s :
+         std::vector<std::string>{"odometry lidar", "anchor " + kDayA, "changes " + kDayA})
+        EXPECT_EQ(second.at(s), false) << s << " " << second.dump();
+    const json third = Steps(ReadJson(OneAtATime() / "run3.json"));
+    for (const std::string& s : std::vector<std::string>{
+             "reference", "odometry lidar", "anchor " + kDayA, "changes " + kDayA, "odometry b"})
+        EXPECT_EQ(third.at(s), true) << s << " " << third.dump();
+    for (const std::string& s :
+         std::vector<std::string>{"odometry c", "anchor " + kDayB, "changes " + kDayB, "report"})
+        EXPECT_EQ(third.at(s), false) << s << " " << third.dump();
+}
+
+TEST(MapVisits, VisitDatesComeFromTheRecordingsAndOrderTheVisits) {
+    const json p = ReadJson(AllAtOnce() / "out" / "project.json");
+    ASSERT_EQ(p.at("visits").size(), 2u) << p.dump(1);
+    const json& first = p["visits"][0];
+    const json& second = p["visits"][1];
+    // c, b, a given: a's day first, then b and c (one day: one visit), b before c.
+    EXPECT_EQ(first.at("label"), kDayA);
+    EXPECT_EQ(second.at("label"), kDayB);
+    EXPECT_EQ(second.at("dir"), "visits/" + kDayB);
+    ASSERT_EQ(first.at("recordings").size(), 1u);
+    ASSERT_EQ(second.at("recordings").size(), 2u);
+    EXPECT_EQ(second["recordings"][0].at("name"), "b");
+    EXPECT_EQ(second["recordings"][1].at("name"), "c");
+    // b and c: their capture.json's start; a (its pcap alone): its first packet, just after.
+    EXPECT_EQ(second["recordings"][0].at("start"), "2026-03-09T09:00:00Z");
+    EXPECT_EQ(second["recordings"][0].at("start_from"), "capture.json");
+    EXPECT_EQ(second["recordings"][1].at("start"), "2026-03-09T15:30:00Z");
+    EXPECT_EQ(second.at("start"), "2026-03-09T09:00:00Z");
+    const json& a = first["recordings"][0];
+    EXPECT_EQ(a.at("name"), "lidar");
+    EXPECT_EQ(a.at("start_from"), "first packet");
+    const int64_t a_ns = a.at("start_ns");
+    const int64_t a_start = 1'772'442'000'000'000'000;  // 2026-03-02T09:00:00Z
+    EXPECT_GE(a_ns, a_start);
+    EXPECT_LT(a_ns, a_start + 1'000'000'000) << "the first packet, within the first frame";
+    // The summary lists the visits in that order, with their dates.
+    const json s = ReadJson(AllAtOnce() / "out" / "summary.json");
+    ASSERT_EQ(s.at("visits").size(), 2u);
+    EXPECT_EQ(s["visits"][0].at("label"), kDayA);
+    EXPECT_EQ(s["visits"][1].at("start"), "2026-03-09T09:00:00Z");
+    // The rule is said in --help.
+    const auto h = Cli("map --help");
+    EXPECT_NE(h.out.find("same calendar day (UTC)"), std::string::npos) << h.out;
+    EXPECT_NE(h.out.find("--add"), std::string::npos) << h.out;
+}
+
+TEST(MapVisits, ARerunWithNoNewRecordingDoesNothing) {
+    test::TempDir tmp;
+    const std::string out = CopyOfProject(tmp).string();
+    const Mtimes before = MtimesOf(out);
+    // The project alone, the first command line with every recording again, and --add of one
+    // already there (noted, not added): every step skipped, exit 0 as the run before.
+    for (const std::string& args :
+         {"map " + out, "map " + Model() + " " + B() + " " + A() + " " + C() + " -o " + out,
+          "map " + out + " --add " + B()}) {
+        const auto r = Cli(args + kBudget + " --json");
+        ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+        const json steps = Steps(json::parse(r.out));
+        EXPECT_EQ(steps.size(), 9u) << steps.dump();  // reference, 3 odometry, 2 x 2, report
+        for (const auto& [step, skipped] : steps.items())
+            EXPECT_TRUE(skipped.get<bool>()) << args << ": " << step;
+        if (args.find("--add") != std::string::npos) {
+            EXPECT_NE(r.err.find("already in visit " + kDayB + " (as b), not added again"),
+                      std::string::npos)
+                << r.err;
+        }
+    }
+    EXPECT_EQ(Written(before, MtimesOf(out)), std::vector<std::string>{}) << "no file written";
+}
+
+TEST(MapVisits, ADamagedVisitFolderIsReportedAndTheOtherVisitsAreKept) {
+    test::TempDir tmp;
+    const fs::path out = CopyOfProject(tmp);
+    const fs::path day_a = out / "visits" / kDayA, day_b = out / "visits" / kDayB;
+    // A step's output unreadable: exit 2 naming the folder and the file, nothing written.
+    const fs::path anchor_json = day_a / "anchor" / "anchor.json";
+    const std::string kept = io::ReadFileToString(anchor_json);
+    io::WriteFileAtomic(anchor_json, "{\"sessions\": [");
+    Mtimes before = MtimesOf(out);
+    auto r = Cli("map " + out.string() + kBudget);
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find(day_a.string() + ": visit " + kDayA +
+                         " is damaged: anchor/anchor.json is unreadable"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(Written(before, MtimesOf(out)), std::vector<std::string>{});
+    io::WriteFileAtomic(anchor_json, kept);
+
+    // A step's output missing: the same.
+    fs::remove(day_b / "changes" / "b" / "changes.json");
+    before = MtimesOf(out);
+    r = Cli("map " + out.string() + " --add " + C() + kBudget);
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find(day_b.string() + ": visit " + kDayB +
+                         " is damaged: changes/b/changes.json is missing"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(Written(before, MtimesOf(out)), std::vector<std::string>{});
+
+    // The folder removed, as the message says: that visit is made again, the other kept.
+    const Mtimes a_files = MtimesOf(day_a);
+    fs::remove_all(day_b);
+    const json steps = Steps(MapJson("map " + out.string()));
+    for (const std::string& s : std::vector<std::string>{"reference", "odometry lidar",
+                                                         "anchor " + kDayA, "changes " + kDayA})
+        EXPECT_EQ(steps.at(s), true) << s;
+    for (const std::string& s : std::vector<std::string>{"odometry b", "odometry c",
+                                                         "anchor " + kDayB, "changes " + kDayB})
+        EXPECT_EQ(steps.at(s), false) << s;
+    EXPECT_EQ(Written(a_files, MtimesOf(day_a)), std::vector<std::string>{})
+        << "the other visit untouched";
+    EXPECT_TRUE(fs::exists(day_b / "changes" / "b" / "changes.json"));
+}
+
+TEST(MapVisits, AddingToAFolderThatIsNotAProjectOrABadVisitLabelExits2) {
+    test::TempDir tmp;
+    fs::create_directories(tmp / "empty");
+    auto r = Cli("map " + (tmp / "empty").string() + " --add " + B());
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find((tmp / "empty").string() + ": not a `bimslam map` project"),
+              std::string::npos)
+        << r.err;
+    EXPECT_TRUE(fs::is_empty(tmp / "empty")) << "nothing written";
+    r = Cli("map " + Model() + " " + B() + " -o " + (tmp / "out").string() + " --visit ../up");
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--visit '../up'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(tmp / "out"));
+}
+
+// --visit names the visit of the run's new recordings, whatever their days; a named visit is not
+// joined by date: a later recording of b's day makes a visit of its own.
+TEST(MapVisits, VisitNamesAVisitOfRecordingsOfSeveralDaysThatNoDateJoins) {
+    test::TempDir tmp;
+    const std::string out = (tmp / "out").string();
+    MapJson("map " + Model() + " " + A() + " " + B() + " -o " + out + " --visit survey-1");
+    const json steps = Steps(MapJson("map " + out + " --add " + C()));
+    EXPECT_EQ(steps.at("anchor survey-1"), true) << steps.dump();
+    EXPECT_EQ(steps.at("anchor " + kDayB), false) << steps.dump();
+    const json p = ReadJson(tmp / "out" / "project.json");
+    ASSERT_EQ(p.at("visits").size(), 2u) << p.dump(1);
+    EXPECT_EQ(p["visits"][0].at("label"), "survey-1");
+    EXPECT_EQ(p["visits"][0].at("named"), true);
+    EXPECT_EQ(p["visits"][0].at("start"), p["visits"][0]["recordings"][0].at("start"));
+    ASSERT_EQ(p["visits"][0].at("recordings").size(), 2u);
+    EXPECT_EQ(p["visits"][0]["recordings"][0].at("name"), "lidar");
+    EXPECT_EQ(p["visits"][0]["recordings"][1].at("name"), "b");
+    EXPECT_EQ(p["visits"][1].at("label"), kDayB);
+    ASSERT_EQ(p["visits"][1].at("recordings").size(), 1u);
+    EXPECT_EQ(p["visits"][1]["recordings"][0].at("name"), "c");
+}
+
+// A folder re-recorded in place (another walk at the same path) is not the recording the project
+// had: it replaces it, dated by itself, with a note.
+TEST(MapVisits, ARecordingReRecordedInPlaceReplacesTheOldOne) {
+    test::TempDir tmp;
+    fs::copy(Walks() / "b", tmp / "walk", fs::copy_options::recursive);
+    const std::string out = (tmp / "out").string();
+    MapJson("map " + Model() + " " + (tmp / "walk").string() + " -o " + out);
+    fs::remove_all(tmp / "walk");
+    fs::copy(Walks() / "a", tmp / "walk", fs::copy_options::recursive);  // another day's walk
+    const auto r = Cli("map " + Model() + " " + (tmp / "walk").string() + " -o " + out + kBudget);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find(": not the recording walk of visit " + kDayB + " any more"),
+              std::string::npos)
+        << r.err;
+    const json p = ReadJson(tmp / "out" / "project.json");
+    ASSERT_EQ(p.at("visits").size(), 1u) << p.dump(1);
+    EXPECT_EQ(p["visits"][0].at("label"), kDayA);
+    ASSERT_EQ(p["visits"][0].at("recordings").size(), 1u);
+    EXPECT_EQ(p["visits"][0]["recordings"][0].at("name"), "walk");
+    EXPECT_EQ(ReadJson(tmp / "out" / "summary.json").at("visit").at("label"), kDayA);
+}
+
+}  // namespace
+}  // namespace bimslam
