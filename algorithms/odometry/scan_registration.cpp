@@ -141,6 +141,9 @@ ScanRegistration::ScanRegistration(const RegistrationConfig& config, size_t max_
     : config_(config) {
     config_.Validate();
     corr_.resize(max_points);
+    neighbour_key_.resize(max_points);
+    neighbour_count_.resize(max_points);
+    neighbour_planes_.resize(max_points * kMaxNeighbourPlanes);
 }
 
 ScanRegistration::~ScanRegistration() = default;
@@ -155,13 +158,33 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
     const float max_d = static_cast<float>(max_distance);
     const double inv_c2 = 1.0 / (cauchy_scale * cauchy_scale);
     int n = 0;
-    for (size_t k = 0; k < in.points.size(); ++k) {
+    size_t k = 0;
+    for (; k < in.points.size(); ++k) {
         if (size_t(n) >= corr_.size()) break;
         const Eigen::Vector3f& q = in.points[k];
         const float alpha = in.alpha.empty() ? 0.0f : in.alpha[k];
         const Eigen::Vector3f L = correct ? CorrectPoint(q, alpha, rho, phi) : q;
+        // FindPlane(p, &r, &t), its neighbourhood looked up again only when p changed voxel.
+        const Eigen::Vector3f p = R * L + t;
         float r = 0;
-        const VoxelPlane* plane = map.FindPlane(R * L + t, &r, &t);
+        const VoxelPlane* plane = nullptr;
+        if (k < neighbour_key_.size()) {
+            const Eigen::Vector3i key = map.KeyOf(p);
+            VoxelPlane* planes = &neighbour_planes_[k * kMaxNeighbourPlanes];
+            if (k >= neighbours_cached_ || neighbour_key_[k] != key) {
+                uint8_t count = 0;
+                map.ForNeighbourPlanes(key,
+                                       [&](const VoxelPlane& found) { planes[count++] = found; });
+                neighbour_key_[k] = key;
+                neighbour_count_[k] = count;
+            }
+            NearestPlane nearest(p, &t);
+            for (uint8_t j = 0; j < neighbour_count_[k]; ++j) nearest.Consider(planes[j]);
+            plane = nearest.best();
+            r = nearest.distance();
+        } else {
+            plane = map.FindPlane(p, &r, &t);  // beyond the points sized for
+        }
         if (!plane || std::abs(r) > max_d) continue;
         Correspondence& c = corr_[size_t(n++)];
         c.p = q.cast<double>();
@@ -170,6 +193,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
         c.alpha = alpha;
         c.sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));  // Cauchy IRLS weight
     }
+    neighbours_cached_ = std::max(neighbours_cached_, std::min(k, neighbour_key_.size()));
     if (!in.edge_map) return n;
     for (const Eigen::Vector3f& p : in.edges) {
         if (size_t(n) + 2 > corr_.size()) break;
@@ -262,6 +286,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     options.minimizer_progress_to_stdout = false;
 
     int n = 0;
+    neighbours_cached_ = 0;  // another map, or the same one changed since the last Align
     // A wide threshold (a poor prediction) starts the kernel wider too.
     double kernel = std::max(config_.cauchy_scale_initial, max_distance / 6);
     for (int it = 0; it < config_.max_iterations;

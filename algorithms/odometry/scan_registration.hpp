@@ -191,6 +191,17 @@ private:
 
     RegistrationConfig config_;
     std::vector<Correspondence> corr_;
+    // Per scan point, the voxel it fell in at the last outer iteration and that voxel's
+    // neighbourhood of planes (VoxelMap::ForNeighbourPlanes, copied: kMaxNeighbourPlanes a point,
+    // at neighbour_planes_[k * kMaxNeighbourPlanes]). The map does not change during an Align, and
+    // a point moves by millimetres between iterations, so most of the 7 hash lookups a point
+    // makes per iteration (VoxelMap::Slot, the largest cost of a scan with the IMU) are made once;
+    // the choice among the planes is made again each iteration, as FindPlane makes it.
+    static constexpr size_t kMaxNeighbourPlanes = 14;  // 7 voxels, each with its back twin
+    std::vector<Eigen::Vector3i> neighbour_key_;
+    std::vector<uint8_t> neighbour_count_;
+    std::vector<VoxelPlane> neighbour_planes_;
+    size_t neighbours_cached_ = 0;  // points whose entries hold this Align's map
     RegistrationResult result_;
 };
 

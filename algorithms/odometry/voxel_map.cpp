@@ -200,28 +200,10 @@ const VoxelLine* VoxelMap::FindLine(const Eigen::Vector3f& p, float* distance) c
 
 const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance,
                                       const Eigen::Vector3f* sensor) const {
-    const Eigen::Vector3i key = KeyOf(p);
-    const VoxelPlane* best = nullptr;
-    float best_abs = 0;
-    const auto consider = [&](const VoxelPlane& plane) {
-        if (!plane.valid) return;
-        // The sensor behind a one-sided plane: that surface cannot be seen from here (header).
-        if (sensor && plane.one_sided && plane.normal.dot(*sensor) < plane.offset) return;
-        const float r = plane.normal.dot(p) - plane.offset;
-        if (!best || std::abs(r) < best_abs) {
-            best = &plane;
-            best_abs = std::abs(r);
-            *distance = r;
-        }
-    };
-    for (const Eigen::Vector3i& d : kVoxelAndFaceNeighbours) {
-        const int32_t i = Find(key + d, false);
-        if (i < 0) continue;
-        consider(voxels_[size_t(i)].plane);
-        if (!voxels_[size_t(i)].has_back) continue;
-        if (const int32_t j = Find(key + d, true); j >= 0) consider(voxels_[size_t(j)].plane);
-    }
-    return best;
+    NearestPlane nearest(p, sensor);
+    ForNeighbourPlanes(KeyOf(p), [&](const VoxelPlane& plane) { nearest.Consider(plane); });
+    if (nearest.best()) *distance = nearest.distance();
+    return nearest.best();
 }
 
 void VoxelMap::RebuildSlots() {

@@ -24,10 +24,13 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
+
+#include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::odometry {
 
@@ -87,6 +90,13 @@ public:
     // With `sensor` (map frame), one-sided planes whose front faces away from it are passed over.
     const VoxelPlane* FindPlane(const Eigen::Vector3f& p, float* distance,
                                 const Eigen::Vector3f* sensor = nullptr) const;
+    // FindPlane in two steps, for a point looked up again and again while it stays in its voxel
+    // (the registration's outer iterations, scan_registration.cpp): KeyOf(p), then the valid
+    // planes of that voxel and its face neighbours in the order FindPlane considers them (a
+    // back twin after its front), each passed to `visit`; NearestPlane chooses among them.
+    Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
+    template <typename Visit>
+    void ForNeighbourPlanes(const Eigen::Vector3i& key, Visit&& visit) const;
     // With fit_lines: the nearest valid line the same way; *distance gets the distance to it.
     const VoxelLine* FindLine(const Eigen::Vector3f& p, float* distance) const;
 
@@ -108,7 +118,6 @@ private:
         VoxelLine line;
         std::array<Eigen::Vector3f, kMaxPointsPerVoxel> points;
     };
-    Eigen::Vector3i KeyOf(const Eigen::Vector3f& p) const;
     // The slot holding the voxel (key, back), else the empty slot where it would go.
     size_t Slot(const Eigen::Vector3i& key, bool back) const;
     int32_t Find(const Eigen::Vector3i& key, bool back) const;  // index into voxels_ or -1
@@ -125,5 +134,44 @@ private:
     size_t points_ = 0;
     size_t dropped_ = 0;
 };
+
+// FindPlane's choice among the planes offered in order: the nearest to p, passing over a
+// one-sided plane whose front faces away from `sensor` (when given); the first of equals.
+class NearestPlane {
+public:
+    NearestPlane(const Eigen::Vector3f& p, const Eigen::Vector3f* sensor)
+        : p_(p), sensor_(sensor) {}
+    void Consider(const VoxelPlane& plane) {
+        if (!plane.valid) return;
+        // The sensor behind a one-sided plane: that surface cannot be seen from here (header).
+        if (sensor_ && plane.one_sided && plane.normal.dot(*sensor_) < plane.offset) return;
+        const float r = plane.normal.dot(p_) - plane.offset;
+        if (!best_ || std::abs(r) < std::abs(distance_)) {
+            best_ = &plane;
+            distance_ = r;
+        }
+    }
+    const VoxelPlane* best() const { return best_; }
+    float distance() const { return distance_; }  // signed; valid when best() is not null
+
+private:
+    Eigen::Vector3f p_;
+    const Eigen::Vector3f* sensor_;
+    const VoxelPlane* best_ = nullptr;
+    float distance_ = 0;
+};
+
+template <typename Visit>
+void VoxelMap::ForNeighbourPlanes(const Eigen::Vector3i& key, Visit&& visit) const {
+    for (const Eigen::Vector3i& d : common::kVoxelAndFaceNeighbours) {
+        const int32_t i = Find(key + d, false);
+        if (i < 0) continue;
+        if (voxels_[size_t(i)].plane.valid) visit(voxels_[size_t(i)].plane);
+        if (!voxels_[size_t(i)].has_back) continue;
+        if (const int32_t j = Find(key + d, true); j >= 0 && voxels_[size_t(j)].plane.valid) {
+            visit(voxels_[size_t(j)].plane);
+        }
+    }
+}
 
 }  // namespace bimslam::odometry
