@@ -159,8 +159,12 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
     try {
         if (j.at("format") != "bimslam-changes") Bad(file, "format is not bimslam-changes");
         for (const json& o : j.at("new_objects")) {
-            f.objects.push_back({Eigen::AlignedBox3d(Vec3(file, o.at("box_min"), "box_min"),
-                                                     Vec3(file, o.at("box_max"), "box_max"))});
+            FoundChanges::Object object{Eigen::AlignedBox3d(Vec3(file, o.at("box_min"), "box_min"),
+                                                            Vec3(file, o.at("box_max"), "box_max")),
+                                        o.value("ifc_global_id", ""), ""};
+            if (o.contains("storey") && o.at("storey").is_object())
+                object.storey = o.at("storey").value("name", "");
+            f.objects.push_back(std::move(object));
         }
         for (const json& t : j.at("transients")) {
             f.transients.push_back(Vec3(file, t.at("centroid"), "transients.centroid"));
@@ -213,6 +217,12 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
             const auto get = [&](const char* name) { return fields[column.at(name)]; };
             FoundChanges::Element e;
             e.verdict = get("verdict");
+            const auto optional = [&](const char* name) {
+                return column.count(name) ? fields[column.at(name)] : std::string();
+            };
+            e.ifc_class = optional("class");
+            e.name = optional("name");
+            e.storey = optional("storey");
             e.expected_area_m2 = std::stod(get("expected_area_m2"));
             e.support_points = std::stoul(get("support_points"));
             e.offset = {std::stod(get("offset_x_m")), std::stod(get("offset_y_m")),

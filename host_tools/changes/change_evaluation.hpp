@@ -81,6 +81,8 @@ TruthChanges ReadTruthChanges(const std::filesystem::path& file);
 struct FoundChanges {
     struct Object {
         Eigen::AlignedBox3d box;
+        std::string ifc_global_id = {};  // the proxy's in model_updated.ifc ("" in older files)
+        std::string storey = {};         // its storey's name ("" when none)
     };
     struct Element {
         std::string verdict;
@@ -89,6 +91,8 @@ struct FoundChanges {
         Eigen::Vector3d offset = Eigen::Vector3d::Zero();
         bool moved = false;
         double moved_yaw_deg = 0;
+        // elements.csv's (storey: its name, "" when none).
+        std::string ifc_class = {}, name = {}, storey = {};
     };
     std::vector<Object> objects;
     std::vector<Eigen::Vector3d> transients;  // centroids

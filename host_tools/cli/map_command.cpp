@@ -47,6 +47,28 @@ void PrintVisits(const json& visits) {
     }
 }
 
+// The newest visit's changes since the previous visit and since the model (history.json).
+void PrintHistory(const json& S) {
+    if (!S.contains("history")) return;
+    const json& h = S["history"];
+    const auto count = [](const json& j, const char* k) { return j.value(k, 0); };
+    if (h.contains("since_previous")) {
+        const json& p = h["since_previous"];
+        std::cout << "history   since " << p["previous"].get<std::string>() << ": "
+                  << count(p, "new") << " new objects, " << count(p, "gone") << " gone, "
+                  << count(p, "moved") << " moved; elements " << count(p, "newly_missing")
+                  << " newly missing, " << count(p, "newly_deviating") << " newly deviating, "
+                  << count(p, "reappeared") << " reappeared\n";
+    }
+    if (h.contains("since_model")) {
+        const json& m = h["since_model"];
+        std::cout << "history   since the model: " << count(m, "new_objects") << " new objects, "
+                  << count(m, "missing") << " missing, " << count(m, "deviating")
+                  << " deviating; " << h.value("contradictions", 0)
+                  << " contradictions over the visits (" << h.value("file", std::string()) << ")\n";
+    }
+}
+
 // The summary as the user reads it: every visit, then per recording of the newest what each step
 // found.
 void PrintSummary(const mapping::MapRun& run) {
@@ -107,6 +129,7 @@ void PrintSummary(const mapping::MapRun& run) {
                       << "; people as objects: " << e["people"]["reported_as_new_objects"] << "\n";
         }
     }
+    PrintHistory(S);
     if (S.contains("report")) std::cout << "report    " << S["report"].get<std::string>() << "\n";
 }
 
@@ -273,6 +296,11 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "anchored-in-parts: only the anchored pieces are placed and compared)\n"
         "  changes    OUT/visits/<visit>/changes/<recording>/ as `bimslam changes` writes them "
         "(+ evaluation.json)\n"
+        "  history    OUT/history.json: every element's verdict per visit (first and last "
+        "seen as built, its deviations), the new objects followed from visit to visit (seen "
+        "again, moved with their offset, gone when their place was seen empty, not observed), "
+        "each visit's changes since the previous visit and since the model, and the "
+        "contradictions (missing, then built again)\n"
         "  report     OUT/report/report.html (`bimslam report`) of the newest visit\n"
         "OUT/visits/<visit>/summary.json gathers a visit's figures, OUT/summary.json the newest "
         "visit's with the list of every visit (`visits`); with a simulated capture's "

@@ -23,6 +23,7 @@
 #include "host_tools/changes/ifc_update.hpp"
 #include "host_tools/changes/session_input.hpp"
 #include "host_tools/changes/survey_datum.hpp"
+#include "host_tools/mapping/map_history.hpp"
 #include "host_tools/mapping/map_project.hpp"
 #include "host_tools/mapping/step_stamp.hpp"
 #include "host_tools/replay/capture_odometry.hpp"
@@ -368,7 +369,26 @@ StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
     return change;
 }
 
-// 5. The report of the newest visit, with the list of every visit (OUT/summary.json).
+// 5. The building's history over the visits (map_history.hpp): OUT/history.json, made again when
+// a visit's changes were.
+void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
+                 const std::vector<StepStamp>& changes, json* summary) {
+    StepStamp history("history");
+    for (const StepStamp& s : changes) history.AddUpstream(s);
+    history.AddParameter("history", HistoryConfig().ToJson());
+    const fs::path file = c.out / "history.json";
+    stepper.Run("history", c.out / "stamps", "history", history, file.string(), [&] {
+        std::vector<VisitFindings> visits;
+        for (const Visit& v : project.visits) {
+            c.progress("history: reading " + v.label, double(visits.size()) / project.visits.size());
+            visits.push_back(ReadVisitFindings(VisitDir(c.out, v.label), v.label, v.start_ns()));
+        }
+        io::WriteFileAtomic(file, BuildHistory(visits).dump(1) + "\n");
+    });
+    (*summary)["history"] = HistoryCounts(json::parse(io::ReadFileToString(file)));
+}
+
+// 6. The report of the newest visit, with the list of every visit (OUT/summary.json).
 void ReportStep(MapContext& c, Stepper& stepper, const StepStamp& newest_changes,
                 const std::vector<StepStamp>& newest_odometry,
                 const std::vector<RecordingInput>& newest, const json& visits, json* summary) {
@@ -412,8 +432,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
 
     // Each visit in date order; an earlier one's stamps hold, so only new visits run.
     std::vector<json> summaries;
-    std::vector<StepStamp> odometry;
-    std::optional<StepStamp> change;
+    std::vector<StepStamp> odometry, changes;
     for (size_t v = 0; v < p.project.visits.size(); ++v) {
         const std::string& label = p.project.visits[v].label;
         const std::vector<RecordingInput>& recordings = p.visits[v];
@@ -423,14 +442,16 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
             odometry.push_back(OdometryStep(c, stepper, dir, r));
         const StepStamp anchoring =
             AnchorStep(c, stepper, dir, label, recordings, reference, odometry);
-        change = ChangesStep(c, stepper, dir, label, recordings, anchoring);
+        changes.push_back(ChangesStep(c, stepper, dir, label, recordings, anchoring));
         summaries.push_back(BuildSummary(config.out, dir, p.project.model, recordings));
         WriteIfChanged(dir / "summary.json", summaries.back().dump(2) + "\n");
     }
     run.summary = ProjectSummary(config.out, p.project, std::move(summaries));
+    HistoryStep(c, stepper, p.project, changes, &run.summary);
     WriteIfChanged(config.out / "summary.json", run.summary.dump(2) + "\n");
+    run.summary["history"]["file"] = (config.out / "history.json").string();
     if (config.report) {
-        ReportStep(c, stepper, *change, odometry, p.visits.back(), run.summary.at("visits"),
+        ReportStep(c, stepper, changes.back(), odometry, p.visits.back(), run.summary.at("visits"),
                    &run.summary);
     }
     return run;

@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -26,16 +27,24 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
 
-// Walk a on 2 March, b and c on 9 March (morning and afternoon): two visits.
+// Walk a on 2 March, b and c on 9 March (morning and afternoon): two visits. On 2 March a crate
+// stood in the corridor and the open office's columns were not built yet; on 9 March the crate
+// is gone and the columns stand, as modelled.
 const std::string kDayA = "2026-03-02", kDayB = "2026-03-09";
 struct Walk {
     const char* name;
     const char* start;
     int seed;
+    const char* edits;
 };
-const Walk kWalks[] = {{"a", "2026-03-02T09:00:00Z", 11},
-                       {"b", "2026-03-09T09:00:00Z", 12},
-                       {"c", "2026-03-09T15:30:00Z", 13}};
+const char* const kFirstDay =
+    "edits:\n"
+    "  boxes: [{name: crate in the corridor, center: [24.0, 7.75, 0.4], size: [0.8, 0.6, 0.8], "
+    "yaw_deg: 0}]\n"
+    "  removed: {classes: [IfcColumn]}\n";
+const Walk kWalks[] = {{"a", "2026-03-02T09:00:00Z", 11, kFirstDay},
+                       {"b", "2026-03-09T09:00:00Z", 12, ""},
+                       {"c", "2026-03-09T15:30:00Z", 13, ""}};
 
 // Hand-held, OS1-16 at 512x10 and 30 s to stay cheap (about 2 s to simulate each).
 fs::path Walks() {
@@ -44,7 +53,7 @@ fs::path Walks() {
             io::WriteFileAtomic(d / (std::string(w.name) + ".yaml"),
                                 "platform: handheld\nseed: " + std::to_string(w.seed) +
                                     "\nduration_s: 30\nsensor: {model: OS1-16, lidar_mode: "
-                                    "512x10}\n");
+                                    "512x10}\n" + w.edits);
             MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
                     (d / (std::string(w.name) + ".yaml")).string() + " --start " + w.start +
                     " -o " + (d / w.name).string());
@@ -184,6 +193,66 @@ TEST(MapVisits, VisitsAddedOneAtATimeGiveTheSameProjectAsAllAtOnce) {
         EXPECT_EQ(third.at(s), false) << s << " " << third.dump();
 }
 
+// OUT/history.json (issue 33 item 3; its rules are tested on findings made by hand in
+// tests/unit/mapping/map_history_test.cpp): every visit in it, each element's verdict per visit
+// as that visit's changes found it, and the same history whichever order the visits were added.
+TEST(MapVisits, TheHistoryHoldsEveryVisitsVerdictsWhateverTheOrderVisitsWereAdded) {
+    const fs::path all = AllAtOnce() / "out", one = OneAtATime() / "out";
+    const json h = ReadJson(all / "history.json");
+    EXPECT_EQ(h.at("format"), "bimslam-history");
+    ASSERT_EQ(h.at("visits").size(), 2u) << h.dump(1);
+    EXPECT_EQ(h["visits"][0].at("label"), kDayA);
+    EXPECT_EQ(h["visits"][1].at("label"), kDayB);
+    EXPECT_EQ(h["visits"][1].at("recordings"), json::array({"b", "c"}));
+    ExpectJsonNear(h, ReadJson(one / "history.json"), 1e-4, "history");
+    // Visit a's one recording: the verdicts counted in its changes.json.
+    const json c = ReadJson(all / "visits" / kDayA / "changes" / "lidar" / "changes.json");
+    std::map<std::string, size_t> counts;
+    for (const json& e : h.at("elements")) ++counts[e.at("verdicts").at(0).get<std::string>()];
+    EXPECT_EQ(counts["missing"], c.at("missing").size());
+    EXPECT_EQ(counts["deviating"], c.at("deviating").size());
+    EXPECT_EQ(counts["confirmed"], c.at("confirmed").get<size_t>());
+    EXPECT_GT(counts["confirmed"], 10u) << "the walk saw the storey's walls";
+    EXPECT_EQ(h.at("changes").at(0).at("since_model").at("new_objects").size(),
+              c.at("new_objects").size());
+    // The crate found on 2 March is gone on 9 March (its place seen empty), and the columns
+    // missing on 2 March stand on 9 March: they reappeared, and the contradiction is kept.
+    ASSERT_EQ(h.at("objects").size(), 1u) << h.at("objects").dump(1);
+    const json& crate = h["objects"][0];
+    const json& centroid = crate.at("sightings").at(0).at("centroid");
+    EXPECT_NEAR(centroid[0].get<double>(), 24.0, 0.15) << crate.dump(1);
+    EXPECT_NEAR(centroid[1].get<double>(), 7.75, 0.15) << crate.dump(1);
+    EXPECT_EQ(crate.at("first_seen"), kDayA);
+    EXPECT_EQ(crate.at("gone_in"), kDayB);
+    const json& since = h["changes"][1].at("since_previous");
+    EXPECT_EQ(since.at("gone"), json::array({crate.at("id")}));
+    EXPECT_TRUE(since.at("new").empty()) << since.dump(1);
+    // The columns a's changes found missing (two of the three; the third, behind the others,
+    // was hardly seen), every one a removed column.
+    const json truth = ReadJson(Walks() / "a" / "changes.json");
+    std::set<std::string> columns, missing;
+    for (const json& r : truth.at("removed")) columns.insert(r.at("global_id").get<std::string>());
+    for (const json& m : c.at("missing")) missing.insert(m.at("global_id").get<std::string>());
+    EXPECT_GE(missing.size(), 2u);
+    for (const std::string& id : missing) EXPECT_TRUE(columns.count(id)) << id;
+    EXPECT_EQ(since.at("reappeared").get<std::set<std::string>>(), missing);
+    ASSERT_EQ(h.at("contradictions").size(), missing.size()) << h.at("contradictions").dump(1);
+    for (const json& k : h["contradictions"]) {
+        EXPECT_EQ(k.at("verdict"), "missing");
+        EXPECT_EQ(k.at("visit"), kDayA);
+        EXPECT_EQ(k.at("by_verdict"), "confirmed");
+        EXPECT_EQ(k.at("contradicted_by"), kDayB);
+    }
+    EXPECT_TRUE(h["changes"][1].at("since_model").at("missing").empty());
+    EXPECT_TRUE(h["changes"][1].at("since_model").at("new_objects").empty());
+    // The project's summary counts the newest visit's changes.
+    const json s = ReadJson(one / "summary.json");
+    EXPECT_EQ(s.at("history").at("visits"), 2);
+    EXPECT_EQ(s["history"].at("since_previous").at("previous"), kDayA);
+    EXPECT_EQ(s["history"]["since_previous"].at("gone"), 1);
+    EXPECT_EQ(s["history"]["since_previous"].at("reappeared"), missing.size());
+}
+
 TEST(MapVisits, VisitDatesComeFromTheRecordingsAndOrderTheVisits) {
     const json p = ReadJson(AllAtOnce() / "out" / "project.json");
     ASSERT_EQ(p.at("visits").size(), 2u) << p.dump(1);
@@ -232,7 +301,7 @@ TEST(MapVisits, ARerunWithNoNewRecordingDoesNothing) {
         const auto r = Cli(args + kBudget + " --json");
         ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
         const json steps = Steps(json::parse(r.out));
-        EXPECT_EQ(steps.size(), 9u) << steps.dump();  // reference, 3 odometry, 2 x 2, report
+        EXPECT_EQ(steps.size(), 10u) << steps.dump();  // reference, 3 odometry, 2 x 2, history, report
         for (const auto& [step, skipped] : steps.items())
             EXPECT_TRUE(skipped.get<bool>()) << args << ": " << step;
         if (args.find("--add") != std::string::npos) {

@@ -1,0 +1,258 @@
+#include "host_tools/mapping/object_tracks.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <tuple>
+#include <unordered_set>
+
+namespace bimslam::mapping {
+using Box = Eigen::AlignedBox3d;
+using change_detection::FoundChanges;
+using nlohmann::json;
+
+json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+namespace {
+
+double Iou(const Box& a, const Box& b) {
+    const Box i = a.intersection(b);
+    if (i.isEmpty()) return 0.0;
+    const double vi = i.volume();
+    return vi / (a.volume() + b.volume() - vi);
+}
+
+// The cells (cell_m) of a visit's map: what its keyframes saw.
+class SeenCells {
+public:
+    SeenCells(const std::vector<FoundChanges::MapPoint>& map, double cell_m) : cell_(cell_m) {
+        cells_.reserve(map.size());
+        for (const auto& p : map) cells_.insert(Key(Cell(p.xyz.cast<double>())));
+    }
+
+    // The share of `box`'s footprint cells (wholly inside it in plan, and not under any box of
+    // `cover` standing on the same floor) with a map point within `band` of its bottom; *cells:
+    // how many were judged.
+    double FloorSeen(const Box& box, const std::vector<Box>& cover, double band,
+                     size_t* cells) const {
+        const Eigen::Vector3i lo = Cell(box.min()), hi = Cell(box.max());
+        const int z0 = Cell(box.min() - Eigen::Vector3d(0, 0, band)).z();
+        const int z1 = Cell(box.min() + Eigen::Vector3d(0, 0, band)).z();
+        size_t judged = 0, seen = 0;
+        for (int x = lo.x(); x <= hi.x(); ++x) {
+            for (int y = lo.y(); y <= hi.y(); ++y) {
+                const Eigen::Vector2d c((x + 0.5) * cell_, (y + 0.5) * cell_);
+                const Eigen::Vector2d half(0.5 * cell_, 0.5 * cell_);
+                if (!InPlan(box, c - half) || !InPlan(box, c + half)) continue;
+                const bool covered = std::any_of(cover.begin(), cover.end(), [&](const Box& b) {
+                    return InPlan(b, c) && std::abs(b.min().z() - box.min().z()) < 0.5;
+                });
+                if (covered) continue;
+                ++judged;
+                for (int z = z0; z <= z1; ++z) {
+                    if (cells_.count(Key({x, y, z}))) {
+                        ++seen;
+                        break;
+                    }
+                }
+            }
+        }
+        *cells = judged;
+        return judged ? double(seen) / double(judged) : 0.0;
+    }
+
+private:
+    static bool InPlan(const Box& b, const Eigen::Vector2d& c) {
+        return c.x() >= b.min().x() && c.x() <= b.max().x() && c.y() >= b.min().y() &&
+               c.y() <= b.max().y();
+    }
+    Eigen::Vector3i Cell(const Eigen::Vector3d& p) const {
+        return (p / cell_).array().floor().cast<int>();
+    }
+    static uint64_t Key(const Eigen::Vector3i& c) {  // 21 bits an axis: +-52 km at 5 cm
+        const auto bits = [](int v) { return uint64_t(uint32_t(v) & 0x1FFFFFu); };
+        return (bits(c.x()) << 42) | (bits(c.y()) << 21) | bits(c.z());
+    }
+
+    double cell_;
+    std::unordered_set<uint64_t> cells_;
+};
+
+// Greedy one-to-one: the pairs in the order given, each track and object used once.
+template <typename Pair>
+std::vector<std::pair<size_t, size_t>> OneToOne(const std::vector<Pair>& sorted) {
+    std::unordered_set<size_t> tracks, objects;
+    std::vector<std::pair<size_t, size_t>> out;
+    for (const Pair& p : sorted) {
+        const size_t t = std::get<1>(p), o = std::get<2>(p);
+        if (tracks.count(t) || objects.count(o)) continue;
+        tracks.insert(t);
+        objects.insert(o);
+        out.emplace_back(t, o);
+    }
+    return out;
+}
+
+json Placed(const std::string& visit, const char* status, const FoundChanges::Object& o) {
+    return {{"visit", visit},
+            {"status", status},
+            {"centroid", Vec(o.box.center())},
+            {"size_m", Vec(o.box.sizes())},
+            {"ifc_global_id", o.ifc_global_id}};
+}
+
+}  // namespace
+
+bool SamePlace(const Box& a, const Box& b, const HistoryConfig& config) {
+    return Iou(a, b) >= config.same_min_iou ||
+           (a.center() - b.center()).norm() <= config.same_max_centroid_m;
+}
+
+bool SameShape(const Box& a, const Box& b, const HistoryConfig& config) {
+    const Eigen::Vector3d sa = a.sizes(), sb = b.sizes();
+    const std::array<double, 3> pa{std::min(sa.x(), sa.y()), std::max(sa.x(), sa.y()), sa.z()};
+    const std::array<double, 3> pb{std::min(sb.x(), sb.y()), std::max(sb.x(), sb.y()), sb.z()};
+    for (size_t k = 0; k < 3; ++k) {
+        const double tolerance =
+            std::max(config.shape_tolerance_m, config.shape_tolerance * std::max(pa[k], pb[k]));
+        if (std::abs(pa[k] - pb[k]) > tolerance) return false;
+    }
+    return true;
+}
+
+std::vector<size_t> ObjectTracks::Alive() const {
+    std::vector<size_t> alive;
+    for (size_t t = 0; t < tracks_.size(); ++t) {
+        if (!tracks_[t].gone) alive.push_back(t);
+    }
+    return alive;
+}
+
+// The same objects in place: the best IoU first, then the nearest centres.
+ObjectTracks::Pairs ObjectTracks::InPlace(const std::vector<size_t>& alive,
+                                          const VisitFindings& visit) const {
+    std::vector<std::tuple<double, size_t, size_t>> pairs;  // (-IoU - closeness, track, object)
+    const auto& objects = visit.found.objects;
+    for (const size_t t : alive) {
+        for (size_t o = 0; o < objects.size(); ++o) {
+            const Box &a = tracks_[t].box, &b = objects[o].box;
+            if (!SamePlace(a, b, config_)) continue;
+            const double distance = (a.center() - b.center()).norm();
+            pairs.emplace_back(-Iou(a, b) + 1e-3 * distance, t, o);
+        }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    return OneToOne(pairs);
+}
+
+// Moved objects: of the same shape and storey, within reach, whose old place was seen empty;
+// the nearest first.
+ObjectTracks::Pairs ObjectTracks::Moved(const std::vector<size_t>& tracks,
+                                        const std::vector<size_t>& objects,
+                                        const VisitFindings& visit,
+                                        const std::vector<double>& seen_empty) const {
+    std::vector<std::tuple<double, size_t, size_t>> pairs;
+    for (const size_t t : tracks) {
+        if (seen_empty[t] < config_.min_floor_seen) continue;
+        for (const size_t o : objects) {
+            const FoundChanges::Object& object = visit.found.objects[o];
+            const Track& track = tracks_[t];
+            const double distance = (object.box.center() - track.box.center()).norm();
+            const bool same_storey = track.storey.empty() || object.storey.empty() ||
+                                     track.storey == object.storey;
+            if (distance <= config_.moved_max_m && same_storey &&
+                SameShape(track.box, object.box, config_)) {
+                pairs.emplace_back(distance, t, o);
+            }
+        }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    return OneToOne(pairs);
+}
+
+json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
+    const auto& objects = visit.found.objects;
+    const std::string& label = visit.label;
+    std::vector<bool> track_done(tracks_.size(), false), object_done(objects.size(), false);
+    json added = json::array(), gone = json::array(), moved = json::array();
+    const std::vector<size_t> alive = Alive();
+    for (const auto& [t, o] : InPlace(alive, visit)) {
+        tracks_[t].box = objects[o].box;
+        tracks_[t].last = v;
+        tracks_[t].sightings.push_back(Placed(label, "seen", objects[o]));
+        track_done[t] = object_done[o] = true;
+    }
+    // Where the tracks left unmatched stood: seen empty, or not judged (-1).
+    const SeenCells seen(visit.found.map, config_.cell_m);
+    std::vector<Box> cover;
+    for (const auto& o : objects) cover.push_back(o.box);
+    std::vector<double> seen_empty(tracks_.size(), -1.0);
+    std::vector<size_t> open_tracks, open_objects;
+    for (const size_t t : alive) {
+        if (track_done[t]) continue;
+        size_t cells = 0;
+        const double share =
+            seen.FloorSeen(tracks_[t].box, cover, config_.floor_band_m, &cells);
+        if (cells >= config_.min_cells) seen_empty[t] = share;
+        open_tracks.push_back(t);
+    }
+    for (size_t o = 0; o < objects.size(); ++o) {
+        if (!object_done[o]) open_objects.push_back(o);
+    }
+    for (const auto& [t, o] : Moved(open_tracks, open_objects, visit, seen_empty)) {
+        const Eigen::Vector3d offset = objects[o].box.center() - tracks_[t].box.center();
+        json s = Placed(label, "moved", objects[o]);
+        s["offset_m"] = Vec(offset);
+        tracks_[t].sightings.push_back(s);
+        tracks_[t].box = objects[o].box;
+        tracks_[t].last = v;
+        moved.push_back({{"id", tracks_[t].id}, {"offset_m", Vec(offset)}});
+        track_done[t] = object_done[o] = true;
+    }
+    for (const size_t t : open_tracks) {
+        if (track_done[t]) continue;
+        const bool empty = seen_empty[t] >= config_.min_floor_seen;
+        tracks_[t].sightings.push_back(
+            {{"visit", label},
+             {"status", empty ? "gone" : "not_observed"},
+             {"floor_seen", seen_empty[t] < 0 ? json(nullptr) : json(seen_empty[t])}});
+        if (!empty) continue;
+        tracks_[t].gone = v;
+        gone.push_back(tracks_[t].id);
+    }
+    for (size_t o = 0; o < objects.size(); ++o) {
+        if (object_done[o]) continue;
+        Track t{"O" + std::to_string(tracks_.size() + 1), objects[o].box, objects[o].storey, v, v,
+                std::nullopt, json::array()};
+        t.sightings.push_back(Placed(label, "new", objects[o]));
+        added.push_back(t.id);
+        tracks_.push_back(std::move(t));
+    }
+    return {{"new", added}, {"gone", gone}, {"moved", moved}};
+}
+
+json ObjectTracks::Present(const std::vector<VisitFindings>& visits) const {
+    json present = json::array();
+    for (const Track& t : tracks_) {
+        if (!t.gone) present.push_back({{"id", t.id}, {"as_of", visits[t.last].label}});
+    }
+    return present;
+}
+
+json ObjectTracks::ToJson(const std::vector<VisitFindings>& visits) const {
+    json out = json::array();
+    for (const Track& t : tracks_) {
+        out.push_back({{"id", t.id},
+                       {"storey", t.storey},
+                       {"first_seen", visits[t.first].label},
+                       {"last_seen", visits[t.last].label},
+                       {"state", t.gone ? "gone" : "present"},
+                       {"gone_in", t.gone ? json(visits[*t.gone].label) : json(nullptr)},
+                       {"box_min", Vec(t.box.min())},
+                       {"box_max", Vec(t.box.max())},
+                       {"sightings", t.sightings}});
+    }
+    return out;
+}
+
+}  // namespace bimslam::mapping

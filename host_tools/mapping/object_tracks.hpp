@@ -1,0 +1,59 @@
+// The new objects followed over the visits (internal to the history, map_history.hpp): each
+// object found in a visit is matched to the objects known before it, first in place (the same
+// object seen again), then by shape (moved: its offset), and the known objects left unmatched
+// are gone when the visit saw their place empty, else not observed. The rules and their
+// thresholds: HistoryConfig.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "host_tools/mapping/map_history.hpp"
+
+namespace bimslam::mapping {
+
+nlohmann::json Vec(const Eigen::Vector3d& v);
+// The same object in place: IoU or centres (HistoryConfig).
+bool SamePlace(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
+               const HistoryConfig& config);
+// The same shape: sorted plan sides and height within the tolerance (HistoryConfig).
+bool SameShape(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
+               const HistoryConfig& config);
+
+class ObjectTracks {
+public:
+    explicit ObjectTracks(const HistoryConfig& config) : config_(config) {}
+
+    // Visit v's objects matched to the tracks; returns the objects' part of its changes since
+    // the previous visit: {new: [ids], gone: [ids], moved: [{id, offset_m}]}.
+    nlohmann::json Update(size_t v, const VisitFindings& visit);
+    // The objects not gone after the visits so far: [{id, as_of}] (as_of: last seen).
+    nlohmann::json Present(const std::vector<VisitFindings>& visits) const;
+    // Every object with its sightings (history.json's "objects").
+    nlohmann::json ToJson(const std::vector<VisitFindings>& visits) const;
+
+private:
+    struct Track {
+        std::string id;
+        Eigen::AlignedBox3d box;  // where it was last seen
+        std::string storey;
+        size_t first = 0, last = 0;  // the visits it was first and last seen in
+        std::optional<size_t> gone;  // the visit that saw its place empty
+        nlohmann::json sightings = nlohmann::json::array();
+    };
+    using Pairs = std::vector<std::pair<size_t, size_t>>;  // (track, object)
+
+    std::vector<size_t> Alive() const;
+    Pairs InPlace(const std::vector<size_t>& alive, const VisitFindings& visit) const;
+    Pairs Moved(const std::vector<size_t>& tracks, const std::vector<size_t>& objects,
+                const VisitFindings& visit, const std::vector<double>& seen_empty) const;
+
+    const HistoryConfig& config_;
+    std::vector<Track> tracks_;
+};
+
+}  // namespace bimslam::mapping

@@ -1,0 +1,172 @@
+// The building's history over its visits (host_tools/mapping/map_history.hpp, issue 33 item 3),
+// on visits' findings made by hand: a floor seen as a map of 5 cm points, objects as boxes on it,
+// elements with their verdicts.
+#include "host_tools/mapping/map_history.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace bimslam::mapping {
+namespace {
+using change_detection::FoundChanges;
+using nlohmann::json;
+using Box = Eigen::AlignedBox3d;
+
+// A box standing on the floor (z = 0) at (x, y), of plan size sx by sy and height h.
+Box Standing(double x, double y, double sx, double sy, double h) {
+    return Box(Eigen::Vector3d(x - sx / 2, y - sy / 2, 0), Eigen::Vector3d(x + sx / 2, y + sy / 2, h));
+}
+
+// A visit that saw the floor of the 6 m x 6 m room at [0, 6]^2 where no object stands (and
+// nothing of it where `unseen` covers it), and found `objects`.
+VisitFindings Visit(const std::string& label, int day, const std::vector<Box>& objects,
+                    const std::vector<Box>& unseen = {}) {
+    VisitFindings v;
+    v.label = label;
+    v.start_ns = int64_t(day) * 86400 * 1000000000LL;
+    v.recordings = {"walk"};
+    for (const Box& b : objects) v.found.objects.push_back({b, "", "Level 1"});
+    const auto covered = [](const std::vector<Box>& boxes, const Eigen::Vector3d& p) {
+        for (const Box& b : boxes) {
+            if (p.x() >= b.min().x() && p.x() <= b.max().x() && p.y() >= b.min().y() &&
+                p.y() <= b.max().y())
+                return true;
+        }
+        return false;
+    };
+    for (int i = 0; i < 120; ++i) {
+        for (int k = 0; k < 120; ++k) {
+            const Eigen::Vector3d p(0.025 + 0.05 * i, 0.025 + 0.05 * k, 0.0);
+            if (covered(objects, p) || covered(unseen, p)) continue;
+            v.found.map.push_back({p.cast<float>(), 0.0f, 2});
+        }
+    }
+    v.found.has_map = true;
+    return v;
+}
+
+FoundChanges::Element Element(const std::string& verdict,
+                              const Eigen::Vector3d& offset = Eigen::Vector3d::Zero()) {
+    FoundChanges::Element e;
+    e.verdict = verdict;
+    e.ifc_class = "IfcWall";
+    e.name = "wall";
+    e.storey = "Level 1";
+    e.expected_area_m2 = 4.0;
+    e.offset = offset;
+    return e;
+}
+
+const json& Since(const json& history, size_t visit, const char* which) {
+    return history.at("changes").at(visit).at(which);
+}
+
+TEST(MapHistory, AnObjectAddedInVisit2AndRemovedInVisit3IsNewThenGone) {
+    const Box cabinet = Standing(2.0, 2.0, 0.6, 0.4, 0.8);
+    const json h = BuildHistory({Visit("v1", 1, {}), Visit("v2", 40, {cabinet}), Visit("v3", 90, {})});
+    ASSERT_EQ(h.at("objects").size(), 1u) << h.dump(1);
+    const json& o = h["objects"][0];
+    EXPECT_EQ(o.at("first_seen"), "v2");
+    EXPECT_EQ(o.at("last_seen"), "v2");
+    EXPECT_EQ(o.at("state"), "gone");
+    EXPECT_EQ(o.at("gone_in"), "v3");
+    // The first visit has no previous one; its objects are new since the model (none here).
+    EXPECT_TRUE(Since(h, 0, "since_previous").is_null());
+    EXPECT_TRUE(Since(h, 0, "since_model").at("new_objects").empty());
+    EXPECT_EQ(Since(h, 1, "since_previous").at("new"), json::array({"O1"}));
+    EXPECT_TRUE(Since(h, 1, "since_previous").at("gone").empty());
+    EXPECT_EQ(Since(h, 1, "since_model").at("new_objects").size(), 1u);
+    EXPECT_EQ(Since(h, 2, "since_previous").at("gone"), json::array({"O1"}));
+    EXPECT_TRUE(Since(h, 2, "since_previous").at("new").empty());
+    EXPECT_TRUE(Since(h, 2, "since_model").at("new_objects").empty());
+}
+
+TEST(MapHistory, AnObjectWhosePlaceWasNotSeenIsNotObservedNotGone) {
+    const Box cabinet = Standing(2.0, 2.0, 0.6, 0.4, 0.8);
+    // Visit 3 saw the room but not the corner where the cabinet stood.
+    const json h = BuildHistory({Visit("v1", 1, {cabinet}),
+                                 Visit("v3", 90, {}, {Standing(2.0, 2.0, 1.5, 1.5, 1.0)})});
+    ASSERT_EQ(h.at("objects").size(), 1u);
+    EXPECT_EQ(h["objects"][0].at("state"), "present");
+    EXPECT_EQ(h["objects"][0].at("sightings").at(1).at("status"), "not_observed");
+    EXPECT_TRUE(Since(h, 1, "since_previous").at("gone").empty());
+    const json& still = Since(h, 1, "since_model").at("new_objects");
+    ASSERT_EQ(still.size(), 1u);
+    EXPECT_EQ(still[0].at("as_of"), "v1") << "last seen in v1";
+}
+
+TEST(MapHistory, AnObjectMovedKeepsItsIdentityAndItsOffset) {
+    const Box cabinet = Standing(2.0, 2.0, 0.6, 0.4, 0.8);
+    const Box desk = Standing(4.5, 4.5, 1.6, 0.8, 0.75);
+    const Box crate = Standing(1.0, 5.0, 0.5, 0.5, 0.5);
+    // Visit 2: the cabinet 1.5 m along x (turned), the desk as it was (found 8 cm off), the
+    // crate gone (its place seen empty) and a tall shelf, another shape, new 4 m from it.
+    const Box shelf = Standing(5.0, 1.0, 0.5, 0.5, 1.9);
+    const json h = BuildHistory(
+        {Visit("v1", 1, {cabinet, desk, crate}),
+         Visit("v2", 40, {Standing(3.5, 2.0, 0.4, 0.6, 0.8), Standing(4.58, 4.5, 1.6, 0.8, 0.75),
+                          shelf})});
+    const json& since = Since(h, 1, "since_previous");
+    ASSERT_EQ(since.at("moved").size(), 1u) << since.dump(1);
+    EXPECT_EQ(since["moved"][0].at("id"), "O1");
+    EXPECT_NEAR(since["moved"][0]["offset_m"][0].get<double>(), 1.5, 1e-9);
+    EXPECT_NEAR(since["moved"][0]["offset_m"][1].get<double>(), 0.0, 1e-9);
+    EXPECT_EQ(since.at("gone"), json::array({"O3"})) << "the crate's place seen? " << since.dump(1);
+    EXPECT_EQ(since.at("new"), json::array({"O4"})) << "the shelf is another object";
+    EXPECT_EQ(h["objects"][1]["sightings"][1].at("status"), "seen") << "the desk, 8 cm off";
+}
+
+TEST(MapHistory, AnElementMissingThenBuiltAgainIsAContradictionKeptWithBothVerdicts) {
+    std::vector<VisitFindings> v = {Visit("v1", 1, {}), Visit("v2", 40, {}), Visit("v3", 90, {})};
+    v[0].found.elements = {{"W", Element("confirmed")}, {"D", Element("confirmed")}};
+    v[1].found.elements = {{"W", Element("missing")},
+                           {"D", Element("deviating", Eigen::Vector3d(0.04, 0, 0))}};
+    v[2].found.elements = {{"W", Element("confirmed")}, {"D", Element("not_observed")}};
+    const json h = BuildHistory(v);
+    EXPECT_EQ(Since(h, 1, "since_previous").at("newly_missing"), json::array({"W"}));
+    EXPECT_EQ(Since(h, 1, "since_previous").at("newly_deviating"), json::array({"D"}));
+    EXPECT_EQ(Since(h, 2, "since_previous").at("reappeared"), json::array({"W"}));
+    EXPECT_TRUE(Since(h, 2, "since_previous").at("newly_missing").empty());
+    ASSERT_EQ(h.at("contradictions").size(), 1u) << h.dump(1);
+    const json& c = h["contradictions"][0];
+    EXPECT_EQ(c.at("global_id"), "W");
+    EXPECT_EQ(c.at("visit"), "v2");
+    EXPECT_EQ(c.at("verdict"), "missing");
+    EXPECT_EQ(c.at("contradicted_by"), "v3");
+    EXPECT_EQ(c.at("by_verdict"), "confirmed");
+    // D was not seen in v3: as of v2 it deviates, which v3's list since the model still says.
+    const json& dev = Since(h, 2, "since_model").at("deviating");
+    ASSERT_EQ(dev.size(), 1u);
+    EXPECT_EQ(dev[0].at("global_id"), "D");
+    EXPECT_EQ(dev[0].at("as_of"), "v2");
+    EXPECT_TRUE(Since(h, 2, "since_model").at("missing").empty()) << "W stands again";
+    // Each element's verdicts per visit and its dates seen as built.
+    for (const json& e : h.at("elements")) {
+        if (e.at("global_id") == "W") {
+            EXPECT_EQ(e.at("verdicts"), json::array({"confirmed", "missing", "confirmed"}));
+            EXPECT_EQ(e.at("first_seen_built"), "v1");
+            EXPECT_EQ(e.at("last_seen_built"), "v3");
+        } else {
+            EXPECT_EQ(e.at("verdicts"), json::array({"confirmed", "deviating", "not_observed"}));
+            EXPECT_EQ(e.at("last_observed"), "v2");
+            ASSERT_EQ(e.at("deviations").size(), 1u);
+            EXPECT_NEAR(e["deviations"][0].at("offset_norm_m").get<double>(), 0.04, 1e-12);
+        }
+    }
+}
+
+TEST(MapHistory, AVisitThatWasNotAnchoredObservesNothing) {
+    const Box cabinet = Standing(2.0, 2.0, 0.6, 0.4, 0.8);
+    VisitFindings none;  // no changes folder: nothing in BIM coordinates
+    none.label = "v2";
+    none.start_ns = 40 * 86400 * 1000000000LL;
+    const json h = BuildHistory({Visit("v1", 1, {cabinet}), none});
+    EXPECT_EQ(h["objects"][0].at("sightings").at(1).at("status"), "not_observed");
+    EXPECT_TRUE(Since(h, 1, "since_previous").at("gone").empty());
+    EXPECT_EQ(h.at("visits").at(1).at("start"), "1970-02-10T00:00:00Z");
+}
+
+}  // namespace
+}  // namespace bimslam::mapping
