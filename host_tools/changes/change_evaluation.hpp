@@ -83,6 +83,7 @@ struct FoundChanges {
         Eigen::AlignedBox3d box;
         std::string ifc_global_id = {};  // the proxy's in model_updated.ifc ("" in older files)
         std::string storey = {};         // its storey's name ("" when none)
+        int id = -1;                     // its id in changes.json (its mesh's part)
     };
     struct Element {
         std::string verdict;

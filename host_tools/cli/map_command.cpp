@@ -63,9 +63,9 @@ void PrintHistory(const json& S) {
     if (h.contains("since_model")) {
         const json& m = h["since_model"];
         std::cout << "history   since the model: " << count(m, "new_objects") << " new objects, "
-                  << count(m, "missing") << " missing, " << count(m, "deviating")
-                  << " deviating; " << h.value("contradictions", 0)
-                  << " contradictions over the visits (" << h.value("file", std::string()) << ")\n";
+                  << count(m, "missing") << " missing, " << count(m, "deviating") << " deviating; "
+                  << h.value("contradictions", 0) << " contradictions over the visits ("
+                  << h.value("file", std::string()) << ")\n";
     }
 }
 
@@ -300,7 +300,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "seen as built, its deviations), the new objects followed from visit to visit (seen "
         "again, moved with their offset, gone when their place was seen empty, not observed), "
         "each visit's changes since the previous visit and since the model, and the "
-        "contradictions (missing, then built again)\n"
+        "contradictions (missing, then built again); OUT/model_asis.ifc: the model file as is, "
+        "the objects present as proxies, every observed element's history as a property set "
+        "(bimslam_History), the elements missing as of the newest visit in a group\n"
         "  report     OUT/report/report.html (`bimslam report`) of the newest visit\n"
         "OUT/visits/<visit>/summary.json gathers a visit's figures, OUT/summary.json the newest "
         "visit's with the list of every visit (`visits`); with a simulated capture's "

@@ -30,7 +30,9 @@ bool Observed(const std::string& verdict) { return verdict != "not_observed"; }
 bool Built(const std::string& verdict) { return verdict == "confirmed" || verdict == "deviating"; }
 
 // Merges one recording's findings into its visit's (ReadVisitFindings's rules).
-void Merge(FoundChanges&& f, const HistoryConfig& config, FoundChanges* visit) {
+void Merge(const std::string& recording, FoundChanges&& f, const HistoryConfig& config,
+           VisitFindings* findings) {
+    FoundChanges* visit = &findings->found;
     for (auto& [id, e] : f.elements) {
         auto [it, inserted] = visit->elements.emplace(id, e);
         if (inserted || !Observed(e.verdict)) continue;
@@ -41,7 +43,9 @@ void Merge(FoundChanges&& f, const HistoryConfig& config, FoundChanges* visit) {
         const bool known = std::any_of(
             visit->objects.begin(), visit->objects.end(),
             [&](const FoundChanges::Object& k) { return SamePlace(k.box, o.box, config); });
-        if (!known) visit->objects.push_back(std::move(o));
+        if (known) continue;
+        visit->objects.push_back(std::move(o));
+        findings->object_recordings.push_back(recording);
     }
     visit->map.insert(visit->map.end(), f.map.begin(), f.map.end());
     visit->has_map = visit->has_map || f.has_map;
@@ -114,8 +118,8 @@ json ElementJson(const std::string& id, const ElementRow& row,
 void ElementChanges(const std::map<std::string, ElementRow>& rows,
                     const std::vector<VisitFindings>& visits, size_t v, json* since_previous,
                     json* contradictions) {
-    json newly_missing = json::array(), newly_deviating = json::array(),
-         reappeared = json::array(), in_place_again = json::array();
+    json newly_missing = json::array(), newly_deviating = json::array(), reappeared = json::array(),
+         in_place_again = json::array();
     for (const auto& [id, row] : rows) {
         const FoundChanges::Element* now = row.visits[v];
         const std::optional<size_t> before = LastObserved(row, v);
@@ -124,8 +128,8 @@ void ElementChanges(const std::map<std::string, ElementRow>& rows,
         const std::string& is = now->verdict;
         if (Built(was) && is == "missing") newly_missing.push_back(id);
         if (was == "confirmed" && is == "deviating") newly_deviating.push_back(id);
-        const bool back = (was == "missing" && Built(is)) ||
-                          (was == "deviating" && is == "confirmed");
+        const bool back =
+            (was == "missing" && Built(is)) || (was == "deviating" && is == "confirmed");
         if (!back) continue;
         (was == "missing" ? reappeared : in_place_again).push_back(id);
         contradictions->push_back({{"global_id", id},
@@ -151,9 +155,8 @@ json ElementsSinceModel(const std::map<std::string, ElementRow>& rows,
         if (e.verdict == "missing") {
             missing.push_back({{"global_id", id}, {"as_of", visits[*at].label}});
         } else if (e.verdict == "deviating") {
-            deviating.push_back({{"global_id", id},
-                                 {"as_of", visits[*at].label},
-                                 {"offset_m", Vec(e.offset)}});
+            deviating.push_back(
+                {{"global_id", id}, {"as_of", visits[*at].label}, {"offset_m", Vec(e.offset)}});
         }
     }
     return {{"missing", missing}, {"deviating", deviating}};
@@ -176,7 +179,7 @@ VisitFindings ReadVisitFindings(const fs::path& visit_dir, const std::string& la
     const HistoryConfig config;
     for (const fs::path& d : dirs) {
         v.recordings.push_back(d.filename().string());
-        Merge(change_detection::ReadFoundChanges(d), config, &v.found);
+        Merge(d.filename().string(), change_detection::ReadFoundChanges(d), config, &v);
     }
     return v;
 }

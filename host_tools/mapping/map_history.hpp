@@ -28,11 +28,13 @@ struct HistoryConfig {
     double same_min_iou = 0.25;
     double same_max_centroid_m = 0.3;
     // A moved object: one of the same shape (each of its sorted plan sides and its height within
-    // shape_tolerance relative, or shape_tolerance_m, whichever is larger) on the same storey,
-    // within moved_max_m, whose old place the visit saw empty.
+    // shape_tolerance relative, or shape_tolerance_m, whichever is larger: a box of the map's
+    // 5 cm voxels measures an object to a few cm; a crate of 0.8 x 0.6 x 0.8 m and a cabinet of
+    // 1.0 x 0.6 x 1.0 m are two objects) on the same storey, within moved_max_m, whose old place
+    // the visit saw empty.
     double moved_max_m = 10.0;
-    double shape_tolerance = 0.25;
-    double shape_tolerance_m = 0.15;
+    double shape_tolerance = 0.1;
+    double shape_tolerance_m = 0.1;
     // An old place seen empty: of the cells (cell_m) wholly inside its footprint that no object
     // of the visit covers, at least min_floor_seen have a map point within floor_band_m of the
     // object's bottom: the floor it stood on, seen where it stood. An object still standing
@@ -52,6 +54,7 @@ struct VisitFindings {
     int64_t start_ns = 0;
     std::vector<std::string> recordings;  // those compared with the model (anchored)
     change_detection::FoundChanges found;
+    std::vector<std::string> object_recordings;  // per found.objects: the recording that found it
 };
 
 // A visit's changes/<recording>/ folders, merged: an element's verdict is that of the recording

@@ -23,6 +23,7 @@
 #include "host_tools/changes/ifc_update.hpp"
 #include "host_tools/changes/session_input.hpp"
 #include "host_tools/changes/survey_datum.hpp"
+#include "host_tools/mapping/asis_model.hpp"
 #include "host_tools/mapping/map_history.hpp"
 #include "host_tools/mapping/map_project.hpp"
 #include "host_tools/mapping/step_stamp.hpp"
@@ -369,21 +370,30 @@ StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
     return change;
 }
 
-// 5. The building's history over the visits (map_history.hpp): OUT/history.json, made again when
-// a visit's changes were.
+// 5. The building's history over the visits (map_history.hpp): OUT/history.json, and the as-is
+// model (asis_model.hpp): OUT/model_asis.ifc; made again when a visit's changes were.
 void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
                  const std::vector<StepStamp>& changes, json* summary) {
     StepStamp history("history");
     for (const StepStamp& s : changes) history.AddUpstream(s);
     history.AddParameter("history", HistoryConfig().ToJson());
+    history.AddParameter("model_sha256", c.sha256);
+    history.AddParameter("as_is", "model_asis.ifc");
     const fs::path file = c.out / "history.json";
     stepper.Run("history", c.out / "stamps", "history", history, file.string(), [&] {
         std::vector<VisitFindings> visits;
         for (const Visit& v : project.visits) {
-            c.progress("history: reading " + v.label, double(visits.size()) / project.visits.size());
+            c.progress("history: reading " + v.label,
+                       double(visits.size()) / project.visits.size());
             visits.push_back(ReadVisitFindings(VisitDir(c.out, v.label), v.label, v.start_ns()));
         }
-        io::WriteFileAtomic(file, BuildHistory(visits).dump(1) + "\n");
+        const json h = BuildHistory(visits);
+        io::WriteFileAtomic(file, h.dump(1) + "\n");
+        c.progress("history: the as-is model", 1.0);
+        const change_detection::IfcUpdate asis =
+            AsIsIfc(c.out, c.model_file.string(), io::ReadFileToString(c.model_file), c.Model(), h,
+                    Fnv1a(c.sha256 + "/as-is"));
+        io::WriteFileAtomic(c.out / "model_asis.ifc", asis.text);
     });
     (*summary)["history"] = HistoryCounts(json::parse(io::ReadFileToString(file)));
 }

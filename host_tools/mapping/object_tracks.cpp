@@ -93,12 +93,16 @@ std::vector<std::pair<size_t, size_t>> OneToOne(const std::vector<Pair>& sorted)
     return out;
 }
 
-json Placed(const std::string& visit, const char* status, const FoundChanges::Object& o) {
-    return {{"visit", visit},
+// A sighting of visit v's object o: where, and which recording's changes found it (its mesh).
+json Placed(const VisitFindings& visit, size_t o, const char* status) {
+    const FoundChanges::Object& object = visit.found.objects[o];
+    return {{"visit", visit.label},
             {"status", status},
-            {"centroid", Vec(o.box.center())},
-            {"size_m", Vec(o.box.sizes())},
-            {"ifc_global_id", o.ifc_global_id}};
+            {"centroid", Vec(object.box.center())},
+            {"size_m", Vec(object.box.sizes())},
+            {"recording", o < visit.object_recordings.size() ? visit.object_recordings[o] : ""},
+            {"object", object.id},
+            {"ifc_global_id", object.ifc_global_id}};
 }
 
 }  // namespace
@@ -158,8 +162,8 @@ ObjectTracks::Pairs ObjectTracks::Moved(const std::vector<size_t>& tracks,
             const FoundChanges::Object& object = visit.found.objects[o];
             const Track& track = tracks_[t];
             const double distance = (object.box.center() - track.box.center()).norm();
-            const bool same_storey = track.storey.empty() || object.storey.empty() ||
-                                     track.storey == object.storey;
+            const bool same_storey =
+                track.storey.empty() || object.storey.empty() || track.storey == object.storey;
             if (distance <= config_.moved_max_m && same_storey &&
                 SameShape(track.box, object.box, config_)) {
                 pairs.emplace_back(distance, t, o);
@@ -179,7 +183,7 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     for (const auto& [t, o] : InPlace(alive, visit)) {
         tracks_[t].box = objects[o].box;
         tracks_[t].last = v;
-        tracks_[t].sightings.push_back(Placed(label, "seen", objects[o]));
+        tracks_[t].sightings.push_back(Placed(visit, o, "seen"));
         track_done[t] = object_done[o] = true;
     }
     // Where the tracks left unmatched stood: seen empty, or not judged (-1).
@@ -191,8 +195,7 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     for (const size_t t : alive) {
         if (track_done[t]) continue;
         size_t cells = 0;
-        const double share =
-            seen.FloorSeen(tracks_[t].box, cover, config_.floor_band_m, &cells);
+        const double share = seen.FloorSeen(tracks_[t].box, cover, config_.floor_band_m, &cells);
         if (cells >= config_.min_cells) seen_empty[t] = share;
         open_tracks.push_back(t);
     }
@@ -201,7 +204,7 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     }
     for (const auto& [t, o] : Moved(open_tracks, open_objects, visit, seen_empty)) {
         const Eigen::Vector3d offset = objects[o].box.center() - tracks_[t].box.center();
-        json s = Placed(label, "moved", objects[o]);
+        json s = Placed(visit, o, "moved");
         s["offset_m"] = Vec(offset);
         tracks_[t].sightings.push_back(s);
         tracks_[t].box = objects[o].box;
@@ -222,9 +225,14 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     }
     for (size_t o = 0; o < objects.size(); ++o) {
         if (object_done[o]) continue;
-        Track t{"O" + std::to_string(tracks_.size() + 1), objects[o].box, objects[o].storey, v, v,
-                std::nullopt, json::array()};
-        t.sightings.push_back(Placed(label, "new", objects[o]));
+        Track t{"O" + std::to_string(tracks_.size() + 1),
+                objects[o].box,
+                objects[o].storey,
+                v,
+                v,
+                std::nullopt,
+                json::array()};
+        t.sightings.push_back(Placed(visit, o, "new"));
         added.push_back(t.id);
         tracks_.push_back(std::move(t));
     }

@@ -24,6 +24,7 @@
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/changes/ifc_update.hpp"
+#include "tests/integration/web_ifc_support.hpp"
 #include "tests/support/ground_truth_session.hpp"
 #include "tests/support/test_support.hpp"
 #include "tests/unit/change_detection/ifc_update_fixtures.hpp"
@@ -36,31 +37,6 @@ using nlohmann::json;
 const std::string kCli = BIMSLAM_CLI_PATH;
 
 std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
-fs::path WebIfcTool() {
-    const char* env = std::getenv("BIMSLAM_SOURCE_DIR");  // set by ctest
-    const fs::path root = env && *env ? fs::path(env) : fs::path(BIMSLAM_SOURCE_ROOT);
-    return root / "tests" / "tools" / "web_ifc";
-}
-
-// Why web-ifc cannot run here, or "" when it can.
-std::string WebIfcMissing() {
-    if (test::RunCommand("node --version").exit_code != 0) {
-        return "node is not installed: run toolchain/install-deps.sh --test";
-    }
-    if (!fs::exists(WebIfcTool() / "node_modules" / "web-ifc")) {
-        return (WebIfcTool() / "node_modules").string() +
-               " is missing: run toolchain/install-deps.sh --test";
-    }
-    return "";
-}
-
-json WebIfc(const fs::path& file) {
-    const test::CommandResult r =
-        test::RunCommand("node " + Quote(WebIfcTool() / "check.mjs") + " " + Quote(file));
-    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-    return r.exit_code == 0 ? json::parse(r.out) : json();
-}
 
 // The corridor runs x 0.3 .. 29.7 between y 6.15 and 8.15 (host_tools/bim/sample_building.hpp);
 // the GlobalId is the corridor's north wall in the sample building of seed 1.
@@ -208,7 +184,7 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
 
 // The second reader on both geometries the update writes (IFC4 tessellated, IFC2X3 B-rep).
 TEST(ChangesCli, UpdatedIfc4AndIfc2x3OpenInWebIfc) {
-    if (const std::string why = WebIfcMissing(); !why.empty()) GTEST_SKIP() << why;
+    if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;
     test::TempDir tmp;
     const std::string sample = bim::SampleBuildingIfc(bim::SampleBuildingOptions{});
     const bim::BimModel model4 = bim::ParseIfc("building.ifc", sample);
@@ -221,11 +197,11 @@ TEST(ChangesCli, UpdatedIfc4AndIfc2x3OpenInWebIfc) {
         "tiny.ifc", change_detection::test::kTinyIfc2x3, model2,
         change_detection::test::Found(model2, {1, 1, 0}, 0, changes::Verdict::kDeviating), 7);
     io::WriteFileAtomic(tmp / "updated2x3.ifc", u2.text);
-    const json w4 = WebIfc(tmp / "updated4.ifc");
+    const json w4 = web_ifc::Read(tmp / "updated4.ifc");
     EXPECT_EQ(w4["schema"], "IFC4");
     EXPECT_EQ(w4["mesh_classes"]["IfcBuildingElementProxy"], 1);
     EXPECT_EQ(w4["counts"]["IFCTRIANGULATEDFACESET"], 1);
-    const json w2 = WebIfc(tmp / "updated2x3.ifc");
+    const json w2 = web_ifc::Read(tmp / "updated2x3.ifc");
     EXPECT_EQ(w2["schema"], "IFC2X3");
     EXPECT_EQ(w2["mesh_classes"]["IfcBuildingElementProxy"], 1);
     EXPECT_EQ(w2["counts"]["IFCFACETEDBREP"], 1);
@@ -442,13 +418,13 @@ TEST(ChangesCli, MapOpensInCloudCompare) {
 
 // The walk's updated IFC in web-ifc: a proxy with a mesh per new object.
 TEST(ChangesCli, UpdatedIfcOfTheWalkOpensInWebIfc) {
-    if (const std::string why = WebIfcMissing(); !why.empty()) GTEST_SKIP() << why;
+    if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;
     const fs::path walk = Walk();
     const size_t objects_found =
         json::parse(io::ReadFileToString(walk / "summary.json"))["sessions"][0]["new_objects"]
             .get<size_t>();
     ASSERT_GT(objects_found, 0u);
-    const json w = WebIfc(walk / "out" / "model_updated.ifc");
+    const json w = web_ifc::Read(walk / "out" / "model_updated.ifc");
     EXPECT_EQ(w["counts"]["IFCBUILDINGELEMENTPROXY"].get<size_t>(), objects_found);
     EXPECT_EQ(w["mesh_classes"]["IfcBuildingElementProxy"].get<size_t>(), objects_found);
     EXPECT_EQ(w["counts"]["IFCTRIANGULATEDFACESET"].get<size_t>(), objects_found);

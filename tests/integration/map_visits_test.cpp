@@ -12,13 +12,14 @@
 
 #include <filesystem>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
 #include "tests/integration/map_test_support.hpp"
+#include "tests/integration/web_ifc_support.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam {
@@ -29,7 +30,7 @@ using namespace map_test;
 
 // Walk a on 2 March, b and c on 9 March (morning and afternoon): two visits. On 2 March a crate
 // stood in the corridor and the open office's columns were not built yet; on 9 March the crate
-// is gone and the columns stand, as modelled.
+// is gone, the columns stand, as modelled, and a cabinet stands in the open office.
 const std::string kDayA = "2026-03-02", kDayB = "2026-03-09";
 struct Walk {
     const char* name;
@@ -42,9 +43,13 @@ const char* const kFirstDay =
     "  boxes: [{name: crate in the corridor, center: [24.0, 7.75, 0.4], size: [0.8, 0.6, 0.8], "
     "yaw_deg: 0}]\n"
     "  removed: {classes: [IfcColumn]}\n";
+const char* const kSecondDay =
+    "edits:\n"
+    "  boxes: [{name: cabinet in the open office, center: [19.6, 4.0, 0.5], size: [1.0, 0.6, "
+    "1.0], yaw_deg: 0}]\n";
 const Walk kWalks[] = {{"a", "2026-03-02T09:00:00Z", 11, kFirstDay},
-                       {"b", "2026-03-09T09:00:00Z", 12, ""},
-                       {"c", "2026-03-09T15:30:00Z", 13, ""}};
+                       {"b", "2026-03-09T09:00:00Z", 12, kSecondDay},
+                       {"c", "2026-03-09T15:30:00Z", 13, kSecondDay}};
 
 // Hand-held, OS1-16 at 512x10 and 30 s to stay cheap (about 2 s to simulate each).
 fs::path Walks() {
@@ -53,7 +58,8 @@ fs::path Walks() {
             io::WriteFileAtomic(d / (std::string(w.name) + ".yaml"),
                                 "platform: handheld\nseed: " + std::to_string(w.seed) +
                                     "\nduration_s: 30\nsensor: {model: OS1-16, lidar_mode: "
-                                    "512x10}\n" + w.edits);
+                                    "512x10}\n" +
+                                    w.edits);
             MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
                     (d / (std::string(w.name) + ".yaml")).string() + " --start " + w.start +
                     " -o " + (d / w.name).string());
@@ -215,10 +221,12 @@ TEST(MapVisits, TheHistoryHoldsEveryVisitsVerdictsWhateverTheOrderVisitsWereAdde
     EXPECT_GT(counts["confirmed"], 10u) << "the walk saw the storey's walls";
     EXPECT_EQ(h.at("changes").at(0).at("since_model").at("new_objects").size(),
               c.at("new_objects").size());
-    // The crate found on 2 March is gone on 9 March (its place seen empty), and the columns
-    // missing on 2 March stand on 9 March: they reappeared, and the contradiction is kept.
-    ASSERT_EQ(h.at("objects").size(), 1u) << h.at("objects").dump(1);
+    // The crate found on 2 March is gone on 9 March (its place seen empty; the cabinet is new,
+    // not the crate moved: another shape), and the columns missing on 2 March stand on 9 March:
+    // they reappeared, and the contradiction is kept.
+    ASSERT_EQ(h.at("objects").size(), 2u) << h.at("objects").dump(1);
     const json& crate = h["objects"][0];
+    const json& cabinet = h["objects"][1];
     const json& centroid = crate.at("sightings").at(0).at("centroid");
     EXPECT_NEAR(centroid[0].get<double>(), 24.0, 0.15) << crate.dump(1);
     EXPECT_NEAR(centroid[1].get<double>(), 7.75, 0.15) << crate.dump(1);
@@ -226,7 +234,11 @@ TEST(MapVisits, TheHistoryHoldsEveryVisitsVerdictsWhateverTheOrderVisitsWereAdde
     EXPECT_EQ(crate.at("gone_in"), kDayB);
     const json& since = h["changes"][1].at("since_previous");
     EXPECT_EQ(since.at("gone"), json::array({crate.at("id")}));
-    EXPECT_TRUE(since.at("new").empty()) << since.dump(1);
+    EXPECT_EQ(since.at("new"), json::array({cabinet.at("id")})) << "b and c found it: once";
+    EXPECT_TRUE(since.at("moved").empty()) << since.dump(1);
+    const json& seen = cabinet.at("sightings").at(0).at("centroid");
+    EXPECT_NEAR(seen[0].get<double>(), 19.6, 0.15) << cabinet.dump(1);
+    EXPECT_NEAR(seen[1].get<double>(), 4.0, 0.15) << cabinet.dump(1);
     // The columns a's changes found missing (two of the three; the third, behind the others,
     // was hardly seen), every one a removed column.
     const json truth = ReadJson(Walks() / "a" / "changes.json");
@@ -244,13 +256,57 @@ TEST(MapVisits, TheHistoryHoldsEveryVisitsVerdictsWhateverTheOrderVisitsWereAdde
         EXPECT_EQ(k.at("contradicted_by"), kDayB);
     }
     EXPECT_TRUE(h["changes"][1].at("since_model").at("missing").empty());
-    EXPECT_TRUE(h["changes"][1].at("since_model").at("new_objects").empty());
+    EXPECT_EQ(h["changes"][1].at("since_model").at("new_objects").size(), 1u);
     // The project's summary counts the newest visit's changes.
     const json s = ReadJson(one / "summary.json");
     EXPECT_EQ(s.at("history").at("visits"), 2);
     EXPECT_EQ(s["history"].at("since_previous").at("previous"), kDayA);
     EXPECT_EQ(s["history"]["since_previous"].at("gone"), 1);
+    EXPECT_EQ(s["history"]["since_previous"].at("new"), 1);
     EXPECT_EQ(s["history"]["since_previous"].at("reappeared"), missing.size());
+}
+
+// The as-is model (issue 33 item 4): the model file with the new objects present after the
+// newest visit as proxies and every observed element's history as a property set, read by
+// IFC++ (`bimslam bim info`) and by web-ifc.
+TEST(MapVisits, TheAsIsModelHoldsTheHistoryAndBothReadersOpenIt) {
+    const fs::path out = AllAtOnce() / "out";
+    const std::string original = io::ReadFileToString(Model());
+    const std::string asis = io::ReadFileToString(out / "model_asis.ifc");
+    const size_t data_end = original.rfind("ENDSEC;");
+    ASSERT_NE(data_end, std::string::npos);
+    EXPECT_EQ(asis.compare(0, data_end, original, 0, data_end), 0) << "the original, then more";
+
+    // IFC++: the model's elements and one proxy, the cabinet present on 9 March.
+    const auto before = Cli("bim info " + Model() + " --json");
+    const auto after = Cli("bim info " + (out / "model_asis.ifc").string() + " --json");
+    ASSERT_EQ(after.exit_code, 0) << after.err;
+    const json b = json::parse(before.out), a = json::parse(after.out);
+    EXPECT_TRUE(a.at("failed").empty()) << a.at("failed").dump();
+    EXPECT_EQ(a.at("elements").value("IfcBuildingElementProxy", 0), 1) << a.at("elements").dump();
+    EXPECT_EQ(a.at("elements").at("IfcColumn"), b.at("elements").at("IfcColumn"));
+
+    if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;
+    const json w = web_ifc::Read(out / "model_asis.ifc");
+    ASSERT_TRUE(w.is_object());
+    EXPECT_EQ(w.at("mesh_classes").value("IfcBuildingElementProxy", 0), 1);
+    // The columns missing on 2 March and standing on 9 March: their history on each of them.
+    const json c = ReadJson(out / "visits" / kDayA / "changes" / "lidar" / "changes.json");
+    ASSERT_GE(c.at("missing").size(), 2u);
+    for (const json& m : c.at("missing")) {
+        const std::string id = m.at("global_id");
+        const json* found = nullptr;
+        for (const json& set : w.at("bimslam_psets")) {
+            if (set.at("name") == "bimslam_History" && set.at("objects") == json::array({id}))
+                found = &set;
+        }
+        ASSERT_NE(found, nullptr) << id << " has no bimslam_History";
+        const json& p = found->at("properties");
+        EXPECT_EQ(p.at("VerdictsByVisit"), kDayA + " missing; " + kDayB + " confirmed") << id;
+        EXPECT_EQ(p.at("AsIs"), "confirmed") << id;
+        EXPECT_EQ(p.at("FirstSeenBuilt"), kDayB) << id;
+    }
+    EXPECT_TRUE(w.at("bimslam_groups").empty()) << "nothing is missing as of 9 March";
 }
 
 TEST(MapVisits, VisitDatesComeFromTheRecordingsAndOrderTheVisits) {
@@ -301,7 +357,8 @@ TEST(MapVisits, ARerunWithNoNewRecordingDoesNothing) {
         const auto r = Cli(args + kBudget + " --json");
         ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
         const json steps = Steps(json::parse(r.out));
-        EXPECT_EQ(steps.size(), 10u) << steps.dump();  // reference, 3 odometry, 2 x 2, history, report
+        EXPECT_EQ(steps.size(), 10u)
+            << steps.dump();  // reference, 3 odometry, 2 x 2, history, report
         for (const auto& [step, skipped] : steps.items())
             EXPECT_TRUE(skipped.get<bool>()) << args << ": " << step;
         if (args.find("--add") != std::string::npos) {

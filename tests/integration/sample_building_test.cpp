@@ -13,42 +13,12 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/integration/web_ifc_support.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::bim {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path SourceDir() {
-    const char* env = std::getenv("BIMSLAM_SOURCE_DIR");  // set by ctest
-    return env && *env ? fs::path(env) : fs::path(BIMSLAM_DEFAULT_SOURCE_DIR);
-}
-
-std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
-fs::path ToolDir() { return SourceDir() / "tests" / "tools" / "web_ifc"; }
-
-// Why web-ifc cannot run here, or "" when it can.
-std::string WebIfcMissing() {
-    if (test::RunCommand("node --version").exit_code != 0) {
-        return "node is not installed: run toolchain/install-deps.sh --test";
-    }
-    if (!fs::exists(ToolDir() / "node_modules" / "web-ifc")) {
-        return (ToolDir() / "node_modules").string() +
-               " is missing: run toolchain/install-deps.sh --test (or npm ci --prefix "
-               "tests/tools/web_ifc)";
-    }
-    return "";
-}
-
-// What check.mjs prints about the file; null (and a test failure) when it fails.
-nlohmann::json WebIfc(const fs::path& file) {
-    const test::CommandResult r =
-        test::RunCommand("node " + Quote(ToolDir() / "check.mjs") + " " + Quote(file));
-    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
-    if (r.exit_code != 0) return nullptr;
-    return nlohmann::json::parse(r.out);
-}
 
 void ExpectLayoutCounts(const nlohmann::json& j, const SampleLayout& L) {
     const auto& c = j.at("counts");
@@ -85,9 +55,9 @@ TEST(SampleBuildingWebIfc, OpensTheMetreAndMillimetreFilesAsTheSameBuilding) {
     const SampleLayout L = SampleBuildingLayout(m);
     const Eigen::AlignedBox3d box = L.Bounds();
 
-    if (const std::string why = WebIfcMissing(); !why.empty()) GTEST_SKIP() << why;
-    const nlohmann::json jm = WebIfc(tmp / "sample_m.ifc");
-    const nlohmann::json jmm = WebIfc(tmp / "sample_mm.ifc");
+    if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;
+    const nlohmann::json jm = web_ifc::Read(tmp / "sample_m.ifc");
+    const nlohmann::json jmm = web_ifc::Read(tmp / "sample_mm.ifc");
     ASSERT_FALSE(jm.is_null() || jmm.is_null());
     for (const nlohmann::json* j : {&jm, &jmm}) {
         SCOPED_TRACE(j->at("file").get<std::string>());
@@ -119,8 +89,8 @@ TEST(SampleBuildingWebIfc, OpensTheVariants) {
     o.furniture = false;
     o.exterior_doors = true;
     WriteSampleBuilding(tmp / "bare.ifc", o);
-    if (const std::string why = WebIfcMissing(); !why.empty()) GTEST_SKIP() << why;
-    const nlohmann::json j = WebIfc(tmp / "bare.ifc");
+    if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;
+    const nlohmann::json j = web_ifc::Read(tmp / "bare.ifc");
     ASSERT_FALSE(j.is_null());
     EXPECT_EQ(j.at("error_count").get<int>(), 0) << j.at("errors").dump();
     const SampleLayout L = SampleBuildingLayout(o);
@@ -132,7 +102,7 @@ TEST(SampleBuildingWebIfc, OpensTheVariants) {
 // A layout with its entrances, in both units: the same classes, box and meshes.
 void ExpectOpensInMetresAndMillimetres(BuildingLayout layout) {
     test::TempDir tmp;
-    if (const std::string why = WebIfcMissing(); !why.empty()) GTEST_SKIP() << why;
+    if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;
     SampleBuildingOptions o;
     o.layout = layout;
     o.exterior_doors = true;
@@ -145,7 +115,7 @@ void ExpectOpensInMetresAndMillimetres(BuildingLayout layout) {
             tmp / (std::string(ToString(layout)) + (unit == 1.0 ? "_m.ifc" : "_mm.ifc"));
         WriteSampleBuilding(file, o);
         SCOPED_TRACE(file.string());
-        const nlohmann::json j = WebIfc(file);
+        const nlohmann::json j = web_ifc::Read(file);
         ASSERT_FALSE(j.is_null());
         EXPECT_EQ(j.at("schema"), "IFC4");
         EXPECT_EQ(j.at("error_count").get<int>(), 0) << j.at("errors").dump();

@@ -1,6 +1,7 @@
 // Reads an IFC file with web-ifc (That Open Company's IFC engine, independent of IFC++) and prints
 // what it found as JSON: the schema, counts per class, the meshes, vertices and triangles of all
-// geometry, and their bounding box. Used by tests/integration/sample_building_test.cpp and
+// geometry, and their bounding box; bimslam's property sets and groups (bimslam_psets,
+// bimslam_groups). Used by tests/integration/sample_building_test.cpp and
 // changes_cli_test.cpp to check that another viewer opens the files bimslam writes.
 //
 //   node check.mjs FILE.ifc
@@ -122,6 +123,30 @@ if (triangles > 0) {
     const r = (v) => Math.round(v * 1e6) / 1e6;
     out.bbox = { min: min.map(r), max: max.map(r) };
     out.bbox_ifc_m = { min: [r(min[0]), r(-max[2]), r(min[1])], max: [r(max[0]), r(-min[2]), r(max[1])] };
+}
+// bimslam's own property sets and groups, as web-ifc reads them: each set's name, properties
+// (name -> nominal value) and the GlobalIds of the objects it is on; each group's members.
+const ids = (refs) => (refs || []).map((r) => api.GetLine(model, r.value).GlobalId.value);
+out.bimslam_psets = [];
+const rels = api.GetLineIDsWithType(model, api.GetTypeCodeFromName("IFCRELDEFINESBYPROPERTIES"));
+for (let i = 0; i < rels.size(); i++) {
+    const rel = api.GetLine(model, rels.get(i));
+    const set = api.GetLine(model, rel.RelatingPropertyDefinition.value);
+    if (!set.Name || !String(set.Name.value).startsWith("bimslam")) continue;
+    const properties = {};
+    for (const p of set.HasProperties || []) {
+        const prop = api.GetLine(model, p.value);
+        properties[prop.Name.value] = prop.NominalValue ? prop.NominalValue.value : null;
+    }
+    out.bimslam_psets.push({ name: set.Name.value, objects: ids(rel.RelatedObjects), properties });
+}
+out.bimslam_groups = [];
+const assigns = api.GetLineIDsWithType(model, api.GetTypeCodeFromName("IFCRELASSIGNSTOGROUP"));
+for (let i = 0; i < assigns.size(); i++) {
+    const rel = api.GetLine(model, assigns.get(i));
+    const group = api.GetLine(model, rel.RelatingGroup.value);
+    if (!group.Name || !String(group.Name.value).startsWith("bimslam")) continue;
+    out.bimslam_groups.push({ name: group.Name.value, members: ids(rel.RelatedObjects) });
 }
 out.error_count = reported.length;
 out.errors = reported.slice(0, 50);

@@ -16,13 +16,14 @@ using Box = Eigen::AlignedBox3d;
 
 // A box standing on the floor (z = 0) at (x, y), of plan size sx by sy and height h.
 Box Standing(double x, double y, double sx, double sy, double h) {
-    return Box(Eigen::Vector3d(x - sx / 2, y - sy / 2, 0), Eigen::Vector3d(x + sx / 2, y + sy / 2, h));
+    return Box(Eigen::Vector3d(x - sx / 2, y - sy / 2, 0),
+               Eigen::Vector3d(x + sx / 2, y + sy / 2, h));
 }
 
 // A visit that saw the floor of the 6 m x 6 m room at [0, 6]^2 where no object stands (and
 // nothing of it where `unseen` covers it), and found `objects`.
-VisitFindings Visit(const std::string& label, int day, const std::vector<Box>& objects,
-                    const std::vector<Box>& unseen = {}) {
+VisitFindings Findings(const std::string& label, int day, const std::vector<Box>& objects,
+                       const std::vector<Box>& unseen = {}) {
     VisitFindings v;
     v.label = label;
     v.start_ns = int64_t(day) * 86400 * 1000000000LL;
@@ -65,7 +66,8 @@ const json& Since(const json& history, size_t visit, const char* which) {
 
 TEST(MapHistory, AnObjectAddedInVisit2AndRemovedInVisit3IsNewThenGone) {
     const Box cabinet = Standing(2.0, 2.0, 0.6, 0.4, 0.8);
-    const json h = BuildHistory({Visit("v1", 1, {}), Visit("v2", 40, {cabinet}), Visit("v3", 90, {})});
+    const json h = BuildHistory(
+        {Findings("v1", 1, {}), Findings("v2", 40, {cabinet}), Findings("v3", 90, {})});
     ASSERT_EQ(h.at("objects").size(), 1u) << h.dump(1);
     const json& o = h["objects"][0];
     EXPECT_EQ(o.at("first_seen"), "v2");
@@ -86,8 +88,8 @@ TEST(MapHistory, AnObjectAddedInVisit2AndRemovedInVisit3IsNewThenGone) {
 TEST(MapHistory, AnObjectWhosePlaceWasNotSeenIsNotObservedNotGone) {
     const Box cabinet = Standing(2.0, 2.0, 0.6, 0.4, 0.8);
     // Visit 3 saw the room but not the corner where the cabinet stood.
-    const json h = BuildHistory({Visit("v1", 1, {cabinet}),
-                                 Visit("v3", 90, {}, {Standing(2.0, 2.0, 1.5, 1.5, 1.0)})});
+    const json h = BuildHistory({Findings("v1", 1, {cabinet}),
+                                 Findings("v3", 90, {}, {Standing(2.0, 2.0, 1.5, 1.5, 1.0)})});
     ASSERT_EQ(h.at("objects").size(), 1u);
     EXPECT_EQ(h["objects"][0].at("state"), "present");
     EXPECT_EQ(h["objects"][0].at("sightings").at(1).at("status"), "not_observed");
@@ -104,10 +106,10 @@ TEST(MapHistory, AnObjectMovedKeepsItsIdentityAndItsOffset) {
     // Visit 2: the cabinet 1.5 m along x (turned), the desk as it was (found 8 cm off), the
     // crate gone (its place seen empty) and a tall shelf, another shape, new 4 m from it.
     const Box shelf = Standing(5.0, 1.0, 0.5, 0.5, 1.9);
-    const json h = BuildHistory(
-        {Visit("v1", 1, {cabinet, desk, crate}),
-         Visit("v2", 40, {Standing(3.5, 2.0, 0.4, 0.6, 0.8), Standing(4.58, 4.5, 1.6, 0.8, 0.75),
-                          shelf})});
+    const json h = BuildHistory({Findings("v1", 1, {cabinet, desk, crate}),
+                                 Findings("v2", 40,
+                                          {Standing(3.5, 2.0, 0.4, 0.6, 0.8),
+                                           Standing(4.58, 4.5, 1.6, 0.8, 0.75), shelf})});
     const json& since = Since(h, 1, "since_previous");
     ASSERT_EQ(since.at("moved").size(), 1u) << since.dump(1);
     EXPECT_EQ(since["moved"][0].at("id"), "O1");
@@ -119,7 +121,8 @@ TEST(MapHistory, AnObjectMovedKeepsItsIdentityAndItsOffset) {
 }
 
 TEST(MapHistory, AnElementMissingThenBuiltAgainIsAContradictionKeptWithBothVerdicts) {
-    std::vector<VisitFindings> v = {Visit("v1", 1, {}), Visit("v2", 40, {}), Visit("v3", 90, {})};
+    std::vector<VisitFindings> v = {Findings("v1", 1, {}), Findings("v2", 40, {}),
+                                    Findings("v3", 90, {})};
     v[0].found.elements = {{"W", Element("confirmed")}, {"D", Element("confirmed")}};
     v[1].found.elements = {{"W", Element("missing")},
                            {"D", Element("deviating", Eigen::Vector3d(0.04, 0, 0))}};
@@ -162,7 +165,7 @@ TEST(MapHistory, AVisitThatWasNotAnchoredObservesNothing) {
     VisitFindings none;  // no changes folder: nothing in BIM coordinates
     none.label = "v2";
     none.start_ns = 40 * 86400 * 1000000000LL;
-    const json h = BuildHistory({Visit("v1", 1, {cabinet}), none});
+    const json h = BuildHistory({Findings("v1", 1, {cabinet}), none});
     EXPECT_EQ(h["objects"][0].at("sightings").at(1).at("status"), "not_observed");
     EXPECT_TRUE(Since(h, 1, "since_previous").at("gone").empty());
     EXPECT_EQ(h.at("visits").at(1).at("start"), "1970-02-10T00:00:00Z");
