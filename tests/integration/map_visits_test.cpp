@@ -506,5 +506,30 @@ TEST(MapVisits, AVisitThroughARoomFittedOutSinceTheModelAnchorsThroughTheEarlier
     EXPECT_FALSE(first.contains("earlier_sessions"));
 }
 
+// The same by hand: `bimslam anchor --prior-session` with visit 1's anchored session; an
+// odometry session (not in BIM coordinates) is refused, exit 2 naming its session.json.
+TEST(MapVisits, AnchorTakesAnEarlierVisitsAnchoredSessionByHand) {
+    const fs::path d = FittedOut();
+    const fs::path b = d / "both";
+    test::TempDir tmp;
+    const std::string args = "anchor --reference " + (b / "reference").string() + " --query " +
+                             (b / "visits" / kDayB / "odometry" / "v2").string() + " --threads 2";
+    const auto r = Cli(args + " --prior-session " + (b / "visits" / kDayA / "anchor" / "v1").string() +
+                       " -o " + (tmp / "with").string());
+    EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("earlier    v1 ("), std::string::npos) << r.out;
+    const json a = ReadJson(tmp / "with" / "anchor.json");
+    EXPECT_EQ(a.at("sessions").at(0).at("verdict"), "anchored");
+    EXPECT_EQ(a.at("earlier_sessions").at(0).at("name"), "v1");
+    EXPECT_GE(a["earlier_sessions"][0].at("accepted_loops").get<int>(), 15);
+    const fs::path odometry = b / "visits" / kDayA / "odometry" / "v1";
+    const auto bad = Cli(args + " --prior-session " + odometry.string() + " -o " +
+                         (tmp / "bad").string());
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    EXPECT_NE(bad.err.find((odometry / "session.json").string() + ": not an anchored session"),
+              std::string::npos)
+        << bad.err;
+}
+
 }  // namespace
 }  // namespace bimslam
