@@ -151,11 +151,13 @@ void AnchoringProblem::Gather() {
 void AnchoringProblem::GatherEarlier() {
     for (size_t e = queries_ + 1; e < sessions_.size(); ++e) {
         EarlierResult r{sessions_[e].name, sessions_[e].keyframes(), 0, 0.0};
-        for (const LoopRecord& l : result_.loops) r.accepted_loops += l.accepted && l.target_session == e;
+        for (const LoopRecord& l : result_.loops)
+            r.accepted_loops += l.accepted && l.target_session == e;
         const std::vector<Eigen::Isometry3d> world = state_[e].World();
         for (size_t k = 0; k < world.size(); ++k) {
-            r.max_move_m = std::max(
-                r.max_move_m, (world[k].translation() - sessions_[e].poses[k].translation()).norm());
+            r.max_move_m =
+                std::max(r.max_move_m,
+                         (world[k].translation() - sessions_[e].poses[k].translation()).norm());
         }
         result_.earlier.push_back(r);
     }

@@ -299,8 +299,8 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
         for (const EarlierVisit& e : earlier)
             before.push_back({{"label", e.label}, {"anchor", e.anchoring.Digest()}});
         anchoring.AddParameter("earlier_visits", before);
-        anchoring.AddParameter("earlier_sigma",
-                               {c.config.anchor.earlier_sigma_m, c.config.anchor.earlier_sigma_deg});
+        anchoring.AddParameter(
+            "earlier_sigma", {c.config.anchor.earlier_sigma_m, c.config.anchor.earlier_sigma_deg});
     }
     const std::string step = "anchor " + label;
     stepper.Run(step, visit / "stamps", "anchor", anchoring, (visit / "odometry").string(), [&] {

@@ -441,7 +441,8 @@ bool InFittedOutRoom(const Eigen::Vector3d& p) {
 // both. alone/: visit 2 mapped alone (against the model); both/: the two visits.
 fs::path FittedOut() {
     return Fixture("fitted_out", [](const fs::path& d) {
-        const std::string head = "platform: handheld\nsensor: {model: OS1-16, lidar_mode: 512x10}\n";
+        const std::string head =
+            "platform: handheld\nsensor: {model: OS1-16, lidar_mode: 512x10}\n";
         io::WriteFileAtomic(d / "v1.yaml", head + R"(seed: 21
 duration_s: 35
 path:
@@ -456,8 +457,9 @@ path:
               [13.3, 5.2], [16.0, 5.2], [11.8, 5.4], [11.6, 7.2], [4.0, 7.2]]
 )" + kFittedOut);
         for (const auto& [v, day] : {std::pair{"v1", kDayA}, std::pair{"v2", kDayB}}) {
-            MustRun("simulate --model " + Model() + " --scenario " + (d / (v + std::string(".yaml"))).string() +
-                    " --start " + day + "T09:00:00Z -o " + (d / v).string());
+            MustRun("simulate --model " + Model() + " --scenario " +
+                    (d / (v + std::string(".yaml"))).string() + " --start " + day +
+                    "T09:00:00Z -o " + (d / v).string());
         }
         // Exit 1 alone (not anchored) is what the test checks, not a failure of the fixture.
         (void)Cli("map " + Model() + " " + (d / "v2").string() + " -o " + (d / "alone").string() +
@@ -514,8 +516,9 @@ TEST(MapVisits, AnchorTakesAnEarlierVisitsAnchoredSessionByHand) {
     test::TempDir tmp;
     const std::string args = "anchor --reference " + (b / "reference").string() + " --query " +
                              (b / "visits" / kDayB / "odometry" / "v2").string() + " --threads 2";
-    const auto r = Cli(args + " --prior-session " + (b / "visits" / kDayA / "anchor" / "v1").string() +
-                       " -o " + (tmp / "with").string());
+    const auto r =
+        Cli(args + " --prior-session " + (b / "visits" / kDayA / "anchor" / "v1").string() +
+            " -o " + (tmp / "with").string());
     EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("earlier    v1 ("), std::string::npos) << r.out;
     const json a = ReadJson(tmp / "with" / "anchor.json");
@@ -523,8 +526,8 @@ TEST(MapVisits, AnchorTakesAnEarlierVisitsAnchoredSessionByHand) {
     EXPECT_EQ(a.at("earlier_sessions").at(0).at("name"), "v1");
     EXPECT_GE(a["earlier_sessions"][0].at("accepted_loops").get<int>(), 15);
     const fs::path odometry = b / "visits" / kDayA / "odometry" / "v1";
-    const auto bad = Cli(args + " --prior-session " + odometry.string() + " -o " +
-                         (tmp / "bad").string());
+    const auto bad =
+        Cli(args + " --prior-session " + odometry.string() + " -o " + (tmp / "bad").string());
     EXPECT_EQ(bad.exit_code, 2) << bad.err;
     EXPECT_NE(bad.err.find((odometry / "session.json").string() + ": not an anchored session"),
               std::string::npos)

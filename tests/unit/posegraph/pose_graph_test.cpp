@@ -169,8 +169,7 @@ TEST(PoseGraph, APriorHoldsAKeyframeAgainstALoopByTheirInformation) {
         graph.AddSession({Pose(1, 0, 0, 0)}, Eigen::Isometry3d::Identity(), true);
         const std::vector<Eigen::Isometry3d> at = {Pose(0, 0, 0, 0), Pose(1, 0, 0, 0)};
         const size_t s = graph.AddSession(at, Eigen::Isometry3d::Identity(), false);
-        const common::Matrix6d prior =
-            common::Matrix6d::Identity() / (prior_sigma * prior_sigma);
+        const common::Matrix6d prior = common::Matrix6d::Identity() / (prior_sigma * prior_sigma);
         for (size_t k = 0; k < 2; ++k) graph.AddPrior({s, k, at[k], prior});
         const double loop_sigma = 0.01;
         graph.AddLoop({0, 0, s, 1, Pose(0, 0.02, 0, 0),
