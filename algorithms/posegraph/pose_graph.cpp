@@ -47,6 +47,23 @@ struct AnchoredCost {
     }
 };
 
+// A keyframe's world pose Delta x against where a prior puts it: [t; 2 vec(q)] of
+// z^-1 Delta x (Relative from the identity), a right perturbation of the world pose.
+struct PriorCost {
+    Eigen::Quaterniond qz;
+    Eigen::Vector3d tz;
+    Matrix6d S;
+    template <typename T>
+    bool operator()(const T* qd, const T* td, const T* qx, const T* tx, T* r) const {
+        const Quat<T> Qd(qd);
+        const Quat<T> Q = Qd * Quat<T>(qx);
+        const Vec3<T> t = Qd * Vec3<T>(tx) + Vec3<T>(td);
+        Relative(qz, tz, Quat<T>::Identity(), Vec3<T>(Vec3<T>::Zero()), Q, t, r);
+        Whiten(S, r);
+        return true;
+    }
+};
+
 using Block = PoseBlock;
 
 }  // namespace
@@ -91,6 +108,14 @@ size_t PoseGraph::AddLoop(const LoopFactor& f) {
     }
     loops_.push_back(f);
     return loops_.size() - 1;
+}
+
+void PoseGraph::AddPrior(const PriorFactor& f) {
+    if (f.session >= sessions_.size() || f.index >= keyframes(f.session)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "PoseGraph: prior factor on a missing keyframe");
+    }
+    priors_.push_back(f);
 }
 
 void PoseGraph::SetAnchor(size_t s, const Eigen::Isometry3d& T) { sessions_.at(s).anchor = T; }
@@ -162,6 +187,14 @@ OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
                 new AnchoredCost{qz, tz, S});
             problem.AddResidualBlock(cost, loss, da.q, da.t, a.q, a.t, db.q, db.t, b.q, b.t);
         }
+    }
+    for (const PriorFactor& f : priors_) {
+        Block& d = anchors[f.session];
+        Block& x = poses[f.session][f.index];
+        auto* cost = new ceres::AutoDiffCostFunction<PriorCost, 6, 4, 3, 4, 3>(
+            new PriorCost{common::Rotation(f.T_world_lidar), f.T_world_lidar.translation(),
+                          SqrtInformation(f.information)});
+        problem.AddResidualBlock(cost, nullptr, d.q, d.t, x.q, x.t);
     }
     // Blocks enter the problem with their residuals; a block in none (an anchor without loops)
     // stays out and keeps its value. Then the manifolds, the fixed sessions and the gauge.

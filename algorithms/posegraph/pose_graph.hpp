@@ -12,6 +12,9 @@
 //   loop      between keyframe i of session a and j of session b, the BIM-SLAM paper's eq. 2:
 //             Log(c^-1 (Delta_a x_a,i)^-1 (Delta_b x_b,j)), c = T_ai_bj measured (the pose of b's
 //             keyframe in a's), with a robust loss;
+//   prior     on one keyframe's world pose: Log(z^-1 Delta_s x_s,k), z = T_world_lidar where an
+//             earlier anchoring put it, quadratic (an earlier visit held by its own uncertainty,
+//             as LT-mapper holds its earlier sessions);
 // each whitened by the square root of its information matrix. Both residuals are right
 // perturbations of the second pose ("where b's keyframe is, seen from a's"), the frame in which
 // registration (algorithms/registration) states its information; a test builds a pair with a
@@ -54,6 +57,13 @@ struct LoopFactor {
     common::Matrix6d information = common::Matrix6d::Identity();  // over [rho; phi] of b
 };
 
+// A keyframe's world pose held where it was estimated before, with that estimate's information.
+struct PriorFactor {
+    size_t session = 0, index = 0;
+    Eigen::Isometry3d T_world_lidar = Eigen::Isometry3d::Identity();  // z
+    common::Matrix6d information = common::Matrix6d::Identity();      // over [rho; phi]
+};
+
 struct PoseGraphConfig {
     // Cauchy loss on the whitened loop residual, in standard deviations: a loop whose residual is
     // this many sigmas counts half as much as a quadratic would let it.
@@ -91,6 +101,7 @@ public:
                       bool fixed);
     void AddOdometry(const OdometryFactor& f);  // throws common::Error for a bad index
     size_t AddLoop(const LoopFactor& f);        // the loop's index
+    void AddPrior(const PriorFactor& f);        // throws common::Error for a bad index
 
     // Optimises with the loops whose weight is > 0 (all when `loop_weights` is empty; a weight
     // scales the loop's information, as graduated non-convexity needs).
@@ -101,6 +112,7 @@ public:
     size_t keyframes(size_t s) const { return sessions_.at(s).poses.size(); }
     const std::vector<LoopFactor>& loops() const { return loops_; }
     const std::vector<OdometryFactor>& odometry() const { return odometry_; }
+    const std::vector<PriorFactor>& priors() const { return priors_; }
     bool fixed(size_t s) const { return sessions_.at(s).fixed; }
 
     const Eigen::Isometry3d& anchor(size_t s) const { return sessions_.at(s).anchor; }
@@ -124,6 +136,7 @@ private:
     std::vector<Session> sessions_;
     std::vector<OdometryFactor> odometry_;
     std::vector<LoopFactor> loops_;
+    std::vector<PriorFactor> priors_;
 };
 
 // The residual both factors use: [t; 2 vec(q)] of z^-1 * T_a^-1 * T_b, whitened by sqrt_info.

@@ -107,6 +107,14 @@ struct AnchorConfig {
     double outweigh_ratio = 3.0;
     double outweigh_gap = 0.02;
 
+    // Earlier visits' anchored sessions (AnchorSession::earlier) are held where their own
+    // anchoring put them by a prior on each keyframe's world pose, this sigma per axis. The
+    // anchoring states no covariance of its own; these are its measured errors against ground
+    // truth (README.md, "Measured": keyframes 0.6-3.3 cm RMSE, rotation 0.09-0.20 deg over 44
+    // anchored walks), so a new visit can move an earlier one about that much and no further.
+    double earlier_sigma_m = 0.02;
+    double earlier_sigma_deg = 0.2;
+
     // Verdict.
     int min_loops = 5;             // loops of the best hypothesis for "anchored"
     double min_coverage = 0.1;     // share of the query's keyframes with a loop

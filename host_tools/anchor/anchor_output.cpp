@@ -107,6 +107,19 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
     }
     j["sessions"] = out;
     j["verdict"] = ToString(overall);
+    if (!result.earlier.empty()) {  // only then: the output of a run without them is as before
+        json earlier = json::array();
+        const size_t first = sessions.size() - result.earlier.size();
+        for (size_t e = 0; e < result.earlier.size(); ++e) {
+            const EarlierResult& r = result.earlier[e];
+            earlier.push_back({{"name", r.name},
+                               {"dir", sessions[first + e].dir.string()},
+                               {"keyframes", r.keyframes},
+                               {"accepted_loops", r.accepted_loops},
+                               {"max_move_m", r.max_move_m}});
+        }
+        j["earlier_sessions"] = earlier;
+    }
     const StageTimes& t = result.times;
     j["times_s"] = {{"maps", t.map_s},
                     {"candidates", t.candidates_s},
@@ -123,6 +136,10 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
                    {"inject_false_loops", config.inject_false_loops},
                    {"model_tolerance_m", config.model_tolerance_m},
                    {"model_tolerance_deg", config.model_tolerance_deg}};
+    if (!result.earlier.empty()) {
+        j["config"]["earlier_sigma_m"] = config.earlier_sigma_m;
+        j["config"]["earlier_sigma_deg"] = config.earlier_sigma_deg;
+    }
     return j.dump(2) + "\n";
 }
 

@@ -41,7 +41,7 @@ SplitQueries SplitAtUntrustedOdometry(const std::vector<AnchorSession>& sessions
     for (size_t s = 0; s < sessions.size(); ++s) {
         const AnchorSession& in = sessions[s];
         const KeyframeSpan all{0, in.keyframes() == 0 ? 0 : in.keyframes() - 1};
-        if (s == 0 || in.odometry.stretches.empty()) {
+        if (s == 0 || in.earlier || in.odometry.stretches.empty()) {
             out.sessions.push_back(in);
             out.origin.push_back({s, all});
             continue;
@@ -64,7 +64,8 @@ AnchorResult MergePieces(const std::vector<AnchorSession>& sessions, const Split
     out.times = anchored.times;
     std::vector<std::vector<size_t>> of(sessions.size());  // input session -> its parts
     for (size_t e = 1; e < parts.sessions.size(); ++e) of[parts.origin[e].session].push_back(e);
-    for (size_t q = 1; q < sessions.size(); ++q) {
+    out.earlier = std::move(anchored.earlier);
+    for (size_t q = 1; q < sessions.size() && !sessions[q].earlier; ++q) {
         const AnchorSession& in = sessions[q];
         if (in.odometry.stretches.empty()) {
             SessionResult r = std::move(anchored.sessions[of[q].at(0) - 1]);

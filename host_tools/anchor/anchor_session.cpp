@@ -181,4 +181,16 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
     return s;
 }
 
+AnchorSession LoadEarlierSession(const fs::path& dir, const LoadOptions& options) {
+    AnchorSession s = LoadAnchorSession(dir, options);
+    const std::string& frame = s.session.manifest.world_frame;
+    if (s.foreign || frame != "bim") {
+        throw FileError(StatusCode::kInvalidArgument, (dir / "session.json").string(), 0,
+                        "not an anchored session: its world frame is '" + frame +
+                            "', not 'bim' (give a folder bimslam anchor wrote, OUT/<name>/)");
+    }
+    s.earlier = true;
+    return s;
+}
+
 }  // namespace bimslam::anchor

@@ -44,6 +44,10 @@ struct AnchorSession {
     OdometryVerdict odometry;
     // What was missing and what was derived, for the user.
     std::vector<std::string> notes;
+    // An earlier visit's anchored session (`bimslam anchor` wrote it with world frame "bim", so
+    // `poses` are world poses): never a query; a target beside the reference, free in the joint
+    // optimisation but held at its poses by priors (anchoring.hpp, step 7).
+    bool earlier = false;
     size_t keyframes() const { return poses.size(); }
 };
 
@@ -59,6 +63,11 @@ struct LoadOptions {
 // Reads a session for anchoring. Throws common::FileError naming the file on a damaged or
 // unreadable session (exit 2), and on a folder that is neither layout.
 AnchorSession LoadAnchorSession(const std::filesystem::path& dir, const LoadOptions& options);
+
+// An earlier visit's anchored session (AnchorSession::earlier): a bimslam session whose world
+// frame is "bim", as `bimslam anchor` writes OUT/<name>/. Throws common::FileError naming
+// session.json for a session in another frame (an odometry session, another tool's layout).
+AnchorSession LoadEarlierSession(const std::filesystem::path& dir, const LoadOptions& options);
 
 // True when `dir` holds the SC-A-LOAM/LT-mapper layout without session.json and SCDs/.
 bool IsForeignSession(const std::filesystem::path& dir);

@@ -143,9 +143,15 @@ std::string_view ToString(LoopSource s) {
 AnchorResult Anchor(const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
                     const Progress& progress) {
     config.Validate();
-    if (sessions.size() < 2) {
+    if (sessions.size() < 2 || sessions[1].earlier) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "Anchor: a reference and at least one query session");
+    }
+    for (size_t s = 1; s + 1 < sessions.size(); ++s) {
+        if (sessions[s].earlier && !sessions[s + 1].earlier) {
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "Anchor: earlier visits' sessions come after every query");
+        }
     }
     bool split = false;
     for (size_t q = 1; q < sessions.size(); ++q)

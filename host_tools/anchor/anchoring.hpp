@@ -23,6 +23,11 @@
 //     keyframes near another session's are registered to that session's map (loops between
 //     query sessions, lifelong mapping); a session that failed alone is tried again against the
 //     reference together with the anchored sessions; and all are optimised together.
+//  7. Earlier visits (AnchorSession::earlier: sessions an earlier anchoring placed in the world
+//     frame): targets with the reference from step 1 on, so place recognition and proximity
+//     loops land on what they saw and the model lacks; held fixed while each query is anchored,
+//     then free in the joint optimisation, each keyframe held by a prior at its earlier pose
+//     (AnchorConfig::earlier_sigma_*): one graph, the reference fixed.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -130,8 +135,18 @@ struct StageTimes {
     size_t registrations = 0;
 };
 
+// An earlier visit's session after the joint optimisation (step 7): the loops the queries
+// closed to it and how far the new visits moved its keyframes from their priors.
+struct EarlierResult {
+    std::string name;
+    size_t keyframes = 0;
+    size_t accepted_loops = 0;
+    double max_move_m = 0;
+};
+
 struct AnchorResult {
     std::vector<SessionResult> sessions;  // one per query, in input order
+    std::vector<EarlierResult> earlier;   // one per earlier session, in input order
     std::vector<LoopRecord> loops;        // every candidate
     posegraph::PoseGraph graph;           // the final graph, accepted loops only
     StageTimes times;
@@ -167,8 +182,9 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
 // is; else failed (also for no piece at all).
 Verdict CombinePieces(const std::vector<Verdict>& pieces);
 
-// sessions[0] is the reference (held fixed, its frame is the world's); the rest are queries.
-// Every session must have been loaded with clouds. Throws common::Error for a bad config.
+// sessions[0] is the reference (held fixed, its frame is the world's); the rest are queries, then
+// the earlier visits' sessions (AnchorSession::earlier), if any, after every query. Every session
+// must have been loaded with clouds. Throws common::Error for a bad config or order.
 // A query whose odometry is untrusted (AnchorSession::odometry) is anchored in pieces
 // (pieces.hpp): result.sessions still has one entry per query, with its pieces; the loops' indices
 // are the query's own keyframes; result.graph holds each piece as a session of its own.

@@ -5,6 +5,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -20,6 +21,7 @@ AnchoringProblem::AnchoringProblem(const std::vector<AnchorSession>& sessions,
     : sessions_(sessions), config_(config), progress_(progress), state_(sessions.size()) {
     for (size_t s = 0; s < sessions.size(); ++s) {
         state_[s] = {Eigen::Isometry3d::Identity(), sessions[s].poses, true};
+        if (s > 0 && !sessions[s].earlier) queries_ = s;
     }
 }
 
@@ -30,10 +32,10 @@ AnchorResult AnchoringProblem::Solve() {
                                                       size_t(config_.threads));
     }
     const auto t_start = Clock::now();
-    // 1-4: each query against the reference.
+    // 1-4: each query against the reference (and the earlier visits, 7).
     if (progress_) progress_("reference map", 0, 1);
-    const Target reference = TargetOf({{0, state_[0].World()}});
-    for (size_t q = 1; q < sessions_.size(); ++q) {
+    const Target reference = TargetOf(ReferenceAndEarlier());
+    for (size_t q = 1; q <= queries_; ++q) {
         outcomes_.push_back(AnchorQuery(q, reference));
     }
     for (size_t q : Anchored()) state_[q] = outcomes_[q - 1].state;
@@ -42,10 +44,16 @@ AnchorResult AnchoringProblem::Solve() {
     const std::vector<LoopRecord> joint = LoopsBetweenSessions();
     const std::vector<size_t> now = Anchored();
     for (size_t q : now) state_[q].fixed = false;
+    // 7: the earlier visits free too, each keyframe held by its prior.
+    for (size_t e = queries_ + 1; e < sessions_.size(); ++e) {
+        state_[e].fixed = false;
+        state_[e].held = true;
+    }
     if (!now.empty()) {
         OptimizeStates(sessions_, &state_, joint, config_, times(), {}, nullptr, &result_.graph);
     }
     Gather();
+    GatherEarlier();
     times()->total_s = common::SecondsSince(t_start);
     return std::move(result_);
 }
@@ -59,10 +67,18 @@ Target AnchoringProblem::TargetOf(const Members& members) {
     return target;
 }
 
+// The reference and the earlier visits' sessions at their world poses.
+AnchoringProblem::Members AnchoringProblem::ReferenceAndEarlier() const {
+    Members members{{0, state_[0].World()}};
+    for (size_t e = queries_ + 1; e < sessions_.size(); ++e)
+        members.push_back({e, state_[e].World()});
+    return members;
+}
+
 // The queries anchored so far, in input order.
 std::vector<size_t> AnchoringProblem::Anchored() const {
     std::vector<size_t> a;
-    for (size_t q = 1; q < sessions_.size(); ++q) {
+    for (size_t q = 1; q <= queries_; ++q) {
         if (outcomes_[q - 1].result.verdict == Verdict::kAnchored) a.push_back(q);
     }
     return a;
@@ -72,11 +88,11 @@ std::vector<size_t> AnchoringProblem::Anchored() const {
 // anchored so is placed at once, before the next is tried.
 void AnchoringProblem::RetryWithAnchored() {
     const std::vector<size_t> alone = Anchored();
-    if (alone.empty() || alone.size() + 1 >= sessions_.size()) return;
-    Members members{{0, state_[0].World()}};
+    if (alone.empty() || alone.size() >= queries_) return;
+    Members members = ReferenceAndEarlier();
     for (size_t q : alone) members.push_back({q, state_[q].World()});
     const Target all = TargetOf(members);
-    for (size_t q = 1; q < sessions_.size(); ++q) {
+    for (size_t q = 1; q <= queries_; ++q) {
         if (outcomes_[q - 1].result.verdict == Verdict::kAnchored) continue;
         QueryOutcome retry = AnchorQuery(q, all);
         if (retry.result.verdict == Verdict::kAnchored) {
@@ -119,7 +135,7 @@ std::vector<LoopRecord> AnchoringProblem::LoopsBetweenSessions() {
 
 // The result per query (an anchored one at its jointly optimised state) and every loop.
 void AnchoringProblem::Gather() {
-    for (size_t q = 1; q < sessions_.size(); ++q) {
+    for (size_t q = 1; q <= queries_; ++q) {
         QueryOutcome& o = outcomes_[q - 1];
         if (o.result.verdict == Verdict::kAnchored) {
             o.result.anchor = state_[q].anchor;
@@ -127,6 +143,23 @@ void AnchoringProblem::Gather() {
         }
         result_.sessions.push_back(o.result);
         for (LoopRecord& r : o.records) result_.loops.push_back(std::move(r));
+    }
+}
+
+// Each earlier visit's session: the accepted loops to it and how far the joint solution moved
+// its keyframes from their priors.
+void AnchoringProblem::GatherEarlier() {
+    for (size_t e = queries_ + 1; e < sessions_.size(); ++e) {
+        EarlierResult r{sessions_[e].name, sessions_[e].keyframes(), 0, 0.0};
+        for (const LoopRecord& l : result_.loops)
+            r.accepted_loops += l.accepted && l.target_session == e;
+        const std::vector<Eigen::Isometry3d> world = state_[e].World();
+        for (size_t k = 0; k < world.size(); ++k) {
+            r.max_move_m =
+                std::max(r.max_move_m,
+                         (world[k].translation() - sessions_[e].poses[k].translation()).norm());
+        }
+        result_.earlier.push_back(r);
     }
 }
 

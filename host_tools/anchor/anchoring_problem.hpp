@@ -112,13 +112,16 @@ private:
 
     // Solve's steps.
     Target TargetOf(const Members& members);
+    Members ReferenceAndEarlier() const;
     std::vector<size_t> Anchored() const;
     void RetryWithAnchored();
     std::vector<LoopRecord> LoopsBetweenSessions();
     void Gather();
+    void GatherEarlier();
 
     const std::vector<AnchorSession>& sessions_;
     const AnchorConfig& config_;
+    size_t queries_ = 0;  // sessions 1..queries_; the earlier visits' after them
     Progress progress_;
     std::vector<State> state_;            // per session
     std::vector<QueryOutcome> outcomes_;  // per query: outcomes_[q - 1]

@@ -22,6 +22,15 @@ PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions, const std::vect
     for (size_t s = 0; s < sessions.size(); ++s) {
         g.AddSession(state[s].poses, state[s].anchor, state[s].fixed);
         if (state[s].fixed) continue;
+        if (state[s].held) {
+            const double rad = config.earlier_sigma_deg * M_PI / 180;
+            common::Matrix6d info = common::Matrix6d::Zero();
+            info.diagonal() << 1 / std::pow(config.earlier_sigma_m, 2),
+                1 / std::pow(config.earlier_sigma_m, 2), 1 / std::pow(config.earlier_sigma_m, 2),
+                1 / (rad * rad), 1 / (rad * rad), 1 / (rad * rad);
+            for (size_t k = 0; k < sessions[s].poses.size(); ++k)
+                g.AddPrior({s, k, sessions[s].poses[k], info});
+        }
         for (const io::SessionEdge& e : sessions[s].session.edges) {
             g.AddOdometry(
                 {s, e.from, e.to, e.T_from_to, config.odometry_information_scale * e.information});

@@ -16,11 +16,14 @@ struct State {
     Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
     std::vector<Eigen::Isometry3d> poses;
     bool fixed = true;
+    // Held by a prior on each keyframe at the session's own (world) poses: an earlier visit.
+    bool held = false;
     std::vector<Eigen::Isometry3d> World() const;
 };
 
 // The graph of every session (fixed ones constant), the odometry edges of the free ones (their
-// information times config.odometry_information_scale) and the loops (those to the reference,
+// information times config.odometry_information_scale), a prior on each keyframe of the held
+// ones (at AnchorSession::poses, config.earlier_sigma_*) and the loops (those to the reference,
 // session 0, with the model's tolerance added: WithModelTolerance).
 posegraph::PoseGraph BuildGraph(const std::vector<AnchorSession>& sessions,
                                 const std::vector<State>& state,

@@ -19,6 +19,7 @@ namespace fs = std::filesystem;
 struct AnchorArgs {
     std::string reference;
     std::vector<std::string> queries;
+    std::vector<std::string> earlier;  // --prior-session
     std::string out;
     std::string outliers = "pcm";
     double inject_false_loops = 0;
@@ -68,6 +69,10 @@ int AnchorMain(const AnchorArgs& a) {
                    double(k) / double(dirs.size()));
         sessions.push_back(anchor::LoadAnchorSession(dirs[k], lo));
     }
+    for (const std::string& dir : a.earlier) {
+        bar.Update("reading " + fs::path(dir).filename().string(), 1.0);
+        sessions.push_back(anchor::LoadEarlierSession(dir, lo));
+    }
     // Two queries of one name would write to one folder: name them apart.
     for (size_t k = 1; k < sessions.size(); ++k) {
         for (size_t o = 1; o < k; ++o) {
@@ -85,6 +90,7 @@ int AnchorMain(const AnchorArgs& a) {
     const std::vector<fs::path> written =
         anchor::WriteAnchorOutput(a.out, sessions, r, config, a.overwrite);
     bar.Clear();
+    const size_t first_earlier = sessions.size() - r.earlier.size();
 
     bool all = true;
     for (const auto& s : r.sessions) all = all && s.verdict == anchor::Verdict::kAnchored;
@@ -125,6 +131,13 @@ int AnchorMain(const AnchorArgs& a) {
                       << " keyframes, t = (" << t.x() << ", " << t.y() << ", " << t.z() << ")\n";
         }
     }
+    for (size_t e = 0; e < r.earlier.size(); ++e) {
+        const anchor::EarlierResult& x = r.earlier[e];
+        std::cout << "earlier    " << x.name << " (" << sessions[first_earlier + e].dir.string()
+                  << "): " << x.keyframes << " keyframes, " << x.accepted_loops
+                  << " loops to it accepted, moved at most " << std::setprecision(1)
+                  << 100 * x.max_move_m << " cm from its prior\n";
+    }
     const anchor::StageTimes& t = r.times;
     std::cout << std::setprecision(2) << "time       " << t.descriptors_s << " s reading (clouds, "
               << "descriptors), " << t.map_s << " s maps, " << t.candidates_s << " s candidates, "
@@ -151,6 +164,12 @@ void AddAnchorCommand(CLI::App& app, int& exit_code) {
                     "A query session (repeatable): bimslam odometry's, or SC-A-LOAM/LT-mapper's "
                     "layout (Scans/, poses, times)")
         ->required();
+    cmd->add_option("--prior-session", args->earlier,
+                    "An earlier visit's anchored session in BIM coordinates (repeatable: a folder "
+                    "OUT/<name>/ that bimslam anchor or bimslam map wrote): a target with the "
+                    "reference, so loops to what it saw anchor walks through what the model lacks; "
+                    "held at its poses by a prior (2 cm, 0.2 deg) in the joint solution, not "
+                    "rewritten");
     cmd->add_option("-o,--output", args->out, "Output folder")->required();
     cmd->add_option("--outliers", args->outliers,
                     "How wrong loops are rejected: pcm (pairwise consistency), gnc (graduated "

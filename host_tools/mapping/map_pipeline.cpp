@@ -263,14 +263,46 @@ StepStamp OdometryStep(MapContext& c, Stepper& stepper, const fs::path& visit,
     return s;
 }
 
-// 3. Anchoring: the visit's sessions at once (loops between them help), against the reference.
+// An earlier visit whose anchoring the next visits use as a target: its folder, its label and
+// its anchor step's stamp.
+struct EarlierVisit {
+    fs::path dir;
+    std::string label;
+    StepStamp anchoring;
+};
+
+// The anchored sessions of the earlier visits (anchored or anchored in parts: the keyframes their
+// folders hold are in BIM coordinates), named "<label>/<name>".
+std::vector<anchor::AnchorSession> EarlierSessions(const std::vector<EarlierVisit>& earlier,
+                                                   const anchor::LoadOptions& lo) {
+    std::vector<anchor::AnchorSession> sessions;
+    for (const EarlierVisit& e : earlier) {
+        for (const std::string& name : AnchoredNames(e.dir / "anchor")) {
+            sessions.push_back(anchor::LoadEarlierSession(e.dir / "anchor" / name, lo));
+            sessions.back().name = e.label + "/" + name;
+        }
+    }
+    return sessions;
+}
+
+// 3. Anchoring: the visit's sessions at once (loops between them help), against the reference
+// and the earlier visits' anchored sessions (anchoring.hpp, step 7).
 StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
                      const std::string& label, const std::vector<RecordingInput>& recordings,
-                     const StepStamp& reference, const std::vector<StepStamp>& odometry) {
+                     const StepStamp& reference, const std::vector<StepStamp>& odometry,
+                     const std::vector<EarlierVisit>& earlier) {
     StepStamp anchoring("anchor");
     anchoring.AddUpstream(reference);
     for (const StepStamp& s : odometry) anchoring.AddUpstream(s);
     anchoring.AddParameter("anchor", AnchorParameters(c.config.anchor));
+    if (!earlier.empty()) {  // the visits before it: re-anchored, this one is anchored again
+        json before = json::array();
+        for (const EarlierVisit& e : earlier)
+            before.push_back({{"label", e.label}, {"anchor", e.anchoring.Digest()}});
+        anchoring.AddParameter("earlier_visits", before);
+        anchoring.AddParameter(
+            "earlier_sigma", {c.config.anchor.earlier_sigma_m, c.config.anchor.earlier_sigma_deg});
+    }
     const std::string step = "anchor " + label;
     stepper.Run(step, visit / "stamps", "anchor", anchoring, (visit / "odometry").string(), [&] {
         anchor::AnchorConfig ac = c.config.anchor;
@@ -286,6 +318,9 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
             sessions.push_back(
                 anchor::LoadAnchorSession(visit / "odometry" / recordings[k].name, lo));
         }
+        c.progress(step + ": reading the earlier visits", 1.0);
+        for (anchor::AnchorSession& s : EarlierSessions(earlier, lo))
+            sessions.push_back(std::move(s));
         const anchor::AnchorResult r =
             anchor::Anchor(sessions, ac, [&](const std::string& s, size_t d, size_t n) {
                 c.progress(step + ": " + s, n ? double(d) / double(n) : 0.0);
@@ -443,6 +478,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
     // Each visit in date order; an earlier one's stamps hold, so only new visits run.
     std::vector<json> summaries;
     std::vector<StepStamp> odometry, changes;
+    std::vector<EarlierVisit> earlier;  // the visits before the one in hand, in date order
     for (size_t v = 0; v < p.project.visits.size(); ++v) {
         const std::string& label = p.project.visits[v].label;
         const std::vector<RecordingInput>& recordings = p.visits[v];
@@ -451,7 +487,8 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
         for (const RecordingInput& r : recordings)
             odometry.push_back(OdometryStep(c, stepper, dir, r));
         const StepStamp anchoring =
-            AnchorStep(c, stepper, dir, label, recordings, reference, odometry);
+            AnchorStep(c, stepper, dir, label, recordings, reference, odometry, earlier);
+        earlier.push_back({dir, label, anchoring});
         changes.push_back(ChangesStep(c, stepper, dir, label, recordings, anchoring));
         summaries.push_back(BuildSummary(config.out, dir, p.project.model, recordings));
         WriteIfChanged(dir / "summary.json", summaries.back().dump(2) + "\n");

@@ -1,10 +1,13 @@
-// The model's tolerance added to a loop's information (host_tools/anchor/graph_state.hpp).
+// The model's tolerance added to a loop's information, and the priors that hold an earlier
+// visit's session (host_tools/anchor/graph_state.hpp).
 #include "host_tools/anchor/graph_state.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
+
+#include "algorithms/common/status.hpp"
 
 namespace bimslam::anchor {
 namespace {
@@ -49,6 +52,51 @@ TEST(ModelTolerance, UnconstrainedDirectionsStayWithoutInformation) {
     const Eigen::Matrix<double, 5, 5> expected =
         (hb.inverse() + Eigen::Matrix<double, 5, 5>(v.asDiagonal())).inverse();
     EXPECT_LT((got.bottomRightCorner<5, 5>() - expected).norm() / expected.norm(), 1e-9);
+}
+
+Eigen::Isometry3d At(double x, double y) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() << x, y, 0;
+    return T;
+}
+
+// The reference fixed, a query free and an earlier visit's session held: only the held one gets
+// priors, one per keyframe, at its own (world) poses with the configured sigma; fixed, it gets
+// none (while queries are anchored one by one, it is a target like the reference).
+TEST(EarlierSessions, AHeldSessionGetsAPriorPerKeyframeAtItsPoses) {
+    std::vector<AnchorSession> sessions(3);
+    sessions[0].poses = {At(0, 0)};
+    sessions[1].poses = {At(5, 0), At(6, 0)};
+    sessions[2].poses = {At(1, 2), At(2, 2), At(3, 2)};
+    sessions[2].earlier = true;
+    AnchorConfig config;
+    config.earlier_sigma_m = 0.05;
+    config.earlier_sigma_deg = 0.5;
+    std::vector<State> state(3);
+    for (size_t s = 0; s < 3; ++s) state[s] = {Eigen::Isometry3d::Identity(), sessions[s].poses};
+    state[1].fixed = false;
+    EXPECT_TRUE(BuildGraph(sessions, state, {}, config).priors().empty());
+    state[2].fixed = false;
+    state[2].held = true;
+    const posegraph::PoseGraph g = BuildGraph(sessions, state, {}, config);
+    ASSERT_EQ(g.priors().size(), 3u);
+    const double rad = 0.5 * M_PI / 180;
+    for (size_t k = 0; k < 3; ++k) {
+        const posegraph::PriorFactor& f = g.priors()[k];
+        EXPECT_EQ(f.session, 2u);
+        EXPECT_EQ(f.index, k);
+        EXPECT_TRUE(f.T_world_lidar.isApprox(sessions[2].poses[k]));
+        EXPECT_NEAR(f.information(0, 0), 1 / (0.05 * 0.05), 1e-6);
+        EXPECT_NEAR(f.information(5, 5), 1 / (rad * rad), 1e-3);
+        EXPECT_NEAR(f.information(0, 1), 0.0, 1e-12);
+    }
+}
+
+// Earlier visits' sessions come after every query (their indices follow the queries').
+TEST(EarlierSessions, AnEarlierSessionBeforeAQueryIsRefused) {
+    std::vector<AnchorSession> sessions(3);
+    sessions[1].earlier = true;
+    EXPECT_THROW(Anchor(sessions, AnchorConfig{}), common::Error);
 }
 
 }  // namespace

@@ -160,6 +160,35 @@ TEST(PoseGraph, TheCauchyLossKeepsOneWrongLoopFromPullingTheQuery) {
     EXPECT_LT((graph.WorldPose(q, 30).translation() - w.truth[30].translation()).norm(), 0.1);
 }
 
+// An earlier session held by priors at its poses, and a loop from the fixed reference that says
+// its second keyframe lies 2 cm off: the keyframe settles where the two agree by their
+// information (quadratic losses: the weighted mean), and the first keyframe, with no loop, stays.
+TEST(PoseGraph, APriorHoldsAKeyframeAgainstALoopByTheirInformation) {
+    for (const double prior_sigma : {0.01, 0.005}) {
+        PoseGraph graph;
+        graph.AddSession({Pose(1, 0, 0, 0)}, Eigen::Isometry3d::Identity(), true);
+        const std::vector<Eigen::Isometry3d> at = {Pose(0, 0, 0, 0), Pose(1, 0, 0, 0)};
+        const size_t s = graph.AddSession(at, Eigen::Isometry3d::Identity(), false);
+        const common::Matrix6d prior = common::Matrix6d::Identity() / (prior_sigma * prior_sigma);
+        for (size_t k = 0; k < 2; ++k) graph.AddPrior({s, k, at[k], prior});
+        const double loop_sigma = 0.01;
+        graph.AddLoop({0, 0, s, 1, Pose(0, 0.02, 0, 0),
+                       common::Matrix6d::Identity() / (loop_sigma * loop_sigma)});
+        PoseGraphConfig c;
+        c.robust_loops = false;
+        graph.Optimize(c);
+        const double w_loop = 1 / (loop_sigma * loop_sigma);
+        const double w_prior = 1 / (prior_sigma * prior_sigma);
+        const double expected = 0.02 * w_loop / (w_loop + w_prior);  // 1 cm, then 0.4 cm
+        EXPECT_NEAR(graph.WorldPose(s, 1).translation().y(), expected, 1e-4) << prior_sigma;
+        EXPECT_NEAR(graph.WorldPose(s, 0).translation().norm(), 0.0, 1e-4) << prior_sigma;
+    }
+    PoseGraph graph;
+    graph.AddSession({Pose(0, 0, 0, 0)}, Eigen::Isometry3d::Identity(), false);
+    EXPECT_THROW(graph.AddPrior({0, 1, Pose(0, 0, 0, 0), common::Matrix6d::Identity()}),
+                 common::Error);
+}
+
 TEST(PoseGraph, DegenerateInformationConstrainsOnlyWhatItMeasured) {
     // Information zero along x: a loop that says nothing about x cannot move the query along it.
     common::Matrix6d info = common::Matrix6d::Identity() * 1e4;
