@@ -92,10 +92,14 @@ void ReadMap(const std::filesystem::path& file, FoundChanges* f) {
     const io::PlyProperty* distance = ply.Find("scalar_distance");
     const io::PlyProperty* keyframes = ply.Find("scalar_keyframes");
     if (!distance || !keyframes) Bad(file, "no scalar_distance or scalar_keyframes property");
+    const io::PlyProperty* cls = ply.Find("scalar_class");
+    const io::PlyProperty* element = ply.Find("scalar_element");
     f->map.resize(ply.vertices.size());
     for (size_t i = 0; i < ply.vertices.size(); ++i) {
         f->map[i] = {ply.vertices[i], std::abs(float(distance->values[i])),
-                     uint32_t(std::max(0.0, keyframes->values[i]))};
+                     uint32_t(std::max(0.0, keyframes->values[i])),
+                     cls ? uint8_t(cls->values[i]) : uint8_t(255),
+                     element ? int32_t(element->values[i]) : -1};
     }
     f->has_map = true;
 }
@@ -223,6 +227,7 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
             e.ifc_class = optional("class");
             e.name = optional("name");
             e.storey = optional("storey");
+            if (column.count("index")) e.index = std::stoi(get("index"));
             e.expected_area_m2 = std::stod(get("expected_area_m2"));
             e.support_points = std::stoul(get("support_points"));
             e.offset = {std::stod(get("offset_x_m")), std::stod(get("offset_y_m")),

@@ -92,8 +92,10 @@ struct FoundChanges {
         Eigen::Vector3d offset = Eigen::Vector3d::Zero();
         bool moved = false;
         double moved_yaw_deg = 0;
-        // elements.csv's (storey: its name, "" when none).
+        // elements.csv's (storey: its name, "" when none; index: in the model's element list,
+        // map_bim.ply's scalar_element).
         std::string ifc_class = {}, name = {}, storey = {};
+        int index = -1;
     };
     std::vector<Object> objects;
     std::vector<Eigen::Vector3d> transients;  // centroids
@@ -105,6 +107,9 @@ struct FoundChanges {
         Eigen::Vector3f xyz;
         float model_distance_m = 0;
         uint32_t keyframes = 0;
+        // scalar_class and scalar_element (change_report.hpp; 255 and -1 in files without them).
+        uint8_t cls = 255;
+        int32_t element = -1;
     };
     std::vector<MapPoint> map;
     bool has_map = false;

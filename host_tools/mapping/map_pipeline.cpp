@@ -24,6 +24,7 @@
 #include "host_tools/changes/session_input.hpp"
 #include "host_tools/changes/survey_datum.hpp"
 #include "host_tools/mapping/asis_model.hpp"
+#include "host_tools/mapping/building_map.hpp"
 #include "host_tools/mapping/map_history.hpp"
 #include "host_tools/mapping/map_project.hpp"
 #include "host_tools/mapping/step_stamp.hpp"
@@ -414,6 +415,7 @@ void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
     history.AddParameter("history", HistoryConfig().ToJson());
     history.AddParameter("model_sha256", c.sha256);
     history.AddParameter("as_is", "model_asis.ifc");
+    history.AddParameter("building_map", "building_map.ply, 5 cm");
     const fs::path file = c.out / "history.json";
     stepper.Run("history", c.out / "stamps", "history", history, file.string(), [&] {
         std::vector<VisitFindings> visits;
@@ -424,6 +426,8 @@ void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
         }
         const json h = BuildHistory(visits);
         io::WriteFileAtomic(file, h.dump(1) + "\n");
+        c.progress("history: the building's map", 1.0);
+        WriteBuildingMap(c.out, visits, h);
         c.progress("history: the as-is model", 1.0);
         const change_detection::IfcUpdate asis =
             AsIsIfc(c.out, c.model_file.string(), io::ReadFileToString(c.model_file), c.Model(), h,
@@ -431,6 +435,10 @@ void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
         io::WriteFileAtomic(c.out / "model_asis.ifc", asis.text);
     });
     (*summary)["history"] = HistoryCounts(json::parse(io::ReadFileToString(file)));
+    const json map = json::parse(io::ReadFileToString(c.out / "building_map.json"));
+    json voxels = json::array();
+    for (const json& v : map.at("visits")) voxels.push_back(v.at("voxels"));
+    (*summary)["history"]["building_map_voxels"] = voxels;  // after each visit
 }
 
 // 6. The report of the newest visit, with the list of every visit (OUT/summary.json).

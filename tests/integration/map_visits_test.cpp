@@ -261,8 +261,19 @@ TEST(MapVisits, TheHistoryHoldsEveryVisitsVerdictsWhateverTheOrderVisitsWereAdde
     }
     EXPECT_TRUE(h["changes"][1].at("since_model").at("missing").empty());
     EXPECT_EQ(h["changes"][1].at("since_model").at("new_objects").size(), 1u);
+    // The building's map (item 5): after the second day, nothing of the crate's faces (gone),
+    // and its size per visit in the summary.
+    const json bm = ReadJson(all / "building_map.json");
+    ASSERT_EQ(bm.at("visits").size(), 2u) << bm.dump(1);
+    EXPECT_GT(bm["visits"][1].at("dropped").at("superseded_objects").get<size_t>(), 50u)
+        << bm.dump(1);
+    EXPECT_GT(bm["visits"][1].at("dropped").at("seen_again").get<size_t>(),
+              bm["visits"][0].at("voxels").get<size_t>() / 4)
+        << "the second day saw most of what the first saw";
     // The project's summary counts the newest visit's changes.
     const json s = ReadJson(one / "summary.json");
+    EXPECT_EQ(s.at("history").at("building_map_voxels"),
+              json::array({bm["visits"][0]["voxels"], bm["visits"][1]["voxels"]}));
     EXPECT_EQ(s.at("history").at("visits"), 2);
     EXPECT_EQ(s["history"].at("since_previous").at("previous"), kDayA);
     EXPECT_EQ(s["history"]["since_previous"].at("gone"), 1);
