@@ -93,44 +93,8 @@ int Odometry(const OdometryArgs& a) {
     const double p99 = replay::Percentile(rep.scan_ms, 0.99);
     const double max = replay::Percentile(rep.scan_ms, 1.0);
     if (a.json) {
-        nlohmann::json j = {{"session", a.out},
-                            {"scans", rep.scans},
-                            {"keyframes", rep.keyframes},
-                            {"incomplete_frames", rep.incomplete_frames},
-                            {"imu_samples", rep.imu_samples},
-                            {"body_samples", rep.body_samples},
-                            {"used_can", rep.used_can},
-                            {"mount_from_capture", rep.mount_from_capture},
-                            {"distance_m", rep.distance_m},
-                            {"capture_s", rep.capture_s},
-                            {"wall_s", rep.wall_s},
-                            {"scan_ms_p50", p50},
-                            {"scan_ms_p99", p99},
-                            {"scan_ms_max", max},
-                            {"scan_cpu_ms_p50", replay::Percentile(rep.scan_cpu_ms, 0.5)},
-                            {"scan_cpu_ms_p99", replay::Percentile(rep.scan_cpu_ms, 0.99)},
-                            {"scan_cpu_ms_max", replay::Percentile(rep.scan_cpu_ms, 1.0)},
-                            {"preprocess_ms_p50", replay::Percentile(rep.preprocess_ms, 0.5)},
-                            {"preprocess_ms_p99", replay::Percentile(rep.preprocess_ms, 0.99)},
-                            {"register_ms_p50", replay::Percentile(rep.register_ms, 0.5)},
-                            {"register_ms_p99", replay::Percentile(rep.register_ms, 0.99)},
-                            {"map_ms_p50", replay::Percentile(rep.map_ms, 0.5)},
-                            {"map_ms_p99", replay::Percentile(rep.map_ms, 0.99)},
-                            {"mean_registration_points", rep.mean_registration_points},
-                            {"mean_iterations", rep.mean_iterations},
-                            {"mean_map_points", rep.mean_map_points},
-                            {"over_budget", rep.over_budget},
-                            {"degenerate", rep.degenerate},
-                            {"failed", rep.failed},
-                            {"check_failed", rep.check_failed},
-                            {"verdict", rep.trust.Verdict()},
-                            {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
-                            {"bridged_by_prior", rep.trust.bridged_by_prior()},
-                            {"bridged_over_budget", rep.trust.bridged_over_budget()},
-                            {"not_converged", rep.not_converged},
-                            {"contradicted_gyro", rep.contradicted_gyro},
-                            {"contradicted_legs", rep.contradicted_legs},
-                            {"notes", rep.notes}};
+        nlohmann::json j = replay::ReportJson(rep);
+        j["session"] = a.out;
         std::cout << j.dump(2) << "\n";
         return kExitOk;
     }

@@ -202,31 +202,11 @@ StepStamp ReferenceStep(MapContext& c, Stepper& stepper, const ReferenceSensor& 
 
 // The odometry's figures and every scan's time: odometry/<name>.json.
 json OdometryStats(const RecordingInput& r, const replay::CaptureOdometryReport& rep) {
-    return {{"recording", r.path.string()},
-            {"pcap", r.files.packets.string()},
-            {"scans", rep.scans},
-            {"keyframes", rep.keyframes},
-            {"incomplete_frames", rep.incomplete_frames},
-            {"imu_samples", rep.imu_samples},
-            {"body_samples", rep.body_samples},
-            {"used_can", rep.used_can},
-            {"distance_m", rep.distance_m},
-            {"capture_s", rep.capture_s},
-            {"wall_s", rep.wall_s},
-            {"scan_ms_p50", replay::Percentile(rep.scan_ms, 0.5)},
-            {"scan_ms_p99", replay::Percentile(rep.scan_ms, 0.99)},
-            {"scan_ms_max", replay::Percentile(rep.scan_ms, 1.0)},
-            {"over_budget", rep.over_budget},
-            {"degenerate", rep.degenerate},
-            {"failed", rep.failed},
-            {"check_failed", rep.check_failed},
-            {"verdict", rep.trust.Verdict()},
-            {"verdict_text", rep.trust.Describe()},
-            {"failed_stretches", rep.trust.ToJson().at("failed_stretches")},
-            {"bridged_by_prior", rep.trust.bridged_by_prior()},
-            {"bridged_over_budget", rep.trust.bridged_over_budget()},
-            {"scan_ms", rep.scan_ms},
-            {"notes", rep.notes}};
+    json j = replay::ReportJson(rep);
+    j["recording"] = r.path.string();
+    j["pcap"] = r.files.packets.string();
+    j["scan_ms"] = rep.scan_ms;
+    return j;
 }
 
 // 2. Odometry of one recording of a visit, into the visit's folder.

@@ -51,6 +51,48 @@ double Percentile(std::vector<double> v, double p) {
     return v[std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5))];
 }
 
+nlohmann::json ReportJson(const CaptureOdometryReport& r) {
+    const auto p = [](const std::vector<double>& v, double q) { return Percentile(v, q); };
+    return {{"scans", r.scans},
+            {"keyframes", r.keyframes},
+            {"incomplete_frames", r.incomplete_frames},
+            {"imu_samples", r.imu_samples},
+            {"body_samples", r.body_samples},
+            {"used_can", r.used_can},
+            {"mount_from_capture", r.mount_from_capture},
+            {"distance_m", r.distance_m},
+            {"capture_s", r.capture_s},
+            {"wall_s", r.wall_s},
+            {"scan_ms_p50", p(r.scan_ms, 0.5)},
+            {"scan_ms_p99", p(r.scan_ms, 0.99)},
+            {"scan_ms_max", p(r.scan_ms, 1.0)},
+            {"scan_cpu_ms_p50", p(r.scan_cpu_ms, 0.5)},
+            {"scan_cpu_ms_p99", p(r.scan_cpu_ms, 0.99)},
+            {"scan_cpu_ms_max", p(r.scan_cpu_ms, 1.0)},
+            {"preprocess_ms_p50", p(r.preprocess_ms, 0.5)},
+            {"preprocess_ms_p99", p(r.preprocess_ms, 0.99)},
+            {"register_ms_p50", p(r.register_ms, 0.5)},
+            {"register_ms_p99", p(r.register_ms, 0.99)},
+            {"map_ms_p50", p(r.map_ms, 0.5)},
+            {"map_ms_p99", p(r.map_ms, 0.99)},
+            {"mean_registration_points", r.mean_registration_points},
+            {"mean_iterations", r.mean_iterations},
+            {"mean_map_points", r.mean_map_points},
+            {"over_budget", r.over_budget},
+            {"degenerate", r.degenerate},
+            {"failed", r.failed},
+            {"check_failed", r.check_failed},
+            {"verdict", r.trust.Verdict()},
+            {"verdict_text", r.trust.Describe()},
+            {"failed_stretches", r.trust.ToJson().at("failed_stretches")},
+            {"bridged_by_prior", r.trust.bridged_by_prior()},
+            {"bridged_over_budget", r.trust.bridged_over_budget()},
+            {"not_converged", r.not_converged},
+            {"contradicted_gyro", r.contradicted_gyro},
+            {"contradicted_legs", r.contradicted_legs},
+            {"notes", r.notes}};
+}
+
 CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     const auto wall_start = std::chrono::steady_clock::now();
     CaptureOdometryReport report;

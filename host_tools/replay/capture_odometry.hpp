@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -82,5 +83,10 @@ double Percentile(std::vector<double> v, double p);
 
 // Throws common::Error / FileError naming the file on missing or bad input (exit 2 material).
 CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& options);
+
+// The report's figures as `bimslam odometry --json` prints them and `bimslam map` keeps them
+// (odometry/<recording>.json): counts, the per-scan time's percentiles (wall and CPU, by stage),
+// the failures and the run's verdict with its stretches; not the per-scan times themselves.
+nlohmann::json ReportJson(const CaptureOdometryReport& report);
 
 }  // namespace bimslam::replay

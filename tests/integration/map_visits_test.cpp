@@ -114,7 +114,10 @@ json Comparable(json s) {
         r.erase("path");
         if (r["odometry"].is_object()) {
             for (const char* k :
-                 {"recording", "pcap", "wall_s", "scan_ms_p50", "scan_ms_p99", "scan_ms_max"}) {
+                 {"recording", "pcap", "wall_s", "scan_ms_p50", "scan_ms_p99", "scan_ms_max",
+                  "scan_cpu_ms_p50", "scan_cpu_ms_p99", "scan_cpu_ms_max", "preprocess_ms_p50",
+                  "preprocess_ms_p99", "register_ms_p50", "register_ms_p99", "map_ms_p50",
+                  "map_ms_p99"}) {
                 r["odometry"].erase(k);
             }
         }
