@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
@@ -103,14 +104,19 @@ bim::PathConfig PathConfigFor(const Scenario& s) {
     return c;
 }
 
-Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
+Walk PlanWalk(const bim::BimModel& model_in, int storey, const Scenario& s) {
+    // With edits.removed.walk_through the removed elements are not in the way (PlanningModel).
+    const std::optional<bim::BimModel> opened =
+        s.edits.removed.walk_through ? std::optional(PlanningModel(model_in, s.edits))
+                                     : std::nullopt;
+    const bim::BimModel& model = opened ? *opened : model_in;
     Walk w;
     bim::GridConfig gc;
     w.grid = bim::BuildOccupancyGrid(model, storey, gc);
     // What the scenario adds or moves is in the way too: a walk through the added cabinet put the
     // sensor inside it for 0.7 s (every point within the odometry's minimum range).
     size_t cut_off = 0;
-    for (const Obstacle& o : WalkObstacles(model, s.edits)) {
+    for (const Obstacle& o : WalkObstacles(model_in, s.edits)) {
         if (bim::AddObstacle(w.grid, o.mesh, gc.object_height_m) == 0) continue;
         const size_t now = CutOffCells(w.grid);
         if (now > cut_off + size_t(kCutOffNoteM2 / (w.grid.resolution * w.grid.resolution))) {

@@ -193,11 +193,7 @@ std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec&
     return out;
 }
 
-World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
-                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
-                 uint64_t seed) {
-    bim::BimModel model = model_in;  // vertices are moved in place
-    World w;
+std::vector<uint8_t> RemovedElementMask(const bim::BimModel& model, const EditsSpec& edits) {
     std::vector<uint8_t> removed(model.elements.size(), 0);
     for (size_t k = 0; k < edits.removed.global_ids.size(); ++k) {
         const size_t e = FindElement(model, edits.removed.global_ids[k],
@@ -214,6 +210,23 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
                  "': no element of the model has this class");
         }
     }
+    return removed;
+}
+
+bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits) {
+    const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
+    const auto first = model.elements.data();
+    return bim::SelectElements(model, [&](const bim::BimElement& e) {
+        return !edits.removed.walk_through || !removed[size_t(&e - first)];
+    });
+}
+
+World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
+                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
+                 uint64_t seed) {
+    bim::BimModel model = model_in;  // vertices are moved in place
+    World w;
+    const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
     for (size_t e = 0; e < model.elements.size(); ++e) {
         if (removed[e]) w.changes.push_back(ChangeOf(model, e, "removed"));
     }

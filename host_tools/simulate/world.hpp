@@ -71,6 +71,15 @@ World BuildWorld(const bim::BimModel& model, int storey, const EditsSpec& edits,
                  const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
                  uint64_t seed);
 
+// Per element of the model: 1 when the edits remove it (edits.removed: its GlobalIds and classes).
+// Throws as BuildWorld does for a GlobalId or class that matches nothing.
+std::vector<uint8_t> RemovedElementMask(const bim::BimModel& model, const EditsSpec& edits);
+
+// The model the walk is planned on: with edits.removed.walk_through, the model without the
+// removed elements (a demolished wall opens the way); else the model as it is. A moved element's
+// old place stays in it.
+bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits);
+
 // What the scenario puts on the floor that the model does not have: the added boxes, cylinders
 // and meshes, and the moved elements at their new places (model coordinates). The walk goes
 // around them (walk.cpp). Throws as BuildWorld does for a GlobalId that matches nothing or a
