@@ -278,7 +278,8 @@ int StoreyUnder(const bim::BimModel& model, double z) {
 }
 
 BuildingWalk PlanBuildingWalk(const bim::BimModel& model_in, const Scenario& s) {
-    // With edits.removed.walk_through the removed elements are not in the way (PlanningModel).
+    // With edits.removed.walk_through the removed elements are not in the way, and the added
+    // objects are on the grid before its free space is found (PlanningModel).
     const std::optional<bim::BimModel> opened =
         s.edits.removed.walk_through ? std::optional(PlanningModel(model_in, s.edits))
                                      : std::nullopt;
@@ -290,7 +291,7 @@ BuildingWalk PlanBuildingWalk(const bim::BimModel& model_in, const Scenario& s) 
     }
     BuildingWalk w;
     const bool go1 = s.platform == Platform::kGo1;
-    w.graph = bim::BuildBuildingGraph(model, bim::GridConfig{},
+    w.graph = bim::BuildBuildingGraph(model, GridConfigFor(model, s),
                                       go1 ? bim::StairLimits::Go1() : bim::StairLimits{},
                                       PathConfigFor(s).clearance_m, bim::DefaultWalkStorey(model));
     w.notes = w.graph.problems;

@@ -213,12 +213,33 @@ std::vector<uint8_t> RemovedElementMask(const bim::BimModel& model, const EditsS
     return removed;
 }
 
-bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits) {
+bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits, bool with_objects) {
     const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
     const auto first = model.elements.data();
-    return bim::SelectElements(model, [&](const bim::BimElement& e) {
+    bim::BimModel out = bim::SelectElements(model, [&](const bim::BimElement& e) {
         return !edits.removed.walk_through || !removed[size_t(&e - first)];
     });
+    if (!edits.removed.walk_through || !with_objects) return out;
+    // The added objects as elements of their own: objects (not structure), so that their
+    // footprints below the grid's object height are occupied, as AddObstacle marks them.
+    for (Obstacle& o : WalkObstacles(model, edits)) {
+        bim::BimElement e;
+        e.global_id = o.edit;
+        e.ifc_class = "IfcBuildingElementProxy";
+        e.name = o.edit;
+        e.role = bim::ElementRole::kTransient;
+        e.first_triangle = uint32_t(out.mesh.triangles.size());
+        e.triangle_count = uint32_t(o.mesh.triangles.size());
+        const auto base = uint32_t(out.mesh.vertices.size());
+        out.mesh.vertices.insert(out.mesh.vertices.end(), o.mesh.vertices.begin(),
+                                 o.mesh.vertices.end());
+        for (const auto& t : o.mesh.triangles) {
+            out.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+            out.triangle_element.push_back(uint32_t(out.elements.size()));
+        }
+        out.elements.push_back(std::move(e));
+    }
+    return out;
 }
 
 World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,

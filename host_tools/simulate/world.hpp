@@ -75,10 +75,15 @@ World BuildWorld(const bim::BimModel& model, int storey, const EditsSpec& edits,
 // Throws as BuildWorld does for a GlobalId or class that matches nothing.
 std::vector<uint8_t> RemovedElementMask(const bim::BimModel& model, const EditsSpec& edits);
 
-// The model the walk is planned on: with edits.removed.walk_through, the model without the
-// removed elements (a demolished wall opens the way); else the model as it is. A moved element's
-// old place stays in it.
-bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits);
+// The model the walk is planned on. Without edits.removed.walk_through: the model as it is (the
+// scenario's objects are put on the walk's grid after its free space is found, AddObstacle). With
+// it (a visit's default): the model without the removed elements (a demolished wall opens the
+// way) and, `with_objects`, with the added objects and the moved elements at their new places
+// (WalkObstacles) as elements of their own, so that they are on the grid before its free space is
+// found: walls added outside the model close a room the walk can enter (through a door to the
+// outside, or where a demolished facade stood). A moved element's old place stays in it.
+bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits,
+                            bool with_objects = true);
 
 // What the scenario puts on the floor that the model does not have: the added boxes, cylinders
 // and meshes, and the moved elements at their new places (model coordinates). The walk goes
