@@ -9,6 +9,7 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/common/utc_time.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "host_tools/simulate/world.hpp"
 
 namespace bimslam::simulate {
 namespace {
@@ -84,11 +85,21 @@ const json* Lookup(const std::map<std::string, json>& m, const std::string& key)
     return it == m.end() ? nullptr : &it->second;
 }
 
-json ObjectChanges(const EditsSpec& earlier, const json& earlier_changes, const EditsSpec& later,
-                   const json& later_changes) {
-    const std::map<std::string, Placed> a = NamedObjects(earlier), b = NamedObjects(later);
-    const auto hits_a = ByKey(earlier_changes, "added", true);
-    const auto hits_b = ByKey(later_changes, "added", true);
+bool SameObject(const Placed& a, const Placed& b) { return a.kind == b.kind && a.shape == b.shape; }
+
+// An absent object's key in a HitWatch: by its place too, so that an object gone since two
+// earlier visits where it stood in one place is cast once (two coincident copies would share its
+// beams between them).
+std::string AbsentKey(const std::string& name, const Placed& p) {
+    return p.kind + "/" + name + " " + p.shape + " at " + Xyz(p.at).dump() + " yaw " +
+           json(p.yaw_deg).dump();
+}
+
+json ObjectChanges(const VisitTruth& earlier, const VisitTruth& later) {
+    const std::map<std::string, Placed> a = NamedObjects(earlier.scenario.edits);
+    const std::map<std::string, Placed> b = NamedObjects(later.scenario.edits);
+    const auto hits_a = ByKey(earlier.changes, "added", true);
+    const auto hits_b = ByKey(later.changes, "added", true);
     json added = json::array(), gone = json::array(), moved = json::array(),
          unchanged = json::array();
     auto item = [&](const std::string& name, const Placed& p, bool in_earlier, bool in_later) {
@@ -100,8 +111,12 @@ json ObjectChanges(const EditsSpec& earlier, const json& earlier_changes, const 
     };
     for (const auto& [name, p] : a) {
         const auto it = b.find(name);
-        if (it == b.end() || it->second.kind != p.kind || it->second.shape != p.shape) {
-            gone.push_back(item(name, p, true, false));
+        if (it == b.end() || !SameObject(it->second, p)) {
+            json j = item(name, p, true, false);
+            // The later walk's beams on where it stood (VisitWatch).
+            const auto seen = later.watched_hits.find(AbsentKey(name, p));
+            if (seen != later.watched_hits.end()) j["beam_hits"] = seen->second;
+            gone.push_back(j);
             continue;
         }
         const Placed& q = it->second;
@@ -120,9 +135,8 @@ json ObjectChanges(const EditsSpec& earlier, const json& earlier_changes, const 
     }
     for (const auto& [name, q] : b) {
         const auto it = a.find(name);
-        if (it == a.end() || it->second.kind != q.kind || it->second.shape != q.shape) {
+        if (it == a.end() || !SameObject(it->second, q))
             added.push_back(item(name, q, false, true));
-        }
     }
     return {{"new", added}, {"gone", gone}, {"moved", moved}, {"unchanged", unchanged}};
 }
@@ -140,11 +154,17 @@ std::pair<Eigen::Vector3d, double> Placement(const json* moved) {
             (*moved)["yaw_deg"].get<double>()};
 }
 
-json ElementChanges(const json& earlier_changes, const json& later_changes) {
-    const auto removed_a = ByKey(earlier_changes, "removed", false);
-    const auto removed_b = ByKey(later_changes, "removed", false);
-    const auto moved_a = ByKey(earlier_changes, "moved", false);
-    const auto moved_b = ByKey(later_changes, "moved", false);
+// The later walk's hits on an element that is no change of the later visit (VisitWatch).
+void AddWatchedHits(json& j, const VisitTruth& later, const std::string& id) {
+    const auto seen = later.watched_hits.find(id);
+    if (seen != later.watched_hits.end()) j["beam_hits"] = seen->second;
+}
+
+json ElementChanges(const VisitTruth& earlier, const VisitTruth& later) {
+    const auto removed_a = ByKey(earlier.changes, "removed", false);
+    const auto removed_b = ByKey(later.changes, "removed", false);
+    const auto moved_a = ByKey(earlier.changes, "moved", false);
+    const auto moved_b = ByKey(later.changes, "moved", false);
     json newly_removed = json::array(), rebuilt = json::array(), newly_moved = json::array();
     for (const auto& [id, e] : removed_b) {
         if (removed_a.count(id)) continue;
@@ -156,6 +176,7 @@ json ElementChanges(const json& earlier_changes, const json& later_changes) {
         if (removed_b.count(id)) continue;
         json j = ElementOf(e);
         AddHits(j, &e, Lookup(moved_b, id));
+        if (!j.contains("beam_hits")) AddWatchedHits(j, later, id);
         rebuilt.push_back(j);
     }
     // Every element moved in either visit (and present in both): placed differently?
@@ -174,6 +195,7 @@ json ElementChanges(const json& earlier_changes, const json& later_changes) {
         j["yaw_deg"] = yaw;
         j["at_model_place"] = b == nullptr || (*b)["reason"] != "moved";
         AddHits(j, a, b);
+        if (!j.contains("beam_hits")) AddWatchedHits(j, later, id);
         newly_moved.push_back(j);
     }
     return {{"newly_removed", newly_removed}, {"rebuilt", rebuilt}, {"newly_moved", newly_moved}};
@@ -194,10 +216,32 @@ std::vector<size_t> VisitsByDate(const Scenario& s) {
     return order;
 }
 
-json VisitPairTruth(const Scenario& earlier, const json& earlier_changes, const Scenario& later,
-                    const json& later_changes) {
-    return {{"objects", ObjectChanges(earlier.edits, earlier_changes, later.edits, later_changes)},
-            {"elements", ElementChanges(earlier_changes, later_changes)}};
+HitWatch VisitWatch(const std::vector<VisitTruth>& earlier, const Scenario& later) {
+    HitWatch watch;
+    const std::map<std::string, Placed> now = NamedObjects(later.edits);
+    for (const VisitTruth& v : earlier) {
+        const std::map<std::string, common::TriangleMesh> meshes =
+            NamedObjectMeshes(v.scenario.edits);
+        for (const auto& [name, p] : NamedObjects(v.scenario.edits)) {
+            const auto it = now.find(name);
+            if (it != now.end() && SameObject(it->second, p)) continue;
+            watch.absent[AbsentKey(name, p)] = meshes.at(p.kind + "/" + name);
+        }
+        for (const char* list : {"removed", "moved"}) {
+            for (const json& e : v.changes[list]) watch.elements.push_back(e["global_id"]);
+        }
+    }
+    std::sort(watch.elements.begin(), watch.elements.end());
+    watch.elements.erase(std::unique(watch.elements.begin(), watch.elements.end()),
+                         watch.elements.end());
+    return watch;
+}
+
+json VisitPairTruth(const VisitTruth& earlier, const VisitTruth& later) {
+    return {{"earlier", earlier.label},
+            {"later", later.label},
+            {"objects", ObjectChanges(earlier, later)},
+            {"elements", ElementChanges(earlier, later)}};
 }
 
 std::vector<VisitCapture> SimulateVisits(const Scenario& s, const bim::BimModel& model,
@@ -210,41 +254,36 @@ std::vector<VisitCapture> SimulateVisits(const Scenario& s, const bim::BimModel&
     }
     const std::vector<size_t> order = VisitsByDate(s);
     std::vector<VisitCapture> out;
-    std::vector<Scenario> scenarios;
-    std::vector<json> changes;
+    std::vector<VisitTruth> truth;
+    json visits = json::array(), pairs = json::array();
     for (size_t k = 0; k < order.size(); ++k) {
         const VisitSpec& v = s.visits[order[k]];
-        scenarios.push_back(VisitScenario(s, order[k]));
+        VisitTruth t{v.label, VisitScenario(s, order[k]), json(), {}};
         const auto part = [&](double f) {
             if (progress) progress((double(k) + f) / double(order.size()));
         };
         try {
-            out.push_back(
-                {v.label, v.date,
-                 SimulateCapture(scenarios.back(), model, model_sha256, dir / v.label, part)});
+            out.push_back({v.label, v.date,
+                           SimulateCapture(t.scenario, model, model_sha256, dir / v.label, part,
+                                           VisitWatch(truth, t.scenario))});
         } catch (const common::FileError&) {
             throw;
         } catch (const common::Error& e) {
             throw common::Error(e.code(), "visit '" + v.label + "': " + e.what());
         }
-        changes.push_back(ReadJsonFile(dir / v.label / "changes.json"));
-    }
-
-    json visits = json::array(), pairs = json::array();
-    for (size_t k = 0; k < out.size(); ++k) {
-        const Scenario& sc = scenarios[k];
-        visits.push_back({{"label", out[k].label},
-                          {"date", common::FormatUtcTime(CaptureStartNs(sc))},
-                          {"start_ns", CaptureStartNs(sc)},
-                          {"folder", out[k].label},
-                          {"platform", ToString(sc.platform)}});
-        for (size_t j = 0; j < k; ++j) {
-            json pair = VisitPairTruth(scenarios[j], changes[j], sc, changes[k]);
-            pair["earlier"] = out[j].label;
-            pair["later"] = out[k].label;
+        t.changes = ReadJsonFile(dir / v.label / "changes.json");
+        t.watched_hits = out.back().report.watched_hits;
+        visits.push_back({{"label", v.label},
+                          {"date", common::FormatUtcTime(CaptureStartNs(t.scenario))},
+                          {"start_ns", CaptureStartNs(t.scenario)},
+                          {"folder", v.label},
+                          {"platform", ToString(t.scenario.platform)}});
+        for (size_t j = 0; j < truth.size(); ++j) {
+            json pair = VisitPairTruth(truth[j], t);
             pair["consecutive"] = j + 1 == k;
             pairs.push_back(pair);
         }
+        truth.push_back(std::move(t));
     }
     const json doc = {
         {"format", "bimslam-visits"},

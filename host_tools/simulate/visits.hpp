@@ -13,18 +13,22 @@
 //   elements: `newly_removed` (removed in the later, present in the earlier), `rebuilt` (removed
 //   in the earlier, present again), `newly_moved` (placed differently: translation and yaw from
 //   the earlier place to the later, an element moved back to its modelled place included).
-// Each item carries the beam hits (beam_hits.hpp) of the visits that have it in their
-// changes.json: `beam_hits` (the later's), `beam_hits_earlier`, so that scores count only what a
-// walk saw.
+// Each item carries the beams (beam_hits.hpp) each walk put on it: `beam_hits` (the later walk's)
+// and `beam_hits_earlier`, so that scores count only what a walk saw. Where a thing is not in a
+// visit, its count is of the beams that would have hit it first: a gone object's `beam_hits` is the
+// later walk's on where it stood, a newly removed element's as in changes.json. A rebuilt element's
+// `beam_hits` are the later walk's returns on it.
 #pragma once
 
 #include <filesystem>
 #include <functional>
-#include <nlohmann/json_fwd.hpp>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "host_tools/bim/bim_model.hpp"
+#include "host_tools/simulate/beam_hits.hpp"
 #include "host_tools/simulate/scenario.hpp"
 #include "host_tools/simulate/simulate.hpp"
 
@@ -51,9 +55,23 @@ std::vector<VisitCapture> SimulateVisits(const Scenario& scenario, const bim::Bi
                                          const std::filesystem::path& dir,
                                          const std::function<void(double)>& progress = {});
 
-// What changed from the earlier visit to the later (one entry of visits.json's `pairs`, without
-// the labels): from their scenarios (VisitScenario) and their changes.json.
-nlohmann::json VisitPairTruth(const Scenario& earlier, const nlohmann::json& earlier_changes,
-                              const Scenario& later, const nlohmann::json& later_changes);
+// One simulated visit, as the pair truth reads it.
+struct VisitTruth {
+    std::string label;
+    Scenario scenario;       // VisitScenario
+    nlohmann::json changes;  // its changes.json
+    // The beams of its walk on what the visits before it had and it lacks (VisitWatch): an
+    // earlier visit's object now gone (by kind, name, shape and place), an element removed or
+    // moved in an earlier visit (by GlobalId).
+    std::map<std::string, size_t> watched_hits;
+};
+
+// What the walk of `later` is to watch for the pair truth: the objects of the `earlier` visits
+// that it does not have (by name and shape, as they stood then), and the elements they removed
+// or moved. Throws what reading a mesh file throws.
+HitWatch VisitWatch(const std::vector<VisitTruth>& earlier, const Scenario& later);
+
+// What changed from the earlier visit to the later (one entry of visits.json's `pairs`).
+nlohmann::json VisitPairTruth(const VisitTruth& earlier, const VisitTruth& later);
 
 }  // namespace bimslam::simulate

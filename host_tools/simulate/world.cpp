@@ -158,6 +158,19 @@ size_t FindElement(const bim::BimModel& m, const std::string& global_id, const s
 
 }  // namespace
 
+std::map<std::string, common::TriangleMesh> NamedObjectMeshes(const EditsSpec& edits) {
+    std::map<std::string, common::TriangleMesh> out;
+    for (const AddedBox& b : edits.boxes) {
+        out["box/" + b.name] = simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg);
+    }
+    for (const AddedCylinder& c : edits.cylinders) {
+        out["cylinder/" + c.name] = simulation::CylinderMesh(c.base, c.radius_m, c.height_m);
+    }
+    for (const AddedMesh& m : edits.meshes) out["mesh/" + m.name] = PlacedMesh(m);
+    for (const AddedMirror& m : edits.mirrors) out["mirror/" + m.name] = MirrorMesh(m);
+    return out;
+}
+
 std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits) {
     std::vector<Obstacle> out;
     const auto name = [](const std::string& field, size_t k, const std::string& n) {

@@ -19,6 +19,7 @@
 // (moving_doors.hpp) build them per scan at their position at that time.
 #pragma once
 
+#include <map>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
@@ -94,6 +95,10 @@ struct Obstacle {
     common::TriangleMesh mesh;
 };
 std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits);
+
+// The scenario's boxes, cylinders, meshes and mirrors as BuildWorld places them, by "kind/name"
+// (kind as in changes.json: box, cylinder, mesh, mirror). Throws what reading a mesh file throws.
+std::map<std::string, common::TriangleMesh> NamedObjectMeshes(const EditsSpec& edits);
 
 // The people at time t (seconds), as closed cylinders with triangle ids kPersonIdBase + person.
 common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double floor_z, double t,
