@@ -28,9 +28,20 @@
 
 namespace bimslam::simulate {
 
+// What a walk of several visits asks of each walk beyond its own changes (visits.hpp), counted the
+// same way and reported by key, not in changes.json:
+//   absent: things not in this world (an earlier visit's object now gone), cast along the beams as
+//     removed elements are: a beam counts where it would have hit the thing before what it hit;
+//   elements: elements of the model by GlobalId (one rebuilt since an earlier visit): the
+//     returns on them.
+struct HitWatch {
+    std::map<std::string, common::TriangleMesh> absent;
+    std::vector<std::string> elements;
+};
+
 class BeamHitCounter {
 public:
-    BeamHitCounter(const bim::BimModel& model, const World& world);
+    BeamHitCounter(const bim::BimModel& model, const World& world, const HitWatch& watch = {});
 
     // One frame: `image` as simulated from the per-column poses.
     void Count(const simulation::LidarModel& lidar, std::span<const Eigen::Isometry3d> poses,
@@ -41,6 +52,8 @@ public:
 
     size_t HitsOfAdded(size_t k) const;
     size_t HitsOfElement(const std::string& global_id) const;
+    // The hits on what the HitWatch named, by its key (absent) or GlobalId (elements).
+    std::map<std::string, size_t> Watched() const;
 
 private:
     std::vector<size_t> added_hits_;
@@ -48,6 +61,10 @@ private:
     std::map<uint32_t, std::string> element_ids_;  // element index -> GlobalId (the changed)
     std::unique_ptr<simulation::Scene> removed_;   // the removed elements' own geometry
     simulation::ScanImage removed_image_;
+    std::vector<std::string> absent_keys_;  // HitWatch::absent, by scene id
+    std::vector<size_t> absent_hits_;
+    std::vector<std::string> watched_elements_;
+    std::unique_ptr<simulation::Scene> absent_;
 };
 
 }  // namespace bimslam::simulate

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -276,7 +277,13 @@ int StoreyUnder(const bim::BimModel& model, double z) {
     return best;
 }
 
-BuildingWalk PlanBuildingWalk(const bim::BimModel& model, const Scenario& s) {
+BuildingWalk PlanBuildingWalk(const bim::BimModel& model_in, const Scenario& s) {
+    // With edits.removed.walk_through the removed elements are not in the way, and the added
+    // objects are on the grid before its free space is found (PlanningModel).
+    const std::optional<bim::BimModel> opened =
+        s.edits.removed.walk_through ? std::optional(PlanningModel(model_in, s.edits))
+                                     : std::nullopt;
+    const bim::BimModel& model = opened ? *opened : model_in;
     if (s.platform == Platform::kVehicle) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "storey: all walks the building's storeys and stairs; a vehicle "
@@ -284,11 +291,11 @@ BuildingWalk PlanBuildingWalk(const bim::BimModel& model, const Scenario& s) {
     }
     BuildingWalk w;
     const bool go1 = s.platform == Platform::kGo1;
-    w.graph = bim::BuildBuildingGraph(model, bim::GridConfig{},
+    w.graph = bim::BuildBuildingGraph(model, GridConfigFor(model, s),
                                       go1 ? bim::StairLimits::Go1() : bim::StairLimits{},
                                       PathConfigFor(s).clearance_m, bim::DefaultWalkStorey(model));
     w.notes = w.graph.problems;
-    AddObstacles(model, s, w.graph);
+    AddObstacles(model_in, s, w.graph);
     Walker walker(model, s, w);
     const int start = w.graph.start;
     const bool outside =

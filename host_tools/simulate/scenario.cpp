@@ -1,5 +1,6 @@
 #include "host_tools/simulate/scenario.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -241,6 +242,57 @@ void ValidateEdits(const EditsSpec& e) {
             "edits.moving_doors.max_angle_deg", Num(d.max_angle_deg), "must be in [0, 180]");
 }
 
+// A folder name that means the same on every system: letters, digits, '.', '_', '-', not
+// starting with '.' (so never "." or "..").
+bool PlainFileName(const std::string& s) {
+    if (s.empty() || s[0] == '.') return false;
+    for (const char c : s) {
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                        (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
+        if (!ok) return false;
+    }
+    return true;
+}
+
+// Objects are matched across visits by name (visits.hpp): in each visit, every box, cylinder,
+// mesh and mirror needs a name of its own. `at` is where the edits stand ("visits[1]." or "").
+void RequireUniqueNames(const EditsSpec& e, const std::string& at) {
+    std::vector<std::string> seen;
+    auto check = [&](const std::string& field, size_t i, const std::string& name) {
+        const std::string p = at + ItemPath("edits." + field, i) + ".name";
+        Require(!name.empty(), p, "''", "a visit's objects are matched across visits by name");
+        Require(std::find(seen.begin(), seen.end(), name) == seen.end(), p, "'" + name + "'",
+                "another object of the visit has this name (objects are matched by name)");
+        seen.push_back(name);
+    };
+    for (size_t i = 0; i < e.boxes.size(); ++i) check("boxes", i, e.boxes[i].name);
+    for (size_t i = 0; i < e.cylinders.size(); ++i) check("cylinders", i, e.cylinders[i].name);
+    for (size_t i = 0; i < e.meshes.size(); ++i) check("meshes", i, e.meshes[i].name);
+    for (size_t i = 0; i < e.mirrors.size(); ++i) check("mirrors", i, e.mirrors[i].name);
+}
+
+void ValidateVisits(const Scenario& s) {
+    for (size_t i = 0; i < s.visits.size(); ++i) {
+        const VisitSpec& v = s.visits[i];
+        const std::string p = ItemPath("visits", i);
+        Require(PlainFileName(v.label), p + ".label", "'" + v.label + "'",
+                "must be a folder name: letters, digits, '.', '_' or '-', not starting with '.'");
+        for (size_t j = 0; j < i; ++j) {
+            Require(
+                s.visits[j].label != v.label, p + ".label", "'" + v.label + "'",
+                ("the label of " + ItemPath("visits", j) + " too: labels name folders").c_str());
+        }
+        Require(!v.date.empty(), p + ".date", "''",
+                "every visit needs its date (ISO 8601 UTC, e.g. 2026-03-02T09:30:00Z)");
+        try {
+            VisitScenario(s, i).Validate();
+        } catch (const common::Error& e) {
+            throw common::Error(e.code(), p + "." + e.what());
+        }
+        RequireUniqueNames(v.edits ? *v.edits : s.edits, v.edits ? p + "." : "");
+    }
+}
+
 }  // namespace
 
 void Scenario::Validate() const {
@@ -271,6 +323,39 @@ void Scenario::Validate() const {
                                 "date = " + std::string(e.what()));
         }
     }
+    ValidateVisits(*this);
+}
+
+Scenario VisitScenario(const Scenario& s, size_t i) {
+    const VisitSpec& v = s.visits.at(i);
+    Scenario out = s;
+    out.visits.clear();
+    if (v.platform && *v.platform != s.platform) {
+        const Scenario defaults = DefaultScenario(*v.platform);
+        out.platform = *v.platform;
+        out.speed = defaults.speed;
+        out.sensor.mount_xyz = defaults.sensor.mount_xyz;
+        out.sensor.mount_rpy_deg = defaults.sensor.mount_rpy_deg;
+    }
+    if (v.seed) out.seed = *v.seed;
+    if (v.path) out.path = *v.path;
+    if (v.duration_s) out.duration_s = *v.duration_s;
+    if (v.storey) out.storey = *v.storey;
+    if (v.edits) out.edits = *v.edits;
+    out.date = v.date;
+    return out;
+}
+
+size_t FindVisit(const Scenario& s, const std::string& label) {
+    std::string labels;
+    for (size_t i = 0; i < s.visits.size(); ++i) {
+        if (s.visits[i].label == label) return i;
+        labels += (labels.empty() ? "" : ", ") + s.visits[i].label;
+    }
+    throw common::Error(StatusCode::kInvalidArgument,
+                        "no visit labelled '" + label + "'" +
+                            (labels.empty() ? " (the scenario has no visits)"
+                                            : " (the scenario's: " + labels + ")"));
 }
 
 Scenario DefaultScenario(Platform platform) {

@@ -168,6 +168,10 @@ struct ClutterSpec {
 struct RemovedElements {
     std::vector<std::string> global_ids;
     std::vector<std::string> classes;  // e.g. IfcDoor: every element of the class on the storey
+    // The walk is planned without them (PlanningModel, world.hpp): a demolished wall opens the
+    // way. Off by default, so that the captures made before it stay the same; on by default in a
+    // visit's edits (VisitSpec).
+    bool walk_through = false;
 
     bool operator==(const RemovedElements&) const = default;
 };
@@ -238,6 +242,23 @@ struct EditsSpec {
     bool operator==(const EditsSpec&) const = default;
 };
 
+// One visit of the building (issue 33): a capture of its own, on its own date, with its own
+// edits. The keys it does not give are the top-level scenario's (VisitScenario).
+struct VisitSpec {
+    std::string label;  // its folder under the output: a plain file name, unique
+    std::string date;   // ISO 8601 UTC, required
+    std::optional<Platform> platform;
+    std::optional<uint64_t> seed;
+    std::optional<PathSpec> path;  // replaces the top level's path as a whole
+    std::optional<double> duration_s;
+    std::optional<std::string> storey;
+    // The visit's whole edit set relative to the MODEL (not to the previous visit); replaces the
+    // top level's edits as a whole. Without it: the top level's.
+    std::optional<EditsSpec> edits;
+
+    bool operator==(const VisitSpec&) const = default;
+};
+
 // storey: all walks every storey the stairs reach (building_walk.hpp).
 inline constexpr const char* kAllStoreys = "all";
 
@@ -257,6 +278,9 @@ struct Scenario {
     // and CAN log's host clock at t = 0. Empty: 2023-11-14T22:13:20Z (kDefaultStartNs).
     std::string date;
     EditsSpec edits;
+    // Visits over time (issue 33, item 7): with them, `bimslam simulate` writes one capture per
+    // visit (visits.hpp); the top-level keys are what the visits do not set.
+    std::vector<VisitSpec> visits;
 
     // Throws common::Error (kInvalidArgument) naming the field (as in the YAML, e.g.
     // "speed.speed_mps") and the value.
@@ -265,6 +289,13 @@ struct Scenario {
     // Field by field (exact), e.g. for checking that a scenario survives YAML.
     bool operator==(const Scenario&) const = default;
 };
+
+// Visit i of `scenario` as a scenario of its own (no visits): the top level's keys with the
+// visit's in their place. A visit with another platform than the top level's also takes that
+// platform's speed and sensor mount (DefaultScenario).
+Scenario VisitScenario(const Scenario& scenario, size_t i);
+// The index of the visit labelled `label`; throws common::Error naming the labels there are.
+size_t FindVisit(const Scenario& scenario, const std::string& label);
 
 // The defaults for a platform: a Go1 trots at 0.5 m/s with the sensor on its back; a person
 // walks at 1.0 m/s holding the sensor 0.1 m above the handheld base, which is already at chest

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string_view>
@@ -193,6 +194,9 @@ public:
     void Read(const Node& n, const std::string& p, PersonSpec& out);
     void Read(const Node& n, const std::string& p, AddedMirror& out);
 
+    // Remembers the line of a node that is not a key (a list's item).
+    void Mark(const std::string& path, const Node& n) { lines_[path] = Line(n); }
+
     // The line of `path` or of the nearest enclosing key read; 0 when none.
     size_t LineOf(std::string path) const {
         while (!path.empty()) {
@@ -301,34 +305,38 @@ void ReadNoise(Reader& r, const Node& n, NoiseSpec& out) {
     r.Get(odo, p, "slip_factor", out.odometry.slip_factor);
 }
 
-void ReadEdits(Reader& r, const Node& n, EditsSpec& out) {
-    r.Keys(n, "edits",
+// `at`: where the edits stand ("edits", or "visits[1].edits").
+void ReadEdits(Reader& r, const Node& n, const std::string& at, EditsSpec& out) {
+    r.Keys(n, at,
            {"boxes", "cylinders", "meshes", "clutter", "removed", "moved", "as_built", "people",
             "glass", "mirrors", "moving_doors"});
-    r.Get(n, "edits", "boxes", out.boxes);
-    r.Get(n, "edits", "cylinders", out.cylinders);
-    r.Get(n, "edits", "meshes", out.meshes);
+    r.Get(n, at, "boxes", out.boxes);
+    r.Get(n, at, "cylinders", out.cylinders);
+    r.Get(n, at, "meshes", out.meshes);
     const Node clutter = Reader::At(n, "clutter");
-    const std::string c = "edits.clutter";
+    const std::string c = at + ".clutter";
     r.Keys(clutter, c, {"density_per_m2", "min_size_m", "max_size_m", "keep_off_walk_m"});
     r.Get(clutter, c, "density_per_m2", out.clutter.density_per_m2);
     r.Get(clutter, c, "min_size_m", out.clutter.min_size_m);
     r.Get(clutter, c, "max_size_m", out.clutter.max_size_m);
     r.Get(clutter, c, "keep_off_walk_m", out.clutter.keep_off_walk_m);
     const Node removed = Reader::At(n, "removed");
-    r.Keys(removed, "edits.removed", {"global_ids", "classes"});
-    r.Get(removed, "edits.removed", "global_ids", out.removed.global_ids);
-    r.Get(removed, "edits.removed", "classes", out.removed.classes);
-    r.Get(n, "edits", "moved", out.moved);
+    const std::string rm = at + ".removed";
+    r.Keys(removed, rm, {"global_ids", "classes", "walk_through"});
+    r.Get(removed, rm, "global_ids", out.removed.global_ids);
+    r.Get(removed, rm, "classes", out.removed.classes);
+    r.Get(removed, rm, "walk_through", out.removed.walk_through);
+    r.Get(n, at, "moved", out.moved);
     const Node as_built = Reader::At(n, "as_built");
-    r.Keys(as_built, "edits.as_built", {"wall_offset_sigma_m", "walls"});
-    r.Get(as_built, "edits.as_built", "wall_offset_sigma_m", out.as_built.wall_offset_sigma_m);
-    r.Get(as_built, "edits.as_built", "walls", out.as_built.walls);
-    r.Get(n, "edits", "people", out.people);
-    r.Get(n, "edits", "glass", out.glass);
-    r.Get(n, "edits", "mirrors", out.mirrors);
+    const std::string ab = at + ".as_built";
+    r.Keys(as_built, ab, {"wall_offset_sigma_m", "walls"});
+    r.Get(as_built, ab, "wall_offset_sigma_m", out.as_built.wall_offset_sigma_m);
+    r.Get(as_built, ab, "walls", out.as_built.walls);
+    r.Get(n, at, "people", out.people);
+    r.Get(n, at, "glass", out.glass);
+    r.Get(n, at, "mirrors", out.mirrors);
     const Node doors = Reader::At(n, "moving_doors");
-    const std::string d = "edits.moving_doors";
+    const std::string d = at + ".moving_doors";
     r.Keys(doors, d, {"global_ids", "classes", "period_s", "max_angle_deg"});
     r.Get(doors, d, "global_ids", out.moving_doors.global_ids);
     r.Get(doors, d, "classes", out.moving_doors.classes);
@@ -336,10 +344,63 @@ void ReadEdits(Reader& r, const Node& n, EditsSpec& out) {
     r.Get(doors, d, "max_angle_deg", out.moving_doors.max_angle_deg);
 }
 
+// `at`: where the path stands ("path", or "visits[1].path").
+void ReadPath(Reader& r, const Node& path, const std::string& at, PathSpec& out) {
+    r.Keys(path, at, {"mode", "waypoints", "waypoint_storeys", "start"});
+    r.Get(path, at, "mode", out.mode);
+    r.Get(path, at, "waypoints", out.waypoints);
+    r.Get(path, at, "waypoint_storeys", out.waypoint_storeys);
+    // `start: ~` clears it (no start: the walk's own first point).
+    if (const Node start = Reader::At(path, "start"); start.IsDefined()) {
+        out.start.reset();
+        if (!start.IsNull()) r.Read(start, at + ".start", out.start.emplace());
+    }
+}
+
+// Reads map[key] into `out` when present.
+template <typename T>
+void GetOptional(Reader& r, const Node& map, const std::string& path, std::string_view key,
+                 std::optional<T>& out) {
+    if (Reader::At(map, key).IsDefined()) r.Get(map, path, key, out.emplace());
+}
+
+// The visits (VisitSpec): each item's keys, read as the top level's are. A visit's edits start
+// from the defaults with removed.walk_through on: a wall demolished between visits opens the way.
+void ReadVisits(Reader& r, const Node& n, std::vector<VisitSpec>& out) {
+    out.clear();
+    if (!n.IsDefined() || n.IsNull()) return;
+    if (!n.IsSequence()) r.Fail(n, "visits: expected a sequence, got " + Describe(n));
+    out.resize(n.size());
+    for (size_t i = 0; i < n.size(); ++i) {
+        const Node v = n[i];
+        const std::string p = ItemPath("visits", i);
+        r.Mark(p, v);
+        if (!v.IsMap())
+            r.Fail(v, p + ": expected a mapping (label, date, ...), got " + Describe(v));
+        r.Keys(v, p,
+               {"label", "date", "platform", "seed", "path", "duration_s", "storey", "edits"});
+        VisitSpec& visit = out[i];
+        r.Get(v, p, "label", visit.label);
+        r.Get(v, p, "date", visit.date);
+        GetOptional(r, v, p, "platform", visit.platform);
+        GetOptional(r, v, p, "seed", visit.seed);
+        GetOptional(r, v, p, "duration_s", visit.duration_s);
+        GetOptional(r, v, p, "storey", visit.storey);
+        if (const Node path = Reader::At(v, "path"); path.IsDefined()) {
+            ReadPath(r, path, p + ".path", visit.path.emplace());
+        }
+        if (const Node edits = Reader::At(v, "edits"); edits.IsDefined()) {
+            EditsSpec& e = visit.edits.emplace();
+            e.removed.walk_through = true;
+            ReadEdits(r, edits, p + ".edits", e);
+        }
+    }
+}
+
 Scenario ReadScenario(Reader& r, const Node& root) {
     r.Keys(root, "",
            {"model", "storey", "platform", "path", "speed", "duration_s", "sensor", "network",
-            "noise", "seed", "date", "edits"});
+            "noise", "seed", "date", "edits", "visits"});
     // The platform picks the defaults the other keys overlay.
     Platform platform = Platform::kGo1;
     r.Get(root, "", "platform", platform);
@@ -347,16 +408,7 @@ Scenario ReadScenario(Reader& r, const Node& root) {
     r.Get(root, "", "model", s.model);
     r.Get(root, "", "storey", s.storey);
 
-    const Node path = Reader::At(root, "path");
-    r.Keys(path, "path", {"mode", "waypoints", "waypoint_storeys", "start"});
-    r.Get(path, "path", "mode", s.path.mode);
-    r.Get(path, "path", "waypoints", s.path.waypoints);
-    r.Get(path, "path", "waypoint_storeys", s.path.waypoint_storeys);
-    // `start: ~` clears it (no start: the walk's own first point).
-    if (const Node start = Reader::At(path, "start"); start.IsDefined()) {
-        s.path.start.reset();
-        if (!start.IsNull()) r.Read(start, "path.start", s.path.start.emplace());
-    }
+    ReadPath(r, Reader::At(root, "path"), "path", s.path);
 
     const Node speed = Reader::At(root, "speed");
     r.Keys(speed, "speed",
@@ -390,7 +442,8 @@ Scenario ReadScenario(Reader& r, const Node& root) {
     ReadNoise(r, Reader::At(root, "noise"), s.noise);
     r.Get(root, "", "seed", s.seed);
     r.Get(root, "", "date", s.date);
-    ReadEdits(r, Reader::At(root, "edits"), s.edits);
+    ReadEdits(r, Reader::At(root, "edits"), "edits", s.edits);
+    ReadVisits(r, Reader::At(root, "visits"), s.visits);
     return s;
 }
 

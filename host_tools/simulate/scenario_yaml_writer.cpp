@@ -68,7 +68,10 @@ private:
     YAML::Emitter out_;
 };
 
-void WriteEdits(Writer& w, const EditsSpec& e) {
+// `in_visit`: a visit's edits, where removed.walk_through is on unless it says otherwise; at the
+// top level it is written only when on, so the scenario.yaml of a capture made before it stays
+// the same.
+void WriteEdits(Writer& w, const EditsSpec& e, bool in_visit) {
     w.BeginMap("edits");
     w.List("boxes", e.boxes, [&](const AddedBox& b) {
         w.Str("name", b.name);
@@ -98,6 +101,9 @@ void WriteEdits(Writer& w, const EditsSpec& e) {
     w.BeginMap("removed");
     w.StrList("global_ids", e.removed.global_ids);
     w.StrList("classes", e.removed.classes);
+    if (in_visit || e.removed.walk_through) {
+        w.Key("walk_through").out() << (e.removed.walk_through ? "true" : "false");
+    }
     w.EndMap();
     w.List("moved", e.moved, [&](const MovedElement& m) {
         w.Str("global_id", m.global_id);
@@ -134,6 +140,36 @@ void WriteEdits(Writer& w, const EditsSpec& e) {
     w.EndMap();
 }
 
+void WritePath(Writer& w, const PathSpec& path) {
+    w.BeginMap("path");
+    w.Key("mode").out() << std::string(ToString(path.mode));
+    w.Key("waypoints").out() << YAML::Flow << YAML::BeginSeq;
+    for (const auto& p : path.waypoints) w.VecValue(p);
+    w.out() << YAML::EndSeq;
+    if (!path.waypoint_storeys.empty()) w.StrList("waypoint_storeys", path.waypoint_storeys);
+    if (path.start) {
+        w.BeginMap("start");
+        w.Vec("xy", path.start->xy);
+        w.Num("yaw_deg", path.start->yaw_deg);
+        w.EndMap();
+    }
+    w.EndMap();
+}
+
+// Each visit with the keys it sets (the others are the top level's).
+void WriteVisits(Writer& w, const std::vector<VisitSpec>& visits) {
+    w.List("visits", visits, [&](const VisitSpec& v) {
+        w.Str("label", v.label);
+        w.Str("date", v.date);
+        if (v.platform) w.Key("platform").out() << std::string(ToString(*v.platform));
+        if (v.seed) w.Key("seed").out() << std::to_string(*v.seed);
+        if (v.path) WritePath(w, *v.path);
+        if (v.duration_s) w.Num("duration_s", *v.duration_s);
+        if (v.storey) w.Str("storey", *v.storey);
+        if (v.edits) WriteEdits(w, *v.edits, /*in_visit=*/true);
+    });
+}
+
 }  // namespace
 
 std::string ScenarioToYaml(const Scenario& s) {
@@ -144,19 +180,7 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.Str("storey", s.storey);
     w.Key("platform").out() << std::string(ToString(s.platform));
 
-    w.BeginMap("path");
-    w.Key("mode").out() << std::string(ToString(s.path.mode));
-    w.Key("waypoints").out() << YAML::Flow << YAML::BeginSeq;
-    for (const auto& p : s.path.waypoints) w.VecValue(p);
-    out << YAML::EndSeq;
-    if (!s.path.waypoint_storeys.empty()) w.StrList("waypoint_storeys", s.path.waypoint_storeys);
-    if (s.path.start) {
-        w.BeginMap("start");
-        w.Vec("xy", s.path.start->xy);
-        w.Num("yaw_deg", s.path.start->yaw_deg);
-        w.EndMap();
-    }
-    w.EndMap();
+    WritePath(w, s.path);
 
     w.BeginMap("speed");
     w.Num("speed_mps", s.speed.speed_mps);
@@ -210,7 +234,8 @@ std::string ScenarioToYaml(const Scenario& s) {
 
     w.Key("seed").out() << std::to_string(s.seed);
     if (!s.date.empty()) w.Str("date", s.date);
-    WriteEdits(w, s.edits);
+    WriteEdits(w, s.edits, /*in_visit=*/false);
+    if (!s.visits.empty()) WriteVisits(w, s.visits);
     out << YAML::EndMap;
     return std::string(out.c_str()) + "\n";
 }

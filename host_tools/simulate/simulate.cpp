@@ -444,7 +444,7 @@ int64_t CaptureStartNs(const Scenario& s) {
 
 CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
                               const std::string& model_sha256, const std::filesystem::path& dir,
-                              const std::function<void(double)>& progress) {
+                              const std::function<void(double)>& progress, const HitWatch& watch) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.Validate();
     if (!model.origin_m.isZero()) {
@@ -473,7 +473,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     OusterWriter writer(info, pcap, s.network, s.seed, HostMinusSensorNs(s));
     const double period_s = 1.0 / double(bim::LidarModelFromSensorInfo(info).frame_rate_hz);
     const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
-    BeamHitCounter hits(model, world);
+    BeamHitCounter hits(model, world, watch);
     const std::vector<io::StampedPose> truth =
         CastFrames(trajectory, world, s, info, imu, frames, end_s, writer, hits, progress);
     pcap.Close();
@@ -501,6 +501,7 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     r.removed_elements = changes["removed"].size();
     r.moved_elements = changes["moved"].size();
     r.people = world.people.size();
+    r.watched_hits = hits.Watched();
     WriteManifest(s, model, model_sha256, info, imu, imu_noise, motion, r, dir,
                   std::move(manifest));
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "algorithms/simulation/body_trajectory.hpp"
 #include "algorithms/simulation/lidar_model.hpp"
 #include "host_tools/bim/bim_model.hpp"
+#include "host_tools/simulate/beam_hits.hpp"
 #include "host_tools/simulate/scenario.hpp"
 
 namespace bimslam::simulate {
@@ -53,6 +55,8 @@ struct CaptureReport {
     uint64_t can_frames = 0;
     uint64_t pcap_bytes = 0;  // lidar.pcap's size
     size_t added_objects = 0, removed_elements = 0, moved_elements = 0, people = 0;
+    // The beams on what the HitWatch named (SimulateCapture's `watch`), by its key or GlobalId.
+    std::map<std::string, size_t> watched_hits;
     double wall_s = 0;               // time the simulation took
     std::vector<std::string> notes;  // for the user (Walk::notes)
 };
@@ -64,11 +68,13 @@ void ColumnPoses(const simulation::BodyTrajectory& trajectory,
                  double t0, std::span<Eigen::Isometry3d> poses);
 
 // Simulates `scenario` in `model` (already loaded; `model_sha256` is recorded in the manifest)
-// into `dir` (created; files in it are replaced). `progress` gets the fraction done. Throws
+// into `dir` (created; files in it are replaced). `progress` gets the fraction done; the beams on
+// what `watch` names go into the report only (the files do not depend on it). Throws
 // common::Error naming the scenario field for what cannot be simulated, common::FileError for
 // files that cannot be read or written.
 CaptureReport SimulateCapture(const Scenario& scenario, const bim::BimModel& model,
                               const std::string& model_sha256, const std::filesystem::path& dir,
-                              const std::function<void(double)>& progress = {});
+                              const std::function<void(double)>& progress = {},
+                              const HitWatch& watch = {});
 
 }  // namespace bimslam::simulate

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
@@ -60,7 +61,52 @@ bim::OccupancyGrid OutdoorGrid(const bim::BimModel& model, int storey, bim::Grid
     return bim::BuildOccupancyGrid(model, storey, config);
 }
 
+// What the scenario adds or moves is in the way too: a walk through the added cabinet put the
+// sensor inside it for 0.7 s (every point within the odometry's minimum range). Returns a note for
+// each object that cuts free floor off the rest.
+std::vector<std::string> PutObstacles(bim::OccupancyGrid& grid,
+                                      const std::vector<Obstacle>& obstacles,
+                                      double object_height_m) {
+    std::vector<std::string> notes;
+    size_t cut_off = 0;
+    for (const Obstacle& o : obstacles) {
+        if (bim::AddObstacle(grid, o.mesh, object_height_m) == 0) continue;
+        const size_t now = CutOffCells(grid);
+        if (now > cut_off + size_t(kCutOffNoteM2 / (grid.resolution * grid.resolution))) {
+            std::ostringstream os;
+            os << std::fixed << std::setprecision(1) << o.edit << " cuts "
+               << double(now - cut_off) * grid.resolution * grid.resolution
+               << " m2 of free floor off the rest: the walk does not go there";
+            notes.push_back(os.str());
+        }
+        cut_off = now;
+    }
+    return notes;
+}
+
 }  // namespace
+
+bim::GridConfig GridConfigFor(const bim::BimModel& plan, const Scenario& s) {
+    bim::GridConfig gc;
+    if (!s.edits.removed.walk_through) return gc;
+    // The grid spans the structure's footprint and the margin: widen the margin so that it
+    // reaches every element of the planning model (an annex added outside) with the usual margin
+    // to spare.
+    Eigen::AlignedBox2d structure, all;
+    for (const bim::BimElement& e : plan.elements) {
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (const uint32_t k : plan.mesh.triangles[t]) {
+                const Eigen::Vector2d p = plan.mesh.vertices[k].head<2>().cast<double>();
+                all.extend(p);
+                if (e.role == bim::ElementRole::kStructure) structure.extend(p);
+            }
+        }
+    }
+    if (structure.isEmpty()) return gc;
+    gc.margin_m += std::max(
+        {0.0, (structure.min() - all.min()).maxCoeff(), (all.max() - structure.max()).maxCoeff()});
+    return gc;
+}
 
 std::vector<Eigen::Vector2d> WayIn(const bim::BimModel& model, int storey,
                                    const bim::GridConfig& grid, const bim::PathConfig& pc,
@@ -103,24 +149,28 @@ bim::PathConfig PathConfigFor(const Scenario& s) {
     return c;
 }
 
-Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& s) {
+Walk PlanWalk(const bim::BimModel& model_in, int storey, const Scenario& s) {
+    // With edits.removed.walk_through the removed elements are not in the way, and the added
+    // objects are on the grid before its free space is found (PlanningModel).
+    const std::optional<bim::BimModel> opened =
+        s.edits.removed.walk_through ? std::optional(PlanningModel(model_in, s.edits))
+                                     : std::nullopt;
+    const bim::BimModel& model = opened ? *opened : model_in;
     Walk w;
-    bim::GridConfig gc;
+    const bim::GridConfig gc = GridConfigFor(model, s);
     w.grid = bim::BuildOccupancyGrid(model, storey, gc);
-    // What the scenario adds or moves is in the way too: a walk through the added cabinet put the
-    // sensor inside it for 0.7 s (every point within the odometry's minimum range).
-    size_t cut_off = 0;
-    for (const Obstacle& o : WalkObstacles(model, s.edits)) {
-        if (bim::AddObstacle(w.grid, o.mesh, gc.object_height_m) == 0) continue;
-        const size_t now = CutOffCells(w.grid);
-        if (now > cut_off + size_t(kCutOffNoteM2 / (w.grid.resolution * w.grid.resolution))) {
-            std::ostringstream os;
-            os << std::fixed << std::setprecision(1) << o.edit << " cuts "
-               << double(now - cut_off) * w.grid.resolution * w.grid.resolution
-               << " m2 of free floor off the rest: the walk does not go there";
-            w.notes.push_back(os.str());
+    const std::vector<Obstacle> obstacles = WalkObstacles(model_in, s.edits);
+    if (!opened) {
+        w.notes = PutObstacles(w.grid, obstacles, gc.object_height_m);
+    } else {
+        // They are on it already; what they cut off is told on the grid without them, when it
+        // has enclosed floor (not where a demolished facade left the walls open).
+        try {
+            bim::OccupancyGrid bare = bim::BuildOccupancyGrid(
+                PlanningModel(model_in, s.edits, /*with_objects=*/false), storey, gc);
+            w.notes = PutObstacles(bare, obstacles, gc.object_height_m);
+        } catch (const common::Error&) {
         }
-        cut_off = now;
     }
     w.floor_z = w.grid.floor_z;
     const bim::PathConfig pc = PathConfigFor(s);

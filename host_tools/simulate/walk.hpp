@@ -36,6 +36,11 @@ struct Walk {
 // for a person, 1.2 m for a vehicle), speed and yaw rate.
 bim::PathConfig PathConfigFor(const Scenario& scenario);
 
+// The grid of the walk on `plan` (PlanningModel): the default, and with
+// edits.removed.walk_through a margin that reaches every element of the plan (an annex added
+// outside the model) with the default margin to spare.
+bim::GridConfig GridConfigFor(const bim::BimModel& plan, const Scenario& scenario);
+
 // Throws common::Error naming what cannot be walked (a waypoint in a wall, a start outside with
 // no door to the outside, a storey without free space).
 Walk PlanWalk(const bim::BimModel& model, int storey, const Scenario& scenario);

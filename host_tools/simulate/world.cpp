@@ -158,6 +158,19 @@ size_t FindElement(const bim::BimModel& m, const std::string& global_id, const s
 
 }  // namespace
 
+std::map<std::string, common::TriangleMesh> NamedObjectMeshes(const EditsSpec& edits) {
+    std::map<std::string, common::TriangleMesh> out;
+    for (const AddedBox& b : edits.boxes) {
+        out["box/" + b.name] = simulation::BoxMesh(b.center, b.size, b.yaw_deg * kDeg);
+    }
+    for (const AddedCylinder& c : edits.cylinders) {
+        out["cylinder/" + c.name] = simulation::CylinderMesh(c.base, c.radius_m, c.height_m);
+    }
+    for (const AddedMesh& m : edits.meshes) out["mesh/" + m.name] = PlacedMesh(m);
+    for (const AddedMirror& m : edits.mirrors) out["mirror/" + m.name] = MirrorMesh(m);
+    return out;
+}
+
 std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits) {
     std::vector<Obstacle> out;
     const auto name = [](const std::string& field, size_t k, const std::string& n) {
@@ -193,11 +206,7 @@ std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec&
     return out;
 }
 
-World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
-                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
-                 uint64_t seed) {
-    bim::BimModel model = model_in;  // vertices are moved in place
-    World w;
+std::vector<uint8_t> RemovedElementMask(const bim::BimModel& model, const EditsSpec& edits) {
     std::vector<uint8_t> removed(model.elements.size(), 0);
     for (size_t k = 0; k < edits.removed.global_ids.size(); ++k) {
         const size_t e = FindElement(model, edits.removed.global_ids[k],
@@ -214,6 +223,44 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
                  "': no element of the model has this class");
         }
     }
+    return removed;
+}
+
+bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits, bool with_objects) {
+    const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
+    const auto first = model.elements.data();
+    bim::BimModel out = bim::SelectElements(model, [&](const bim::BimElement& e) {
+        return !edits.removed.walk_through || !removed[size_t(&e - first)];
+    });
+    if (!edits.removed.walk_through || !with_objects) return out;
+    // The added objects as elements of their own: objects (not structure), so that their
+    // footprints below the grid's object height are occupied, as AddObstacle marks them.
+    for (Obstacle& o : WalkObstacles(model, edits)) {
+        bim::BimElement e;
+        e.global_id = o.edit;
+        e.ifc_class = "IfcBuildingElementProxy";
+        e.name = o.edit;
+        e.role = bim::ElementRole::kTransient;
+        e.first_triangle = uint32_t(out.mesh.triangles.size());
+        e.triangle_count = uint32_t(o.mesh.triangles.size());
+        const auto base = uint32_t(out.mesh.vertices.size());
+        out.mesh.vertices.insert(out.mesh.vertices.end(), o.mesh.vertices.begin(),
+                                 o.mesh.vertices.end());
+        for (const auto& t : o.mesh.triangles) {
+            out.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+            out.triangle_element.push_back(uint32_t(out.elements.size()));
+        }
+        out.elements.push_back(std::move(e));
+    }
+    return out;
+}
+
+World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
+                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
+                 uint64_t seed) {
+    bim::BimModel model = model_in;  // vertices are moved in place
+    World w;
+    const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
     for (size_t e = 0; e < model.elements.size(); ++e) {
         if (removed[e]) w.changes.push_back(ChangeOf(model, e, "removed"));
     }

@@ -19,6 +19,7 @@
 // (moving_doors.hpp) build them per scan at their position at that time.
 #pragma once
 
+#include <map>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
@@ -71,6 +72,20 @@ World BuildWorld(const bim::BimModel& model, int storey, const EditsSpec& edits,
                  const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
                  uint64_t seed);
 
+// Per element of the model: 1 when the edits remove it (edits.removed: its GlobalIds and classes).
+// Throws as BuildWorld does for a GlobalId or class that matches nothing.
+std::vector<uint8_t> RemovedElementMask(const bim::BimModel& model, const EditsSpec& edits);
+
+// The model the walk is planned on. Without edits.removed.walk_through: the model as it is (the
+// scenario's objects are put on the walk's grid after its free space is found, AddObstacle). With
+// it (a visit's default): the model without the removed elements (a demolished wall opens the
+// way) and, `with_objects`, with the added objects and the moved elements at their new places
+// (WalkObstacles) as elements of their own, so that they are on the grid before its free space is
+// found: walls added outside the model close a room the walk can enter (through a door to the
+// outside, or where a demolished facade stood). A moved element's old place stays in it.
+bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits,
+                            bool with_objects = true);
+
 // What the scenario puts on the floor that the model does not have: the added boxes, cylinders
 // and meshes, and the moved elements at their new places (model coordinates). The walk goes
 // around them (walk.cpp). Throws as BuildWorld does for a GlobalId that matches nothing or a
@@ -80,6 +95,10 @@ struct Obstacle {
     common::TriangleMesh mesh;
 };
 std::vector<Obstacle> WalkObstacles(const bim::BimModel& model, const EditsSpec& edits);
+
+// The scenario's boxes, cylinders, meshes and mirrors as BuildWorld places them, by "kind/name"
+// (kind as in changes.json: box, cylinder, mesh, mirror). Throws what reading a mesh file throws.
+std::map<std::string, common::TriangleMesh> NamedObjectMeshes(const EditsSpec& edits);
 
 // The people at time t (seconds), as closed cylinders with triangle ids kPersonIdBase + person.
 common::TriangleMesh PeopleMesh(const std::vector<PersonSpec>& people, double floor_z, double t,

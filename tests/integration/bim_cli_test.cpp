@@ -213,6 +213,60 @@ TEST(SimulateCli, StartsOutsideThroughADoor) {
     EXPECT_GT(truth.back().translation.x(), 0.5);    // inside after 40 s
 }
 
+// Issue 33, item 7: the shipped office_visits.yaml through the command, its walks cut to 4 s of
+// OS1-16: one capture per visit on its date, visits.json's truth between v2 and v3, `--visit`
+// giving the same files as the visit's folder, and the options a visit owns refused without it.
+TEST(SimulateCli, VisitsOfTheSampleOfficeAndOneVisitAlone) {
+    test::TempDir tmp;
+    const fs::path model = Sample(tmp);
+    const std::string scenario =
+        std::string(BIMSLAM_SOURCE_ROOT) + "/host_tools/simulate/scenarios/office_visits.yaml";
+    const std::string args = " simulate --model " + model.string() + " --scenario " + scenario +
+                             " --duration 4 --sensor OS1-16";
+    const fs::path out = tmp / "visits";
+    const auto r = test::RunCommand(kCli + args + " -o " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto visits = nlohmann::json::parse(io::ReadFileToString(out / "visits.json"));
+    ASSERT_EQ(visits["visits"].size(), 3u);
+    std::string last;
+    for (const auto& v : visits["visits"]) {
+        const auto manifest = nlohmann::json::parse(
+            io::ReadFileToString(out / v["folder"].get<std::string>() / "capture.json"));
+        EXPECT_EQ(manifest["start"], v["date"]);
+        EXPECT_GT(v["date"].get<std::string>(), last);
+        last = v["date"];
+    }
+    ASSERT_EQ(visits["pairs"].size(), 3u);  // every pair
+    const auto& pair = visits["pairs"][2];
+    ASSERT_EQ(pair["earlier"], "v2");
+    ASSERT_EQ(pair["later"], "v3");
+    const auto names = [](const nlohmann::json& list) {
+        std::vector<std::string> v;
+        for (const auto& e : list) v.push_back(e["name"]);
+        return v;
+    };
+    EXPECT_EQ(names(pair["objects"]["gone"]), (std::vector<std::string>{"bookcase", "plant"}));
+    EXPECT_EQ(names(pair["objects"]["moved"]), (std::vector<std::string>{"crate", "sofa"}));
+    EXPECT_EQ(pair["objects"]["moved"][0]["yaw_deg"], 20.0);
+    EXPECT_EQ(pair["objects"]["new"].size(), 4u);  // the annex's walls and roof
+    EXPECT_EQ(names(pair["elements"]["newly_removed"]),
+              std::vector<std::string>{"Ground Floor partition x=6.0"});
+
+    const fs::path alone = tmp / "v2";
+    const auto one = test::RunCommand(kCli + args + " --visit v2 -o " + alone.string());
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    for (const std::string f : {"lidar.pcap", "go1_can.log", "ground_truth.tum", "changes.json",
+                                "capture.json", "scenario.yaml"}) {
+        EXPECT_TRUE(io::ReadFileToString(alone / f) == io::ReadFileToString(out / "v2" / f)) << f;
+    }
+    const auto seed = test::RunCommand(kCli + args + " --seed 4 -o " + (tmp / "x").string());
+    EXPECT_EQ(seed.exit_code, 2);
+    EXPECT_NE(seed.err.find("--visit"), std::string::npos) << seed.err;
+    const auto unknown = test::RunCommand(kCli + args + " --visit v9 -o " + (tmp / "x").string());
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_NE(unknown.err.find("v1, v2, v3"), std::string::npos) << unknown.err;
+}
+
 // The sample office's stair joins its storeys; with the flight's geometry taken out of the file
 // (IfcStair and IfcStairFlight left without a representation) the first floor cannot be reached:
 // `bim stairs` and `simulate --storey all` name the storey and the reason and exit 2, and the

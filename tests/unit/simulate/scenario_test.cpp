@@ -312,5 +312,122 @@ TEST(ScenarioTest, YamlRoundTrips) {
     EXPECT_EQ(Parse(ScenarioToYaml(no_start)), no_start);
 }
 
+// Issue 33, item 7: visits. Each inherits the top level's keys it does not set; `path` and `edits`
+// replace the top level's as a whole; a visit's edits open removed elements to the walk.
+constexpr const char* kTwoVisits = R"(platform: handheld
+seed: 5
+duration_s: 30
+sensor: {model: OS1-16}
+path: {mode: waypoints, waypoints: [[1, 1], [2, 2]]}
+edits:
+  boxes: [{name: crate, center: [1, 2, 0.5]}]
+visits:
+  - label: spring
+    date: "2026-04-01T08:00:00Z"
+  - label: winter
+    date: "2026-01-01T08:00:00Z"
+    platform: go1
+    seed: 9
+    duration_s: 12
+    storey: Ground
+    path: {mode: coverage}
+    edits:
+      removed: {global_ids: [w1]}
+      boxes: [{name: crate, center: [3, 2, 0.5], yaw_deg: 10}]
+)";
+
+TEST(ScenarioVisits, EachVisitIsTheTopLevelWithItsOwnKeys) {
+    const Scenario s = Parse(kTwoVisits);
+    ASSERT_EQ(s.visits.size(), 2u);
+    const Scenario spring = VisitScenario(s, 0);
+    EXPECT_TRUE(spring.visits.empty());
+    EXPECT_EQ(spring.date, "2026-04-01T08:00:00Z");
+    EXPECT_EQ(spring.platform, Platform::kHandheld);
+    EXPECT_EQ(spring.seed, 5u);
+    EXPECT_EQ(spring.duration_s, 30);
+    EXPECT_EQ(spring.path, s.path);
+    EXPECT_EQ(spring.edits, s.edits);
+    EXPECT_FALSE(spring.edits.removed.walk_through);  // the top level's default
+
+    const Scenario winter = VisitScenario(s, 1);
+    EXPECT_EQ(winter.date, "2026-01-01T08:00:00Z");
+    EXPECT_EQ(winter.platform, Platform::kGo1);
+    EXPECT_EQ(winter.seed, 9u);
+    EXPECT_EQ(winter.duration_s, 12);
+    EXPECT_EQ(winter.storey, "Ground");
+    EXPECT_EQ(winter.path.mode, PathMode::kCoverage);
+    EXPECT_TRUE(winter.path.waypoints.empty());
+    EXPECT_EQ(winter.sensor.model, "OS1-16");  // not a visit's key: the top level's
+    // Another platform takes its speed and mount: a Go1 trots at 0.5 m/s, the sensor on its back.
+    EXPECT_EQ(winter.speed, DefaultScenario(Platform::kGo1).speed);
+    EXPECT_EQ(winter.sensor.mount_xyz, DefaultScenario(Platform::kGo1).sensor.mount_xyz);
+    // Its edits replace the top level's as a whole, relative to the model.
+    ASSERT_EQ(winter.edits.boxes.size(), 1u);
+    EXPECT_EQ(winter.edits.boxes[0].center, Eigen::Vector3d(3, 2, 0.5));
+    EXPECT_EQ(winter.edits.removed.global_ids, std::vector<std::string>{"w1"});
+    EXPECT_TRUE(winter.edits.removed.walk_through);  // a visit's default
+
+    EXPECT_EQ(FindVisit(s, "winter"), 1u);
+    try {
+        FindVisit(s, "summer");
+        ADD_FAILURE() << "no error";
+    } catch (const common::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("(the scenario's: spring, winter)"), std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(ScenarioVisits, RoundTripThroughYaml) {
+    Scenario s = Parse(kTwoVisits);
+    s.visits[1].edits->removed.walk_through = false;  // written, since a visit's default is on
+    EXPECT_EQ(Parse(ScenarioToYaml(s)), s) << ScenarioToYaml(s);
+    // A visit's own scenario is a plain one (no visits) and reads back equal too.
+    const Scenario winter = VisitScenario(Parse(kTwoVisits), 1);
+    EXPECT_EQ(Parse(ScenarioToYaml(winter)), winter) << ScenarioToYaml(winter);
+    // Without visits and with walk_through off, nothing new is written: a capture's scenario.yaml
+    // stays as it was before visits.
+    const std::string plain = ScenarioToYaml(Scenario{});
+    EXPECT_EQ(plain.find("visits"), std::string::npos);
+    EXPECT_EQ(plain.find("walk_through"), std::string::npos);
+}
+
+TEST(ScenarioVisits, ErrorsNameTheVisitsKeyAndLine) {
+    const std::string head = "visits:\n  - label: a\n    date: \"2026-01-01T00:00:00Z\"\n";
+    struct Case {
+        std::string text, expected;
+        size_t line;
+    };
+    const std::vector<Case> cases = {
+        {head + "    colour: red\n", "unknown key 'visits[0].colour'", 4},
+        {head + "    edits:\n      boxes:\n        - {name: b, sise: [1, 1, 1]}\n",
+         "unknown key 'visits[0].edits.boxes[0].sise'", 6},
+        {head + "    path: {mode: coverage, start: {yaw: 1}}\n",
+         "unknown key 'visits[0].path.start.yaw'", 4},
+        {head + "    seed: x\n", "visits[0].seed: expected a whole number", 4},
+        {head + "    duration_s: -1\n", "visits[0].duration_s = -1: must be >= 0", 4},
+        {head + "    edits: {boxes: [{name: b, size: [1, 0, 1]}]}\n",
+         "visits[0].edits.boxes[0].size = [1, 0, 1]", 4},
+        {head + "  - label: a\n    date: \"2026-02-01T00:00:00Z\"\n",
+         "visits[1].label = 'a': the label of visits[0] too", 4},
+        {head + "  - label: ../up\n    date: \"2026-02-01T00:00:00Z\"\n",
+         "visits[1].label = '../up': must be a folder name", 4},
+        {head + "  - label: b\n", "visits[1].date = '': every visit needs its date", 4},
+        {head + "  - {label: b, date: yesterday}\n", "visits[1].date = ", 4},
+        {head + "    edits: {boxes: [{name: b}, {name: b}]}\n",
+         "visits[0].edits.boxes[1].name = 'b': another object of the visit has this name", 4},
+        {head + "    edits: {cylinders: [{base: [0, 0, 0]}]}\n",
+         "visits[0].edits.cylinders[0].name = '': a visit's objects are matched", 4},
+        {"visits: {label: a}\n", "visits: expected a sequence", 1},
+        {"visits: [a]\n", "visits[0]: expected a mapping", 1},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.text);
+        const FileError e = ParseError(c.text);
+        EXPECT_EQ(e.path(), "test.yaml");
+        EXPECT_NE(e.detail().find(c.expected), std::string::npos) << e.what();
+        EXPECT_EQ(e.line(), c.line) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace bimslam::simulate

@@ -193,4 +193,69 @@ TEST(Go1Walk, SaysWhichObjectCutsFloorOffTheWalk) {
     }
 }
 
+double Length(const std::vector<Eigen::Vector2d>& p) {
+    double len = 0;
+    for (size_t i = 1; i < p.size(); ++i) len += (p[i] - p[i - 1]).norm();
+    return len;
+}
+
+// Issue 33, item 7: a wall demolished between visits opens the way. The synthetic floor's box7
+// parts its two south rooms (x = 6, y 0..3.5); from one room's middle to the other's the walk
+// goes round by the corridor while the wall stands in the walk's grid, and straight through where
+// it stood with edits.removed.walk_through. Without it the removed wall stays in the grid (as
+// before visits, so earlier captures stay the same).
+TEST(Go1Walk, GoesThroughARemovedWallOnlyWithWalkThrough) {
+    const bim::BimModel model = bim::test_floor::Floor();
+    Scenario s = DefaultScenario(Platform::kGo1);
+    s.path.mode = PathMode::kWaypoints;
+    s.path.waypoints = {{3.0, 1.5}, {9.0, 1.5}};
+    s.edits.removed.global_ids = {"box7"};
+    const Walk around = PlanWalk(model, 0, s);
+    EXPECT_GT(Length(around.points), 9.0);  // up through one door, along the corridor, down
+    s.edits.removed.walk_through = true;
+    const Walk through = PlanWalk(model, 0, s);
+    EXPECT_LT(Length(through.points), 6.5);
+    bool crossed = false;
+    for (size_t i = 1; i < through.points.size(); ++i) {
+        const Eigen::Vector2d a = through.points[i - 1], b = through.points[i];
+        crossed = crossed || ((a.x() - 6.0) * (b.x() - 6.0) <= 0 && a.y() < 3.3 && b.y() < 3.3);
+    }
+    EXPECT_TRUE(crossed) << "the walk did not cross x = 6 in the south rooms";
+}
+
+// The synthetic floor with a door to the outside in its east wall (x = 12, y 5.5 .. 6.5, into the
+// north room) and an annex of added walls outside it (x 12 .. 15, y 4.5 .. 7.5): a room outside
+// the model. With walk_through (a visit's default) the added walls are on the walk's grid before
+// its free space is found, so the annex is enclosed floor the walk enters through the door;
+// without, the annex is outdoors and a waypoint in it is refused.
+TEST(Go1Walk, EntersAnAnnexBuiltOutsideThroughADoorOnlyWithWalkThrough) {
+    bim::BimModel model = bim::SelectElements(
+        bim::test_floor::Floor(), [](const bim::BimElement& e) { return e.global_id != "box3"; });
+    using bim::test_floor::AddBox;
+    AddBox(model, "IfcWall", bim::ElementRole::kStructure, {11.9, -0.1, 0}, {12.1, 5.5, 3});
+    AddBox(model, "IfcWall", bim::ElementRole::kStructure, {11.9, 6.5, 0}, {12.1, 8.1, 3});
+    AddBox(model, "IfcDoor", bim::ElementRole::kTransient, {11.95, 5.5, 0}, {12.05, 6.5, 2.1});
+    Scenario s = DefaultScenario(Platform::kGo1);
+    s.path.mode = PathMode::kWaypoints;
+    s.path.waypoints = {{7.0, 6.0}, {13.5, 6.0}};
+    s.edits.boxes = {{"annex south", {13.55, 4.5, 1.25}, {3.1, 0.15, 2.5}, 0},
+                     {"annex north", {13.55, 7.5, 1.25}, {3.1, 0.15, 2.5}, 0},
+                     {"annex east", {15.0, 6.0, 1.25}, {0.15, 3.15, 2.5}, 0}};
+    EXPECT_THROW(PlanWalk(model, 0, s), common::Error);
+    s.edits.removed.walk_through = true;
+    const Walk w = PlanWalk(model, 0, s);
+    EXPECT_NEAR((w.points.back() - Eigen::Vector2d(13.5, 6.0)).norm(), 0, 1e-9);
+    for (const Eigen::Vector2d& p : w.points) {
+        // Inside, or in the annex: never round the outside of the building.
+        EXPECT_TRUE((p.x() < 12 && p.y() > 0 && p.y() < 8) ||
+                    (p.x() > 11.9 && p.x() < 15 && p.y() > 4.5 && p.y() < 7.5))
+            << p.transpose();
+    }
+    // A coverage walk covers the annex as a room of the storey.
+    s.path = PathSpec{};
+    bool in_annex = false;
+    for (const Eigen::Vector2d& p : PlanWalk(model, 0, s).points) in_annex |= p.x() > 12.3;
+    EXPECT_TRUE(in_annex);
+}
+
 }  // namespace bimslam::simulate
