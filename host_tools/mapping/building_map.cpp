@@ -56,58 +56,67 @@ uint64_t BuildingMap::Key(const Eigen::Vector3f& p) const {
     return (bits(p.x()) << 42) | (bits(p.y()) << 21) | bits(p.z());
 }
 
-// The voxel of visit v within one voxel of p, nearest first: the visit's own points are kept
-// one per voxel's distance (its recordings, and the 5 cm voxels of one map, overlap).
-std::optional<BuildingMap::Map::iterator> BuildingMap::Near(const Eigen::Vector3f& p, size_t v,
-                                                            int cells, float radius) {
-    std::optional<Map::iterator> best;
-    float best_d2 = radius * radius;
-    for (int dx = -cells; dx <= cells; ++dx) {
-        for (int dy = -cells; dy <= cells; ++dy) {
-            for (int dz = -cells; dz <= cells; ++dz) {
-                const Eigen::Vector3f q = p + Eigen::Vector3f(dx, dy, dz) * float(voxel_);
-                const auto it = voxels_.find(Key(q));
-                if (it == voxels_.end() || it->second.voxel.last != v) continue;
-                const float d2 = (it->second.voxel.xyz - p).squaredNorm();
-                if (d2 < best_d2) {
-                    best_d2 = d2;
-                    best = it;
+namespace {
+
+// Points in cells of `cell` metres: what lies within `cell` of a point is in the 27 cells
+// around it (one hash lookup a cell instead of one a voxel of the neighbourhood).
+class Buckets {
+public:
+    explicit Buckets(float cell) : cell_(cell) {}
+    void Add(const Eigen::Vector3f& p, uint16_t first) {
+        cells_[Key(Cell(p))].push_back({p, first});
+    }
+    // Whether a point lies within r (at most the cell) of p; *earliest: the least `first` of
+    // those that do (left as it is when none).
+    bool Within(const Eigen::Vector3f& p, float r, uint16_t* earliest) const {
+        const Eigen::Vector3i c = Cell(p);
+        bool any = false;
+        for (int dx = -1; dx <= 1; ++dx) {
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dz = -1; dz <= 1; ++dz) {
+                    const auto it = cells_.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
+                    if (it == cells_.end()) continue;
+                    for (const Entry& e : it->second) {
+                        if ((e.p - p).squaredNorm() >= r * r) continue;
+                        if (!earliest) return true;
+                        any = true;
+                        *earliest = std::min(*earliest, e.first);
+                    }
                 }
             }
         }
+        return any;
     }
-    return best;
-}
 
-// The first visit of the earlier visits' voxels within supersede_m of p (v when none).
-uint16_t BuildingMap::EarliestNear(const Eigen::Vector3f& p, size_t v) const {
-    const int cells = int(std::ceil(supersede_m_ / voxel_));
-    const float r2 = float(supersede_m_ * supersede_m_);
-    uint16_t first = uint16_t(v);
-    for (int dx = -cells; dx <= cells; ++dx) {
-        for (int dy = -cells; dy <= cells; ++dy) {
-            for (int dz = -cells; dz <= cells; ++dz) {
-                const auto it =
-                    voxels_.find(Key(p + Eigen::Vector3f(dx, dy, dz) * float(voxel_)));
-                if (it == voxels_.end() || it->second.voxel.last == v) continue;
-                if ((it->second.voxel.xyz - p).squaredNorm() < r2)
-                    first = std::min(first, it->second.voxel.first);
-            }
-        }
+private:
+    struct Entry {
+        Eigen::Vector3f p;
+        uint16_t first;
+    };
+    Eigen::Vector3i Cell(const Eigen::Vector3f& p) const {
+        return (p / cell_).array().floor().cast<int>();
     }
-    return first;
-}
+    static uint64_t Key(const Eigen::Vector3i& c) {
+        const auto bits = [](int v) { return uint64_t(uint32_t(v) & 0x1FFFFFu); };
+        return (bits(c.x()) << 42) | (bits(c.y()) << 21) | bits(c.z());
+    }
+    float cell_;
+    std::unordered_map<uint64_t, std::vector<Entry>> cells_;
+};
+
+}  // namespace
 
 // The earlier visits' voxels within supersede_m of one of visit v's: that surface was seen
 // again, and visit v's points are its state now. Returns how many were dropped.
 size_t BuildingMap::DropSeenAgain(size_t v) {
-    const int cells = int(std::ceil(supersede_m_ / voxel_));
+    Buckets seen{float(supersede_m_)};
+    for (const auto& [key, e] : voxels_) {
+        if (e.voxel.last == v) seen.Add(e.voxel.xyz, e.voxel.first);
+    }
     std::vector<uint64_t> drop;
-    for (auto& [key, e] : voxels_) {
-        if (e.voxel.last == v) continue;
-        const auto seen = Near(e.voxel.xyz, v, cells, float(supersede_m_));
-        if (!seen) continue;
-        drop.push_back(key);
+    for (const auto& [key, e] : voxels_) {
+        if (e.voxel.last != v && seen.Within(e.voxel.xyz, float(supersede_m_), nullptr))
+            drop.push_back(key);
     }
     for (const uint64_t key : drop) voxels_.erase(key);
     return drop.size();
@@ -131,16 +140,21 @@ size_t BuildingMap::DropInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
 json BuildingMap::Add(size_t v, const VisitFindings& visit, const json& history) {
     size_t kept = 0, transient = 0;
     const size_t old = voxels_.size();
+    Buckets mine{float(voxel_)};           // this visit's points kept, one per voxel's distance
+    Buckets earlier{float(supersede_m_)};  // where the earlier visits saw what, and since when
+    for (const auto& [key, e] : voxels_) earlier.Add(e.voxel.xyz, e.voxel.first);
     for (const auto& p : visit.found.map) {
         if (p.cls == uint8_t(changes::PointClass::kTransient)) {
             ++transient;
             continue;
         }
-        if (Near(p.xyz, v, 1, float(voxel_))) continue;  // kept already, of this visit
+        if (mine.Within(p.xyz, float(voxel_), nullptr)) continue;  // kept already, of this visit
+        mine.Add(p.xyz, 0);
         auto [it, inserted] = voxels_.try_emplace(Key(p.xyz));
         Entry& e = it->second;
         // A surface seen again keeps the visit that first saw it (the earliest within reach).
-        e.voxel.first = std::min(inserted ? uint16_t(v) : e.voxel.first, EarliestNear(p.xyz, v));
+        e.voxel.first = inserted ? uint16_t(v) : e.voxel.first;
+        earlier.Within(p.xyz, float(supersede_m_), &e.voxel.first);
         e.voxel.xyz = p.xyz;
         e.voxel.cls = p.cls;
         e.voxel.last = uint16_t(v);

@@ -49,9 +49,7 @@ private:
     struct Entry;
     using Map = std::unordered_map<uint64_t, Entry>;
     uint64_t Key(const Eigen::Vector3f& p) const;
-    std::optional<Map::iterator> Near(const Eigen::Vector3f& p, size_t v, int cells, float radius);
     size_t DropSeenAgain(size_t v);
-    uint16_t EarliestNear(const Eigen::Vector3f& p, size_t v) const;
     size_t DropInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, size_t before);
 
     double voxel_, supersede_m_;
