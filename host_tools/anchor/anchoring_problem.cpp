@@ -35,6 +35,10 @@ AnchorResult AnchoringProblem::Solve() {
     // 1-4: each query against the reference (and the earlier visits, 7).
     if (progress_) progress_("reference map", 0, 1);
     const Target reference = TargetOf(ReferenceAndEarlier());
+    // Negative evidence comes from the model alone: an earlier visit's surfaces hold people,
+    // clutter and objects that have gone since, and rays through them are no contradiction (the
+    // demo's second visit saw through 8.4 % of them and was refused; 0.7 % of the model's).
+    if (queries_ + 1 < sessions_.size()) model_only_.emplace(TargetOf({{0, state_[0].World()}}));
     for (size_t q = 1; q <= queries_; ++q) {
         outcomes_.push_back(AnchorQuery(q, reference));
     }

@@ -103,9 +103,11 @@ private:
     std::vector<LoopRecord> DropUnexplained(const std::vector<LoopRecord>& loops,
                                             std::vector<State>* state,
                                             std::vector<LoopRecord>* rejected);
+
     // Negative evidence: each keyframe of q near the target, placed by query_state, cast
-    // through the target's surfels (registration::CheckFreeSpace); *median is the median share
-    // of rays seen through over the keyframes checked (left as it is when none is).
+    // through the target's surfels (registration::CheckFreeSpace; with earlier visits, the
+    // model's alone: model_only_); *median is the median share of rays seen through over the
+    // keyframes checked (left as it is when none is).
     std::vector<registration::FreeSpaceResult> SeenThrough(size_t q, const Target& target,
                                                            const State& query_state,
                                                            double* median) const;
@@ -122,6 +124,8 @@ private:
     const std::vector<AnchorSession>& sessions_;
     const AnchorConfig& config_;
     size_t queries_ = 0;  // sessions 1..queries_; the earlier visits' after them
+    // With earlier visits: the reference alone, for the free-space check (SeenThrough).
+    std::optional<Target> model_only_;
     Progress progress_;
     std::vector<State> state_;            // per session
     std::vector<QueryOutcome> outcomes_;  // per query: outcomes_[q - 1]

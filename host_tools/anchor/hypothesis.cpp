@@ -162,11 +162,12 @@ std::vector<registration::FreeSpaceResult> AnchoringProblem::SeenThrough(size_t 
                                                                          double* median) const {
     const size_t n = sessions_[q].keyframes();
     std::vector<registration::FreeSpaceResult> fs(n);
-    const registration::SurfelMap& fs_map = target.map().level(config_.free_space_level);
+    const Target& model = model_only_ ? *model_only_ : target;  // see Solve
+    const registration::SurfelMap& fs_map = model.map().level(config_.free_space_level);
     tbb::parallel_for(size_t(0), n, [&](size_t j) {
         const Eigen::Isometry3d T = query_state.anchor * query_state.poses[j];
-        if (target.Nearest(T.translation(), config_.proximity_radius_m,
-                           config_.proximity_height_m) == Target::kNone) {
+        if (model.Nearest(T.translation(), config_.proximity_radius_m,
+                          config_.proximity_height_m) == Target::kNone) {
             return;
         }
         fs[j] = registration::CheckFreeSpace(sessions_[q].clouds[j], fs_map, T, config_.free_space);

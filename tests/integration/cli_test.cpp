@@ -1,8 +1,10 @@
 // The `bimslam` command as a user runs it: exit codes, messages, --json output.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -59,7 +61,9 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     EXPECT_NE(demo.out.find("report: " + fs::absolute(report).string()), std::string::npos)
         << demo.out;
     EXPECT_GT(fs::file_size(report), 100000u);
-    const auto summary = nlohmann::json::parse(io::ReadFileToString(out / "map" / "summary.json"));
+    // The first visit's figures (map/summary.json is the newest visit's: the second).
+    const auto summary = nlohmann::json::parse(
+        io::ReadFileToString(out / "map" / "visits" / "2023-11-14" / "summary.json"));
     const auto& rec = summary.at("recordings").at(0);
     EXPECT_EQ(rec.at("anchor").at("verdict"), "anchored");
     // The accuracy line's value is the summary's, and within about twice what the demo measures
@@ -81,6 +85,39 @@ TEST(Cli, DemoRunsEndToEndAndItsSessionReadsBack) {
     EXPECT_EQ(walk.at("starts_outside"), true);
     EXPECT_EQ(walk.at("storeys"), nlohmann::json({"Ground Floor", "First Floor"}));
     EXPECT_EQ(walk.at("flights_walked"), 1);
+
+    // The second visit, three months later (issue 33 item 8): anchored from inside against the
+    // model and the first visit, and what changed between them as the simulator made it
+    // (whole_building_later.yaml): the crate at the corridor's east end gone, the open office's
+    // cabinet moved 1.6 m west, a pallet new in the corridor, the columns built since.
+    const auto newest = nlohmann::json::parse(io::ReadFileToString(out / "map" / "summary.json"));
+    EXPECT_EQ(newest.at("visit").at("label"), "2024-02-14");
+    const auto& later = newest.at("recordings").at(0);
+    EXPECT_EQ(later.at("anchor").at("verdict"), "anchored") << later.dump(1);
+    EXPECT_LT(later.at("accuracy").at("ape_trans_rmse_m").get<double>(), 0.03);
+    EXPECT_NE(demo.out.find("what changed from 2023-11-14 to 2024-02-14"), std::string::npos)
+        << demo.out;
+    const auto history = nlohmann::json::parse(io::ReadFileToString(out / "map" / "history.json"));
+    const auto& since = history.at("changes").at(1).at("since_previous");
+    std::map<std::string, nlohmann::json> objects;
+    for (const auto& o : history.at("objects")) objects[o.at("id")] = o;
+    const auto near = [&](const nlohmann::json& ids, double x, double y) {
+        for (const auto& id : ids) {
+            const auto& o =
+                objects[id.is_string() ? id.get<std::string>() : id.at("id").get<std::string>()];
+            const double cx = 0.5 * (o["box_min"][0].get<double>() + o["box_max"][0].get<double>());
+            const double cy = 0.5 * (o["box_min"][1].get<double>() + o["box_max"][1].get<double>());
+            if (std::hypot(cx - x, cy - y) < 0.3) return true;
+        }
+        return false;
+    };
+    EXPECT_TRUE(near(since.at("gone"), 29.5, 7.15)) << since.dump(1);
+    EXPECT_TRUE(near(since.at("new"), 5.0, 7.75)) << since.dump(1);
+    EXPECT_TRUE(near(since.at("moved"), 14.9, 4.6)) << since.dump(1);  // where it stands now
+    ASSERT_EQ(since.at("moved").size(), 1u) << since.dump(1);
+    const auto& offset = since["moved"][0].at("offset_m");
+    EXPECT_NEAR(std::hypot(offset[0].get<double>(), offset[1].get<double>()), 1.6, 0.1);
+    EXPECT_GE(since.at("reappeared").size(), 2u) << "the ground floor's columns";
 
     const auto info = test::RunCommand(kCli + " session info --json " + (out / "session").string());
     ASSERT_EQ(info.exit_code, 0) << info.err;
