@@ -239,7 +239,7 @@ json ExpectedRows(const json& history, const std::string& visit) {
 // selects each visit and the plans draw its walks; the change list's filter shows the changes
 // since the previous visit and since the model, as of the selected visit; a contradiction (a
 // column missing, then built) is marked, and a click on it shows its history: missing, then
-// confirmed.
+// confirmed; a click on the gone crate's plan mark shows its sightings.
 TEST(ReportBrowser, TheTimelineSelectsAVisitsWalksAndChangesAndARowShowsItsHistory) {
     if (Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
@@ -285,6 +285,8 @@ TEST(ReportBrowser, TheTimelineSelectsAVisitsWalksAndChangesAndARowShowsItsHisto
     EXPECT_EQ(v.at("contradiction_rows"), 2) << v.dump();
     EXPECT_EQ(v.at("history"), json::array({kDayA + " missing", kDayB + " confirmed"})) << v.dump();
     EXPECT_EQ(v.at("history_contradictions"), 1) << v.dump();
+    // The crate's mark on the plan (drawn dashed: gone) shows its sightings: new, then gone.
+    EXPECT_EQ(v.at("plan_history"), json::array({kDayA + " new", kDayB + " gone"})) << v.dump();
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
 }
 

@@ -234,8 +234,8 @@ function inspectHistory(ref) {
 
 // ---- self-test (report.html#selftest) ------------------------------------------------------------
 // Every visit selected on the timeline (the walks drawn on the plans, the rows of each filter);
-// then the newest again, since the previous visit, and the first row with a contradiction clicked
-// (its history's per-visit verdicts).
+// then the newest again, since the previous visit: a gone object's plan mark clicked (its
+// sightings), and the first row with a contradiction (its history's per-visit verdicts).
 function visitsSelfTest() {
   const r = {visits: (D.visits || []).map(v => v.label), selected: visitLabel(visitIndex),
              filter: changeFilter, walks: {}, rows: {}};
@@ -251,6 +251,11 @@ function visitsSelfTest() {
   if (!sel) return r;
   [...document.querySelectorAll('#visits-body button.visit')].pop().click();
   rows('previous');
+  const gone = document.querySelector('.plan rect.gone');  // an object's history from its plan mark
+  if (gone) {
+    gone.dispatchEvent(new MouseEvent('click', {bubbles: true}));
+    r.plan_history = [...document.querySelectorAll('#history tr.hv')].map(tr => tr.dataset.visit + ' ' + tr.dataset.verdict);
+  }
   r.contradiction_rows = document.querySelectorAll('#changes-body tr.row.contradiction').length;
   const row = document.querySelector('#changes-body tr.row.contradiction');
   if (row) {
