@@ -341,11 +341,12 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     rep->add_option("out", *out, "the output folder of `bimslam map`")->required();
     rep->add_option("-o,--output", *html, "the page to write (default OUT/report/report.html)");
     rep->footer(
-        "The page holds the summary, a floor plan per storey (walls, doors, the stairs, the part "
-        "of "
-        "the reference walk and of the trajectories on that storey, flights dashed on both, loops, "
-        "new objects, missing elements, a scale bar), plots, the change list and a 3D view with a "
-        "storey filter (three.js r111 from Debian's libjs-three, embedded). Opens offline. "
+        "The page holds the summary, the visits' timeline, a floor plan per storey (walls, doors, "
+        "the stairs, the part of the reference walk and of the selected visit's walks on that "
+        "storey, flights dashed on both, loops, the listed changes, a scale bar), plots, the "
+        "change list (since the previous visit, since the model or each recording's detections; "
+        "contradictions marked; a row's history on click) and a 3D view with a storey filter "
+        "(three.js r111 from Debian's libjs-three, embedded). Opens offline. "
         "host_tools/report/README.md.");
     rep->callback(
         [out, html, &exit_code] { exit_code = Run([&] { return ReportMain(*out, *html); }); });

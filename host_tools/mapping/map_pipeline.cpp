@@ -421,12 +421,14 @@ void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
     (*summary)["history"]["building_map_voxels"] = voxels;  // after each visit
 }
 
-// 6. The report of the newest visit, with the list of every visit (OUT/summary.json).
-void ReportStep(MapContext& c, Stepper& stepper, const StepStamp& newest_changes,
+// 6. The report of the newest visit, with the list of every visit (OUT/summary.json), each
+// visit's walks and the history (every visit's changes, upstream of history.json and after each
+// visit's anchoring).
+void ReportStep(MapContext& c, Stepper& stepper, const std::vector<StepStamp>& changes,
                 const std::vector<StepStamp>& newest_odometry,
                 const std::vector<RecordingInput>& newest, const json& visits, json* summary) {
     StepStamp page("report");
-    page.AddUpstream(newest_changes);
+    for (const StepStamp& s : changes) page.AddUpstream(s);
     for (const StepStamp& s : newest_odometry) page.AddUpstream(s);
     page.AddParameter("page", report::PageVersion());
     page.AddParameter("visits", visits);
@@ -486,7 +488,7 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
     WriteIfChanged(config.out / "summary.json", run.summary.dump(2) + "\n");
     run.summary["history"]["file"] = (config.out / "history.json").string();
     if (config.report) {
-        ReportStep(c, stepper, changes.back(), odometry, p.visits.back(), run.summary.at("visits"),
+        ReportStep(c, stepper, changes, odometry, p.visits.back(), run.summary.at("visits"),
                    &run.summary);
     }
     return run;

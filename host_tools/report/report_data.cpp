@@ -14,7 +14,7 @@
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
 #include "host_tools/report/report_geometry.hpp"
-#include "host_tools/report/storey_split.hpp"
+#include "host_tools/report/report_visits.hpp"
 
 namespace bimslam::report {
 namespace fs = std::filesystem;
@@ -42,20 +42,6 @@ json ReadJson(const fs::path& file) {
     } catch (const json::exception& e) {
         throw common::FileError(common::StatusCode::kParseError, file.string(), 0, e.what());
     }
-}
-
-// Positions minus `origin` (the mesh's frame), every k-th so that at most `max` remain (the last
-// always).
-std::vector<float> Thin(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& origin,
-                        size_t max) {
-    std::vector<float> out;
-    const size_t step = std::max<size_t>(1, (p.size() + max - 1) / max);
-    for (size_t i = 0; i < p.size(); ++i) {
-        if (i % step != 0 && i + 1 != p.size()) continue;
-        const Eigen::Vector3d q = p[i] - origin;
-        for (int k = 0; k < 3; ++k) out.push_back(std::round(float(q[k]) * 1000.0f) / 1000.0f);
-    }
-    return out;
 }
 
 std::vector<Eigen::Vector3d> Positions(const std::vector<io::StampedPose>& poses) {
@@ -100,34 +86,13 @@ json OwnFrameMap(const fs::path& session_dir, size_t max_points) {
     }
     return {{"points", Base64(xyz)},
             {"shown", xyz.size() / 3},
-            {"trajectory", Thin(Positions(s.trajectory), Eigen::Vector3d::Zero(), 4000)}};
+            {"trajectory", ThinPoints(Positions(s.trajectory), Eigen::Vector3d::Zero(), 4000)}};
 }
 
 std::vector<Eigen::Vector3d> Translations(const std::vector<Eigen::Isometry3d>& poses) {
     std::vector<Eigen::Vector3d> p;
     for (const auto& T : poses) p.push_back(T.translation());
     return p;
-}
-
-// The walk split by storey (storey_split.hpp), thinned like the trajectories, in the mesh frame:
-// [{lower, upper, xyz}] (lower == upper on a floor; on a flight the storeys below and above).
-json StoreyRuns(const std::vector<Eigen::Vector3d>& positions, const bim::BimModel& model,
-                size_t max_points) {
-    const Eigen::Vector3d origin = model.origin_m;
-    std::vector<Eigen::Vector3d> local;
-    const size_t step = std::max<size_t>(1, (positions.size() + max_points - 1) / max_points);
-    for (size_t i = 0; i < positions.size(); ++i) {
-        if (i % step == 0 || i + 1 == positions.size()) local.push_back(positions[i] - origin);
-    }
-    std::vector<double> elevations;
-    for (const bim::BimStorey& s : model.storeys) elevations.push_back(s.elevation_m - origin.z());
-    json runs = json::array();
-    for (const StoreyRun& r : SplitByStorey(local, elevations)) {
-        runs.push_back({{"lower", r.lower},
-                        {"upper", r.upper},
-                        {"xyz", Thin(r.points, Eigen::Vector3d::Zero(), r.points.size())}});
-    }
-    return runs;
 }
 
 // A session's map coloured by distance (map_bim.ply), decimated to at most max_points, storey by
@@ -285,7 +250,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
             keyframes[name] = io::ReadKitti(anchored_dir / "optimized_poses.txt");
             const std::vector<Eigen::Vector3d> trajectory =
                 Positions(io::ReadTum(anchored_dir / "trajectory_bim.tum"));
-            s["trajectory"] = Thin(trajectory, origin, config.max_trajectory_points);
+            s["trajectory"] = ThinPoints(trajectory, origin, config.max_trajectory_points);
             s["runs"] = StoreyRuns(trajectory, model, config.max_trajectory_points);
             if (rec.at("ground_truth").is_string()) {
                 s["ape"] = ApeOverTime(anchored_dir / "trajectory_bim.tum",
@@ -322,14 +287,8 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         for (const char* kind : {"missing", "deviating"}) {
             for (const json& e : c.at(kind)) {
                 const size_t index = e.at("index");
-                const bim::BimElement& el = model.elements.at(index);
-                Eigen::AlignedBox3f b;
-                for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count;
-                     ++t) {
-                    for (uint32_t v : model.mesh.triangles[t]) b.extend(model.mesh.vertices[v]);
-                }
-                const Eigen::Vector3d lo = b.min().cast<double>() + origin;
-                const Eigen::Vector3d hi = b.max().cast<double>() + origin;
+                const Eigen::AlignedBox3d b = ElementBox(model, index);
+                const Eigen::Vector3d lo = b.min(), hi = b.max();
                 const Eigen::Vector3d size = hi - lo, mid = (lo + hi) / 2;
                 std::string verdict = kind;
                 if (std::string(kind) == "deviating") {
@@ -397,10 +356,14 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
                              {"inlier_ratio", l.at("inlier_ratio")},
                              {"inlier_rmse_m", l.at("inlier_rmse_m")},
                              {"reason", l.at("reason")},
-                             {"a", Thin({target}, origin, 1)},
-                             {"b", Thin({query}, origin, 1)}});
+                             {"a", ThinPoints({target}, origin, 1)},
+                             {"b", ThinPoints({query}, origin, 1)}});
     }
     data["loops"] = loop_rows;
+    // The project's visits and history (issue 33 item 6; none from an older bimslam).
+    progress("visits and history", 0.95);
+    data["visits"] = VisitWalks(out, summary, model, config.max_trajectory_points);
+    data["history"] = HistoryForPage(out, model);
     data["config"] = {{"max_map_points", config.max_map_points},
                       {"plan_cut_height_m", config.plan_cut_height_m}};
     progress("done", 1.0);

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <map>
 
 #include "host_tools/bim/stairs.hpp"
+#include "host_tools/report/storey_split.hpp"
 
 namespace bimslam::report {
 using nlohmann::json;
@@ -233,6 +235,51 @@ json FlightOutlines(const bim::BimModel& m) {
                        {"line", line}});
     }
     return out;
+}
+
+}  // namespace bimslam::report
+
+namespace bimslam::report {
+
+Eigen::AlignedBox3d ElementBox(const bim::BimModel& m, size_t index) {
+    const bim::BimElement& e = m.elements.at(index);
+    Eigen::AlignedBox3d b;
+    for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+        for (uint32_t v : m.mesh.triangles[t]) b.extend(m.mesh.vertices[v].cast<double>());
+    }
+    if (!b.isEmpty()) b.translate(m.origin_m);
+    return b;
+}
+
+std::vector<float> ThinPoints(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& origin,
+                              size_t max) {
+    std::vector<float> out;
+    const size_t step = std::max<size_t>(1, (p.size() + max - 1) / max);
+    for (size_t i = 0; i < p.size(); ++i) {
+        if (i % step != 0 && i + 1 != p.size()) continue;
+        const Eigen::Vector3d q = p[i] - origin;
+        for (int k = 0; k < 3; ++k) out.push_back(std::round(float(q[k]) * 1000.0f) / 1000.0f);
+    }
+    return out;
+}
+
+json StoreyRuns(const std::vector<Eigen::Vector3d>& positions, const bim::BimModel& model,
+                size_t max_points) {
+    const Eigen::Vector3d origin = model.origin_m;
+    std::vector<Eigen::Vector3d> local;
+    const size_t step = std::max<size_t>(1, (positions.size() + max_points - 1) / max_points);
+    for (size_t i = 0; i < positions.size(); ++i) {
+        if (i % step == 0 || i + 1 == positions.size()) local.push_back(positions[i] - origin);
+    }
+    std::vector<double> elevations;
+    for (const bim::BimStorey& s : model.storeys) elevations.push_back(s.elevation_m - origin.z());
+    json runs = json::array();
+    for (const StoreyRun& r : SplitByStorey(local, elevations)) {
+        runs.push_back({{"lower", r.lower},
+                        {"upper", r.upper},
+                        {"xyz", ThinPoints(r.points, Eigen::Vector3d::Zero(), r.points.size())}});
+    }
+    return runs;
 }
 
 }  // namespace bimslam::report

@@ -50,6 +50,20 @@ int StoreyOfPoint(const bim::BimModel& model, double z);
 // without storeys.
 std::vector<int> ElementStoreys(const bim::BimModel& model);
 
+// An element's bounding box in the model's frame (the mesh's plus origin_m).
+Eigen::AlignedBox3d ElementBox(const bim::BimModel& model, size_t index);
+
+// Positions minus `origin` (the mesh's frame), every k-th so that at most `max` remain (the last
+// always), rounded to the millimetre: [x, y, z, ...].
+std::vector<float> ThinPoints(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& origin,
+                              size_t max);
+
+// A walk (model frame) split by storey (storey_split.hpp), thinned to at most max_points, in the
+// mesh frame: [{lower, upper, xyz}] (lower == upper on a floor; on a flight the storeys below and
+// above).
+nlohmann::json StoreyRuns(const std::vector<Eigen::Vector3d>& positions, const bim::BimModel& model,
+                          size_t max_points);
+
 // The model's stairs and ramps (bim::FindStairFlights) as the plans draw them: [{name, lower,
 // upper, rise_m, risers, treads: [x y of 4 corners per level, flat], line: [x y, flat]}] (mesh
 // frame), each drawn on the plans of the storeys it joins.

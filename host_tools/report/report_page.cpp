@@ -26,7 +26,7 @@ std::string BuildPage(const nlohmann::json& data) {
         text.replace(at, 2, "<\\/");
     }
     Inline(page, "DATA", text);
-    for (const char* name : {"report.css", "three.min.js", "OrbitControls.js", "report.js"}) {
+    for (const char* name : {"report.css", "three.min.js", "OrbitControls.js", "report_visits.js", "report.js"}) {
         Inline(page, name, ReportAsset(name));
     }
     return page;

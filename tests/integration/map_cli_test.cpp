@@ -107,7 +107,8 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     ASSERT_EQ(second.exit_code, 0) << second.err;
     const json steps = Steps(json::parse(second.out));
     for (const auto& [step, skipped] : steps.items()) EXPECT_TRUE(skipped.get<bool>()) << step;
-    EXPECT_EQ(steps.size(), 6u) << steps.dump();  // reference, odometry, anchor, changes, history, report
+    EXPECT_EQ(steps.size(), 6u)
+        << steps.dump();  // reference, odometry, anchor, changes, history, report
     EXPECT_EQ(json::parse(second.out).at("recordings"), json::parse(first.out).at("recordings"));
 
     const fs::path pcap = tmp / "capture" / "lidar.pcap";
@@ -204,6 +205,59 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     EXPECT_LE(shown, 1000u);
     EXPECT_GT(shown, 500u);  // evenly thinned, not cut
     EXPECT_EQ(data.at("config").at("max_map_points"), 1000);
+}
+
+// The report's data of a project of two visits (issue 33 item 6; map_test_support.hpp, two_days):
+// each visit's walks (its anchored recordings' trajectories, split by storey like the newest's),
+// the history with each element's box. The output of an older bimslam (no history.json, a summary
+// without visits) gives neither, and the rest as before.
+TEST(MapCli, TheReportsDataHoldsEachVisitsWalksAndTheHistoryAndAnOlderOutputNeither) {
+    using namespace two_days;
+    const fs::path out = AllAtOnce() / "out";
+    const json data = report::CollectReportData(out, {});
+    const json& visits = data.at("visits");
+    ASSERT_EQ(visits.size(), 2u) << visits.dump().substr(0, 2000);
+    const auto names = [](const json& v) {
+        json n = json::array();
+        for (const json& w : v.at("walks")) {
+            EXPECT_FALSE(w.at("runs").empty()) << w.at("name");
+            n.push_back(w.at("name"));
+        }
+        return n;
+    };
+    EXPECT_EQ(visits[0].at("label"), kDayA);
+    EXPECT_EQ(names(visits[0]), json::array({"lidar"}));
+    EXPECT_EQ(visits[1].at("label"), kDayB);
+    EXPECT_EQ(names(visits[1]), json::array({"b", "c"}));
+    for (size_t k = 0; k < 2; ++k) {  // the newest's walks are its recordings' trajectories
+        EXPECT_EQ(visits[1]["walks"][k].at("runs"), data.at("sessions").at(k).at("runs")) << k;
+    }
+    const json& elements = data.at("history").at("elements");
+    ASSERT_FALSE(elements.empty());
+    for (const json& e : elements) {
+        ASSERT_TRUE(e.contains("min") && e.contains("max")) << e.dump();
+        if (e.at("class") != "IfcColumn") continue;  // the office's columns: 0.4 x 0.4 x 3 m
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_NEAR(e["max"][i].get<double>() - e["min"][i].get<double>(), i < 2 ? 0.4 : 3.0,
+                        1e-3)
+                << e.dump();
+        }
+    }
+    // An older output: the same folders, no history.json, a summary without visits.
+    test::TempDir tmp;
+    fs::create_directories(tmp / "out");
+    for (const char* d : {"reference", "visits"})
+        fs::create_directory_symlink(out / d, tmp / "out" / d);
+    json summary = ReadJson(out / "summary.json");
+    summary.erase("visits");
+    summary.erase("visit");
+    io::WriteFileAtomic(tmp / "out" / "summary.json", summary.dump());
+    const json old = report::CollectReportData(tmp / "out", {});
+    EXPECT_TRUE(old.at("visits").is_null());
+    EXPECT_TRUE(old.at("history").is_null());
+    // (Not the plans: two loads of the model may cut a wall's section a few mm apart.)
+    for (const char* k : {"sessions", "changes", "loops"})
+        EXPECT_EQ(old.at(k), data.at(k)) << k << json::diff(old.at(k), data.at(k)).dump();
 }
 
 // The report's data per storey (issue 31, item 6): the office's stair as a flight from the ground

@@ -1,6 +1,7 @@
-// Fixtures of the `bimslam map` tests (map_cli_test.cpp, report_browser_test.cpp), made once per
-// build of `bimslam` in the build folder and shared by the test processes (test::CachedFixture:
-// one process makes each, the others wait for it; one that failed to build is not kept).
+// Fixtures of the `bimslam map` tests (map_cli_test.cpp, map_visits_test.cpp,
+// report_browser_test.cpp), made once per build of `bimslam` in the build folder and shared by
+// the test processes (test::CachedFixture: one process makes each, the others wait for it; one
+// that failed to build is not kept).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -215,5 +216,73 @@ inline fs::path InParts() {
         io::WriteFileAtomic(d / "map.out", r.out + r.err);
     });
 }
+
+// Two visits of the sample office (map_visits_test.cpp, report_browser_test.cpp): three short
+// hand-held walks on two days, mapped as one project.
+namespace two_days {
+
+// Walk a on 2 March, b and c on 9 March (morning and afternoon): two visits. On 2 March a crate
+// stood in the corridor and the open office's columns were not built yet; on 9 March the crate
+// is gone, the columns stand, as modelled, and a cabinet stands in the open office.
+inline const std::string kDayA = "2026-03-02", kDayB = "2026-03-09";
+struct Walk {
+    const char* name;
+    const char* start;
+    int seed;
+    const char* edits;
+};
+inline const char* const kFirstDay =
+    "edits:\n"
+    "  boxes: [{name: crate in the corridor, center: [24.0, 7.75, 0.4], size: [0.8, 0.6, 0.8], "
+    "yaw_deg: 0}]\n"
+    "  removed: {classes: [IfcColumn]}\n";
+inline const char* const kSecondDay =
+    "edits:\n"
+    "  boxes: [{name: cabinet in the open office, center: [19.6, 4.0, 0.5], size: [1.0, 0.6, "
+    "1.0], yaw_deg: 0}]\n";
+inline const Walk kWalks[] = {{"a", "2026-03-02T09:00:00Z", 11, kFirstDay},
+                              {"b", "2026-03-09T09:00:00Z", 12, kSecondDay},
+                              {"c", "2026-03-09T15:30:00Z", 13, kSecondDay}};
+
+// Hand-held, OS1-16 at 512x10 and 30 s to stay cheap (about 2 s to simulate each).
+inline fs::path Walks() {
+    return Fixture("visit_walks", [](const fs::path& d) {
+        for (const Walk& w : kWalks) {
+            io::WriteFileAtomic(d / (std::string(w.name) + ".yaml"),
+                                "platform: handheld\nseed: " + std::to_string(w.seed) +
+                                    "\nduration_s: 30\nsensor: {model: OS1-16, lidar_mode: "
+                                    "512x10}\n" +
+                                    w.edits);
+            MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
+                    (d / (std::string(w.name) + ".yaml")).string() + " --start " + w.start +
+                    " -o " + (d / w.name).string());
+        }
+    });
+}
+
+inline std::string Model() { return (Building() / "building.ifc").string(); }
+
+// a is given as its pcap (metadata.json beside it, no capture.json): dated by its first packet,
+// named "lidar".
+inline std::string A() { return (Walks() / "a" / "lidar.pcap").string(); }
+inline std::string B() { return (Walks() / "b").string(); }
+inline std::string C() { return (Walks() / "c").string(); }
+
+inline nlohmann::json MapJson(const std::string& args, int exit_code = 0) {
+    const auto r = Cli(args + kBudget + " --json");
+    EXPECT_EQ(r.exit_code, exit_code) << args << "\n" << r.err;
+    return r.exit_code == 0 ? nlohmann::json::parse(r.out) : nlohmann::json(nullptr);
+}
+
+// All at once, given in reverse order of their dates. out.json: what it printed.
+inline fs::path AllAtOnce() {
+    return Fixture("visits_all", [](const fs::path& d) {
+        const nlohmann::json j = MapJson("map " + Model() + " " + C() + " " + B() + " " + A() +
+                                         " -o " + (d / "out").string());
+        io::WriteFileAtomic(d / "out.json", j.dump(1));
+    });
+}
+
+}  // namespace two_days
 
 }  // namespace bimslam::map_test

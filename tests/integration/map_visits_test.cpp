@@ -30,68 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
-
-// Walk a on 2 March, b and c on 9 March (morning and afternoon): two visits. On 2 March a crate
-// stood in the corridor and the open office's columns were not built yet; on 9 March the crate
-// is gone, the columns stand, as modelled, and a cabinet stands in the open office.
-const std::string kDayA = "2026-03-02", kDayB = "2026-03-09";
-struct Walk {
-    const char* name;
-    const char* start;
-    int seed;
-    const char* edits;
-};
-const char* const kFirstDay =
-    "edits:\n"
-    "  boxes: [{name: crate in the corridor, center: [24.0, 7.75, 0.4], size: [0.8, 0.6, 0.8], "
-    "yaw_deg: 0}]\n"
-    "  removed: {classes: [IfcColumn]}\n";
-const char* const kSecondDay =
-    "edits:\n"
-    "  boxes: [{name: cabinet in the open office, center: [19.6, 4.0, 0.5], size: [1.0, 0.6, "
-    "1.0], yaw_deg: 0}]\n";
-const Walk kWalks[] = {{"a", "2026-03-02T09:00:00Z", 11, kFirstDay},
-                       {"b", "2026-03-09T09:00:00Z", 12, kSecondDay},
-                       {"c", "2026-03-09T15:30:00Z", 13, kSecondDay}};
-
-// Hand-held, OS1-16 at 512x10 and 30 s to stay cheap (about 2 s to simulate each).
-fs::path Walks() {
-    return Fixture("visit_walks", [](const fs::path& d) {
-        for (const Walk& w : kWalks) {
-            io::WriteFileAtomic(d / (std::string(w.name) + ".yaml"),
-                                "platform: handheld\nseed: " + std::to_string(w.seed) +
-                                    "\nduration_s: 30\nsensor: {model: OS1-16, lidar_mode: "
-                                    "512x10}\n" +
-                                    w.edits);
-            MustRun("simulate --model " + (Building() / "building.ifc").string() + " --scenario " +
-                    (d / (std::string(w.name) + ".yaml")).string() + " --start " + w.start +
-                    " -o " + (d / w.name).string());
-        }
-    });
-}
-
-std::string Model() { return (Building() / "building.ifc").string(); }
-
-// a is given as its pcap (metadata.json beside it, no capture.json): dated by its first packet,
-// named "lidar".
-std::string A() { return (Walks() / "a" / "lidar.pcap").string(); }
-std::string B() { return (Walks() / "b").string(); }
-std::string C() { return (Walks() / "c").string(); }
-
-json MapJson(const std::string& args, int exit_code = 0) {
-    const auto r = Cli(args + kBudget + " --json");
-    EXPECT_EQ(r.exit_code, exit_code) << args << "\n" << r.err;
-    return r.exit_code == 0 ? json::parse(r.out) : json(nullptr);
-}
-
-// All at once, given in reverse order of their dates. out.json: what it printed.
-fs::path AllAtOnce() {
-    return Fixture("visits_all", [](const fs::path& d) {
-        const json j = MapJson("map " + Model() + " " + C() + " " + B() + " " + A() + " -o " +
-                               (d / "out").string());
-        io::WriteFileAtomic(d / "out.json", j.dump(1));
-    });
-}
+using namespace map_test::two_days;
 
 // One at a time: b, then a (an earlier date), then c (b's day). run<k>.json: what each printed.
 fs::path OneAtATime() {

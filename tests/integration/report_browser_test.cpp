@@ -7,11 +7,13 @@
 //   console line in chromium's own log (--enable-logging=stderr);
 // - the floor plans (with walls) and the four plots are present;
 // - the 3D canvas is not blank: pixels of its WebGL drawing buffer differ from the background;
-// - clicking a change row selects it (the row, and its mark in the plan).
+// - clicking a change row selects it (the row, and its mark in the plan);
+// - the visits' timeline, the change list's filter and an element's history (two visits).
 // Skips, saying so, when chromium is not installed (make test installs it:
 // toolchain/install-deps.sh --test).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -180,6 +182,111 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
         }
     }
     EXPECT_EQ(t.at("axis_labels").at(1).at(1), "odometry time per scan (ms)");
+    // One visit on the timeline, its walk on the plans; nothing before it, so the change list
+    // shows the changes since the model at first.
+    const json& v = t.at("visits_test");
+    EXPECT_EQ(v.at("visits"), json::array({kVisit})) << v.dump();
+    EXPECT_EQ(v.at("walks").at(kVisit), json::array({"capture"})) << v.dump();
+    EXPECT_EQ(v.at("filter"), "model") << v.dump();
+    EXPECT_TRUE(v.at("rows").at(kVisit).at("previous").empty()) << v.dump();
+    EXPECT_FALSE(v.at("rows").at(kVisit).at("model").empty()) << v.dump();
+    EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
+}
+
+// The rows the change list should show for a visit's changes since the previous visit and since
+// the model, as history.json lists them ("kind: name"; report_visits.js, rowsSincePrevious and
+// rowsSinceModel).
+json ExpectedRows(const json& history, const std::string& visit) {
+    const auto element = [&](const std::string& gid) {
+        for (const json& e : history.at("elements")) {
+            if (e.at("global_id") == gid)
+                return e.at("name").get<std::string>() + " (" + e.at("class").get<std::string>() +
+                       ")";
+        }
+        return gid;
+    };
+    json c;
+    for (const json& x : history.at("changes")) {
+        if (x.at("visit") == visit) c = x;
+    }
+    json previous = json::array(), model = json::array();
+    if (c.at("since_previous").is_object()) {
+        const json& p = c["since_previous"];
+        for (const char* k : {"new", "gone"}) {
+            for (const json& id : p.at(k))
+                previous.push_back(std::string(k) + ": object " + id.get<std::string>());
+        }
+        for (const json& m : p.at("moved"))
+            previous.push_back("moved: object " + m.at("id").get<std::string>());
+        for (const char* k : {"newly_missing", "newly_deviating", "reappeared", "in_place_again"}) {
+            std::string kind = k;
+            std::replace(kind.begin(), kind.end(), '_', ' ');
+            for (const json& g : p.at(k)) previous.push_back(kind + ": " + element(g));
+        }
+    }
+    const json& m = c.at("since_model");
+    for (const json& o : m.at("new_objects"))
+        model.push_back("new object: object " + o.at("id").get<std::string>());
+    for (const char* k : {"missing", "deviating"}) {
+        for (const json& e : m.at(k))
+            model.push_back(std::string(k) + ": " + element(e.at("global_id")));
+    }
+    return {{"previous", previous}, {"model", model}};
+}
+
+// The project of two visits (issue 33 item 6; map_test_support.hpp, two_days: a crate and no
+// columns on 2 March; on 9 March the crate gone, the columns built, a cabinet new): the timeline
+// selects each visit and the plans draw its walks; the change list's filter shows the changes
+// since the previous visit and since the model, as of the selected visit; a contradiction (a
+// column missing, then built) is marked, and a click on it shows its history: missing, then
+// confirmed; a click on the gone crate's plan mark shows its sightings.
+TEST(ReportBrowser, TheTimelineSelectsAVisitsWalksAndChangesAndARowShowsItsHistory) {
+    if (Chromium().empty()) {
+        GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
+                        "installs it through toolchain/install-deps.sh --test)";
+    }
+    using namespace two_days;
+    const fs::path out = AllAtOnce() / "out";
+    const PageRun run = OpenPage(out / "report" / "report.html", "report_visits.png");
+    const json& t = run.selftest;
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
+    EXPECT_TRUE(run.console.empty()) << run.console;
+    const json& v = t.at("visits_test");
+    EXPECT_EQ(v.at("visits"), json::array({kDayA, kDayB})) << "in date order";
+    EXPECT_EQ(v.at("selected"), kDayB) << "the newest at first";
+    EXPECT_EQ(v.at("filter"), "previous") << v.dump();
+    EXPECT_EQ(v.at("walks").at(kDayA), json::array({"lidar"})) << v.dump();
+    EXPECT_EQ(v.at("walks").at(kDayB), json::array({"b", "c"})) << v.dump();
+    // The newest's walks are drawn at first (the plans' trajectory lines, before the timeline's
+    // clicks).
+    EXPECT_GE(t.at("plan_stats").at(0).at("trajectory").get<int>(), 2) << t.at("plan_stats");
+
+    const json history = ReadJson(out / "history.json");
+    for (const std::string& day : {kDayA, kDayB})
+        EXPECT_EQ(v.at("rows").at(day), ExpectedRows(history, day)) << day;
+    // What the project holds (map_visits_test checks the history itself): the crate gone and the
+    // cabinet new since the previous visit, the two columns built again; since the model, the
+    // cabinet only on 9 March, the crate and the columns missing on 2 March.
+    const json& b = v.at("rows").at(kDayB);
+    ASSERT_EQ(b.at("previous").size(), 4u) << b.dump();
+    EXPECT_EQ(b["previous"][0].get<std::string>().rfind("new: object", 0), 0u) << b.dump();
+    EXPECT_EQ(b["previous"][1].get<std::string>().rfind("gone: object", 0), 0u) << b.dump();
+    for (size_t k : {2, 3}) {
+        const std::string row = b["previous"][k];
+        EXPECT_TRUE(row.starts_with("reappeared: Column") && row.ends_with("(IfcColumn)")) << row;
+    }
+    EXPECT_EQ(b.at("model").size(), 1u) << b.dump();
+    const json& a = v.at("rows").at(kDayA);
+    EXPECT_TRUE(a.at("previous").empty()) << a.dump();
+    EXPECT_EQ(a.at("model").size(), 3u) << a.dump();
+
+    // The contradictions are marked, and a click on one shows its verdict per visit.
+    EXPECT_EQ(v.at("contradiction_rows"), 2) << v.dump();
+    EXPECT_EQ(v.at("history"), json::array({kDayA + " missing", kDayB + " confirmed"})) << v.dump();
+    EXPECT_EQ(v.at("history_contradictions"), 1) << v.dump();
+    // The crate's mark on the plan (drawn dashed: gone) shows its sightings: new, then gone.
+    EXPECT_EQ(v.at("plan_history"), json::array({kDayA + " new", kDayB + " gone"})) << v.dump();
     EXPECT_TRUE(IsPng(run.screenshot)) << run.screenshot;
 }
 

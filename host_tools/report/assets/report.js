@@ -137,7 +137,7 @@ function niceLength(w) {
 }
 // The runs of a walk on this storey (split by height in C++, storey_split.hpp): its floor's, and
 // the flights to and from it, dashed. Returns [lines, of which on flights].
-function drawRuns(runs, storey, cls, parent, color) {
+function drawRuns(runs, storey, cls, parent, color, name) {
   let n = 0, flights = 0;
   (runs || []).forEach(r => {
     if (r.lower !== storey && r.upper !== storey) return;
@@ -147,6 +147,7 @@ function drawRuns(runs, storey, cls, parent, color) {
     const flight = r.lower !== r.upper;
     const p = el('svg:polyline', {class: cls + (flight ? ' flight' : ''), points: pts.join(' ')}, parent);
     if (color) p.setAttribute('stroke', color);
+    if (name) p.dataset.walk = name;
     ++n;
     flights += flight;
   });
@@ -175,16 +176,66 @@ function drawStairs(storey, parent) {
   return n;
 }
 const planStats = [];  // per storey's plan: what it drew (the self-test reports it)
+const planLayers = [];  // per storey's plan: {walks, marks} (SVG groups)
+// Visit k's walks on every plan (walksOf, report_visits.js), with the loops of the newest visit's
+// anchoring (loops.json is the newest's); a legend names the walks by colour.
+function drawWalks(k) {
+  const walks = walksOf(k), newest = k === newestVisit();
+  planLayers.forEach((layer, si) => {
+    layer.walks.textContent = '';
+    Object.assign(planStats[si], {trajectory: 0, trajectory_on_flights: 0});
+    walks.forEach((w, j) => {
+      const [n, flights] = drawRuns(w.runs, si, 'traj', layer.walks, COLORS[j % COLORS.length], w.name);
+      planStats[si].trajectory += n;
+      planStats[si].trajectory_on_flights += flights;
+    });
+    if (newest) D.loops.forEach(l => {
+      if (storeyAt(l.a[2]) !== si) return;
+      el('svg:line', {class: l.accepted ? 'loop-ok' : 'loop-no', x1: l.a[0], y1: l.a[1], x2: l.b[0], y2: l.b[1]}, layer.walks);
+      el('svg:circle', {class: l.accepted ? 'loop-ok' : 'loop-no', cx: l.b[0], cy: l.b[1], r: 0.06}, layer.walks);
+    });
+  });
+  const legend = document.getElementById('plans-walks');
+  legend.textContent = D.visits ? 'Walks of visit ' + visitLabel(k) + ': ' : 'Walks: ';
+  walks.forEach((w, j) => {
+    el('span', {class: 'k', style: 'background:' + COLORS[j % COLORS.length]}, legend);
+    legend.appendChild(document.createTextNode(w.name + ' '));
+  });
+  if (!walks.length) legend.appendChild(document.createTextNode('none anchored.'));
+}
+// The change list's rows on the plans: boxes, each selecting its row.
+function drawMarks(rows) {
+  for (const k in planMarks) delete planMarks[k];
+  planLayers.forEach((layer, si) => {
+    layer.marks.textContent = '';
+    rows.forEach((c, i) => {
+      if (storeyIndex(c) !== si) return;
+      const a = local(c.min), b = local(c.max);
+      const r = el('svg:rect', {class: markClass(c), x: a[0], y: a[1], width: Math.max(b[0] - a[0], 0.05),
+                                height: Math.max(b[1] - a[1], 0.05), 'data-change': i}, layer.marks);
+      el('svg:title', {}, r, c.name + ': ' + c.verdict);
+      r.addEventListener('click', () => select(i, false));
+      (planMarks[i] = planMarks[i] || []).push(r);
+    });
+  });
+}
+function markClass(c) {
+  if (c.kind === 'gone') return 'gone';
+  if (c.ref && c.ref.object || c.kind === 'new object') return 'newobj';
+  if (c.kind === 'reappeared' || c.kind === 'in place again') return 'reappeared';
+  return c.kind.endsWith('missing') ? 'missing' : 'deviating';
+}
 function buildPlans() {
   const body = document.getElementById('plans-body');
   // The model's box, grown to hold the anchored trajectories (a walk may start outside).
   const bmin = D.bounds.min.slice(), bmax = D.bounds.max.slice();
-  D.sessions.forEach(s => {
-    const t = s.trajectory || [];
+  const grow = t => {
     for (let i = 0; i + 2 < t.length; i += 3) {
       for (let k = 0; k < 2; ++k) { bmin[k] = Math.min(bmin[k], t[i + k]); bmax[k] = Math.max(bmax[k], t[i + k]); }
     }
-  });
+  };
+  D.sessions.forEach(s => grow(s.trajectory || []));
+  (D.visits || []).forEach(v => v.walks.forEach(w => w.runs.forEach(r => grow(r.xyz))));
   const x0 = bmin[0] - 1.5, x1 = bmax[0] + 1.5, y0 = bmin[1] - 2.5, y1 = bmax[1] + 1.5;
   D.storeys.forEach((st, si) => {
     el('h3', {id: 'plan-' + si}, body, st.name + ' (cut ' + fmt(st.cut_z + O[2], 2) + ' m)');
@@ -199,29 +250,11 @@ function buildPlans() {
       for (let i = 0; i + 3 < s.length; i += 4) d += 'M' + s[i] + ' ' + s[i + 1] + 'L' + s[i + 2] + ' ' + s[i + 3];
       el('svg:path', {class: cls, d: d}, g);
     }
-    const stat = {storey: st.name, stairs: drawStairs(si, g), walk: drawRuns(D.reference_runs, si, 'walk', g)[0],
-                  trajectory: 0, trajectory_on_flights: 0};
-    D.sessions.forEach((s, k) => {
-      const [n, flights] = drawRuns(s.runs, si, 'traj', g, COLORS[k % COLORS.length]);
-      stat.trajectory += n;
-      stat.trajectory_on_flights += flights;
-    });
-    planStats.push(stat);
-    D.loops.forEach(l => {
-      if (storeyAt(l.a[2]) !== si) return;
-      el('svg:line', {class: l.accepted ? 'loop-ok' : 'loop-no', x1: l.a[0], y1: l.a[1], x2: l.b[0], y2: l.b[1]}, g);
-      el('svg:circle', {class: l.accepted ? 'loop-ok' : 'loop-no', cx: l.b[0], cy: l.b[1], r: 0.06}, g);
-    });
-    D.changes.forEach((c, i) => {
-      if (storeyIndex(c) !== si) return;
-      const a = local(c.min), b = local(c.max);
-      const cls = c.kind === 'new object' ? 'newobj' : c.kind;
-      const r = el('svg:rect', {class: cls, x: a[0], y: a[1], width: Math.max(b[0] - a[0], 0.05),
-                                height: Math.max(b[1] - a[1], 0.05), 'data-change': i}, g);
-      el('svg:title', {}, r, c.name + ': ' + c.verdict);
-      r.addEventListener('click', () => select(i, false));
-      (planMarks[i] = planMarks[i] || []).push(r);
-    });
+    planStats.push({storey: st.name, stairs: drawStairs(si, g), walk: drawRuns(D.reference_runs, si, 'walk', g)[0],
+                    trajectory: 0, trajectory_on_flights: 0});
+    // The selected visit's walks and loops, and the change list's marks: drawn again when the
+    // timeline or the list changes (drawWalks, drawMarks).
+    planLayers.push({walks: el('svg:g', {class: 'walks'}, g), marks: el('svg:g', {class: 'marks'}, g)});
     // Scale bar, bottom left (outside the flipped group so that its text reads).
     const L = niceLength(x1 - x0), sx = x0 + 0.8, sy = -y0 - 0.9;
     el('svg:rect', {x: sx, y: sy, width: L, height: 0.18, fill: '#222'}, svg);
@@ -229,6 +262,7 @@ function buildPlans() {
     el('svg:text', {x: sx, y: sy - 0.15}, svg, '0');
     el('svg:text', {x: sx + L, y: sy - 0.15}, svg, L + ' m');
   });
+  drawWalks(visitIndex);
   D.sessions.forEach(s => {
     if (!s.own_frame) return;
     el('h3', {}, body, s.name + ': odometry map in its own frame (not anchored)');
@@ -330,37 +364,61 @@ function buildPlots() {
 // ---- change list and selection ----------------------------------------------------------------
 let selected = -1;
 function select(i, fly) {
+  markRow(i);
+  if (view) view.highlight(changeRows[i], fly);
+  showHistory(changeRows[i].ref);
+}
+// The row and its plan marks shown selected.
+function markRow(i) {
   selected = i;
   document.querySelectorAll('#changes-body tr.row').forEach(r => r.classList.toggle('selected', +r.dataset.change === i));
   document.querySelectorAll('.plan .selected').forEach(e => e.classList.remove('selected'));
   (planMarks[i] || []).forEach(e => e.classList.add('selected'));
-  if (view) view.highlight(D.changes[i], fly);
 }
 function buildChanges() {
   const body = document.getElementById('changes-body');
-  if (!D.changes.length) { el('p', {}, body, 'No changes (or no anchored recording to compare).'); return; }
-  const t = el('table', {}, body);
+  buildChangeFilter(body);  // report_visits.js: with a history, since the previous visit or the model
+  el('table', {id: 'change-table'}, body);
+  if (D.history) el('div', {id: 'history'}, body, 'Click a row, its mark on a plan or an element in the 3D view to see its history.');
+  showChanges();
+}
+// The list of the selected visit and filter (currentRows, report_visits.js), and its plan marks.
+function showChanges() {
+  changeRows = currentRows();
+  selected = -1;
+  const t = document.getElementById('change-table');
+  t.textContent = '';
+  const caption = document.getElementById('change-caption');
+  if (caption) caption.textContent = changeCaption(changeRows);
+  drawMarks(changeRows);
+  if (!changeRows.length) {
+    el('caption', {}, t, D.history ? 'No changes.' : 'No changes (or no anchored recording to compare).');
+    return;
+  }
   const h = el('tr', {}, t);
   ['#', 'kind', 'element / object', 'size (m)', 'position (m)', 'storey', 'room', 'verdict', 'show']
     .forEach(x => el('th', {}, h, x));
-  D.changes.forEach((c, i) => {
-    const tr = el('tr', {class: 'row', 'data-change': i}, t);
-    el('td', {class: 'num'}, tr, i + 1);
-    el('td', {}, tr, c.kind);
-    el('td', {}, tr, c.name + (c.global_id ? ' ' + c.global_id : ''));
-    el('td', {class: 'num'}, tr, c.size.map(v => fmt(v, 2)).join(' × '));
-    el('td', {class: 'num'}, tr, c.position.map(v => fmt(v, 2)).join(', '));
-    el('td', {}, tr, c.storey || '');
-    el('td', {}, tr, c.room || '');
-    el('td', {}, tr, c.verdict);
-    const td = el('td', {}, tr);
-    const ap = el('a', {href: '#plan-' + storeyIndex(c)}, td, 'plan');
-    td.appendChild(document.createTextNode(' '));
-    const a3 = el('a', {href: '#view3d'}, td, '3D');
-    ap.addEventListener('click', e => { e.stopPropagation(); select(i, false); });
-    a3.addEventListener('click', e => { e.stopPropagation(); select(i, true); });
-    tr.addEventListener('click', () => select(i, true));
-  });
+  changeRows.forEach((c, i) => changeRow(t, c, i));
+}
+function changeRow(t, c, i) {
+  const tr = el('tr', {class: 'row' + (c.contradiction ? ' contradiction' : ''), 'data-change': i,
+                       'data-summary': c.kind + ': ' + c.name}, t);
+  el('td', {class: 'num'}, tr, i + 1);
+  el('td', {}, tr, c.kind);
+  el('td', {}, tr, c.name + (c.global_id ? ' ' + c.global_id : ''));
+  el('td', {class: 'num'}, tr, c.size.map(v => fmt(v, 2)).join(' × '));
+  el('td', {class: 'num'}, tr, c.position.map(v => fmt(v, 2)).join(', '));
+  el('td', {}, tr, c.storey || '');
+  el('td', {}, tr, c.room || '');
+  const v = el('td', {}, tr, c.verdict);
+  if (c.contradiction) el('div', {class: 'contradiction'}, v, '⚠ ' + c.contradiction);
+  const td = el('td', {}, tr);
+  const ap = el('a', {href: '#plan-' + storeyIndex(c)}, td, 'plan');
+  td.appendChild(document.createTextNode(' '));
+  const a3 = el('a', {href: '#view3d'}, td, '3D');
+  ap.addEventListener('click', e => { e.stopPropagation(); select(i, false); });
+  a3.addEventListener('click', e => { e.stopPropagation(); select(i, true); });
+  tr.addEventListener('click', () => select(i, true));
 }
 
 // ---- 3D view ---------------------------------------------------------------------------------
@@ -553,13 +611,16 @@ function buildView() {
     if (u.kind === 'model') {
       const e = D.model3d.elements[u.element[hit.faceIndex]];
       box_.textContent = e.c + ' "' + e.n + '" ' + e.g + (e.s ? ', ' + e.s : '') + ', ' + at;
+      if (historyElement(e.g)) inspectHistory({element: e.g});
     } else if (u.kind === 'map') {
       box_.textContent = 'map point of ' + u.session + ', ' + fmt(u.distance[hit.index] * 100, 1) + ' cm from the model, ' + at;
     } else if (u.kind === 'object') {
       const id = u.object[hit.face.a];
-      const i = D.changes.findIndex(c => c.kind === 'new object' && c.id === id && c.session === u.session);
       box_.textContent = 'new object ' + id + ' of ' + u.session + ', ' + at;
-      if (i >= 0) select(i, false);
+      const tracked = objectOfDetection(visitLabel(newestVisit()), u.session, id);
+      const i = changeRows.findIndex(c => c.kind === 'new object' && c.id === id && c.session === u.session);
+      if (tracked) inspectHistory({object: tracked});
+      else if (i >= 0) select(i, false);
     }
   }
   function highlight(c, fly) {
@@ -601,6 +662,7 @@ function section(name, build) {
   timings[name] = Math.round(performance.now() - t0);
 }
 section('summary', buildSummary);
+section('timeline', buildTimeline);
 section('plans', buildPlans);
 section('plots', buildPlots);
 section('changes', buildChanges);
@@ -611,7 +673,7 @@ if (location.hash === '#selftest') {
   requestAnimationFrame(() => {
     const r = {errors: window.reportErrors.slice(), timings_ms: timings};
     r.plans = document.querySelectorAll('#plans-body svg').length;
-    r.plan_stats = planStats;
+    r.plan_stats = JSON.parse(JSON.stringify(planStats));
     r.axis_labels = [...document.querySelectorAll('#plots-body svg')].map(svg =>
       [svg.querySelector('.xlabel').textContent, svg.querySelector('.ylabel').textContent]);
     r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
@@ -667,6 +729,7 @@ if (location.hash === '#selftest') {
       r.selected_plan = document.querySelectorAll('.plan .selected').length;
       r.selected_change = selected;
     }
+    r.visits_test = visitsSelfTest();  // report_visits.js: the timeline, the filter, a history
     el('pre', {id: 'selftest'}, document.body, JSON.stringify(r));
     document.title = 'selftest done';
   });
