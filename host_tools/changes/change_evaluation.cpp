@@ -165,7 +165,8 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
         for (const json& o : j.at("new_objects")) {
             FoundChanges::Object object{Eigen::AlignedBox3d(Vec3(file, o.at("box_min"), "box_min"),
                                                             Vec3(file, o.at("box_max"), "box_max")),
-                                        o.value("ifc_global_id", ""), "", o.value("id", -1)};
+                                        o.value("ifc_global_id", ""), "", o.value("id", -1),
+                                        o.value("volume_m3", 0.0)};
             if (o.contains("storey") && o.at("storey").is_object())
                 object.storey = o.at("storey").value("name", "");
             f.objects.push_back(std::move(object));

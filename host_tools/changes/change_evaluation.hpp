@@ -84,6 +84,7 @@ struct FoundChanges {
         std::string ifc_global_id = {};  // the proxy's in model_updated.ifc ("" in older files)
         std::string storey = {};         // its storey's name ("" when none)
         int id = -1;                     // its id in changes.json (its mesh's part)
+        double volume_m3 = 0;            // of its voxel solid (0 in older files)
     };
     struct Element {
         std::string verdict;

@@ -18,6 +18,7 @@ json HistoryConfig::ToJson() const {
             {"moved_max_m", moved_max_m},
             {"shape_tolerance", shape_tolerance},
             {"shape_tolerance_m", shape_tolerance_m},
+            {"volume_tolerance", volume_tolerance},
             {"cell_m", cell_m},
             {"floor_band_m", floor_band_m},
             {"min_floor_seen", min_floor_seen},

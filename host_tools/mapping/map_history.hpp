@@ -27,14 +27,17 @@ struct HistoryConfig {
     // 3D IoU at least this, or centres within this.
     double same_min_iou = 0.25;
     double same_max_centroid_m = 0.3;
-    // A moved object: one of the same shape (each of its sorted plan sides and its height within
-    // shape_tolerance relative, or shape_tolerance_m, whichever is larger: a box of the map's
-    // 5 cm voxels measures an object to a few cm; a crate of 0.8 x 0.6 x 0.8 m and a cabinet of
-    // 1.0 x 0.6 x 1.0 m are two objects) on the same storey, within moved_max_m, whose old place
-    // the visit saw empty.
+    // A moved object: one of the same shape (SameShape, object_tracks.hpp: its height within
+    // shape_tolerance relative, or shape_tolerance_m, whichever is larger, and its volume; a box
+    // of the map's 5 cm voxels measures an object to a few cm; a crate of 0.8 x 0.6 x 0.8 m and a
+    // cabinet of 1.0 x 0.6 x 1.0 m are two objects) on the same storey, within moved_max_m, whose
+    // old place the visit saw empty.
     double moved_max_m = 10.0;
     double shape_tolerance = 0.1;
     double shape_tolerance_m = 0.1;
+    // The voxel solids' volumes (changes.json's volume_m3) agree within this share: a turn about
+    // z changes an axis-aligned box's plan (a 0.6 m crate turned 30 degrees: 0.82 m), not it.
+    double volume_tolerance = 0.35;
     // An old place seen empty: of the cells (cell_m) wholly inside its footprint that no object
     // of the visit covers, at least min_floor_seen have a map point within floor_band_m of the
     // object's bottom: the floor it stood on, seen where it stood. An object still standing

@@ -112,16 +112,20 @@ bool SamePlace(const Box& a, const Box& b, const HistoryConfig& config) {
            (a.center() - b.center()).norm() <= config.same_max_centroid_m;
 }
 
-bool SameShape(const Box& a, const Box& b, const HistoryConfig& config) {
-    const Eigen::Vector3d sa = a.sizes(), sb = b.sizes();
-    const std::array<double, 3> pa{std::min(sa.x(), sa.y()), std::max(sa.x(), sa.y()), sa.z()};
-    const std::array<double, 3> pb{std::min(sb.x(), sb.y()), std::max(sb.x(), sb.y()), sb.z()};
-    for (size_t k = 0; k < 3; ++k) {
-        const double tolerance =
-            std::max(config.shape_tolerance_m, config.shape_tolerance * std::max(pa[k], pb[k]));
-        if (std::abs(pa[k] - pb[k]) > tolerance) return false;
-    }
-    return true;
+bool SameShape(const FoundChanges::Object& a, const FoundChanges::Object& b,
+               const HistoryConfig& config) {
+    const auto close = [&](double x, double y, double relative) {
+        return std::abs(x - y) <= std::max(config.shape_tolerance_m, relative * std::max(x, y));
+    };
+    const Eigen::Vector3d sa = a.box.sizes(), sb = b.box.sizes();
+    if (!close(sa.z(), sb.z(), config.shape_tolerance)) return false;
+    const bool plan =
+        close(std::min(sa.x(), sa.y()), std::min(sb.x(), sb.y()), config.shape_tolerance) &&
+        close(std::max(sa.x(), sa.y()), std::max(sb.x(), sb.y()), config.shape_tolerance);
+    const bool volume = a.volume_m3 > 0 && b.volume_m3 > 0 &&
+                        std::abs(a.volume_m3 - b.volume_m3) <=
+                            config.volume_tolerance * std::max(a.volume_m3, b.volume_m3);
+    return plan || volume;
 }
 
 std::vector<size_t> ObjectTracks::Alive() const {
@@ -139,7 +143,7 @@ ObjectTracks::Pairs ObjectTracks::InPlace(const std::vector<size_t>& alive,
     const auto& objects = visit.found.objects;
     for (const size_t t : alive) {
         for (size_t o = 0; o < objects.size(); ++o) {
-            const Box &a = tracks_[t].box, &b = objects[o].box;
+            const Box &a = tracks_[t].last.box, &b = objects[o].box;
             if (!SamePlace(a, b, config_)) continue;
             const double distance = (a.center() - b.center()).norm();
             pairs.emplace_back(-Iou(a, b) + 1e-3 * distance, t, o);
@@ -161,11 +165,11 @@ ObjectTracks::Pairs ObjectTracks::Moved(const std::vector<size_t>& tracks,
         for (const size_t o : objects) {
             const FoundChanges::Object& object = visit.found.objects[o];
             const Track& track = tracks_[t];
-            const double distance = (object.box.center() - track.box.center()).norm();
+            const double distance = (object.box.center() - track.last.box.center()).norm();
             const bool same_storey =
                 track.storey.empty() || object.storey.empty() || track.storey == object.storey;
             if (distance <= config_.moved_max_m && same_storey &&
-                SameShape(track.box, object.box, config_)) {
+                SameShape(track.last, object, config_)) {
                 pairs.emplace_back(distance, t, o);
             }
         }
@@ -181,8 +185,8 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     json added = json::array(), gone = json::array(), moved = json::array();
     const std::vector<size_t> alive = Alive();
     for (const auto& [t, o] : InPlace(alive, visit)) {
-        tracks_[t].box = objects[o].box;
-        tracks_[t].last = v;
+        tracks_[t].last = objects[o];
+        tracks_[t].last_seen = v;
         tracks_[t].sightings.push_back(Placed(visit, o, "seen"));
         track_done[t] = object_done[o] = true;
     }
@@ -195,7 +199,8 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     for (const size_t t : alive) {
         if (track_done[t]) continue;
         size_t cells = 0;
-        const double share = seen.FloorSeen(tracks_[t].box, cover, config_.floor_band_m, &cells);
+        const double share =
+            seen.FloorSeen(tracks_[t].last.box, cover, config_.floor_band_m, &cells);
         if (cells >= config_.min_cells) seen_empty[t] = share;
         open_tracks.push_back(t);
     }
@@ -203,12 +208,12 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
         if (!object_done[o]) open_objects.push_back(o);
     }
     for (const auto& [t, o] : Moved(open_tracks, open_objects, visit, seen_empty)) {
-        const Eigen::Vector3d offset = objects[o].box.center() - tracks_[t].box.center();
+        const Eigen::Vector3d offset = objects[o].box.center() - tracks_[t].last.box.center();
         json s = Placed(visit, o, "moved");
         s["offset_m"] = Vec(offset);
         tracks_[t].sightings.push_back(s);
-        tracks_[t].box = objects[o].box;
-        tracks_[t].last = v;
+        tracks_[t].last = objects[o];
+        tracks_[t].last_seen = v;
         moved.push_back({{"id", tracks_[t].id}, {"offset_m", Vec(offset)}});
         track_done[t] = object_done[o] = true;
     }
@@ -226,7 +231,7 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
     for (size_t o = 0; o < objects.size(); ++o) {
         if (object_done[o]) continue;
         Track t{"O" + std::to_string(tracks_.size() + 1),
-                objects[o].box,
+                objects[o],
                 objects[o].storey,
                 v,
                 v,
@@ -242,7 +247,7 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
 json ObjectTracks::Present(const std::vector<VisitFindings>& visits) const {
     json present = json::array();
     for (const Track& t : tracks_) {
-        if (!t.gone) present.push_back({{"id", t.id}, {"as_of", visits[t.last].label}});
+        if (!t.gone) present.push_back({{"id", t.id}, {"as_of", visits[t.last_seen].label}});
     }
     return present;
 }
@@ -252,12 +257,12 @@ json ObjectTracks::ToJson(const std::vector<VisitFindings>& visits) const {
     for (const Track& t : tracks_) {
         out.push_back({{"id", t.id},
                        {"storey", t.storey},
-                       {"first_seen", visits[t.first].label},
-                       {"last_seen", visits[t.last].label},
+                       {"first_seen", visits[t.first_seen].label},
+                       {"last_seen", visits[t.last_seen].label},
                        {"state", t.gone ? "gone" : "present"},
                        {"gone_in", t.gone ? json(visits[*t.gone].label) : json(nullptr)},
-                       {"box_min", Vec(t.box.min())},
-                       {"box_max", Vec(t.box.max())},
+                       {"box_min", Vec(t.last.box.min())},
+                       {"box_max", Vec(t.last.box.max())},
                        {"sightings", t.sightings}});
     }
     return out;

@@ -20,9 +20,13 @@ nlohmann::json Vec(const Eigen::Vector3d& v);
 // The same object in place: IoU or centres (HistoryConfig).
 bool SamePlace(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
                const HistoryConfig& config);
-// The same shape: sorted plan sides and height within the tolerance (HistoryConfig).
-bool SameShape(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
-               const HistoryConfig& config);
+// The same shape (HistoryConfig): the height within the tolerance, and the boxes' sorted plan
+// sides within it too, or else the voxel solids' volumes within volume_tolerance (a turn about z
+// changes an axis-aligned box's plan, not its solid's volume; but a solid seen from one side is
+// a shell, seen around filled: a sofa measured 0.34 and 1.75 m3 with the same box, so the volume
+// only stands in for the plan).
+bool SameShape(const change_detection::FoundChanges::Object& a,
+               const change_detection::FoundChanges::Object& b, const HistoryConfig& config);
 
 class ObjectTracks {
 public:
@@ -39,10 +43,10 @@ public:
 private:
     struct Track {
         std::string id;
-        Eigen::AlignedBox3d box;  // where it was last seen
+        change_detection::FoundChanges::Object last;  // as it was last seen (box: where)
         std::string storey;
-        size_t first = 0, last = 0;  // the visits it was first and last seen in
-        std::optional<size_t> gone;  // the visit that saw its place empty
+        size_t first_seen = 0, last_seen = 0;  // the visits it was first and last seen in
+        std::optional<size_t> gone;            // the visit that saw its place empty
         nlohmann::json sightings = nlohmann::json::array();
     };
     using Pairs = std::vector<std::pair<size_t, size_t>>;  // (track, object)
