@@ -4,8 +4,10 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <unordered_set>
 
 #include "algorithms/changes/change_detector.hpp"
+#include "algorithms/common/voxel_hash.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
 
@@ -50,10 +52,8 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> SupersededBoxes(const j
 }  // namespace
 
 uint64_t BuildingMap::Key(const Eigen::Vector3f& p) const {
-    const auto bits = [&](float v) {  // 21 bits an axis: +-52 km at 5 cm
-        return uint64_t(uint32_t(int32_t(std::floor(double(v) / voxel_))) & 0x1FFFFFu);
-    };
-    return (bits(p.x()) << 42) | (bits(p.y()) << 21) | bits(p.z());
+    const auto index = [&](float v) { return int(std::floor(double(v) / voxel_)); };
+    return common::PackVoxel({index(p.x()), index(p.y()), index(p.z())});
 }
 
 namespace {
@@ -96,10 +96,7 @@ private:
     Eigen::Vector3i Cell(const Eigen::Vector3f& p) const {
         return (p / cell_).array().floor().cast<int>();
     }
-    static uint64_t Key(const Eigen::Vector3i& c) {
-        const auto bits = [](int v) { return uint64_t(uint32_t(v) & 0x1FFFFFu); };
-        return (bits(c.x()) << 42) | (bits(c.y()) << 21) | bits(c.z());
-    }
+    static uint64_t Key(const Eigen::Vector3i& c) { return common::PackVoxel(c); }
     float cell_;
     std::unordered_map<uint64_t, std::vector<Entry>> cells_;
 };
@@ -168,16 +165,19 @@ json BuildingMap::Add(size_t v, const VisitFindings& visit, const json& history)
     for (const auto& [lo, hi] : SupersededBoxes(history, visit.label))
         objects += DropInBox(lo - margin, hi + margin, v);
     const json& since = history.at("changes").at(v).at("since_previous");
+    std::unordered_set<int32_t> missing;  // the newly missing elements' indices
     if (since.is_object()) {
         for (const json& id : since.at("newly_missing")) {
             const auto e = visit.found.elements.find(id.get<std::string>());
-            if (e == visit.found.elements.end() || e->second.index < 0) continue;
-            for (auto it = voxels_.begin(); it != voxels_.end();) {
-                const bool drop =
-                    it->second.element == e->second.index && it->second.voxel.last < v;
-                elements += drop;
-                it = drop ? voxels_.erase(it) : std::next(it);
-            }
+            if (e != visit.found.elements.end() && e->second.index >= 0)
+                missing.insert(e->second.index);
+        }
+    }
+    if (!missing.empty()) {  // one pass over the map for all of them
+        for (auto it = voxels_.begin(); it != voxels_.end();) {
+            const bool drop = missing.count(it->second.element) && it->second.voxel.last < v;
+            elements += drop;
+            it = drop ? voxels_.erase(it) : std::next(it);
         }
     }
     return {{"visit", visit.label},
@@ -224,12 +224,9 @@ json WriteBuildingMap(const std::filesystem::path& out, const std::vector<VisitF
     json figures = json::array();
     for (size_t v = 0; v < visits.size(); ++v) figures.push_back(map.Add(v, visits[v], history));
     map.Write(out / "building_map.ply");
-    const json j = {{"format", "bimslam-building-map"},
-                    {"version", 1},
-                    {"file", "building_map.ply"},
-                    {"voxel_m", 0.05},
-                    {"voxels", map.size()},
-                    {"visits", figures}};
+    const json j = {
+        {"format", "bimslam-building-map"}, {"version", 1},         {"file", "building_map.ply"},
+        {"voxel_m", map.voxel_m()},         {"voxels", map.size()}, {"visits", figures}};
     io::WriteFileAtomic(out / "building_map.json", j.dump(1) + "\n");
     return j;
 }

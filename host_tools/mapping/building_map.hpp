@@ -33,6 +33,7 @@ public:
     nlohmann::json Add(size_t v, const VisitFindings& visit, const nlohmann::json& history);
 
     size_t size() const { return voxels_.size(); }
+    double voxel_m() const { return voxel_; }
     // Writes the map as a binary PLY: x y z (the model file's coordinates, metres), scalar_class
     // (map_bim.ply's), scalar_first_visit and scalar_last_visit (indices into the visits).
     void Write(const std::filesystem::path& file) const;

@@ -6,6 +6,8 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "algorithms/common/voxel_hash.hpp"
+
 namespace bimslam::mapping {
 using Box = Eigen::AlignedBox3d;
 using change_detection::FoundChanges;
@@ -69,10 +71,7 @@ private:
     Eigen::Vector3i Cell(const Eigen::Vector3d& p) const {
         return (p / cell_).array().floor().cast<int>();
     }
-    static uint64_t Key(const Eigen::Vector3i& c) {  // 21 bits an axis: +-52 km at 5 cm
-        const auto bits = [](int v) { return uint64_t(uint32_t(v) & 0x1FFFFFu); };
-        return (bits(c.x()) << 42) | (bits(c.y()) << 21) | bits(c.z());
-    }
+    static uint64_t Key(const Eigen::Vector3i& c) { return common::PackVoxel(c); }
 
     double cell_;
     std::unordered_set<uint64_t> cells_;
