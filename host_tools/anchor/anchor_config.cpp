@@ -49,6 +49,8 @@ void AnchorConfig::Validate() const {
             model_tolerance_deg, "must be in [0, 10] degrees");
     Require(earlier_sigma_m > 0, c, "earlier_sigma_m", earlier_sigma_m, "must be positive");
     Require(earlier_sigma_deg > 0, c, "earlier_sigma_deg", earlier_sigma_deg, "must be positive");
+    Require(earlier_spacing_m >= 0, c, "earlier_spacing_m", earlier_spacing_m,
+            "must not be negative");
     Require(max_inlier_rmse > 0, c, "max_inlier_rmse", max_inlier_rmse, "must be positive");
     Require(consistency_m > 0, c, "consistency_m", consistency_m, "must be positive");
     Require(consistency_deg > 0, c, "consistency_deg", consistency_deg, "must be positive");

@@ -114,6 +114,14 @@ struct AnchorConfig {
     // anchored walks), so a new visit can move an earlier one about that much and no further.
     double earlier_sigma_m = 0.02;
     double earlier_sigma_deg = 0.2;
+    // `bimslam map` gives a new visit the earlier visits' keyframes as targets, newest visit
+    // first, and leaves out an older visit's keyframe within this distance of a newer visit's:
+    // the newer one saw that place since (its surfaces as they are now), and a 360-degree scan
+    // and a yaw-invariant descriptor need no second one there. So the targets grow with the
+    // building walked, not with the number of visits (issue 33: the tenth visit's anchoring took
+    // 2.7x the first's with all nine visits' keyframes). Keyframes of one visit never thin each
+    // other: with one earlier visit, all of it is a target.
+    double earlier_spacing_m = 1.0;
 
     // Verdict.
     int min_loops = 5;             // loops of the best hypothesis for "anchored"

@@ -152,7 +152,7 @@ std::string LoopsJson(const std::vector<AnchorSession>& sessions, const AnchorRe
         a.push_back({{"query", sessions[l.query_session].name},
                      {"query_index", l.query_index},
                      {"target", sessions[l.target_session].name},
-                     {"target_index", l.target_index},
+                     {"target_index", sessions[l.target_session].KeyframeId(l.target_index)},
                      {"source", ToString(l.source)},
                      {"sc_distance", l.sc_distance},
                      {"sc_yaw_deg", l.sc_yaw * 180 / M_PI},

@@ -3,7 +3,9 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <memory>
@@ -102,6 +104,35 @@ bool SameDescriptor(const io::SessionManifest::Descriptor& d,
            d.sectors == c.num_sectors && std::abs(d.max_radius_m - c.max_radius) < 1e-9;
 }
 
+// The oriented clouds (options.load_clouds) and, when `compute`, the descriptors of the session's
+// keyframes, read in parallel from their PCDs (by keyframe_ids once KeepKeyframes chose some).
+void ReadClouds(AnchorSession* session, const LoadOptions& options, bool compute) {
+    AnchorSession& s = *session;
+    const size_t n = s.poses.size();
+    s.clouds.resize(options.load_clouds ? n : 0);
+    std::unique_ptr<tbb::global_control> limit;
+    if (options.threads > 0) {
+        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                      size_t(options.threads));
+    }
+    // A worker's error (naming its file) is thrown here, the first keyframe's first.
+    std::vector<std::exception_ptr> errors(n);
+    tbb::parallel_for(size_t(0), n, [&](size_t k) {
+        try {
+            const size_t id = s.keyframe_ids.empty() ? k : s.keyframe_ids[k];
+            common::PointCloud cloud = io::ReadPcd(io::KeyframeCloudPath(s.dir, id));
+            if (compute) s.descriptors[k] = scancontext::MakeDescriptor(cloud, options.descriptor);
+            if (options.load_clouds)
+                s.clouds[k] = registration::MakeOrientedCloud(cloud, options.cloud);
+        } catch (...) {
+            errors[k] = std::current_exception();
+        }
+    });
+    for (const std::exception_ptr& e : errors) {
+        if (e) std::rethrow_exception(e);
+    }
+}
+
 }  // namespace
 
 AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options) {
@@ -153,32 +184,69 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
     if (s.foreign && !compute) {
         s.notes.push_back("no SCDs/: bimslam anchor computes the Scan Context descriptors");
     }
-    if (options.load_clouds || compute) {
-        s.clouds.resize(options.load_clouds ? n : 0);
-        std::unique_ptr<tbb::global_control> limit;
-        if (options.threads > 0) {
-            limit = std::make_unique<tbb::global_control>(
-                tbb::global_control::max_allowed_parallelism, size_t(options.threads));
-        }
-        // A worker's error (naming its file) is thrown here, the first keyframe's first.
-        std::vector<std::exception_ptr> errors(n);
-        tbb::parallel_for(size_t(0), n, [&](size_t k) {
-            try {
-                common::PointCloud cloud = io::ReadPcd(io::KeyframeCloudPath(dir, k));
-                if (compute)
-                    s.descriptors[k] = scancontext::MakeDescriptor(cloud, options.descriptor);
-                if (options.load_clouds) {
-                    s.clouds[k] = registration::MakeOrientedCloud(cloud, options.cloud);
-                }
-            } catch (...) {
-                errors[k] = std::current_exception();
-            }
-        });
-        for (const std::exception_ptr& e : errors) {
-            if (e) std::rethrow_exception(e);
-        }
-    }
+    if (options.load_clouds || compute) ReadClouds(&s, options, compute);
     return s;
+}
+
+std::vector<std::vector<size_t>> EarlierTargets(const std::vector<AnchorSession>& sessions,
+                                                const std::vector<size_t>& visit, double spacing) {
+    std::vector<std::vector<size_t>> keep(sessions.size());
+    std::vector<Eigen::Vector3d> newer;  // the kept keyframes of the visits after the one in hand
+    for (size_t first = sessions.size(); first > 0;) {  // one visit's sessions at a time
+        size_t begin = first - 1;
+        while (begin > 0 && visit[begin - 1] == visit[first - 1]) --begin;
+        std::vector<Eigen::Vector3d> mine;
+        for (size_t s = begin; s < first; ++s) {
+            for (size_t k = 0; k < sessions[s].poses.size(); ++k) {
+                const Eigen::Vector3d p = sessions[s].poses[k].translation();
+                const bool seen_since = std::any_of(newer.begin(), newer.end(), [&](const auto& q) {
+                    return (q - p).squaredNorm() < spacing * spacing;
+                });
+                if (seen_since) continue;
+                keep[s].push_back(k);
+                mine.push_back(p);
+            }
+        }
+        newer.insert(newer.end(), mine.begin(), mine.end());
+        first = begin;
+    }
+    return keep;
+}
+
+void LoadClouds(AnchorSession* s, const LoadOptions& options) {
+    LoadOptions o = options;
+    o.load_clouds = true;
+    ReadClouds(s, o, false);
+}
+
+void KeepKeyframes(AnchorSession* s, const std::vector<size_t>& keep) {
+    if (s->keyframe_ids.empty()) {
+        for (size_t k = 0; k < s->poses.size(); ++k) s->keyframe_ids.push_back(k);
+    }
+    std::vector<size_t> index(s->poses.size(), SIZE_MAX);  // old index -> new
+    for (size_t i = 0; i < keep.size(); ++i) index.at(keep[i]) = i;
+    const auto pick = [&](auto& v) {
+        if (v.empty()) return;
+        std::remove_reference_t<decltype(v)> kept;
+        for (const size_t k : keep) kept.push_back(std::move(v[k]));
+        v = std::move(kept);
+    };
+    pick(s->poses);
+    pick(s->descriptors);
+    pick(s->clouds);
+    pick(s->path_m);
+    pick(s->keyframe_ids);
+    pick(s->session.keyframes);
+    std::vector<io::SessionEdge> edges;
+    for (io::SessionEdge e : s->session.edges) {
+        if (index[e.from] == SIZE_MAX || index[e.to] == SIZE_MAX) continue;
+        e.from = uint32_t(index[e.from]);
+        e.to = uint32_t(index[e.to]);
+        edges.push_back(e);
+    }
+    s->session.edges = std::move(edges);
+    s->odometry = OdometryVerdict{};  // its stretches are by the old indices; an earlier
+                                      // visit is never anchored in pieces
 }
 
 AnchorSession LoadEarlierSession(const fs::path& dir, const LoadOptions& options) {

@@ -48,7 +48,11 @@ struct AnchorSession {
     // `poses` are world poses): never a query; a target beside the reference, free in the joint
     // optimisation but held at its poses by priors (anchoring.hpp, step 7).
     bool earlier = false;
+    // The keyframes' indices in the session's folder, once KeepKeyframes chose some (empty: all,
+    // in order): for their clouds' files and the loops' target_index.
+    std::vector<size_t> keyframe_ids;
     size_t keyframes() const { return poses.size(); }
+    size_t KeyframeId(size_t k) const { return keyframe_ids.empty() ? k : keyframe_ids[k]; }
 };
 
 struct LoadOptions {
@@ -68,6 +72,23 @@ AnchorSession LoadAnchorSession(const std::filesystem::path& dir, const LoadOpti
 // frame is "bim", as `bimslam anchor` writes OUT/<name>/. Throws common::FileError naming
 // session.json for a session in another frame (an odometry session, another tool's layout).
 AnchorSession LoadEarlierSession(const std::filesystem::path& dir, const LoadOptions& options);
+
+// Which keyframes of earlier visits' sessions stand for them as a new visit's targets
+// (AnchorConfig::earlier_spacing_m): the newest visit's all, an older visit's those farther than
+// `spacing` from every kept keyframe of the visits after it (by their world poses). `visit`
+// numbers each session's visit, in date order (sessions of one visit adjacent). Returns the kept
+// indices per session, ascending.
+std::vector<std::vector<size_t>> EarlierTargets(const std::vector<AnchorSession>& sessions,
+                                                const std::vector<size_t>& visit, double spacing);
+
+// Keeps the keyframes `keep` (indices, ascending) of a session and the odometry edges between
+// kept ones, dropping its odometry verdict: for an earlier visit's session, whose keyframes are
+// each held by a prior (AnchorSession::earlier), so that a few of them may stand for it.
+void KeepKeyframes(AnchorSession* s, const std::vector<size_t>& keep);
+
+// Reads the oriented clouds of a session loaded without them (LoadOptions::load_clouds false),
+// of its kept keyframes only. Throws common::FileError naming a damaged cloud.
+void LoadClouds(AnchorSession* s, const LoadOptions& options);
 
 // True when `dir` holds the SC-A-LOAM/LT-mapper layout without session.json and SCDs/.
 bool IsForeignSession(const std::filesystem::path& dir);

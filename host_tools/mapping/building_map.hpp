@@ -34,14 +34,20 @@ public:
 
     size_t size() const { return voxels_.size(); }
     double voxel_m() const { return voxel_; }
+    double supersede_m() const { return supersede_m_; }
     // Writes the map as a binary PLY: x y z (the model file's coordinates, metres), scalar_class
-    // (map_bim.ply's), scalar_first_visit and scalar_last_visit (indices into the visits).
+    // (map_bim.ply's), scalar_first_visit and scalar_last_visit (indices into the visits),
+    // scalar_element (map_bim.ply's: the model element a point lies on, -1 none).
     void Write(const std::filesystem::path& file) const;
+    // Reads a map Write wrote, in place of this one's voxels; false when the file lacks a
+    // property Write writes (an older layout). Throws common::FileError on a damaged file.
+    bool Read(const std::filesystem::path& file);
 
     struct Voxel {
         Eigen::Vector3f xyz;
         uint8_t cls = 0;
         uint16_t first = 0, last = 0;
+        int32_t element = -1;
     };
     // The voxels in key order (deterministic).
     std::vector<Voxel> Voxels() const;
@@ -56,15 +62,19 @@ private:
     double voxel_, supersede_m_;
     struct Entry {
         Voxel voxel;
-        int32_t element = -1;
     };
     Map voxels_;
 };
 
 // Folds every visit in and writes OUT/building_map.ply and OUT/building_map.json (the figures
-// per visit); returns the latter's value.
+// per visit, each with the digest of what its fold depended on); returns the latter's value.
+// `made_from`: per visit, a digest of what its findings were made from (`bimslam map` gives its
+// changes step's stamp digest). The visits the map on disk holds already, folded from the same
+// inputs (equal digests), are not folded again: adding a visit folds that visit alone, and the
+// map equals a fold of them all.
 nlohmann::json WriteBuildingMap(const std::filesystem::path& out,
                                 const std::vector<VisitFindings>& visits,
-                                const nlohmann::json& history);
+                                const nlohmann::json& history,
+                                const std::vector<std::string>& made_from);
 
 }  // namespace bimslam::mapping

@@ -253,17 +253,31 @@ struct EarlierVisit {
 };
 
 // The anchored sessions of the earlier visits (anchored or anchored in parts: the keyframes their
-// folders hold are in BIM coordinates), named "<label>/<name>".
+// folders hold are in BIM coordinates), named "<label>/<name>", each with the keyframes that
+// stand for it (EarlierTargets) and only their clouds read.
 std::vector<anchor::AnchorSession> EarlierSessions(const std::vector<EarlierVisit>& earlier,
-                                                   const anchor::LoadOptions& lo) {
+                                                   const anchor::LoadOptions& lo, double spacing) {
     std::vector<anchor::AnchorSession> sessions;
-    for (const EarlierVisit& e : earlier) {
-        for (const std::string& name : AnchoredNames(e.dir / "anchor")) {
-            sessions.push_back(anchor::LoadEarlierSession(e.dir / "anchor" / name, lo));
-            sessions.back().name = e.label + "/" + name;
+    std::vector<size_t> visit;
+    anchor::LoadOptions poses_only = lo;
+    poses_only.load_clouds = false;
+    for (size_t v = 0; v < earlier.size(); ++v) {
+        for (const std::string& name : AnchoredNames(earlier[v].dir / "anchor")) {
+            sessions.push_back(
+                anchor::LoadEarlierSession(earlier[v].dir / "anchor" / name, poses_only));
+            sessions.back().name = earlier[v].label + "/" + name;
+            visit.push_back(v);
         }
     }
-    return sessions;
+    const std::vector<std::vector<size_t>> keep = anchor::EarlierTargets(sessions, visit, spacing);
+    std::vector<anchor::AnchorSession> targets;  // a session the later ones stand for is left out
+    for (size_t s = 0; s < sessions.size(); ++s) {
+        if (keep[s].empty()) continue;
+        if (keep[s].size() < sessions[s].keyframes()) anchor::KeepKeyframes(&sessions[s], keep[s]);
+        anchor::LoadClouds(&sessions[s], lo);
+        targets.push_back(std::move(sessions[s]));
+    }
+    return targets;
 }
 
 // 3. Anchoring: the visit's sessions at once (loops between them help), against the reference
@@ -283,6 +297,7 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
         anchoring.AddParameter("earlier_visits", before);
         anchoring.AddParameter(
             "earlier_sigma", {c.config.anchor.earlier_sigma_m, c.config.anchor.earlier_sigma_deg});
+        anchoring.AddParameter("earlier_spacing_m", c.config.anchor.earlier_spacing_m);
     }
     const std::string step = "anchor " + label;
     stepper.Run(step, visit / "stamps", "anchor", anchoring, (visit / "odometry").string(), [&] {
@@ -300,7 +315,7 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
                 anchor::LoadAnchorSession(visit / "odometry" / recordings[k].name, lo));
         }
         c.progress(step + ": reading the earlier visits", 1.0);
-        for (anchor::AnchorSession& s : EarlierSessions(earlier, lo))
+        for (anchor::AnchorSession& s : EarlierSessions(earlier, lo, ac.earlier_spacing_m))
             sessions.push_back(std::move(s));
         const anchor::AnchorResult r =
             anchor::Anchor(sessions, ac, [&](const std::string& s, size_t d, size_t n) {
@@ -407,7 +422,9 @@ void HistoryStep(MapContext& c, Stepper& stepper, const Project& project,
         const json h = BuildHistory(visits);
         io::WriteFileAtomic(file, h.dump(1) + "\n");
         c.progress("history: the building's map", 1.0);
-        WriteBuildingMap(c.out, visits, h);
+        std::vector<std::string> made_from;
+        for (const StepStamp& s : changes) made_from.push_back(s.Digest());
+        WriteBuildingMap(c.out, visits, h, made_from);
         c.progress("history: the as-is model", 1.0);
         const change_detection::IfcUpdate asis =
             AsIsIfc(c.out, c.model_file.string(), io::ReadFileToString(c.model_file), c.Model(), h,

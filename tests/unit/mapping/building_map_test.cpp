@@ -7,6 +7,9 @@
 
 #include <random>
 
+#include "algorithms/io/file_util.hpp"
+#include "tests/support/test_support.hpp"
+
 namespace bimslam::mapping {
 namespace {
 using nlohmann::json;
@@ -104,6 +107,35 @@ TEST(BuildingMap, AnObjectGoneAndTransientsLeaveNoPointsAndUnseenPlacesStay) {
     for (const auto& v : partial.Voxels())
         kept += (v.xyz - Eigen::Vector3f(2.0f, 2.0f, 2.0f)).norm() < 0.01f && v.last == 0;
     EXPECT_EQ(kept, 1u);
+}
+
+// A visit added to a project folds that visit alone into the map on disk, and the files equal a
+// fold of every visit at once; a visit whose findings were made again (another digest) makes the
+// map again from the first visit.
+TEST(BuildingMap, AVisitAddedFoldsItAloneAndEqualsAFoldOfThemAll) {
+    const json h = History({"v1", "v2", "v3"}, true);
+    const std::vector<VisitFindings> visits = {Sampled("v1", 1, Crate()), Sampled("v2", 2),
+                                               Sampled("v3", 3)};
+    const std::vector<std::string> made = {"a", "b", "c"};
+    test::TempDir all, added;
+    const json once = WriteBuildingMap(all.path(), visits, h, made);
+    // Two visits, then the third: the history of the first two is the same (it looks back only).
+    WriteBuildingMap(added.path(), {visits[0], visits[1]}, h, {made[0], made[1]});
+    const json step = WriteBuildingMap(added.path(), visits, h, made);
+    EXPECT_EQ(step, once);
+    EXPECT_EQ(io::ReadFileToString(added / "building_map.ply"),
+              io::ReadFileToString(all / "building_map.ply"));
+    // The kept folds were read back, not made again: a map on disk that differs from the fold
+    // (here: emptied of its points) shows through when the digests hold...
+    BuildingMap empty;
+    empty.Write(added / "building_map.ply");
+    const json reused = WriteBuildingMap(added.path(), visits, h, made);
+    EXPECT_EQ(reused.at("voxels"), 0u) << "every visit's digest held: nothing folded again";
+    // ...and not when a visit's findings were made again: every visit is folded anew.
+    const json redone = WriteBuildingMap(added.path(), visits, h, {"a", "b2", "c"});
+    EXPECT_EQ(redone.at("voxels"), once.at("voxels"));
+    EXPECT_NE(redone.at("visits").at(1).at("fold_sha256"),
+              once.at("visits").at(1).at("fold_sha256"));
 }
 
 }  // namespace
