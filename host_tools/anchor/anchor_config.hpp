@@ -123,6 +123,12 @@ struct AnchorConfig {
     // other: with one earlier visit, all of it is a target.
     double earlier_spacing_m = 1.0;
 
+    // An anchored solution that moves two keyframes joined by a trusted odometry edge this much
+    // (or turns them this much) apart from the measured edge breaks the odometry
+    // (SessionResult::odometry_breaks): 10-20 times what the graph bends a sound edge by.
+    double odometry_break_m = 0.2;
+    double odometry_break_deg = 5.0;
+
     // Verdict.
     int min_loops = 5;             // loops of the best hypothesis for "anchored"
     double min_coverage = 0.1;     // share of the query's keyframes with a loop

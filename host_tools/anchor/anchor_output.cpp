@@ -51,6 +51,15 @@ json ResultJson(const SessionResult& s) {
               {"via_other_sessions", s.via_other_sessions},
               {"hypotheses", hyps}};
     if (s.verdict == Verdict::kAnchored) e["T_world_local"] = PoseJson(s.anchor);
+    if (!s.odometry_breaks.empty()) {  // only then: other outputs stay as they were
+        json breaks = json::array();
+        for (const SessionResult::OdometryBreak& b : s.odometry_breaks)
+            breaks.push_back({{"from", b.from},
+                              {"to", b.to},
+                              {"offset_m", b.offset_m},
+                              {"rotation_deg", b.rotation_deg}});
+        e["odometry_breaks"] = breaks;
+    }
     return e;
 }
 

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "algorithms/common/stopwatch.hpp"
@@ -144,10 +146,29 @@ void AnchoringProblem::Gather() {
         if (o.result.verdict == Verdict::kAnchored) {
             o.result.anchor = state_[q].anchor;
             o.result.world_poses = state_[q].World();
+            if (sessions_[q].odometry.stretches.empty()) FindOdometryBreaks(q, &o.result);
         }
         result_.sessions.push_back(o.result);
         for (LoopRecord& r : o.records) result_.loops.push_back(std::move(r));
     }
+}
+
+// The trusted odometry edges of query q that its anchored state breaks
+// (SessionResult::odometry_breaks), said in the reason.
+void AnchoringProblem::FindOdometryBreaks(size_t q, SessionResult* r) const {
+    r->odometry_breaks = OdometryBreaks(sessions_[q].session.edges, state_[q].poses,
+                                        config_.odometry_break_m, config_.odometry_break_deg);
+    if (r->odometry_breaks.empty()) return;
+    double worst = 0;
+    for (const SessionResult::OdometryBreak& b : r->odometry_breaks)
+        worst = std::max(worst, b.offset_m);
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "; but it breaks the trusted odometry at %zu edge(s), up to %.2f m: loops and "
+                  "odometry disagree there (anchor.json odometry_breaks), do not trust those "
+                  "keyframes",
+                  r->odometry_breaks.size(), worst);
+    r->reason += b;
 }
 
 // Each earlier visit's session: the accepted loops to it and how far the joint solution moved

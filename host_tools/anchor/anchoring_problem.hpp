@@ -119,6 +119,7 @@ private:
     void RetryWithAnchored();
     std::vector<LoopRecord> LoopsBetweenSessions();
     void Gather();
+    void FindOdometryBreaks(size_t q, SessionResult* r) const;
     void GatherEarlier();
 
     const std::vector<AnchorSession>& sessions_;

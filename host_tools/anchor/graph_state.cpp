@@ -118,4 +118,16 @@ std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
     return w;
 }
 
+std::vector<SessionResult::OdometryBreak> OdometryBreaks(
+    const std::vector<io::SessionEdge>& edges, const std::vector<Eigen::Isometry3d>& poses,
+    double max_m, double max_deg) {
+    std::vector<SessionResult::OdometryBreak> breaks;
+    for (const io::SessionEdge& e : edges) {
+        const Eigen::Isometry3d d = e.T_from_to.inverse() * (poses[e.from].inverse() * poses[e.to]);
+        const double m = d.translation().norm(), deg = common::RotationAngle(d) * 180 / M_PI;
+        if (m > max_m || deg > max_deg) breaks.push_back({e.from, e.to, m, deg});
+    }
+    return breaks;
+}
+
 }  // namespace bimslam::anchor

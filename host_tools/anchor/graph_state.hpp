@@ -58,4 +58,10 @@ std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
                                std::vector<State>* state, const std::vector<LoopRecord>& loops,
                                const AnchorConfig& config, StageTimes* times);
 
+// The odometry edges whose relative pose in `poses` (a session's keyframes, solved) is off the
+// measured one by more than max_m or max_deg (SessionResult::odometry_breaks).
+std::vector<SessionResult::OdometryBreak> OdometryBreaks(
+    const std::vector<io::SessionEdge>& edges, const std::vector<Eigen::Isometry3d>& poses,
+    double max_m, double max_deg);
+
 }  // namespace bimslam::anchor

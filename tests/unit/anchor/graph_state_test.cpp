@@ -99,5 +99,32 @@ TEST(EarlierSessions, AnEarlierSessionBeforeAQueryIsRefused) {
     EXPECT_THROW(Anchor(sessions, AnchorConfig{}), common::Error);
 }
 
+// A solution that moves a run of keyframes 0.75 m down against a trusted odometry (the sample
+// hall's meeting table: registrations at the table's height) breaks the two edges around the run
+// and no other; a few centimetres of bending are no break.
+TEST(OdometryBreaks, ARunOfKeyframesMovedAgainstTheOdometryBreaksTheEdgesAroundIt) {
+    std::vector<io::SessionEdge> edges;
+    std::vector<Eigen::Isometry3d> poses;
+    for (uint32_t k = 0; k < 10; ++k) {
+        Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+        p.translation() = Eigen::Vector3d(0.5 * k, 0.02 * (k % 2), 0.0);  // bent 2 cm
+        if (k >= 4 && k <= 6) p.translation().z() = -0.75;
+        poses.push_back(p);
+        if (k > 0) {
+            io::SessionEdge e;
+            e.from = k - 1;
+            e.to = k;
+            e.T_from_to.translation() = Eigen::Vector3d(0.5, 0.0, 0.0);
+            edges.push_back(e);
+        }
+    }
+    const auto breaks = OdometryBreaks(edges, poses, 0.2, 5.0);
+    ASSERT_EQ(breaks.size(), 2u);
+    EXPECT_EQ(breaks[0].from, 3u);
+    EXPECT_EQ(breaks[1].to, 7u);
+    EXPECT_NEAR(breaks[0].offset_m, 0.75, 0.01);
+    EXPECT_TRUE(OdometryBreaks(edges, poses, 1.0, 5.0).empty());
+}
+
 }  // namespace
 }  // namespace bimslam::anchor
