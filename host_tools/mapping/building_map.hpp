@@ -37,6 +37,11 @@ public:
     // Writes the map as a binary PLY: x y z (the model file's coordinates, metres), scalar_class
     // (map_bim.ply's), scalar_first_visit and scalar_last_visit (indices into the visits).
     void Write(const std::filesystem::path& file) const;
+    // The same voxels as ASPRS LAS 1.4 (host_tools/changes/map_las.hpp's classes; README.md of
+    // this folder): point source id the 1-based visit that last saw the voxel, GPS time that
+    // visit's start (visit_start_ns[v], UNIX), extra bytes first_visit (1-based).
+    void WriteLas(const std::filesystem::path& file,
+                  const std::vector<int64_t>& visit_start_ns) const;
 
     struct Voxel {
         Eigen::Vector3f xyz;
