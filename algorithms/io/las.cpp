@@ -96,7 +96,8 @@ void CheckField(const LasExtraField& f, size_t points) {
     }
     const std::pair<double, double> range = IntegerRange(f.type);  // clang 14 cannot capture
     const double lo = range.first, hi = range.second;              // structured bindings
-    const auto bad = [&](double v) { return !(v >= lo && v <= hi) || v != std::floor(v); };
+    // In range first: then the cast is defined (and much cheaper than std::floor's call).
+    const auto bad = [&](double v) { return !(v >= lo && v <= hi) || v != double(int64_t(v)); };
     for (double v : f.values) {
         if (bad(v))
             Invalid("extra field '" + f.name + "': " + std::to_string(v) +
@@ -105,28 +106,36 @@ void CheckField(const LasExtraField& f, size_t points) {
     if (f.no_data && bad(*f.no_data)) Invalid("extra field '" + f.name + "': bad no_data");
 }
 
-void PutValue(char* p, LasType t, double v) {
-    switch (t) {
+// values[first, last) as T at p, p + stride, ... (the type chosen once per block, not per value).
+template <typename T>
+void PutColumn(const std::vector<double>& values, size_t first, size_t last, char* p,
+               size_t stride) {
+    for (size_t i = first; i < last; ++i, p += stride) Put(p, T(values[i]));
+}
+
+void PutField(const LasExtraField& f, size_t first, size_t last, char* p, size_t stride) {
+    const std::vector<double>& v = f.values;
+    switch (f.type) {
         case LasType::kUint8:
-            return Put(p, uint8_t(v));
+            return PutColumn<uint8_t>(v, first, last, p, stride);
         case LasType::kInt8:
-            return Put(p, int8_t(v));
+            return PutColumn<int8_t>(v, first, last, p, stride);
         case LasType::kUint16:
-            return Put(p, uint16_t(v));
+            return PutColumn<uint16_t>(v, first, last, p, stride);
         case LasType::kInt16:
-            return Put(p, int16_t(v));
+            return PutColumn<int16_t>(v, first, last, p, stride);
         case LasType::kUint32:
-            return Put(p, uint32_t(v));
+            return PutColumn<uint32_t>(v, first, last, p, stride);
         case LasType::kInt32:
-            return Put(p, int32_t(v));
+            return PutColumn<int32_t>(v, first, last, p, stride);
         case LasType::kUint64:
-            return Put(p, uint64_t(v));
+            return PutColumn<uint64_t>(v, first, last, p, stride);
         case LasType::kInt64:
-            return Put(p, int64_t(v));
+            return PutColumn<int64_t>(v, first, last, p, stride);
         case LasType::kFloat32:
-            return Put(p, float(v));
+            return PutColumn<float>(v, first, last, p, stride);
         case LasType::kFloat64:
-            return Put(p, v);
+            return PutColumn<double>(v, first, last, p, stride);
     }
 }
 
@@ -150,27 +159,39 @@ void PutDescriptor(char* p, const LasExtraField& f) {
     PutText(p + 160, 32, f.description, "extra field description");
 }
 
-// The point records of points [first, last) into `out` (record `length` bytes each, extra fields
-// at `extra_at`), widening [lo, hi] (the coordinates' counts). Throws on a coordinate that does
-// not fit or a non-finite time.
-void PutPoints(const LasData& d, size_t first, size_t last, const Eigen::Vector3d& offset,
-               size_t length, const std::vector<size_t>& extra_at, char* out, Eigen::Vector3i* lo,
-               Eigen::Vector3i* hi) {
+// Where everything goes, found before anything is written: the record's layout, the offset and
+// the coordinates' bounds (the header comes first in the file and holds them).
+struct Layout {
+    size_t length = kFormat6Size;  // bytes per point record
+    std::vector<size_t> extra_at;  // each extra field's place in the record
+    size_t data_at = kHeaderSize;  // where the point records start
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+    Eigen::Vector3i lo = Eigen::Vector3i::Zero(), hi = Eigen::Vector3i::Zero();  // counts
+};
+
+// A coordinate as counts of the scale from the offset, rounded to nearest (half away from zero;
+// a cast instead of std::nearbyint's call, which took a third of the writer's time). `c` must be
+// within int32 (Plan checks every coordinate's range once).
+inline int32_t Round(double c) { return int32_t(c < 0 ? c - 0.5 : c + 0.5); }
+
+// Throws unless every coordinate along axis `a`, in [lo, hi], fits int32 counts.
+void CheckFits(const LasData& d, double lo, double hi, double offset, int a) {
+    for (const double v : {lo, hi}) {
+        const double c = (v - offset) / d.scale;
+        if (!(c > -2147483648.5 && c < 2147483647.5)) {
+            Invalid(std::string("a coordinate along ") + "xyz"[a] + " (" + std::to_string(v) +
+                    ") does not fit int32 counts of " + std::to_string(d.scale) +
+                    " m from the offset " + std::to_string(offset));
+        }
+    }
+}
+
+// The point records of points [first, last) into `out`.
+void PutPoints(const LasData& d, const Layout& l, size_t first, size_t last, char* out) {
     const double inv = 1.0 / d.scale;
     for (size_t i = first; i < last; ++i) {
-        char* r = out + (i - first) * length;
-        for (int a = 0; a < 3; ++a) {
-            const double c = std::nearbyint((d.xyz[i][a] - offset[a]) * inv);
-            if (!(c >= -2147483648.0 && c <= 2147483647.0)) {
-                Invalid("point " + std::to_string(i) + " (" + std::to_string(d.xyz[i][a]) +
-                        ") does not fit int32 counts of " + std::to_string(d.scale) +
-                        " m from the offset " + std::to_string(offset[a]));
-            }
-            const auto n = int32_t(c);
-            (*lo)[a] = std::min((*lo)[a], n);
-            (*hi)[a] = std::max((*hi)[a], n);
-            Put(r + 4 * a, n);
-        }
+        char* r = out + (i - first) * l.length;
+        for (int a = 0; a < 3; ++a) Put(r + 4 * a, Round((d.xyz[i][a] - l.offset[a]) * inv));
         Put(r + 12, d.intensity.empty() ? uint16_t(0) : d.intensity[i]);
         Put(r + 14, uint8_t(0x11));  // return 1 of 1
         Put(r + 15, uint8_t(0));     // classification flags, channel, scan direction, edge
@@ -178,27 +199,12 @@ void PutPoints(const LasData& d, size_t first, size_t last, const Eigen::Vector3
         Put(r + 17, d.user_data.empty() ? uint8_t(0) : d.user_data[i]);
         Put(r + 18, int16_t(0));  // scan angle: not known for a merged map
         Put(r + 20, d.point_source_id.empty() ? uint16_t(0) : d.point_source_id[i]);
-        const double t = d.gps_time.empty() ? 0.0 : d.gps_time[i];
-        if (!std::isfinite(t)) Invalid("point " + std::to_string(i) + " has a non-finite time");
-        Put(r + 22, t);
+        Put(r + 22, d.gps_time.empty() ? 0.0 : d.gps_time[i]);
     }
     // Extra fields column by column over the block (the block stays in cache).
     for (size_t k = 0; k < d.extra.size(); ++k) {
-        const LasExtraField& f = d.extra[k];
-        char* p = out + extra_at[k];
-        for (size_t i = first; i < last; ++i, p += length) PutValue(p, f.type, f.values[i]);
+        PutField(d.extra[k], first, last, out + l.extra_at[k], l.length);
     }
-}
-
-Eigen::Vector3d ChooseOffset(const LasData& d) {
-    if (d.offset) return *d.offset;
-    if (d.xyz.empty()) return Eigen::Vector3d::Zero();
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    for (const auto& p : d.xyz) {
-        if (!p.allFinite()) Invalid("a coordinate is not finite");
-        lo = lo.cwiseMin(p);
-    }
-    return lo.array().floor();
 }
 
 void CheckData(const LasData& d) {
@@ -209,12 +215,90 @@ void CheckData(const LasData& d) {
     CheckLength(d.point_source_id, n, "point_source_id");
     CheckLength(d.gps_time, n, "gps_time");
     if (!(d.scale > 0) || !std::isfinite(d.scale)) Invalid("the scale must be positive");
+    for (size_t i = 0; i < d.gps_time.size(); ++i) {
+        if (!std::isfinite(d.gps_time[i]))
+            Invalid("point " + std::to_string(i) + " has a non-finite time");
+    }
     std::set<std::string> names;
     for (const LasExtraField& f : d.extra) {
         if (!names.insert(f.name).second) Invalid("extra field '" + f.name + "' appears twice");
         CheckField(f, n);
     }
 }
+
+// Checks the data and finds its layout and bounds (every coordinate counted once here).
+Layout Plan(const LasData& d) {
+    CheckData(d);
+    Layout l;
+    for (const LasExtraField& f : d.extra) {
+        l.extra_at.push_back(l.length);
+        l.length += LasTypeSize(f.type);
+    }
+    if (l.length > 65535) Invalid("a point record of " + std::to_string(l.length) + " bytes");
+    if (!d.extra.empty()) l.data_at += kVlrHeaderSize + kExtraBytesEntry * d.extra.size();
+    if (d.xyz.empty()) {
+        l.offset = d.offset.value_or(Eigen::Vector3d::Zero());
+        return l;
+    }
+    // The bounding box, one pass (rounding is monotonic: the box's corners' counts bound every
+    // point's, and when they fit every point fits).
+    Eigen::Vector3d lo = d.xyz[0], hi = d.xyz[0];
+    for (const Eigen::Vector3d& p : d.xyz) {
+        if (!p.allFinite()) Invalid("a coordinate is not finite");
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    // The offset: the minimum's whole metre unless given.
+    l.offset = d.offset.value_or(Eigen::Vector3d(lo.array().floor()));
+    const double inv = 1.0 / d.scale;
+    for (int a = 0; a < 3; ++a) {
+        CheckFits(d, lo[a], hi[a], l.offset[a], a);
+        l.lo[a] = Round((lo[a] - l.offset[a]) * inv);
+        l.hi[a] = Round((hi[a] - l.offset[a]) * inv);
+    }
+    return l;
+}
+
+// The public header block (R15 Table 3) and the Extra Bytes VLR: l.data_at bytes at h (zeroed).
+void PutHeader(const LasData& d, const Layout& l, char* h) {
+    std::memcpy(h, "LASF", 4);
+    Put(h + 4, d.file_source_id);
+    Put(h + 6, uint16_t(kGlobalEncodingWkt |
+                        (d.adjusted_standard_gps_time ? kGlobalEncodingAdjustedGps : 0)));
+    // 8..23: project GUID, left zero (optional).
+    Put(h + 24, uint8_t(1));
+    Put(h + 25, uint8_t(4));
+    PutText(h + 26, 32, d.system_identifier, "system identifier");
+    PutText(h + 58, 32, d.generating_software, "generating software");
+    Put(h + 90, d.creation_day_of_year);
+    Put(h + 92, d.creation_year);
+    Put(h + 94, uint16_t(kHeaderSize));
+    Put(h + 96, uint32_t(l.data_at));
+    Put(h + 100, uint32_t(d.extra.empty() ? 0 : 1));
+    Put(h + 104, uint8_t(6));
+    Put(h + 105, uint16_t(l.length));
+    // 107..130: legacy point counts, zero for formats 6-10 (R15 Table 3 notes).
+    for (int a = 0; a < 3; ++a) {
+        Put(h + 131 + 8 * a, d.scale);
+        Put(h + 155 + 8 * a, l.offset[a]);
+        Put(h + 179 + 16 * a, l.offset[a] + l.hi[a] * d.scale);  // max x, min x, max y, ...
+        Put(h + 187 + 16 * a, l.offset[a] + l.lo[a] * d.scale);
+    }
+    // 227: waveform data, 235: first EVLR, 243: number of EVLRs: none.
+    Put(h + 247, uint64_t(d.size()));
+    Put(h + 255, uint64_t(d.size()));  // every point is return 1 (of 1)
+    if (d.extra.empty()) return;
+    char* v = h + kHeaderSize;
+    PutText(v + 2, 16, "LASF_Spec", "user id");
+    Put(v + 18, kExtraBytesRecordId);
+    Put(v + 20, uint16_t(kExtraBytesEntry * d.extra.size()));
+    PutText(v + 22, 32, "bimslam fields", "VLR description");
+    for (size_t k = 0; k < d.extra.size(); ++k) {
+        PutDescriptor(v + kVlrHeaderSize + k * kExtraBytesEntry, d.extra[k]);
+    }
+}
+
+constexpr size_t kBlock = 4096;  // points encoded at a time: 180 kB of 44-byte records
 
 }  // namespace
 
@@ -243,79 +327,47 @@ const LasExtraField* LasData::Find(std::string_view name) const {
 }
 
 std::string SerializeLas(const LasData& d) {
-    CheckData(d);
+    const Layout l = Plan(d);
     const size_t n = d.size();
-    size_t length = kFormat6Size;
-    std::vector<size_t> extra_at;
-    for (const LasExtraField& f : d.extra) {
-        extra_at.push_back(length);
-        length += LasTypeSize(f.type);
-    }
-    if (length > 65535) Invalid("a point record of " + std::to_string(length) + " bytes");
-    const size_t vlr = d.extra.empty() ? 0 : kVlrHeaderSize + kExtraBytesEntry * d.extra.size();
-    const size_t data_at = kHeaderSize + vlr;
-    std::string out(data_at + n * length, '\0');
-    char* h = out.data();
-
-    const Eigen::Vector3d offset = ChooseOffset(d);
-    Eigen::Vector3i lo = Eigen::Vector3i::Constant(std::numeric_limits<int32_t>::max());
-    Eigen::Vector3i hi = Eigen::Vector3i::Constant(std::numeric_limits<int32_t>::min());
-    constexpr size_t kBlock = 4096;
+    std::string out(l.data_at + n * l.length, '\0');
+    PutHeader(d, l, out.data());
     for (size_t first = 0; first < n; first += kBlock) {
-        PutPoints(d, first, std::min(n, first + kBlock), offset, length, extra_at,
-                  h + data_at + first * length, &lo, &hi);
-    }
-    if (n == 0) lo = hi = Eigen::Vector3i::Zero();
-
-    // Public header block (R15 Table 3).
-    std::memcpy(h, "LASF", 4);
-    Put(h + 4, d.file_source_id);
-    Put(h + 6, uint16_t(kGlobalEncodingWkt |
-                        (d.adjusted_standard_gps_time ? kGlobalEncodingAdjustedGps : 0)));
-    // 8..23: project GUID, left zero (optional).
-    Put(h + 24, uint8_t(1));
-    Put(h + 25, uint8_t(4));
-    PutText(h + 26, 32, d.system_identifier, "system identifier");
-    PutText(h + 58, 32, d.generating_software, "generating software");
-    Put(h + 90, d.creation_day_of_year);
-    Put(h + 92, d.creation_year);
-    Put(h + 94, uint16_t(kHeaderSize));
-    Put(h + 96, uint32_t(data_at));
-    Put(h + 100, uint32_t(d.extra.empty() ? 0 : 1));
-    Put(h + 104, uint8_t(6));
-    Put(h + 105, uint16_t(length));
-    // 107..130: legacy point counts, zero for formats 6-10 (R15 Table 3 notes).
-    for (int a = 0; a < 3; ++a) {
-        Put(h + 131 + 8 * a, d.scale);
-        Put(h + 155 + 8 * a, offset[a]);
-        Put(h + 179 + 16 * a, offset[a] + hi[a] * d.scale);  // max x, min x, max y, ...
-        Put(h + 187 + 16 * a, offset[a] + lo[a] * d.scale);
-    }
-    // 227: waveform data, 235: first EVLR, 243: number of EVLRs: none.
-    Put(h + 247, uint64_t(n));
-    Put(h + 255, uint64_t(n));  // every point is return 1 (of 1)
-
-    if (!d.extra.empty()) {
-        char* v = h + kHeaderSize;
-        PutText(v + 2, 16, "LASF_Spec", "user id");
-        Put(v + 18, kExtraBytesRecordId);
-        Put(v + 20, uint16_t(kExtraBytesEntry * d.extra.size()));
-        PutText(v + 22, 32, "bimslam fields", "VLR description");
-        for (size_t k = 0; k < d.extra.size(); ++k) {
-            PutDescriptor(v + kVlrHeaderSize + k * kExtraBytesEntry, d.extra[k]);
-        }
+        PutPoints(d, l, first, std::min(n, first + kBlock),
+                  out.data() + l.data_at + first * l.length);
     }
     return out;
 }
 
-void WriteLas(const std::filesystem::path& path, const LasData& data) {
-    std::string bytes;
+// Streamed: the header, then 64 blocks of points at a time (11 MB of 44-byte records), so that
+// a map of 10^7 points (440 MB) is never held in memory a second time.
+void WriteLas(const std::filesystem::path& path, const LasData& d) {
     try {
-        bytes = SerializeLas(data);
+        const Layout l = Plan(d);
+        std::string buffer(l.data_at, '\0');
+        PutHeader(d, l, buffer.data());
+        const size_t n = d.size(), chunk = 64 * kBlock;
+        size_t next = 0;
+        bool header = true;
+        WriteFileAtomic(path, [&]() -> std::string_view {
+            if (header) {
+                header = false;
+                return buffer;
+            }
+            if (next >= n) return {};
+            const size_t last = std::min(n, next + chunk);
+            buffer.resize((last - next) * l.length);
+            for (size_t first = next; first < last; first += kBlock) {
+                PutPoints(d, l, first, std::min(last, first + kBlock),
+                          buffer.data() + (first - next) * l.length);
+            }
+            next = last;
+            return buffer;
+        });
+    } catch (const common::FileError&) {
+        throw;
     } catch (const common::Error& e) {
         throw common::FileError(common::StatusCode::kInvalidArgument, path.string(), 0, e.what());
     }
-    WriteFileAtomic(path, bytes);
 }
 
 double UnixNsToAdjustedGpsSeconds(int64_t unix_ns) {
