@@ -2,7 +2,8 @@
 // ground-floor corridor past an added crate, a wall built 3 cm off and a person walking the other
 // way; the odometry session placed on the capture's ground truth (what `bimslam anchor` will
 // write); then the command with --truth. The updated IFC is read back with IFC++ and web-ifc,
-// the map with Open3D and CloudCompare: each reader a test of its own, which skips saying why
+// the map with Open3D and CloudCompare, map_bim.las with loaders.gl and copc (node,
+// tests/tools/las): each reader a test of its own, which skips saying why
 // where its tool is not installed (toolchain/install-deps.sh --test). Bad input exits 2 naming
 // what is wrong.
 #include <gtest/gtest.h>
