@@ -82,8 +82,10 @@ bool IsFloat(LasType t) { return t == LasType::kFloat32 || t == LasType::kFloat6
 void CheckField(const LasExtraField& f, size_t points) {
     const auto code = uint8_t(f.type);
     if (code < 1 || code > 10) Invalid("extra field '" + f.name + "' has no valid type");
-    CheckLength(f.values, points, ("extra field '" + f.name + "'").c_str());
-    if (f.values.empty()) Invalid("extra field '" + f.name + "' has no values");
+    if (f.values.size() != points) {  // an empty map has fields of no values
+        Invalid("extra field '" + f.name + "' has " + std::to_string(f.values.size()) +
+                " values for " + std::to_string(points) + " points");
+    }
     if (IsFloat(f.type)) {
         if (f.type == LasType::kFloat32) {
             for (double v : f.values) {

@@ -133,6 +133,13 @@ TEST(Las, EmptyCloudAndNoExtraFields) {
     const LasData r = ParseLas("empty", SerializeLas(d));
     EXPECT_EQ(r.size(), 0u);
     EXPECT_TRUE(r.extra.empty());
+    // An empty map keeps its fields (a project whose visits anchored nothing).
+    d.extra = {LasExtraField{"first_visit", LasType::kUint16, "", {}, {}}};
+    const LasData e = ParseLas("empty", SerializeLas(d));
+    EXPECT_EQ(e.size(), 0u);
+    ASSERT_EQ(e.extra.size(), 1u);
+    EXPECT_EQ(e.extra[0].name, "first_visit");
+    d.extra.clear();
     d.xyz = {{1, 2, 3}};
     d.adjusted_standard_gps_time = false;
     const std::string b = SerializeLas(d);
@@ -154,6 +161,9 @@ TEST(Las, WriterRefusesWhatTheFormatCannotHold) {
         EXPECT_NE(std::string(e.what()).find("gps_time"), std::string::npos) << e.what();
     }
     EXPECT_FALSE(std::filesystem::exists(dir / "bad.las"));
+    d = Sample(10);
+    d.extra[0].values.pop_back();
+    EXPECT_THROW(SerializeLas(d), Error);
     d = Sample(10);
     d.extra[1].values[3] = 0.5;  // not an integer
     EXPECT_THROW(SerializeLas(d), Error);
