@@ -4,7 +4,8 @@
 # Usage: sudo toolchain/install-deps.sh [--test|--cross]
 #   (no flag)  what building and running need (`make demo`)
 #   --test     also the third-party tools the tests run against our files (`make test`), and
-#              web-ifc (npm ci in tests/tools/web_ifc) when its node_modules is missing
+#              the npm test tools (npm ci in tests/tools/web_ifc and tests/tools/las) when their
+#              node_modules is missing
 #   --cross    also the aarch64 cross-build (`make cross`, `make test-cross`): Debian's cross
 #              compiler, qemu-user, the arm64 -dev packages that install beside the amd64 ones,
 #              and the others unpacked into /opt/bimslam-cross/arm64 (toolchain/stage-arm64.sh)
@@ -38,7 +39,8 @@ packages=(
 )
 # The real readers our files must open in (tests/integration/io_interop_test.cpp): PCL's tools,
 # Open3D (with numpy) for Debian's python3, CloudCompare; Node.js for web-ifc, the second IFC
-# engine the sample building must open in (tests/tools/web_ifc, sample_building_test.cpp); and
+# engine the sample building must open in (tests/tools/web_ifc, sample_building_test.cpp), and for
+# the LAS readers of tests/tools/las (changes_cli_test.cpp); and
 # clang with its libFuzzer runtime for the sanitizer build, unit tests and fuzz targets (preset `asan`).
 # systemd-analyze verifies bimslam-rig's unit (tests/integration/rig_lcm_test.cpp); LCM's Java
 # library and a JDK build the lcm-spy type jar (lcmtypes/CMakeLists.txt); chromium opens the
@@ -106,13 +108,17 @@ else
     echo "install-deps: installed ${#missing[@]} packages"
 fi
 
-# web-ifc for tests/tools/web_ifc, from the npm registry at the version its package-lock.json
-# pins; node_modules stays in the source tree (git-ignored).
-web_ifc="$(cd "$(dirname "$0")/.." && pwd)/tests/tools/web_ifc"
-if [[ "${1:-}" == "--test" && ! -d "$web_ifc/node_modules/web-ifc" ]]; then
-    echo "install-deps: installing web-ifc (npm ci in tests/tools/web_ifc)"
-    npm ci --prefix "$web_ifc" --no-audit --no-fund --loglevel=error
-fi
+# web-ifc for tests/tools/web_ifc, and loaders.gl's and copc's LAS readers for tests/tools/las
+# (the second readers of map_bim.las), from the npm registry at the versions their
+# package-lock.json pins; node_modules stays in the source tree (git-ignored).
+tools="$(cd "$(dirname "$0")/.." && pwd)/tests/tools"
+for tool in web_ifc/web-ifc las/copc; do
+    dir="$tools/${tool%%/*}"
+    if [[ "${1:-}" == "--test" && ! -d "$dir/node_modules/${tool#*/}" ]]; then
+        echo "install-deps: installing the npm packages of tests/tools/${tool%%/*} (npm ci)"
+        npm ci --prefix "$dir" --no-audit --no-fund --loglevel=error
+    fi
+done
 
 # The arm64 packages that cannot be installed beside their amd64 versions, unpacked.
 if [[ "${1:-}" == "--cross" ]]; then

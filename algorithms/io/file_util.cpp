@@ -50,6 +50,19 @@ std::string ReadFileToString(const std::filesystem::path& path) {
 }
 
 void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes, Sync sync) {
+    bool given = false;
+    WriteFileAtomic(
+        path,
+        [&]() {
+            if (given) return std::string_view();
+            given = true;
+            return bytes;
+        },
+        sync);
+}
+
+void WriteFileAtomic(const std::filesystem::path& path,
+                     const std::function<std::string_view()>& next, Sync sync) {
     const std::filesystem::path dir =
         path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
     std::filesystem::path tmp = path;
@@ -58,17 +71,27 @@ void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes, 
         Fd f;
         f.fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
         if (f.fd < 0) ThrowErrno(path, "cannot create temporary file " + tmp.string());
-        size_t done = 0;
-        while (done < bytes.size()) {
-            const ssize_t n = ::write(f.fd, bytes.data() + done, bytes.size() - done);
-            if (n < 0) {
-                if (errno == EINTR) continue;
-                const int err = errno;
+        for (;;) {
+            std::string_view bytes;
+            try {
+                bytes = next();
+            } catch (...) {
                 ::unlink(tmp.c_str());
-                errno = err;
-                ThrowErrno(path, "cannot write");
+                throw;
             }
-            done += static_cast<size_t>(n);
+            if (bytes.empty()) break;
+            size_t done = 0;
+            while (done < bytes.size()) {
+                const ssize_t n = ::write(f.fd, bytes.data() + done, bytes.size() - done);
+                if (n < 0) {
+                    if (errno == EINTR) continue;
+                    const int err = errno;
+                    ::unlink(tmp.c_str());
+                    errno = err;
+                    ThrowErrno(path, "cannot write");
+                }
+                done += static_cast<size_t>(n);
+            }
         }
         if (sync == Sync::kNow && ::fsync(f.fd) != 0) {
             const int err = errno;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -22,6 +23,11 @@ std::string ReadFileToString(const std::filesystem::path& path);
 enum class Sync { kNow, kDeferred };
 void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes,
                      Sync sync = Sync::kNow);
+// The same, the bytes made piece by piece: `next` is called until it returns an empty view, each
+// piece written before the next is asked for (a large file without all of it in memory). An
+// exception from `next` leaves no temporary file behind and reaches the caller as it is.
+void WriteFileAtomic(const std::filesystem::path& path,
+                     const std::function<std::string_view()>& next, Sync sync = Sync::kNow);
 
 // Flushes everything written to the file system holding `dir` (syncfs(2)). Throws
 // common::FileError (kIoError) naming the folder on failure.

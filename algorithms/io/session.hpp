@@ -59,6 +59,10 @@ struct SessionManifest {
         std::vector<std::string> storeys;
     };
     std::optional<Model> model;
+    // session.json "clocks": {"host_minus_sensor_ns"}: the recording host's UNIX time minus the
+    // sensor clock (times.txt + this = UNIX time, within the network latency), when the recorder
+    // knew it (`bimslam odometry`, `bimslam map`); absent otherwise. map_bim.las's GPS times.
+    std::optional<int64_t> host_minus_sensor_ns;
 };
 
 // One keyframe. stamp_ns (times.txt) is the start of the keyframe's scan in the sensor clock;
@@ -155,6 +159,9 @@ public:
     void Flush();
     // Flushes and writes session.json. Further calls are errors.
     void Finish();
+    // Sets session.json's clocks.host_minus_sensor_ns (SessionManifest), e.g. once the offset has
+    // been measured; before Finish().
+    void SetHostMinusSensorNs(int64_t ns) { manifest_.host_minus_sensor_ns = ns; }
 
     size_t keyframe_count() const { return keyframes_; }
     const std::filesystem::path& dir() const { return dir_; }

@@ -1,4 +1,5 @@
 // session.json (specs/session-data.md): every field checked on read, with the field named.
+#include <cstdint>
 #include <nlohmann/json.hpp>
 
 #include "algorithms/common/status.hpp"
@@ -91,6 +92,7 @@ std::string SerializeManifest(const SessionManifest& m) {
         j["model"] = {
             {"file", m.model->file}, {"sha256", m.model->sha256}, {"storeys", m.model->storeys}};
     }
+    if (m.host_minus_sensor_ns) j["clocks"] = {{"host_minus_sensor_ns", *m.host_minus_sensor_ns}};
     return j.dump(2) + "\n";
 }
 
@@ -155,6 +157,14 @@ SessionManifest ParseManifest(const std::string& name, const std::string& text) 
             model.storeys.push_back(s.get<std::string>());
         }
         m.model = model;
+    }
+    if (f.Has("clocks")) {
+        const json& ns = f.At("clocks.host_minus_sensor_ns", json::value_t::number_float);
+        if (!ns.is_number_integer() ||
+            (ns.is_number_unsigned() && ns.get<uint64_t>() > uint64_t(INT64_MAX))) {
+            f.Fail("clocks.host_minus_sensor_ns", "must be an integer of nanoseconds");
+        }
+        m.host_minus_sensor_ns = ns.get<int64_t>();
     }
     return m;
 }

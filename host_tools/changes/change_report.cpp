@@ -7,6 +7,7 @@
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/trajectory.hpp"
+#include "host_tools/changes/map_las.hpp"
 
 namespace bimslam::change_detection {
 namespace {
@@ -348,6 +349,7 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
     }
     map.vertex_properties = {distance, element, keyframes, cls, object};
     io::WritePly(dir / "map_bim.ply", map);
+    io::WriteLas(dir / "map_bim.las", MapLas(r, model.origin_m, found.input->session, found.visit));
 
     std::ostringstream csv;
     csv << "index,global_id,class,name,storey,verdict,opaque,surface_area_m2,expected_area_m2,"

@@ -222,8 +222,8 @@ int Changes(ChangesArgs& a) {
                       << Fixed(r.seconds.cluster_s, 1) << ", rays "
                       << Fixed(r.seconds.evidence_s, 1) << ")\n"
                       << "written   " << dir.string()
-                      << "/: changes.json, new_objects.ply, map_bim.ply, elements.csv, "
-                         "model_updated.ifc"
+                      << "/: changes.json, new_objects.ply, map_bim.ply, map_bim.las, "
+                         "elements.csv, model_updated.ifc"
                       << (r.refinement.T_world_lidar.empty() ? "" : ", keyframes_refined.tum")
                       << "\n";
         }
@@ -285,8 +285,9 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
     cmd->footer(
         "Each --session must be anchored (session.json frames.world = \"bim\", as `bimslam "
         "anchor` writes it). OUT receives changes.json, new_objects.ply, map_bim.ply, "
-        "elements.csv and model_updated.ifc (with several sessions, one folder per session). "
-        "--truth compares with a simulated capture's changes.json (evaluation.json). Method, "
+        "map_bim.las (LAS 1.4), elements.csv and model_updated.ifc (with several sessions, one "
+        "folder per session). --truth compares with a simulated capture's changes.json "
+        "(evaluation.json). Method, "
         "defaults and the JSON schema: host_tools/changes/README.md.");
     cmd->add_option("--model", a->model, "the IFC model (IFC2X3 or IFC4)")->required();
     cmd->add_option("--session", a->sessions, "an anchored session folder (repeatable)")

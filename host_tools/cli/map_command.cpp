@@ -68,8 +68,8 @@ void PrintHistory(const json& S) {
                   << h.value("file", std::string()) << ")\n";
     }
     if (h.contains("building_map_voxels")) {
-        std::cout << "map       the building's map (building_map.ply), 5 cm voxels after each "
-                     "visit:";
+        std::cout << "map       the building's map (building_map.ply, .las), 5 cm voxels after "
+                     "each visit:";
         for (const json& n : h["building_map_voxels"]) std::cout << " " << n.get<size_t>();
         std::cout << "\n";
     }
@@ -313,8 +313,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "contradictions (missing, then built again); OUT/model_asis.ifc: the model file as is, "
         "the objects present as proxies, every observed element's history as a property set "
         "(bimslam_History), the elements missing as of the newest visit in a group; "
-        "OUT/building_map.ply (and .json, its size per visit): the building's map in BIM "
-        "coordinates, one point per 5 cm of surface with the visits that first and last saw it, "
+        "OUT/building_map.ply and .las (and .json, its size per visit): the building's map in "
+        "BIM coordinates, one point per 5 cm of surface with the visits that first and last saw "
+        "it, "
         "what a later visit saw again or found gone replaced, transients left out\n"
         "  report     OUT/report/report.html (`bimslam report`) of the newest visit\n"
         "OUT/visits/<visit>/summary.json gathers a visit's figures, OUT/summary.json the newest "

@@ -1,6 +1,7 @@
 #include "host_tools/mapping/building_map.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -9,8 +10,10 @@
 #include "algorithms/changes/change_detector.hpp"
 #include "algorithms/common/voxel_hash.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/las.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/sha256.hpp"
+#include "host_tools/changes/map_las.hpp"
 
 namespace bimslam::mapping {
 using nlohmann::json;
@@ -299,6 +302,25 @@ size_t FoldedAlready(const std::filesystem::path& out, const std::vector<std::st
 
 }  // namespace
 
+void BuildingMap::WriteLas(const std::filesystem::path& file,
+                           const std::vector<int64_t>& visit_start_ns) const {
+    io::LasData las;
+    io::SetLasCreationDate(las, std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::system_clock::now().time_since_epoch())
+                                    .count());
+    io::LasExtraField first{"first_visit", io::LasType::kUint16, "visit that first saw it", {}, {}};
+    for (const Voxel& v : Voxels()) {
+        las.xyz.push_back(v.xyz.cast<double>());
+        las.classification.push_back(change_detection::LasClass(changes::PointClass(v.cls)));
+        las.user_data.push_back(v.cls);
+        las.point_source_id.push_back(uint16_t(v.last + 1));
+        las.gps_time.push_back(io::UnixNsToAdjustedGpsSeconds(visit_start_ns.at(v.last)));
+        first.values.push_back(v.first + 1);
+    }
+    las.extra = {std::move(first)};
+    io::WriteLas(file, las);
+}
+
 json WriteBuildingMap(const std::filesystem::path& out, const std::vector<VisitFindings>& visits,
                       const json& history, const std::vector<std::string>& made_from) {
     BuildingMap map;
@@ -315,6 +337,9 @@ json WriteBuildingMap(const std::filesystem::path& out, const std::vector<VisitF
         figures.back()["fold_sha256"] = digests[v];
     }
     map.Write(out / "building_map.ply");
+    std::vector<int64_t> starts;
+    for (const VisitFindings& v : visits) starts.push_back(v.start_ns);
+    map.WriteLas(out / "building_map.las", starts);
     const json j = {
         {"format", "bimslam-building-map"}, {"version", 2},         {"file", "building_map.ply"},
         {"voxel_m", map.voxel_m()},         {"voxels", map.size()}, {"visits", figures}};

@@ -42,6 +42,11 @@ public:
     // Reads a map Write wrote, in place of this one's voxels; false when the file lacks a
     // property Write writes (an older layout). Throws common::FileError on a damaged file.
     bool Read(const std::filesystem::path& file);
+    // The same voxels as ASPRS LAS 1.4 (host_tools/changes/map_las.hpp's classes; README.md of
+    // this folder): point source id the 1-based visit that last saw the voxel, GPS time that
+    // visit's start (visit_start_ns[v], UNIX), extra bytes first_visit (1-based).
+    void WriteLas(const std::filesystem::path& file,
+                  const std::vector<int64_t>& visit_start_ns) const;
 
     struct Voxel {
         Eigen::Vector3f xyz;

@@ -222,6 +222,9 @@ StepStamp OdometryStep(MapContext& c, Stepper& stepper, const fs::path& visit,
     // The session carries the odometry's verdict (odometry_verdict.json) since this version:
     // an older session is made again, so that anchoring sees where it failed.
     s.AddParameter("verdict_in_session", 1);
+    // And the recording host's clock offset since this version (session.json clocks: the GPS
+    // times of map_bim.las).
+    s.AddParameter("clock_offset_in_session", 1);
     const std::string step = "odometry " + r.name;
     stepper.Run(step, visit / "stamps", "odometry_" + r.name, s, r.files.packets.string(), [&] {
         replay::CaptureOdometryOptions o;
@@ -328,7 +331,7 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
 
 // The changes of one anchored session against the model, as `bimslam changes` finds them, with
 // the updated IFC and, given the simulator's truth, their scores.
-void SessionChanges(MapContext& c, const fs::path& visit, const std::string& label,
+void SessionChanges(MapContext& c, const fs::path& visit, const std::string& label, uint16_t number,
                     const bim::BimModel& m, const changes::ChangeModel& change_model,
                     const changes::ChangeDetectorConfig& detector, const std::string& original,
                     const std::vector<RecordingInput>& recordings) {
@@ -339,6 +342,7 @@ void SessionChanges(MapContext& c, const fs::path& visit, const std::string& lab
     change_detection::SessionChanges found;
     found.label = label;
     found.input = &input;
+    found.visit = number;
     found.result =
         changes::DetectChanges(change_model, input.keyframes, input.edges, detector,
                                [&](std::string_view stage, double f) {
@@ -365,9 +369,10 @@ void SessionChanges(MapContext& c, const fs::path& visit, const std::string& lab
 }
 
 // 4. Change detection of each anchored session of the visit, as `bimslam changes` does it.
+// `number`: the visit's 1-based place in date order (map_bim.las's point source id).
 StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
-                      const std::string& label, const std::vector<RecordingInput>& recordings,
-                      const StepStamp& anchoring) {
+                      const std::string& label, uint16_t number,
+                      const std::vector<RecordingInput>& recordings, const StepStamp& anchoring) {
     StepStamp change("changes");
     change.AddUpstream(anchoring);
     change.AddParameter("model_sha256", c.sha256);
@@ -377,6 +382,8 @@ StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
     }
     // The scores' in-view rule: an output scored by an older rule is scored again.
     change.AddParameter("in_view_rule", "keyframes' map points on the object (issue 31)");
+    // map_bim.las (issue 34) carries the visit's number: made again when it is new or changed.
+    change.AddParameter("las_visit_number", number);
     if (!c.config.datum.empty()) change.AddFileTime("datum", c.config.datum);
     stepper.Run(
         "changes " + label, visit / "stamps", "changes", change, c.model_file.string(), [&] {
@@ -395,7 +402,8 @@ StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
             }
             const std::string original = io::ReadFileToString(c.model_file);
             for (const std::string& name : anchored) {
-                SessionChanges(c, visit, name, m, change_model, detector, original, recordings);
+                SessionChanges(c, visit, name, number, m, change_model, detector, original,
+                               recordings);
             }
         });
     return change;
@@ -496,7 +504,9 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
         const StepStamp anchoring =
             AnchorStep(c, stepper, dir, label, recordings, reference, odometry, earlier);
         earlier.push_back({dir, label, anchoring});
-        changes.push_back(ChangesStep(c, stepper, dir, label, recordings, anchoring));
+        changes.push_back(ChangesStep(c, stepper, dir, label,
+                                      uint16_t(std::min<size_t>(v + 1, 65535)), recordings,
+                                      anchoring));
         summaries.push_back(BuildSummary(config.out, dir, p.project.model, recordings));
         WriteIfChanged(dir / "summary.json", summaries.back().dump(2) + "\n");
     }

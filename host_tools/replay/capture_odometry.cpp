@@ -309,6 +309,8 @@ CaptureOdometryReport RunCaptureOdometry(const CaptureOdometryOptions& o) {
     report.host_minus_sensor_ns = st.host_minus_sensor_ns;
     if (writer) {
         write_verdict(last_scan);
+        // The clock offset since the last clock jump: this session's (map_bim.las's GPS times).
+        if (st.host_minus_sensor_ns != 0) writer->SetHostMinusSensorNs(st.host_minus_sensor_ns);
         writer->Finish();
     }
     report.wall_s =

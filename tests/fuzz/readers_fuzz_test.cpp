@@ -10,6 +10,7 @@
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/io/g2o.hpp"
+#include "algorithms/io/las.hpp"
 #include "algorithms/io/npy.hpp"
 #include "algorithms/io/pcd.hpp"
 #include "algorithms/io/ply.hpp"
@@ -63,6 +64,19 @@ TEST(Fuzz, Ply) {
          {SerializePly(mesh, PlyEncoding::kBinaryLittleEndian),
           SerializePly(mesh, PlyEncoding::kAscii)},
          [](const std::string& b) { ParsePly("f.ply", b); });
+}
+
+TEST(Fuzz, Las) {
+    LasData las;
+    LasExtraField distance{"distance", LasType::kFloat32, "m", 1e9, {}};
+    for (int i = 0; i < 6; ++i) {
+        las.xyz.push_back(Eigen::Vector3d(i, 2.0 * i, 0.5));
+        las.classification.push_back(uint8_t(6 + i));
+        las.gps_time.push_back(4.8e8 + i);
+        distance.values.push_back(0.01 * i);
+    }
+    las.extra = {distance};
+    Fuzz("f.las", {SerializeLas(las)}, [](const std::string& b) { ParseLas("f.las", b); });
 }
 
 TEST(Fuzz, Npy) {

@@ -2,7 +2,8 @@
 // ground-floor corridor past an added crate, a wall built 3 cm off and a person walking the other
 // way; the odometry session placed on the capture's ground truth (what `bimslam anchor` will
 // write); then the command with --truth. The updated IFC is read back with IFC++ and web-ifc,
-// the map with Open3D and CloudCompare: each reader a test of its own, which skips saying why
+// the map with Open3D and CloudCompare, map_bim.las with loaders.gl and copc (node,
+// tests/tools/las): each reader a test of its own, which skips saying why
 // where its tool is not installed (toolchain/install-deps.sh --test). Bad input exits 2 naming
 // what is wrong.
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -18,12 +20,14 @@
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/las.hpp"
 #include "algorithms/io/ply.hpp"
 #include "algorithms/io/session.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/changes/ifc_update.hpp"
+#include "tests/integration/las_reader_support.hpp"
 #include "tests/integration/web_ifc_support.hpp"
 #include "tests/support/ground_truth_session.hpp"
 #include "tests/support/test_support.hpp"
@@ -349,8 +353,8 @@ TEST(ChangesCli, SeveralSessionsKeepTheirOwnFiles) {
     const json j = json::parse(r.out);
     ASSERT_EQ(j["sessions"].size(), 2u);
     for (const char* name : {"monday", "tuesday"}) {
-        for (const char* f : {"changes.json", "new_objects.ply", "map_bim.ply", "elements.csv",
-                              "model_updated.ifc"}) {
+        for (const char* f : {"changes.json", "new_objects.ply", "map_bim.ply", "map_bim.las",
+                              "elements.csv", "model_updated.ifc"}) {
             EXPECT_TRUE(fs::exists(tmp / "out" / name / f)) << name << "/" << f;
         }
         const json c = json::parse(io::ReadFileToString(tmp / "out" / name / "changes.json"));
@@ -414,6 +418,73 @@ TEST(ChangesCli, MapOpensInCloudCompare) {
     const io::PlyProperty* d = back.Find("scalar_distance");
     ASSERT_NE(d, nullptr) << "CloudCompare lost the distance field";
     EXPECT_EQ(d->values, ours.Find("scalar_distance")->values);
+}
+
+// map_bim.las as two readers independent of ours read it (loaders.gl and copc, through node):
+// every point of map_bim.ply in the same order and place, its ASPRS class (issue 34: 6 building
+// for the model's points, 1 unclassified for unexplained and outside, user classes 64 new object,
+// 65 transient, 66 moved element), map_bim.ply's class in the user data, the visit (1, a lone
+// run) as point source id, the extra bytes equal to the PLY's fields, and GPS times within the
+// simulated capture's span (adjusted standard GPS time: the session knows its clock offset).
+TEST(ChangesCli, MapLasMatchesThePlyInLoadersGlAndCopc) {
+    if (const std::string why = las_readers::Missing(); !why.empty()) GTEST_SKIP() << why;
+    const fs::path walk = Walk();
+    const io::PlyData ply = io::ReadPly(walk / "out" / "map_bim.ply");
+    const json j = las_readers::Read(walk / "out" / "map_bim.las");
+    ASSERT_TRUE(j.is_object());
+    const size_t n = ply.vertices.size();
+    const json& lg = j["loadersGl"];
+    const json& cp = j["copc"];
+    ASSERT_EQ(lg["points"].get<size_t>(), n);
+    ASSERT_EQ(cp["points"].get<size_t>(), n);
+    EXPECT_EQ(lg["version"], "1.4");
+    EXPECT_EQ(cp["format"], 6);
+    EXPECT_EQ(cp["globalEncoding"].get<int>() & 1, 1) << "not adjusted standard GPS time";
+    EXPECT_EQ(cp["vlrs"], json::array({"LASF_Spec/4"}));
+    const std::map<int, int> asprs = {{0, 6}, {1, 64}, {2, 65}, {3, 1}, {4, 1}, {5, 66}};
+    const json& dims = cp["dimensions"];
+    const auto column = [&](const json& array, size_t per_point = 1) {
+        EXPECT_EQ(array.size(), array.is_array() ? n * per_point : 0);
+        return array.get<std::vector<double>>();
+    };
+    const std::vector<double> lg_position = column(lg["position"], 3);  // x y z x y z ...
+    const std::vector<double> lg_class = column(lg["classification"]);
+    const std::vector<double> x = column(dims["X"]), y = column(dims["Y"]), z = column(dims["Z"]);
+    const std::vector<double> cp_class = column(dims["Classification"]);
+    const std::vector<double> user = column(dims["UserData"]);
+    const std::vector<double> source = column(dims["PointSourceId"]);
+    const std::vector<double>& cls = ply.Find("scalar_class")->values;
+    std::map<int, size_t> counts;
+    for (size_t i = 0; i < n; ++i) {
+        const Eigen::Vector3d p = ply.vertices[i].cast<double>();
+        const Eigen::Vector3d by_loaders_gl(lg_position[3 * i], lg_position[3 * i + 1],
+                                            lg_position[3 * i + 2]);
+        ASSERT_LT((by_loaders_gl - p).cwiseAbs().maxCoeff(), 1e-3) << i;
+        ASSERT_LT((Eigen::Vector3d(x[i], y[i], z[i]) - p).cwiseAbs().maxCoeff(), 1e-3) << i;
+        const int expected = asprs.at(int(cls[i]));
+        ASSERT_EQ(lg_class[i], expected) << i;
+        ASSERT_EQ(cp_class[i], expected) << i;
+        ASSERT_EQ(user[i], cls[i]) << i;
+        ASSERT_EQ(source[i], 1) << i;
+        ++counts[expected];
+    }
+    EXPECT_GT(counts[6], 0u);
+    EXPECT_GT(counts[64], 0u) << "the crate's points";
+    EXPECT_GT(counts[65], 0u) << "the person's points";
+    for (const auto& [las, ours] : {std::pair{"distance", "scalar_distance"},
+                                    {"element", "scalar_element"},
+                                    {"object", "scalar_object"},
+                                    {"keyframes", "scalar_keyframes"}}) {
+        ASSERT_TRUE(dims.contains(las)) << las;
+        EXPECT_EQ(column(dims[las]), ply.Find(ours)->values) << las;
+    }
+    const json capture = json::parse(io::ReadFileToString(walk / "capture" / "capture.json"));
+    const double start = io::UnixNsToAdjustedGpsSeconds(capture["start_ns"].get<int64_t>());
+    const double end = start + capture["walk"]["duration_s"].get<double>();
+    for (const double t : column(dims["GpsTime"])) {
+        ASSERT_TRUE(t >= start - 1 && t <= end + 1)
+            << t << " not in [" << start << ", " << end << "]";
+    }
 }
 
 // The walk's updated IFC in web-ifc: a proxy with a mesh per new object.

@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/las.hpp"
+#include "algorithms/io/ply.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "tests/integration/map_test_support.hpp"
 #include "tests/integration/web_ifc_support.hpp"
@@ -212,6 +214,25 @@ TEST(MapVisits, TheHistoryHoldsEveryVisitsVerdictsWhateverTheOrderVisitsWereAdde
     EXPECT_GT(bm["visits"][1].at("dropped").at("seen_again").get<size_t>(),
               bm["visits"][0].at("voxels").get<size_t>() / 4)
         << "the second day saw most of what the first saw";
+    // building_map.las (issue 34): every voxel, the visit that last saw it as point source (both
+    // days have some); each visit's map_bim.las carries the visit's number (1, 2 by date).
+    const io::LasData las = io::ReadLas(all / "building_map.las");
+    EXPECT_EQ(las.size(), bm["visits"][1].at("voxels").get<size_t>());
+    EXPECT_EQ(std::set<uint16_t>(las.point_source_id.begin(), las.point_source_id.end()),
+              (std::set<uint16_t>{1, 2}));
+    for (const auto& [day, number] : {std::pair{kDayA, 1}, {kDayB, 2}}) {
+        size_t maps = 0;
+        for (const auto& e : fs::directory_iterator(all / "visits" / day / "changes")) {
+            const io::LasData m = io::ReadLas(e.path() / "map_bim.las");
+            EXPECT_EQ(m.size(), io::ReadPly(e.path() / "map_bim.ply").vertices.size());
+            EXPECT_EQ(std::set<uint16_t>(m.point_source_id.begin(), m.point_source_id.end()),
+                      std::set<uint16_t>{uint16_t(number)})
+                << e.path();
+            EXPECT_TRUE(m.adjusted_standard_gps_time) << "the odometry wrote the clock offset";
+            ++maps;
+        }
+        EXPECT_GT(maps, 0u) << day;
+    }
     // The project's summary counts the newest visit's changes.
     const json s = ReadJson(one / "summary.json");
     EXPECT_EQ(s.at("history").at("building_map_voxels"),

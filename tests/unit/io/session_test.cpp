@@ -143,8 +143,8 @@ TEST(Session, DeferredSyncWritesTheSameSession) {
         EXPECT_EQ(a.keyframes[i].descriptor, b.keyframes[i].descriptor);
         EXPECT_EQ(a.keyframes[i].T_world_lidar.matrix(), b.keyframes[i].T_world_lidar.matrix());
     }
-    for (const char* f : {"times.txt", "optimized_poses.txt", "singlesession_posegraph.g2o",
-                          "trajectory.tum"}) {
+    for (const char* f :
+         {"times.txt", "optimized_poses.txt", "singlesession_posegraph.g2o", "trajectory.tum"}) {
         EXPECT_EQ(ReadFileToString(tmp / "now" / f), ReadFileToString(tmp / "later" / f)) << f;
     }
     // No temporary file is left behind.
@@ -185,6 +185,22 @@ TEST(Session, ManifestRoundTripAndBimModel) {
     EXPECT_EQ(SerializeManifest(back), SerializeManifest(m));
     ASSERT_TRUE(back.model.has_value());
     EXPECT_EQ(back.model->storeys.size(), 2u);
+    EXPECT_FALSE(back.host_minus_sensor_ns.has_value());
+}
+
+// The recording host's clock offset (map_bim.las's GPS times): kept when known, negative too;
+// a session without it stays as it was.
+TEST(Session, ManifestKeepsTheClockOffset) {
+    SessionManifest m = Manifest();
+    EXPECT_EQ(SerializeManifest(m).find("clocks"), std::string::npos);
+    for (int64_t ns : {int64_t{1796083200'000'000'000}, int64_t{-42}}) {
+        m.host_minus_sensor_ns = ns;
+        const SessionManifest back = ParseManifest("session.json", SerializeManifest(m));
+        EXPECT_EQ(back.host_minus_sensor_ns, ns);
+    }
+    std::string text = SerializeManifest(m);
+    text.replace(text.find("-42"), 3, "1.5");
+    EXPECT_THROW(ParseManifest("session.json", text), FileError);
 }
 
 TEST(Session, ManifestErrorsNameTheField) {

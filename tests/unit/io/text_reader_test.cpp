@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string_view>
+#include <vector>
+
 #include "algorithms/io/file_util.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -82,6 +86,28 @@ TEST(FileUtil, AtomicWriteReplacesAndLeavesNoTemporary) {
         EXPECT_NE(std::string(e.what()).find("missing.txt"), std::string::npos);
     }
     EXPECT_THROW(WriteFileAtomic(dir / "no" / "such" / "dir.txt", "x"), FileError);
+}
+
+// The piecewise form (large files, LAS): the pieces in order; a producer that throws leaves the
+// old file as it was and no temporary.
+TEST(FileUtil, AtomicWriteInPieces) {
+    test::TempDir dir;
+    const auto path = dir / "p.bin";
+    const std::vector<std::string> pieces = {"head", std::string(100000, 'x'), "tail"};
+    size_t k = 0;
+    WriteFileAtomic(path, [&]() { return k < pieces.size() ? std::string_view(pieces[k++]) : ""; });
+    EXPECT_EQ(ReadFileToString(path), pieces[0] + pieces[1] + pieces[2]);
+    k = 0;
+    EXPECT_THROW(WriteFileAtomic(path,
+                                 [&]() -> std::string_view {
+                                     if (k++ == 1) throw std::runtime_error("producer failed");
+                                     return "new";
+                                 }),
+                 std::runtime_error);
+    EXPECT_EQ(ReadFileToString(path), pieces[0] + pieces[1] + pieces[2]);
+    size_t files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
+    EXPECT_EQ(files, 1u);
 }
 
 TEST(FileUtil, FormatIsShortestExact) {

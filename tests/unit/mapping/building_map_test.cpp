@@ -6,6 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
+
+#include "algorithms/io/las.hpp"
+#include "tests/support/test_support.hpp"
 
 #include "algorithms/io/file_util.hpp"
 #include "tests/support/test_support.hpp"
@@ -136,6 +140,34 @@ TEST(BuildingMap, AVisitAddedFoldsItAloneAndEqualsAFoldOfThemAll) {
     EXPECT_EQ(redone.at("voxels"), once.at("voxels"));
     EXPECT_NE(redone.at("visits").at(1).at("fold_sha256"),
               once.at("visits").at(1).at("fold_sha256"));
+// building_map.las: every voxel, its visits 1-based (point source = the last, extra bytes
+// first_visit), the time of the last visit's start, the class as map_bim.las's.
+TEST(BuildingMap, LasHoldsEveryVoxelWithItsVisits) {
+    BuildingMap map;
+    const json h = History({"v1", "v2"}, false);
+    map.Add(0, Sampled("v1", 1, {{2.0f, 2.0f, 2.0f}}, 1), h);  // a new object's point
+    map.Add(1, Sampled("v2", 2), h);
+    test::TempDir dir;
+    const std::vector<int64_t> starts = {1796083200'000'000'000, 1798761600'000'000'000};
+    map.WriteLas(dir / "m.las", starts);
+    const io::LasData las = io::ReadLas(dir / "m.las");
+    const std::vector<BuildingMap::Voxel> voxels = map.Voxels();
+    ASSERT_EQ(las.size(), voxels.size());
+    const io::LasExtraField* first = las.Find("first_visit");
+    ASSERT_NE(first, nullptr);
+    std::set<int> sources;
+    for (size_t i = 0; i < las.size(); ++i) {
+        ASSERT_LT((las.xyz[i] - voxels[i].xyz.cast<double>()).norm(), 1e-4);
+        EXPECT_EQ(las.point_source_id[i], voxels[i].last + 1);
+        EXPECT_EQ(first->values[i], voxels[i].first + 1);
+        EXPECT_EQ(las.gps_time[i], io::UnixNsToAdjustedGpsSeconds(starts[voxels[i].last]));
+        EXPECT_EQ(las.user_data[i], voxels[i].cls);
+        // A new object's point is 64; these hand-made points have no class (255): 1 unclassified.
+        EXPECT_EQ(las.classification[i], voxels[i].cls == 1 ? 64 : voxels[i].cls == 0 ? 6 : 1);
+        sources.insert(las.point_source_id[i]);
+    }
+    EXPECT_EQ(sources, (std::set<int>{1, 2}));
+    EXPECT_TRUE(las.adjusted_standard_gps_time);
 }
 
 }  // namespace
