@@ -154,7 +154,9 @@ void Color(const Rgb& c, float alpha) {
 io::Image SnapshotRenderer::Render(const SnapshotCamera& camera,
                                    const SnapshotHighlight& highlight) {
     Impl& m = *impl_;
-    if (!OSMesaMakeCurrent(m.context, m.rgba.data(), GL_UNSIGNED_BYTE, width_, height_))
+    // Current on this thread, into our buffer (made so once: binding again costs a framebuffer).
+    if (OSMesaGetCurrentContext() != m.context &&
+        !OSMesaMakeCurrent(m.context, m.rgba.data(), GL_UNSIGNED_BYTE, width_, height_))
         RenderFail("OSMesaMakeCurrent failed");
     OSMesaPixelStore(OSMESA_Y_UP, 0);  // row 0 at the top, as io::Image
     glViewport(0, 0, width_, height_);
