@@ -199,6 +199,10 @@ int MapMain(MapArgs& a) {
         std::cout << j.dump(2) << "\n";
     } else {
         PrintSummary(run);
+        if (fs::exists(c.out / "changes.bcf")) {
+            std::cout << "bcf       " << (c.out / "changes.bcf").string() << " (BCF "
+                      << c.bcf_version << " issues of the newest visit's changes, for BIM tools)\n";
+        }
         if (!anchored) {
             std::cout << "NOT ANCHORED: a recording could not be placed in BIM coordinates (see "
                          "above); the report shows its odometry map in its own frame\n";
