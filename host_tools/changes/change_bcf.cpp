@@ -130,7 +130,7 @@ private:
     std::vector<Eigen::Vector3d> eyes_;
 };
 
-std::string Where(const bim::BimModel& model, int storey, int space) {
+std::string WhereIn(const bim::BimModel& model, int storey, int space) {
     std::string s;
     if (storey >= 0) s += "storey '" + model.storeys[size_t(storey)].name + "'";
     if (space >= 0) {
@@ -141,9 +141,199 @@ std::string Where(const bim::BimModel& model, int storey, int space) {
     return s.empty() ? "the model (no storey)" : s;
 }
 
-std::string Short(const bim::BimModel& model, int storey) {
-    return storey >= 0 ? ", " + model.storeys[size_t(storey)].name : std::string();
-}
+// The topics of one session, built change by change (ChangeTopics' order).
+class TopicBuilder {
+public:
+    TopicBuilder(const bim::BimModel& model, const SessionChanges& found,
+                 const changes::ChangeDetectorConfig& config, int64_t date_ns)
+        : model_(model),
+          found_(found),
+          r_(found.result),
+          chooser_(model, found),
+          tol_(config.elements.deviation_tolerance_m),
+          date_ns_(date_ns),
+          seed_(found.label + "/" + std::to_string(date_ns) + "/") {}
+
+    void NewObject(size_t k) {
+        const changes::NewObject& obj = r_.objects[k];
+        Box box;
+        box.Add(obj.box_min), box.Add(obj.box_max);
+        const Eigen::Vector3d size = obj.box_max - obj.box_min;
+        const double largest = size.maxCoeff();
+        const Rgb color = ObjectColor(k);
+        const std::string& gid = found_.object_global_ids[k];
+        const ObjectPlace& place = found_.places[k];
+        ChangeTopic& t = Add("object/" + std::to_string(k), kTopicNewObject,
+                             largest >= 1.0   ? "High"
+                             : largest >= 0.3 ? "Normal"
+                                              : "Low",
+                             box, -1, gid, color, place.storey);
+        t.highlight.meshes = {{&obj.mesh, color}};
+        const std::string dims =
+            Fix(size.x(), 2) + " m x " + Fix(size.y(), 2) + " m x " + Fix(size.z(), 2) + " m";
+        t.topic.title = "New object " + std::to_string(k) + ": " + Fix(size.x(), 2) + " x " +
+                        Fix(size.y(), 2) + " x " + Fix(size.z(), 2) + " m" + Short(place.storey);
+        t.topic.description = "An object that is not in the model, in " +
+                              Where(place.storey, place.space) + ": " + dims + " (" +
+                              Fix(obj.volume_m3, 3) + " m3, " + std::to_string(obj.points.size()) +
+                              " map points), centred at " + Xyz(obj.centroid + model_.origin_m) +
+                              " m in the model's coordinates. model_updated.ifc holds it as the "
+                              "IfcBuildingElementProxy 'bimslam new object " +
+                              std::to_string(k) + "' (" + gid + "). Session " + found_.label + ".";
+        has_space_.back() = true;  // its description has it already
+    }
+
+    void Missing(size_t e) {
+        const bim::BimElement& el = model_.elements[e];
+        const changes::ElementEvidence& ev = r_.elements[e].evidence;
+        ChangeTopic& t = AddElement(e, "missing/", kTopicMissing,
+                                    el.role == bim::ElementRole::kStructure ? "High" : "Normal",
+                                    kMissingColor, nullptr);
+        t.topic.title = "Missing: " + el.ifc_class + " '" + el.name + "'" + Short(storeys_.back());
+        t.topic.description = "The model's " + What(el) +
+                              " was not found where the model has it: the walk's beams "
+                              "went through " +
+                              Fix(ev.expected_area_m2 - ev.seen_area_m2, 2) + " m2 of the " +
+                              Fix(ev.expected_area_m2, 2) + " m2 of it they reached (" +
+                              std::to_string(ev.rays_through) + " beams through it, " +
+                              std::to_string(ev.rays_agree) + " on it). Session " + found_.label +
+                              ".";
+    }
+
+    void Deviating(size_t e) {
+        const bim::BimElement& el = model_.elements[e];
+        const changes::ElementReport& rep = r_.elements[e];
+        const double n = rep.offset.norm();
+        ChangeTopic& t = AddElement(e, "deviating/", kTopicDeviating,
+                                    n < 2 * tol_   ? "Low"
+                                    : n < 5 * tol_ ? "Normal"
+                                                   : "High",
+                                    kDeviatingColor, nullptr);
+        t.topic.title = "Deviation " + Cm(n) + ": " + el.ifc_class + " '" + el.name + "'" +
+                        Short(storeys_.back());
+        t.topic.description = "The model's " + What(el) + " stands " + Cm(n) +
+                              " from where the model has it (offset x, y, z " +
+                              Xyz(100 * rep.offset, 1) + " cm; the tolerance is " + Cm(tol_) +
+                              "), measured on " + std::to_string(rep.support_points) +
+                              " map points (mean signed distance " + Cm(rep.mean_signed_m) +
+                              ", largest " + Cm(rep.max_signed_m) + "). Session " + found_.label +
+                              ".";
+    }
+
+    void Moved(size_t e) {
+        const bim::BimElement& el = model_.elements[e];
+        const changes::ElementReport& rep = r_.elements[e];
+        const double n = rep.offset.norm();
+        const changes::NewObject* to =
+            rep.moved_object >= 0 ? &r_.objects[size_t(rep.moved_object)] : nullptr;
+        const bool far = n >= 0.5 || std::abs(rep.moved_yaw_deg) >= 30;
+        ChangeTopic& t =
+            AddElement(e, "moved/", kTopicMoved, far ? "High" : "Normal", kMovedFromColor, to);
+        if (to) t.highlight.meshes = {{&to->mesh, kMovedToColor}};
+        t.topic.title = "Moved " + Fix(n, 2) + " m: " + el.ifc_class + " '" + el.name + "'" +
+                        Short(storeys_.back());
+        t.topic.description =
+            "The model's " + What(el) + " stands elsewhere: moved by " + Xyz(rep.offset) + " m (" +
+            Fix(n, 2) + " m) and turned " + Fix(rep.moved_yaw_deg, 1) +
+            " degrees about the vertical. The picture shows where the model has it (" +
+            Hex(kMovedFromColor) + ") and where it was seen (" + Hex(kMovedToColor) +
+            "). Session " + found_.label + ".";
+    }
+
+    // Every topic's storey label, and an element change's space in its description: the space
+    // holding the centre of its base, else the one the camera looks from, just before its line
+    // of sight enters the change's box (a wall bounds its spaces and is in none).
+    std::vector<ChangeTopic> Finish() {
+        std::vector<Eigen::Vector3f> at, beside;
+        for (size_t i = 0; i < out_.size(); ++i) {
+            const Box& b = boxes_[i];
+            at.emplace_back(
+                Eigen::Vector3d(b.centre().x(), b.centre().y(), b.min.z() + 0.1).cast<float>());
+            const Eigen::Vector3d eye = out_[i].camera.eye, d = b.centre() - eye;
+            double enter = 0;  // along d, where the ray enters the box (slab method)
+            for (int k = 0; k < 3; ++k) {
+                if (std::abs(d[k]) < 1e-12) continue;
+                const double t0 = (b.min[k] - eye[k]) / d[k], t1 = (b.max[k] - eye[k]) / d[k];
+                enter = std::max(enter, std::min(t0, t1));
+            }
+            const double back = d.norm() > 0 ? 0.2 / d.norm() : 0;
+            beside.push_back((eye + std::clamp(enter - back, 0.0, 1.0) * d).cast<float>());
+        }
+        const std::vector<int> s1 = SpacesAt(model_, at), s2 = SpacesAt(model_, beside);
+        for (size_t i = 0; i < out_.size(); ++i) {
+            const int storey = storeys_[i];
+            if (storey >= 0 && !model_.storeys[size_t(storey)].name.empty())
+                out_[i].topic.labels.push_back(model_.storeys[size_t(storey)].name);
+            if (has_space_[i]) continue;
+            out_[i].topic.description +=
+                " Where: " + Where(storey, s1[i] >= 0 ? s1[i] : s2[i]) + ".";
+        }
+        return std::move(out_);
+    }
+
+private:
+    ChangeTopic& Add(const std::string& key, const char* type, const char* priority, const Box& box,
+                     int element, const std::string& global_id, const Rgb& color, int storey) {
+        ChangeTopic t;
+        t.topic.guid = NameGuid(seed_ + key);
+        t.topic.type = type;
+        t.topic.status = "Open";
+        t.topic.priority = priority;
+        t.topic.creation_date = common::FormatUtcTime(date_ns_);
+        t.topic.author = "bimslam";
+        t.topic.index = int(out_.size()) + 1;
+        t.topic.reference_file = "model_updated.ifc";
+        t.topic.labels = {type};
+        t.target = box.centre();
+        std::tie(t.camera, t.keyframe) = chooser_.Choose(box, element);
+        BcfViewpoint& vp = t.topic.viewpoint;
+        vp.guid = NameGuid(seed_ + key + "/viewpoint");
+        vp.eye = t.camera.eye + model_.origin_m;  // BCF: the model's coordinates
+        vp.direction = t.camera.direction;
+        vp.up = t.camera.up;
+        vp.fov_deg = t.camera.fov_deg;
+        vp.selected = {global_id};
+        vp.colors = {{Hex(color), {global_id}}};
+        out_.push_back(std::move(t));
+        boxes_.push_back(box);
+        storeys_.push_back(storey);
+        has_space_.push_back(false);
+        return out_.back();
+    }
+
+    // A change of model element e, the element drawn in `color`; `to`: where a moved one went.
+    ChangeTopic& AddElement(size_t e, const std::string& key, const char* type,
+                            const char* priority, const Rgb& color, const changes::NewObject* to) {
+        const bim::BimElement& el = model_.elements[e];
+        Box box = ElementBox(model_, e);
+        if (to) box.Add(to->box_min), box.Add(to->box_max);
+        ChangeTopic& t = Add(key + el.global_id, type, priority, box, int(e), el.global_id, color,
+                             ElementStorey(model_, e));
+        t.highlight.element = int(e);
+        t.highlight.element_color = color;
+        return t;
+    }
+
+    static std::string What(const bim::BimElement& el) {
+        return el.ifc_class + " '" + el.name + "' (" + el.global_id + ")";
+    }
+    std::string Where(int storey, int space) const { return WhereIn(model_, storey, space); }
+    std::string Short(int storey) const {
+        return storey >= 0 ? ", " + model_.storeys[size_t(storey)].name : std::string();
+    }
+
+    const bim::BimModel& model_;
+    const SessionChanges& found_;
+    const changes::ChangeResult& r_;
+    const CameraChooser chooser_;
+    const double tol_;
+    const int64_t date_ns_;
+    const std::string seed_;
+    std::vector<ChangeTopic> out_;
+    std::vector<Box> boxes_;
+    std::vector<int> storeys_;
+    std::vector<bool> has_space_;
+};
 
 }  // namespace
 
@@ -151,168 +341,23 @@ std::vector<ChangeTopic> ChangeTopics(const bim::BimModel& model, const SessionC
                                       const changes::ChangeDetectorConfig& config,
                                       int64_t date_ns) {
     const changes::ChangeResult& r = found.result;
-    const Eigen::Vector3d o = model.origin_m;
-    const double tol = config.elements.deviation_tolerance_m;
-    const CameraChooser chooser(model, found);
-    const std::string seed = found.label + "/" + std::to_string(date_ns) + "/";
-    std::vector<ChangeTopic> out;
-    std::vector<int> storeys;  // per topic
-    std::vector<Box> boxes;
-
-    auto add = [&](const std::string& key, const char* type, const std::string& priority,
-                   const Box& box, int element, const std::string& global_id, const Rgb& color) {
-        ChangeTopic t;
-        t.topic.guid = NameGuid(seed + key);
-        t.topic.type = type;
-        t.topic.status = "Open";
-        t.topic.priority = priority;
-        t.topic.creation_date = common::FormatUtcTime(date_ns);
-        t.topic.author = "bimslam";
-        t.topic.index = int(out.size()) + 1;
-        t.topic.reference_file = "model_updated.ifc";
-        t.target = box.centre();
-        std::tie(t.camera, t.keyframe) = chooser.Choose(box, element);
-        BcfViewpoint& vp = t.topic.viewpoint;
-        vp.guid = NameGuid(seed + key + "/viewpoint");
-        vp.eye = t.camera.eye + o;
-        vp.direction = t.camera.direction;
-        vp.up = t.camera.up;
-        vp.fov_deg = t.camera.fov_deg;
-        vp.selected = {global_id};
-        vp.colors = {{Hex(color), {global_id}}};
-        t.topic.labels = {type};
-        out.push_back(std::move(t));
-        boxes.push_back(box);
-    };
-
+    TopicBuilder b(model, found, config, date_ns);
     // New objects (a moved element's object is reported with the element).
     for (size_t k = 0; k < r.objects.size(); ++k) {
-        const changes::NewObject& obj = r.objects[k];
-        if (obj.moved_element != kNoElement) continue;
-        Box box;
-        box.Add(obj.box_min), box.Add(obj.box_max);
-        const Eigen::Vector3d size = obj.box_max - obj.box_min;
-        const double largest = size.maxCoeff();
-        const char* priority = largest >= 1.0 ? "High" : largest >= 0.3 ? "Normal" : "Low";
-        const Rgb color = ObjectColor(k);
-        const std::string& gid = found.object_global_ids[k];
-        add("object/" + std::to_string(k), kTopicNewObject, priority, box, -1, gid, color);
-        ChangeTopic& t = out.back();
-        const ObjectPlace& place = found.places[k];
-        t.highlight.meshes = {{&obj.mesh, color}};
-        t.topic.title = "New object " + std::to_string(k) + ": " + Fix(size.x(), 2) + " x " +
-                        Fix(size.y(), 2) + " x " + Fix(size.z(), 2) + " m" +
-                        Short(model, place.storey);
-        t.topic.description = "An object that is not in the model, in " +
-                              Where(model, place.storey, place.space) + ": " + Fix(size.x(), 2) +
-                              " m x " + Fix(size.y(), 2) + " m x " + Fix(size.z(), 2) + " m (" +
-                              Fix(obj.volume_m3, 3) + " m3, " + std::to_string(obj.points.size()) +
-                              " map points), centred at " + Xyz(obj.centroid + o) +
-                              " m in the model's coordinates. model_updated.ifc holds it as the "
-                              "IfcBuildingElementProxy 'bimslam new object " +
-                              std::to_string(k) + "' (" + gid + "). Session " + found.label + ".";
-        storeys.push_back(place.storey);
+        if (r.objects[k].moved_element == kNoElement) b.NewObject(k);
     }
-
-    // Missing, deviating and moved elements.
-    for (int pass = 0; pass < 3; ++pass) {
+    auto each = [&](auto pick, auto make) {
         for (size_t e = 0; e < r.elements.size(); ++e) {
-            const bim::BimElement& el = model.elements[e];
-            const changes::ElementReport& rep = r.elements[e];
-            if (!Physical(el)) continue;
-            const bool missing = rep.verdict == changes::Verdict::kMissing;
-            const bool deviating = rep.verdict == changes::Verdict::kDeviating && !rep.moved;
-            const bool moved = rep.verdict == changes::Verdict::kDeviating && rep.moved;
-            if (!(pass == 0 ? missing : pass == 1 ? deviating : moved)) continue;
-            const std::string what = el.ifc_class + " '" + el.name + "' (" + el.global_id + ")";
-            const int storey = ElementStorey(model, e);
-            Box box = ElementBox(model, e);
-            const changes::NewObject* to =
-                moved && rep.moved_object >= 0 ? &r.objects[size_t(rep.moved_object)] : nullptr;
-            if (to) box.Add(to->box_min), box.Add(to->box_max);
-            const double n = rep.offset.norm();
-            if (missing) {
-                const bool structure = el.role == bim::ElementRole::kStructure;
-                add("missing/" + el.global_id, kTopicMissing, structure ? "High" : "Normal", box,
-                    int(e), el.global_id, kMissingColor);
-                ChangeTopic& t = out.back();
-                t.topic.title =
-                    "Missing: " + el.ifc_class + " '" + el.name + "'" + Short(model, storey);
-                t.topic.description =
-                    "The model's " + what +
-                    " was not found where the model has it: the walk's "
-                    "beams went through " +
-                    Fix(rep.evidence.expected_area_m2 - rep.evidence.seen_area_m2, 2) +
-                    " m2 of the " + Fix(rep.evidence.expected_area_m2, 2) +
-                    " m2 of it they reached (" + std::to_string(rep.evidence.rays_through) +
-                    " beams through it, " + std::to_string(rep.evidence.rays_agree) +
-                    " on it). Session " + found.label + ".";
-                t.highlight.element = int(e);
-                t.highlight.element_color = kMissingColor;
-            } else if (deviating) {
-                const char* priority = n < 2 * tol ? "Low" : n < 5 * tol ? "Normal" : "High";
-                add("deviating/" + el.global_id, kTopicDeviating, priority, box, int(e),
-                    el.global_id, kDeviatingColor);
-                ChangeTopic& t = out.back();
-                t.topic.title = "Deviation " + Cm(n) + ": " + el.ifc_class + " '" + el.name + "'" +
-                                Short(model, storey);
-                t.topic.description =
-                    "The model's " + what + " stands " + Cm(n) +
-                    " from where the model has it (offset x, y, z " + Xyz(100 * rep.offset, 1) +
-                    " cm; the tolerance is " + Cm(tol) + "), measured on " +
-                    std::to_string(rep.support_points) + " map points (mean signed distance " +
-                    Cm(rep.mean_signed_m) + ", largest " + Cm(rep.max_signed_m) + "). Session " +
-                    found.label + ".";
-                t.highlight.element = int(e);
-                t.highlight.element_color = kDeviatingColor;
-            } else {
-                const bool far = n >= 0.5 || std::abs(rep.moved_yaw_deg) >= 30;
-                add("moved/" + el.global_id, kTopicMoved, far ? "High" : "Normal", box, int(e),
-                    el.global_id, kMovedFromColor);
-                ChangeTopic& t = out.back();
-                t.topic.title = "Moved " + Fix(n, 2) + " m: " + el.ifc_class + " '" + el.name +
-                                "'" + Short(model, storey);
-                t.topic.description =
-                    "The model's " + what + " stands elsewhere: moved by " + Xyz(rep.offset) +
-                    " m (" + Fix(n, 2) + " m) and turned " + Fix(rep.moved_yaw_deg, 1) +
-                    " degrees about the vertical. The picture shows where the model has it (" +
-                    Hex(kMovedFromColor) + ") and where it was seen (" + Hex(kMovedToColor) +
-                    "). Session " + found.label + ".";
-                t.highlight.element = int(e);
-                t.highlight.element_color = kMovedFromColor;
-                if (to) t.highlight.meshes = {{&to->mesh, kMovedToColor}};
-            }
-            storeys.push_back(storey);
+            if (Physical(model.elements[e]) && pick(r.elements[e])) (b.*make)(e);
         }
-    }
-
-    // The space of each element change: the one holding its base's centre, else the one the
-    // camera looks from, just before its line of sight enters the change's box (a wall bounds its
-    // spaces and is in none).
-    std::vector<Eigen::Vector3f> at, beside;
-    for (size_t i = 0; i < out.size(); ++i) {
-        const Box& b = boxes[i];
-        at.emplace_back(
-            Eigen::Vector3d(b.centre().x(), b.centre().y(), b.min.z() + 0.1).cast<float>());
-        const Eigen::Vector3d eye = out[i].camera.eye, d = b.centre() - eye;
-        double enter = 0;  // along d, where the ray enters the box (slab method)
-        for (int k = 0; k < 3; ++k) {
-            if (std::abs(d[k]) < 1e-12) continue;
-            const double t0 = (b.min[k] - eye[k]) / d[k], t1 = (b.max[k] - eye[k]) / d[k];
-            enter = std::max(enter, std::min(t0, t1));
-        }
-        const double back = d.norm() > 0 ? 0.2 / d.norm() : 0;
-        beside.push_back((eye + std::clamp(enter - back, 0.0, 1.0) * d).cast<float>());
-    }
-    const std::vector<int> s1 = SpacesAt(model, at), s2 = SpacesAt(model, beside);
-    for (size_t i = 0; i < out.size(); ++i) {
-        if (storeys[i] >= 0 && !model.storeys[size_t(storeys[i])].name.empty())
-            out[i].topic.labels.push_back(model.storeys[size_t(storeys[i])].name);
-        if (out[i].topic.type == kTopicNewObject) continue;  // its description has it already
-        const int space = s1[i] >= 0 ? s1[i] : s2[i];
-        out[i].topic.description += " Where: " + Where(model, storeys[i], space) + ".";
-    }
-    return out;
+    };
+    using R = const changes::ElementReport&;
+    each([](R rep) { return rep.verdict == changes::Verdict::kMissing; }, &TopicBuilder::Missing);
+    each([](R rep) { return rep.verdict == changes::Verdict::kDeviating && !rep.moved; },
+         &TopicBuilder::Deviating);
+    each([](R rep) { return rep.verdict == changes::Verdict::kDeviating && rep.moved; },
+         &TopicBuilder::Moved);
+    return b.Finish();
 }
 
 ChangeBcf ChangesBcf(const bim::BimModel& model, const SessionChanges& found,
