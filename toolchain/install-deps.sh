@@ -20,6 +20,9 @@ packages=(
     libceres-dev
     # gzip input, PNG output
     zlib1g-dev
+    # changes.bcf (host_tools/changes): snapshots rendered off screen by Mesa's OSMesa (llvmpipe),
+    # written by libpng; the XML by libxml2, the zip by libzip
+    libosmesa6-dev libpng-dev libxml2-dev libzip-dev
     # LCM messages: library, lcm-gen, and glib for lcm.pc
     liblcm-dev liblcm-bin libglib2.0-dev
     # ROS 1 bags from ouster-ros (drivers/net): the ROS bag library and its serialization headers
@@ -47,9 +50,12 @@ packages=(
 # report page headless (tests/integration/report_browser_test.cpp); python3-rosbag writes the ROS
 # bags the bag tests read (tests/support/ouster_bag.py); lintian checks the Debian packages
 # (tests/integration/deb_package_test.cpp); libfaketime steps a running rig's wall clock
-# (tests/integration/rig_faults_test.cpp).
+# (tests/integration/rig_faults_test.cpp). changes.bcf is checked with xmllint against the BCF
+# schemas and opened with unzip (tests/integration/changes_bcf_test.cpp), and read by
+# @parametricos/bcf-js (npm, tests/tools/bcf_js).
 test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14-dev systemd
-    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian libfaketime)
+    liblcm-java openjdk-17-jdk-headless chromium python3-rosbag lintian libfaketime
+    libxml2-utils unzip)
 # The aarch64 cross-build: packages that are Multi-Arch: same (or arch all, as Eigen, CLI11 and
 # nlohmann-json above) install for arm64 beside amd64; Ceres, glog, gflags, LCM, yaml-cpp and
 # the ROS bag library do not, and are staged instead, as are Embree and TBB (for the tests'
@@ -108,11 +114,12 @@ else
     echo "install-deps: installed ${#missing[@]} packages"
 fi
 
-# web-ifc for tests/tools/web_ifc, and loaders.gl's and copc's LAS readers for tests/tools/las
-# (the second readers of map_bim.las), from the npm registry at the versions their
+# web-ifc for tests/tools/web_ifc, loaders.gl's and copc's LAS readers for tests/tools/las (the
+# second readers of map_bim.las) and @parametricos/bcf-js for tests/tools/bcf_js (the second BCF
+# reader), from the npm registry at the versions their
 # package-lock.json pins; node_modules stays in the source tree (git-ignored).
 tools="$(cd "$(dirname "$0")/.." && pwd)/tests/tools"
-for tool in web_ifc/web-ifc las/copc; do
+for tool in web_ifc/web-ifc las/copc bcf_js/@parametricos/bcf-js; do
     dir="$tools/${tool%%/*}"
     if [[ "${1:-}" == "--test" && ! -d "$dir/node_modules/${tool#*/}" ]]; then
         echo "install-deps: installing the npm packages of tests/tools/${tool%%/*} (npm ci)"

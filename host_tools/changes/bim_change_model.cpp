@@ -61,8 +61,7 @@ int ElementStorey(const bim::BimModel& model, size_t element, bool* from_height)
     return StoreyUnder(model, double(bottom) + model.origin_m.z());
 }
 
-std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
-                                      const std::vector<changes::NewObject>& objects) {
+std::vector<int> SpacesAt(const bim::BimModel& model, const std::vector<Eigen::Vector3f>& points) {
     // The spaces' meshes, ids = element index.
     common::TriangleMesh spaces;
     std::vector<uint32_t> ids;
@@ -75,32 +74,42 @@ std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
             ids.push_back(uint32_t(e));
         }
     }
+    std::vector<int> out(points.size(), -1);
+    if (spaces.empty()) return out;
     const simulation::Scene scene(spaces, ids);
-    std::vector<ObjectPlace> out(objects.size());
-    for (size_t o = 0; o < objects.size(); ++o) {
-        const changes::NewObject& obj = objects[o];
-        const double bottom = obj.box_min.z() + model.origin_m.z();
-        ObjectPlace& place = out[o];
-        place.storey = StoreyUnder(model, bottom);
-        if (spaces.empty()) continue;
+    for (size_t i = 0; i < points.size(); ++i) {
         // Count the crossings of a ray going up, per space: odd means inside.
-        const Eigen::Vector3f start(float(0.5 * (obj.box_min.x() + obj.box_max.x())),
-                                    float(0.5 * (obj.box_min.y() + obj.box_max.y())),
-                                    float(obj.box_min.z() + 0.1));
         std::map<uint32_t, int> crossings;
         float t = 0;
         for (int guard = 0; guard < 1000; ++guard) {
-            const auto hit = scene.Intersect(start, Eigen::Vector3f::UnitZ(), t);
+            const auto hit = scene.Intersect(points[i], Eigen::Vector3f::UnitZ(), t);
             if (!hit) break;
             ++crossings[hit->id];
             t = hit->t + 1e-4f;
         }
         for (const auto& [space, n] : crossings) {
             if (n % 2 == 1) {
-                place.space = int(space);
+                out[i] = int(space);
                 break;
             }
         }
+    }
+    return out;
+}
+
+std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
+                                      const std::vector<changes::NewObject>& objects) {
+    std::vector<Eigen::Vector3f> bases;  // 0.1 m above the centre of each object's base
+    for (const changes::NewObject& obj : objects) {
+        bases.emplace_back(float(0.5 * (obj.box_min.x() + obj.box_max.x())),
+                           float(0.5 * (obj.box_min.y() + obj.box_max.y())),
+                           float(obj.box_min.z() + 0.1));
+    }
+    const std::vector<int> spaces = SpacesAt(model, bases);
+    std::vector<ObjectPlace> out(objects.size());
+    for (size_t o = 0; o < objects.size(); ++o) {
+        out[o].storey = StoreyUnder(model, objects[o].box_min.z() + model.origin_m.z());
+        out[o].space = spaces[o];
     }
     return out;
 }

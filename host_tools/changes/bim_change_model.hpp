@@ -31,6 +31,10 @@ struct ObjectPlace {
 std::vector<ObjectPlace> PlaceObjects(const bim::BimModel& model,
                                       const std::vector<changes::NewObject>& objects);
 
+// The IfcSpace whose closed mesh holds each point (the mesh's frame: origin_m subtracted): its
+// element index, -1 for none (ray parity, as PlaceObjects).
+std::vector<int> SpacesAt(const bim::BimModel& model, const std::vector<Eigen::Vector3f>& points);
+
 // The storey under something whose bottom is at bottom_z (model frame), PlaceObjects' rule; -1
 // without storeys.
 int StoreyUnder(const bim::BimModel& model, double bottom_z);

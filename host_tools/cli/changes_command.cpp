@@ -10,11 +10,13 @@
 #include <set>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/common/utc_time.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/sha256.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/ifc_writer.hpp"
 #include "host_tools/changes/bim_change_model.hpp"
+#include "host_tools/changes/change_bcf.hpp"
 #include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/changes/change_report.hpp"
 #include "host_tools/changes/ifc_update.hpp"
@@ -42,6 +44,8 @@ struct ChangesArgs {
     bool keep_outside = false;
     bool no_refine = false;
     std::string datum;  // --datum FILE (host_tools/changes/survey_datum.hpp)
+    std::string bcf_version = "2.1";
+    std::string date;  // --date: changes.bcf's topics' date (ISO 8601); empty: the session's
 };
 
 [[noreturn]] void BadInput(const std::string& what) {
@@ -75,6 +79,16 @@ int Changes(ChangesArgs& a) {
     a.config.crop_to_footprint = !a.keep_outside;
     a.config.refinement.enabled = !a.no_refine;
     a.config.Validate();
+    const change_detection::BcfVersion bcf_version =
+        change_detection::ParseBcfVersion(a.bcf_version);
+    int64_t date_ns = 0;
+    if (!a.date.empty()) {
+        try {
+            date_ns = common::ParseUtcTime(a.date);
+        } catch (const common::Error& e) {
+            BadInput("--date: " + std::string(e.what()));
+        }
+    }
     if (!a.datum.empty()) {
         change_detection::CheckSurveyDatumOption(a.datum, a.config.refinement.enabled);
     }
@@ -115,6 +129,8 @@ int Changes(ChangesArgs& a) {
                   << change_model.mesh.triangles.size() << " triangles\n";
     }
 
+    // changes.bcf's snapshots: the model's meshes, uploaded once.
+    change_detection::SnapshotRenderer renderer(model, 640, 480);
     json sessions_json = json::array();
     for (const auto& [label, dir] : OutputFolders(a)) {
         const size_t k = sessions_json.size();
@@ -140,6 +156,16 @@ int Changes(ChangesArgs& a) {
         const change_detection::IfcUpdate ifc =
             change_detection::UpdateIfc(a.model, original, model, found, seed);
         io::WriteFileAtomic(dir / "model_updated.ifc", ifc.text);
+        bar.Update(label + ": changes.bcf", 0.0);
+        change_detection::ChangeBcfOptions bcf_options;
+        bcf_options.version = bcf_version;
+        bcf_options.date_ns = a.date.empty() ? change_detection::SessionDate(input) : date_ns;
+        bcf_options.model_sha256 = info.sha256;
+        const auto t_bcf = Clock::now();
+        const change_detection::ChangeBcf bcf =
+            change_detection::ChangesBcf(model, found, a.config, bcf_options, renderer);
+        io::WriteFileAtomic(dir / "changes.bcf", bcf.zip);
+        const double bcf_seconds = common::SecondsSince(t_bcf);
         bar.Clear();
         const double seconds = common::SecondsSince(t0);
 
@@ -185,6 +211,11 @@ int Changes(ChangesArgs& a) {
                      {"element_property_sets", ifc.element_property_sets},
                      {"entities_added", ifc.entities},
                      {"notes", ifc.notes}}},
+                   {"bcf",
+                    {{"file", (dir / "changes.bcf").string()},
+                     {"version", change_detection::ToString(bcf_version)},
+                     {"topics", bcf.topics},
+                     {"seconds", bcf_seconds}}},
                    {"seconds", seconds}};
         if (!a.json) {
             std::cout << "session   " << label << ": " << input.session.keyframes.size()
@@ -215,6 +246,9 @@ int Changes(ChangesArgs& a) {
                       << " verdict property sets added (" << ifc.entities << " entities)\n";
             for (const std::string& note : ifc.notes)
                 std::cout << "          note: " << note << "\n";
+            std::cout << "bcf       " << bcf.topics << " topics with viewpoints and snapshots (BCF "
+                      << change_detection::ToString(bcf_version) << ", " << Fixed(bcf_seconds, 2)
+                      << " s)\n";
             std::cout << "time      " << Fixed(seconds, 1) << " s (refinement "
                       << Fixed(r.seconds.refinement_s, 1) << ", map " << Fixed(r.seconds.map_s, 1)
                       << ", distances " << Fixed(r.seconds.distance_s, 1) << ", transients "
@@ -223,7 +257,7 @@ int Changes(ChangesArgs& a) {
                       << Fixed(r.seconds.evidence_s, 1) << ")\n"
                       << "written   " << dir.string()
                       << "/: changes.json, new_objects.ply, map_bim.ply, map_bim.las, "
-                         "elements.csv, model_updated.ifc"
+                         "elements.csv, model_updated.ifc, changes.bcf"
                       << (r.refinement.T_world_lidar.empty() ? "" : ", keyframes_refined.tum")
                       << "\n";
         }
@@ -285,9 +319,10 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
     cmd->footer(
         "Each --session must be anchored (session.json frames.world = \"bim\", as `bimslam "
         "anchor` writes it). OUT receives changes.json, new_objects.ply, map_bim.ply, "
-        "map_bim.las (LAS 1.4), elements.csv and model_updated.ifc (with several sessions, one "
-        "folder per session). --truth compares with a simulated capture's changes.json "
-        "(evaluation.json). Method, "
+        "map_bim.las (LAS 1.4), elements.csv, model_updated.ifc and changes.bcf (BCF issues: one "
+        "topic per new object, missing, deviating and moved element, each with a viewpoint and a "
+        "snapshot; with several sessions, one folder per session). "
+        "--truth compares with a simulated capture's changes.json (evaluation.json). Method, "
         "defaults and the JSON schema: host_tools/changes/README.md.");
     cmd->add_option("--model", a->model, "the IFC model (IFC2X3 or IFC4)")->required();
     cmd->add_option("--session", a->sessions, "an anchored session folder (repeatable)")
@@ -297,6 +332,12 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
                     "a simulated capture's changes.json to score against, one per --session");
     cmd->add_flag("--overwrite", a->overwrite, "replace the files of an existing output folder");
     cmd->add_flag("--json", a->json, "print the results as JSON");
+    cmd->add_option("--bcf-version", a->bcf_version,
+                    "changes.bcf's BCF-XML version: 2.1 (default) or 3.0");
+    cmd->add_option("--date", a->date,
+                    "changes.bcf's topics' date, the recording's (ISO 8601, e.g. "
+                    "2026-03-02T09:30:00Z; default: the keyframes' stamps when they are UTC, else "
+                    "session.json's created)");
     auto& c = a->config;
     cmd->add_option("--voxel", c.map.voxel_m, "map voxel and new-object voxel, m (0.05)")
         ->check(CLI::PositiveNumber);

@@ -199,6 +199,10 @@ int MapMain(MapArgs& a) {
         std::cout << j.dump(2) << "\n";
     } else {
         PrintSummary(run);
+        if (fs::exists(c.out / "changes.bcf")) {
+            std::cout << "bcf       " << (c.out / "changes.bcf").string() << " (BCF "
+                      << c.bcf_version << " issues of the newest visit's changes, for BIM tools)\n";
+        }
         if (!anchored) {
             std::cout << "NOT ANCHORED: a recording could not be placed in BIM coordinates (see "
                          "above); the report shows its odometry map in its own frame\n";
@@ -276,6 +280,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--datum", a->datum,
                     "change detection: CSV of elements surveyed as built, 'GlobalId[,dx,dy,dz]' "
                     "(m), which fix the refinement's frame (as bimslam changes --datum)");
+    cmd->add_option("--bcf-version", a->config.bcf_version,
+                    "changes.bcf's BCF-XML version: 2.1 or 3.0")
+        ->capture_default_str();
     cmd->add_flag("--force", a->force, "run every step again, up to date or not");
     cmd->add_flag("--no-report", a->no_report, "skip the HTML report");
     cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");
@@ -305,7 +312,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
         "odometry failed somewhere is anchored in pieces split at the failed stretches (verdict "
         "anchored-in-parts: only the anchored pieces are placed and compared)\n"
         "  changes    OUT/visits/<visit>/changes/<recording>/ as `bimslam changes` writes them "
-        "(+ evaluation.json)\n"
+        "(+ evaluation.json; changes.bcf dated by the recording's time); OUT/changes.bcf: the "
+        "newest visit's topics, every recording's in one\n"
         "  history    OUT/history.json: every element's verdict per visit (first and last "
         "seen as built, its deviations), the new objects followed from visit to visit (seen "
         "again, moved with their offset, gone when their place was seen empty, not observed), "

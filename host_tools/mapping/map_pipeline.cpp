@@ -18,6 +18,7 @@
 #include "host_tools/bim/reference_session.hpp"
 #include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/changes/bim_change_model.hpp"
+#include "host_tools/changes/change_bcf.hpp"
 #include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/changes/change_report.hpp"
 #include "host_tools/changes/ifc_update.hpp"
@@ -46,6 +47,7 @@ void MapConfig::Validate() const {
     if (threads < 0) bad("threads " + std::to_string(threads));
     anchor.Validate();
     changes.Validate();
+    (void)change_detection::ParseBcfVersion(bcf_version);
     if (!datum.empty()) change_detection::CheckSurveyDatumOption(datum, changes.refinement.enabled);
 }
 
@@ -334,7 +336,8 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
 void SessionChanges(MapContext& c, const fs::path& visit, const std::string& label, uint16_t number,
                     const bim::BimModel& m, const changes::ChangeModel& change_model,
                     const changes::ChangeDetectorConfig& detector, const std::string& original,
-                    const std::vector<RecordingInput>& recordings) {
+                    const std::vector<RecordingInput>& recordings, const Visit& visit_info,
+                    change_detection::SnapshotRenderer& renderer) {
     const change_detection::ModelInfo info{c.model_file, c.sha256};
     const fs::path dir = visit / "changes" / label;
     const change_detection::SessionInput input =
@@ -359,6 +362,17 @@ void SessionChanges(MapContext& c, const fs::path& visit, const std::string& lab
     io::WriteFileAtomic(
         dir / "model_updated.ifc",
         change_detection::UpdateIfc(c.model_file.string(), original, m, found, seed).text);
+    // changes.bcf, dated by the recording's time (project.json), else the visit's.
+    change_detection::ChangeBcfOptions bcf;
+    bcf.version = change_detection::ParseBcfVersion(c.config.bcf_version);
+    bcf.date_ns = visit_info.start_ns();
+    for (const ProjectRecording& r : visit_info.recordings) {
+        if (r.name == label) bcf.date_ns = r.start_ns;
+    }
+    bcf.model_sha256 = c.sha256;
+    c.progress("changes " + label + ": changes.bcf", 1.0);
+    io::WriteFileAtomic(dir / "changes.bcf",
+                        change_detection::ChangesBcf(m, found, detector, bcf, renderer).zip);
     for (const RecordingInput& r : recordings) {
         if (r.name != label || r.truth_changes.empty()) continue;
         const change_detection::ChangeEvaluation ev =
@@ -371,8 +385,9 @@ void SessionChanges(MapContext& c, const fs::path& visit, const std::string& lab
 // 4. Change detection of each anchored session of the visit, as `bimslam changes` does it.
 // `number`: the visit's 1-based place in date order (map_bim.las's point source id).
 StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
-                      const std::string& label, uint16_t number,
+                      const Visit& visit_info, uint16_t number,
                       const std::vector<RecordingInput>& recordings, const StepStamp& anchoring) {
+    const std::string& label = visit_info.label;
     StepStamp change("changes");
     change.AddUpstream(anchoring);
     change.AddParameter("model_sha256", c.sha256);
@@ -385,6 +400,7 @@ StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
     // map_bim.las (issue 34) carries the visit's number: made again when it is new or changed.
     change.AddParameter("las_visit_number", number);
     if (!c.config.datum.empty()) change.AddFileTime("datum", c.config.datum);
+    change.AddParameter("bcf", {{"version", c.config.bcf_version}, {"snapshot", "640x480"}});
     stepper.Run(
         "changes " + label, visit / "stamps", "changes", change, c.model_file.string(), [&] {
             fs::remove_all(visit / "changes");
@@ -401,12 +417,33 @@ StepStamp ChangesStep(MapContext& c, Stepper& stepper, const fs::path& visit,
                 detector.refinement.datum = change_detection::ReadSurveyDatum(c.config.datum, m);
             }
             const std::string original = io::ReadFileToString(c.model_file);
+            change_detection::SnapshotRenderer renderer(m, 640, 480);
             for (const std::string& name : anchored) {
                 SessionChanges(c, visit, name, number, m, change_model, detector, original,
-                               recordings);
+                               recordings, visit_info, renderer);
             }
         });
     return change;
+}
+
+// OUT/changes.bcf: the newest visit's topics, every recording's changes.bcf in one (their topics
+// are the recordings' own: GUIDs by recording), dated by the visit. None when no recording of it
+// was anchored.
+void ProjectBcf(const fs::path& out, const Visit& newest) {
+    std::vector<fs::path> files;
+    const fs::path changes = VisitDir(out, newest.label) / "changes";
+    if (fs::is_directory(changes)) {
+        for (const fs::directory_entry& d : fs::directory_iterator(changes)) {
+            if (fs::is_regular_file(d.path() / "changes.bcf"))
+                files.push_back(d.path() / "changes.bcf");
+        }
+    }
+    std::sort(files.begin(), files.end());
+    if (files.empty()) {
+        fs::remove(out / "changes.bcf");
+        return;
+    }
+    WriteIfChanged(out / "changes.bcf", change_detection::MergeBcf(files, newest.start_ns()));
 }
 
 // 5. The building's history over the visits (map_history.hpp): OUT/history.json, and the as-is
@@ -504,12 +541,13 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
         const StepStamp anchoring =
             AnchorStep(c, stepper, dir, label, recordings, reference, odometry, earlier);
         earlier.push_back({dir, label, anchoring});
-        changes.push_back(ChangesStep(c, stepper, dir, label,
+        changes.push_back(ChangesStep(c, stepper, dir, p.project.visits[v],
                                       uint16_t(std::min<size_t>(v + 1, 65535)), recordings,
                                       anchoring));
         summaries.push_back(BuildSummary(config.out, dir, p.project.model, recordings));
         WriteIfChanged(dir / "summary.json", summaries.back().dump(2) + "\n");
     }
+    ProjectBcf(config.out, p.project.visits.back());
     run.summary = ProjectSummary(config.out, p.project, std::move(summaries));
     HistoryStep(c, stepper, p.project, changes, &run.summary);
     WriteIfChanged(config.out / "summary.json", run.summary.dump(2) + "\n");

@@ -6,7 +6,8 @@
 //   odometry   each recording through the on-board odometry, V/odometry/<name>/ (+ <name>.json:
 //              the run's figures and every scan's time)
 //   anchor     each visit's sessions into BIM coordinates (Step 2), V/anchor/
-//   changes    each anchored session against the model (Step 3), V/changes/<name>/
+//   changes    each anchored session against the model (Step 3), V/changes/<name>/ (with
+//              changes.bcf; OUT/changes.bcf holds the newest visit's topics)
 //   report     OUT/report/report.html of the newest visit (host_tools/report)
 // <stamps>/<step>.json records what each step was made from (StepStamp; OUT/stamps for the
 // reference and report, V/stamps for the others); a re-run skips the steps whose stamp still
@@ -50,6 +51,8 @@ struct MapConfig {
     // A survey of elements as built for the change step's refinement (`bimslam changes --datum`,
     // host_tools/changes/survey_datum.hpp); empty: none.
     std::filesystem::path datum;
+    // changes.bcf's BCF-XML version, "2.1" or "3.0" (`--bcf-version`).
+    std::string bcf_version = "2.1";
     void Validate() const;  // throws common::Error (kInvalidArgument) naming the field
 };
 

@@ -27,6 +27,7 @@
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
 #include "host_tools/changes/ifc_update.hpp"
+#include "tests/integration/changes_walk.hpp"
 #include "tests/integration/las_reader_support.hpp"
 #include "tests/integration/web_ifc_support.hpp"
 #include "tests/support/ground_truth_session.hpp"
@@ -66,6 +67,9 @@ void MustRun(const std::string& args) {
     ASSERT_EQ(r.exit_code, 0) << "bimslam " << args << "\n" << r.out << r.err;
 }
 
+}  // namespace
+
+namespace changes_test {
 // The walk of kScenario through the sample building, its odometry session placed on the ground
 // truth (anchored/) and `bimslam changes --truth --json` of it (out/, summary.json): made once per
 // build of `bimslam` and shared by the tests below, each a process of its own under ctest, so
@@ -82,11 +86,15 @@ fs::path Walk() {
                                         d / "anchored");
         const auto r = Cli("changes --model " + Quote(d / "building.ifc") + " --session " +
                            Quote(d / "anchored") + " -o " + Quote(d / "out") + " --truth " +
-                           Quote(d / "capture" / "changes.json") + " --json");
+                           Quote(d / "capture" / "changes.json") + " --json --date " + kWalkDate);
         ASSERT_EQ(r.exit_code, 0) << r.err;
         io::WriteFileAtomic(d / "summary.json", r.out);
     });
 }
+}  // namespace changes_test
+
+namespace {
+using changes_test::Walk;
 
 TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
     const fs::path walk = Walk();

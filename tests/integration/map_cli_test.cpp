@@ -41,16 +41,27 @@ json PageData(const fs::path& html_file) {
 
 TEST(MapCli, EveryStepWritesItsFolderAndTheSummaryEqualsTheIndividualCommands) {
     const fs::path m = Mapped();
-    for (const char* f : {"project.json", "reference/session.json", "report/report.html",
-                          "summary.json", "stamps/reference.json", "stamps/report.json"}) {
+    for (const char* f :
+         {"project.json", "reference/session.json", "report/report.html", "summary.json",
+          "stamps/reference.json", "stamps/report.json", "changes.bcf"}) {
         EXPECT_TRUE(fs::exists(m / "out" / f)) << f;
     }
     for (const char* f :
          {"odometry/capture/session.json", "odometry/capture.json", "anchor/anchor.json",
           "anchor/loops.json", "anchor/capture/trajectory_bim.tum", "changes/capture/changes.json",
-          "changes/capture/evaluation.json", "changes/capture/model_updated.ifc", "summary.json",
-          "stamps/odometry_capture.json", "stamps/anchor.json", "stamps/changes.json"}) {
+          "changes/capture/evaluation.json", "changes/capture/model_updated.ifc",
+          "changes/capture/changes.bcf", "summary.json", "stamps/odometry_capture.json",
+          "stamps/anchor.json", "stamps/changes.json"}) {
         EXPECT_TRUE(fs::exists(VisitOf(m / "out") / f)) << f;
+    }
+    // The project's changes.bcf holds the newest visit's recordings' topics: here its one
+    // recording's, entry for entry.
+    if (test::RunCommand("command -v unzip >/dev/null").exit_code == 0) {
+        const auto listing = [](const fs::path& f) {
+            return test::RunCommand("unzip -Z1 " + f.string() + " | sort").out;
+        };
+        EXPECT_EQ(listing(m / "out" / "changes.bcf"),
+                  listing(VisitOf(m / "out") / "changes" / "capture" / "changes.bcf"));
     }
     const json summary = ReadJson(m / "out" / "summary.json");
     const json& r = summary.at("recordings").at(0);

@@ -102,6 +102,12 @@ if(BIMSLAM_HOST_TOOLS)
     target_link_libraries(bimslam_ifcpp INTERFACE ${IFCPP_LIBRARY} ${CARVE_LIBRARY})
     add_library(bimslam::ifcpp ALIAS bimslam_ifcpp)
     bimslam_tag_capability(bimslam_ifcpp ifcpp)
+    # changes.bcf (host_tools/changes): the snapshots rendered by Mesa's OSMesa (llvmpipe, no
+    # display) and written by libpng, the XML by libxml2's text writer, the zip by libzip.
+    pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
+    pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
+    pkg_check_modules(LIBXML2 REQUIRED IMPORTED_TARGET libxml-2.0)
+    pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 endif()
 
 if(BUILD_TESTING)

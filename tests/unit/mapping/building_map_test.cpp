@@ -8,10 +8,8 @@
 #include <random>
 #include <set>
 
-#include "algorithms/io/las.hpp"
-#include "tests/support/test_support.hpp"
-
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/las.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam::mapping {
@@ -140,6 +138,8 @@ TEST(BuildingMap, AVisitAddedFoldsItAloneAndEqualsAFoldOfThemAll) {
     EXPECT_EQ(redone.at("voxels"), once.at("voxels"));
     EXPECT_NE(redone.at("visits").at(1).at("fold_sha256"),
               once.at("visits").at(1).at("fold_sha256"));
+}
+
 // building_map.las: every voxel, its visits 1-based (point source = the last, extra bytes
 // first_visit), the time of the last visit's start, the class as map_bim.las's.
 TEST(BuildingMap, LasHoldsEveryVoxelWithItsVisits) {
