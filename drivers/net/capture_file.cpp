@@ -75,6 +75,17 @@ int GzipClose(void* cookie) {
 
 }  // namespace
 
+void ThrowReadError(const std::string& name, const GzipStatus* gzip, uint64_t offset,
+                    const std::string& reason) {
+    if (gzip != nullptr && !gzip->error.empty()) {
+        throw FileError(StatusCode::kParseError, name, 0,
+                        "gzip data broken after byte " + std::to_string(offset) +
+                            " (decompressed): " + gzip->error);
+    }
+    throw FileError(StatusCode::kIoError, name, 0,
+                    "read failed after byte " + std::to_string(offset) + ": " + reason);
+}
+
 CaptureFile OpenCaptureFile(const std::filesystem::path& path, std::vector<char>& buffer) {
     // open() first so that errno names the reason.
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

@@ -32,6 +32,11 @@ struct CaptureFile {
 // stream). Throws common::FileError naming the file (kNotFound when it does not exist).
 CaptureFile OpenCaptureFile(const std::filesystem::path& path, std::vector<char>& buffer);
 
+// Throws the common::FileError for a failed read (ferror) of a stream after decompressed byte
+// `offset`: zlib's message for broken gzip data (kParseError), else `reason` (kIoError).
+[[noreturn]] void ThrowReadError(const std::string& name, const GzipStatus* gzip, uint64_t offset,
+                                 const std::string& reason);
+
 // Owns a FILE* until it is released (to libpcap, which closes it in pcap_close).
 struct FileCloser {
     void operator()(FILE* f) const {

@@ -80,9 +80,10 @@ void PcapReader::State::Open() {
     FILE* stream = file.get();
     uint8_t header[kClassicFileHeaderBytes] = {};
     const size_t got = std::fread(header, 1, sizeof(header), stream);
-    if (std::ferror(stream) != 0 || std::fseek(stream, 0, SEEK_SET) != 0) {
+    if (std::ferror(stream) != 0) detail::ThrowReadError(name, gzip, 0, std::strerror(errno));
+    if (std::fseek(stream, 0, SEEK_SET) != 0) {
         throw FileError(StatusCode::kIoError, name, 0,
-                        std::string("cannot read the file header: ") + std::strerror(errno));
+                        std::string("cannot go back to the start: ") + std::strerror(errno));
     }
     if (got < 4) {
         throw FileError(
@@ -108,9 +109,7 @@ void PcapReader::State::OpenClassic(detail::FilePtr& owner, const uint8_t* heade
     if (pcap != nullptr) owner.release();  // pcap_close closes it
     if (pcap == nullptr) {
         const long at = std::ftell(stream);
-        if (std::ferror(stream) != 0) {
-            throw FileError(StatusCode::kIoError, name, 0, std::string("cannot read: ") + error);
-        }
+        if (std::ferror(stream) != 0) detail::ThrowReadError(name, gzip, 0, error);
         const uint32_t magic = Load32(header, false);
         if (at == 4 && std::feof(stream) == 0) {
             char hex[16];
@@ -175,16 +174,7 @@ bool PcapReader::State::NextClassic(PcapRecord& record) {
     }
     done = true;
     if (status == PCAP_ERROR_BREAK) return false;  // the end, between two records
-    if (std::ferror(pcap_file) != 0) {
-        if (gzip != nullptr && !gzip->error.empty()) {
-            throw FileError(StatusCode::kParseError, name, 0,
-                            "gzip data broken after byte " + std::to_string(start) +
-                                " (decompressed): " + gzip->error);
-        }
-        throw FileError(
-            StatusCode::kIoError, name, 0,
-            "read failed after byte " + std::to_string(start) + ": " + pcap_geterr(pcap));
-    }
+    if (std::ferror(pcap_file) != 0) detail::ThrowReadError(name, gzip, start, pcap_geterr(pcap));
     if (std::feof(pcap_file) != 0) {
         // The file ended inside the record: a killed capture, not an error.
         truncated = true;

@@ -54,14 +54,7 @@ void PcapNgReader::Fail(uint64_t offset, const std::string& what) const {
 }
 
 void PcapNgReader::ReadError() const {
-    if (gzip_ != nullptr && !gzip_->error.empty()) {
-        throw FileError(StatusCode::kParseError, name_, 0,
-                        "gzip data broken after byte " + std::to_string(data_offset_ + size_) +
-                            " (decompressed): " + gzip_->error);
-    }
-    throw FileError(StatusCode::kIoError, name_, 0,
-                    "read failed after byte " + std::to_string(data_offset_ + size_) + ": " +
-                        std::strerror(errno));
+    ThrowReadError(name_, gzip_, data_offset_ + size_, std::strerror(errno));
 }
 
 uint16_t PcapNgReader::U16(const uint8_t* p) const {
