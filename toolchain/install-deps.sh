@@ -23,6 +23,8 @@ packages=(
     # changes.bcf (host_tools/changes): snapshots rendered off screen by Mesa's OSMesa (llvmpipe),
     # written by libpng; the XML by libxml2, the zip by libzip
     libosmesa6-dev libpng-dev libxml2-dev libzip-dev
+    # classic pcap files, read and written (drivers/net)
+    libpcap0.8-dev
     # LCM messages: library, lcm-gen, and glib for lcm.pc
     liblcm-dev liblcm-bin libglib2.0-dev
     # ROS 1 bags from ouster-ros (drivers/net): the ROS bag library and its serialization headers
@@ -66,6 +68,7 @@ test_packages=(pcl-tools python3-open3d cloudcompare nodejs clang libclang-rt-14
 # an MPI HDF5 that conflicts with the amd64 one: its headers, the same for every architecture, are
 # used (toolchain/cmake/BimslamDependencies.cmake).
 cross_packages=(crossbuild-essential-arm64 qemu-user-static libc6-dev:arm64 zlib1g-dev:arm64
+    libpcap0.8-dev:arm64
     liblz4-dev:arm64 libglib2.0-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64
     libsuitesparse-dev:arm64 libatlas-base-dev:arm64
     libroscpp-core-dev:arm64 libconsole-bridge-dev:arm64 libboost-filesystem-dev:arm64

@@ -1,22 +1,23 @@
 // Packet capture files: classic pcap and pcapng, plain or gzip-compressed, streamed record by
 // record.
 //
-// Formats: classic pcap as libpcap writes it (draft-ietf-opsawg-pcap; pcap-savefile(5)): a 24-byte
-// file header whose magic gives the byte order and the timestamp unit (0xA1B2C3D4 microseconds,
-// 0xA1B23C4D nanoseconds), then 16-byte record headers (ts_sec, ts_frac, caplen, len) each
-// followed by caplen bytes. pcapng (draft-ietf-opsawg-pcapng): blocks of (type, total length,
-// body, total length again); a Section Header Block sets the byte order, Interface Description
-// Blocks the link type and timestamp resolution (if_tsresol) of each interface, packets come in
-// Enhanced, Simple and (obsolete) Packet Blocks; other blocks are skipped.
+// Classic pcap (draft-ietf-opsawg-pcap; pcap-savefile(5): µs and ns magics, both byte orders,
+// and the modified format of Kuznetsov's patched libpcap) is read by libpcap
+// (pcap_fopen_offline_with_tstamp_precision at nanosecond precision, pcap_next_ex) from a stdio
+// stream: the file itself, zlib behind fopencookie(3) for a .gz, fmemopen(3) for FromMemory.
+// pcapng (draft-ietf-opsawg-pcapng) is read by a block reader of ours (pcapng_reader.hpp says
+// why: libpcap refuses interfaces of different link types in one file, and sections of different
+// byte orders).
 //
 // The reader returns every record as captured, whatever its link type: Ethernet and Linux cooked
 // records go to UdpExtractor (ipv4.hpp), SocketCAN records (link type 227, and CAN inside Linux
 // cooked captures) to the CAN driver (specs/go1-can.md, "Recording and replay").
 //
 // Errors: a corrupt header (bad magic, a capture length above kMaxCaptureBytes, a bad block
-// length) throws common::FileError naming the file, the byte offset and what is wrong; the records
-// before it have been delivered. A file that ends inside a record is not an error: a killed
-// capture is normal. The stream ends cleanly and truncated() says so.
+// length) throws common::FileError naming the file, the byte offset and what is wrong (with
+// libpcap's own message where libpcap found it); the records before it have been delivered. A
+// file that ends inside a record is not an error: a killed capture is normal. The stream ends
+// cleanly and truncated() says so.
 #pragma once
 
 #include <cstdint>
@@ -38,8 +39,8 @@ inline constexpr uint32_t kLinkTypeCanSocketcan = 227;  // SocketCAN frame with 
 inline constexpr uint32_t kLinkTypeIpv4 = 228;          // raw IPv4
 inline constexpr uint32_t kLinkTypeLinuxSll2 = 276;     // Linux cooked capture v2
 
-// One captured packet. `data` points into the reader's buffer (or the caller's memory) and stays
-// valid until the next call to PcapReader::Next.
+// One captured packet. `data` points into the reader's (or libpcap's) buffer, or into the
+// caller's memory for FromMemory, and stays valid until the next call to PcapReader::Next.
 struct PcapRecord {
     int64_t timestamp_ns = 0;       // capture time, UNIX epoch (the capturing host's clock)
     uint32_t link_type = 0;         // of the file (classic) or of the record's interface (pcapng)
@@ -66,8 +67,8 @@ public:
     // blocks are skipped whatever their size.
     static constexpr uint32_t kMaxLoadedBlockBytes = 1024 * 1024;
 
-    // Opens a .pcap/.pcapng file, gzip-compressed or not (zlib reads plain files transparently),
-    // and reads the file header. Throws common::FileError naming the file when it cannot be
+    // Opens a .pcap/.pcapng file, gzip-compressed or not (told by the gzip magic), and reads the
+    // file header. Throws common::FileError naming the file when it cannot be
     // opened or its header is not a pcap/pcapng header.
     explicit PcapReader(const std::filesystem::path& path);
     // Reads from memory the caller keeps alive (not gzip); `name` is used in error messages.
@@ -79,7 +80,9 @@ public:
     ~PcapReader();
 
     // The next record, or false at the end of the file (also when the file ends inside a record:
-    // see truncated()). Throws common::FileError on a corrupt header. Does not allocate.
+    // see truncated()). Throws common::FileError on a corrupt header. Allocates nothing of ours;
+    // libpcap grows its record buffer by powers of two up to the snaplen during the first records
+    // (at most 7 times from its initial 2 KiB), then reuses it.
     bool Next(PcapRecord& record);
 
     // True when the file ended inside a record or block header or body (a capture that was

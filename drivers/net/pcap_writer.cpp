@@ -1,7 +1,6 @@
 #include "drivers/net/pcap_writer.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
+#include <pcap/pcap.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -25,6 +24,29 @@ constexpr size_t kIpHeaderBytes = 20;
 constexpr size_t kUdpHeaderBytes = 8;
 constexpr size_t kMaxUdpPayload = 65535 - kIpHeaderBytes - kUdpHeaderBytes;  // 65507
 
+// pcap_open_dead takes libpcap's DLT_ number, which differs from the file's link type for a few
+// types (libpcap's linktype_to_dlt; pcap/dlt.h): here, those below 104 it renumbers.
+int LinkTypeToDlt(uint32_t link_type) {
+    switch (link_type) {
+        case 100:
+            return DLT_ATM_RFC1483;
+        case kLinkTypeRaw:
+            return DLT_RAW;
+        case 102:
+            return DLT_SLIP_BSDOS;
+        case 103:
+            return DLT_PPP_BSDOS;
+        default:
+            return static_cast<int>(link_type);
+    }
+}
+
+// The memory writer's stream: appends to the std::string behind the cookie.
+ssize_t AppendToString(void* cookie, const char* data, size_t size) {
+    static_cast<std::string*>(cookie)->append(data, size);
+    return static_cast<ssize_t>(size);
+}
+
 }  // namespace
 
 void PcapWriterConfig::Validate() const {
@@ -43,100 +65,75 @@ void PcapWriterConfig::Validate() const {
 PcapWriter::PcapWriter(const std::filesystem::path& path, const PcapWriterConfig& config)
     : config_(config), name_(path.string()), next_ip_id_(config.first_ip_id) {
     config_.Validate();
-    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd_ < 0) {
+    FILE* file = std::fopen(path.c_str(), "wbe");  // e: O_CLOEXEC
+    if (file == nullptr) {
         throw FileError(StatusCode::kIoError, name_, 0,
                         std::string("cannot create: ") + std::strerror(errno));
     }
     buffer_.resize(kWriteBufferBytes);
-    frame_.reserve(65536 + 64);
-    WriteHeader();
+    std::setvbuf(file, buffer_.data(), _IOFBF, buffer_.size());
+    Open(file);
 }
 
 PcapWriter::PcapWriter(const PcapWriterConfig& config, std::string name)
-    : config_(config), name_(std::move(name)), memory_mode_(true), next_ip_id_(config.first_ip_id) {
+    : config_(config), name_(std::move(name)), next_ip_id_(config.first_ip_id) {
     config_.Validate();
+    // Unbuffered, so that bytes() holds every record as soon as it is written.
+    FILE* file = fopencookie(&memory_, "wb", {nullptr, AppendToString, nullptr, nullptr});
+    if (file == nullptr) Fail(std::string("fopencookie: ") + std::strerror(errno));
+    std::setvbuf(file, nullptr, _IONBF, 0);
+    Open(file);
+}
+
+// libpcap writes the file header (magic by precision, version 2.4, snaplen, link type) when the
+// dumper opens; it takes the stream.
+void PcapWriter::Open(FILE* file) {
+    dead_ = pcap_open_dead_with_tstamp_precision(
+        LinkTypeToDlt(config_.link_type), static_cast<int>(config_.snaplen),
+        config_.nanosecond ? PCAP_TSTAMP_PRECISION_NANO : PCAP_TSTAMP_PRECISION_MICRO);
+    if (dead_ != nullptr) dumper_ = pcap_dump_fopen(dead_, file);
+    if (dumper_ == nullptr) {
+        std::fclose(file);
+        const std::string why = dead_ != nullptr ? pcap_geterr(dead_) : "pcap_open_dead failed";
+        if (dead_ != nullptr) pcap_close(dead_);
+        dead_ = nullptr;
+        Fail(why);
+    }
+    file_ = file;
     frame_.reserve(65536 + 64);
-    WriteHeader();
 }
 
 PcapWriter::~PcapWriter() {
-    if (fd_ >= 0) {
-        try {
-            Flush();
-        } catch (const FileError&) {
-            // Quietly: Close() is the place to see write errors.
-        }
-        ::close(fd_);
-    }
+    if (dumper_ != nullptr) pcap_dump_close(dumper_);  // quietly: Close() reports write errors
+    if (dead_ != nullptr) pcap_close(dead_);
 }
 
 void PcapWriter::Fail(const std::string& what) const {
     throw FileError(StatusCode::kIoError, name_, 0, what);
 }
 
-void PcapWriter::WriteHeader() {
-    // Host byte order (little-endian here), as libpcap writes: the magic tells readers.
-    uint8_t h[24];
-    const uint32_t magic = config_.nanosecond ? 0xA1B23C4D : 0xA1B2C3D4;
-    const uint16_t major = 2;
-    const uint16_t minor = 4;
-    const uint32_t zero = 0;
-    std::memcpy(h, &magic, 4);
-    std::memcpy(h + 4, &major, 2);
-    std::memcpy(h + 6, &minor, 2);
-    std::memcpy(h + 8, &zero, 4);   // thiszone
-    std::memcpy(h + 12, &zero, 4);  // sigfigs
-    std::memcpy(h + 16, &config_.snaplen, 4);
-    std::memcpy(h + 20, &config_.link_type, 4);
-    Put(h, sizeof(h));
-}
-
-void PcapWriter::Put(const void* data, size_t size) {
-    if (closed_) Fail("write after Close()");
-    if (memory_mode_) {
-        memory_.append(static_cast<const char*>(data), size);
-        return;
-    }
-    const uint8_t* p = static_cast<const uint8_t*>(data);
-    while (size > 0) {
-        if (buffered_ == buffer_.size()) Flush();
-        const size_t step = std::min(size, buffer_.size() - buffered_);
-        std::memcpy(buffer_.data() + buffered_, p, step);
-        buffered_ += step;
-        p += step;
-        size -= step;
-    }
-}
-
 void PcapWriter::Flush() {
-    if (memory_mode_ || fd_ < 0) return;
-    size_t done = 0;
-    while (done < buffered_) {
-        const ssize_t n = ::write(fd_, buffer_.data() + done, buffered_ - done);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            buffered_ = 0;
-            Fail(std::string("write failed: ") + std::strerror(errno));
-        }
-        done += static_cast<size_t>(n);
+    if (closed_) return;
+    if (pcap_dump_flush(dumper_) != 0 || std::ferror(file_) != 0) {
+        Fail(std::string("write failed: ") + std::strerror(errno));
     }
-    buffered_ = 0;
 }
 
 void PcapWriter::Close() {
     if (closed_) return;
-    Flush();
+    const int flushed = pcap_dump_flush(dumper_);
+    const int err = errno;
+    const bool failed = flushed != 0 || std::ferror(file_) != 0;
+    pcap_dump_close(dumper_);
+    dumper_ = nullptr;
+    file_ = nullptr;
     closed_ = true;
-    if (fd_ >= 0) {
-        const int fd = fd_;
-        fd_ = -1;
-        if (::close(fd) != 0) Fail(std::string("close failed: ") + std::strerror(errno));
-    }
+    if (failed) Fail(std::string("write failed: ") + std::strerror(err));
 }
 
 void PcapWriter::WriteRecord(int64_t timestamp_ns, std::span<const uint8_t> bytes,
                              uint32_t original_length) {
+    if (closed_) Fail("write after Close()");
     if (timestamp_ns < 0 || timestamp_ns / 1'000'000'000 > 0xFFFFFFFFll) {
         throw Error(StatusCode::kInvalidArgument, name_ + ": timestamp " +
                                                       std::to_string(timestamp_ns) +
@@ -145,16 +142,17 @@ void PcapWriter::WriteRecord(int64_t timestamp_ns, std::span<const uint8_t> byte
     if (bytes.size() > 0xFFFFFFFFu) {
         throw Error(StatusCode::kInvalidArgument, name_ + ": record larger than 4 GiB");
     }
-    const uint32_t caplen = static_cast<uint32_t>(std::min<size_t>(bytes.size(), config_.snaplen));
-    const uint32_t fields[4] = {
-        static_cast<uint32_t>(timestamp_ns / 1'000'000'000),
-        static_cast<uint32_t>(config_.nanosecond ? timestamp_ns % 1'000'000'000
-                                                 : timestamp_ns % 1'000'000'000 / 1000),
-        caplen,
-        std::max(static_cast<uint32_t>(bytes.size()), original_length),
-    };
-    Put(fields, sizeof(fields));
-    Put(bytes.data(), caplen);
+    pcap_pkthdr header{};
+    // libpcap stores ts_sec as 32 bits: values from 2^31 to 2^32 s keep their bits. With the
+    // nanosecond precision tv_usec holds nanoseconds.
+    header.ts.tv_sec = static_cast<time_t>(timestamp_ns / 1'000'000'000);
+    header.ts.tv_usec = static_cast<suseconds_t>(
+        config_.nanosecond ? timestamp_ns % 1'000'000'000 : timestamp_ns % 1'000'000'000 / 1000);
+    header.caplen = static_cast<uint32_t>(std::min<size_t>(bytes.size(), config_.snaplen));
+    header.len = std::max(static_cast<uint32_t>(bytes.size()), original_length);
+    pcap_dump(reinterpret_cast<u_char*>(dumper_), &header, bytes.data());
+    // pcap_dump reports nothing: a failed write shows in the stream's error flag.
+    if (std::ferror(file_) != 0) Fail(std::string("write failed: ") + std::strerror(errno));
     ++records_;
 }
 

@@ -1,5 +1,7 @@
 // Classic pcap writer (pcap-savefile(5), draft-ietf-opsawg-pcap), for the capture simulator, for
-// tests, and for CAN recordings (link type 227, records written raw).
+// tests, and for CAN recordings (link type 227, records written raw). libpcap writes the file
+// (pcap_open_dead_with_tstamp_precision for the link type, snaplen and precision, pcap_dump_fopen,
+// pcap_dump); this class builds the frames.
 //
 // WriteUdp builds the frames a Linux host would put on the wire for one UDP datagram: Ethernet
 // (or no link header for the raw/IPv4 link types), an IPv4 header with the right checksum and an
@@ -8,19 +10,25 @@
 // cuts them: every fragment but the last carries (mtu - 20) rounded down to a multiple of 8 bytes
 // of IP payload, in ascending offset order, the UDP header in the first.
 //
-// Output goes through a 256 KiB buffer. The file is written as a stream, not atomically: a
+// Output goes through a 256 KiB stdio buffer. The file is written as a stream, not atomically: a
 // writer killed half-way leaves a truncated capture, which PcapReader reads up to the cut, as it
 // does with a killed tcpdump. Call Close() to see write errors (the destructor closes quietly).
+// Link types are those of tcpdump.org/linktypes.html, as in the file; libpcap writes the ones it
+// knows (up to 289 in libpcap 1.10), and the constructor throws for others.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "drivers/net/pcap_reader.hpp"
+
+struct pcap;         // libpcap's pcap_t
+struct pcap_dumper;  // libpcap's pcap_dumper_t
 
 namespace bimslam::net {
 
@@ -44,7 +52,7 @@ struct PcapWriterConfig {
 class PcapWriter {
 public:
     // Creates (truncates) `path` and writes the file header. Throws common::FileError naming the
-    // file.
+    // file, or when libpcap cannot write the link type.
     PcapWriter(const std::filesystem::path& path, const PcapWriterConfig& config = {});
     // Writes into memory (bytes()); `name` is used in messages.
     explicit PcapWriter(const PcapWriterConfig& config = {}, std::string name = "<memory>");
@@ -75,18 +83,17 @@ public:
     const std::string& name() const { return name_; }
 
 private:
-    void Put(const void* data, size_t size);
-    void WriteHeader();
+    void Open(FILE* file);
     [[noreturn]] void Fail(const std::string& what) const;
 
     PcapWriterConfig config_;
     std::string name_;
-    int fd_ = -1;
-    bool memory_mode_ = false;
     bool closed_ = false;
-    std::vector<uint8_t> buffer_;
-    size_t buffered_ = 0;
-    std::string memory_;
+    std::vector<char> buffer_;  // the stream's; outlives it
+    std::string memory_;        // appended to by the memory stream, unbuffered
+    FILE* file_ = nullptr;      // owned by dumper_ once it is open
+    pcap* dead_ = nullptr;      // the link type, snaplen and precision for libpcap
+    pcap_dumper* dumper_ = nullptr;
     std::vector<uint8_t> frame_;  // one packet being built
     uint64_t records_ = 0;
     uint16_t next_ip_id_ = 1;

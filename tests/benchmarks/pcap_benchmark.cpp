@@ -1,13 +1,22 @@
 // Reading a capture and extracting its UDP datagrams: 640 OS1-32 LEGACY lidar packets (6464 B,
 // one second of a 1024x10 sensor), unfragmented (an MTU-9000 link or loopback) and fragmented at
 // MTU 1500 (five IPv4 fragments each, what a real sensor on a standard link sends). From memory
-// (parsing alone) and from a file in $TMPDIR (through zlib's transparent read). Bytes/s counts
-// the capture file's bytes; items/s counts datagrams.
+// (parsing alone) and from a file in $TMPDIR. Bytes/s counts the capture file's bytes; items/s
+// counts datagrams.
+//
+// BM_ReadFile reads whole capture files with PcapReader alone (no UDP extraction) and reports
+// packets/s: the files named in BIMSLAM_PCAP_FILES (':'-separated), else the pcaps of
+// ../shared/data (run from the project root). Built at two commits and run back to back on the
+// same files, it compares two readers (issue 34: libpcap against the reader of our own).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <random>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "drivers/net/ipv4.hpp"
 #include "drivers/net/pcap_reader.hpp"
@@ -97,7 +106,58 @@ void BM_WriteUdpToFile(benchmark::State& state) {
 }
 BENCHMARK(BM_WriteUdpToFile)->Arg(0)->Arg(1500)->Unit(benchmark::kMicrosecond);
 
+void BM_ReadFile(benchmark::State& state, const std::filesystem::path& path) {
+    uint64_t packets = 0;
+    for (auto _ : state) {
+        PcapReader reader(path);
+        PcapRecord record;
+        while (reader.Next(record)) {
+            benchmark::DoNotOptimize(record.data.data());
+            ++packets;
+        }
+    }
+    state.counters["packets/s"] =
+        benchmark::Counter(static_cast<double>(packets), benchmark::Counter::kIsRate);
+    state.SetBytesProcessed(state.iterations() *
+                            static_cast<int64_t>(std::filesystem::file_size(path)));
+}
+
+std::vector<std::filesystem::path> FilesToRead() {
+    std::vector<std::filesystem::path> files;
+    if (const char* list = std::getenv("BIMSLAM_PCAP_FILES"); list != nullptr && *list != 0) {
+        std::stringstream in(list);
+        for (std::string item; std::getline(in, item, ':');) {
+            if (!item.empty()) files.emplace_back(item);
+        }
+        return files;
+    }
+    if (const auto data = test::SharedDataDir()) {
+        for (const char* sub : {"ouster", "can"}) {
+            if (!std::filesystem::is_directory(*data / sub)) continue;
+            for (const auto& entry : std::filesystem::directory_iterator(*data / sub)) {
+                const std::string name = entry.path().filename().string();
+                if (name.ends_with(".pcap") || name.ends_with(".pcap.gz")) {
+                    files.push_back(entry.path());
+                }
+            }
+        }
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
 }  // namespace
 }  // namespace bimslam::net
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+    for (const auto& path : bimslam::net::FilesToRead()) {
+        benchmark::RegisterBenchmark(("BM_ReadFile/" + path.filename().string()).c_str(),
+                                     bimslam::net::BM_ReadFile, path)
+            ->Unit(benchmark::kMicrosecond);
+    }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

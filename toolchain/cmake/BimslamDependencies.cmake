@@ -36,6 +36,8 @@ find_package(yaml-cpp REQUIRED)  # scenario and configuration files
 find_package(Threads REQUIRED)
 find_package(ZLIB REQUIRED)  # .gz captures and logs, PNG
 set_target_properties(ZLIB::ZLIB PROPERTIES IMPORTED_GLOBAL TRUE)
+# Classic pcap files, read and written (libpcap0.8-dev; drivers/net).
+pkg_check_modules(PCAP REQUIRED IMPORTED_TARGET GLOBAL libpcap)
 
 # LCM 1.3.1 ships only lcm.pc (no CMake package): pkg-config, and lcm-gen for the messages.
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm>=1.3)
