@@ -66,13 +66,6 @@ double LoadBinary(const char* p, uint32_t size, Kind kind) {
                        : load(uint64_t{});
 }
 
-template <typename T>
-bool FromChars(std::string_view token, T& value) {
-    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-    const auto res = std::from_chars(token.data(), token.data() + token.size(), value);
-    return !token.empty() && res.ec == std::errc() && res.ptr == token.data() + token.size();
-}
-
 // One ASCII value as its declared type. "nan" is accepted here: whether it is allowed depends on
 // the channel and on the cloud being organized (see Sink::Store).
 double ParseAscii(const LineReader& reader, std::string_view token, const Field& f) {

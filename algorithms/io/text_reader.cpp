@@ -19,13 +19,6 @@ std::string Quote(std::string_view token) {
     return out + "'";
 }
 
-template <typename T>
-bool FromChars(std::string_view token, T& value) {
-    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-    if (token.empty()) return false;
-    const auto res = std::from_chars(token.data(), token.data() + token.size(), value);
-    return res.ec == std::errc() && res.ptr == token.data() + token.size();
-}
 }  // namespace
 
 LineReader::LineReader(std::string path, std::string_view text, size_t first_line)

@@ -5,15 +5,27 @@
 // same way: common::FileError "<file>:<line>: <what was wrong>".
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "algorithms/common/status.hpp"
 
 namespace bimslam::io {
+
+// The whole token as a number of type T (std::from_chars: no locale, no leading space), a leading
+// '+' allowed; false when the token is empty, is not a number or has characters after it.
+template <typename T>
+bool FromChars(std::string_view token, T& value) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    if (token.empty()) return false;
+    const auto res = std::from_chars(token.data(), token.data() + token.size(), value);
+    return res.ec == std::errc() && res.ptr == token.data() + token.size();
+}
 
 class LineReader {
 public:
