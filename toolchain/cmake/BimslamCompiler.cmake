@@ -9,6 +9,15 @@ set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 option(BIMSLAM_WERROR "Treat warnings as errors" ON)
 set(BIMSLAM_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,undefined")
 
+# GCC collects the garbage of its own heap from 4 x its RAM-derived minimum (about 128 MB) on:
+# a unity batch of Eigen and Ceres code grows to 1-1.7 GB and was collected over and over.
+# Collecting from 1 GB, and then at 4 x growth, took 14 % off algorithms/odometry's batch (47.9 ->
+# 41.2 s) for a quarter more memory (1.34 -> 1.68 GB); toolchain/README.md, "Where CI's time goes
+# (stop 46)".
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    add_compile_options(--param=ggc-min-expand=400 --param=ggc-min-heapsize=1048576)
+endif()
+
 if(BIMSLAM_SANITIZE)
     # Everything, dependencies' inline code included, is built with the sanitizers; a report stops
     # the test instead of scrolling past.
