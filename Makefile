@@ -1,7 +1,8 @@
 # The two commands of the README, and a few more for developers.
 #   make demo   install what is missing, build, run the main job end to end
-#   make test   install what is missing, build, run the whole test suite (Release: integration and
-#               data tests; clang with ASan+UBSan: the unit tests, and the fuzz targets briefly)
+#   make test   install what is missing, build, run the whole test suite (Release: unit, scene,
+#               host, integration and data tests; clang with ASan+UBSan: the tests of the readers
+#               of outside input, and their fuzz targets briefly)
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 
@@ -55,18 +56,19 @@ deb-arm64:
 test: DEPS_FLAGS = --test
 test: test-release test-asan
 
-# The unit tests run in test-asan; Release builds and runs the rest (`make build` and
-# `ctest --preset release` build and run everything, unit tests included).
+# The `sanitized` tests run in test-asan; Release builds and runs the rest (`make build` and
+# `ctest --preset release` build and run everything, the sanitized tests included).
 test-release: configure
-	@cmake --build --preset release -j $(JOBS) --target integration_tests
+	@cmake --build --preset release -j $(JOBS) --target release_tests
 	@ctest --preset integration -j $(JOBS)
 
 # One clang build with AddressSanitizer, UndefinedBehaviorSanitizer and libFuzzer's coverage
-# hooks: the unit tests, then the fuzz targets, each briefly. (GCC's ASan+UBSan build took twice
-# clang's compile time, and a separate fuzz build compiled the readers a third time.)
+# hooks: the tests of the readers of outside input, then the fuzz targets, each briefly. (GCC's
+# ASan+UBSan build took twice clang's compile time, and a separate fuzz build compiled the
+# readers a third time.)
 test-asan: deps
 	@cmake --preset asan >/dev/null
-	@cmake --build --preset asan -j $(JOBS) --target unit_tests fuzz_tests
+	@cmake --build --preset asan -j $(JOBS) --target sanitizer_tests fuzz_tests
 	@ctest --preset asan -j $(JOBS)
 
 bench: build

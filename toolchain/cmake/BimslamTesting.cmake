@@ -1,9 +1,11 @@
 # Test helpers: one GoogleTest executable per library folder, each test case a ctest entry with
-# a label (unit, scene, host, integration, data, fuzz) so `ctest -L` picks the sets that `make test` runs.
+# a label (sanitized, unit, scene, host, integration, data, fuzz) so `ctest -L` picks the sets
+# that `make test` runs.
 include_guard(GLOBAL)
 
 set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
-set_property(GLOBAL PROPERTY BIMSLAM_INTEGRATION_TESTS "")
+set_property(GLOBAL PROPERTY BIMSLAM_SANITIZER_TESTS "")
+set_property(GLOBAL PROPERTY BIMSLAM_RELEASE_TESTS "")
 
 # bimslam_test(<name> LABEL <label> SOURCES ... DEPS ... [TIMEOUT s] [SERIAL])
 # SERIAL: ctest runs its cases alone (a test that changes the machine: installs packages).
@@ -48,14 +50,19 @@ function(bimslam_test name)
         DISCOVERY_MODE PRE_TEST
         PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${ARG_SERIAL}
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
-    # unit tests build for the sanitizer run (target unit_tests); the others (scene, host,
-    # integration, data) for Release (target integration_tests; tests/unit/CMakeLists.txt).
-    # fuzz (readers_fuzz_test): target fuzz_tests, run under the sanitizers only; the Release
-    # run (ctest --preset integration) never runs it, so integration_tests does not build it.
-    if(ARG_LABEL STREQUAL "unit")
+    # Which build a test program belongs to (tests/unit/CMakeLists.txt, toolchain/README.md):
+    # `sanitized` ones to the sanitizer run (target sanitizer_tests); the others but fuzz to
+    # Release (target release_tests); fuzz (readers_fuzz_test) to target fuzz_tests, run under
+    # the sanitizers only. `unit_tests` is the code that runs on the rig, sanitized or not: the
+    # aarch64 cross-build builds and runs those.
+    if(ARG_LABEL STREQUAL "sanitized")
+        set_property(GLOBAL APPEND PROPERTY BIMSLAM_SANITIZER_TESTS ${name})
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
     elseif(NOT ARG_LABEL STREQUAL "fuzz")
-        set_property(GLOBAL APPEND PROPERTY BIMSLAM_INTEGRATION_TESTS ${name})
+        set_property(GLOBAL APPEND PROPERTY BIMSLAM_RELEASE_TESTS ${name})
+        if(ARG_LABEL STREQUAL "unit")
+            set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
+        endif()
     endif()
 endfunction()
 
