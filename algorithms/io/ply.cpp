@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -255,22 +254,17 @@ private:
 
     double ReadAscii(PlyType t) {
         std::string_view tok = NextToken();
-        if (!tok.empty() && tok.front() == '+') tok.remove_prefix(1);
-        const char* end = tok.data() + tok.size();
         double v = 0.0;
         bool ok = false;
-        auto parsed = [&](std::from_chars_result res) {
-            return res.ec == std::errc() && res.ptr == end && !tok.empty();
-        };
         if (t == PlyType::kFloat32) {
             float f = 0.0f;  // as float, so the shortest float text reads back exactly
-            ok = parsed(std::from_chars(tok.data(), end, f));
+            ok = FromChars(tok, f);
             v = f;
         } else if (t == PlyType::kFloat64) {
-            ok = parsed(std::from_chars(tok.data(), end, v));
+            ok = FromChars(tok, v);
         } else {
             int64_t i = 0;
-            ok = parsed(std::from_chars(tok.data(), end, i));
+            ok = FromChars(tok, i);
             v = static_cast<double>(i);
         }
         if (!ok || !Representable(v, t)) {
