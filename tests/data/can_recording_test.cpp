@@ -16,6 +16,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using common::CanFrame;
 
@@ -118,5 +119,6 @@ TEST(CanData, PcapAndCandumpHoldTheSameFrames) {
     EXPECT_EQ(mismatches, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

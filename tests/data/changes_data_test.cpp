@@ -17,6 +17,7 @@
 
 namespace bimslam::change_detection {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 class ChangesOnRealModels : public ::testing::TestWithParam<const char*> {};
@@ -93,5 +94,6 @@ INSTANTIATE_TEST_SUITE_P(Models, ChangesOnRealModels,
                              return name;
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::change_detection

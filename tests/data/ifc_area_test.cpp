@@ -19,6 +19,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // The targets: a repaired element within 0.1 % of its exact area, any other element
 // within 0.01 % of main's (measured: 1e-15 from run to run, carve's order notwithstanding).
@@ -114,5 +115,6 @@ INSTANTIATE_TEST_SUITE_P(SharedModels, IfcAreaData, testing::Range<size_t>(0, Fi
                              return name;
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -17,6 +17,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 struct Expected {
     std::string file;
@@ -230,5 +231,6 @@ INSTANTIATE_TEST_SUITE_P(SharedModels, IfcModelData, testing::Range<size_t>(0, 3
                              return name;
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -15,6 +15,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 struct Expected {
     size_t lidar_datagrams = 0;  // on port 7502
@@ -144,5 +145,6 @@ TEST(NetData, SocketCanCaptureRecordsComeOutUntouched) {
     EXPECT_EQ(extractor.stats().unsupported_link_type, records);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

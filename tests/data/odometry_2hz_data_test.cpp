@@ -16,6 +16,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -61,5 +62,6 @@ TEST(Odometry2HzData, TheRealSequenceIsAccurateOrReportedAsUntrusted) {
         << ape_cm << " cm APE reported as " << verdict;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -15,6 +15,7 @@
 
 namespace bimslam::capture {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 struct Decoded {
@@ -115,5 +116,6 @@ TEST(RealBag, FramesDecodeIdenticallyToTheSamePacketsAsAPcap) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::capture

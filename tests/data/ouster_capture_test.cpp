@@ -18,6 +18,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using Packets = std::vector<std::vector<uint8_t>>;
 
@@ -352,5 +353,6 @@ TEST(RealCaptureFaults, VelodyneIsRejectedAndTheEmptyCaptureHasNoFrames) {
     EXPECT_EQ(empty.lidar_stats().frames_complete + empty.lidar_stats().frames_incomplete, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

@@ -21,6 +21,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 constexpr bool kFlat = false, kNested = true;
@@ -244,11 +245,13 @@ TEST(MetadataData, EveryMalformedFileIsRejectedNamingTheField) {
     EXPECT_EQ(seen, kMalformedFiles.size()) << "files of the table are missing";
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // What we write (the nested layout) reads back to the same sensor, for every real file.
 TEST(MetadataData, SerializedMetadataReadsBackTheSame) {
@@ -265,5 +268,6 @@ TEST(MetadataData, SerializedMetadataReadsBackTheSame) {
     EXPECT_GT(files, 20);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

@@ -20,6 +20,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const char* kWithSdkXyz[] = {"OS-1-32-G_v2.1.1_1024x10", "OS-0-32-U1_v2.2.0_1024x10",
@@ -121,5 +122,6 @@ TEST_P(RealImu, AtRestReadsOneGUpAlongSensorZ) {
 
 INSTANTIATE_TEST_SUITE_P(Ouster, RealImu, ::testing::ValuesIn(kWithImu), TestName);
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

@@ -13,6 +13,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 struct Case {
     std::string file;
@@ -79,5 +80,6 @@ INSTANTIATE_TEST_SUITE_P(
         return n;
     });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

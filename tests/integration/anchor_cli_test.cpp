@@ -30,6 +30,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -42,7 +43,7 @@ constexpr int kSeconds = 40;
 // minutes (test::CachedFixture: one process makes it, the others wait for it; a fixture that
 // failed to build is not kept).
 fs::path FixtureRoot() {
-    static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
+    static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/anchor_fixtures", kCli);
     return root;
 }
 
@@ -697,5 +698,6 @@ TEST_F(AnchorCli, HelpNamesTheOutputs) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

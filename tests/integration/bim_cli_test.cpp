@@ -15,6 +15,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -121,12 +122,14 @@ TEST(BimCli, Bim2SessionRejectsBadInput) {
     EXPECT_NE(meta.err.find((tmp / "meta.json").string()), std::string::npos) << meta.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam
 
 // `bimslam simulate` as a user runs it: the default Go1 walk, a shipped scenario, bad input.
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(SimulateCli, WritesACaptureTheOtherCommandsRead) {
     test::TempDir tmp;
@@ -308,5 +311,6 @@ TEST(BimCli, AStairThatCannotBeWalkedIsNamedWithItsStoreysAndExits2) {
     EXPECT_TRUE(fs::exists(capture / "ground_truth_storeys.csv"));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

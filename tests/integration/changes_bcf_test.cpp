@@ -26,6 +26,7 @@
 
 namespace bimslam::bcf_test {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -45,7 +46,7 @@ fs::path Specs() { return SourceRoot() / ".." / "shared" / "specs" / "bcf"; }
 fs::path BcfOf(const std::string& version) {
     const fs::path walk = changes_test::Walk();
     if (version == "2.1") return walk / "out" / "changes.bcf";
-    static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
+    static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/changes_fixtures", kCli);
     return test::CachedFixture(root, "walk_bcf30",
                                [&](const fs::path& d) {
                                    const auto r = test::RunCommand(
@@ -354,5 +355,6 @@ TEST(ChangesBcfCli, AnotherBcfVersionExits2NamingTheOption) {
     EXPECT_NE(r.err.find("--bcf-version: '2.0'"), std::string::npos) << r.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bcf_test

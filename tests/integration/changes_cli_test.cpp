@@ -36,6 +36,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -67,15 +68,17 @@ void MustRun(const std::string& args) {
     ASSERT_EQ(r.exit_code, 0) << "bimslam " << args << "\n" << r.out << r.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 
 namespace changes_test {
+using namespace BIMSLAM_UNITY_ID;  // the helpers above
 // The walk of kScenario through the sample building, its odometry session placed on the ground
 // truth (anchored/) and `bimslam changes --truth --json` of it (out/, summary.json): made once per
 // build of `bimslam` and shared by the tests below, each a process of its own under ctest, so
 // that each reader of the files is a test of its own that skips, saying why, on its own.
 fs::path Walk() {
-    static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
+    static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/changes_fixtures", kCli);
     return test::CachedFixture(root, "walk", [](const fs::path& d) {
         MustRun("bim sample -o " + Quote(d / "building.ifc"));
         io::WriteFileAtomic(d / "scenario.yaml", kScenario);
@@ -94,6 +97,7 @@ fs::path Walk() {
 }  // namespace changes_test
 
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using changes_test::Walk;
 
 TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
@@ -509,5 +513,6 @@ TEST(ChangesCli, UpdatedIfcOfTheWalkOpensInWebIfc) {
     EXPECT_EQ(w["counts"]["IFCTRIANGULATEDFACESET"].get<size_t>(), objects_found);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -24,6 +24,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -181,6 +182,7 @@ TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
     EXPECT_NE(missing.err.find("nope"), std::string::npos) << missing.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam
 
@@ -193,6 +195,7 @@ TEST(Cli, DamagedSessionExits2NamingFileAndLine) {
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // An RNG19 capture of three frames made by our encoder and writer (fragmented at MTU 1500, one
 // packet lost, a stray datagram on another port), with its metadata next to it.
@@ -303,11 +306,13 @@ TEST(Cli, OusterBadInputExits2NamingTheFile) {
     EXPECT_NE(r.err.find("--meta"), std::string::npos) << r.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A candump log of 2 s of a Go1 bridge walking at 0.5 m/s, as our encoder sends it, with one
 // garbage line in the middle.
@@ -444,11 +449,13 @@ TEST(Cli, CanHighStateTellsTheCrcFormOfABenchRecording) {
         << other.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A small IFC4 building in millimetres: one storey ("Ground floor", elevation 0) holding a
 // 4 x 0.2 x 2.5 m wall (structure) and, 1 m in front of it, a 1 x 0.05 x 1.2 m window
@@ -617,5 +624,6 @@ TEST(Cli, BimMeshWritesPlyAndElementTable) {
     EXPECT_FALSE(fs::exists(tmp / "x.ply"));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -21,6 +21,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using test::RunCommand;
 
@@ -197,5 +198,6 @@ TEST(DebArm64, PackagedProgramsRunUnderQemuUser) {
     std::printf("%s", version.out.c_str());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -14,6 +14,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using test::RunCommand;
 
@@ -139,5 +140,6 @@ TEST_F(DebPackage, InstallsRunsVerifiesAndKeepsSessionsOnRemoval) {
     EXPECT_NE(purge.out.find("kept"), std::string::npos) << purge.out;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

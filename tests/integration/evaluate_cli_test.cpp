@@ -11,6 +11,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -169,5 +170,6 @@ TEST(EvaluateCli, BadInputExits2NamingTheFile) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

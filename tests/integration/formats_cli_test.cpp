@@ -21,6 +21,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 using test::rig::kCli;
@@ -293,5 +294,6 @@ TEST_F(Formats, FolderOfPointCloudsWithATimesFileIsARecording) {
     EXPECT_NE(missing.err.find("needs a times file"), std::string::npos) << missing.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

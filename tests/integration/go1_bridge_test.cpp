@@ -35,6 +35,7 @@
 
 namespace bimslam::go1_bridge {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using namespace ::bimslam::go1;        // the HighState codec (drivers/go1)
 using namespace ::bimslam::go1::fake;  // the fake Go1 (fake_go1.hpp)
 
@@ -489,5 +490,6 @@ TEST(Go1BridgeProgram, StatusOnLcmSaysTheCrcFormAndCountsRejectionsByReason) {
     EXPECT_EQ(c.repeats, 0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::go1_bridge

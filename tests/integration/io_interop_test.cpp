@@ -17,6 +17,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const char* const kPython = "/usr/bin/python3";  // Debian's python: the pyenv one has no open3d
@@ -292,5 +293,6 @@ TEST(CloudCompareInterop, CloudCompareReadsOurPlyCloudsAndMeshes) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

@@ -28,6 +28,7 @@
 
 namespace bimslam::lcmtypes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using Bytes = std::vector<uint8_t>;
 
@@ -885,5 +886,6 @@ TEST(LcmConstants, AreConsistent) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::lcmtypes

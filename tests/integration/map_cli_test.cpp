@@ -26,6 +26,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
@@ -555,5 +556,6 @@ TEST(MapCli, HelpNamesTheStepsAndReportNeedsAMapOutput) {
     EXPECT_NE(r.err.find("summary.json"), std::string::npos) << r.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

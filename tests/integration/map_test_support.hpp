@@ -76,7 +76,7 @@ inline nlohmann::json Steps(const nlohmann::json& j) {
 }
 
 inline fs::path FixtureRoot() {
-    static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
+    static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/map_fixtures", kCli);
     return root;
 }
 

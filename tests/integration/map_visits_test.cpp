@@ -29,6 +29,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
@@ -565,5 +566,6 @@ TEST(MapVisits, AnchorTakesAnEarlierVisitsAnchoredSessionByHand) {
         << bad.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -23,6 +23,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -681,5 +682,6 @@ TEST(OdometryCliHelp, NamesTheOptionsAndTheNextStep) {
     EXPECT_EQ(test::RunCommand(kCli + " odometry").exit_code, 2);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

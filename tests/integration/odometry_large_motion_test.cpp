@@ -18,6 +18,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -40,7 +41,7 @@ protected:
     // ground_truth.tum. Made once per build of `bimslam` and shared by the test processes
     // (test::CachedFixture; three tests read the Go1's: 3.4 s of CPU and 254 MB each made).
     static fs::path Folder(const std::string& platform) {
-        static const fs::path root = test::FixtureRootFor(BIMSLAM_FIXTURE_DIR, kCli);
+        static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/large_motion_fixtures", kCli);
         return test::CachedFixture(
                    root, "all_" + platform,
                    [&](const fs::path& d) {
@@ -191,5 +192,6 @@ TEST_F(OdometryLargeMotion, TheFullRateFolderIsTrusted) {
     EXPECT_EQ(odo.at("check_failed").get<size_t>(), 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -26,6 +26,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
@@ -396,5 +397,6 @@ TEST(ReportBrowser, ARecordingAnchoredInPartsGetsItsBannerAndItsAnchoredPieces) 
     EXPECT_GT(t.at("changes").get<int>(), 0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -27,6 +27,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using test::rig::kCli;
 using test::rig::kRig;
@@ -280,5 +281,6 @@ TEST_F(RigFaults, AStalledThreadStopsTheWatchdogAndShowsOnLcm) {
     EXPECT_EQ(j["threads_stalled"], nlohmann::json({{"writer", 1}})) << j.dump(1);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

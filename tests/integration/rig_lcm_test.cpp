@@ -30,6 +30,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using test::rig::kCli;
 using test::rig::kRig;
@@ -480,5 +481,6 @@ TEST_F(RigLcm, SystemdAnalyzeVerifiesTheUnit) {
     EXPECT_NE(unit.find("Restart=on-failure"), std::string::npos);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

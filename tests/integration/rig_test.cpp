@@ -21,6 +21,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using test::rig::kCli;
 using test::rig::kRig;
@@ -375,5 +376,6 @@ TEST_F(Rig, LiveWithoutCanInTheKernelSaysWhatToDo) {
     EXPECT_NE(r.err.find("can.source"), std::string::npos) << r.err;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

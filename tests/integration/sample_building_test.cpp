@@ -18,6 +18,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 void ExpectLayoutCounts(const nlohmann::json& j, const SampleLayout& L) {
@@ -141,5 +142,6 @@ TEST(SampleBuildingWebIfc, OpensTheSymmetricBuilding) {
     ExpectOpensInMetresAndMillimetres(BuildingLayout::kSymmetric);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

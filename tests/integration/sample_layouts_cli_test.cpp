@@ -17,6 +17,7 @@
 
 namespace bimslam {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 const std::string kCli = BIMSLAM_CLI_PATH;
@@ -189,5 +190,6 @@ TEST(SampleLayoutsCli, StartsOutsideThroughTheEntrance) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam

@@ -16,6 +16,7 @@
 
 namespace bimslam::anchor {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 Eigen::Isometry3d Pose(double x, double y, double z, double yaw_deg) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -315,5 +316,6 @@ TEST(CheckFreeSpace, ThePlacementDecides) {
     EXPECT_EQ(registration::CheckFreeSpace(query, map, Pose(0, 0, 0, 0), near).rays, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::anchor

@@ -6,6 +6,7 @@
 
 namespace bimslam::anchor {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A session of keyframes at (x, y) along a line, one every `step` metres from x0.
 AnchorSession Walk(double x0, double y, double step, size_t n) {
@@ -60,5 +61,6 @@ TEST(EarlierTargets, ASessionCutToItsTargetsKeepsTheirIdsAndTheEdgesBetweenThem)
     EXPECT_EQ(s.KeyframeId(1), 4u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::anchor

@@ -6,6 +6,7 @@
 
 namespace bimslam::anchor {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 Hypothesis SeenThrough(double share) {
     Hypothesis h;
@@ -50,5 +51,6 @@ TEST(FreeSpacePrefers, ConfigRejectsARatioUnderOneAndAZeroGap) {
     EXPECT_ANY_THROW(config.Validate());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::anchor

@@ -12,6 +12,7 @@
 
 namespace bimslam::anchor {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Eq. (14) at c2 = 1, mu = 1: weight 1 up to r2 = mu / (mu + 1) = 0.5, 0 from (mu + 1) / mu = 2,
 // sqrt(c2 mu (mu + 1) / r2) - mu = sqrt(2 / r2) - 1 between.
@@ -111,5 +112,6 @@ TEST(GncWeights, TheWrongLoopEndsAtZeroAndTheRightOnesAtOne) {
     EXPECT_LT(t.state[1].anchor.translation().norm(), 1e-3);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::anchor

@@ -11,6 +11,7 @@
 
 namespace bimslam::anchor {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 Matrix6d Spd(unsigned seed) {
@@ -126,5 +127,6 @@ TEST(OdometryBreaks, ARunOfKeyframesMovedAgainstTheOdometryBreaksTheEdgesAroundI
     EXPECT_TRUE(OdometryBreaks(edges, poses, 1.0, 5.0).empty());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::anchor

@@ -16,6 +16,7 @@
 
 namespace bimslam::anchor {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 constexpr int64_t kSecond = 1'000'000'000;
 
@@ -296,5 +297,6 @@ TEST(OdometryVerdictFile, NoneIsNotJudgedAndABadOneNamesTheFile) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::anchor

@@ -11,6 +11,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using test_floor::Floor;
 
 TEST(OccupancyGrid, SliceFootprintsAndReachableFreeSpace) {
@@ -105,5 +106,6 @@ TEST(CoveragePath, EntersEveryRoomKeepsClearAndIsSmooth) {
     EXPECT_EQ(img.channels, 3);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

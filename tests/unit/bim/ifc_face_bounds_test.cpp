@@ -16,6 +16,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using test::FrameIfc;
 using test::FrameTop;
@@ -121,5 +122,6 @@ TEST(FaceBounds, AFaceIfcppCannotTriangulateIsReported) {
     EXPECT_NEAR(Measure(m).top_m2, 0.0, 1e-9);  // the top face is missing
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -14,6 +14,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::StatusCode;
 
 struct Spec {
@@ -541,5 +542,6 @@ TEST(IfcModel, MutatedFilesNeverCrash) {
     EXPECT_GT(counts.accepted, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -17,6 +17,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using simulation::LidarModel;
 
@@ -193,5 +194,6 @@ TEST(LidarFromMetadata, SimulatedRangesDecodeWithTheDriverOntoTheWalls) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -9,6 +9,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using test_floor::Floor;
 
 // The axis-aligned box of each element of the synthetic floor (all of them are boxes).
@@ -150,5 +151,6 @@ TEST(ReferenceSession, RefusesBadInput) {
     EXPECT_EQ(StoreyFileStem("--"), "storey");
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

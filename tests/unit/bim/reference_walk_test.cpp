@@ -15,6 +15,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 BimModel SampleOffice() { return ParseIfc("office.ifc", SampleBuildingIfc()); }
 
@@ -118,5 +119,6 @@ TEST(ReferenceWalk, OneStoreyIsItsCoverageWalk) {
     EXPECT_EQ(w.pieces[0].back().stamp_ns, w.coverage[0].poses.back().stamp_ns);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

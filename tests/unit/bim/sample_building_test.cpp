@@ -21,6 +21,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
@@ -454,5 +455,6 @@ TEST(SampleBuildingIfc, ReadsBackTheSameBuildingInMetresAndMillimetres) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

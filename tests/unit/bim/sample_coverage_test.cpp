@@ -13,6 +13,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Distance from p to the nearest edge of a closed polygon.
 double DistanceToBoundary(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
@@ -121,5 +122,6 @@ INSTANTIATE_TEST_SUITE_P(Layouts, EveryLayoutCoverage,
                                     (std::get<1>(param_info.param) ? "_exterior_doors" : "");
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -12,6 +12,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using Eigen::AlignedBox2d;
 using Eigen::Vector2d;
@@ -179,5 +180,6 @@ TEST(HallLayout, TheEntranceLeadsFromOutsideIntoTheHall) {
     EXPECT_EQ(closed.doors.size() + 1, H.doors.size());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

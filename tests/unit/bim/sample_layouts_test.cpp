@@ -23,6 +23,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using Eigen::AlignedBox2d;
 using Eigen::Vector2d;
@@ -377,5 +378,6 @@ INSTANTIATE_TEST_SUITE_P(Layouts, EveryLayout,
                              return std::string(ToString(param_info.param));
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

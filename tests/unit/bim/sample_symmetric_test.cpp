@@ -16,6 +16,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using Eigen::AlignedBox2d;
 using Eigen::Vector2d;
@@ -231,5 +232,6 @@ TEST(SymmetricLayout, TheGeometryReadBackIsItsOwnMirrorImage) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

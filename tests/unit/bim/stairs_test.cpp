@@ -13,6 +13,7 @@
 
 namespace bimslam::bim {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 BimModel Office() { return ParseIfc("office.ifc", SampleBuildingIfc()); }
 
@@ -154,5 +155,6 @@ TEST(Stairs, LimitsAreValidated) {
     EXPECT_THROW(l.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::bim

@@ -15,6 +15,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(HotPath, EncoderDecoderCodecAndCrcDoNotAllocate) {
     // Set-up may allocate: the DBC is parsed, the tables built.
@@ -57,5 +58,6 @@ TEST(HotPath, EncoderDecoderCodecAndCrcDoNotAllocate) {
     EXPECT_NE(sink, 0.0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

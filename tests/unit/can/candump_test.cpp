@@ -15,6 +15,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using common::CanFrame;
 
@@ -572,5 +573,6 @@ TEST(CandumpFuzz, MutatedLogsParseOrFailCleanly) {
     EXPECT_GT(frames, 1000u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

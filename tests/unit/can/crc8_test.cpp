@@ -9,6 +9,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Bit by bit, straight from the definition: the reference the table must reproduce.
 uint8_t Reference(const std::vector<uint8_t>& data) {
@@ -71,5 +72,6 @@ TEST(Crc8, Go1FrameCrcCoversIdLowIdHighAndBytes1To7) {
     EXPECT_NE(Go1FrameCrc(0x101, d.data()), 0x6D);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

@@ -11,6 +11,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 std::string SourceDbcText() {
     std::ifstream in(BIMSLAM_CAN_DBC_PATH, std::ios::binary);
@@ -231,5 +232,6 @@ TEST(Dbc, FuzzedGo1DbcNeverCrashesAndErrorsNameTheFile) {
     EXPECT_GT(counts.accepted, 100u);  // many edits (in comments, values) stay valid
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

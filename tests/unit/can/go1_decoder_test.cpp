@@ -14,6 +14,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using common::CanFrame;
 using testing::MakeStream;
@@ -442,5 +443,6 @@ TEST(Go1Decoder, RandomFaultStreamNeverCrashesAndItsCountersAddUp) {
     EXPECT_GT(checked, 4000u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

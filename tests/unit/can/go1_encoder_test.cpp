@@ -13,6 +13,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using Frames = std::array<common::CanFrame, Go1Encoder::kMaxFramesPerTick>;
 
@@ -179,5 +180,6 @@ TEST(Go1Encoder, BridgeTimeIsMicrosecondsModulo2To32) {
     EXPECT_EQ(us, 0xFFFFFFFFu);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

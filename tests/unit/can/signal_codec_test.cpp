@@ -12,6 +12,7 @@
 
 namespace bimslam::can {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Bit by bit from Vector's numbering (bit b = bit b%8 of byte b/8): the reference the codec's
 // byte loops and word shifts must reproduce.
@@ -289,5 +290,6 @@ TEST(SignalCodec, RefusesImpossibleSignals) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::can

@@ -20,6 +20,7 @@
 
 namespace bimslam::change_detection {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(BcfWriter, GuidsFromNamesAreLowerCaseUuidsAndRepeatable) {
     const std::regex uuid("[a-f0-9]{8}-[a-f0-9]{4}-8[a-f0-9]{3}-[89ab][a-f0-9]{3}-[a-f0-9]{12}");
@@ -151,5 +152,6 @@ TEST(SnapshotRenderer, DrawsTheChosenElementInItsColourWhereTheCameraLooks) {
     EXPECT_EQ(uint8_t(png[19]), 160);  // width, big-endian, bytes 16..19
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::change_detection

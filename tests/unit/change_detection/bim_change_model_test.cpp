@@ -11,6 +11,7 @@
 
 namespace bimslam::change_detection {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A column from lo to hi on `storey` (-1: contained in no storey).
 void AddBox(bim::BimModel& m, int storey, Eigen::Vector3d lo, Eigen::Vector3d hi) {
@@ -65,5 +66,6 @@ TEST(PlaceChanges, AnElementIsOnItsIfcStoreyElseOnTheStoreyUnderItsLowestPoint) 
     EXPECT_TRUE(from_height);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::change_detection

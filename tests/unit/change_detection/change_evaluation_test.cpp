@@ -9,6 +9,7 @@
 
 namespace bimslam::change_detection {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 Eigen::AlignedBox3d Box(double x, double y, double size) {
     return {Eigen::Vector3d(x, y, 0), Eigen::Vector3d(x + size, y + size, size)};
@@ -195,5 +196,6 @@ TEST(ChangeEvaluation, ReadsTheSimulatorsTruthAndNamesTheFileWhenItIsBad) {
     EXPECT_FILE_ERROR(ReadTruthChanges(tmp / "garbage.json"), (tmp / "garbage.json").string(), 0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::change_detection

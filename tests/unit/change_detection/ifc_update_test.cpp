@@ -17,6 +17,7 @@
 
 namespace bimslam::change_detection {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using test::Found;
 using test::kTinyIfc2x3;
 
@@ -164,5 +165,6 @@ TEST(StepIndex, RejectsFilesWithoutAClosedDataSection) {
                  common::FileError);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::change_detection

@@ -13,6 +13,7 @@
 
 namespace bimslam::changes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using test::SharedChangeScene;
 
 // These tests are about the detection on the poses given (the simulator's, exact), so without
@@ -321,5 +322,6 @@ TEST(ChangeDetector, RejectsAModelWithoutGeometryAndASessionWithoutKeyframes) {
     EXPECT_THROW(DetectChanges(s.model, s.keyframes, bad), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes

@@ -7,6 +7,7 @@
 
 namespace bimslam::changes::test {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A vertical cylinder (12 sides), closed.
 common::TriangleMesh Cylinder(const Eigen::Vector2d& at, double radius, double height) {
@@ -31,6 +32,7 @@ common::TriangleMesh Cylinder(const Eigen::Vector2d& at, double radius, double h
     return m;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 
 // The decoded points of a simulated scan, in the sensor's (lidar) frame, as the driver gives them.
@@ -50,6 +52,7 @@ common::PointCloud ToCloud(const simulation::ScanImage& image,
 }
 
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 ChangeScene Build() {
     ChangeScene s;
@@ -174,6 +177,7 @@ CorridorScene BuildCorridor() {
     return s;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 
 common::TriangleMesh SolidBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
@@ -196,12 +200,12 @@ void Append(common::TriangleMesh* to, const common::TriangleMesh& m) {
 }
 
 const ChangeScene& SharedChangeScene() {
-    static const ChangeScene scene = Build();
+    static const ChangeScene scene = BIMSLAM_UNITY_ID::Build();
     return scene;
 }
 
 const CorridorScene& SharedCorridorScene() {
-    static const CorridorScene scene = BuildCorridor();
+    static const CorridorScene scene = BIMSLAM_UNITY_ID::BuildCorridor();
     return scene;
 }
 

@@ -9,6 +9,7 @@
 
 namespace bimslam::changes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Textbook DBSCAN by brute force (O(n^2)): core points and their clusters.
 std::vector<int> ReferenceCoreClusters(const std::vector<Eigen::Vector3f>& p, float eps,
@@ -102,5 +103,6 @@ TEST(Dbscan, EmptyInputAndBadConfig) {
     EXPECT_THROW(Dbscan({}, DbscanConfig{0.1, 0}), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes

@@ -10,6 +10,7 @@
 
 namespace bimslam::changes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A 1 m x 1 m sheet of points 5 cm apart at height z.
 void Sheet(double x0, double z, std::vector<Eigen::Vector3f>* points) {
@@ -77,5 +78,6 @@ TEST(FreeSpace, RejectsMismatchedInputsAndANegativeRadius) {
     EXPECT_THROW(config.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes

@@ -8,6 +8,7 @@
 
 namespace bimslam::changes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A desk: a top and four legs, element 0 of a model.
 ChangeModel Desk() {
@@ -121,5 +122,6 @@ TEST(MovedElements, ALowBoxBesideARemovedTallCabinetIsNotTheCabinetMoved) {
     EXPECT_NEAR(moved_report.moved_yaw_deg, 0.3 * 180 / M_PI, 1.0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes

@@ -17,6 +17,7 @@
 
 namespace bimslam::changes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using V = Eigen::Vector3d;
 
 // A 16 x 10 m hall, 3 m high: four outer walls and six free-standing partitions (three across x,
@@ -273,5 +274,6 @@ TEST(PoseRefinement, RejectsAnEdgeToAMissingKeyframeAndABadConfig) {
     EXPECT_THROW(bad.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes

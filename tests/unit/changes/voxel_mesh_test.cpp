@@ -10,6 +10,7 @@
 
 namespace bimslam::changes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Every directed edge (a, b) has its reverse (b, a) as often: a closed, consistently oriented
 // surface (watertight).
@@ -86,5 +87,6 @@ TEST(AlignedMap, MergesKeyframesCountingTheKeyframesThatSawEachVoxel) {
     EXPECT_NEAR(map.xyz[0].x(), (2.0 + 2.02 + 2.01) / 3, 1e-5);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes

@@ -4,6 +4,7 @@
 
 namespace bimslam::common {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(PointCloud, ChannelsFollowXyz) {
     PointCloud c;
@@ -41,5 +42,6 @@ TEST(PointCloud, ReserveDoesNotReallocateOnPush) {
     EXPECT_EQ(before, c.xyz.data());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::common

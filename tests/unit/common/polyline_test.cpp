@@ -5,6 +5,7 @@
 
 namespace bimslam::common {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(ResamplePolyline, OpenKeepsTheSpacingAcrossCornersAndEndsAtTheLastPoint) {
     // An L: 1 m along x, then 0.55 m along y.
@@ -32,5 +33,6 @@ TEST(ResamplePolyline, RepeatedPointsAreSkipped) {
     for (const auto& q : out) EXPECT_TRUE(q.allFinite());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::common

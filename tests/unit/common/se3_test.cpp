@@ -7,6 +7,7 @@
 
 namespace bimslam::common {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 Vector6d RandomTwist(std::mt19937& rng, double max_angle) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -143,5 +144,6 @@ TEST(Se3, RotationFromRpyDegIsZYXAboutFixedAxes) {
     EXPECT_TRUE(IsValidRigid(T));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::common

@@ -4,6 +4,7 @@
 
 namespace bimslam::common {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(Status, OkAndError) {
     EXPECT_TRUE(Status::Ok().ok());
@@ -24,5 +25,6 @@ TEST(Status, FileErrorNamesFileAndLine) {
     EXPECT_STREQ(no_line.what(), "a.pcd: cannot open");
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::common

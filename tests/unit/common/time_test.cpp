@@ -9,6 +9,7 @@
 
 namespace bimslam::common {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(Time, ArithmeticStaysInNanoseconds) {
     const SensorTime t0{1'699'999'999'123'456'789};
@@ -61,5 +62,6 @@ TEST(Time, Iso8601DateTimesParseAndFormatInUtc) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::common

@@ -9,6 +9,7 @@
 
 namespace bimslam::common {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(VoxelHash, KeysUnpackAndSortByXThenYThenZ) {
     // changes::PointGrid finds a column's cells between the keys of its lowest and highest z.
@@ -73,5 +74,6 @@ TEST(VoxelHash, BehavesAsAMapThroughGrowthAndClear) {
     EXPECT_EQ(entries, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::common

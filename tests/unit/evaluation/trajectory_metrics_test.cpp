@@ -11,6 +11,7 @@
 
 namespace bimslam::evaluation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using io::StampedPose;
 constexpr int64_t kStart_ns = 42'000'000'000;  // a sensor clock that does not start at 0
@@ -311,5 +312,6 @@ TEST(TrajectoryMetrics, UmeyamaRecoversARigidTransform) {
     EXPECT_TRUE(AlignUmeyama({a[0], a[0], a[0]}, {b[0], b[0], b[0]}).degenerate);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::evaluation

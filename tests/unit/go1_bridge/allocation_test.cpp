@@ -20,6 +20,7 @@
 
 namespace bimslam::go1_bridge {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 constexpr int64_t kMs = 1'000'000;
 
@@ -104,5 +105,6 @@ TEST(HotPath, UdpClientSendAndReceiveDoNotAllocate) {
     ::close(peer);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::go1_bridge

@@ -20,6 +20,7 @@
 
 namespace bimslam::go1_bridge {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using can::Go1Sample;
 using common::CanFrame;
@@ -572,5 +573,6 @@ TEST(Bridge, WaitsForNewDataRatherThanRepeatingASample) {
     EXPECT_EQ(h.bridge.stats().samples, h.bridge.stats().highstates + 1);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::go1_bridge

@@ -14,6 +14,7 @@
 
 namespace bimslam::go1_bridge {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using namespace ::bimslam::go1;  // the HighState codec (drivers/go1)
 
 // CRC-32/MPEG-2 (poly 0x04C11DB7, init 0xFFFFFFFF, no reflection, no xorout), byte-wise: an
@@ -354,5 +355,6 @@ TEST(HighCmd, ParseOfSerializeIsIdentity) {
     EXPECT_TRUE(parsed == c);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::go1_bridge

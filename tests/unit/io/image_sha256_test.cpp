@@ -8,6 +8,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 uint32_t Get32(const std::string& s, size_t at) {
     return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 |
@@ -77,5 +78,6 @@ TEST(Sha256, Fips180Vectors) {
     EXPECT_FILE_ERROR(Sha256File(tmp / "missing"), (tmp / "missing").string(), 0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

@@ -12,6 +12,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::Error;
 using common::FileError;
 
@@ -249,5 +250,6 @@ TEST(Las, CreationDateIsTheUtcDayOfTheYear) {
     EXPECT_EQ(d.creation_day_of_year, 366);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

@@ -12,6 +12,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::Error;
 using common::FileError;
 
@@ -170,5 +171,6 @@ TEST(Npy, MutatedFilesOnlyEverThrowFileError) {
     EXPECT_GT(parsed, 10u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

@@ -12,6 +12,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::FileError;
 
 constexpr uint32_t kExactBelowNs = 15'625'000;  // 2^-6 s: float spacing <= 0.93 ns below it
@@ -367,5 +368,6 @@ TEST(Pcd, MutatedFilesOnlyEverThrowFileError) {
     EXPECT_GT(parsed, 100u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

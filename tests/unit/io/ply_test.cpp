@@ -13,6 +13,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::Error;
 using common::FileError;
 
@@ -304,5 +305,6 @@ TEST(Ply, MutatedFilesOnlyEverThrowFileError) {
     EXPECT_GT(parsed, 100u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

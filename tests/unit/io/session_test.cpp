@@ -12,6 +12,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using common::FileError;
 
@@ -374,5 +375,6 @@ TEST(G2o, RejectsUnknownTagsAndBadEdges) {
     EXPECT_EQ(g.vertices.size(), 2u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

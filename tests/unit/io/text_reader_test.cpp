@@ -11,6 +11,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::FileError;
 
 TEST(LineReader, LinesNumbersAndCrlf) {
@@ -119,5 +120,6 @@ TEST(FileUtil, FormatIsShortestExact) {
     EXPECT_EQ(std::stof(FormatFloat(1.0f / 3.0f)), 1.0f / 3.0f);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

@@ -10,6 +10,7 @@
 
 namespace bimslam::io {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::FileError;
 
 std::vector<StampedPose> RandomTrajectory(int n, uint32_t seed) {
@@ -107,5 +108,6 @@ TEST(Trajectory, GarbageNeverCrashes) {
     EXPECT_GT(k.accepted, 50u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::io

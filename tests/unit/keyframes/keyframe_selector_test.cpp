@@ -10,6 +10,7 @@
 
 namespace bimslam::keyframes {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 struct Walker {
     KeyframeSelector selector;
@@ -113,5 +114,6 @@ TEST(KeyframeConfig, ValidateNamesTheField) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::keyframes

@@ -14,6 +14,7 @@
 
 namespace bimslam::mapping {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using nlohmann::json;
 
 // v2's changes of recording "walk": object 0, a 0.5 m cube at (5, 3) on the ground floor.
@@ -97,5 +98,6 @@ TEST(AsIsModel, ProxiesHistoriesAndTheMissingGroupReadBackByIfcpp) {
     EXPECT_EQ(back.class_counts.at("IfcBuildingElementProxy"), 1u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::mapping

@@ -14,6 +14,7 @@
 
 namespace bimslam::mapping {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using nlohmann::json;
 
 // A visit's map: the floor z = 0 over [0, 4] x [0, 4] and the wall x = 4 up to 2.5 m, one point
@@ -170,5 +171,6 @@ TEST(BuildingMap, LasHoldsEveryVoxelWithItsVisits) {
     EXPECT_TRUE(las.adjusted_standard_gps_time);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::mapping

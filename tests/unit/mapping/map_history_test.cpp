@@ -10,6 +10,7 @@
 
 namespace bimslam::mapping {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using change_detection::FoundChanges;
 using nlohmann::json;
 using Box = Eigen::AlignedBox3d;
@@ -171,5 +172,6 @@ TEST(MapHistory, AVisitThatWasNotAnchoredObservesNothing) {
     EXPECT_EQ(h.at("visits").at(1).at("start"), "1970-02-10T00:00:00Z");
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::mapping

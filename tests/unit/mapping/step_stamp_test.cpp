@@ -16,6 +16,7 @@
 
 namespace bimslam::mapping {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 TEST(StepStamp, MatchesItselfAndNotAChangedInputUpstreamOrParameter) {
@@ -107,5 +108,6 @@ TEST(MapInputs, AModelThatIsNotIfcIsRefusedNamingTheFile) {
     EXPECT_THROW(CheckModelFile(tmp / "absent.ifc"), common::FileError);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::mapping

@@ -20,6 +20,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(HotPath, ReaderExtractorAndWriterDoNotAllocate) {
     std::mt19937 rng(1);
@@ -97,5 +98,6 @@ TEST(HotPath, UdpSourceDoesNotAllocate) {
     ::close(fd);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

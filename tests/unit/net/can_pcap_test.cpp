@@ -15,6 +15,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using common::CanFrame;
 
@@ -454,5 +455,6 @@ TEST(CanPcap, MutatedCapturesDecodeOrFailCleanly) {
     EXPECT_GT(frames, 10000u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

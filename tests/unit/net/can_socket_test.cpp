@@ -20,6 +20,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using common::CanFrame;
 using common::Duration;
@@ -158,5 +159,6 @@ TEST(CanSocket, LiveFramesOverVcan) {
     EXPECT_EQ(classic.Send(fd).code, common::StatusCode::kInvalidArgument);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

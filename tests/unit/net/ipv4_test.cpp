@@ -16,6 +16,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 constexpr int64_t kIpT0 = 1'700'000'000'000'000'000;
 constexpr uint32_t kSensorIp = 0x0A050501;  // 10.5.5.1
@@ -633,5 +634,6 @@ TEST(UdpExtractor, MutationFuzz) {
     EXPECT_GT(extractor.stats().datagrams, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

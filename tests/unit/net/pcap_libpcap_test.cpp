@@ -18,6 +18,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 void Put32(std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
 
@@ -123,5 +124,6 @@ TEST(PcapLibpcap, LinkTypeLibpcapCannotWriteIsAFileError) {
     EXPECT_FILE_ERROR(PcapWriter(dir / "x.pcap", config), (dir / "x.pcap").string(), 0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

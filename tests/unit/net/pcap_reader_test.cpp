@@ -15,6 +15,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 struct Rec {
     int64_t ts = 0;
@@ -451,5 +452,6 @@ TEST(PcapReader, MissingFileIsNotFound) {
     EXPECT_FILE_ERROR(PcapReader(dir / "zero.pcap"), (dir / "zero.pcap").string(), 0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

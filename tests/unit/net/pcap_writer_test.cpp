@@ -15,6 +15,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 constexpr int64_t kT0 = 1'700'000'000'000'000'000;
 
@@ -152,5 +153,6 @@ TEST(PcapWriter, Errors) {
     EXPECT_THROW(PcapWriter{bad}, common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

@@ -14,6 +14,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 struct Packet {
@@ -135,5 +136,6 @@ TEST_F(RosBagTest, TwoSensorsOrNoBagAreRefusedNamingTheFile) {
     EXPECT_FALSE(LooksLikeRosBag(tmp_ / "meta.json"));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

@@ -17,6 +17,7 @@
 
 namespace bimslam::net {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A UDP socket bound to `address` (port chosen by the kernel) that sends to 127.0.0.1:port.
 class Sender {
@@ -190,5 +191,6 @@ TEST(UdpSource, SetupErrors) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::net

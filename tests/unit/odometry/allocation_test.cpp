@@ -14,6 +14,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(HotPath, MotionPriorDoesNotAllocate) {
     MotionPrior prior;
@@ -31,11 +32,13 @@ TEST(HotPath, MotionPriorDoesNotAllocate) {
     EXPECT_EQ(test::Allocations() - before, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // Scans of a furnished room along a short walk (analytic ray casting, made before counting).
 std::vector<common::PointCloud> RoomScans(int n) {
@@ -123,5 +126,6 @@ TEST(HotPath, LidarOdometryAllocatesOnlyInsideCeresAndABoundedAmount) {
     EXPECT_LE(double(total) / double(solves), 200.0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

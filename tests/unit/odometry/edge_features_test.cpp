@@ -14,6 +14,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using test::Pose;
 
@@ -130,5 +131,6 @@ TEST(VoxelMap, FitsLinesWhenAskedAndFindsTheNearest) {
     EXPECT_EQ(planes.FindLine(Eigen::Vector3f(3.1f, 0.25f, 0.25f), &d), nullptr);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

@@ -11,6 +11,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 const Eigen::Vector3d kRest(0, 0, 9.80665);  // the specific force at rest, level
 constexpr double kDt = 0.01;                 // 100 Hz
@@ -80,5 +81,6 @@ TEST(ImuHeight, AnInvalidConfigurationIsNamed) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

@@ -14,6 +14,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using test::Pose;
 using Trajectory = std::function<Eigen::Isometry3d(double)>;  // T_world_lidar at t seconds
@@ -597,5 +598,6 @@ TEST(LidarOdometry, WithEdgeFeatures) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

@@ -7,6 +7,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 constexpr int64_t kMs = 1'000'000;
 
 // Samples at 100 Hz for `seconds` with constant body velocity and yaw rate.
@@ -160,5 +161,6 @@ TEST(MotionPrior, RejectsBadSamplesAndQueriesOutsideTheBuffer) {
     EXPECT_THROW(MotionPrior{config}, common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

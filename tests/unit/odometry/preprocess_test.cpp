@@ -11,6 +11,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 common::PointCloud Cloud(const std::vector<Eigen::Vector3f>& points, uint32_t dt_ns = 0) {
     common::PointCloud c;
@@ -172,5 +173,6 @@ TEST(VoxelMap, StaysBoundedAndDropsWhatLiesFarBehind) {
     EXPECT_EQ(map.points(), 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

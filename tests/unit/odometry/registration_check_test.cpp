@@ -6,6 +6,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 RegistrationResult Good() {
     RegistrationResult r;
@@ -68,5 +69,6 @@ TEST(RegistrationCheck, ConfigurationOutOfRangeIsRejected) {
     EXPECT_NO_THROW(c.Validate());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

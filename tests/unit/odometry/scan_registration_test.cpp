@@ -11,6 +11,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using test::Pose;
 
@@ -184,5 +185,6 @@ TEST(RegistrationConfig, ValidateNamesTheField) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

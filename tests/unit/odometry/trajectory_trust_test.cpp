@@ -8,6 +8,7 @@
 
 namespace bimslam::odometry {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(TrajectoryTrust, ARunWithNoFailedScanIsTrusted) {
     TrajectoryTrust t;
@@ -159,5 +160,6 @@ TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsSaidWithWhere) {
     EXPECT_DOUBLE_EQ(session.at("height_unseen_stretches")[0].at("seconds"), limit + 1.0);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::odometry

@@ -9,6 +9,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(HotPath, BatcherAndImuDecoderDoNotAllocateAfterTheFirstFrame) {
     for (LidarProfile profile : fixtures::kAllProfiles) {
@@ -41,5 +42,6 @@ TEST(HotPath, BatcherAndImuDecoderDoNotAllocateAfterTheFirstFrame) {
     EXPECT_EQ(test::Allocations() - before, 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

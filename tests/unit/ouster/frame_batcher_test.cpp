@@ -9,6 +9,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using Packets = std::vector<std::vector<uint8_t>>;
 
 // Feeds packets; returns copies of every frame emitted (Flush at the end).
@@ -326,11 +327,13 @@ TEST(FrameBatcher, PointCloudHasRingTimeAndOnlyReturns) {
     EXPECT_LT(*std::max_element(cloud.ring.begin(), cloud.ring.end()), 32);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(FrameBatcher, Fw2FootersAreNoCrc) {
     // FW 2.3 puts a constant marker in the footer (see PacketFormat::HasCrcFooter).
@@ -348,11 +351,13 @@ TEST(FrameBatcher, Fw2FootersAreNoCrc) {
     EXPECT_EQ(b.stats().TotalRejected(), 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(FrameBatcher, ResetForgetsEverything) {
     const SensorInfo info = fixtures::MakeSensor(LidarProfile::kRng15Rfl8Nir8);
@@ -369,5 +374,6 @@ TEST(FrameBatcher, ResetForgetsEverything) {
     EXPECT_EQ(b.stats().TotalRejected(), 0u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

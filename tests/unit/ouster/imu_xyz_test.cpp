@@ -10,6 +10,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // The spec's formula, evaluated directly for one pixel (specs/ouster-lidar.md, "Range -> XYZ").
 Eigen::Vector3d Formula(const SensorInfo& s, int u, int v, double range_mm) {
@@ -143,5 +144,6 @@ TEST(ImuDecoder, Accel32Gyro32NmeaPackets) {
     EXPECT_EQ(dec.Decode(p.data(), p.size(), out).rejected, ImuReject::kPacketType);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

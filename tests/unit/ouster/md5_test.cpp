@@ -6,6 +6,7 @@
 
 namespace bimslam::test {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(Md5, Rfc1321TestSuite) {
     // RFC 1321, appendix A.5.
@@ -26,5 +27,6 @@ TEST(Md5, Rfc1321TestSuite) {
     EXPECT_EQ(md5.HexDigest(), Md5Hex(s.data(), s.size()));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::test

@@ -16,6 +16,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 using common::FileError;
 using common::StatusCode;
 
@@ -580,11 +581,13 @@ TEST(Metadata, ProfileStringsRoundTrip) {
     EXPECT_EQ(ParseHeaderType("STANDARD "), std::nullopt);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(Metadata, SerializedSyntheticSensorsReadBackTheSame) {
     for (LidarProfile p : fixtures::kAllProfiles) {
@@ -605,11 +608,13 @@ TEST(Metadata, SerializedSyntheticSensorsReadBackTheSame) {
     fixtures::ExpectSameSensor(fusa, ParseMetadata("f.json", SerializeMetadata(fusa)));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(BuiltinSensor, IsAValidOs132InEveryMode) {
     for (const auto& [columns, rate] :
@@ -649,5 +654,6 @@ TEST(BuiltinSensor, EveryProductAndBeamCountIsValidWithItsFieldOfView) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

@@ -10,6 +10,7 @@
 
 namespace bimslam::ouster {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(Crc64, CheckValueAndAgreesWithBitwiseDefinition) {
     const char* check = "123456789";
@@ -90,5 +91,6 @@ TEST(PacketFormat, RejectsImpossibleLayouts) {
     EXPECT_THROW(PacketFormat{info}, common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::ouster

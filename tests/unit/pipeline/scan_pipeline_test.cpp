@@ -9,6 +9,7 @@
 
 namespace bimslam::pipeline {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 constexpr int64_t kSecond = 1'000'000'000;
 
@@ -91,5 +92,6 @@ TEST(ScanPipeline, ConfigurationIsChecked) {
     EXPECT_THROW(c.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::pipeline

@@ -7,6 +7,7 @@
 
 namespace bimslam::posegraph {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 bool IsClique(const Graph& g, const std::vector<size_t>& c) {
     for (size_t i = 0; i < c.size(); ++i) {
@@ -78,5 +79,6 @@ TEST(MaximumClique, AllowedLimitsTheVertices) {
     EXPECT_TRUE(MaximumClique(Graph(0)).vertices.empty());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::posegraph

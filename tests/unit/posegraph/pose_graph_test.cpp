@@ -13,6 +13,7 @@
 
 namespace bimslam::posegraph {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using odometry::test::Pose;
 
@@ -223,5 +224,6 @@ TEST(PoseGraph, BadFactorsAndConfigAreRefused) {
     EXPECT_THROW(c.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::posegraph

@@ -12,6 +12,7 @@
 
 namespace bimslam::registration {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using odometry::test::Pose;
 
@@ -161,5 +162,6 @@ TEST(RegistrationConfig, ValidateNamesTheField) {
     EXPECT_THROW(o.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::registration

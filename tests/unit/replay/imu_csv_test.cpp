@@ -12,6 +12,7 @@
 
 namespace bimslam::replay {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(ImuCsv, WhatIsWrittenReadsBack) {
     test::TempDir tmp;
@@ -58,5 +59,6 @@ TEST(ImuCsv, ADamagedFileIsRefusedNamingTheFileAndLine) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::replay

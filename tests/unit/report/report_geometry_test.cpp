@@ -9,6 +9,7 @@
 
 namespace bimslam::report {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(ReportGeometry, Base64IsRfc4648) {
     auto b = [](const std::string& s) { return Base64(s.data(), s.size()); };
@@ -81,5 +82,6 @@ TEST(ReportGeometry, ModelBuffersGroupByClassWithTheElementOfEachTriangle) {
     EXPECT_EQ(b["classes"][0]["element"], Base64(expected));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::report

@@ -12,6 +12,7 @@
 
 namespace bimslam::report {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 const std::vector<double> kElevations{0.0, 3.2};
 
@@ -87,5 +88,6 @@ TEST(StoreySplit, ABadConfigIsRefused) {
     EXPECT_THROW(c.Validate(), std::exception);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::report

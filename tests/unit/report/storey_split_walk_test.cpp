@@ -20,6 +20,7 @@
 
 namespace bimslam::report {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 const bim::BimModel& Office() {
     static const bim::BimModel model = bim::ParseIfc("office.ifc", bim::SampleBuildingIfc());
@@ -104,5 +105,6 @@ INSTANTIATE_TEST_SUITE_P(Platforms, StoreySplitWalk,
                                                                                  : "Handheld";
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::report

@@ -12,6 +12,7 @@
 
 namespace bimslam::rig {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 constexpr int64_t kSecond = 1'000'000'000;
 
@@ -109,5 +110,6 @@ TEST(HeartbeatsFresh, ARunningThreadThatStopsBeatingGoesStale) {
     t.Join();
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::rig

@@ -10,6 +10,7 @@
 
 namespace bimslam::runtime {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // The old summary's rule: the sorted latencies' element round(p (n - 1)).
 double ExactMs(std::vector<int64_t> v, double p) {
@@ -60,5 +61,6 @@ TEST(LatencyHistogram, BucketsEdgesAndEmpty) {
     EXPECT_EQ(h.PercentileMs(0.0), LatencyHistogram::Middle(0) * 1e-6);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::runtime

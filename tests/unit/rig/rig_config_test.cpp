@@ -11,6 +11,7 @@
 
 namespace bimslam::rig {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(RigConfig, SchemaNamesEveryKeyWithTypeAndRange) {
     const auto& keys = ConfigSchema();
@@ -61,5 +62,6 @@ TEST(RigConfig, RelationsBetweenKeys) {
     EXPECT_THROW(ValidateConfig(c), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::rig

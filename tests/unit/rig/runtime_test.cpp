@@ -17,6 +17,7 @@
 
 namespace bimslam::runtime {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(SpscQueue, FifoFullAndDrops) {
     SpscQueue<int> q("q", 3, [](int& v) { v = -1; });
@@ -145,5 +146,6 @@ TEST(ThreadTable, RunsRowsAndReportsCycles) {
     EXPECT_NE(t.Describe().find("worker"), std::string::npos);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::runtime

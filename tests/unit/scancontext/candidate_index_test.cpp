@@ -16,6 +16,7 @@
 
 namespace bimslam::scancontext {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using testing::AngleDiff;
 using testing::RandomDescriptor;
@@ -237,5 +238,6 @@ TEST(CandidateIndexTest, FindsTheRightTownPlace) {
     EXPECT_GE(far.yaw_within_sector, far.correct - 1);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::scancontext

@@ -11,6 +11,7 @@
 
 namespace bimslam::scancontext {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(ScanContextConfigTest, OutdoorDefaultsFollowThePaper) {
     const ScanContextConfig c = ScanContextConfig::Outdoor();
@@ -95,5 +96,6 @@ TEST(ScanContextConfigTest, EdgeValuesAreValid) {
     EXPECT_NO_THROW(c.Validate());
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::scancontext

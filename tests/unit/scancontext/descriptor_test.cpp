@@ -11,6 +11,7 @@
 
 namespace bimslam::scancontext {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using testing::Deg;
 
@@ -157,5 +158,6 @@ TEST(DescriptorTest, RingKeyIsRotationInvariantAndSectorKeyShifts) {
     for (int j = 0; j < 60; ++j) EXPECT_FLOAT_EQ(kb[(j + 13) % 60], ka[j]);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::scancontext

@@ -11,6 +11,7 @@
 
 namespace bimslam::scancontext {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using testing::AngleDiff;
 using testing::Deg;
@@ -184,5 +185,6 @@ TEST(DistanceTest, YawIsThatOfTheRelativePoseBA) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::scancontext

@@ -26,6 +26,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 const bim::BimModel& Office() {
     static const bim::BimModel model = bim::ParseIfc("office.ifc", bim::SampleBuildingIfc());
@@ -250,5 +251,6 @@ TEST(BuildingWalk, AStartOutsideWalksInThenUpTheStairs) {
         common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate

@@ -27,6 +27,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // A closed 8 x 6 x 3 m room with a pillar: every ray of a scan from inside hits something.
 simulation::Scene Room(common::TriangleMesh* mesh_out = nullptr) {
@@ -459,5 +460,6 @@ TEST(World, ObjFilesLoadAndBadOnesNameTheFileAndLine) {
     EXPECT_THROW(LoadMeshFile(dir / "x.stl"), common::FileError);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate

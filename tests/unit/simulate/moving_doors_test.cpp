@@ -15,6 +15,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using bim::ElementRole;
 
@@ -185,5 +186,6 @@ TEST(World, GlassWindowsAndMirrorsCarryTheirMaterials) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate

@@ -13,6 +13,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 std::vector<ouster::LidarFrame> Frames(const std::filesystem::path& dir) {
     const ouster::SensorInfo info = ouster::LoadMetadata(dir / "metadata.json");
@@ -71,5 +72,6 @@ INSTANTIATE_TEST_SUITE_P(Platforms, RigBodyInView,
                              return std::string(ToString(param_info.param));
                          });
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate

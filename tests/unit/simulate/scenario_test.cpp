@@ -15,6 +15,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using common::FileError;
 using common::StatusCode;
@@ -429,5 +430,6 @@ TEST(ScenarioVisits, ErrorsNameTheVisitsKeyAndLine) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate

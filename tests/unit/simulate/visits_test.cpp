@@ -17,6 +17,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -198,5 +199,6 @@ visits:
     EXPECT_LT(later / earlier, 1.05) << later << " " << earlier;
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate

@@ -12,6 +12,7 @@
 
 namespace bimslam::simulate {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 double Heading(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return std::atan2(b.y() - a.y(), b.x() - a.x());
@@ -113,6 +114,7 @@ TEST_F(VehicleWalk, NeedsWaypointsOutsideTheBuilding) {
     }
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 
 // The smallest distance(q) over the walk, sampled every 2 cm along it.

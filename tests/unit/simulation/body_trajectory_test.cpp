@@ -13,6 +13,7 @@
 
 namespace bimslam::simulation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 // An L: 10 m east, then 6 m north.
 std::vector<Eigen::Vector2d> LPath() { return {{0, 0}, {10, 0}, {10, 6}}; }
@@ -187,5 +188,6 @@ TEST(ImuModel, BiasesAreFixedAndNoiseHasItsSigma) {
     EXPECT_EQ(exact.Measure(5, f, w).accel, f);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulation

@@ -13,6 +13,7 @@
 // checked against the driver's own XYZ table rather than a re-derivation of the formula.
 namespace bimslam::simulation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 TEST(LidarModel, DefaultOs1_32HasTheBuiltInTable) {
     const LidarModel m = LidarModel::DefaultOs1_32();
@@ -132,5 +133,6 @@ TEST(LidarModel, ValidateNamesTheField) {
     EXPECT_THROW(LidarModel::DefaultOs1_32(1024, -10), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulation

@@ -13,6 +13,7 @@
 
 namespace bimslam::simulation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using namespace fixtures;  // the shared scenes and sensors
 
@@ -547,5 +548,6 @@ TEST(SimulateScan, RejectsInvalidArguments) {
     ExpectInvalid([&] { SimulateScan(scene, bad, I, NoiseModel(), 0, &img); }, "columns");
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulation

@@ -12,6 +12,7 @@
 
 namespace bimslam::simulation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using namespace fixtures;
 
@@ -226,5 +227,6 @@ TEST(SimulateScanMaterials, RejectsAWrongMaterialCountAndBadParameters) {
     EXPECT_THROW(n.Validate(), common::Error);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulation

@@ -11,6 +11,7 @@
 
 namespace bimslam::simulation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 using namespace fixtures;  // the shared scenes and sensors
 
@@ -234,5 +235,6 @@ TEST(SimulateScan, QuantisesToTheRangeResolution) {
     EXPECT_GT(returns, 400u);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulation

@@ -15,6 +15,7 @@
 
 namespace bimslam::simulation {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 
 common::TriangleMesh OneTriangle() {
     common::TriangleMesh m;
@@ -271,5 +272,6 @@ TEST(SceneClosestPoint, RespectsTheMaximumDistanceAndEmptyScenes) {
     EXPECT_FALSE(empty.ClosestPoint({0, 0, 0}));
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulation

@@ -15,6 +15,7 @@
 
 namespace bimslam::test {
 namespace {
+namespace BIMSLAM_UNITY_ID {
 namespace fs = std::filesystem;
 
 // The maker counts its runs in root/runs, then fails when $FIXTURE_FAIL is set.
@@ -63,5 +64,6 @@ TEST(CachedFixture, AGoodFixtureIsMadeOnceAndShared) {
     EXPECT_EQ(Runs(tmp.path()), 1);
 }
 
+}  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::test
