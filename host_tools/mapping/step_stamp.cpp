@@ -26,7 +26,11 @@ void StepStamp::AddFileContent(const std::string& key, const fs::path& file) {
 void StepStamp::AddFileTime(const std::string& key, const fs::path& file) {
     std::error_code ec;
     const auto size = fs::file_size(file, ec);
-    nlohmann::json j = {{"path", fs::absolute(file).lexically_normal().string()}};
+    // Not the path: a project moved with its recordings (or copied with their times, `cp -a`)
+    // is the same project, and its steps are not done again. Which file is which the project
+    // knows by the recording's identity (map_project.hpp); a file of the same size and time to
+    // the nanosecond that is another recording is not a case worth hashing gigabytes for.
+    nlohmann::json j = nlohmann::json::object();
     if (ec) {
         j["missing"] = true;
     } else {

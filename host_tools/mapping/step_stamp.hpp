@@ -19,8 +19,8 @@ public:
 
     // A file identified by content (SHA-256).
     void AddFileContent(const std::string& key, const std::filesystem::path& file);
-    // A file identified by size and modification time (nanoseconds); a missing file is noted
-    // as missing (its appearance changes the stamp).
+    // A file identified by size and modification time (nanoseconds), wherever it is; a missing
+    // file is noted as missing (its appearance changes the stamp).
     void AddFileTime(const std::string& key, const std::filesystem::path& file);
     // The stamp of a step this one read: a change there changes this one.
     void AddUpstream(const StepStamp& upstream);
