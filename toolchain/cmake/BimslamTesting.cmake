@@ -7,10 +7,14 @@ set_property(GLOBAL PROPERTY BIMSLAM_UNIT_TESTS "")
 set_property(GLOBAL PROPERTY BIMSLAM_SANITIZER_TESTS "")
 set_property(GLOBAL PROPERTY BIMSLAM_RELEASE_TESTS "")
 
-# bimslam_test(<name> LABEL <label> SOURCES ... DEPS ... [TIMEOUT s] [SERIAL])
-# SERIAL: ctest runs its cases alone (a test that changes the machine: installs packages).
+# bimslam_test(<name> LABEL <label> SOURCES ... DEPS ... [TIMEOUT s] [LOCK resource])
+# LOCK: ctest runs no two tests that hold the same resource at once (RESOURCE_LOCK): a test that
+# changes the machine (installs packages) holds "machine_packages". Not RUN_SERIAL, which left a
+# core idle while DebPackage ran alone (20-28 s): no other test installs, removes or runs what a
+# package installs (the other tests run the build's programs, and publish LCM on channels of
+# their own).
 function(bimslam_test name)
-    cmake_parse_arguments(ARG "SERIAL" "LABEL;TIMEOUT" "SOURCES;DEPS" ${ARGN})
+    cmake_parse_arguments(ARG "" "LABEL;TIMEOUT;LOCK" "SOURCES;DEPS" ${ARGN})
     if(NOT ARG_TIMEOUT)
         set(ARG_TIMEOUT 300)
     endif()
@@ -55,9 +59,13 @@ function(bimslam_test name)
         target_compile_options(${name} PRIVATE -O1)
     endif()
     # The project root lets data tests find ../shared/data from any build folder.
+    set(lock)
+    if(ARG_LOCK)
+        set(lock RESOURCE_LOCK ${ARG_LOCK})
+    endif()
     gtest_discover_tests(${name}
         DISCOVERY_MODE PRE_TEST
-        PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${ARG_SERIAL}
+        PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} ${lock}
                    ENVIRONMENT "BIMSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
     # Which build a test program belongs to (tests/unit/CMakeLists.txt, toolchain/README.md):
     # `sanitized` ones to the sanitizer run (target sanitizer_tests); the others but fuzz to
