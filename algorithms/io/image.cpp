@@ -1,25 +1,14 @@
 #include "algorithms/io/image.hpp"
 
-#include <zlib.h>
+#include <png.h>
+
+#include <csetjmp>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
 
 namespace bimslam::io {
 namespace {
-void Put32(std::string& out, uint32_t v) {
-    for (int s = 24; s >= 0; s -= 8) out += static_cast<char>((v >> s) & 0xFF);
-}
-
-// A PNG chunk: length, type, data, CRC-32 over type and data (ISO/IEC 15948, 5.3).
-void Chunk(std::string& out, const char* type, const std::string& data) {
-    Put32(out, static_cast<uint32_t>(data.size()));
-    const std::string body = std::string(type, 4) + data;
-    out += body;
-    Put32(out, static_cast<uint32_t>(
-                   crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size()))));
-}
-
 void Check(const Image& image, const std::string& what) {
     const bool ok = image.width > 0 && image.height > 0 &&
                     (image.channels == 1 || image.channels == 3) &&
@@ -32,35 +21,51 @@ void Check(const Image& image, const std::string& what) {
                                 std::to_string(image.data.size()) + " bytes");
     }
 }
+
+void Append(png_structp png, png_bytep data, png_size_t n) {
+    static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<char*>(data), n);
+}
+
+// libpng reports errors by longjmp to the setjmp below: nothing in this function's frame needs
+// destroying between the two (`out` is the caller's), so the jump skips no destructor.
+bool WriteRows(const Image& image, PngCompression compression, std::string* out) {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (!info) {
+        png_destroy_write_struct(&png, nullptr);
+        return false;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return false;
+    }
+    png_set_write_fn(png, out, Append, nullptr);
+    png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8,
+                 image.channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (compression == PngCompression::kFast) {
+        png_set_compression_level(png, 1);
+        png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+    } else {
+        png_set_compression_level(png, 6);
+        png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_ALL_FILTERS);
+    }
+    png_write_info(png, info);
+    for (int y = 0; y < image.height; ++y) png_write_row(png, image.At(0, y));
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return true;
+}
 }  // namespace
 
-std::string EncodePng(const Image& image) {
+std::string EncodePng(const Image& image, PngCompression compression) {
     Check(image, "PNG");
-    std::string out("\x89PNG\r\n\x1a\n", 8);
-    std::string ihdr;
-    Put32(ihdr, uint32_t(image.width));
-    Put32(ihdr, uint32_t(image.height));
-    ihdr += char(8);                            // bit depth
-    ihdr += char(image.channels == 1 ? 0 : 2);  // colour type: grey or RGB
-    ihdr += std::string("\0\0\0", 3);           // deflate, adaptive filters, no interlace
-    Chunk(out, "IHDR", ihdr);
-    // Every scanline with filter type 0 (none), then deflate.
-    const size_t row = size_t(image.width) * image.channels;
-    std::string raw;
-    raw.reserve((row + 1) * image.height);
-    for (int y = 0; y < image.height; ++y) {
-        raw += '\0';
-        raw.append(reinterpret_cast<const char*>(image.At(0, y)), row);
+    std::string out;
+    if (!WriteRows(image, compression, &out)) {
+        throw common::Error(common::StatusCode::kInternal,
+                            "libpng could not encode a " + std::to_string(image.width) + "x" +
+                                std::to_string(image.height) + " image");
     }
-    uLongf size = compressBound(uLong(raw.size()));
-    std::string z(size, '\0');
-    if (compress2(reinterpret_cast<Bytef*>(z.data()), &size,
-                  reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 6) != Z_OK) {
-        throw common::Error(common::StatusCode::kInternal, "PNG: zlib compression failed");
-    }
-    z.resize(size);
-    Chunk(out, "IDAT", z);
-    Chunk(out, "IEND", "");
     return out;
 }
 

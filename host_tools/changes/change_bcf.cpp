@@ -373,7 +373,7 @@ ChangeBcf ChangesBcf(const bim::BimModel& model, const SessionChanges& found,
         const io::Image image = renderer.Render(t.camera, t.highlight);
         out.render_s += common::SecondsSince(r0);
         const auto p0 = common::SteadyClock::now();
-        t.topic.viewpoint.snapshot_png = EncodePngLibpng(image);
+        t.topic.viewpoint.snapshot_png = io::EncodePng(image, io::PngCompression::kFast);
         t.topic.viewpoint.aspect = double(renderer.width()) / renderer.height();
         out.png_s += common::SecondsSince(p0);
         bcf.push_back(std::move(t.topic));

@@ -4,7 +4,6 @@
 // vertex arrays): nothing to load at run time, and llvmpipe runs them on the CPU's threads.
 #include <GL/gl.h>
 #include <GL/osmesa.h>
-#include <png.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -237,41 +236,6 @@ io::Image SnapshotRenderer::Render(const SnapshotCamera& camera,
         for (int c = 0; c < 3; ++c) image.data[3 * i + c] = m.rgba[4 * i + c];
     }
     return image;
-}
-
-std::string EncodePngLibpng(const io::Image& image) {
-    if (image.channels != 1 && image.channels != 3)
-        RenderFail("PNG of " + std::to_string(image.channels) + " channels");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!info) {
-        png_destroy_write_struct(&png, nullptr);
-        RenderFail("libpng: out of memory");
-    }
-    std::string out;
-    if (setjmp(png_jmpbuf(png))) {  // libpng's errors land here
-        png_destroy_write_struct(&png, &info);
-        RenderFail("libpng could not encode a " + std::to_string(image.width) + "x" +
-                   std::to_string(image.height) + " image");
-    }
-    png_set_write_fn(
-        png, &out,
-        [](png_structp p, png_bytep data, png_size_t n) {
-            static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<char*>(data), n);
-        },
-        nullptr);
-    png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8,
-                 image.channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    // Level 1 and the Sub filter: a rendered picture's flat areas compress well either way, and
-    // a hundred of them must take well under a second (tests/benchmarks/bcf_benchmark.cpp).
-    png_set_compression_level(png, 1);
-    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
-    png_write_info(png, info);
-    for (int y = 0; y < image.height; ++y) png_write_row(png, image.At(0, y));
-    png_write_end(png, nullptr);
-    png_destroy_write_struct(&png, &info);
-    return out;
 }
 
 }  // namespace bimslam::change_detection

@@ -58,8 +58,4 @@ private:
     int width_, height_;
 };
 
-// PNG bytes of an RGB or grey image, by libpng (fast zlib level: snapshots are many and small).
-// Throws common::Error (kInternal) with libpng's message.
-std::string EncodePngLibpng(const io::Image& image);
-
 }  // namespace bimslam::change_detection

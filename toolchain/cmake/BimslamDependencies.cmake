@@ -110,6 +110,8 @@ if(BIMSLAM_HOST_TOOLS)
     pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
     pkg_check_modules(LIBXML2 REQUIRED IMPORTED_TARGET libxml-2.0)
     pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
+    # SHA-256 and base64 (algorithms/io, host_tools/report): OpenSSL's libcrypto (libssl-dev).
+    find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 endif()
 
 if(BUILD_TESTING)
