@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The Debian packages (`make deb`, toolchain/debian/README.md) as a user installs them on this
 // machine: cpack builds them from this build tree, lintian finds no error, dpkg -i installs
 // them, systemd-analyze verify accepts the installed units, the installed programs run, the
