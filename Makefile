@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # The two commands of the README, and a few more for developers.
 #   make demo   install what is missing, build, run the main job end to end
 #   make test   install what is missing, build, run the whole test suite (Release: unit, scene,

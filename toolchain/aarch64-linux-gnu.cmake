@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Cross-compilation to 64-bit ARM Linux (the Go1's Jetson, a Raspberry Pi class board) with
 # Debian's cross compiler (crossbuild-essential-arm64) and arm64 multiarch packages of the
 # dependencies; `toolchain/install-deps.sh --cross` installs both (toolchain/README.md).

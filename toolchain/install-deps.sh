@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Installs the Debian 12 packages bimslam needs (and, with --test, the npm package of a test tool).
 # Idempotent: when everything is present it only asks dpkg (about a second) and changes nothing.
 # Usage: sudo toolchain/install-deps.sh [--test|--cross]

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # LCM's UDP multicast (udpm://239.255.76.67:7667?ttl=0) needs a route for 224.0.0.0/4. A machine
 # without a default route (a CI container, an offline rig) has none: route multicast over the
 # loopback interface then. Changes nothing when a route exists.

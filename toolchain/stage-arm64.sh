@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Unpacks the arm64 packages that cannot be installed beside their amd64 versions into a staging
 # folder for the aarch64 cross-build (toolchain/aarch64-linux-gnu.cmake, toolchain/README.md).
 # Called by `toolchain/install-deps.sh --cross`; idempotent: it does nothing when the staging

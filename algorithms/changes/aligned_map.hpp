@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The session's map in the model's frame (Step 3 of the paper, first half): every keyframe cloud
 // placed at its (anchored) pose and merged, then voxel-filtered. A voxel keeps the centroid of
 // the points that fell in it, how many points that was, and how many distinct keyframes saw it

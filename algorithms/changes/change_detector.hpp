@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Change detection of one session against the building model: Step 3 of the paper plus its
 // future work (README.md in this folder has the method, the defaults and why).
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The building model as change detection sees it: one triangle mesh in the model's frame (metres)
 // with the element of every triangle, and per element whether a LiDAR beam stops at it. Neutral
 // (no IFC): host_tools/changes fills it from a bim::BimModel, tests from synthetic rooms.

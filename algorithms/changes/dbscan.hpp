@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // DBSCAN (Ester, Kriegel, Sander, Xu, KDD 1996) on 3D points, exact, in O(n log n): the grid
 // variant of Gunawan (2013) / Gan & Tao (SIGMOD 2015). Cells have side eps / sqrt(3), so any two
 // points of a cell are within eps: a cell holding a core point belongs to one cluster as a whole,

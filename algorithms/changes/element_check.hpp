@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The verdict on each element of the model, and its as-built deviation (Scan-vs-BIM).
 //
 // Support: the map points whose nearest element it is, within support_distance_m of it, that are

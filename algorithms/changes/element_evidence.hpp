@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What the session's rays say about each element of the model (the negative differences of Step 3,
 // the paper's future work). For every point of every keyframe, the model's opaque elements are
 // ray-cast along the beam that measured it: from the keyframe's sensor origin through the point.

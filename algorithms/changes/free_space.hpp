@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Free-space evidence for map points, in the manner of Removert (Kim & Kim, IROS 2020: range
 // images of the keyframes, compared with the map) and OctoMap (a beam proves empty what it passed
 // through): a point is transient (a person, something moved away) when one keyframe saw it where

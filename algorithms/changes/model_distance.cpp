@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "algorithms/changes/model_distance.hpp"
 
 #include <tbb/blocked_range.h>

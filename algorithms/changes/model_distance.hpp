@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Signed distance from every map point to the nearest element of the model, and that element
 // (Step 3 of the paper: "point-to-mesh distance against the BIM").
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Elements that were moved: the element is (partly) missing where the model has it, and a new
 // object nearby has its shape. For every element judged missing, or seen over less than
 // max_seen_fraction of its expected area (a desk moved by less than its size still covers part of

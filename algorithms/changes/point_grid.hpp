@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Points binned into cubic cells, for fixed-radius neighbour searches (DBSCAN, region growing,
 // normals). The cells are sorted by their packed key (x, then y, then z), so the cells of one
 // (x, y) column are contiguous and a neighbourhood of reach r is (2r + 1)^2 binary searches, one

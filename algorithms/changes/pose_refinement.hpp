@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A joint estimate of the anchored keyframe poses and of every element's as-built offset, against
 // the model, before the changes are measured (change_detector.hpp runs it first).
 //

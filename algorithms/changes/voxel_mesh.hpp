@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // New objects as voxel solids and their surface meshes. A solid is a set of cubic voxels (indices
 // on a lattice of voxel_m); its mesh has the faces between an occupied and an empty voxel only,
 // two triangles each, counter-clockwise seen from outside, with the lattice corners as shared

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A CAN or CAN FD frame as every CAN source and sink of the project exchanges it (SocketCAN,
 // candump logs, pcaps of link type 227, the Go1 bridge). Plain data: no allocation.
 #pragma once

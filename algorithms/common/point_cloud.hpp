@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A point cloud as a structure of arrays.
 //
 // xyz is always present; intensity, ring and time offset are optional channels, present when

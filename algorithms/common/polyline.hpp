@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Planar polylines: resampling at a fixed spacing along their length (walks, coverage paths).
 #pragma once
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // SE(3) helpers on Eigen::Isometry3d.
 //
 // Conventions: a transform is named T_to_from (T_world_lidar maps lidar points into world).

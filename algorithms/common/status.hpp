@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Status and error types.
 //
 // Hot paths (per packet, per scan) return a Status and count faults; they never throw. Set-up,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Seconds of wall-clock time since a moment: what host tools and benchmarks report as timings.
 #pragma once
 #include <chrono>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Time as int64 nanoseconds in a named clock (DESIGN.md, "Conventions").
 //
 // A Timestamp<Clock> cannot be mixed with a timestamp of another clock: the sensor's clock, this

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // An indexed triangle mesh, the shape the BIM ingest, the ray caster and the change detector
 // exchange.
 #pragma once

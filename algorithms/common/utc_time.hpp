@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Calendar time: ISO 8601 text to and from UNIX-epoch nanoseconds (the host clock's, HostTime),
 // in UTC whatever the machine's time zone. `bimslam simulate --start` and `bimslam map`'s visits
 // (their dates, from the recordings' first packets) read and write these.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Voxel keys and a flat hash table from a 64-bit key to a 32-bit value: what voxel filters, the
 // odometry's and registration's surfel maps and the change detection's maps, evidence cells and
 // voxel meshes share. They insert up to millions of keys, where std::unordered_map's node per entry

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Where the files of a recording are. A recording is given as either
 // - a capture folder, as the rig records and `bimslam simulate` writes it: lidar.pcap,
 //   metadata.json, go1_can.log when the Go1 was there, capture.json (the mount) when known; or

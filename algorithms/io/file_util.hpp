@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Whole-file reads, atomic writes and exact number formatting shared by every reader and writer.
 #pragma once
 

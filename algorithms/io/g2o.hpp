@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // g2o pose-graph text files, the subset SC-A-LOAM writes (singlesession_posegraph.g2o):
 //   VERTEX_SE3:QUAT id x y z qx qy qz qw
 //   EDGE_SE3:QUAT i j x y z qx qy qz qw I11 I12 .. I16 I22 .. I66   (21 upper-triangular entries

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Images for maps and plots: 8-bit grey or RGB, written as PNG (what every viewer shows) or PGM
 // (what ROS map_server reads). Writing only: the project never needs to read them back.
 #pragma once

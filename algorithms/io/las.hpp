@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // ASPRS LAS 1.4 point clouds (LAS Specification 1.4 R15, ASPRS 2019), as the tools of surveyors
 // and BIM users load them (CloudCompare, Recap, Navisworks, Cyclone, PDAL, LAStools): point data
 // record format 6 (x y z, intensity, returns, classification, user data, point source id, GPS

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The reader of algorithms/io/las.hpp: LAS 1.4, point format 6, uncompressed (what WriteLas
 // writes, and any such file of another writer). Layouts: ASPRS LAS 1.4 R15 Tables 3, 4, 12, 24.
 #include <cstring>

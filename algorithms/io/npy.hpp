@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // NumPy .npy arrays (format versions 1.0, 2.0 and 3.0,
 // https://numpy.org/doc/stable/reference/generated/numpy.lib.format.html), for handing images,
 // descriptors and matrices to Python tools.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // PCD v0.7 point cloud files
 // (https://pointclouds.org/documentation/tutorials/pcd_file_format.html), the keyframe cloud format
 // of specs/session-data.md, readable by PCL, Open3D and CloudCompare.

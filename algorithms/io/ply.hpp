@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // PLY files (http://paulbourke.net/dataformats/ply/): point clouds and triangle meshes, ASCII and
 // binary little-endian, with extra per-vertex properties (e.g. the BIM element index of a vertex).
 #pragma once

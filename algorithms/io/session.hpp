@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Session data: the on-disk contract between the rig, the BIM generator and the host tools
 // (specs/session-data.md). A session is a pose graph plus, per keyframe, its cloud and its Scan
 // Context descriptor; the file names are those SC-A-LOAM writes and LT-mapper reads.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // session.json (specs/session-data.md): every field checked on read, with the field named.
 #include <cstdint>
 #include <nlohmann/json.hpp>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // SHA-256 (FIPS 180-4), to name the exact BIM model a session was generated from
 // (specs/session-data.md: session.json holds the model's sha256).
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Line-oriented text parsing with errors that name the file and the line.
 //
 // Every text reader of the project (trajectories, Scan Context files, g2o, ASCII PCD and PLY)

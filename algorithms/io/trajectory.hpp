@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Trajectories in the TUM format ("t x y z qx qy qz qw" per line, seconds and metres;
 // https://cvg.cit.tum.de/data/datasets/rgbd-dataset/file_formats) and the KITTI format (the 12
 // numbers of the row-major 3x4 matrix per line, no time).

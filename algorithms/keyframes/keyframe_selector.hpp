@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Keyframe selection for a rig session: a scan becomes a keyframe when it is distance_m or
 // angle_deg away from the last keyframe (SC-A-LOAM's rule; the paper used 1 m and 10 degrees).
 // A keyframe carries its deskewed cloud in its own lidar frame, its indoor Scan Context

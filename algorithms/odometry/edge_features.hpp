@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LOAM edge features (Zhang & Singh, "LOAM: Lidar Odometry and Mapping in Real-time", RSS 2014,
 // section V-A), as an option of the odometry: off by default, because on the project's captures
 // they did not pay for their time (README.md, "Why point-to-plane ...").

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The lidar's height from the accelerometers between scans: where the scans do not see the
 // height, the prediction along gravity is what the accelerometers measured, not a vertical
 // velocity carried on from before (issue 31, item 4).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LiDAR odometry: one scan in, its pose in the odometry frame out, in bounded time. No thread and
 // no I/O of its own: the rig's odometry module and `bimslam odometry` run this same code.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LidarOdometry's judgement of its own registrations (registration_check.hpp), apart from
 // lidar_odometry.cpp so that Process only calls it.
 #include <cmath>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Dead reckoning from a legged robot's body motion (the Go1's velocity, yaw rate and IMU
 // attitude, decoded from CAN): the motion prior that LiDAR odometry uses as its initial guess,
 // for deskewing, and along directions a scan leaves unconstrained (long corridors).

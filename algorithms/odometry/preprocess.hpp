@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scan preprocessing for LiDAR odometry: range crop, the rig's self-filter box, per-point deskew
 // and voxel downsampling. Everything is sized at construction; Run() never allocates once the
 // scan size has been seen (the rig's hot path, DESIGN.md "Conventions").

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A registration judged by its own evidence (issue 32, item 3): a scan whose registration ended
 // in a wrong minimum must say so, not pass as a good pose. Measured on the project's captures
 // (README.md, "Large motion and failure detection"): a scan registered where it belongs finds a

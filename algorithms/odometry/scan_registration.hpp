@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scan-to-map registration: point-to-plane ICP against the VoxelMap's planes, solved with Ceres;
 // optionally LOAM edge points point-to-line against an edge map (edge_features.hpp).
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Whether a trajectory (replayed, or the rig's) can be trusted (issue 32, item 3): the scans whose
 // registration failed (too few correspondences) or failed its own evidence (kCheckFailed,
 // algorithms/odometry/registration_check.hpp) gathered into stretches, and a verdict for the run.

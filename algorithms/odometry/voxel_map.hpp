@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The local map of LiDAR odometry: a voxel hash of a bounded number of points, each voxel
 // holding a few points and the plane fitted to them (its centroid and normal, from the
 // eigen-decomposition of their covariance). Scan points are registered to these planes

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The per-scan join of the on-board mapping: decoded sensor data in, odometry, keyframes and the
 // session's records out. `bimslam odometry` (host_tools/replay) and `bimslam-rig`
 // (firmware/modules/odometry_module) run this one class, so they cannot drift apart; they differ

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // SerializeMultiSessionG2o (pose_graph.hpp): the optimised graph for g2o_viewer and LT-mapper.
 #include <string>
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The maximum clique of an undirected graph: the core of pairwise consistency maximisation
 // (Mangelson, Dominic, Eustice, Vasudevan, "Pairwise Consistent Measurement Set Maximization for
 // Robust Multi-robot Map Merging", ICRA 2018), where vertices are loop measurements and an edge

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A multi-session pose graph with anchor nodes (Kim, Kaess, Fletcher, Leonard, Bachrach, Roy,
 // Teller, "Multiple relative pose graphs for robust cooperative mapping", ICRA 2010; the
 // LT-mapper line of work), solved with Ceres.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The relative-pose residual of the pose graph, as a Ceres functor over quaternion (x y z w) and
 // translation blocks: shared by the pose graph (pose_graph.hpp) and by the keyframes' refinement
 // against the model (algorithms/changes/pose_refinement.hpp), so both read a session's edges the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Negative evidence for a placement: a query point is "seen through" a surface of the map when
 // the ray from the query's sensor to it crosses a surfel facing that sensor well before the point.
 // Where the query really is, that happens only where the world differs from the map (a wall that

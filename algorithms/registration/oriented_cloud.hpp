@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A keyframe cloud prepared for registration: points thinned to a voxel grid, each with the
 // normal of the surface it lies on, oriented towards the sensor that saw it.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Loop registration: an oriented query cloud (a keyframe, or a few merged around it) aligned to a
 // surfel map built in the target's frame (the BIM reference, or another session's submap), from
 // coarse to fine, with its fitness and a 6x6 information matrix taken from the problem at the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The target of loop registration: a map of planar patches ("surfels") over a voxel grid, built
 // from oriented clouds (oriented_cloud.hpp) placed in the map's frame. A voxel keeps one surfel
 // per normal bin: the six half-axes (+x, -x, +y, ...) nearest the points' oriented normals. So the

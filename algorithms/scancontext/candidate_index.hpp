@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Place-recognition search over stored descriptors ([SC] = Kim & Kim, IROS 2018, Sec. IV-A):
 // the ring keys (rotation-invariant) go into an exact KD-tree; the nearest ring keys are the
 // candidates, and the full distance of distance.hpp picks the best of them and its yaw.

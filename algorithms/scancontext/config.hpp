@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scan Context configuration (Kim & Kim, "Scan Context: Egocentric Spatial Descriptor for Place
 // Recognition within 3D Point Cloud Map", IROS 2018; referred to below as [SC]).
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The Scan Context descriptor of one scan and its ring and sector keys ([SC] = Kim & Kim, IROS
 // 2018; see config.hpp).
 //

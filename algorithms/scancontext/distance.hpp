@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scan Context distance with yaw recovery ([SC] = Kim & Kim, IROS 2018, Sec. III-B).
 //
 // Yaw convention. Distance(a, b) returns the yaw theta with

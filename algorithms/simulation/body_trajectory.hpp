@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The motion of a platform (a Go1 trotting, a person carrying the sensor, or a vehicle) along a
 // planar path, as a continuous-time trajectory that is smooth in SE(3): the pose of the platform's
 // base at any time, from which the capture simulator takes the sensor's pose per LiDAR column

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to algorithms/simulation: what a Scene holds. Only the simulation's .cpp files include
 // this (it is where Embree appears).
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // An IMU's measurement model for the capture simulator: the true angular rate and specific force
 // (BodyTrajectory::Kinematics) plus a constant bias per axis, drawn once from N(0, bias_sigma^2),
 // and white noise per sample, N(0, sigma^2):

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A spinning multi-beam LiDAR's geometry (an Ouster OS sensor's intrinsics), as a neutral struct:
 // algorithms/ may not use drivers/, so host tools convert drivers/ouster's SensorInfo into this
 // (host_tools/bim/lidar_from_metadata.hpp).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LiDAR scans simulated by ray casting against a Scene, in the sensor's own staggered H x W
 // layout (row u = beam, column v = measurement id), so that a simulated range image decodes with
 // the driver's XYZ table (drivers/ouster XyzLut) to the ray-cast points.

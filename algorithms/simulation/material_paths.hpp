@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to algorithms/simulation: a beam followed through glass and off mirrors (Scene's
 // Material). SimulateScan casts packets against the static scene; the few lanes whose hit is on a
 // glass or mirror triangle are handed to FollowPath, which carries on with one rtcIntersect1 per

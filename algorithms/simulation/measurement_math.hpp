@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to algorithms/simulation: the measurement model's arithmetic (counter-based random
 // numbers, the normal quantile, powers and rounding), kept free of Embree and TBB so that the unit
 // tests can check it directly.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Box and vertical cylinder meshes: the solids scenario edits add to a simulated world
 // (host_tools/simulate) and the shapes the tests build their scenes from. Here rather than in
 // host_tools/simulate so that the odometry's and registration's scene tests need only this

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A triangle mesh made ready for ray casting and closest-point queries (an Embree 3 BVH), with one
 // id per triangle (for a BIM model the index of the element the triangle belongs to).
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // candump log files (`candump -l`, linux-can/can-utils), read and written.
 //
 // One frame a line (specs/go1-can.md, "Recording and replay"):

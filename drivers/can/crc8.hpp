@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // CRC-8/SAE-J1850 (polynomial 0x1D, init 0xFF, final xor 0xFF, neither input nor output
 // reflected; check value of "123456789" is 0x4B): byte 0 of every Go1 frame (specs/go1-can.md,
 // "Rules every frame follows"; the DBC's network comment says the same).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Vector DBC files (CAN databases): the part of the format that drivers/can/go1_odometry.dbc, the
 // single source of truth of the Go1 CAN contract (specs/go1-can.md), uses.
 //

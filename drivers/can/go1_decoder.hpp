@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Go1 CAN frames to Go1Samples (specs/go1-can.md; the rules in full: drivers/can/README.md):
 // - every frame is checked end to end: identifier (foreign ones are ignored and counted), frame
 //   type, DLC 8, CRC-8/SAE-J1850 (crc8.hpp), then the alive counter per message;

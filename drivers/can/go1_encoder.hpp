@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Go1Samples to the CAN frames of go1_odometry.dbc: the sending side of the contract that
 // Go1Decoder checks, used by the Go1 bridge (firmware/go1_bridge) and the capture simulator.
 //

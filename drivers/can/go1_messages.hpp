@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The ten messages of go1_odometry.dbc as Go1Encoder and Go1Decoder share them: each message's
 // signal codecs in a fixed slot order, its Go1Group bit, and the schedule both sides derive from
 // the DBC's cycle times (drivers/can/README.md, "Counters and cycles"):

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // One Go1 HighState sample as it arrives over CAN (specs/go1-can.md, drivers/can/
 // go1_odometry.dbc): every signal in physical SI units, with the validity of each message group.
 // Plain data, no allocation; the decoder fills it, the bridge's encoder reads it.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Packing and unpacking DBC signals, precomputed per signal so that the hot path does no string
 // lookups, no allocation and no exceptions (DESIGN.md, "Hot path").
 //

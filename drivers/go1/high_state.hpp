@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Unitree Go1 high-level UDP messages: HighState (the robot's state, 1087 bytes) and HighCmd (the
 // request a client sends, 129 bytes), as unitree_legged_sdk's go1 branch defines them in
 // include/unitree_legged_sdk/comm.h: `#pragma pack(1)` structs, little-endian, a CRC-32 in the

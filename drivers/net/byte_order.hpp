@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to drivers/net: big- and little-endian loads and stores of the wire formats (pcap
 // headers, IPv4/UDP, SocketCAN's pcap link type), and the receive-time fallback of the sockets.
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // CAN frames in packet captures (specs/go1-can.md, "Recording and replay"): decoding pcap records
 // into common::CanFrame and encoding frames into records.
 //

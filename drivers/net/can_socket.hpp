@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Live SocketCAN reception (and sending, for the Go1 bridge): one raw CAN socket (PF_CAN,
 // SOCK_RAW, CAN_RAW) bound to an interface.
 //

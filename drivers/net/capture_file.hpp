@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to drivers/net: a stdio stream over a capture file, plain or gzip-compressed, the
 // input of libpcap (which reads a FILE*) and of the pcapng block reader.
 //

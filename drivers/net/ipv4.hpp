@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // From captured link-layer frames to UDP datagrams: link layers (Ethernet with 802.1Q/802.1ad
 // tags, Linux cooked SLL and SLL2, raw IPv4, BSD loopback), IPv4 with fragment reassembly, UDP.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The UDP datagrams of a recording file, whatever its format: a pcap or pcapng (plain or .gz;
 // PcapReader + UdpExtractor: link layers, IPv4 reassembly) or a ROS 1 bag of ouster-ros packet
 // topics (RosPacketBag: each topic's messages given a port). Told apart by the file's content, so

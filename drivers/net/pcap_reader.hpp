@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Packet capture files: classic pcap and pcapng, plain or gzip-compressed, streamed record by
 // record.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Classic pcap writer (pcap-savefile(5), draft-ietf-opsawg-pcap), for the capture simulator, for
 // tests, and for CAN recordings (link type 227, records written raw). libpcap writes the file
 // (pcap_open_dead_with_tstamp_precision for the link type, snaplen and precision, pcap_dump_fopen,

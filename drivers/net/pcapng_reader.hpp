@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to drivers/net: pcapng (draft-ietf-opsawg-pcapng), read block by block, behind
 // PcapReader.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "drivers/net/ros_packet_bag.hpp"
 
 #include <ros/serialization.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A ROS 1 bag of raw sensor packets, as ouster-ros records them, read with the ROS library itself
 // (Debian's rosbag_storage: rosbag::Bag and rosbag::View), not a parser of our own.
 //

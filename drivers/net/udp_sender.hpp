@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Sending UDP datagrams in batches with sendmmsg(2): what `bimslam ouster replay` uses to put a
 // recording's packets on a real socket at the recorded pace (a bench stand-in for the sensor).
 // One socket, optionally bound to a local address and port (a receiver that connect()s to the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Live UDP reception for the sensor's lidar and IMU streams.
 //
 // One socket, bound to an address and port; datagrams are read in batches with recvmmsg(2) into

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The project's own Ouster sensors, for the demo and the capture simulator when no metadata file
 // is given: a uniform beam table over the product's vertical field of view (OS0 90, OS1 45, OS2
 // 22.5 degrees, Ouster's datasheets), the four staggered detector columns (azimuth offsets of

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Lidar packets to frames (specs/ouster-lidar.md, "Batching columns into frames"):
 // - a packet with a newer frame id (16-bit wrap-aware, 32-bit for FUSA) closes the frame being
 //   filled; packets of an older frame arriving late are dropped and counted; reordering within a

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Ouster IMU packets (specs/ouster-lidar.md, "IMU packets"), both layouts, converted to SI units
 // and rotated into the sensor frame:
 // - LEGACY (48 B, 100 Hz): u64 system, accelerometer and gyroscope times (ns, lidar clock), then

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // One rotation of an Ouster sensor: staggered field images, per-column headers, XYZ, and what
 // went missing (specs/ouster-lidar.md, "Batching columns into frames"). Filled by FrameBatcher;
 // buffers are sized once and reused, so the hot path never allocates after the first frame.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Ouster metadata JSON, both layouts (specs/ouster-lidar.md, "Metadata JSON: two layouts").
 //
 // Both layouts are first mapped onto one set of logical fields (Layout), each carrying the dotted

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Ouster metadata JSON, both layouts (specs/ouster-lidar.md, "Metadata JSON: two layouts"):
 // flat (FW 1.12-2.x tools) and nested (FW 2.2+), with the spec's defaults for missing fields.
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The inverse of the decoder: frames to byte-exact Ouster packets of any profile
 // (specs/ouster-lidar.md), for the capture simulator and for tests. Headers carry the metadata's
 // init_id and prod_sn, LEGACY columns their frame id and encoder count, and packets of the newer

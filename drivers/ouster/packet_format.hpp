@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The byte layout of Ouster lidar packets for every UDP profile (specs/ouster-lidar.md, "LEGACY
 // format" and "Newer UDP profiles"): sizes, header fields, column headers and the bit positions
 // of every pixel field. Pure arithmetic on a byte pointer; no allocation, no exceptions after

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The metadata's enum strings (specs/ouster-lidar.md) and back.
 #include "drivers/ouster/sensor_info.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What the Ouster metadata JSON says about a sensor (specs/ouster-lidar.md, "Metadata JSON"), in
 // one layout-independent struct. metadata.hpp parses both JSON layouts into it.
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Range to XYZ exactly as specs/ouster-lidar.md "Range -> XYZ" (the Ouster SDK's lookup table):
 // per pixel a unit direction and an offset, both in the sensor frame, so that
 //     xyz_m(u, v) = range_mm(u, v) * 0.001 * direction(u, v) + offset(u, v).

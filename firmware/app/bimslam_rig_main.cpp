@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-rig: the on-board firmware (firmware/app/README.md).
 //   bimslam-rig live --config rig.yaml [--handheld]
 //   bimslam-rig replay RECORDING [--can LOG] [--speed 1|2|max] [--config rig.yaml] [--handheld]

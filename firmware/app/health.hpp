@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The health thread: once a period it reads every module's counters and every thread's
 // heartbeat, turns them into the FAULT_* bits of rig_health_t (lcmtypes/bimslam/rig_health_t.lcm:
 // a bit is active when its counter grew during the period or its condition holds now), logs each

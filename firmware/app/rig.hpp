@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-rig put together: the configuration turned into the modules, their queues and the
 // thread table; start-up (mlockall, scheduling, sd_notify READY), the health thread (faults,
 // rig_health_t, ouster_stats_t, rate-limited logs, the watchdog), and the orderly stop: the

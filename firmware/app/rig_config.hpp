@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The configuration of bimslam-rig: one struct with every default, a schema that says of each
 // YAML key its type, default, range and unit, and the loader that applies a YAML file to it.
 // A file is read strictly: an unknown key, a wrong type or a value out of range is a

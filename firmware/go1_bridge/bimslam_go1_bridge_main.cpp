@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-go1-bridge: polls the Unitree Go1's HighState over UDP and emits the frames of
 // drivers/can/go1_odometry.dbc on a CAN bus, into a candump log or over LCM
 // (firmware/go1_bridge/README.md). It only ever sends the idle HighCmd: it commands no motion.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The Go1 bridge's core, without sockets: HighState datagrams and poll/tick events in, the CAN
 // frames of go1_odometry.dbc out. The program (bimslam_go1_bridge_main.cpp) owns the UDP socket,
 // the timers and the CAN sink and calls:

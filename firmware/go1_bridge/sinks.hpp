@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Where the bridge's CAN frames go: a SocketCAN interface (the real bus), a candump log file, or
 // LCM (bimslam::can_frame_t, for tests and tools on machines without CAN). Exactly one per run.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The bridge's status on LCM (bimslam::go1_bridge_status_t, channel BIMSLAM_GO1_BRIDGE): its
 // state, link, counters by cause and the HighState CRC forms seen. Published every
 // kStatusLcmPeriodNs and once at exit; it doubles as the bridge's heartbeat (README.md, "Status

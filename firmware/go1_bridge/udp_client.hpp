@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The bridge's UDP link to the Go1's sport-mode computer: one non-blocking IPv4 socket, bound to a
 // local port and connect()ed to the Go1 (as the SDK's UDP class does), so the kernel delivers
 // only the Go1's datagrams and send() needs no address. Send and Receive neither allocate nor

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The CAN ingest thread: Go1 CAN frames -> E2E checks and sample assembly (can::Go1Decoder) ->
 // Go1 samples for the odometry thread and for LCM. The frames come from SocketCAN (the bus),
 // from LCM (bimslam-go1-bridge --lcm: can_frame_t, for benches without CAN), or from a recording

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The LCM publisher thread and the conversions to the messages of lcmtypes/ (channels and units:
 // lcmtypes/README.md): odometry_t per scan, keyframe_t per keyframe, imu_sample_t per Ouster IMU
 // sample, go1_state_t per Go1 sample, and the ouster_stats_t and rig_health_t the health thread

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The lidar ingest thread: Ouster lidar and IMU datagrams -> FrameBatcher / ImuDecoder -> scans
 // (point clouds with their arrival times) and IMU samples for the odometry thread, IMU samples
 // for LCM. The datagrams come from the sensor's UDP ports (live: two net::UdpSource sockets) or

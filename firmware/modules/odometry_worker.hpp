@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The odometry thread: scans from the lidar ingest, Ouster IMU and Go1 samples from their
 // queues, through pipeline::ScanPipeline (the same join `bimslam odometry` runs), out to the LCM
 // thread (odometry per scan, keyframes) and the session writer (every scan's pose, keyframes).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What the rig's threads hand each other through their queues (firmware/runtime/spsc_queue.hpp),
 // and the replay clock they share. Every slot is constructed once at start-up with its buffers
 // reserved; the threads fill and read them in place.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The session writer thread: all disk I/O of the rig, off the hot path. Every scan's pose and
 // every keyframe go into a session folder (algorithms/io/session.hpp: each keyframe's cloud and
 // descriptor, then the line files, each written atomically and synced), so that after a SIGKILL

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A latency distribution in fixed memory, for a rig that runs for hours: the percentiles of
 // every scan's latency without keeping every scan's latency (issue 32, the soak: a vector of
 // 8 bytes a scan grew the rig's RSS by about 1.6 MB an hour, 5 % over two hours).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What the health thread reads of the process and the machine: CPU time, resident memory, free
 // disk space. Plain system calls, no allocation.
 #pragma once

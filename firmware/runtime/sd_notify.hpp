@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The systemd notification protocol (sd_notify(3)), without libsystemd: one datagram per call to
 // the AF_UNIX socket named by $NOTIFY_SOCKET ('@' first: the abstract namespace). READY=1 once
 // the threads run, WATCHDOG=1 from the health thread while every heartbeat is fresh,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // One writer publishes a small trivially copyable struct that other threads read whole, without
 // a lock the writer could wait on (a sequence lock: the writer never blocks; a reader retries
 // while a write is in progress). For counters a hot thread exposes to the health thread.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A bounded, lock-free, single-producer single-consumer queue of preallocated slots
 // (Lamport's ring with C++11 acquire/release indices). The slots are constructed once, by the
 // constructor, with an initialiser that may reserve their buffers (a point cloud's capacity), so

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The rig's threads: one per job, each described by a row of the thread table (name, priority,
 // CPU, period or trigger, deadline, what it may block on; firmware/runtime/README.md) and
 // started with its scheduling applied. SCHED_FIFO, CPU affinity and mlockall may be refused (an

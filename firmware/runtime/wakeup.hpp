@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A sleep-until-notified for a thread that consumes several queues: a futex on a sequence number.
 // Notify is one atomic increment plus a FUTEX_WAKE system call only when someone sleeps; Wait
 // returns at once when anything was notified since the sequence number the caller read.

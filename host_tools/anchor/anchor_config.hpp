@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The parameters of multi-session anchoring (anchoring.hpp), with the reasons for their defaults.
 #pragma once
 

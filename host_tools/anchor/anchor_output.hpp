@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What `bimslam anchor` writes (README.md of this folder documents each file):
 //   OUT/anchor.json        verdict per query session with the numbers behind it, anchors,
 //                          hypotheses, stage times, what was derived for foreign sessions

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Anchoring sessions whose odometry failed in places (internal to host_tools/anchor; pieces.hpp
 // says why): the queries split into pieces that the anchoring treats as sessions of their own, and
 // its result gathered back into one SessionResult per query with its pieces.

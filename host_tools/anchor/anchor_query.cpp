@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Steps 1-4 of anchoring.hpp for one query session against a target (AnchoringProblem::
 // AnchorQuery): place recognition, the hypotheses, each followed, ranked, and the verdict.
 #include <algorithm>

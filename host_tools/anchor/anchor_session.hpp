@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A session as anchoring uses it: its keyframes' poses in its own frame, their oriented clouds
 // for registration, their Scan Context descriptors, its odometry edges, the scan poses of
 // trajectory.tum and the odometry's verdict on it (pieces.hpp); read from a bimslam session, or

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Multi-session anchoring (the BIM-SLAM paper's Step 2): query sessions moved into the frame of
 // a fixed reference session (the BIM's, "bim") without any initial pose.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The anchoring problem (anchoring_problem.hpp) and its Solve: each query against the reference,
 // a failed one again against the reference and the anchored ones, the loops between anchored
 // query sessions, and all optimised together (step 6 of anchoring.hpp).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The anchoring problem held in one object (internal to host_tools/anchor): the sessions (the
 // reference first), the config, where each session is (the graph state), the loops found per
 // query, the stage times and the progress callback. Its steps are its methods, so they share

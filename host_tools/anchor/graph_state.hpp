@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sessions' state during anchoring and the pose graph built from it (internal to
 // host_tools/anchor): where each session is, the graph of its odometry and the given loops,
 // optimisation that reads the free sessions back, and graduated non-convexity's loop weights.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Following one hypothesis (internal to host_tools/anchor, step 3 of anchoring.hpp): the pose
 // graph from its loops, rounds of proximity registration from the estimate until the accepted
 // loops stop changing, the loops the solution cannot explain dropped, and the free-space evidence

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A query session whose odometry failed somewhere (issue 32, item 3; issue 31, item 5): the
 // odometry's own verdict, written into the session by `bimslam odometry` / `bimslam map`
 // (odometry_verdict.json: algorithms/odometry/trajectory_trust.hpp), names the stretches of scans

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Steps 1 and 2 of anchoring (anchoring.hpp): loop candidates by Scan Context, verified by
 // registration (place_recognition.cpp defines them as AnchoringProblem's FindPlaceLoops,
 // InjectFalseLoops and RegisterLoops); the hypotheses of mutually consistent loops (PCM).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What query keyframes are registered to: the surfel maps of one or more sessions' keyframe
 // clouds placed at their world poses (the BIM reference; later also anchored query sessions),
 // their keyframes' world poses and a Scan Context index over their descriptors. Loops found

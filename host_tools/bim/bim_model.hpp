@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A building model as the host tools use it: its storeys, its elements (with IFC class, GlobalId
 // and storey), and one triangle mesh of their geometry in metres, each triangle tagged with its
 // element. ifc_model.hpp fills it from an IFC file (the only code that includes IFC++); the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walkable 3D graph of a building: the storeys a person stands in ("floors"), each with its
 // occupancy grid, joined by the stair and ramp flights (stairs.hpp) that a platform can climb and
 // whose bottom and top stand in the free space of their storeys.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A walk through every room of a storey (paper, Step 1): the occupancy grid's free space is split
 // into rooms where it narrows to doors; each room gets viewpoints; a tour visits them all along
 // the cheapest paths, which keep away from walls; the tour is then straightened and rounded so a

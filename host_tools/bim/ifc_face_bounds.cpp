@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // See ifc_face_bounds.hpp. Verified on IFC++ 0~git20190402 (Debian 12): the sample house of
 // xBIM's tests (Revit 2015, IFC4) lists the hole of 7 window and chair faces first, and IFC++
 // dropped each ("carve::triangulate::incorporateHolesIntoPolygon failed").

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to the IFC ingest (the only code that includes IFC++): puts every face's outer
 // boundary first in the loaded model, before IFC++ converts it. IFC++ (FaceConverter's
 // convertIfcFaceList, Sweeper::createTriangulated3DFace) takes a face's first bound as its outer

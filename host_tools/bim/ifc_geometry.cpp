@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IFC++'s geometry (GeometryConverter over carve) to triangles in metres, and its messages. See
 // ifc_geometry.hpp. Verified on IFC++ 0~git20190402 (Debian 12):
 // - coordinates come out in metres (its point, curve and placement converters apply the length

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to the IFC ingest (ifc_model.cpp, ifc_geometry.cpp), the only code that includes IFC++:
 // what IFC++ reports while a file loads, and the geometry of its products as triangles in metres.
 // IFC++'s classes are only forward-declared here, so this header pulls in none of its headers.

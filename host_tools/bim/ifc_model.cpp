@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IFC ingest: checks the STEP text, lets IFC++ read it, then collects storeys, elements, roles and
 // class counts; the geometry is ifc_geometry.cpp's. The IFC++ traps it works around are listed in
 // ../../../shared/DESIGN.md ("Known traps") and at the top of ifc_geometry.cpp.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IFC ingest: an IFC file (STEP, IFC2X3 or IFC4, any length unit) to a BimModel (bim_model.hpp):
 // storeys, elements with GlobalId, IFC class, storey and role, and one triangle mesh in metres in
 // the model's world coordinates, openings subtracted. The only code in the project that includes

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Emission of IFC4 STEP text (ISO 10303-21 clear text encoding) without an IFC library: an
 // instance counter and a buffer of "#n=IFCNAME(...);" lines, with helpers for the attribute values
 // (lengths in the file's unit, reals, strings, references, GlobalIds) and for the few geometric

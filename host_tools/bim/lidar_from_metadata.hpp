@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The Ouster driver's sensor description (drivers/ouster SensorInfo, parsed from the metadata
 // JSON) as the simulator's neutral LidarModel. algorithms/simulation may not use drivers/, so the
 // conversion lives here, in the host tools that may use both.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A storey's occupancy grid from the BIM (paper, Step 1): a horizontal slice of the permanent
 // structure at sensor height, the footprints of furniture and other objects a walking robot must
 // go around, and the free space reachable from a seed (the rest is outside or walled off).

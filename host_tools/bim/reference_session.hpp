@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // BIM -> reference session (paper, Step 1): per storey an occupancy grid, a coverage walk through
 // every room, the walks joined by the stairs between the storeys (reference_walk.hpp), and along it
 // keyframes whose scans are ray-cast against the model, written as the ground-truth session of

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walk of the reference session over its storeys (paper, Step 1; issue 31 item 3): each
 // storey's coverage walk (coverage_path.hpp), and between two storeys that a walkable flight joins
 // (building_graph.hpp), the way to the flight, the flight itself and the way from its other end to

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The parts every sample layout is assembled from (sample_builder.hpp).
 #include "host_tools/bim/sample_builder.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to host_tools/bim: what every sample layout (sample_building.hpp) is assembled from.
 // SampleBuilder appends walls, rooms, doors, windows, straight stairs with their slab openings and
 // railings, and the slabs to a SampleLayout, naming each element the same way in every layout; the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sample buildings' types (sample_building.hpp) and the choice of layout; each layout's plan is
 // in its own file (sample_office.cpp, sample_hall.cpp, sample_symmetric.cpp), assembled from the
 // parts of sample_builder.hpp. sample_building_ifc.cpp writes a layout as IFC4.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The project's own sample buildings, written as IFC4 STEP files, so that the demo and the default
 // tests need no third-party model. Three layouts (SampleBuildingOptions::layout):
 //  - "office" (the default): a small two-storey office, 30 m x 15 m, 3.2 m floor to floor. Every

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sample buildings' furniture: desks, tables, cabinets and shelves placed by room kind, with
 // the seed choosing which pieces stand, their sizes and small offsets. Every piece lies inside its
 // room and keeps clear of the doors (1.4 m in front of each, both sides), the columns and the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A sample building's layout (sample_building.cpp) written as IFC4 STEP text through IfcWriter.
 // The spatial structure is IfcProject -> IfcSite -> IfcBuilding -> IfcBuildingStorey (IfcRel-
 // Aggregates), rooms are IfcSpaces aggregated to their storey, and every element is contained in

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Storeys along a corridor in x (sample_corridor.hpp): the office's plan with its dimensions as
 // parameters, so the symmetric building is the same generator with other numbers.
 #include "host_tools/bim/sample_corridor.hpp"

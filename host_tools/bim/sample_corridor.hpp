@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Internal to host_tools/bim: storeys planned along a corridor in x, the plan of the office and of
 // the symmetric building (sample_office.cpp, sample_symmetric.cpp). A rectangular footprint; per
 // storey a corridor between two walls along x over the clear length, rooms south and north of it

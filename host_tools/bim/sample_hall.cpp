@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The "hall" layout (sample_building.hpp): a second building unlike the office, so that what is
 // tuned on one is tested on the other. 24 m x 20 m, three storeys 3.5 m apart, 0.4 m exterior and
 // 0.2 m interior walls, 0.25 m slabs. Circulation runs along y: on the ground floor a central hall

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The "office" layout (sample_building.hpp): two storeys along a corridor in x, 30 m x 15 m, and a
 // straight stair. Its numbers are fixed: the file must stay the same byte for byte.
 #include <cmath>

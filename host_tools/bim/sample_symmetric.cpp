@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The "symmetric" layout (sample_building.hpp): a building that is the same under the mirror about
 // each of its centre lines, x = 10 and y = 6, so that a rig walking it cannot tell where it is up
 // to the symmetry. The office's corridor generator with other numbers: one storey, 20 m x 12 m,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Stairs and ramps read from the model's geometry (the walkable 3D graph that joins the storeys
 // by them is building_graph.hpp).
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A CAN recording read back, whatever its format: a candump -l text log or a pcap/pcapng of
 // SocketCAN (link type 227) or Linux cooked frames, plain or gzipped, told apart by content.
 // Bad candump lines are skipped and counted (lenient), as a tool looking at a log wants.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // An Ouster recording read back as frames: a pcap or a ROS bag (drivers/net's PacketRecording)
 // -> UDP datagrams -> lidar packets to FrameBatcher, IMU packets to ImuDecoder (drivers/ouster).
 // The lidar and IMU ports come from the options, else the metadata, else a first pass over a

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A recording's UDP datagrams sent again on a real socket at the recorded pace: the bench
 // stand-in for a sensor (`bimslam ouster replay`: an Ouster's lidar and IMU packets to a rig
 // running `bimslam-rig live`). Datagrams are read from the pcap (drivers/net: any link layer,

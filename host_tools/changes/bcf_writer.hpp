@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // BCF-XML files (buildingSMART's BIM Collaboration Format, versions 2.1 and 3.0): topics, each
 // with one viewpoint (perspective camera, selected and coloured components by IFC GlobalId) and
 // its PNG snapshot, in a zip. XML by libxml2's xmlTextWriter, the zip by libzip.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The BIM model as change detection sees it (algorithms/changes/change_model.hpp), and where a new
 // object is in the building: its storey and the IfcSpace it stands in.
 #pragma once

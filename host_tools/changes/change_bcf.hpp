@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // changes.bcf (issue 34): the changes of one session that a person must act on, as BCF topics
 // (bcf_writer.hpp) with a viewpoint from where the walk saw the change and a snapshot of it
 // (snapshot_renderer.hpp). README.md of this folder, "changes.bcf", has the rules: one topic per

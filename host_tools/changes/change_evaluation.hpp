@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam changes --truth`: a run's changes.json and elements.csv against the simulator's ground
 // truth (a capture's changes.json, host_tools/simulate/world.hpp), the scores of issue 13:
 //   added objects     precision, recall, F1; a found object matches a true one (one to one,

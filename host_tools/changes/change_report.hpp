@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The files of `bimslam changes` for one session (their layout: README.md in this folder):
 //   changes.json      new objects, missing and deviating elements, transient clusters, parameters
 //   new_objects.ply   the new objects' voxel meshes, a colour and an object index per vertex

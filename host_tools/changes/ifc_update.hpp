@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The updated IFC of `bimslam changes`: the original STEP text, untouched, with entities appended
 // before the DATA section's ENDSEC (ids above the file's largest):
 //   - each new object as an IfcBuildingElementProxy whose Body is its voxel mesh (IFC4:

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // map_bim.las (issue 34 item 2): the map of `bimslam changes` as an ASPRS LAS 1.4 point cloud
 // (algorithms/io/las.hpp), for the tools surveyors and BIM users load clouds in. The same points,
 // in the same order, as map_bim.ply; README.md of this folder has the table of fields.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A session to compare with the model: what `bimslam anchor` writes (specs/session-data.md with
 // frames.world = "bim": optimized_poses.txt holds every keyframe's T_bim_lidar), read and checked.
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "host_tools/changes/snapshot_renderer.hpp"
 
 // OSMesa's header declares the OpenGL 1.x entry points we use (fixed-function pipeline, client

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Pictures of the model for BCF viewpoints (issue 34): the model's triangle meshes seen through a
 // perspective camera, greyed, with the change drawn in its colour, rendered off screen by Mesa's
 // OSMesa (Debian's libosmesa6: Gallium llvmpipe, OpenGL in a buffer of ours, no display, no GPU,

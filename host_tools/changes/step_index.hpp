@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A light index of an ISO 10303-21 (STEP) file's DATA section: where each entity instance is, its
 // id, its type and its GlobalId, and where the section ends; enough to append entities that refer
 // to existing ones (the updated IFC of `bimslam changes`) without re-serialising the model.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam changes --datum FILE`: elements surveyed as built, which fix the pose refinement's gauge
 // (algorithms/changes/pose_refinement.hpp, "Gauge"). Without them the refinement can only take the
 // building to stand, on average, where the model says, and every wall's measured deviation then

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam anchor: query sessions moved into the BIM reference session's frame, with no initial
 // pose (host_tools/anchor: place recognition, registration, consistency, pose graph).
 #include <cmath>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "algorithms/common/stopwatch.hpp"
 // bimslam bim plan: a storey's occupancy grid and coverage walk.
 // bimslam bim2session: the reference session of a building (paper, Step 1).

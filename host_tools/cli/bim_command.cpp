@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam bim info | mesh: what an IFC model holds, and its geometry as a PLY mesh with an element
 // table beside it.
 #include <unistd.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam bim sample: writes one of the project's own sample buildings (the two-storey office, the
 // three-storey hall, the mirror-symmetric building; host_tools/bim/sample_building.hpp) as an IFC4
 // file, and says what it holds.

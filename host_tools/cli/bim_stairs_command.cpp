@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam bim stairs: the building's walkable 3D graph (host_tools/bim/stairs.hpp): its floors,
 // the flights that join them, and what cannot be walked.
 #include <iostream>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam: the host tool. Offline work on sessions, BIM models and captures.
 #include <CLI/CLI.hpp>
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam can info | decode: what a CAN recording holds, and the Go1 samples in it.
 #include <cmath>
 #include <cstdio>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "algorithms/common/stopwatch.hpp"
 // bimslam changes: anchored sessions against the building model (Step 3): new objects, missing
 // and deviating elements, transients, an updated IFC (host_tools/changes/README.md).

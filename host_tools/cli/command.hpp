@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The `bimslam` command: shared conventions of its subcommands (DESIGN.md, "Conventions"):
 // exit 0 on success, 1 on a failure while working, 2 on bad usage or bad input; errors go to
 // stderr naming the file and what is wrong; --json where a script would want the output.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam demo: the whole product on data the project makes itself: the sample building as IFC,
 // a version of it changed on both storeys walked by a Go1 that starts outside, goes in and up the
 // stairs (host_tools/simulate/scenarios/whole_building.yaml), the rig's firmware replaying the

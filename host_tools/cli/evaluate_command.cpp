@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam evaluate: the accuracy of an estimated trajectory against a reference, both TUM files
 // (host_tools/evaluation/trajectory_metrics.hpp; the metrics follow evo).
 #include <algorithm>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam can highstate: what a recording of a Go1's own UDP traffic holds (tcpdump on the
 // bridge's host, or the simulator's go1_highstate.pcap): the HighStates the robot sent, checked
 // as the bridge checks them (drivers/go1/high_state.hpp: size, head, levelFlag, CRC in either

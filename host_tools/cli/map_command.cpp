@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam map: an IFC model and rig recordings to an anchored map, changes and a report, every
 // step in-process with a stamp so that a re-run skips what is up to date
 // (host_tools/mapping/README.md); bimslam report: the page of such an output folder alone.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam odometry: a capture replayed through the on-board LiDAR odometry and keyframe
 // selection, as fast as possible, into a session (host_tools/replay/capture_odometry.hpp).
 #include <unistd.h>

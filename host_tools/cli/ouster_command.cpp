@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam ouster info | export: what an Ouster capture holds, and one frame of it as arrays.
 #include <filesystem>
 #include <iostream>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam ouster replay: a recording's lidar and IMU datagrams sent to a rig at the recorded
 // pace (host_tools/capture/udp_replay.hpp), so `bimslam-rig live` can be tested with real packets
 // on a real socket.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A progress bar on stderr for the `bimslam` commands that take more than a few seconds: one line
 // redrawn in place ("\r"), only when stderr is a terminal (never in logs or pipes), at most when
 // the shown percentage or stage changes.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The demo's rig: a capture run through `bimslam-rig replay` as a separate process (the
 // on-board firmware, its threads, queues and LCM, as on the rig), with `lcm-logger` recording
 // what it publishes. Host tools may not link the firmware (ARCHITECTURE.md, "Layers"): they run

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam session info: what a session holds, and whether it is complete and valid.
 #include <iostream>
 #include <nlohmann/json.hpp>

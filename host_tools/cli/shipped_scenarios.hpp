@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The example scenarios of host_tools/simulate/scenarios/, embedded at build time
 // (bimslam_embed_files in this folder's CMakeLists.txt), so that `bimslam demo` builds its changed
 // building from the same files a user reads and edits, without the source tree at run time.

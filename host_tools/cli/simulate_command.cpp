@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam simulate: a capture of a Go1 or handheld walk through a (changed) building, written as
 // the rig records it (host_tools/simulate/simulate.hpp).
 #include <unistd.h>

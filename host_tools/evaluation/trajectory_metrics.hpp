@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Trajectory accuracy: an estimated trajectory against a reference (ground truth), both TUM files.
 // The metrics follow evo (Grupp, github.com/MichaelGrupp/evo: evo_ape, evo_rpe) so that figures can
 // be checked against it; drift follows the KITTI odometry benchmark (Geiger et al., CVPR 2012).

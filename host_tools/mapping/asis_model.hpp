@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The as-is model of a project (issue 33, item 4; README.md of this folder, "The as-is model"):
 // OUT/model_asis.ifc is the model file, byte for byte, with the project's history appended
 // (change_detection::IfcAppender, as `bimslam changes` updates a model):

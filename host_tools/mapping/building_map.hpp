@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The building's map in BIM coordinates over its visits (issue 33, item 5; README.md of this
 // folder, "The building's map"): one point per 5 cm voxel holding the current state, with the
 // visits that first and last saw it. Each visit's map (its recordings' map_bim.ply) is folded in

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The building's history over its visits (issue 33, item 3; README.md of this folder, "History"):
 // OUT/history.json, from each visit's changes (changes.json, elements.csv and map_bim.ply of its
 // anchored recordings):

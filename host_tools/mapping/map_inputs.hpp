@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The inputs of `bimslam map`, checked before any step runs (exit 2 naming the file): the model
 // must be an IFC file (an ISO-10303-21 header whose FILE_SCHEMA names an IFC schema), and every
 // recording an Ouster capture (a capture folder or x.pcap + x.json, io::ResolveCapture) whose

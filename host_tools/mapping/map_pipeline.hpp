@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam map`: an IFC model and rig recordings to an anchored map, a change report and one
 // HTML page, in-process, step by step (README.md of this folder), into a project of the
 // building's visits (map_project.hpp: OUT/project.json; V = OUT/visits/<label>/):

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A `bimslam map` project (issue 33, item 1): the output folder keeps the model, its reference and
 // every visit of the building. OUT/project.json holds the model (path and SHA-256) and the
 // visits in date order, each with its label, date-time and recordings; each visit's odometry,

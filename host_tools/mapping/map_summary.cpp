@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // BuildSummary: OUT/summary.json, gathered from the files the steps wrote, so that a run that
 // skipped every step prints the same figures as the run that made them.
 #include <cstdio>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The new objects followed over the visits (internal to the history, map_history.hpp): each
 // object found in a visit is matched to the objects known before it, first in place (the same
 // object seen again), then by shape (moved: its offset), and the known objects left unmatched

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What a step of `bimslam map` was made from, so that a re-run can skip it: its inputs' identity
 // (the model by SHA-256, recordings by size and modification time: hashing gigabytes of pcap on
 // every run would cost more than some steps), the stamps of the steps it read, and its parameters.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A recording (a capture folder as the rig records and `bimslam simulate` writes it, or a pcap
 // with its metadata JSON as the Ouster tools save them: algorithms/io/capture_files.hpp) replayed
 // through the on-board LiDAR odometry and keyframe selection, as fast as the machine goes, into a

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A folder of per-scan point clouds, the shape of public data sets (KITTI odometry's
 // velodyne/*.bin, per-scan PCD or PLY exports), read as a recording for `bimslam odometry`:
 //   DIR/ holds the scans, one file each, all .pcd, all .ply or all .bin (KITTI: float32 x y z

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A recording written as a folder of per-scan point clouds (cloud_folder.hpp's layout), with
 // everything a peer odometry needs to run on exactly the input `bimslam odometry` sees and to be
 // scored against the same truth (issue 17: "a benchmark mode that writes exactly what a peer

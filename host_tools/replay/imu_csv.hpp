@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IMU samples as a CSV file beside a folder of per-scan clouds (cloud_folder.hpp), so that such a
 // folder replays with its IMU as the recording did:
 //   t_s,gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The report page's files, embedded at build time (CMakeLists.txt of this folder generates
 // report_assets.cpp from assets/ and Debian's libjs-three).
 #pragma once

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Everything the report page shows, gathered from a `bimslam map` output folder into one JSON
 // value (embedded in the page; its typed arrays as base64). README.md of this folder lists the
 // files read and the fields.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The model's geometry as the report draws it: floor-plan sections per storey (the mesh cut by a
 // horizontal plane, as an architect's plan is) and the model's triangles per IFC class for the 3D
 // view, with the element of each triangle for click-to-inspect. Coordinates are the mesh's

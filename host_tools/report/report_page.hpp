@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam report`: one self-contained HTML page from a `bimslam map` output folder. The page's
 // HTML, CSS and JavaScript are files in assets/, embedded at build time with three.js r111 and its
 // OrbitControls from Debian's libjs-three (report_assets.hpp); the data is the JSON of

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The project's visits as the report shows them (issue 33 item 6): each visit's walks in BIM
 // coordinates for the timeline's plans, and the building's history (OUT/history.json,
 // host_tools/mapping/README.md "History") with each element's box for the change list, the plans

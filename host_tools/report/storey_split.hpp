@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A walk split by storey for the report's floor plans and its 3D view's storey filter (issue 31,
 // item 6): each pose is on a storey's floor when its height is the sensor's height above that
 // floor, give or take a tolerance, and on a flight when it lies between two floors' heights. The

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // How much of each change the walk saw (issue 31, item 8): for every added object and every
 // removed or moved element, the beams that hit its surface over the whole capture.
 //   added objects and moved elements: the returns whose element id is theirs (the scene holds

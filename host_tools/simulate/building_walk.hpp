@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walk of a whole building (`storey: all`, `bimslam simulate --storey all`): every floor the
 // stairs reach from the start storey, joined by walking the flights (bim/stairs.hpp).
 //

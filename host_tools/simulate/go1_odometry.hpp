@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What a Go1 reports about its own motion while it walks a BodyTrajectory, as the bridge would
 // send it over CAN (drivers/can/go1_odometry.dbc): one Go1Sample every 10 ms, with the errors of
 // leg odometry (specs/go1-can.md, HighState):

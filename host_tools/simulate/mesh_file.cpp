@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Mesh files for added objects: PLY through algorithms/io, OBJ read here (Wavefront OBJ: "v x y z"
 // and "f a b c ..." lines with 1-based or negative indices, optionally "a/t/n"; polygons are fan
 // triangulated; every other statement is ignored).

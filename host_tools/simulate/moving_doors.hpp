@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Doors that swing while a capture runs (scenario edits.moving_doors): issue 17's "moving doors".
 //
 // The BIM's doors are left out of the static world (open: the walk passes through them). A moving

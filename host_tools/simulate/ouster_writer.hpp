@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // An Ouster sensor's UDP stream as a pcap (specs/ouster-lidar.md): lidar packets of the
 // metadata's profile, encoded by drivers/ouster PacketEncoder (frame and measurement ids, LEGACY
 // encoder counts, init_id, prod_sn, and the CRC-64 footer when the firmware is 3.x), and LEGACY

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The platform's own body as the sensor sees it (issue 17, item 6: "the rig's own body in view"),
 // as boxes in the platform's base frame (simulation::BodyTrajectory's base: the Go1's trunk
 // centre, the handheld base at chest height, the vehicle's roof). The simulator casts it in the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A capture scenario: what `bimslam simulate` walks through, how, with which sensor, and how the
 // "real world" differs from the BIM. Read from YAML (scenario_yaml.hpp; the keys are documented
 // in host_tools/simulate/README.md, examples in host_tools/simulate/scenarios/); every field has

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scenario <-> YAML. The layout mirrors the structs (scenario.hpp): top-level keys model, storey,
 // platform, path, speed, duration_s, sensor, network, noise, seed, edits; nested keys are the
 // field names. host_tools/simulate/scenarios/go1_coverage.yaml is the commented reference.

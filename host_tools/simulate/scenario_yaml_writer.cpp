@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scenario to YAML (scenario_yaml.hpp): every field, numbers in their shortest exact form, so
 // that ParseScenario (scenario_yaml.cpp) reads back an equal scenario.
 #include <yaml-cpp/yaml.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam simulate`: a capture of a walk through a (changed) building, written as a real rig
 // would record it. CAPTURE_DIR receives:
 //   lidar.pcap          Ouster lidar + IMU UDP packets (ouster_writer.hpp)

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Visits over time (issue 33, item 7): a scenario's `visits` simulated one capture each, and the
 // truth of what changed between them.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The planar walk of a capture: the storey's coverage walk (bim/coverage_path.hpp) or the
 // scenario's waypoints, joined by routes through the occupancy grid that keep the platform's
 // clearance; from a start pose that may lie outside the building, in which case the first route

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The "real world" a capture is simulated in: the BIM as built, with the scenario's edits, and
 // the ground truth of every edit (changes.json).
 //

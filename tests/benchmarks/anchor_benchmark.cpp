@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Multi-session anchoring measured against the simulator's ground truth (which is in BIM
 // coordinates, so no alignment: evaluation Alignment::kNone), as `bimslam anchor` runs it: the
 // BIM reference session, a simulated capture, the on-board odometry into a session, anchoring.

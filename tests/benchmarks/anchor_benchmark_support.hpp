@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What the anchoring benchmarks share (anchor_benchmark.cpp, storeys_benchmark.cpp): a building
 // with its BIM reference session, APE with no alignment, and the spread of a figure over runs.
 #pragma once

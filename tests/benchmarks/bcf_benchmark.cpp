@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // changes.bcf for 100 changes on the sample office (issue 34's target: written in <= 2 s,
 // snapshots included). A harness that prints figures, not Google Benchmark.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // BIM -> reference session, end to end as `bimslam bim2session` runs it: IFC load, grids and
 // walks, ray casting, descriptors, session files. Counters: seconds per keyframe and the ratio of
 // the walk's real-time duration (at 0.5 m/s) to the whole run (load included). The paper drove its

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Go1 CAN decode + end-to-end checks + sample assembly on one core, over a realistic in-memory
 // stream: what Go1Encoder sends for 5 s of random HighState samples (a tick every 5 ms, 960
 // frames/s). Target: >= 9 M frames/s (1000x a 9000 frames/s bus). items_per_second counts frames;

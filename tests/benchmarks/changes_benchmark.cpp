@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Change detection (algorithms/changes, host_tools/changes) on this machine: speed against Open3D,
 // and accuracy against the simulator's ground truth.
 //

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 """The Open3D peer of changes_benchmark (tests/benchmarks/changes_benchmark.cpp): the same points
 against the same mesh, as the paper's Step 3 did it with Open3D: RaycastingScene's
 compute_signed_distance for every point, then cluster_dbscan on the points farther than the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LoadIfc (read, check, IFC++ parse, carve geometry with openings subtracted, triangulation) of
 // the three real models of ../shared/data/ifc, one core; skipped when the folder is absent.
 // Counters: triangles and elements with geometry of the loaded model.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LAS 1.4 writing (issue 34's target: 10^7 points written in at most 1 s): a cloud of 10^7
 // points with map_bim.las's fields (class, user data, point source, GPS time; extra bytes
 // distance, element, object, keyframes: 44-byte records, 440 MB), encoded in memory

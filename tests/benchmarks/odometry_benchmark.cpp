@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The LiDAR odometry end to end on simulated captures of the sample building, as `bimslam
 // odometry` runs it (host_tools/replay/capture_odometry.hpp): the capture is simulated first
 // (not timed), then replayed as fast as possible on one thread (the odometry has no threads of

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Decode + batch + XYZ of OS1-32 1024x10 frames from packets held in memory, on one core
 // (issue target: <= 0.2 ms per frame, i.e. > 500x real time at 10 Hz), against a plain memcpy of
 // the same bytes. Synthetic frames from PacketEncoder, so the figures need no shared data; the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Reading a capture and extracting its UDP datagrams: 640 OS1-32 LEGACY lidar packets (6464 B,
 // one second of a 1024x10 sensor), unfragmented (an MTU-9000 link or loopback) and fragmented at
 // MTU 1500 (five IPv4 fragments each, what a real sensor on a standard link sends). From memory

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // PCD write and read of one Ouster OS1-32 scan (32 x 1024 points), binary and ASCII, to a
 // temporary folder (atomic write with fsync, io/file_util.hpp) and in memory.
 #include <benchmark/benchmark.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-rig's figures against the targets of issue 16 (a harness that prints them; no
 // assertions on time): OS1-32 1024x10 simulated in the sample building, sent over loopback UDP at
 // 1x real time by `bimslam ouster replay` to `bimslam-rig live` (handheld: LiDAR + Ouster IMU),

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scan Context figures: descriptor of an OS1-32 sized scan, pairwise distance, and candidate
 // search among 10 000 keyframes (index build, and query including the full distances).
 #include <benchmark/benchmark.h>

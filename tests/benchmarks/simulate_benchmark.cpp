@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam simulate` end to end on the sample building: a 5-minute OS1-32 1024x10 walk (Go1, then
 // handheld), planned, ray cast per column (rolling shutter), encoded and written as the capture's
 // files. Counters: the capture's duration over the wall time (the real-time multiple; the goal is

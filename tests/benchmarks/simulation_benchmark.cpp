@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LiDAR simulation throughput (algorithms/simulation): rays per second for 32 x 1024 OS1 scans of
 // a synthetic office storey (~30 k triangles: walls with doors and windows, tiled floor and
 // ceiling, pillars, furnished rooms), generated here so the figures need no data. Arguments:

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-rig's soak (issue 32, "Soak"): `bimslam-rig live` on loopback UDP, fed a recording
 // over and over by `bimslam ouster replay` at 1x for a set time, with what rig_health_t says
 // sampled each minute: RSS, process CPU, queue drops, deadline misses, scans. Printed; no

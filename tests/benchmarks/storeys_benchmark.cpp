@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Whole buildings walked by the stairs (issue 31's targets), measured against the simulator's
 // ground truth. A harness that prints tables, not timed assertions. Each run: a walk between
 // random places on two storeys that a flight joins (the start storey alternating with the seed:

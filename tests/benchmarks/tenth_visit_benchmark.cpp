@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What adding the tenth visit to a project costs against the same visit processed alone (issue 33's
 // target: at most 1.2x). A harness that prints figures, not a timed assertion.
 //

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A building's visits over months (issue 33's targets), measured against the simulator's truth.
 // A harness that prints a table, not timed assertions. Each run: a visits scenario of
 // host_tools/simulate/scenarios on its sample building (three visits months apart: furniture;

@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Proves that configuration fails when a library links or includes a layer it must not
 # (toolchain/cmake/BimslamLayers.cmake). Run by ctest as
 #   cmake -DTOOLCHAIN_DIR=<repo>/toolchain/cmake -DWORK_DIR=<scratch> -P layering_test.cmake

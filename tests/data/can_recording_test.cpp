@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The SocketCAN recordings of ../shared/data/can (see its README.md): the same frames of a real
 // car's bus as a pcap of link type 227 whose CAN IDs are stored little-endian (against the
 // standard) and as a candump log; both gzip-compressed.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The updated IFC of `bimslam changes` on the real models of ../shared/data/ifc (Revit IFC2X3,
 // ArchiCAD IFC4 with CRLF line ends): a new object and a verdict appended to each, read back by
 // IFC++ with the proxy where it was put (so an absolute placement means the same in these files'

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Issue 38 on real models: every element's surface area against what main gave before the face
 // bounds were reordered (tests/data/ifc_element_areas.json, which says how it was measured). The
 // elements main got wrong (faces whose hole is listed first, dropped by IFC++) must now have their

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IFC ingest on the real models of ../shared/data/ifc (see its README.md): storeys, class counts
 // (checked against the STEP text itself), plausible wall thicknesses and storey heights, extents
 // in metres, openings that leave holes, and few failures.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // drivers/net on the real captures of ../shared/data (see its README.md): Ouster recordings
 // (Ethernet, loopback addresses, not fragmented), a Velodyne packet, a header-only file, and a
 // SocketCAN capture (link type 227, gzip) whose records must come out untouched.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The real indoor OS0-64 sequence of issue 32 given as a folder of scans at 2 Hz (turns of up to
 // 48 deg between scans), LiDAR only: the run is accurate against its ground truth (APE <= 10 cm)
 // or says its trajectory is not to be trusted. Before issue 32 it ended metres off and reported

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The real ROS bag of ../shared/data/ouster (512x10_raw.bag, recorded by ouster-ros; label
 // `data`): its frames and IMU samples, read through our bag reader, are bit for bit those of the
 // same packets given as a pcap. The pcap is written from the bag by Debian's python3-rosbag

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The Ouster driver on the real recordings of ../shared/data/ouster (label `data`): the SDK's
 // md5 digests reproduced bit for bit, and faults injected into the real packets.
 #include "host_tools/capture/ouster_capture.hpp"

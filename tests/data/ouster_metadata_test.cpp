@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Every real Ouster metadata file of ../shared/data/ouster (specs/ouster-lidar.md, "Metadata
 // JSON"): each accepted with the values it states or the spec's defaults, each malformed one
 // rejected with a message naming the broken field. Labelled `data`: skips when the folder is

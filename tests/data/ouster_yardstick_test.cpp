@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A yardstick the driver did not build (issue 17, item 5; label `data`). Every accuracy figure of
 // the project comes from a closed loop: the simulator ray-casts with the driver's own beam
 // formula, so a mistake in it would be shared by both sides. Here the driver meets references

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walkable 3D graph (host_tools/bim/stairs.hpp) of the real models in ../shared/data/ifc: the
 // stairs their exporters wrote (Revit's IfcStair with IfcStairFlight parts, ArchiCAD's spiral
 // IfcStair with its own geometry) join their floors. Each skips, saying so, when the file is

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // libFuzzer target: PcapReader (from memory) + CAN record decoding (drivers/net/can_pcap.hpp)
 // over arbitrary bytes: a bare CanRecordDecoder (votes as it goes) and a CanPcapReader (reads
 // ahead). They must end cleanly or throw common::FileError; every decoded frame must be valid,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // libFuzzer target: the candump log reader (drivers/can/candump.hpp) over arbitrary bytes, in both
 // modes. Lenient reading of memory never throws; strict reading ends cleanly or throws
 // common::FileError; every frame returned writes (FormatCandumpLine) and parses back to itself.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // libFuzzer target: Ouster packet parsing + frame batching + IMU decoding on hostile input.
 // The input is a script over valid packets, so the fuzzer reaches deep batcher states without a
 // corpus: byte 0 picks the profile (and header type, CRC), then each 4-byte command takes packet

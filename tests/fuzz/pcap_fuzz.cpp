@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // libFuzzer target: PcapReader (from memory) + UdpExtractor over arbitrary bytes. They must end
 // cleanly or throw common::FileError; anything else (a crash, a sanitizer report, another
 // exception) is a finding. Built with clang by the fuzzing preset, not by the default build:

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Long mutation-fuzz runs of every reader (label `fuzz`, not part of `make test`; `make fuzz`
 // runs them under AddressSanitizer + UndefinedBehaviorSanitizer). Each reader must only ever
 // return a value or throw common::FileError naming the input. The unit tests run short versions

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Runs one libFuzzer target for BIMSLAM_FUZZ_SECONDS (default 15) over a scratch copy of its seed
 # corpus, so ctest runs it briefly and `make fuzz` longer. A crash leaves crash-* in the work
 # folder, named in the output; reproduce with `<target> <crash file>`.

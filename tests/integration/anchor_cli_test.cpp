@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam anchor` as a user runs it, on sessions of captures the project simulates: a Go1 and a
 // handheld walk anchor to the sample building's BIM reference within centimetres with no
 // initial pose (scored with `bimslam evaluate --align none` against the simulator's ground

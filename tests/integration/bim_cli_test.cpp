@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam bim plan`, `bimslam bim stairs` and `bimslam bim2session` as a user runs them: files,
 // exit codes, messages.
 #include <gtest/gtest.h>

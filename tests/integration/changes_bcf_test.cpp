@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // changes.bcf of the walk (changes_walk.hpp: a crate added, a wall built 3 cm off) as BIM tools
 // get it: a zip Debian's unzip tests clean, every XML file valid against buildingSMART's schemas
 // (xmllint --schema, ../shared/specs/bcf/<version>/), one topic per change of changes.json with

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam changes` as a user runs it: the sample building, a simulated handheld walk along its
 // ground-floor corridor past an added crate, a wall built 3 cm off and a person walking the other
 // way; the odometry session placed on the capture's ground truth (what `bimslam anchor` will

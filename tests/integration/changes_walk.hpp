@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walk of changes_cli_test.cpp (the sample building's ground-floor corridor past an added
 // crate, a wall built 3 cm off and a person), its session placed on the ground truth and
 // `bimslam changes --truth --json` of it: made once per build of bimslam and shared by the tests

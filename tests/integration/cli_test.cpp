@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The `bimslam` command as a user runs it: exit codes, messages, --json output.
 #include <gtest/gtest.h>
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The arm64 package (`make deb-arm64`, toolchain/README.md) from the aarch64 cross-build in
 // build/aarch64: cpack builds it into a folder of the test's own; it is Architecture arm64, its
 // Depends come from the libraries the aarch64 programs link, resolved by dpkg-shlibdeps through

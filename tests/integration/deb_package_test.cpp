@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The Debian packages (`make deb`, toolchain/debian/README.md) as a user installs them on this
 // machine: cpack builds them from this build tree, lintian finds no error, dpkg -i installs
 // them, systemd-analyze verify accepts the installed units, the installed programs run, the
@@ -7,6 +9,9 @@
 // Whatever happens, the packages are purged at the end and what the test made is removed.
 #include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -84,6 +89,16 @@ TEST_F(DebPackage, InstallsRunsVerifiesAndKeepsSessionsOnRemoval) {
     const auto install = RunCommand("dpkg -i" + deb_list);
     ASSERT_EQ(install.exit_code, 0) << install.out << install.err;
     ASSERT_TRUE(Installed("bimslam-rig") && Installed("bimslam-tools"));
+    // Each package carries the project's licence (LICENSE, in DEP-5 form).
+    for (const char* p : {"bimslam-rig", "bimslam-tools"}) {
+        std::ifstream in(fs::path("/usr/share/doc") / p / "copyright");
+        const std::string copyright((std::istreambuf_iterator<char>(in)), {});
+        EXPECT_NE(copyright.find("Files: *\nCopyright: 2026 The bimslam authors\n"
+                                 "License: BSD-3-Clause\n"),
+                  std::string::npos)
+            << p << ":\n"
+            << copyright;
+    }
 
     // Dependencies from the linked libraries (dpkg-shlibdeps): LCM and yaml-cpp at least.
     const auto depends = RunCommand("dpkg-query -W -f='${Depends}' bimslam-rig").out;

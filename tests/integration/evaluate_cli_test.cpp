@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam evaluate` as a user runs it: two TUM files in, figures (table or JSON) out, exit 2 on
 // bad input naming the file.
 #include <gtest/gtest.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A fake Unitree Go1 on loopback for the bimslam-go1-bridge tests (go1_bridge_test.cpp): it
 // checks every HighCmd and answers with HighStates of known values, playing a script counted in
 // HighCmds, not in time.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The recording formats of the field as a user gives them to the commands (issue 17, item 3):
 // folders of per-scan point clouds (PCD with per-point time, KITTI .bin without) with a times
 // file; ROS 1 bags as ouster-ros records them, written here by Debian's python3-rosbag

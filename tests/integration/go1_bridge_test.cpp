@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-go1-bridge end to end: the real executable polls a fake Go1 on loopback (written here:
 // it checks every HighCmd and answers it with a HighState of known, changing values and a valid
 // CRC, and falls silent for a number of HighCmds), writes a candump log, and the drivers/can

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Interoperability of our PCD, PLY and npy files with the tools people open them in: PCL's
 // command-line tools (Debian pcl-tools), Open3D and numpy (python3-open3d, Debian's python) and
 // CloudCompare (cloudcompare). Each tool reads our files and writes what it read; we read that back

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The LAS readers the integration tests run on bimslam's LAS files: tests/tools/las/check.mjs
 // reads a file with loaders.gl and copc (npm; no code shared with algorithms/io/las) and prints
 // what each found as JSON. The test target defines BIMSLAM_SOURCE_ROOT (ctest's

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Round trip of every bimslam LCM message: over UDP multicast (lcm::LCM udpm://) and through an
 // LCM log file (published with lcm::LCM file://...?mode=w, read back with lcm::LogFile). Every
 // field is filled with a distinct value and compared explicitly, and the encoded bytes must match.

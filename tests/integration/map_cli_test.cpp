@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam map` and `bimslam report` as a user runs them, on a short simulated capture of the
 // changed sample building (host_tools/simulate/scenarios/changed_building.yaml):
 // - every step's output exists, and the summary's figures equal those of the individual commands

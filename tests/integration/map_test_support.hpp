@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Fixtures of the `bimslam map` tests (map_cli_test.cpp, map_visits_test.cpp,
 // report_browser_test.cpp), made once per build of `bimslam` in the build folder and shared by
 // the test processes (test::CachedFixture: one process makes each, the others wait for it; one

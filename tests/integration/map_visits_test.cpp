@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam map`'s project of visits (issue 33, item 1; host_tools/mapping/README.md, "Visits"),
 // on three short hand-held walks of the sample office on two days:
 // - visits added one at a time give the same project, figures and files as all at once;

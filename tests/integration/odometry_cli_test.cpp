@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // `bimslam odometry` as a user runs it: a simulated capture (Go1 with its CAN log, handheld
 // without) replayed into a session, its trajectory checked with `bimslam evaluate` against the
 // capture's ground truth, the session read back by `bimslam session info`; the same in the hall,

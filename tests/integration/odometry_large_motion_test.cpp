@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Large motion between scans, and knowing when the odometry failed (issue 32, item 3), as a user
 // meets it: a folder of scans at 2 Hz (every fifth scan of a simulated 10 Hz capture, as public
 // data sets often give keyframes), LiDAR only. The run must be accurate (APE <= 10 cm) or say

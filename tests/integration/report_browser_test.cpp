@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The report page of `bimslam map` opened in a real browser: Debian's chromium, headless, WebGL
 // through SwiftShader (no GPU here: --use-angle=swiftshader --enable-unsafe-swiftshader). The page
 // runs its self-test when opened as report.html#selftest (assets/report.js, at its end) and

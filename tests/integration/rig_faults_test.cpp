@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Faults of firmware/app/README.md ("Faults") put into a running bimslam-rig, seen where an
 // operator sees them: the rig_health_t messages on LCM (FAULT_* bits) and systemd's STATUS line.
 // The rig keeps running and exits 0. Each fault is caused by what the rig is given, not by the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-rig on LCM and under systemd: a subscriber with the real LCM library sees every channel
 // (lcmtypes/README.md) and decodes it; lcm-logger records a run and lcm-logplayer plays it back;
 // the sd_notify protocol against a notify socket the test creates (READY, WATCHDOG, STATUS,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam-rig as it runs on the rig and on the bench: replay of simulated captures (the same
 // session as `bimslam odometry`), faults (packet loss, a corrupt stretch, the sensor silent and
 // restarting, a CAN outage, a full disk), signals (SIGTERM finishes the session, SIGKILL leaves

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What the bimslam-rig integration tests share: simulated captures (made once per test process;
 // ctest runs each test in its own), a test configuration (normal scheduling, a large budget so
 // that results are deterministic, a private LCM port), processes run in the background, and

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sample buildings as another IFC engine reads them: web-ifc (That Open Company, independent of
 // IFC++) opens the metre and the millimetre file of each layout through
 // tests/tools/web_ifc/check.mjs, finds the classes the layout says, builds geometry without errors,

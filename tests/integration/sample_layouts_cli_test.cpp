@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The other sample buildings (`bimslam bim sample --layout hall|symmetric`) through the commands of
 // Step 1 and the simulator as a user runs them: the option and its errors, `bim info`, `bim plan`
 // (every storey planned, every viewpoint reached), `bim2session`, `simulate` for a Go1 and a

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // web-ifc (That Open Company's IFC engine, independent of IFC++) as the integration tests run it:
 // tests/tools/web_ifc/check.mjs prints what it read of a file as JSON. The test target defines
 // BIMSLAM_SOURCE_ROOT (ctest's BIMSLAM_SOURCE_DIR overrides it).

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 """Exact surface area of IFC products whose 'Body' is faceted breps, from the STEP text alone.
 
 An engine-independent reference for the IFC ingest (issue 38): per face, the area of its outer

@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 """How closely a simulated capture's trajectory follows the treads of the flights it walked.
 
 usage: flight_height_error.py MODEL.ifc CAPTURE_DIR go1|handheld [BIMSLAM]

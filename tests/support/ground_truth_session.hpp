@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Sessions placed in the BIM frame with the simulator's ground truth: what `bimslam anchor` will
 // write, made exactly, for developing and testing change detection before anchoring exists (and
 // for separating its errors from anchoring's later).

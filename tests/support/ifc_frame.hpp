@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A small IFC4 file the tests write: one IfcFurniture whose body is an IfcFacetedBrep, a square
 // frame whose top face lists its bounds in a chosen order (issue 38: IFC++ takes a face's first
 // bound as its outer one). Used by tests/unit/bim/ifc_face_bounds_test.cpp and the `bim info`

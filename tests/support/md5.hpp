@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // MD5 (RFC 1321), to compare decoded data with the Ouster SDK's digests (shared/data/ouster/
 // *_digest.json). Test support only: MD5 is no security measure here, just a fingerprint.
 #pragma once

@@ -1,4 +1,6 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 """ROS 1 bags of Ouster packets for the tests, written and read with Debian's python3-rosbag (the
 ROS library itself, independent of our C++ reader), in the layout ouster-ros records:
 ouster_ros/PacketMsg (uint8[] buf) on <ns>/lidar_packets and <ns>/imu_packets, the sensor's JSON

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Synthetic Ouster sensors and frames for tests, benchmarks and fuzz targets (no metadata file).
 #pragma once
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // place_on_ground_truth SESSION CAPTURE/ground_truth.tum OUT: a test tool (not installed) that
 // writes SESSION placed on the simulator's ground truth as an anchored session would be
 // (ground_truth_session.hpp), for running `bimslam changes` by hand before `bimslam anchor` exists.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Synthetic scenes and LiDAR scans for tests and benchmarks: ray casting against axis-aligned
 // boxes, vertical cylinders, a room seen from inside and a ground plane. Everything is
 // deterministic in the seed. Meant to be simple and obviously right, not fast (no acceleration

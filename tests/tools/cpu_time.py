@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 """CPU time of a command's whole process tree, for figures that a shared machine's load would
 blur in wall time (a test's chromium run, a fixture's commands).
 

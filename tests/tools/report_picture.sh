@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # The README's picture: the top of a report page (summary and the ground floor's plan) rendered by
 # headless chromium, scaled down. Usage: tests/tools/report_picture.sh REPORT.html OUT.png
 # (e.g. after `make demo`: demo_output/map/report/report.html host_tools/report/report.png).

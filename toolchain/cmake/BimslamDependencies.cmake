@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Every third-party dependency, found once, from Debian packages (toolchain/install-deps.sh).
 # Nothing is downloaded at build time.
 include_guard(GLOBAL)

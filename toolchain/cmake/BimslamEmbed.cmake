@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # bimslam_embed_files(OUTPUT <file.cpp> HEADER <include path> NAMESPACE <ns> FUNCTION <Name>
 #                     FILES <name|path> ...)
 # Writes, at configure time, a source that defines in namespace <ns>

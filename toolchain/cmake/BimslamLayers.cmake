@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # The project's layers and the rules between them (ARCHITECTURE.md, "Layers").
 #
 # Every library folder declares itself with bimslam_library(); external dependencies that only

@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Debian packages with CPack (`make deb`; toolchain/debian/README.md):
 #   bimslam-rig    component `rig`: bimslam-rig and bimslam-go1-bridge, their systemd units,
 #                  example configurations in /etc/bimslam (conffiles), the system user `bimslam`

@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # Test helpers: one GoogleTest executable per library folder, each test case a ctest entry with
 # a label (sanitized, unit, scene, host, integration, data, fuzz) so `ctest -L` picks the sets
 # that `make test` runs.

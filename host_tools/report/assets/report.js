@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The bimslam map report: builds the summary, the floor plans, the plots, the change list and the
 // 3D view from the JSON embedded in the page (host_tools/report/README.md lists its fields).
 // Plain ES2017 and three.js r111 (Debian's libjs-three); no network.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The project's visits (issue 33 item 6): the timeline, the selected visit's walks on the plans,
 // the change list since the previous visit or since the model (OUT/history.json, its schema in
 // host_tools/mapping/README.md, "History"), and an element's or object's history on click.

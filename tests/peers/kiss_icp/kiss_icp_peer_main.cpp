@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // kiss_icp_peer: KISS-ICP (PRBonn, Vizzo et al., RA-L 2023) run on a folder of per-scan clouds as
 // `bimslam ouster export REC --all` writes it, so that it and `bimslam odometry` see the same
 // scans and are scored against the same ground truth (issue 32, item 4).

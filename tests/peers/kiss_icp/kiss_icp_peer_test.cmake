@@ -1,3 +1,5 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # kiss_icp_peer on a 3 s simulated Go1 walk, exported as `bimslam ouster export --all` writes it:
 # one pose per scan stamped at the sweep's end, KISS-ICP on one thread (the process's CPU time is
 # the registrations'), a trajectory that matches the ground truth within 20 cm (measured 5 cm),

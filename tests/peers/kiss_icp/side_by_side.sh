@@ -1,4 +1,6 @@
 #!/bin/bash
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 # The side-by-side of algorithms/odometry/README.md ("KISS-ICP side by side"): simulated captures
 # of the sample office exported as scan folders, every fifth scan kept, real single frames
 # repeated, then `bimslam odometry` LiDAR-only and kiss_icp_peer run interleaved on each folder,

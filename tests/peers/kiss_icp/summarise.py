@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+# SPDX-FileCopyrightText: 2026 The bimslam authors
 """The table of a side-by-side run (side_by_side.sh), one row per scan folder: the APE of both
 trajectories against the folder's ground_truth.tum (`bimslam evaluate`, SE(3)-aligned), or for a
 folder without ground truth the last pose against the first (a static sensor should not move);

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Test tool: reads a BCF file (a zip) with @parametricos/bcf-js, a BCF reader independent of
 // bimslam, and prints what it read as JSON: the project and each topic with its viewpoints (camera,
 // selected and coloured components, the snapshot's size in bytes).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Reads a LAS file with two readers that share no code with bimslam's and prints, as JSON on
 // stdout, what each found, point by point (the tests compare it with map_bim.ply):
 // - loaders.gl (vis.gl's LAZRsLoader: its LAS 1.4 parser; the default LAZPerfLoader reads LAS up

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Reads an IFC file with web-ifc (That Open Company's IFC engine, independent of IFC++) and prints
 // what it found as JSON: the schema, counts per class, the meshes, vertices and triangles of all
 // geometry, and their bounding box; bimslam's property sets and groups (bimslam_psets,

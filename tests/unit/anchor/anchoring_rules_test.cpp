@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Anchoring's rules on small hand-built inputs whose answer is known (host_tools/anchor/README.md,
 // "The method"): the anchor a loop implies, the pairwise consistency of two loops (0.3 m / 2 deg
 // plus 3 % / 0.15 deg per metre travelled between them), the verdict's thresholds (anchored,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The earlier visits' keyframes that stand for them as a new visit's targets (EarlierTargets,
 // AnchorConfig::earlier_spacing_m) and a session cut to them (KeepKeyframes).
 #include <gtest/gtest.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The free-space rule between hypotheses that explain the loops about equally well
 // (host_tools/anchor/anchoring.hpp, FreeSpacePrefers; AnchorConfig::outweigh_ratio, _gap).
 #include <gtest/gtest.h>

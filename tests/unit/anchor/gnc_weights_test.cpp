@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Graduated non-convexity with a truncated least squares cost (host_tools/anchor/graph_state.hpp):
 // Yang, Antonante, Tzoumas, Carlone, "Graduated Non-Convexity for Robust Spatial Perception: From
 // Non-Minimal Solvers to Global Outlier Rejection", RA-L 5(2) 2020. The weight rule (Prop. 4,

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The model's tolerance added to a loop's information, and the priors that hold an earlier
 // visit's session (host_tools/anchor/graph_state.hpp).
 #include "host_tools/anchor/graph_state.hpp"

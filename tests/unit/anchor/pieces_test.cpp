@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A session whose odometry failed in places, split for anchoring (host_tools/anchor/pieces.hpp,
 // anchor_pieces.hpp): where the pieces end, what a piece holds, the verdict of a split session,
 // the loops renumbered, the scans placed only from keyframes the odometry joins them to, and the

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IFC ingest of faceted-brep faces whose hole is listed before their outer boundary (issue 38):
 // IFC++ takes the first bound as the outer one and dropped such faces; the ingest puts the outer
 // one first. The file is the project's own (tests/support/ifc_frame.hpp): one IfcFacetedBrep, a

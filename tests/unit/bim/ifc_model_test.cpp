@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // IFC ingest on hand-written IFC4 files: geometry in metres whatever the unit, openings
 // subtracted, storeys, roles, class counts, failures, and errors that name the file.
 #include "host_tools/bim/ifc_model.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The reference session's walk over every storey (host_tools/bim/reference_walk.hpp): on the
 // sample office, one connected walk up its flight, with keyframes on it; the hall's three storeys
 // joined by its two flights; without the flight's geometry, the storeys walked apart with a note.

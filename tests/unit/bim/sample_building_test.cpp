@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sample building: its layout (every room reachable, a slanted wall, the stair between the
 // storeys), its IFC4 text (framing, GlobalIds, references, units, determinism) and, read back by
 // the project's IFC reader (IFC++), the same building in metres and in millimetres.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sample buildings through the whole of Step 1's planning: IFC text -> IFC++ -> grid -> walk.
 // The walk must enter every room of every storey, through its doors, away from the walls.
 #include <gtest/gtest.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The "hall" sample building (sample_building.hpp): a building unlike the office (footprint,
 // storeys, heights, walls, circulation along y, room kinds and sizes, columns in large rooms), its
 // stairs connecting every storey through their slab openings, and its entrance from outside.

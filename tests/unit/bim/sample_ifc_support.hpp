@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Test helpers for the sample buildings' IFC files: a small reader of the generator's own STEP
 // output (one entity a line) and the surfaces of elements read back by IFC++, compared by distance
 // (IFC++ triangulates the same surface differently from run to run). Used by

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The sample buildings' layouts (sample_building.hpp): the office's file is the same bytes as
 // before the layouts existed; every layout's plan holds together (rooms apart, doors in their walls
 // and rooms, every room reached from the circulation, furniture clear of the doors) and its IFC4

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The "symmetric" sample building (sample_building.hpp): checked numerically, every room, wall,
 // door, window, slab and piece of furniture has its mirror image under the mirror about each centre
 // line (so under the half turn too), with and without furniture and entrances, for several seeds;

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Stairs read from the model's geometry and the walkable 3D graph (host_tools/bim/stairs.hpp), on
 // the project's sample buildings: the office's one flight (16 risers of 0.2 m, treads 0.28 m,
 // 1.2 m wide) and the hall's two; a stair without geometry and one too steep for the platform

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A synthetic storey for the tests of the grid, the walk and the reference session: 12 x 8 m,
 // two south rooms and a north room off a corridor (y 3.5 .. 5), 1 m doors, a desk, an open door
 // leaf. Walls are 0.2 m thick boxes, 3 m high, between a floor and a ceiling slab.

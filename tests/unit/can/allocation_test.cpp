@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The per-frame paths of drivers/can must not allocate once set up (DESIGN.md, "Hot path"):
 // Go1Decoder::Feed/Tick/Flush, Go1Encoder::Tick, the signal codec and the CRC. Its binary links
 // the counting operator new of tests/support/allocation_counter.hpp.

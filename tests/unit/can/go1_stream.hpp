@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Test helpers: random Go1 samples and the frame stream a bridge would send for them.
 #pragma once
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // changes.bcf's parts on their own (issue 34): GUIDs made from names (BCF 3.0's lower-case
 // pattern, the same name the same GUID), the version option, the zip's entries and bytes (the
 // same topics give the same file), merging a visit's files, and the renderer drawing the chosen

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Where a change is placed in the building (issue 31, item 6): a new object on the storey under
 // its lowest point, on either storey of a two-storey model; a model element on its own
 // IfcBuildingStorey whatever its height, and one contained in no storey by its lowest point.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Fixtures of the updated-IFC tests (unit: IFC++; integration: web-ifc).
 #pragma once
 

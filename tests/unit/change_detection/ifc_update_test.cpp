@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The updated IFC read back with IFC++ (through host_tools/bim, the project's ingest): the new
 // objects as proxies with their voxel meshes where they were found, in their storey, and the
 // verdicts as property sets on the elements; IFC4 (the sample building, tessellated) and IFC2X3

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Change detection end to end on a simulated two-room building (change_scene.hpp): the cases the
 // issue names, each checked against the scene's own truth.
 #include "algorithms/changes/change_detector.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A small building for the change-detection tests, simulated with the project's own LiDAR
 // simulator (algorithms/simulation, the OS1-32 beam pattern, 1 cm range noise): two rooms side by
 // side with no door between them, and keyframes walked around room A only.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // JudgeByNeighbours (free_space.hpp): points the free-space votes could not judge take the verdict
 // of the judged points around them. The end-to-end case is change_detector_test.cpp's corridor.
 #include "algorithms/changes/free_space.hpp"

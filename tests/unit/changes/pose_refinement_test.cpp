@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The joint refinement of keyframe poses and element offsets (pose_refinement.hpp) on a simulated
 // hall whose every wall was built off by a known N(0, 2 cm) (the changed-building scenario's
 // spread), walked with keyframe poses perturbed by a few centimetres, as anchoring leaves them.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Polyline resampling: spacing along the length across corners, open and closed.
 #include "algorithms/common/polyline.hpp"
 

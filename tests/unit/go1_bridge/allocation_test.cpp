@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The bridge's per-cycle path must not allocate once set up (DESIGN.md, "Hot path"): Bridge
 // OnPoll / OnDatagram / OnTick (through a link loss and back), UdpClient Send / Receive, and the
 // candump sink's Send. Its binary links the counting operator new of

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The bridge core: HighState -> Go1Sample mapping (checked through the real Go1Encoder and
 // Go1Decoder), contact hysteresis, alive counter, link loss (UdpLinkOk, lost count, bridge state,
 // no stale values marked valid), rejected datagrams by reason, both CRC forms, the LCM status

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // HighState / HighCmd: layout facts of unitree_legged_sdk (go1 branch, comm.h), Unitree's CRC-32,
 // the SDK's scrambled CRC form, parse(serialize(x)) == x, rejection of wrong sizes, heads,
 // levelFlags and bad CRCs.

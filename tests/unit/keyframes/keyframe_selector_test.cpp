@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Keyframe selection: the distance and angle rules, the keyframe's cloud and descriptor, and the
 // odometry edge with the covariance accumulated over the scans in between.
 #include "algorithms/keyframes/keyframe_selector.hpp"

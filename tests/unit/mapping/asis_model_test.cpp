@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The as-is model (host_tools/mapping/asis_model.hpp, issue 33 item 4) of a history made by hand
 // on the sample office: an object present with its mesh from its visit's changes folder, an
 // element missing as of the newest visit, one deviating; read back by IFC++.

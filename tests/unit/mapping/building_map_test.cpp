@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The building's map over the visits (host_tools/mapping/building_map.hpp, issue 33 item 5), on
 // visits made by hand: a floor and a wall sampled by each visit at other spots (as a sparse
 // sensor's rings fall), a crate that is gone in the second visit, a transient.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The building's history over its visits (host_tools/mapping/map_history.hpp, issue 33 item 3),
 // on visits' findings made by hand: a floor seen as a map of 5 cm points, objects as boxes on it,
 // elements with their verdicts.

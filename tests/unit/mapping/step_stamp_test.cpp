@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // StepStamp: what decides whether `bimslam map` re-runs a step. A stamp matches its own file, and
 // stops matching when an input's content (by SHA-256), size or mtime, an upstream stamp or a
 // parameter changes; a missing, damaged or foreign file never matches. CheckModelFile refuses

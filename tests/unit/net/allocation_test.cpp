@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The per-packet paths of drivers/net must not allocate once set up (DESIGN.md, "Hot path"):
 // PcapReader::Next, UdpExtractor::Feed (reassembly included), UdpSource::Receive, and
 // PcapWriter::WriteRecord/WriteUdp to a file. Its binary links the counting operator new of

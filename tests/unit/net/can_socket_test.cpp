@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // SocketCAN: the configuration and the construction errors everywhere; live frames over `vcan0`
 // where the kernel has CAN and the interface exists (specs/go1-can.md: this development machine
 // has no CAN at all, and the live test says so when it skips).

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // What moving pcap file I/O onto libpcap (issue 34) brought or had to guard against: the
 // modified pcap format libpcap reads, timestamps past 2038 (libpcap's fields are signed), the
 // link types libpcap numbers differently from the file, broken gzip data, and link types libpcap

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // RosPacketBag and PacketRecording on small bags written by Debian's python3-rosbag
 // (tests/support/ouster_bag.py): topics found by suffix in any namespace, payloads and record
 // times exact, ports given, the metadata text; bags that are not one sensor's, or not bags, are

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Real UDP over loopback: the test sends datagrams to the source from its own sockets.
 #include "drivers/net/udp_source.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The odometry's hot path after warm-up: the motion prior, preprocessing, the maps, edge features
 // and keyframes allocate nothing; LidarOdometry::Process allocates only inside Ceres.
 #include <gtest/gtest.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LOAM edge features: found on the edges of a room and its furniture, per ring by the driver's
 // ring index, never by elevation; and the edge map's lines.
 #include "algorithms/odometry/edge_features.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The accelerometers' height filter of the odometry (imu_height.hpp): what it integrates, what it
 // removes (gravity, its bias), and that it learns only from scans that saw the height.
 #include "algorithms/odometry/imu_height.hpp"

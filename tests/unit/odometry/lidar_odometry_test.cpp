@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // LiDAR odometry on simulated scans with rolling shutter (Embree, OS1-32 1024 x 10, 1 cm range
 // noise): a featureless corridor with and without the Go1 prior, pure rotation in place, scans
 // with 30 % of their columns missing, empty scans, deskewing on a fast turn, and LOAM edges on.

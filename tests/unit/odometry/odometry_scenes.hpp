@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scenes and scans for the odometry tests: rooms and corridors as triangle meshes, scanned by
 // the project's Embree simulator with the built-in OS1-32 (1024 x 10), rolling shutter included
 // (each column from the pose at its own time), turned into point clouds as the driver does.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Preprocessing (crop, self-filter, deskew, voxel filters) and the bounded voxel map.
 #include "algorithms/odometry/preprocess.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Point-to-plane registration with Ceres against the voxel map: exact poses recovered in a
 // furnished room; a corridor's axis detected as degenerate and kept at the initial guess.
 #include "algorithms/odometry/scan_registration.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The hot path (per packet) must not allocate after the first frame (DESIGN.md, "Hot path").
 // Its binary links the counting operator new of tests/support/allocation_counter.hpp.
 #include <gtest/gtest.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Ouster metadata JSON (drivers/ouster/metadata.hpp): both layouts, every default of
 // specs/ouster-lidar.md ("Metadata JSON"), every validation, and garbage that must come back as a
 // FileError naming the file and the field, never as a crash.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // algorithms/pipeline: which samples reach a scan (IMU by arrival order, Go1 by receive time), the
 // clock offset, a clock jump starting the odometry again, keyframes and the configuration check.
 #include "algorithms/pipeline/scan_pipeline.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The maximum clique against brute force on random graphs, and on a loop-like graph.
 #include "algorithms/posegraph/max_clique.hpp"
 

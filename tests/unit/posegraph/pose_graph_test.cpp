@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The multi-session pose graph: the loop factor's direction (a known pair gives zero residual),
 // anchors recovered from loops, the fixed reference, the gauge, robustness of the loss, export.
 #include "algorithms/posegraph/pose_graph.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Loop registration: oriented normals, the normal-binned surfel map, and coarse-to-fine ICP with
 // its fitness and information, on scans simulated by the project's Embree LiDAR simulator.
 #include "algorithms/registration/registration.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // imu.csv, the IMU beside a folder of per-scan clouds (host_tools/replay/imu_csv.hpp): what is
 // written reads back, and a damaged file is refused naming the file and the line.
 #include "host_tools/replay/imu_csv.hpp"

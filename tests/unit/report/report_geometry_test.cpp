@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The report's geometry: base64 as RFC 4648 gives it, and floor-plan sections: a wall crossing the
 // cut plane gives its outline, one below it gives nothing, and each storey is cut at its own
 // elevation.

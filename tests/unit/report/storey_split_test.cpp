@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walk split by storey for the report's plans: a two-storey walk (floor, up a flight, the upper
 // floor, down again) gives its five runs, whatever the sensor's height above its floor (a Go1's,
 // a hand-held rig's); a bump on a floor is no flight; a start outside below the lowest floor is on

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walk split by storey on a simulated climb (issue 31, item 6): the sample office's stair
 // walked up and back down by a person and by a Go1 (`storey: all`, waypoints a metre before its
 // foot and past its head), split from the truth's sensor poses alone, against the simulator's

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The watchdog's rule (firmware/app/health.hpp, HeartbeatsFresh): WATCHDOG=1 is sent only while
 // every thread that has not finished beat within its own stale time. Heartbeats are set by hand
 // and `now` is given, so the answer does not depend on the machine's speed.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // firmware/runtime/latency_histogram: percentiles in fixed memory, against the exact order
 // statistics of the same latencies.
 #include "firmware/runtime/latency_histogram.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // firmware/app/rig_config: the schema, the strict loader (file, line, key) and --print-config,
 // whose output loads back to the same configuration.
 #include "firmware/app/rig_config.hpp"

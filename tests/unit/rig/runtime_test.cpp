@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // firmware/runtime: the SPSC queue (order, full, two threads), the seqlock, the wake-up, the
 // sd_notify protocol against a socket the test binds, heartbeats.
 #include <gtest/gtest.h>

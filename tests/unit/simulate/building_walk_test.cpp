@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The simulator walking the sample office's stairs (storey: all, building_walk.hpp): a capture of
 // waypoints at the flight's foot and head, joined over the 3D graph. The trajectory's height
 // follows the flight's treads (within 2 cm on every tread where the foot stands), the capture

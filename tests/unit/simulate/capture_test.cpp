@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The capture simulator's outputs read back with the project's own decoders: Ouster pcap round
 // trip, rolling shutter, Go1 CAN against the trajectory, IMU against the ground truth, world edits.
 #include <gtest/gtest.h>

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Moving doors, glass windows and mirrors in the simulated world (world.hpp, moving_doors.hpp).
 #include "host_tools/simulate/moving_doors.hpp"
 

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The platform's own body in a capture (sensor.body_in_view): it shows where rig_body.hpp puts it
 // in the sensor frame, in every frame while the platform moves, and changes nothing else but what
 // it hides.

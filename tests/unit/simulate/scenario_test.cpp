@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The capture scenario: defaults, validation, and its YAML form (strict reading, round trip).
 #include "host_tools/simulate/scenario.hpp"
 

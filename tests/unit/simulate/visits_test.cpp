@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Issue 33, item 7: a scenario's visits simulated one capture each (the synthetic floor, short
 // OS1-16 walks), visits.json's order and pair truth, and one visit simulated alone equal to its
 // folder of the whole run (what `bimslam simulate --visit` does).

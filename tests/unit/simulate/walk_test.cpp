@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The planned walk: a vehicle's outdoor loop (planned on the outdoor grid, corners rounded to its
 // turning radius, a closed loop that starts over) and RoundCorners' geometry.
 #include "host_tools/simulate/walk.hpp"

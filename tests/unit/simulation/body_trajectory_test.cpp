@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walking platform's trajectory and the IMU model (algorithms/simulation/body_trajectory.hpp,
 // imu_model.hpp).
 #include "algorithms/simulation/body_trajectory.hpp"

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // A closed axis-aligned box room as a triangle mesh (each wall its own element id) and the exact
 // analytic cast of a ray from inside it, for the simulation's tests and the LiDAR adapter's
 // round trip (tests/unit/bim/lidar_from_metadata_test.cpp).

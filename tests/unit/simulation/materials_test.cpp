@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Glass and mirrors (Scene's Material, lidar_simulator.hpp "Materials"): a mirror's ghost lies
 // at the mirror image of what the reflected beam hit; glass returns with p0 cos(a)^k and lets the
 // rest through; images stay deterministic; a scene of diffuse triangles is unchanged.

@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // Scenes, sensors and comparisons shared by the simulation's unit tests.
 #pragma once
 

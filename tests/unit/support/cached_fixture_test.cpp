@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // test::CachedFixture (tests/support/test_support.hpp): a fixture whose maker failed is never kept,
 // so that every later test process makes it again and sees the failure itself, instead of reading
 // a half-made folder as if it were good. The failing maker has to run in a test process of its
