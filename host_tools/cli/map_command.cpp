@@ -274,6 +274,13 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
                     "change detection: distance from the model that starts a new object, m")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    cmd->add_option("--tolerance", a->config.changes.elements.tolerance_m,
+                    "QA tolerance each element's measured deviation is judged against: "
+                    "elements.csv tolerance_verdict (within, beyond, not_observed) and the "
+                    "report's colour scale, m; unlike bimslam changes --deviation-tolerance, it "
+                    "changes none of the changes reported")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     cmd->add_flag("--no-refine", a->no_refine,
                   "change detection: compare on the anchored poses as they are, without refining "
                   "them jointly with the elements' as-built offsets first");
