@@ -13,6 +13,7 @@
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/report/report_deviation.hpp"
 #include "host_tools/report/report_geometry.hpp"
 #include "host_tools/report/report_visits.hpp"
 
@@ -235,6 +236,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     std::vector<size_t> missing_elements;
     json changes_rows = json::array();
     json map = nullptr, objects = json::array();
+    std::vector<fs::path> change_dirs;  // the elements' deviations (elements.csv)
     const auto& recordings = summary.at("recordings");
     for (size_t r = 0; r < recordings.size(); ++r) {
         const json& rec = recordings[r];
@@ -269,6 +271,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         const fs::path cdir = visit / "changes" / name;
         if (!Exists(cdir / "changes.json")) continue;
         const json c = ReadJson(cdir / "changes.json");
+        change_dirs.push_back(cdir);
         for (const json& o : c.at("new_objects")) {
             changes_rows.push_back(
                 {{"kind", "new object"},
@@ -331,6 +334,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     data["map"] = map;
     data["objects"] = objects;
     data["missing3d"] = ElementTriangles(model, missing_elements);
+    data["deviation"] = ElementDeviations(change_dirs);
 
     // Loops: from the target keyframe to where registration put the query keyframe
     // (T_world_target * T_target_query), accepted or rejected.
