@@ -1,5 +1,6 @@
 #include "host_tools/report/report_deviation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <system_error>
@@ -111,6 +112,40 @@ json ElementDeviations(const std::vector<fs::path>& change_dirs) {
         rows.push_back({id, m.code, std::round(m.offset_m * 1e5) / 1e5});  // 0.01 mm
     }
     return {{"tolerance_m", tolerance_m}, {"elements", rows}};
+}
+
+DistanceHistogram::DistanceHistogram(size_t storeys, double range_m, double bin_m)
+    : range_m_(range_m),
+      bin_m_(bin_m),
+      counts_(std::max<size_t>(1, storeys),
+              std::vector<uint64_t>(size_t(std::lround(2 * range_m / bin_m)), 0)),
+      sum_(counts_.size(), 0),
+      sum2_(counts_.size(), 0) {}
+
+void DistanceHistogram::Add(int storey, float distance_m, int point_class) {
+    if (point_class != 0 || !std::isfinite(distance_m)) return;  // 0: on the model
+    const size_t s = size_t(std::clamp(storey, 0, int(counts_.size()) - 1));
+    std::vector<uint64_t>& c = counts_[s];
+    const double d = std::clamp(double(distance_m), -range_m_, range_m_);
+    const size_t bin = std::min(c.size() - 1, size_t(std::floor((d + range_m_) / bin_m_)));
+    ++c[bin];
+    sum_[s] += distance_m;
+    sum2_[s] += double(distance_m) * distance_m;
+}
+
+json DistanceHistogram::ToJson(const bim::BimModel& model) const {
+    json storeys = json::array();
+    for (size_t s = 0; s < counts_.size(); ++s) {
+        uint64_t n = 0;
+        for (const uint64_t c : counts_[s]) n += c;
+        const double mean = n ? sum_[s] / double(n) : 0, rms = n ? std::sqrt(sum2_[s] / n) : 0;
+        storeys.push_back({{"name", s < model.storeys.size() ? model.storeys[s].name : ""},
+                           {"counts", counts_[s]},
+                           {"points", n},
+                           {"mean_cm", std::round(mean * 1e4) / 100},
+                           {"rms_cm", std::round(rms * 1e4) / 100}});
+    }
+    return {{"bin_cm", bin_m_ * 100}, {"range_cm", range_m_ * 100}, {"storeys", storeys}};
 }
 
 }  // namespace bimslam::report

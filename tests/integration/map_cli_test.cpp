@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/report/report_data.hpp"
 #include "tests/integration/map_test_support.hpp"
@@ -258,6 +259,36 @@ TEST(MapCli, AnotherToleranceMakesTheChangesAndTheReportAgainAndReachesThePage) 
     ASSERT_TRUE(page.at("deviation").is_object());
     EXPECT_DOUBLE_EQ(page["deviation"]["tolerance_m"].get<double>(), 0.05);
     EXPECT_GT(page["deviation"]["elements"].size(), 10u);
+    // The Scan-vs-BIM histograms count every map point on the model (map_bim.ply's class 0) at
+    // the distance change detection measured (its scalar_distance), over the storeys.
+    const io::PlyData ply = io::ReadPly(changes / "map_bim.ply");
+    const io::PlyProperty* distance = ply.Find("scalar_distance");
+    const io::PlyProperty* cls = ply.Find("scalar_class");
+    ASSERT_TRUE(distance && cls);
+    size_t on_model = 0;
+    double sum = 0;
+    for (size_t i = 0; i < ply.vertices.size(); ++i) {
+        if (cls->values[i] != 0) continue;
+        ++on_model;
+        sum += distance->values[i];
+    }
+    const json& h = page.at("distances");
+    ASSERT_EQ(h.at("storeys").size(), 2u) << h.dump();
+    EXPECT_DOUBLE_EQ(h.at("bin_cm").get<double>(), 0.5);
+    EXPECT_DOUBLE_EQ(h.at("range_cm").get<double>(), 10.0);  // the new-object threshold
+    size_t counted = 0;
+    double weighted_mean_cm = 0;
+    for (const json& s : h.at("storeys")) {
+        size_t n = 0;
+        for (const json& c : s.at("counts")) n += c.get<size_t>();
+        EXPECT_EQ(n, s.at("points").get<size_t>()) << s.at("name");
+        EXPECT_EQ(s.at("counts").size(), 40u);
+        counted += n;
+        weighted_mean_cm += double(n) * s.at("mean_cm").get<double>();
+    }
+    EXPECT_GT(on_model, 10000u);
+    EXPECT_EQ(counted, on_model);
+    EXPECT_NEAR(weighted_mean_cm / double(counted), 100 * sum / double(on_model), 0.01);
     // A run again with the same tolerance skips every step.
     const auto again = Cli(args + " --tolerance 0.05 --json");
     ASSERT_EQ(again.exit_code, 0) << again.err;

@@ -149,7 +149,22 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
     EXPECT_EQ(t.at("not_anchored_banners"), 0);
     EXPECT_EQ(t.at("untrusted_banners"), 0);
     EXPECT_EQ(t.at("plan_paths"), 2) << "walls in each plan";
-    EXPECT_EQ(t.at("plots"), 4) << "APE, time per scan, fitness, loop statistics";
+    // APE, time per scan, fitness, loop statistics, and a Scan-vs-BIM histogram per storey with
+    // points on the model (issue 34 item 3): the ground floor walked; its points seen through
+    // the stairwell may give the first floor one too.
+    const json& histograms = t.at("histograms");
+    ASSERT_GE(histograms.size(), 1u) << t.dump();
+    EXPECT_EQ(t.at("plots"), 4 + histograms.size()) << t.dump();
+    EXPECT_EQ(histograms[0].at("storey"), "Ground Floor") << histograms.dump();
+    EXPECT_GT(histograms[0].at("points").get<int>(), 10000) << histograms.dump();
+    for (const json& h : histograms) {
+        EXPECT_EQ(h.at("bars"), h.at("bins")) << h.dump();
+        EXPECT_GT(h.at("within_share").get<double>(), 0.0) << h.dump();
+        EXPECT_LE(h.at("within_share").get<double>(), 1.0) << h.dump();
+    }
+    ASSERT_EQ(t.at("histogram_labels").size(), histograms.size());
+    for (const json& labels : t.at("histogram_labels"))
+        EXPECT_EQ(labels, json::array({"distance to model (cm)", "points"}));
     const json& px = t.at("pixels");
     ASSERT_TRUE(px.is_object()) << "no WebGL view";
     EXPECT_GT(px.at("drawn").get<double>(), 0.05 * px.at("total").get<double>())

@@ -369,7 +369,7 @@ function buildPlans() {
 function chart(title, series, xlabel, ylabel, opts) {
   opts = opts || {};
   const W = 440, H = 250, l = 48, r = 10, t = 10, b = 36;
-  const div = el('div', {class: 'plot'}, document.getElementById('plots-body'));
+  const div = el('div', {class: 'plot' + (opts.cls ? ' ' + opts.cls : '')}, document.getElementById('plots-body'));
   el('h3', {}, div, title);
   const svg = el('svg:svg', {viewBox: '0 0 ' + W + ' ' + H, 'data-plot': title}, div);
   let xmin = Infinity, xmax = -Infinity, ymin = opts.ymin !== undefined ? opts.ymin : Infinity, ymax = -Infinity;
@@ -406,6 +406,10 @@ function chart(title, series, xlabel, ylabel, opts) {
     }
     el('svg:text', {x: W - r - 4, y: t + 12 + 13 * k, 'text-anchor': 'end', fill: s.color}, svg, s.name);
   });
+  (opts.marks || []).forEach(m => {  // vertical lines at x, named
+    el('svg:line', {class: 'mark', x1: X(m.x), x2: X(m.x), y1: t, y2: H - b}, svg);
+    if (m.name) el('svg:text', {x: X(m.x) + 3, y: t + 10, fill: '#b42318'}, svg, m.name);
+  });
   return svg;
 }
 function buildPlots() {
@@ -438,6 +442,39 @@ function buildPlots() {
   });
   const list = el('ol', {style: 'font-size:12px;margin:4px 0 0 16px'}, svg.parentNode);
   names.forEach((n, i) => el('li', {}, list, n + ': ' + counts[i]));
+  buildDistanceHistograms();
+}
+// Scan-vs-BIM (issue 34 item 3): per storey, how far the map's points on the model are from it
+// (map_bim.ply's signed distances, as change detection measured them; C++ counts every point,
+// not only those the 3D view shows), with the tolerance marked. Storeys with no point are left
+// out, said in one line.
+const histogramStats = [];
+function buildDistanceHistograms() {
+  const H = D.distances;
+  if (!H) return;
+  const empty = [];
+  H.storeys.forEach(s => {
+    if (!s.points) { empty.push(s.name); return; }
+    const x = s.counts.map((_, i) => -H.range_cm + (i + 0.5) * H.bin_cm);
+    let within = 0;
+    s.counts.forEach((c, i) => { if (DEV_T && Math.abs(x[i]) <= DEV_T * 100) within += c; });
+    const marks = DEV_T ? [{x: -DEV_T * 100, name: ''}, {x: DEV_T * 100, name: '±' + cm(DEV_T) + ' cm'}] : [];
+    const svg = chart('Scan-vs-BIM: distance of the map\'s points to the model, ' + s.name,
+      [{name: s.points.toLocaleString() + ' points', x: x, y: s.counts, color: '#4c78a8', mode: 'bars'}],
+      'distance to model (cm)', 'points',
+      {ymin: 0, xmin: -H.range_cm, xmax: H.range_cm, marks: marks, cls: 'histogram'});
+    const share = s.points ? within / s.points : 0;
+    el('p', {class: 'histogram-note'}, svg.parentNode, 'Mean ' + fmt(s.mean_cm, 2) + ' cm, RMS ' +
+       fmt(s.rms_cm, 2) + ' cm' + (DEV_T ? '; ' + fmt(100 * share, 1) + ' % of the points within ±' +
+       cm(DEV_T) + ' cm' : '') + ' (bins of ' + H.bin_cm + ' cm; the points on the model: within ' +
+       H.range_cm + ' cm of it; negative: behind its surface).');
+    histogramStats.push({storey: s.name, points: s.points, bins: s.counts.length,
+                         bars: svg.querySelectorAll('rect').length, within_share: share});
+  });
+  if (empty.length) {
+    el('p', {class: 'histogram-note'}, document.getElementById('plots-body'),
+       'Scan-vs-BIM: no map point on the model on ' + empty.join(', ') + '.');
+  }
 }
 
 // ---- change list and selection ----------------------------------------------------------------
@@ -815,6 +852,9 @@ if (location.hash === '#selftest') {
       [svg.querySelector('.xlabel').textContent, svg.querySelector('.ylabel').textContent]);
     r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
     r.plots = document.querySelectorAll('#plots-body svg').length;
+    r.histograms = histogramStats;  // Scan-vs-BIM, per storey with points on the model
+    r.histogram_labels = [...document.querySelectorAll('#plots-body .histogram svg')].map(svg =>
+      [svg.querySelector('.xlabel').textContent, svg.querySelector('.ylabel').textContent]);
     r.changes = D.changes.length;
     r.not_anchored_banners = document.querySelectorAll(
       '#summary .banner:not(.odometry-untrusted):not(.anchored-in-parts)').length;
