@@ -1,3 +1,5 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
 // The report's deviation views (issue 34 item 3): each compared element's measured deviation and
 // its verdict against the QA tolerance (elements.csv, `bimslam changes --tolerance`), which the
 // plans and the 3D view colour elements by, and per storey the histogram of the map's
