@@ -359,8 +359,10 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     rep->footer(
         "The page holds the summary, the visits' timeline, a floor plan per storey (walls, doors, "
         "the stairs, the part of the reference walk and of the selected visit's walks on that "
-        "storey, flights dashed on both, loops, the listed changes, a scale bar), plots, the "
-        "change list (since the previous visit, since the model or each recording's detections; "
+        "storey, flights dashed on both, loops, the listed changes, a scale bar, the elements "
+        "coloured by their deviation against the map's --tolerance), plots (a Scan-vs-BIM "
+        "histogram of the map's distances to the model per storey among them), the change list "
+        "(since the previous visit, since the model or each recording's detections; "
         "contradictions marked; a row's history on click) and a 3D view with a storey filter "
         "(three.js r111 from Debian's libjs-three, embedded). Opens offline. "
         "host_tools/report/README.md.");
