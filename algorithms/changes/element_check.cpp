@@ -25,10 +25,43 @@ std::string_view ToString(Verdict v) {
     return "?";
 }
 
+std::string_view ToString(ToleranceVerdict v) {
+    switch (v) {
+        case ToleranceVerdict::kWithin:
+            return "within";
+        case ToleranceVerdict::kBeyond:
+            return "beyond";
+        case ToleranceVerdict::kNotObserved:
+            return "not_observed";
+    }
+    return "?";
+}
+
+ToleranceVerdict JudgeTolerance(const ElementReport& report, const ElementCheckConfig& config) {
+    switch (report.verdict) {
+        case Verdict::kNotObserved:
+            return ToleranceVerdict::kNotObserved;
+        case Verdict::kMissing:  // not where the model has it, by its whole size
+            return ToleranceVerdict::kBeyond;
+        case Verdict::kConfirmed:
+        case Verdict::kDeviating:
+            break;
+    }
+    // A moved element stands elsewhere (or turned about its centre): beyond, whatever its
+    // translation.
+    if (report.moved) return ToleranceVerdict::kBeyond;
+    if (report.support_points < config.min_support_points || report.constrained_axes == 0) {
+        return ToleranceVerdict::kNotObserved;  // seen, but its deviation was not measured
+    }
+    return report.offset.norm() <= config.tolerance_m ? ToleranceVerdict::kWithin
+                                                      : ToleranceVerdict::kBeyond;
+}
+
 void ElementCheckConfig::Validate() const {
     if (!(support_distance_m > 0)) common::ThrowInvalid("elements.support_distance_m must be > 0");
     if (!(deviation_tolerance_m > 0))
         common::ThrowInvalid("elements.deviation_tolerance_m must be > 0");
+    if (!(tolerance_m > 0)) common::ThrowInvalid("elements.tolerance_m must be > 0");
     if (!(min_judged_area_m2 >= 0))
         common::ThrowInvalid("elements.min_judged_area_m2 must be >= 0");
     if (!(missing_seen_fraction >= 0 && missing_seen_fraction <= 1)) {

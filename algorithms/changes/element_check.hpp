@@ -19,6 +19,14 @@
 //   confirmed      otherwise.
 // Elements beams pass (doors taken as open, glass) are not judged: not_observed, with their
 // support numbers all the same (a door's points may be its frame's or the wall's reveal).
+//
+// Tolerance verdicts (issue 34, `--tolerance`, elements.csv `tolerance_verdict`): a QA engineer's
+// acceptance of each element against a tolerance T of their own, apart from the detector's
+// deviation_tolerance_m (which decides what is reported as a deviating change and stays as it
+// is): within when the measured deviation |t| <= T, beyond when it is larger or the
+// element is missing or moved (turned in place too), not_observed when the element is not_observed
+// or its deviation was not measured (fewer than min_support_points support points, or no direction
+// constrained).
 #pragma once
 
 #include <Eigen/Core>
@@ -36,9 +44,14 @@ enum class Verdict : uint8_t { kConfirmed, kMissing, kDeviating, kNotObserved };
 // "confirmed", "missing", "deviating", "not_observed".
 std::string_view ToString(Verdict v);
 
+enum class ToleranceVerdict : uint8_t { kWithin, kBeyond, kNotObserved };
+// "within", "beyond", "not_observed".
+std::string_view ToString(ToleranceVerdict v);
+
 struct ElementCheckConfig {
     double support_distance_m = 0.10;
-    double deviation_tolerance_m = 0.02;  // what a site engineer checks against
+    double deviation_tolerance_m = 0.02;  // a deviating change: reported, BCF, IFC, history
+    double tolerance_m = 0.01;            // the QA tolerance of ToleranceVerdict (`--tolerance`)
     size_t min_support_points = 30;
     double min_judged_area_m2 = 0.25;
     double missing_seen_fraction = 0.25;
@@ -64,6 +77,9 @@ struct ElementReport {
     double moved_inlier_fraction = 0;
     int moved_object = -1;  // the new-object cluster it explains
 };
+
+// An element's verdict against config.tolerance_m (see above).
+ToleranceVerdict JudgeTolerance(const ElementReport& report, const ElementCheckConfig& config);
 
 // The support of every element: the indices of the map points whose nearest triangle (of
 // model.mesh; kNoElement for none) belongs to it, within `distance` of it, and `usable` (not

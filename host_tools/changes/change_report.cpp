@@ -231,6 +231,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"cell_m", c.evidence.cell_m},
                          {"support_distance_m", c.elements.support_distance_m},
                          {"deviation_tolerance_m", c.elements.deviation_tolerance_m},
+                         {"tolerance_m", c.elements.tolerance_m},
                          {"min_support_points", c.elements.min_support_points},
                          {"min_judged_area_m2", c.elements.min_judged_area_m2},
                          {"missing_seen_fraction", c.elements.missing_seen_fraction}}},
@@ -357,7 +358,7 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
     csv << "index,global_id,class,name,storey,verdict,opaque,surface_area_m2,expected_area_m2,"
            "seen_area_m2,rays_agree,rays_through,rays_occluded,support_points,mean_signed_m,"
            "max_signed_m,rms_m,offset_x_m,offset_y_m,offset_z_m,offset_m,constrained_axes,"
-           "residual_rms_m,moved,moved_yaw_deg\n";
+           "residual_rms_m,moved,moved_yaw_deg,tolerance_verdict\n";
     for (size_t e = 0; e < r.elements.size(); ++e) {
         const bim::BimElement& el = model.elements[e];
         if (!Physical(el)) continue;
@@ -374,7 +375,8 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
             << ',' << Num(rep.offset.x()) << ',' << Num(rep.offset.y()) << ','
             << Num(rep.offset.z()) << ',' << Num(rep.offset.norm()) << ',' << rep.constrained_axes
             << ',' << Num(rep.residual_rms_m) << ',' << int(rep.moved) << ','
-            << Num(rep.moved_yaw_deg) << '\n';
+            << Num(rep.moved_yaw_deg) << ','
+            << changes::ToString(changes::JudgeTolerance(rep, config.elements)) << '\n';
     }
     io::WriteFileAtomic(dir / "elements.csv", csv.str());
 

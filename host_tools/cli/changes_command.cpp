@@ -363,7 +363,14 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
                     "more, else one keyframe's pose error could have made it (0.25; 0: off)")
         ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--deviation-tolerance", c.elements.deviation_tolerance_m,
-                    "an element offset by more is deviating, m (0.02)")
+                    "an element offset by more is a deviating change (changes.json, the BCF "
+                    "issues, the updated IFC), m (0.02)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--tolerance", c.elements.tolerance_m,
+                    "QA tolerance each element's measured deviation is judged against: "
+                    "elements.csv tolerance_verdict (within, beyond, not_observed) and the "
+                    "report's colour scale, m (0.01). Unlike --deviation-tolerance, it changes "
+                    "none of the changes reported")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--min-judged-area", c.elements.min_judged_area_m2,
                     "less expected visible surface is 'not observed', m2 (0.25)")

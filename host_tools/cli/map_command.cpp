@@ -276,6 +276,13 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
                     "change detection: distance from the model that starts a new object, m")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    cmd->add_option("--tolerance", a->config.changes.elements.tolerance_m,
+                    "QA tolerance each element's measured deviation is judged against: "
+                    "elements.csv tolerance_verdict (within, beyond, not_observed) and the "
+                    "report's colour scale, m; unlike bimslam changes --deviation-tolerance, it "
+                    "changes none of the changes reported")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     cmd->add_flag("--no-refine", a->no_refine,
                   "change detection: compare on the anchored poses as they are, without refining "
                   "them jointly with the elements' as-built offsets first");
@@ -355,8 +362,10 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     rep->footer(
         "The page holds the summary, the visits' timeline, a floor plan per storey (walls, doors, "
         "the stairs, the part of the reference walk and of the selected visit's walks on that "
-        "storey, flights dashed on both, loops, the listed changes, a scale bar), plots, the "
-        "change list (since the previous visit, since the model or each recording's detections; "
+        "storey, flights dashed on both, loops, the listed changes, a scale bar, the elements "
+        "coloured by their deviation against the map's --tolerance), plots (a Scan-vs-BIM "
+        "histogram of the map's distances to the model per storey among them), the change list "
+        "(since the previous visit, since the model or each recording's detections; "
         "contradictions marked; a row's history on click) and a 3D view with a storey filter "
         "(three.js r111 from Debian's libjs-three, embedded). Opens offline. "
         "host_tools/report/README.md.");

@@ -121,6 +121,7 @@ json ChangeParameters(const changes::ChangeDetectorConfig& c) {
             {"min_object_points", c.min_object_points},
             {"min_multi_view_fraction", c.min_multi_view_fraction},
             {"deviation_tolerance_m", c.elements.deviation_tolerance_m},
+            {"tolerance_m", c.elements.tolerance_m},  // elements.csv's verdicts, the page's scale
             {"min_judged_area_m2", c.elements.min_judged_area_m2},
             {"transients", c.detect_transients},
             {"moved", c.moved.enabled},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <system_error>
 #include <unordered_set>
 
@@ -15,6 +16,7 @@
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/report/report_deviation.hpp"
 #include "host_tools/report/report_geometry.hpp"
 #include "host_tools/report/report_visits.hpp"
 
@@ -101,9 +103,15 @@ std::vector<Eigen::Vector3d> Translations(const std::vector<Eigen::Isometry3d>& 
 // storey for the 3D view's storey filter (storeys: [first point, count] per storey), added to
 // `map` ({sessions, total, shown}).
 void AddSessionMap(const fs::path& file, const std::string& name, const bim::BimModel& model,
-                   size_t max_points, json& map) {
+                   size_t max_points, json& map, DistanceHistogram* histogram) {
     const io::PlyData ply = io::ReadPly(file);
     const io::PlyProperty* d = ply.Find("scalar_distance");
+    const io::PlyProperty* cls = ply.Find("scalar_class");
+    // Every point on the model (not only those shown), on the storey the 3D view puts it on.
+    for (size_t i = 0; d && cls && i < ply.vertices.size(); ++i) {
+        const double z = double(ply.vertices[i].z()) - model.origin_m.z();
+        histogram->Add(StoreyOfPoint(model, z), float(d->values[i]), int(cls->values[i]));
+    }
     const size_t step = std::max<size_t>(1, (ply.vertices.size() + max_points - 1) / max_points);
     const Eigen::Vector3f origin = model.origin_m.cast<float>();
     std::vector<std::vector<float>> xyz(std::max<size_t>(1, model.storeys.size())),
@@ -237,6 +245,8 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     std::vector<size_t> missing_elements;
     json changes_rows = json::array();
     json map = nullptr, objects = json::array();
+    std::vector<fs::path> change_dirs;           // the elements' deviations (elements.csv)
+    std::optional<DistanceHistogram> distances;  // of the maps' points on the model
     const auto& recordings = summary.at("recordings");
     for (size_t r = 0; r < recordings.size(); ++r) {
         const json& rec = recordings[r];
@@ -271,6 +281,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         const fs::path cdir = visit / "changes" / name;
         if (!Exists(cdir / "changes.json")) continue;
         const json c = ReadJson(cdir / "changes.json");
+        change_dirs.push_back(cdir);
         for (const json& o : c.at("new_objects")) {
             changes_rows.push_back(
                 {{"kind", "new object"},
@@ -322,7 +333,12 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         // map, or each, thinned together).
         if (Exists(cdir / "map_bim.ply")) {
             if (map.is_null()) map = {{"sessions", json::array()}, {"total", 0}, {"shown", 0}};
-            AddSessionMap(cdir / "map_bim.ply", name, model, config.max_map_points, map);
+            if (!distances) {  // the model's points are within the new-object threshold of it
+                const double range = c.at("parameters").value("new_object_threshold_m", 0.10);
+                distances.emplace(model.storeys.size(), range, 0.005);
+            }
+            AddSessionMap(cdir / "map_bim.ply", name, model, config.max_map_points, map,
+                          &*distances);
         }
         if (Exists(cdir / "new_objects.ply")) {
             objects.push_back(ObjectMeshes(cdir / "new_objects.ply", name, c, model));
@@ -333,6 +349,8 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     data["map"] = map;
     data["objects"] = objects;
     data["missing3d"] = ElementTriangles(model, missing_elements);
+    data["deviation"] = ElementDeviations(change_dirs);
+    data["distances"] = distances ? distances->ToJson(model) : json(nullptr);
 
     // Loops: from the target keyframe to where registration put the query keyframe
     // (T_world_target * T_target_query), accepted or rejected.

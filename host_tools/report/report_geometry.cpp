@@ -82,11 +82,14 @@ json PlanSections(const bim::BimModel& m, double cut_height_m) {
     for (size_t s = 0; s < m.storeys.size(); ++s) {
         const double cut = m.storeys[s].elevation_m - m.origin_m.z() + cut_height_m;
         std::map<std::string, std::vector<float>> segments;
-        for (const bim::BimElement& e : m.elements) {
+        std::map<std::string, std::vector<uint32_t>> runs;  // element, segments; per class
+        for (size_t ei = 0; ei < m.elements.size(); ++ei) {
+            const bim::BimElement& e = m.elements[ei];
             if (!Drawn(e)) continue;
             const int storey = e.storey >= 0 ? e.storey : StoreyOfHeight(m, cut);
             if (storey != int(s)) continue;
             std::vector<float>& out = segments[PlanClass(e.ifc_class)];
+            const size_t before = out.size();
             for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
                 // A triangle crossing the plane contributes the segment between its two crossing
                 // edges (vertices exactly on the plane count as above).
@@ -105,17 +108,23 @@ json PlanSections(const bim::BimModel& m, double cut_height_m) {
                 }
                 if (n == 4) out.insert(out.end(), pts, pts + 4);
             }
+            if (out.size() > before) {
+                auto& r = runs[PlanClass(e.ifc_class)];
+                r.insert(r.end(), {uint32_t(ei), uint32_t((out.size() - before) / 4)});
+            }
         }
-        json seg = json::object();
+        json seg = json::object(), seg_elements = json::object();
         for (auto& [cls, v] : segments) {
             if (v.empty()) continue;  // the class has elements on this storey, none cut
             for (float& x : v) x = std::round(x * 1000.0f) / 1000.0f;  // millimetres are enough
             seg[cls] = v;
+            seg_elements[cls] = runs[cls];
         }
         storeys.push_back({{"name", m.storeys[s].name},
                            {"elevation", m.storeys[s].elevation_m - m.origin_m.z()},
                            {"cut_z", cut},
-                           {"segments", seg}});
+                           {"segments", seg},
+                           {"segment_elements", seg_elements}});
     }
     return storeys;
 }

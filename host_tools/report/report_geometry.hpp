@@ -25,8 +25,10 @@ std::string Base64(const std::vector<T>& v) {
 // What a floor plan shows of an element class: "wall", "door", "window", "column" or "other".
 std::string PlanClass(const std::string& ifc_class);
 
-// Per storey: {name, elevation, cut_z, segments: {wall: [x0,y0,x1,y1,...], door, ...}}: the
-// triangles of the storey's elements cut at elevation + cut_height_m. Elements of no storey go to
+// Per storey: {name, elevation, cut_z, segments: {wall: [x0,y0,x1,y1,...], door, ...},
+// segment_elements: {wall: [element, segments, element, segments, ...], ...}}: the triangles of
+// the storey's elements cut at elevation + cut_height_m, each element's segments in one run (the
+// plans colour an element by its deviation). Elements of no storey go to
 // the storey whose elevation range holds the cut.
 nlohmann::json PlanSections(const bim::BimModel& model, double cut_height_m);
 

@@ -200,6 +200,105 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
     EXPECT_DOUBLE_EQ(datum[0]["offset_m"][1].get<double>(), 0.001);
 }
 
+// elements.csv as rows of named fields (RFC 4180: quoted fields may hold commas and quotes).
+std::vector<std::map<std::string, std::string>> CsvRows(const std::string& text) {
+    std::vector<std::vector<std::string>> lines(1, std::vector<std::string>(1));
+    bool quoted = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
+                lines.back().back() += '"';
+                ++i;
+            } else if (c == '"') {
+                quoted = false;
+            } else {
+                lines.back().back() += c;
+            }
+        } else if (c == '"') {
+            quoted = true;
+        } else if (c == ',') {
+            lines.back().emplace_back();
+        } else if (c == '\n') {
+            lines.emplace_back(1);
+        } else {
+            lines.back().back() += c;
+        }
+    }
+    std::vector<std::map<std::string, std::string>> rows;
+    for (size_t l = 1; l < lines.size(); ++l) {
+        if (lines[l].size() != lines[0].size()) continue;  // the empty last line
+        std::map<std::string, std::string> row;
+        for (size_t k = 0; k < lines[0].size(); ++k) row[lines[0][k]] = lines[l][k];
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+// Issue 34 item 3: elements.csv's tolerance_verdict against --tolerance (default 1 cm), from each
+// element's measured deviation (offset_m). The corridor's north wall, built 3 cm off, is beyond
+// 1 cm and within 5 cm; --tolerance changes no change found (--deviation-tolerance decides that).
+TEST(ChangesCli, ElementsCsvJudgesEachElementAgainstTheTolerance) {
+    const fs::path walk = Walk();
+    const auto verdicts = [](const fs::path& csv, double tolerance) {
+        std::map<std::string, std::string> by_id;
+        std::map<std::string, int> counts;
+        for (const auto& row : CsvRows(io::ReadFileToString(csv))) {
+            const std::string& v = row.at("tolerance_verdict");
+            by_id[row.at("global_id")] = v;
+            ++counts[v];
+            // The rule, row by row: not judged -> not_observed; missing -> beyond; else by the
+            // measured deviation when it was measured (30 support points or more).
+            const std::string& verdict = row.at("verdict");
+            std::string want;
+            if (verdict == "not_observed") {
+                want = "not_observed";
+            } else if (verdict == "missing" || row.at("moved") == "1") {
+                want = "beyond";
+            } else if (std::stoul(row.at("support_points")) < 30 ||
+                       row.at("constrained_axes") == "0") {
+                want = "not_observed";
+            } else {
+                want = std::stod(row.at("offset_m")) <= tolerance ? "within" : "beyond";
+            }
+            EXPECT_EQ(v, want) << row.at("name") << " " << verdict << " " << row.at("offset_m");
+        }
+        return std::make_pair(by_id, counts);
+    };
+    const auto [tight, tight_counts] = verdicts(walk / "out" / "elements.csv", 0.01);
+    EXPECT_EQ(tight.at("0EF31bAGn7cY_UpbsCA2np"), "beyond");
+    EXPECT_GT(tight_counts.at("within"), 0);
+    EXPECT_GT(tight_counts.at("not_observed"), 0);  // the rooms off the corridor
+    const json changes = json::parse(io::ReadFileToString(walk / "out" / "changes.json"));
+    EXPECT_DOUBLE_EQ(changes["parameters"]["elements"]["tolerance_m"].get<double>(), 0.01);
+
+    test::TempDir tmp;
+    const auto r = Cli("changes --model " + Quote(walk / "building.ifc") + " --session " +
+                       Quote(walk / "anchored") + " -o " + Quote(tmp / "out") +
+                       " --tolerance 0.05 --date " + changes_test::kWalkDate);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto [loose, loose_counts] = verdicts(tmp / "out" / "elements.csv", 0.05);
+    EXPECT_EQ(loose.at("0EF31bAGn7cY_UpbsCA2np"), "within");
+    EXPECT_GT(loose_counts.at("within"), tight_counts.at("within"));
+    const json again = json::parse(io::ReadFileToString(tmp / "out" / "changes.json"));
+    const auto ids = [](const json& list) {
+        std::vector<std::string> v;
+        for (const json& e : list) v.push_back(e.at("global_id"));
+        return v;
+    };
+    EXPECT_EQ(ids(again["deviating"]), ids(changes["deviating"]));
+    EXPECT_EQ(ids(again["missing"]), ids(changes["missing"]));
+    EXPECT_DOUBLE_EQ(again["parameters"]["elements"]["tolerance_m"].get<double>(), 0.05);
+
+    EXPECT_EQ(Cli("changes --model " + Quote(walk / "building.ifc") + " --session " +
+                  Quote(walk / "anchored") + " -o " + Quote(tmp / "bad") + " --tolerance 0")
+                  .exit_code,
+              2);
+    const auto help = Cli("changes --help");
+    EXPECT_NE(help.out.find("--tolerance"), std::string::npos) << help.out;
+    EXPECT_NE(help.out.find("Unlike --deviation-tolerance"), std::string::npos) << help.out;
+}
+
 // The second reader on both geometries the update writes (IFC4 tessellated, IFC2X3 B-rep).
 TEST(ChangesCli, UpdatedIfc4AndIfc2x3OpenInWebIfc) {
     if (const std::string why = web_ifc::Missing(); !why.empty()) GTEST_SKIP() << why;

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/ply.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/report/report_data.hpp"
 #include "tests/integration/map_test_support.hpp"
@@ -223,6 +224,83 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     EXPECT_LE(shown, 1000u);
     EXPECT_GT(shown, 500u);  // evenly thinned, not cut
     EXPECT_EQ(data.at("config").at("max_map_points"), 1000);
+}
+
+// Issue 34 item 3: `bimslam map --tolerance` reaches elements.csv's verdicts and the page; the
+// changes step's stamp holds it, so another tolerance makes the changes, the history and the
+// report again, and keeps the reference, the odometry and the anchoring.
+TEST(MapCli, AnotherToleranceMakesTheChangesAndTheReportAgainAndReachesThePage) {
+    test::TempDir tmp;
+    // A copy of the mapped fixture, mapped once at its place (the stamps name the recording's
+    // path), then with another tolerance.
+    fs::copy(Mapped(), tmp.path(), fs::copy_options::recursive);
+    const std::string args = MapArgs(tmp / "capture", tmp / "out");
+    ASSERT_EQ(Cli(args).exit_code, 0);
+    const auto r = Cli(args + " --tolerance 0.05 --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json steps = Steps(json::parse(r.out));
+    for (const std::string& s :
+         std::vector<std::string>{"reference", "odometry capture", "anchor " + kVisit}) {
+        EXPECT_EQ(steps.at(s), true) << s << " " << steps.dump();
+    }
+    for (const std::string& s : std::vector<std::string>{"changes " + kVisit, "history", "report"})
+        EXPECT_EQ(steps.at(s), false) << s << " " << steps.dump();
+    const fs::path changes = VisitOf(tmp / "out") / "changes" / "capture";
+    EXPECT_DOUBLE_EQ(
+        ReadJson(changes / "changes.json")["parameters"]["elements"]["tolerance_m"].get<double>(),
+        0.05);
+    // The corridor's north wall, built 3 cm off: beyond the default 1 cm, within 5 cm.
+    const auto wall_verdict = [](const fs::path& csv) {
+        const std::string text = io::ReadFileToString(csv);
+        const size_t at = text.find("0EF31bAGn7cY_UpbsCA2np");
+        if (at == std::string::npos) return std::string("no row");
+        const size_t end = text.find('\n', at);
+        const std::string row = text.substr(0, end);
+        return row.substr(row.rfind(',') + 1);
+    };
+    EXPECT_EQ(wall_verdict(VisitOf(Mapped() / "out") / "changes" / "capture" / "elements.csv"),
+              "beyond");
+    EXPECT_EQ(wall_verdict(changes / "elements.csv"), "within");
+    const json page = PageData(tmp / "out" / "report" / "report.html");
+    ASSERT_TRUE(page.at("deviation").is_object());
+    EXPECT_DOUBLE_EQ(page["deviation"]["tolerance_m"].get<double>(), 0.05);
+    EXPECT_GT(page["deviation"]["elements"].size(), 10u);
+    // The Scan-vs-BIM histograms count every map point on the model (map_bim.ply's class 0) at
+    // the distance change detection measured (its scalar_distance), over the storeys.
+    const io::PlyData ply = io::ReadPly(changes / "map_bim.ply");
+    const io::PlyProperty* distance = ply.Find("scalar_distance");
+    const io::PlyProperty* cls = ply.Find("scalar_class");
+    ASSERT_TRUE(distance && cls);
+    size_t on_model = 0;
+    double sum = 0;
+    for (size_t i = 0; i < ply.vertices.size(); ++i) {
+        if (cls->values[i] != 0) continue;
+        ++on_model;
+        sum += distance->values[i];
+    }
+    const json& h = page.at("distances");
+    ASSERT_EQ(h.at("storeys").size(), 2u) << h.dump();
+    EXPECT_DOUBLE_EQ(h.at("bin_cm").get<double>(), 0.5);
+    EXPECT_DOUBLE_EQ(h.at("range_cm").get<double>(), 10.0);  // the new-object threshold
+    size_t counted = 0;
+    double weighted_mean_cm = 0;
+    for (const json& s : h.at("storeys")) {
+        size_t n = 0;
+        for (const json& c : s.at("counts")) n += c.get<size_t>();
+        EXPECT_EQ(n, s.at("points").get<size_t>()) << s.at("name");
+        EXPECT_EQ(s.at("counts").size(), 40u);
+        counted += n;
+        weighted_mean_cm += double(n) * s.at("mean_cm").get<double>();
+    }
+    EXPECT_GT(on_model, 10000u);
+    EXPECT_EQ(counted, on_model);
+    EXPECT_NEAR(weighted_mean_cm / double(counted), 100 * sum / double(on_model), 0.01);
+    // A run again with the same tolerance skips every step.
+    const auto again = Cli(args + " --tolerance 0.05 --json");
+    ASSERT_EQ(again.exit_code, 0) << again.err;
+    const json none = Steps(json::parse(again.out));
+    for (const auto& [step, skipped] : none.items()) EXPECT_TRUE(skipped.get<bool>()) << step;
+    EXPECT_NE(Cli("map --help").out.find("--tolerance"), std::string::npos);
 }
 
 // The report's data of a project of two visits (issue 33 item 6; map_test_support.hpp, two_days):

@@ -10,7 +10,8 @@
 // - the floor plans (with walls) and the four plots are present;
 // - the 3D canvas is not blank: pixels of its WebGL drawing buffer differ from the background;
 // - clicking a change row selects it (the row, and its mark in the plan);
-// - the visits' timeline, the change list's filter and an element's history (two visits).
+// - the visits' timeline, the change list's filter and an element's history (two visits);
+// - the deviation views: elements coloured by their deviation on the plans and in 3D (issue 34).
 // Skips, saying so, when chromium is not installed (make test installs it:
 // toolchain/install-deps.sh --test).
 #include <gtest/gtest.h>
@@ -150,7 +151,22 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
     EXPECT_EQ(t.at("not_anchored_banners"), 0);
     EXPECT_EQ(t.at("untrusted_banners"), 0);
     EXPECT_EQ(t.at("plan_paths"), 2) << "walls in each plan";
-    EXPECT_EQ(t.at("plots"), 4) << "APE, time per scan, fitness, loop statistics";
+    // APE, time per scan, fitness, loop statistics, and a Scan-vs-BIM histogram per storey with
+    // points on the model (issue 34 item 3): the ground floor walked; its points seen through
+    // the stairwell may give the first floor one too.
+    const json& histograms = t.at("histograms");
+    ASSERT_GE(histograms.size(), 1u) << t.dump();
+    EXPECT_EQ(t.at("plots"), 4 + histograms.size()) << t.dump();
+    EXPECT_EQ(histograms[0].at("storey"), "Ground Floor") << histograms.dump();
+    EXPECT_GT(histograms[0].at("points").get<int>(), 10000) << histograms.dump();
+    for (const json& h : histograms) {
+        EXPECT_EQ(h.at("bars"), h.at("bins")) << h.dump();
+        EXPECT_GT(h.at("within_share").get<double>(), 0.0) << h.dump();
+        EXPECT_LE(h.at("within_share").get<double>(), 1.0) << h.dump();
+    }
+    ASSERT_EQ(t.at("histogram_labels").size(), histograms.size());
+    for (const json& labels : t.at("histogram_labels"))
+        EXPECT_EQ(labels, json::array({"distance to model (cm)", "points"}));
     const json& px = t.at("pixels");
     ASSERT_TRUE(px.is_object()) << "no WebGL view";
     EXPECT_GT(px.at("drawn").get<double>(), 0.05 * px.at("total").get<double>())
@@ -177,6 +193,31 @@ TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClic
                 inspected.rfind("new object", 0) == 0)
         << inspected;
     ExpectScoresInView(t, Mapped());
+    // Issue 34 item 3: the elements coloured by their deviation against the tolerance (1 cm by
+    // default): the walls built off their place (changed_building.yaml: 2 cm sigma, the
+    // corridor's north wall 3 cm) and the removed columns beyond it, the floor within; on the
+    // ground floor's plan, in the 3D view's buffers and on its screen (red pixels by deviation,
+    // none by class), with the scale in cm on the plans and beside the 3D view.
+    const json& dev = t.at("deviation");
+    EXPECT_EQ(dev.at("tolerance_cm"), 1) << dev.dump();
+    for (const char* v : {"within", "beyond", "not_observed"}) {
+        EXPECT_GT(dev.at("elements").at(v).get<int>(), 0) << v << " " << dev.dump();
+        EXPECT_GT(dev.at("triangles").at(v).get<int>(), 0) << v << " " << dev.dump();
+    }
+    EXPECT_GT(dev.at("plans").at(0).at("beyond").get<int>(), 3) << dev.dump();
+    EXPECT_EQ(dev.at("triangles").at("not_compared"), 0) << "every element by its GlobalId";
+    const json& on_screen = dev.at("pixels");
+    EXPECT_GT(on_screen.at("deviation").at("red").get<int>(),
+              on_screen.at("classes").at("red").get<int>() + 100)
+        << on_screen.dump();
+    ASSERT_EQ(dev.at("legends").size(), 2u) << dev.dump();
+    for (const json& legend : dev.at("legends")) {
+        const std::string text = legend;
+        EXPECT_NE(text.find("deviation from the model (cm; tolerance ±1 cm)"), std::string::npos)
+            << text;
+        EXPECT_NE(text.find("beyond 1 cm"), std::string::npos) << text;
+        EXPECT_NE(text.find("not observed"), std::string::npos) << text;
+    }
     // Each storey's plan: the stair that joins them, the reference walk's part on it; the walk of
     // the ground floor only there, and never on a flight.
     const json& plans = t.at("plan_stats");

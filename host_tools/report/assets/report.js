@@ -39,6 +39,53 @@ function storeyIndex(row) {
   return i >= 0 ? i : storeyAt(local(row.min)[2] + 0.2);
 }
 
+// ---- deviations (issue 34 item 3) -----------------------------------------------------------
+// Each compared element's measured deviation (elements.csv offset_m) and its verdict against the
+// tolerance (`--tolerance`): [GlobalId, code (0 within, 1 beyond, 2 not observed), offset_m].
+const DEV = D.deviation ? new Map(D.deviation.elements.map(e => [e[0], e])) : null;
+function devOf(i) {  // of the model's element i (D.model3d.elements)
+  const m = D.model3d.elements[i];
+  return m ? DEV.get(m.g) : undefined;
+}
+const DEV_T = D.deviation ? D.deviation.tolerance_m : 0;
+const DEV_NAMES = ['within', 'beyond', 'not_observed'];
+const DEV_GREEN = [0.10, 0.62, 0.25], DEV_YELLOW = [0.95, 0.75, 0.05];
+const DEV_RED = [0.84, 0.15, 0.16], DEV_GREY = [0.62, 0.62, 0.62];
+// Within: green at 0 to yellow at the tolerance; beyond (missing and moved too): red; not
+// observed: grey.
+function deviationColor(e) {
+  if (!e || e[1] === 2) return DEV_GREY;
+  if (e[1] === 1) return DEV_RED;
+  const f = Math.min(Math.abs(e[2]) / DEV_T, 1);
+  return DEV_GREEN.map((c, j) => c + f * (DEV_YELLOW[j] - c));
+}
+function hex(c) { return '#' + c.map(v => Math.round(v * 255).toString(16).padStart(2, '0')).join(''); }
+function cm(m) { return String(+(m * 100).toFixed(2)); }  // 0.01 -> '1', 0.005 -> '0.5'
+function deviationText(e) {
+  if (!e) return 'not compared';
+  if (e[1] === 2) return 'deviation not observed';
+  return 'deviation ' + cm(e[2]) + ' cm, ' + DEV_NAMES[e[1]] + ' ±' + cm(DEV_T) + ' cm';
+}
+// The scale, named in cm: a gradient from 0 to the tolerance, then beyond and not observed.
+function deviationLegend(parent) {
+  const p = el('p', {class: 'legend deviation-legend'}, parent,
+               'Elements by their deviation from the model (cm; tolerance ±' + cm(DEV_T) + ' cm): ');
+  const svg = el('svg:svg', {width: 150, height: 24, viewBox: '0 0 150 24', class: 'scale'}, p);
+  const id = 'dev-grad-' + document.querySelectorAll('.deviation-legend').length;
+  const grad = el('svg:linearGradient', {id: id}, el('svg:defs', {}, svg));
+  el('svg:stop', {offset: '0', 'stop-color': hex(DEV_GREEN)}, grad);
+  el('svg:stop', {offset: '1', 'stop-color': hex(DEV_YELLOW)}, grad);
+  el('svg:rect', {x: 5, y: 2, width: 140, height: 8, fill: 'url(#' + id + ')'}, svg);
+  [0, 0.5, 1].forEach(f => el('svg:text', {x: 5 + 140 * f, y: 22, 'text-anchor': f ? (f < 1 ? 'middle' : 'end') : 'start'},
+                              svg, cm(f * DEV_T) + (f === 1 ? ' cm' : '')));
+  p.appendChild(document.createTextNode(' within '));
+  el('span', {class: 'k', style: 'height:10px;background:' + hex(DEV_RED)}, p);
+  p.appendChild(document.createTextNode('beyond ' + cm(DEV_T) + ' cm (missing and moved too) '));
+  el('span', {class: 'k', style: 'height:10px;background:' + hex(DEV_GREY)}, p);
+  p.appendChild(document.createTextNode('not observed'));
+  return p;
+}
+
 // ---- summary -------------------------------------------------------------------------------
 function buildSummary() {
   const S = D.summary, body = document.getElementById('summary-body');
@@ -227,8 +274,40 @@ function markClass(c) {
   if (c.kind === 'reappeared' || c.kind === 'in place again') return 'reappeared';
   return c.kind.endsWith('missing') ? 'missing' : 'deviating';
 }
+// The compared elements' cuts over the plan, each in the colour of its deviation (deviationColor);
+// returns how many elements of each verdict it drew.
+function drawDeviations(st, parent) {
+  const n = {within: 0, beyond: 0, not_observed: 0};
+  if (!DEV || !st.segment_elements) return n;
+  const g = el('svg:g', {class: 'deviation'}, parent);
+  for (const cls in st.segment_elements) {
+    const s = st.segments[cls], runs = st.segment_elements[cls];
+    let i = 0;
+    for (let r = 0; r + 1 < runs.length; r += 2) {
+      const e = devOf(runs[r]), first = i;
+      i += 4 * runs[r + 1];
+      if (!e) continue;
+      let d = '';
+      for (let k = first; k + 3 < i; k += 4) d += 'M' + s[k] + ' ' + s[k + 1] + 'L' + s[k + 2] + ' ' + s[k + 3];
+      const path = el('svg:path', {class: 'dev dev-' + DEV_NAMES[e[1]], d: d, stroke: hex(deviationColor(e))}, g);
+      const m = D.model3d.elements[runs[r]];
+      el('svg:title', {}, path, (m ? m.n + ' (' + m.c + '): ' : '') + deviationText(e));
+      ++n[DEV_NAMES[e[1]]];
+    }
+  }
+  return n;
+}
 function buildPlans() {
   const body = document.getElementById('plans-body');
+  if (DEV) {
+    const legend = deviationLegend(document.getElementById('plans-deviation'));
+    const lab = el('label', {}, legend);
+    const cb = el('input', {type: 'checkbox', id: 'plans-by-deviation'}, lab);
+    cb.checked = true;
+    lab.appendChild(document.createTextNode(' shown'));
+    cb.addEventListener('change', () => document.querySelectorAll('.plan g.deviation').forEach(
+      g => { g.style.display = cb.checked ? '' : 'none'; }));
+  }
   // The model's box, grown to hold the anchored trajectories (a walk may start outside).
   const bmin = D.bounds.min.slice(), bmax = D.bounds.max.slice();
   const grow = t => {
@@ -253,7 +332,7 @@ function buildPlans() {
       el('svg:path', {class: cls, d: d}, g);
     }
     planStats.push({storey: st.name, stairs: drawStairs(si, g), walk: drawRuns(D.reference_runs, si, 'walk', g)[0],
-                    trajectory: 0, trajectory_on_flights: 0});
+                    trajectory: 0, trajectory_on_flights: 0, deviation: drawDeviations(st, g)});
     // The selected visit's walks and loops, and the change list's marks: drawn again when the
     // timeline or the list changes (drawWalks, drawMarks).
     planLayers.push({walks: el('svg:g', {class: 'walks'}, g), marks: el('svg:g', {class: 'marks'}, g)});
@@ -292,7 +371,7 @@ function buildPlans() {
 function chart(title, series, xlabel, ylabel, opts) {
   opts = opts || {};
   const W = 440, H = 250, l = 48, r = 10, t = 10, b = 36;
-  const div = el('div', {class: 'plot'}, document.getElementById('plots-body'));
+  const div = el('div', {class: 'plot' + (opts.cls ? ' ' + opts.cls : '')}, document.getElementById('plots-body'));
   el('h3', {}, div, title);
   const svg = el('svg:svg', {viewBox: '0 0 ' + W + ' ' + H, 'data-plot': title}, div);
   let xmin = Infinity, xmax = -Infinity, ymin = opts.ymin !== undefined ? opts.ymin : Infinity, ymax = -Infinity;
@@ -329,6 +408,10 @@ function chart(title, series, xlabel, ylabel, opts) {
     }
     el('svg:text', {x: W - r - 4, y: t + 12 + 13 * k, 'text-anchor': 'end', fill: s.color}, svg, s.name);
   });
+  (opts.marks || []).forEach(m => {  // vertical lines at x, named
+    el('svg:line', {class: 'mark', x1: X(m.x), x2: X(m.x), y1: t, y2: H - b}, svg);
+    if (m.name) el('svg:text', {x: X(m.x) + 3, y: t + 10, fill: '#b42318'}, svg, m.name);
+  });
   return svg;
 }
 function buildPlots() {
@@ -361,6 +444,39 @@ function buildPlots() {
   });
   const list = el('ol', {style: 'font-size:12px;margin:4px 0 0 16px'}, svg.parentNode);
   names.forEach((n, i) => el('li', {}, list, n + ': ' + counts[i]));
+  buildDistanceHistograms();
+}
+// Scan-vs-BIM (issue 34 item 3): per storey, how far the map's points on the model are from it
+// (map_bim.ply's signed distances, as change detection measured them; C++ counts every point,
+// not only those the 3D view shows), with the tolerance marked. Storeys with no point are left
+// out, said in one line.
+const histogramStats = [];
+function buildDistanceHistograms() {
+  const H = D.distances;
+  if (!H) return;
+  const empty = [];
+  H.storeys.forEach(s => {
+    if (!s.points) { empty.push(s.name); return; }
+    const x = s.counts.map((_, i) => -H.range_cm + (i + 0.5) * H.bin_cm);
+    let within = 0;
+    s.counts.forEach((c, i) => { if (DEV_T && Math.abs(x[i]) <= DEV_T * 100) within += c; });
+    const marks = DEV_T ? [{x: -DEV_T * 100, name: ''}, {x: DEV_T * 100, name: '±' + cm(DEV_T) + ' cm'}] : [];
+    const svg = chart('Scan-vs-BIM: distance of the map\'s points to the model, ' + s.name,
+      [{name: s.points.toLocaleString() + ' points', x: x, y: s.counts, color: '#4c78a8', mode: 'bars'}],
+      'distance to model (cm)', 'points',
+      {ymin: 0, xmin: -H.range_cm, xmax: H.range_cm, marks: marks, cls: 'histogram'});
+    const share = s.points ? within / s.points : 0;
+    el('p', {class: 'histogram-note'}, svg.parentNode, 'Mean ' + fmt(s.mean_cm, 2) + ' cm, RMS ' +
+       fmt(s.rms_cm, 2) + ' cm' + (DEV_T ? '; ' + fmt(100 * share, 1) + ' % of the points within ±' +
+       cm(DEV_T) + ' cm' : '') + ' (bins of ' + H.bin_cm + ' cm; the points on the model: within ' +
+       H.range_cm + ' cm of it; negative: behind its surface).');
+    histogramStats.push({storey: s.name, points: s.points, bins: s.counts.length,
+                         bars: svg.querySelectorAll('rect').length, within_share: share});
+  });
+  if (empty.length) {
+    el('p', {class: 'histogram-note'}, document.getElementById('plots-body'),
+       'Scan-vs-BIM: no map point on the model on ' + empty.join(', ') + '.');
+  }
 }
 
 // ---- change list and selection ----------------------------------------------------------------
@@ -500,17 +616,52 @@ function buildView() {
   el('option', {value: -1}, sel, 'all storeys');
   D.storeys.forEach((st, i) => el('option', {value: i}, sel, st.name));
   sel.addEventListener('change', () => showStorey(+sel.value));
-  el('strong', {}, layers, 'Model (per class)');
   const palette = {IfcWall: 0xb0b0b0, IfcWallStandardCase: 0xb0b0b0, IfcSlab: 0xd8d0c0, IfcDoor: 0xb8860b,
                    IfcWindow: 0x3a8fd6, IfcColumn: 0x909090, IfcStair: 0xa08060, IfcFurnishingElement: 0x7fa07f};
+  // The model coloured by IFC class or by each element's deviation (deviationColor; elements
+  // share no vertices, so a vertex has its element's colour).
+  const modelMeshes = [];
+  function colourModel(mode) {
+    const dev = mode === 'deviation';
+    modelMeshes.forEach(m => {
+      m.material.vertexColors = dev ? THREE.VertexColors : THREE.NoColors;
+      m.material.color.setHex(dev ? 0xffffff : m.userData.color);
+      m.material.opacity = dev ? 0.45 : 0.28;
+      m.material.needsUpdate = true;
+    });
+    requestRender();
+  }
+  if (DEV) {
+    const ml = el('label', {}, layers, 'Model colour ');
+    const mode = el('select', {id: 'model-colour'}, ml);
+    el('option', {value: 'deviation'}, mode, 'by deviation');
+    el('option', {value: 'class'}, mode, 'by IFC class');
+    mode.addEventListener('change', () => colourModel(mode.value));
+    deviationLegend(layers);
+  }
+  el('strong', {}, layers, 'Model (per class)');
+  const coloured = {within: 0, beyond: 0, not_observed: 0, not_compared: 0};  // triangles
   D.model3d.classes.forEach(c => {
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(b64(c.positions, Float32Array), 3));
-    g.setIndex(new THREE.BufferAttribute(b64(c.indices, Uint32Array), 1));
+    const pos = b64(c.positions, Float32Array), idx = b64(c.indices, Uint32Array);
+    const element = b64(c.element, Uint32Array);
+    g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    g.setIndex(new THREE.BufferAttribute(idx, 1));
     g.computeVertexNormals();
+    if (DEV) {
+      const col = new Float32Array(pos.length);
+      for (let t = 0; t < element.length; ++t) {
+        const e = devOf(element[t]);
+        ++coloured[e ? DEV_NAMES[e[1]] : 'not_compared'];
+        const rgb = deviationColor(e);
+        for (let k = 0; k < 3; ++k) col.set(rgb, 3 * idx[3 * t + k]);
+      }
+      g.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    }
     const m = new THREE.Mesh(g, new THREE.MeshLambertMaterial({color: palette[c.name] || 0xc0c0c0,
       transparent: true, opacity: 0.28, depthWrite: false, side: THREE.DoubleSide}));
-    m.userData = {kind: 'model', element: b64(c.element, Uint32Array), ranges: c.storeys};
+    m.userData = {kind: 'model', element: element, ranges: c.storeys, color: palette[c.name] || 0xc0c0c0};
+    if (DEV) modelMeshes.push(m);
     filtered.push(m);
     const slab = c.name === 'IfcSlab' || c.name === 'IfcRoof' || c.name === 'IfcCovering';
     layer(c.name + ' (' + c.triangles + ')', m, !slab);
@@ -612,7 +763,8 @@ function buildView() {
     const at = 'at (' + [p.x + O[0], p.y + O[1], p.z + O[2]].map(v => v.toFixed(2)).join(', ') + ') m';
     if (u.kind === 'model') {
       const e = D.model3d.elements[u.element[hit.faceIndex]];
-      box_.textContent = e.c + ' "' + e.n + '" ' + e.g + (e.s ? ', ' + e.s : '') + ', ' + at;
+      const dev = DEV ? ', ' + deviationText(devOf(u.element[hit.faceIndex])) : '';
+      box_.textContent = e.c + ' "' + e.n + '" ' + e.g + (e.s ? ', ' + e.s : '') + dev + ', ' + at;
       if (historyElement(e.g)) inspectHistory({element: e.g});
     } else if (u.kind === 'map') {
       box_.textContent = 'map point of ' + u.session + ', ' + fmt(u.distance[hit.index] * 100, 1) + ' cm from the model, ' + at;
@@ -652,8 +804,30 @@ function buildView() {
     }
     return {drawn: n, total: w * h};
   }
+  // The self-test's "the colours are on the screen": the model alone (every other layer hidden
+  // for the count), pixels whose colour leans green (within) or red (beyond), in a mode.
+  function colourPixels(mode) {
+    colourModel(mode);
+    const hidden = [];
+    scene.children.forEach(o => {
+      if (o.visible && !modelMeshes.includes(o) && !o.isLight) { hidden.push(o); o.visible = false; }
+    });
+    render();
+    const gl = renderer.getContext(), w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const px = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    let green = 0, red = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      if (px[i + 1] > px[i] + 25 && px[i + 1] > px[i + 2] + 20) ++green;
+      if (px[i] > px[i + 1] + 40 && px[i] > px[i + 2] + 40) ++red;
+    }
+    hidden.forEach(o => { o.visible = true; });
+    return {green: green, red: red};
+  }
+  if (DEV) colourModel('deviation');  // by deviation at first
   render();
-  return {highlight: highlight, drawnPixels: drawnPixels, render: render};
+  return {highlight: highlight, drawnPixels: drawnPixels, render: render, coloured: coloured,
+          colourPixels: DEV ? colourPixels : null, colourModel: colourModel};
 }
 
 // ---- start -----------------------------------------------------------------------------------
@@ -680,6 +854,9 @@ if (location.hash === '#selftest') {
       [svg.querySelector('.xlabel').textContent, svg.querySelector('.ylabel').textContent]);
     r.plan_paths = document.querySelectorAll('#plans-body svg path.wall').length;
     r.plots = document.querySelectorAll('#plots-body svg').length;
+    r.histograms = histogramStats;  // Scan-vs-BIM, per storey with points on the model
+    r.histogram_labels = [...document.querySelectorAll('#plots-body .histogram svg')].map(svg =>
+      [svg.querySelector('.xlabel').textContent, svg.querySelector('.ylabel').textContent]);
     r.changes = D.changes.length;
     r.not_anchored_banners = document.querySelectorAll(
       '#summary .banner:not(.odometry-untrusted):not(.anchored-in-parts)').length;
@@ -730,6 +907,19 @@ if (location.hash === '#selftest') {
       r.selected_row = row.classList.contains('selected');
       r.selected_plan = document.querySelectorAll('.plan .selected').length;
       r.selected_change = selected;
+    }
+    // The deviation views: the elements by verdict, drawn on the plans and coloured in 3D, and
+    // the colours on the screen by deviation and by class (then back to deviation).
+    if (DEV) {
+      const count = {within: 0, beyond: 0, not_observed: 0};
+      D.deviation.elements.forEach(e => ++count[DEV_NAMES[e[1]]]);
+      r.deviation = {tolerance_cm: DEV_T * 100, elements: count,
+                     plans: planStats.map(s => s.deviation),
+                     legends: [...document.querySelectorAll('.deviation-legend')].map(p => p.textContent)};
+      if (view) {
+        r.deviation.triangles = view.coloured;
+        r.deviation.pixels = {classes: view.colourPixels('class'), deviation: view.colourPixels('deviation')};
+      }
     }
     r.visits_test = visitsSelfTest();  // report_visits.js: the timeline, the filter, a history
     el('pre', {id: 'selftest'}, document.body, JSON.stringify(r));

@@ -128,6 +128,37 @@ TEST(ChangeDetector, AWallOffsetBy3cmIsDeviatingBy3Plus1cm) {
     }
 }
 
+// The QA verdicts against a tolerance (issue 34, elements.csv tolerance_verdict): the wall built
+// 3 cm off is beyond 1 cm and within 5 cm; the walls where the model has them are within 1 cm;
+// the removed column is beyond whatever the tolerance, the one out of view not observed.
+TEST(ChangeDetector, ToleranceVerdictsFollowTheMeasuredDeviations) {
+    const ChangeResult& r = SharedResult();
+    ElementCheckConfig tight, loose;
+    tight.tolerance_m = 0.01;
+    loose.tolerance_m = 0.05;
+    const ElementReport& wall = r.elements[test::kWallNorthA];
+    EXPECT_EQ(JudgeTolerance(wall, tight), ToleranceVerdict::kBeyond) << Describe(r);
+    EXPECT_EQ(JudgeTolerance(wall, loose), ToleranceVerdict::kWithin) << Describe(r);
+    for (const auto e : {test::kWallSouth, test::kWallWest, test::kWallDivider, test::kFloor}) {
+        EXPECT_EQ(JudgeTolerance(r.elements[e], tight), ToleranceVerdict::kWithin)
+            << "element " << e << "\n"
+            << Describe(r);
+    }
+    EXPECT_EQ(JudgeTolerance(r.elements[test::kColumnA], loose), ToleranceVerdict::kBeyond);
+    EXPECT_EQ(JudgeTolerance(r.elements[test::kColumnB], loose), ToleranceVerdict::kNotObserved);
+    EXPECT_EQ(ToString(ToleranceVerdict::kNotObserved), "not_observed");
+    // Seen and confirmed, but with too little support to measure a deviation: not observed.
+    ElementReport thin = r.elements[test::kWallSouth];
+    thin.support_points = tight.min_support_points - 1;
+    EXPECT_EQ(JudgeTolerance(thin, tight), ToleranceVerdict::kNotObserved);
+    // A moved element is beyond even when only turned in place.
+    ElementReport turned = r.elements[test::kColumnC];
+    turned.moved = true;
+    turned.verdict = Verdict::kDeviating;
+    turned.offset.setZero();
+    EXPECT_EQ(JudgeTolerance(turned, loose), ToleranceVerdict::kBeyond);
+}
+
 TEST(ChangeDetector, APersonCrossingTheRoomIsTransientNotANewObject) {
     const test::ChangeScene& s = SharedChangeScene();
     const ChangeResult& r = SharedResult();

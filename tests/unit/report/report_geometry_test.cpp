@@ -60,6 +60,8 @@ TEST(ReportGeometry, PlanSectionsCutEachStoreyAtItsElevation) {
         EXPECT_GE(wall[i].get<float>(), 0.0f);
         EXPECT_LE(wall[i].get<float>(), 4.0f);
     }
+    // One run of 8 segments, of the wall (element 0).
+    EXPECT_EQ(plans[0]["segment_elements"]["wall"], nlohmann::json::array({0, 8}));
     EXPECT_FALSE(plans[0]["segments"].contains("other")) << "furniture below the cut";
     EXPECT_EQ(plans[1]["segments"]["door"].size(), 32u);
     EXPECT_FALSE(plans[1]["segments"].contains("wall"));
