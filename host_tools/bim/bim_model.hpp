@@ -43,6 +43,9 @@ struct BimElement {
     ElementRole role = ElementRole::kTransient;
     uint32_t first_triangle = 0;  // its triangles are [first_triangle, first_triangle + count)
     uint32_t triangle_count = 0;
+    // A spatial element's IfcSpatialElement.LongName: a space's "Open office", whose Name is often
+    // its number ("0.00"); "" for other elements and when the file has none.
+    std::string long_name{};
 };
 
 // An element whose geometry could not be built (reported, skipped, never fatal), or was built

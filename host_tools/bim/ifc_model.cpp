@@ -334,6 +334,10 @@ void Collect(const std::string& name, const shared_ptr<BuildingModel>& model,
         const ifc::ProductMesh& m = meshes[i];
         BimElement e{GlobalIdOf(p), p.className(), NameOf(p), StoreyOf(p, storey_index),
                      RoleOf(p, options)};
+        if (const auto* spatial = dynamic_cast<const IfcSpatialElement*>(&p);
+            spatial && spatial->m_LongName) {
+            e.long_name = ifc::Utf8(spatial->m_LongName->m_value);
+        }
         e.first_triangle = uint32_t(out.mesh.triangles.size());
         std::vector<uint32_t> remap(m.vertices.size(), kUnused);
         const auto element_index = uint32_t(out.elements.size());

@@ -136,9 +136,11 @@ std::string WhereIn(const bim::BimModel& model, int storey, int space) {
     std::string s;
     if (storey >= 0) s += "storey '" + model.storeys[size_t(storey)].name + "'";
     if (space >= 0) {
+        // The space as people call it (its LongName), with its Name (often its number) beside.
         const bim::BimElement& sp = model.elements[size_t(space)];
-        s += std::string(s.empty() ? "" : ", ") + "IfcSpace '" + sp.name + "' (" + sp.global_id +
-             ")";
+        const std::string number = sp.long_name.empty() ? "" : sp.name + ", ";
+        s += std::string(s.empty() ? "" : ", ") + "IfcSpace '" +
+             (sp.long_name.empty() ? sp.name : sp.long_name) + "' (" + number + sp.global_id + ")";
     }
     return s.empty() ? "the model (no storey)" : s;
 }

@@ -116,7 +116,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
         json space = nullptr;
         if (place.space >= 0) {
             const bim::BimElement& s = model.elements[size_t(place.space)];
-            space = {{"global_id", s.global_id}, {"name", s.name}};
+            space = {{"global_id", s.global_id}, {"name", s.name}, {"long_name", s.long_name}};
         }
         objects.push_back({{"id", k},
                            {"ifc_global_id", found.object_global_ids[k]},

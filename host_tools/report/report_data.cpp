@@ -35,6 +35,14 @@ void ReportConfig::Validate() const {
 
 namespace {
 
+// A new object's room in the page: the space's LongName ("Open office") when the file has one,
+// else its Name; "" outside every space. changes.json before stop 49 has no long_name.
+json RoomName(const json& space) {
+    if (space.is_null()) return "";
+    const std::string long_name = space.value("long_name", "");
+    return long_name.empty() ? space.at("name") : json(long_name);
+}
+
 bool Exists(const fs::path& p) {
     std::error_code ec;
     return fs::exists(p, ec);
@@ -293,7 +301,7 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
                  {"size", o.at("size_m")},
                  {"position", o.at("centroid")},
                  {"storey", StoreyName(o)},
-                 {"room", o.at("space").is_null() ? json("") : o["space"]["name"]},
+                 {"room", RoomName(o.at("space"))},
                  {"verdict", "new"},
                  {"color", o.at("color")}});
         }

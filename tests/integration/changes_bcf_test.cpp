@@ -224,7 +224,11 @@ TEST_P(ChangesBcf, OneTopicPerChangeWithWordsPriorityDateCameraAndComponents) {
         EXPECT_EQ(t.type, "New object");
         EXPECT_NE(t.title.find("Ground Floor"), std::string::npos) << t.title;
         if (o["space"].is_object()) {
-            EXPECT_NE(t.description.find("IfcSpace '" + o["space"]["name"].get<std::string>()),
+            // The space as people call it (LongName), then its Name (the sample's number).
+            const std::string long_name = o["space"]["long_name"];
+            ASSERT_FALSE(long_name.empty()) << o.dump();
+            EXPECT_NE(t.description.find("IfcSpace '" + long_name + "' (" +
+                                         o["space"]["name"].get<std::string>() + ", "),
                       std::string::npos)
                 << t.description;
         }

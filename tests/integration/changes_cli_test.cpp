@@ -141,7 +141,8 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
     for (const json& o : changes["new_objects"]) {
         if (std::abs(o["centroid"][0].get<double>() - 14.0) > 0.3) continue;
         EXPECT_EQ(o["storey"]["name"], "Ground Floor");
-        EXPECT_TRUE(o["space"].is_object()) << o.dump();
+        ASSERT_TRUE(o["space"].is_object()) << o.dump();
+        EXPECT_EQ(o["space"]["long_name"], "Corridor") << o.dump();  // its IfcSpace.LongName
         EXPECT_TRUE(o["on_floor"].get<bool>());
     }
     // Every change is placed on a storey (issue 31, item 6): new objects by their height, the
