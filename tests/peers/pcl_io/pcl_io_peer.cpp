@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -50,6 +51,27 @@ double Cpu(F&& f) {
     return ProcessCpuSeconds() - start;
 }
 
+// One format's four steps: each side writes the cloud, and reads the file the other wrote.
+struct Format {
+    const char* name;
+    std::function<void()> write_ours, write_pcl;
+    std::function<size_t()> read_ours, read_pcl;  // the points read
+};
+
+// One round of `format`: the CPU seconds of its four steps into t[0..3]. False, said on stderr,
+// when a side read another number of points than n.
+bool Round(const Format& format, size_t n, double* t) {
+    size_t ours_read = 0, pcl_read = 0;
+    t[0] = Cpu(format.write_ours);
+    t[1] = Cpu(format.write_pcl);
+    t[2] = Cpu([&] { ours_read = format.read_ours(); });
+    t[3] = Cpu([&] { pcl_read = format.read_pcl(); });
+    if (ours_read == n && pcl_read == n) return true;
+    std::fprintf(stderr, "%s: read %zu (ours) and %zu (PCL) of %zu points\n", format.name,
+                 ours_read, pcl_read, n);
+    return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,48 +96,38 @@ int main(int argc, char** argv) {
         q.t = io::PcdNsToSeconds(t_ns);
     }
     const io::PlyData ply = io::ToPly(ours);
-    const char* names[8] = {"PCD write, ours", "PCD write, PCL", "PCD read, ours", "PCD read, PCL",
-                            "PLY write, ours", "PLY write, PCL", "PLY read, ours", "PLY read, PCL"};
+    const auto pcl_count = [](auto load, const fs::path& path) {
+        pcl::PointCloud<ScanPoint> back;
+        load(path.string(), back);
+        return back.size();
+    };
+    const Format formats[2] = {
+        {"PCD", [&] { io::WritePcd(dir / "ours.pcd", ours, io::PcdEncoding::kBinary); },
+         [&] { pcl::io::savePCDFileBinary((dir / "pcl.pcd").string(), theirs); },
+         [&] { return io::ReadPcd(dir / "pcl.pcd").size(); },
+         [&] { return pcl_count(pcl::io::loadPCDFile<ScanPoint>, dir / "ours.pcd"); }},
+        {"PLY", [&] { io::WritePly(dir / "ours.ply", ply); },
+         [&] { pcl::io::savePLYFileBinary((dir / "pcl.ply").string(), theirs); },
+         [&] { return io::ReadPly(dir / "pcl.ply").vertices.size(); },
+         [&] { return pcl_count(pcl::io::loadPLYFile<ScanPoint>, dir / "ours.ply"); }}};
+    // Per format: write ours, write PCL's, read PCL's with ours, read ours with PCL.
     std::vector<std::array<double, 8>> times;
     for (int r = 0; r < rounds; ++r) {
         std::array<double, 8> t{};
-        size_t ours_read = 0, pcl_read = 0;
-        t[0] = Cpu([&] { io::WritePcd(dir / "ours.pcd", ours, io::PcdEncoding::kBinary); });
-        t[1] = Cpu([&] { pcl::io::savePCDFileBinary((dir / "pcl.pcd").string(), theirs); });
-        t[2] = Cpu([&] { ours_read = io::ReadPcd(dir / "pcl.pcd").size(); });
-        t[3] = Cpu([&] {
-            pcl::PointCloud<ScanPoint> back;
-            pcl::io::loadPCDFile((dir / "ours.pcd").string(), back);
-            pcl_read = back.size();
-        });
-        if (ours_read != size_t(n) || pcl_read != size_t(n)) {
-            std::fprintf(stderr, "PCD: read %zu (ours) and %zu (PCL) of %d points\n", ours_read,
-                         pcl_read, n);
-            return 1;
-        }
-        t[4] = Cpu([&] { io::WritePly(dir / "ours.ply", ply); });
-        t[5] = Cpu([&] { pcl::io::savePLYFileBinary((dir / "pcl.ply").string(), theirs); });
-        t[6] = Cpu([&] { ours_read = io::ReadPly(dir / "pcl.ply").vertices.size(); });
-        t[7] = Cpu([&] {
-            pcl::PointCloud<ScanPoint> back;
-            pcl::io::loadPLYFile((dir / "ours.ply").string(), back);
-            pcl_read = back.size();
-        });
-        if (ours_read != size_t(n) || pcl_read != size_t(n)) {
-            std::fprintf(stderr, "PLY: read %zu (ours) and %zu (PCL) of %d points\n", ours_read,
-                         pcl_read, n);
-            return 1;
+        for (size_t f = 0; f < 2; ++f) {
+            if (!Round(formats[f], size_t(n), &t[4 * f])) return 1;
         }
         times.push_back(t);
     }
     std::printf("%d points (x y z intensity ring t, binary), CPU seconds over %d rounds:\n", n,
                 rounds);
+    const char* steps[4] = {"write, ours", "write, PCL", "read, ours", "read, PCL"};
     for (size_t k = 0; k < 8; ++k) {
         std::vector<double> v;
         for (const auto& t : times) v.push_back(t[k]);
         std::sort(v.begin(), v.end());
-        std::printf("  %-16s median %.3f  min %.3f  max %.3f\n", names[k], v[v.size() / 2],
-                    v.front(), v.back());
+        std::printf("  %s %-12s median %.3f  min %.3f  max %.3f\n", formats[k / 4].name,
+                    steps[k % 4], v[v.size() / 2], v.front(), v.back());
     }
     fs::remove_all(dir);
     return 0;
