@@ -343,30 +343,32 @@ std::string SerializeLas(const LasData& d) {
 }
 
 // Streamed: the header, then 64 blocks of points at a time (11 MB of 44-byte records), so that
-// a map of 10^7 points (440 MB) is never held in memory a second time.
+// a map of 10^7 points (440 MB) is never held in memory a second time; written past the page
+// cache (Cache::kBypass), which took most of the time (algorithms/io/README.md, "Large files").
 void WriteLas(const std::filesystem::path& path, const LasData& d) {
     try {
         const Layout l = Plan(d);
         std::string buffer(l.data_at, '\0');
         PutHeader(d, l, buffer.data());
         const size_t n = d.size(), chunk = 64 * kBlock;
-        size_t next = 0;
+        size_t next_point = 0;
         bool header = true;
-        WriteFileAtomic(path, [&]() -> std::string_view {
+        const auto next = [&]() -> std::string_view {
             if (header) {
                 header = false;
                 return buffer;
             }
-            if (next >= n) return {};
-            const size_t last = std::min(n, next + chunk);
-            buffer.resize((last - next) * l.length);
-            for (size_t first = next; first < last; first += kBlock) {
+            if (next_point >= n) return {};
+            const size_t last = std::min(n, next_point + chunk);
+            buffer.resize((last - next_point) * l.length);
+            for (size_t first = next_point; first < last; first += kBlock) {
                 PutPoints(d, l, first, std::min(last, first + kBlock),
-                          buffer.data() + (first - next) * l.length);
+                          buffer.data() + (first - next_point) * l.length);
             }
-            next = last;
+            next_point = last;
             return buffer;
-        });
+        };
+        WriteFileAtomic(path, next, Sync::kNow, Cache::kBypass);
     } catch (const common::FileError&) {
         throw;
     } catch (const common::Error& e) {

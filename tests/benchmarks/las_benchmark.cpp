@@ -3,8 +3,8 @@
 // LAS 1.4 writing (issue 34's target: 10^7 points written in at most 1 s): a cloud of 10^7
 // points with map_bim.las's fields (class, user data, point source, GPS time; extra bytes
 // distance, element, object, keyframes: 44-byte records, 440 MB), encoded in memory
-// (SerializeLas) and written to a file (WriteLas: encoding, write, fsync and rename), and read
-// back (ReadLas). The points are a building's surfaces' worth of voxels (random in 60 x 40 x 10 m).
+// (SerializeLas) and written to a file (WriteLas: encoding, write past the page cache, fsync and
+// rename), and read back (ReadLas). The points are a building's surfaces' worth of voxels (random in 60 x 40 x 10 m).
 #include <benchmark/benchmark.h>
 
 #include <random>

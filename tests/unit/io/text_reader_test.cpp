@@ -3,8 +3,12 @@
 #include "algorithms/io/text_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdint>
+#include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -111,6 +115,43 @@ TEST(FileUtil, AtomicWriteInPieces) {
     size_t files = 0;
     for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
     EXPECT_EQ(files, 1u);
+}
+
+// Past the page cache (O_DIRECT, LAS): pieces of sizes that cross the 4096-byte blocks and the
+// 8 MiB staging buffer come back in order, byte for byte, with the last partial block; a file
+// of no bytes; a throwing producer keeps the old file. /dev/shm (tmpfs) too, where the kernel
+// may refuse O_DIRECT and the page cache serves.
+TEST(FileUtil, AtomicWriteInPiecesPastThePageCache) {
+    std::vector<std::string> pieces;
+    uint32_t k = 0;
+    for (const size_t size : {size_t(1), size_t(4095), (size_t(8) << 20) + 3, size_t(5),
+                              size_t(3) << 20, size_t(4096)}) {
+        std::string piece(size, '\0');
+        for (char& c : piece) c = char((k++ * 2654435761u) >> 24);  // no period of 4096
+        pieces.push_back(std::move(piece));
+    }
+    std::string all;
+    for (const std::string& p : pieces) all += p;
+    test::TempDir tmp;
+    std::vector<std::filesystem::path> dirs = {tmp.path()};
+    if (std::filesystem::is_directory("/dev/shm")) dirs.push_back("/dev/shm");
+    for (const std::filesystem::path& dir : dirs) {
+        SCOPED_TRACE(dir.string());
+        const auto path = dir / ("bimslam_direct_" + std::to_string(::getpid()) + ".bin");
+        size_t i = 0;
+        const auto next = [&]() { return i < pieces.size() ? std::string_view(pieces[i++]) : ""; };
+        WriteFileAtomic(path, next, Sync::kNow, Cache::kBypass);
+        EXPECT_TRUE(ReadFileToString(path) == all);
+        EXPECT_THROW(WriteFileAtomic(
+                         path, [&]() -> std::string_view { throw std::runtime_error("failed"); },
+                         Sync::kNow, Cache::kBypass),
+                     std::runtime_error);
+        EXPECT_TRUE(ReadFileToString(path) == all);
+        WriteFileAtomic(
+            path, []() { return std::string_view(); }, Sync::kNow, Cache::kBypass);
+        EXPECT_EQ(std::filesystem::file_size(path), 0u);
+        std::filesystem::remove(path);
+    }
 }
 
 TEST(FileUtil, FormatIsShortestExact) {
