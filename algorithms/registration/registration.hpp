@@ -76,6 +76,8 @@ struct RegistrationConfig {
 class SurfelPyramid {
 public:
     explicit SurfelPyramid(const RegistrationConfig& config);
+    // Built levels in the order of RegistrationConfig::levels (SurfelMap::Restore: a saved one).
+    explicit SurfelPyramid(std::vector<SurfelMap> levels) : maps_(std::move(levels)) {}
     void Add(const OrientedCloud& cloud, const Eigen::Isometry3d& T_map_cloud);
     void Build();
     const SurfelMap& level(size_t i) const { return maps_.at(i); }

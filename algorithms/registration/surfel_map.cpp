@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <string>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/common/voxel_hash.hpp"
@@ -61,6 +62,7 @@ void SurfelMap::Add(const OrientedCloud& cloud, const Eigen::Isometry3d& T_map_c
 void SurfelMap::Build() {
     for (auto& table : tables_) table.Clear();
     surfels_.clear();
+    places_.clear();
     const double max_var = config_.max_thickness * config_.max_thickness;
     for (const Sums& s : sums_) {
         if (s.n < config_.min_points) continue;
@@ -83,10 +85,33 @@ void SurfelMap::Build() {
         f.points = static_cast<uint32_t>(s.n);
         tables_[s.bin].FindOrInsert(s.key, uint32_t(surfels_.size()));
         surfels_.push_back(f);
+        places_.push_back({s.key, uint8_t(s.bin)});
     }
     sums_.clear();
     sums_.shrink_to_fit();
     built_ = true;
+}
+
+SurfelMap SurfelMap::Restore(const SurfelMapConfig& config, std::vector<Surfel> surfels,
+                             std::vector<Place> places) {
+    const auto invalid = [](const std::string& what) {
+        throw common::Error(common::StatusCode::kInvalidArgument, "SurfelMap::Restore: " + what);
+    };
+    if (surfels.size() != places.size()) {
+        invalid(std::to_string(surfels.size()) + " surfels but " + std::to_string(places.size()) +
+                " places");
+    }
+    SurfelMap m(config);
+    for (size_t i = 0; i < places.size(); ++i) {
+        if (places[i].bin >= kNormalBins) invalid("surfel " + std::to_string(i) + ": bad bin");
+        bool fresh = false;
+        m.tables_[places[i].bin].FindOrInsert(places[i].key, uint32_t(i), &fresh);
+        if (!fresh) invalid("surfel " + std::to_string(i) + ": its voxel and bin twice");
+    }
+    m.surfels_ = std::move(surfels);
+    m.places_ = std::move(places);
+    m.built_ = true;
+    return m;
 }
 
 using common::kVoxelAndFaceNeighbours;

@@ -79,6 +79,18 @@ public:
 
     size_t size() const { return surfels_.size(); }  // valid surfels
     const std::vector<Surfel>& surfels() const { return surfels_; }
+    // Where each surfel sits, in the order of surfels(): its voxel's key (common::VoxelKey) and
+    // its normal bin. With surfels(), what a built map is saved as (algorithms/localization's rig
+    // map) and Restore() rebuilds it from.
+    struct Place {
+        uint64_t key = 0;
+        uint8_t bin = 0;
+    };
+    const std::vector<Place>& places() const { return places_; }
+    // A built map from saved surfels and their places. Throws common::Error (kInvalidArgument)
+    // on counts that differ, a bin out of range or two surfels in one voxel and bin.
+    static SurfelMap Restore(const SurfelMapConfig& config, std::vector<Surfel> surfels,
+                             std::vector<Place> places);
     const SurfelMapConfig& config() const { return config_; }
     bool built() const { return built_; }
 
@@ -97,6 +109,7 @@ private:
     std::array<common::VoxelHash, kNormalBins> tables_;  // voxel key -> index into surfels_
     std::vector<Sums> sums_;                             // while building
     std::vector<Surfel> surfels_;
+    std::vector<Place> places_;
     bool built_ = false;
 };
 

@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
+// The rig's map package (algorithms/localization/rig_map.hpp): a round trip keeps every field and
+// registers a query exactly as the pyramid it was made from; a damaged, cut, foreign, newer or
+// oversized file is refused naming the file and what is wrong.
+#include "algorithms/localization/rig_map.hpp"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/registration/oriented_cloud.hpp"
+#include "algorithms/scancontext/config.hpp"
+#include "algorithms/simulation/lidar_simulator.hpp"
+#include "tests/support/test_support.hpp"
+#include "tests/unit/odometry/odometry_scenes.hpp"
+
+namespace bimslam::localization {
+namespace {
+namespace BIMSLAM_UNITY_ID {
+
+using odometry::test::Pose;
+
+common::PointCloud RoomScan(const simulation::Scene& scene, const Eigen::Isometry3d& T,
+                            uint64_t seed) {
+    return odometry::test::Scan(
+        scene, [&](double) { return T; }, 0, seed, simulation::NoiseModel::Noiseless());
+}
+
+// Two reference keyframes in the furnished room, on two storeys 0.5 m apart, with their
+// descriptors and the pyramid the anchoring would build from them.
+struct Made {
+    RigMap map;
+    registration::SurfelPyramid pyramid{registration::RegistrationConfig{}};
+};
+Made MakeMap() {
+    const simulation::Scene scene(odometry::test::FurnishedRoom());
+    Made m;
+    m.map.model_file = "room.ifc";
+    m.map.model_sha256 = std::string(64, 'a');
+    m.map.created = "2026-12-03T10:00:00Z";
+    m.map.reference = "out/reference";
+    m.map.storeys = {{"Ground", "0aBcD", 0.0}, {"Upper", "1xYz", 0.5}};
+    const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
+    m.map.descriptor.rings = sc.num_rings;
+    m.map.descriptor.sectors = sc.num_sectors;
+    scancontext::DescriptorBuilder builder(sc);
+    registration::OrientedCloudConfig oc;
+    oc.sample_voxel_size = 0.05;
+    for (const Eigen::Isometry3d& T : {Pose(-2, 0, 0.6, 0), Pose(2, 0.5, 0.4, 1.0)}) {
+        const common::PointCloud scan = RoomScan(scene, T, m.map.keyframes.size() + 100);
+        m.map.keyframes.push_back(T);
+        m.map.keyframe_storey.push_back(StoreyAt(m.map.storeys, T.translation().z()));
+        m.map.descriptors.emplace_back();
+        builder.Build(scan, &m.map.descriptors.back());
+        m.pyramid.Add(registration::MakeOrientedCloud(scan, oc), T);
+    }
+    m.pyramid.Build();
+    for (size_t l = 0; l < m.pyramid.levels(); ++l) m.map.levels.push_back(m.pyramid.level(l));
+    return m;
+}
+
+TEST(RigMap, ARoundTripKeepsEveryFieldAndRegistersAsThePyramidItCameFrom) {
+    const Made made = MakeMap();
+    const RigMap& a = made.map;
+    ASSERT_EQ(a.keyframe_storey, (std::vector<int32_t>{1, 0}));
+    test::TempDir dir;
+    WriteRigMap(dir / "office.rigmap", a);
+    const RigMap b = ReadRigMap(dir / "office.rigmap");
+    EXPECT_EQ(b.model_file, a.model_file);
+    EXPECT_EQ(b.model_sha256, a.model_sha256);
+    EXPECT_EQ(b.frame, "bim");
+    EXPECT_EQ(b.created, a.created);
+    EXPECT_EQ(b.reference, a.reference);
+    EXPECT_EQ(b.sensor.model, a.sensor.model);
+    EXPECT_EQ(b.descriptor.kind, a.descriptor.kind);
+    ASSERT_EQ(b.storeys.size(), 2u);
+    EXPECT_EQ(b.storeys[1].name, "Upper");
+    EXPECT_EQ(b.storeys[1].global_id, "1xYz");
+    EXPECT_EQ(b.storeys[1].elevation_m, 0.5);
+    EXPECT_EQ(b.keyframe_storey, a.keyframe_storey);
+    ASSERT_EQ(b.keyframes.size(), 2u);
+    for (size_t k = 0; k < 2; ++k) {
+        EXPECT_TRUE(b.keyframes[k].isApprox(a.keyframes[k], 1e-12));
+        EXPECT_TRUE(b.descriptors[k] == a.descriptors[k]);
+        EXPECT_GT(a.descriptors[k].sum(), 0.0f);
+    }
+    ASSERT_EQ(b.levels.size(), a.levels.size());
+    for (size_t l = 0; l < a.levels.size(); ++l) {
+        ASSERT_GT(a.levels[l].size(), 10u);
+        ASSERT_EQ(b.levels[l].size(), a.levels[l].size());
+        EXPECT_EQ(b.levels[l].config().voxel_size, a.levels[l].config().voxel_size);
+        EXPECT_EQ(std::memcmp(b.levels[l].surfels().data(), a.levels[l].surfels().data(),
+                              a.levels[l].size() * sizeof(registration::Surfel)),
+                  0);
+    }
+    // A query registered to the restored pyramid lands exactly where it lands on the original.
+    const simulation::Scene scene(odometry::test::FurnishedRoom());
+    const Eigen::Isometry3d truth = Pose(0.7, -0.6, 0.45, 0.25, 0.02, -0.015);
+    const registration::OrientedCloud query =
+        registration::MakeOrientedCloud(RoomScan(scene, truth, 7), {});
+    const registration::RegistrationConfig config;
+    const auto r1 = registration::Register(query, made.pyramid, Pose(0, 0, 0.6, 0), config);
+    const auto r2 = registration::Register(query, b.Pyramid(), Pose(0, 0, 0.6, 0), config);
+    EXPECT_FALSE(r1.failed);
+    EXPECT_LT((r1.T_target_source.translation() - truth.translation()).norm(), 0.01);
+    EXPECT_TRUE(r2.T_target_source.matrix() == r1.T_target_source.matrix());
+    EXPECT_EQ(r2.fitness.inliers, r1.fitness.inliers);
+}
+
+// The message names the file and says `what`.
+void ExpectRefused(const std::filesystem::path& path, const std::string& what,
+                   size_t max_bytes = kRigMapMaxBytes) {
+    try {
+        ReadRigMap(path, max_bytes);
+        ADD_FAILURE() << path << " was read";
+    } catch (const common::FileError& e) {
+        EXPECT_EQ(e.path(), path.string());
+        EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+}
+
+void Put(const std::filesystem::path& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+
+TEST(RigMap, ADamagedCutForeignNewerOrOversizedFileIsRefusedNamingIt) {
+    const std::string good = SerializeRigMap(MakeMap().map);
+    test::TempDir dir;
+    const auto path = dir / "map.rigmap";
+
+    std::string damaged = good;
+    damaged[good.size() / 2] ^= 0x10;
+    Put(path, damaged);
+    ExpectRefused(path, "damaged");
+
+    Put(path, good.substr(0, good.size() - 100));
+    ExpectRefused(path, "(cut off)");
+
+    Put(path, "");
+    ExpectRefused(path, "too short");
+
+    std::string foreign = good;
+    foreign[0] = 'X';
+    Put(path, foreign);
+    ExpectRefused(path, "not a bimslam rig map");
+
+    // Version 2 with a header whose own CRC-32 is right: refused for its version, not as damage.
+    std::string newer = good;
+    newer[8] = 2;
+    const uint32_t crc =
+        uint32_t(crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(newer.data()), 28));
+    std::memcpy(newer.data() + 28, &crc, 4);
+    Put(path, newer);
+    ExpectRefused(path, "rig map version 2; this build reads version 1");
+
+    Put(path, good);
+    ExpectRefused(path, "more than the 1000 a rig map may hold", 1000);
+    EXPECT_EQ(ReadRigMap(path).keyframes.size(), 2u);
+}
+
+TEST(RigMap, TheWriterRefusesCountsThatDisagree) {
+    RigMap m = MakeMap().map;
+    m.descriptors.pop_back();
+    EXPECT_THROW(SerializeRigMap(m), common::Error);
+    m = MakeMap().map;
+    m.keyframe_storey[0] = 2;  // two storeys: 0 and 1
+    EXPECT_THROW(SerializeRigMap(m), common::Error);
+    m = MakeMap().map;
+    m.descriptors[0].resize(3, 4);
+    EXPECT_THROW(SerializeRigMap(m), common::Error);
+}
+
+TEST(RigMap, AKeyframeIsOnTheHighestStoreyAtOrBelowIt) {
+    const std::vector<RigMapStorey> storeys = {{"G", "", 0.0}, {"1", "", 3.0}, {"2", "", 6.0}};
+    EXPECT_EQ(StoreyAt(storeys, -0.5), -1);
+    EXPECT_EQ(StoreyAt(storeys, 0.6), 0);
+    EXPECT_EQ(StoreyAt(storeys, 3.0), 1);
+    EXPECT_EQ(StoreyAt(storeys, 7.5), 2);
+}
+
+}  // namespace BIMSLAM_UNITY_ID
+}  // namespace
+}  // namespace bimslam::localization
