@@ -45,5 +45,7 @@ void AddAnchorCommand(CLI::App& app, int& exit_code);
 void AddChangesCommand(CLI::App& app, int& exit_code);
 // `bimslam map` and `bimslam report`.
 void AddMapCommand(CLI::App& app, int& exit_code);
+// `bimslam rig-map`: the rig's map package (algorithms/localization/rig_map.hpp).
+void AddRigMapCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli
