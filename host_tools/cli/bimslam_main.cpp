@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddChangesCommand(app, exit_code);
     bimslam::cli::AddMapCommand(app, exit_code);
     bimslam::cli::AddRigMapCommand(app, exit_code);
+    bimslam::cli::AddLocalizeCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -47,5 +47,7 @@ void AddChangesCommand(CLI::App& app, int& exit_code);
 void AddMapCommand(CLI::App& app, int& exit_code);
 // `bimslam rig-map`: the rig's map package (algorithms/localization/rig_map.hpp).
 void AddRigMapCommand(CLI::App& app, int& exit_code);
+// `bimslam localize`: a session through the rig's relocaliser (localization/relocalizer.hpp).
+void AddLocalizeCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

@@ -45,7 +45,8 @@ constexpr int kSeconds = 40;
 // minutes (test::CachedFixture: one process makes it, the others wait for it; a fixture that
 // failed to build is not kept).
 fs::path FixtureRoot() {
-    static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/anchor_fixtures", kCli);
+    static const fs::path root =
+        test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/anchor_fixtures", kCli);
     return root;
 }
 
@@ -402,13 +403,10 @@ TEST_F(AnchorCli, AGroundFloorWalkAgainstAFirstFloorReferenceIsNotAnchored) {
     }
 }
 
-// A hand-held walk that starts on the office's first floor (its two storeys share the corridor
-// and the outer walls), takes the stairs down and walks the ground floor: anchored, not
-// ambiguous, every keyframe on its true storey (issue 31: "a two-storey capture anchored with
-// every keyframe on its storey", "a walk that starts on the upper storey ... is anchored").
-TEST_F(AnchorCli, AWalkThatStartsUpstairsAndTakesTheStairsDownAnchorsOnBothStoreys) {
-    const fs::path office = Office();
-    const fs::path walk = Fixture("upstairs", [&](const fs::path& d) {
+// A hand-held walk that starts on the office's first floor, takes the stairs down and walks the
+// ground floor (the office's two storeys share the corridor and the outer walls).
+fs::path Upstairs(const fs::path& office) {
+    return Fixture("upstairs", [&](const fs::path& d) {
         fs::create_directories(d);
         io::WriteFileAtomic(d / "upstairs.yaml",
                             "storey: all\nplatform: handheld\nseed: 21\npath:\n"
@@ -422,6 +420,14 @@ TEST_F(AnchorCli, AWalkThatStartsUpstairsAndTakesTheStairsDownAnchorsOnBothStore
                 " --budget-ms 10000");
         fs::remove(d / "capture" / "lidar.pcap");
     });
+}
+
+// Anchored, not ambiguous, every keyframe on its true storey (issue 31: "a two-storey capture
+// anchored with every keyframe on its storey", "a walk that starts on the upper storey ... is
+// anchored").
+TEST_F(AnchorCli, AWalkThatStartsUpstairsAndTakesTheStairsDownAnchorsOnBothStoreys) {
+    const fs::path office = Office();
+    const fs::path walk = Upstairs(office);
     const fs::path out = Out("anchor");
     ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, out), 0);
     EXPECT_EQ(ReadJson(out / "anchor.json")["sessions"][0]["verdict"], "anchored");
@@ -688,6 +694,105 @@ TEST_F(AnchorCli, ASessionWhoseOdometryFailedMidwayIsAnchoredInPartsNeverAnchore
         EXPECT_FALSE(p.stamp_ns >= first && p.stamp_ns <= last) << p.stamp_ns;
     }
     ExpectTargets(out / "walk", walk);
+}
+
+// The relocaliser the rig will run live (algorithms/localization/relocalizer.hpp), fed a walk's
+// keyframes one by one by `bimslam localize` against the building's map package (`bimslam
+// rig-map` of its reference): localization.json's summary.
+json Localize(const fs::path& building, const fs::path& walk, const fs::path& out,
+              const std::string& flags = "") {
+    fs::create_directories(out);
+    const fs::path package = out / "building.rigmap";
+    MustRun("rig-map " + (building / "building.ifc").string() + " --reference " +
+            (building / "reference").string() + " -o " + package.string());
+    const auto r = Cli("localize " + (walk / "session").string() + " --map " + package.string() +
+                       " -o " + out.string() + " --truth " +
+                       (walk / "capture" / "ground_truth.tum").string() + " " + flags);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::cout << r.out;
+    return ReadJson(out / "localization.json");
+}
+
+// Localised within the issue's time (30 s at most from the start or, for the walk from outside,
+// from entering the building: its west wall, x = 0) and followed within its accuracy (5 cm
+// RMSE, 0.5 deg) with no alignment, also with a false loop added in about 3 of 10 keyframes
+// while searching (issue 35: "0 localised more than 1 m or 5 deg off"). Measured: the Go1 walk
+// 6.9 s, 0.70 cm RMSE, max 1.24 cm, 0.20 deg; from outside 8-18 s after entering (two fixtures),
+// 0.72 cm, max 1.49 cm.
+TEST_F(AnchorCli, LiveTheRelocaliserLocalisesAGo1WalkAndAWalkFromOutsideAndFollowsThem) {
+    const fs::path office = Office();
+    const fs::path entrances = Building("office_entrances", "--exterior-doors");
+    const fs::path walks[][2] = {
+        {office, Walk("go1", office, "--platform go1 --seed 11")},
+        {entrances,
+         Walk("outdoor", entrances, "--scenario " + kScenarios + "/outdoor_start.yaml", 80)},
+    };
+    for (const auto& [building, walk] : walks) {
+        const auto truth = io::ReadTum(walk / "capture" / "ground_truth.tum");
+        const auto inside = std::find_if(truth.begin(), truth.end(), [](const io::StampedPose& p) {
+            return p.translation.x() >= 0;
+        });
+        ASSERT_NE(inside, truth.end());
+        const double entered_s = double(inside->stamp_ns - truth.front().stamp_ns) * 1e-9;
+        for (const std::string flags : {"", "--inject-false-loops 0.3 --seed 4"}) {
+            SCOPED_TRACE(walk.filename().string() + " " + flags);
+            const fs::path out = Out(walk.filename().string() + std::to_string(flags.size()));
+            const json s = Localize(building, walk, out, flags)["summary"];
+            EXPECT_EQ(s["final_state"], "localised");
+            ASSERT_TRUE(s["time_to_localised_s"].is_number()) << s.dump(1);
+            std::cout << "localised " << s["time_to_localised_s"].get<double>() - entered_s
+                      << " s after entering the building\n";
+            EXPECT_LE(s["time_to_localised_s"].get<double>() - entered_s, 30.0);
+            EXPECT_LT(s["truth"]["ape_rmse_m"].get<double>(), 0.02);
+            EXPECT_LT(s["truth"]["ape_max_m"].get<double>(), 0.04);
+            EXPECT_LT(s["truth"]["rot_max_deg"].get<double>(), 0.5);
+            EXPECT_GT(s["truth"]["matched"].get<size_t>(), 200u);
+        }
+    }
+}
+
+// Carried between storeys: localised once the walk has told the storeys apart, and from then on
+// every keyframe on a floor on its true storey. Measured: 28.5 s, 1.10 cm RMSE, max 4.55 cm.
+TEST_F(AnchorCli, LiveTheRelocaliserKeepsAWalkFromUpstairsOnItsTrueStoreys) {
+    const fs::path office = Office();
+    const fs::path walk = Upstairs(office);
+    const json j = Localize(office, walk, Out("live"));
+    const json& s = j["summary"];
+    EXPECT_EQ(s["final_state"], "localised");
+    EXPECT_LT(s["truth"]["ape_rmse_m"].get<double>(), 0.03);
+    EXPECT_LT(s["truth"]["ape_max_m"].get<double>(), 0.08);
+    std::map<int64_t, std::string> storey_at;  // stamp -> storey, on floors
+    for (const test::StoreyTruthRow& r :
+         test::ReadStoreyTruth(walk / "capture" / "ground_truth_storeys.csv")) {
+        if (!r.on_flight) storey_at[r.stamp_ns] = r.storey;
+    }
+    std::set<std::string> seen;
+    size_t checked = 0;
+    for (const json& k : j["keyframes"]) {
+        if (k["state"] != "localised") continue;
+        const auto t = storey_at.find(std::llround(k["t_s"].get<double>() * 1e9));
+        if (t == storey_at.end()) continue;  // on the flight, or between truth stamps
+        ++checked;
+        seen.insert(t->second);
+        EXPECT_EQ(k["storey"], t->second) << k.dump();
+    }
+    EXPECT_GT(checked, 20u);
+    EXPECT_EQ(seen.size(), 2u);
+}
+
+// The mirror-symmetric building: ambiguous with both placements, never localised, with or
+// without false loops.
+TEST_F(AnchorCli, LiveTheRelocaliserNeverLocalisesInAMirrorSymmetricBuilding) {
+    const fs::path building = Building("symmetric", "--layout symmetric");
+    const fs::path walk = Walk("symmetric_walk", building, "--platform go1 --seed 13");
+    for (const std::string flags : {"", "--inject-false-loops 0.3 --seed 4"}) {
+        const json j = Localize(building, walk, Out("live" + std::to_string(flags.size())), flags);
+        EXPECT_EQ(j["summary"]["final_state"], "ambiguous") << flags;
+        EXPECT_FALSE(j["summary"]["states"].contains("localised")) << j["summary"].dump(1);
+        size_t two = 0;
+        for (const json& k : j["keyframes"]) two += k["hypotheses"].get<size_t>() >= 2;
+        EXPECT_GT(two, 20u) << flags;
+    }
 }
 
 TEST_F(AnchorCli, HelpNamesTheOutputs) {

@@ -1,0 +1,321 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
+#include "algorithms/localization/relocalizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/common/status.hpp"
+#include "algorithms/posegraph/max_clique.hpp"
+#include "algorithms/scancontext/config.hpp"
+
+namespace bimslam::localization {
+namespace {
+
+constexpr int kMaxHypotheses = 3;  // as offline: the best and at most two rivals
+
+Eigen::Isometry3d Yaw(double yaw) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+}
+
+// The Scan Context configuration the package's descriptors were made with.
+scancontext::ScanContextConfig DescriptorConfig(const io::SessionManifest::Descriptor& d) {
+    scancontext::ScanContextConfig c = d.kind == "indoor"
+                                           ? scancontext::ScanContextConfig::Indoor()
+                                           : scancontext::ScanContextConfig::Outdoor();
+    c.num_rings = d.rings;
+    c.num_sectors = d.sectors;
+    c.max_radius = d.max_radius_m;
+    if (d.kind == "indoor") {
+        c.indoor_min_points = d.min_points;
+        c.indoor_min_z_span = d.min_z_span_m;
+    }
+    return c;
+}
+
+double Median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+}  // namespace
+
+std::string_view ToString(RelocalizerState state) {
+    switch (state) {
+        case RelocalizerState::kSearching:
+            return "searching";
+        case RelocalizerState::kCandidate:
+            return "candidate";
+        case RelocalizerState::kLocalised:
+            return "localised";
+        case RelocalizerState::kAmbiguous:
+            return "ambiguous";
+        case RelocalizerState::kLost:
+            return "lost";
+    }
+    return "?";
+}
+
+Relocalizer::Relocalizer(const RigMap& map, const RelocalizerConfig& config)
+    : map_(map),
+      config_(config),
+      pyramid_(map.Pyramid()),
+      index_(DescriptorConfig(map.descriptor)),
+      rng_(config.seed) {
+    config_.registration.Validate();
+    if (map.keyframes.empty()) {
+        throw common::Error(common::StatusCode::kInvalidArgument, "Relocalizer: no keyframes");
+    }
+    if (map.levels.size() != config_.registration.levels.size()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "Relocalizer: the package has " + std::to_string(map.levels.size()) +
+                                " surfel levels, the registration " +
+                                std::to_string(config_.registration.levels.size()));
+    }
+    for (const scancontext::Descriptor& d : map.descriptors) {
+        const common::Status s = index_.Add(d);
+        if (!s.ok()) throw common::Error(common::StatusCode::kInvalidArgument, s.message());
+    }
+    index_.Build();
+}
+
+const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,
+                                                const scancontext::Descriptor& descriptor,
+                                                const Eigen::Isometry3d& T_odom_lidar,
+                                                double path_m) {
+    const RelocalizerState was = step_.state;
+    const Eigen::Isometry3d T_bim_odom = step_.T_bim_odom;
+    step_ = RelocalizerStep{};
+    step_.state = was;
+    step_.T_bim_odom = T_bim_odom;
+    step_.keyframe = keyframes_++;
+    const registration::OrientedCloud oc = registration::MakeOrientedCloud(cloud, config_.cloud);
+    if (was == RelocalizerState::kLocalised) {
+        Track(oc, T_odom_lidar);
+    } else {
+        Search(oc, descriptor, T_odom_lidar, path_m);
+    }
+    if (step_.state == RelocalizerState::kLocalised) {
+        step_.T_bim_lidar = step_.T_bim_odom * T_odom_lidar;
+        step_.storey = StoreyAt(map_.storeys, step_.T_bim_lidar.translation().z());
+    }
+    return step_;
+}
+
+bool Relocalizer::Verified(const registration::RegistrationResult& r, bool full_rank) const {
+    return !r.failed && r.fitness.inlier_ratio >= config_.min_inlier_ratio &&
+           r.fitness.inlier_rmse <= config_.max_inlier_rmse &&
+           (!full_rank || r.degenerate_directions == 0);
+}
+
+// Place recognition for this keyframe, then the hypotheses over the window's loops.
+void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancontext::Descriptor& d,
+                         const Eigen::Isometry3d& T_odom_lidar, double path_m) {
+    const auto match = index_.Query(d, config_.ring_key_candidates);
+    if (match) {
+        std::vector<scancontext::Candidate> c = match->candidates;
+        std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) {
+            return a.scan_context.distance < b.scan_context.distance;
+        });
+        for (const scancontext::Candidate& cand : c) {
+            if (int(step_.registrations) >= config_.sc_candidates) break;
+            if (cand.scan_context.distance > config_.max_sc_distance) break;
+            const Eigen::Isometry3d init = map_.keyframes[cand.index] * Yaw(cand.scan_context.yaw);
+            const registration::RegistrationResult r =
+                registration::Register(cloud, pyramid_, init, config_.registration);
+            ++step_.registrations;
+            if (!Verified(r, true)) continue;
+            const double seen =
+                registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
+                                             r.T_target_source, config_.free_space)
+                    .ratio();
+            loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+        }
+    }
+    if (config_.inject_false_loops > 0 &&
+        std::uniform_real_distribution<double>(0, 1)(rng_) < config_.inject_false_loops) {
+        const size_t t = std::uniform_int_distribution<size_t>(0, map_.keyframes.size() - 1)(rng_);
+        const double yaw = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng_);
+        const registration::RegistrationResult r = registration::Register(
+            cloud, pyramid_, map_.keyframes[t] * Yaw(yaw), config_.registration);
+        ++step_.registrations;
+        if (!r.failed) {  // accepted whatever its fitness: the worst case
+            const double seen =
+                registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
+                                             r.T_target_source, config_.free_space)
+                    .ratio();
+            loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+            ++step_.injected;
+        }
+    }
+    // Each standing hypothesis guides a registration from where it puts this keyframe (from the
+    // middle level, as offline's proximity rounds), so that a hypothesis gathers loops where
+    // Scan Context finds no candidate (a flight of stairs, a room the reference saw from
+    // elsewhere). Full rank and the tracking bounds, as a loop must be to count.
+    for (const Eigen::Isometry3d& T_bim_odom : guides_) {
+        const Eigen::Isometry3d predicted = T_bim_odom * T_odom_lidar;
+        const registration::RegistrationResult r =
+            registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
+        ++step_.registrations;
+        if (!Verified(r, true) || !Near(predicted, r.T_target_source)) continue;
+        const double seen =
+            registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
+                                         r.T_target_source, config_.free_space)
+                .ratio();
+        loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+    }
+    // The window: only the loops of the last window_keyframes keyframes.
+    std::erase_if(
+        loops_, [&](const Loop& l) { return l.keyframe + config_.window_keyframes < keyframes_; });
+    Decide(Cliques());
+}
+
+// The offline test (host_tools/anchor/place_recognition.cpp, Consistent): b's keyframe placed
+// through a's T_bim_odom and the odometry lies where b's registration put it.
+bool Relocalizer::Consistent(const Loop& a, const Loop& b) const {
+    const Eigen::Isometry3d E = (a.T_bim_odom() * b.T_odom_lidar).inverse() * b.T_bim_lidar;
+    const double d = std::abs(a.path_m - b.path_m);
+    const double max_t = config_.consistency_m + config_.drift_per_m * d;
+    const double max_r = (config_.consistency_deg + config_.drift_deg_per_m * d) * M_PI / 180;
+    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_r;
+}
+
+// The largest clique of mutually consistent loops, then the largest among the loops that disagree
+// with those found (offline's ConsistentHypotheses), each with its median seen-through share.
+std::vector<Relocalizer::Clique> Relocalizer::Cliques() const {
+    const size_t n = loops_.size();
+    posegraph::Graph g(n);
+    for (size_t a = 0; a < n; ++a) {
+        for (size_t b = a + 1; b < n; ++b) {
+            if (Consistent(loops_[a], loops_[b]) && Consistent(loops_[b], loops_[a])) {
+                g.Connect(a, b);
+            }
+        }
+    }
+    std::vector<Clique> out;
+    std::vector<char> used(n, 0);
+    while (int(out.size()) < kMaxHypotheses) {
+        std::vector<size_t> allowed;
+        for (size_t v = 0; v < n; ++v) {
+            if (!used[v]) allowed.push_back(v);
+        }
+        if (allowed.empty()) break;
+        const posegraph::CliqueResult c = posegraph::MaximumClique(g, allowed);
+        if (c.vertices.empty()) break;
+        for (size_t v = 0; v < n; ++v) {  // a loop agreeing with half of it is its own
+            size_t agree = 0;
+            for (size_t m : c.vertices) agree += (m == v || g.Connected(v, m));
+            if (2 * agree >= c.vertices.size()) used[v] = 1;
+        }
+        Clique k;
+        k.loops = c.vertices;
+        std::vector<double> seen;
+        std::vector<size_t> keyframes;
+        for (size_t m : c.vertices) {
+            seen.push_back(loops_[m].seen_through);
+            keyframes.push_back(loops_[m].keyframe);
+        }
+        std::sort(keyframes.begin(), keyframes.end());
+        k.keyframes = size_t(std::unique(keyframes.begin(), keyframes.end()) - keyframes.begin());
+        k.seen_through = Median(seen);
+        out.push_back(std::move(k));
+    }
+    return out;
+}
+
+void Relocalizer::Decide(const std::vector<Clique>& cliques) {
+    step_.consistent_loops = cliques.empty() ? 0 : cliques.front().loops.size();
+    std::vector<const Clique*> kept;  // not seen through the model
+    for (const Clique& c : cliques) {
+        if (c.seen_through <= config_.max_seen_through) kept.push_back(&c);
+    }
+    // A clique whose keyframes see through the model decisively more often than another's is
+    // outweighed (offline's rule).
+    const auto outweighs = [&](const Clique* a, const Clique* b) {
+        return b->seen_through >= config_.outweigh_ratio * a->seen_through &&
+               b->seen_through >= a->seen_through + config_.outweigh_gap;
+    };
+    std::vector<const Clique*> rivals;
+    for (const Clique* c : kept) {
+        bool out = false;
+        for (const Clique* o : kept) out = out || (o != c && outweighs(o, c));
+        if (!out) rivals.push_back(c);
+    }
+    std::sort(rivals.begin(), rivals.end(),
+              [](const Clique* a, const Clique* b) { return a->keyframes > b->keyframes; });
+    for (const Clique* c : rivals) {
+        step_.hypotheses.push_back(
+            loops_[*std::max_element(c->loops.begin(), c->loops.end())].T_bim_odom());
+    }
+    guides_ = step_.hypotheses;
+    const auto big = [&](const Clique* c) { return int(c->keyframes) >= config_.min_clique; };
+    if (rivals.empty() || !big(rivals[0])) {
+        if (step_.state != RelocalizerState::kLost || !rivals.empty()) {
+            step_.state =
+                rivals.empty() ? RelocalizerState::kSearching : RelocalizerState::kCandidate;
+        }
+        return;
+    }
+    // Live, a rival is any clique that disagrees, however small: offline sees the whole walk,
+    // here the other place may have been seen less often so far (a mirror-symmetric building's
+    // other half). While one has rival_min_ratio of the best's keyframes, nothing is decided:
+    // ambiguous when it has min_clique keyframes too, else still a candidate.
+    if (rivals.size() > 1 &&
+        double(rivals[1]->keyframes) >= config_.rival_min_ratio * double(rivals[0]->keyframes)) {
+        step_.state = big(rivals[1]) ? RelocalizerState::kAmbiguous : RelocalizerState::kCandidate;
+        return;
+    }
+    // Localised: T_bim_odom of the clique's newest loop (the odometry has drifted least since).
+    step_.state = RelocalizerState::kLocalised;
+    step_.T_bim_odom = step_.hypotheses.front();
+    loops_.clear();
+    guides_.clear();
+    misses_ = contradicted_ = 0;
+}
+
+void Relocalizer::Track(const registration::OrientedCloud& cloud,
+                        const Eigen::Isometry3d& T_odom_lidar) {
+    const Eigen::Isometry3d predicted = step_.T_bim_odom * T_odom_lidar;
+    const registration::RegistrationResult r =
+        registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
+    step_.registrations = 1;
+    step_.consistent_loops = 1;
+    if (Verified(r, false)) {
+        if (Near(predicted, r.T_target_source)) {
+            step_.T_bim_odom = r.T_target_source * T_odom_lidar.inverse();
+            step_.accepted = true;
+            misses_ = contradicted_ = 0;
+            return;
+        }
+        ++contradicted_;
+    } else {
+        contradicted_ = 0;
+    }
+    ++misses_;
+    if (contradicted_ >= config_.contradictions) {
+        StartSearch(RelocalizerState::kSearching);
+    } else if (misses_ >= config_.lost_after) {
+        StartSearch(RelocalizerState::kLost);
+    }
+}
+
+void Relocalizer::StartSearch(RelocalizerState state) {
+    step_.state = state;
+    step_.T_bim_odom = Eigen::Isometry3d::Identity();
+    loops_.clear();
+    guides_.clear();
+    misses_ = contradicted_ = 0;
+}
+
+bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found) const {
+    const Eigen::Isometry3d E = predicted.inverse() * found;
+    return E.translation().norm() <= config_.track_max_m &&
+           common::RotationAngle(E) <= config_.track_max_deg * M_PI / 180;
+}
+
+}  // namespace bimslam::localization

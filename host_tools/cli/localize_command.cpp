@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
+// bimslam localize: a session's keyframes fed one by one to the relocaliser the rig will run
+// (algorithms/localization/relocalizer.hpp) against a rig map package: the states it would have
+// shown live, its live poses in the model, and, with the ground truth, how far off they were.
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "algorithms/common/status.hpp"
+#include "algorithms/io/file_util.hpp"
+#include "algorithms/io/session.hpp"
+#include "algorithms/io/trajectory.hpp"
+#include "algorithms/localization/relocalizer.hpp"
+#include "algorithms/localization/rig_map.hpp"
+#include "algorithms/scancontext/descriptor.hpp"
+#include "host_tools/cli/command.hpp"
+#include "host_tools/evaluation/trajectory_metrics.hpp"
+
+namespace bimslam::cli {
+namespace {
+namespace fs = std::filesystem;
+using localization::RelocalizerState;
+using nlohmann::json;
+
+struct LocalizeArgs {
+    std::string map;
+    std::string session;
+    std::string out;
+    std::string truth;
+    double inject_false_loops = 0;
+    uint64_t seed = 1;
+    bool json = false;
+};
+
+double ThreadCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+double Percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(p * double(v.size())))];
+}
+
+// The keyframe's descriptor as the package's were made: the session's own when it was made the
+// same way (the rig's indoor Scan Context), else computed from the cloud.
+scancontext::Descriptor PackageDescriptor(const io::SessionKeyframe& k, bool same,
+                                          const scancontext::ScanContextConfig& config) {
+    if (same) return k.descriptor;
+    return scancontext::MakeDescriptor(k.cloud, config);
+}
+
+json PoseJson(const Eigen::Isometry3d& T) {
+    const Eigen::Quaterniond q(T.rotation());
+    const Eigen::Vector3d t = T.translation();
+    return {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z()};
+}
+
+// Every scan's live pose in the model: the session's odometry composed with the T_bim_odom the
+// relocaliser held at the scan's time (its last keyframe at or before it), while localised.
+std::vector<io::StampedPose> LivePoses(const io::Session& s,
+                                       const std::map<int64_t, Eigen::Isometry3d>& held) {
+    std::vector<io::StampedPose> out;
+    for (const io::StampedPose& p : s.trajectory) {
+        auto it = held.upper_bound(p.stamp_ns);
+        if (it == held.begin()) continue;
+        --it;
+        if (it->second.matrix().isZero()) continue;  // not localised then
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.linear() = p.rotation.toRotationMatrix();
+        T.translation() = p.translation;
+        out.push_back(io::StampedPose::FromIsometry(p.stamp_ns, it->second * T));
+    }
+    return out;
+}
+
+int Localize(const LocalizeArgs& a) {
+    const localization::RigMap map = localization::ReadRigMap(a.map);
+    const io::Session s = io::ReadSession(a.session);
+    if (s.keyframes.empty()) {
+        throw common::FileError(common::StatusCode::kInvalidArgument, a.session, 0,
+                                "the session has no keyframes");
+    }
+    localization::RelocalizerConfig config;
+    config.inject_false_loops = a.inject_false_loops;
+    config.seed = a.seed;
+    localization::Relocalizer relocalizer(map, config);
+    const io::SessionManifest::Descriptor& md = s.manifest.descriptor;
+    const bool same = md.kind == map.descriptor.kind && md.rings == map.descriptor.rings &&
+                      md.sectors == map.descriptor.sectors &&
+                      md.max_radius_m == map.descriptor.max_radius_m &&
+                      md.min_points == map.descriptor.min_points &&
+                      md.min_z_span_m == map.descriptor.min_z_span_m;
+    scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
+    sc.num_rings = map.descriptor.rings;
+    sc.num_sectors = map.descriptor.sectors;
+    sc.max_radius = map.descriptor.max_radius_m;
+    sc.indoor_min_points = map.descriptor.min_points;
+    sc.indoor_min_z_span = map.descriptor.min_z_span_m;
+
+    json steps = json::array();
+    std::vector<double> cpu_ms;
+    std::map<int64_t, Eigen::Isometry3d> held;  // T_bim_odom from each keyframe's stamp on
+    std::map<std::string, size_t> counts;
+    double path_m = 0;
+    std::optional<size_t> first_localised;
+    RelocalizerState last_state = RelocalizerState::kSearching;
+    json changes = json::array();
+    for (size_t k = 0; k < s.keyframes.size(); ++k) {
+        const io::SessionKeyframe& kf = s.keyframes[k];
+        if (k > 0) {
+            path_m +=
+                (kf.T_world_lidar.translation() - s.keyframes[k - 1].T_world_lidar.translation())
+                    .norm();
+        }
+        const double t0 = ThreadCpuMs();
+        const localization::RelocalizerStep& step = relocalizer.AddKeyframe(
+            kf.cloud, PackageDescriptor(kf, same, sc), kf.T_world_lidar, path_m);
+        cpu_ms.push_back(ThreadCpuMs() - t0);
+        const std::string state(localization::ToString(step.state));
+        ++counts[state];
+        const bool localised = step.state == RelocalizerState::kLocalised;
+        held[kf.stamp_ns] =
+            localised ? step.T_bim_odom : Eigen::Isometry3d(Eigen::Matrix4d::Zero());
+        if (localised && !first_localised) first_localised = k;
+        if (k == 0 || step.state != last_state) {
+            changes.push_back(
+                {{"keyframe", k}, {"t_s", double(kf.stamp_ns) * 1e-9}, {"state", state}});
+        }
+        last_state = step.state;
+        json j = {{"keyframe", k},
+                  {"t_s", double(kf.stamp_ns) * 1e-9},
+                  {"state", state},
+                  {"consistent_loops", step.consistent_loops},
+                  {"hypotheses", step.hypotheses.size()},
+                  {"registrations", step.registrations},
+                  {"injected", step.injected},
+                  {"cpu_ms", cpu_ms.back()}};
+        if (localised) {
+            j["T_bim_lidar"] = PoseJson(step.T_bim_lidar);
+            j["accepted"] = step.accepted;
+            j["storey"] = step.storey >= 0 ? json(map.storeys[size_t(step.storey)].name) : json();
+        }
+        steps.push_back(j);
+    }
+    fs::create_directories(a.out);
+    const std::vector<io::StampedPose> live = LivePoses(s, held);
+    io::WriteTum(fs::path(a.out) / "trajectory_bim_live.tum", live);
+    const double t_first = double(s.keyframes.front().stamp_ns) * 1e-9;
+    json summary = {
+        {"map", a.map},
+        {"session", a.session},
+        {"keyframes", s.keyframes.size()},
+        {"states", counts},
+        {"state_changes", changes},
+        {"final_state", localization::ToString(last_state)},
+        {"localised_at_keyframe", first_localised ? json(*first_localised) : json()},
+        {"time_to_localised_s",
+         first_localised ? json(double(s.keyframes[*first_localised].stamp_ns) * 1e-9 - t_first)
+                         : json()},
+        {"live_poses", live.size()},
+        {"cpu_ms_per_keyframe",
+         {{"p50", Percentile(cpu_ms, 0.5)},
+          {"p99", Percentile(cpu_ms, 0.99)},
+          {"max", Percentile(cpu_ms, 1.0)}}}};
+    std::cout << "localize " << s.keyframes.size() << " keyframes: ";
+    for (const auto& [state, n] : counts) std::cout << state << " " << n << "  ";
+    std::cout << "\n";
+    if (first_localised) {
+        std::cout << "         localised at keyframe " << *first_localised << " after "
+                  << Fixed(summary["time_to_localised_s"].get<double>(), 1) << " s; final state "
+                  << localization::ToString(last_state) << "\n";
+    } else {
+        std::cout << "         never localised; final state " << localization::ToString(last_state)
+                  << "\n";
+    }
+    std::cout << "cpu      per keyframe p50 " << Fixed(Percentile(cpu_ms, 0.5), 1) << " ms, p99 "
+              << Fixed(Percentile(cpu_ms, 0.99), 1) << " ms\n";
+    if (!a.truth.empty() && live.size() >= 3) {
+        evaluation::EvaluationConfig ec;
+        ec.align = evaluation::Alignment::kNone;
+        const evaluation::EvaluationResult r =
+            evaluation::Evaluate(live, io::ReadTum(a.truth), ec, "live poses", a.truth);
+        summary["truth"] = {{"matched", r.matched},
+                            {"ape_rmse_m", r.ape_trans_m.rmse},
+                            {"ape_max_m", r.ape_trans_m.max},
+                            {"rot_rmse_deg", r.ape_rot_deg.rmse},
+                            {"rot_max_deg", r.ape_rot_deg.max}};
+        std::cout << "truth    live poses against " << a.truth << ": " << r.matched
+                  << " matched, APE " << Fixed(r.ape_trans_m.rmse * 100, 2) << " cm RMSE, max "
+                  << Fixed(r.ape_trans_m.max * 100, 2) << " cm; " << Fixed(r.ape_rot_deg.rmse, 2)
+                  << " deg RMSE, max " << Fixed(r.ape_rot_deg.max, 2) << " deg\n";
+    }
+    io::WriteFileAtomic(fs::path(a.out) / "localization.json",
+                        json{{"summary", summary}, {"keyframes", steps}}.dump(1) + "\n");
+    std::cout << "wrote    " << (fs::path(a.out) / "localization.json").string() << ", "
+              << (fs::path(a.out) / "trajectory_bim_live.tum").string() << "\n";
+    if (a.json) std::cout << summary.dump(2) << "\n";
+    return kExitOk;
+}
+
+}  // namespace
+
+void AddLocalizeCommand(CLI::App& app, int& exit_code) {
+    auto a = std::make_shared<LocalizeArgs>();
+    auto* cmd = app.add_subcommand(
+        "localize",
+        "Feed a session's keyframes, one by one, to the relocaliser made for the rig, against a map "
+        "package (bimslam rig-map): the states it would show live (searching, candidate, "
+        "localised, ambiguous, lost), its live poses in the model (OUT/trajectory_bim_live.tum, "
+        "every scan once localised), OUT/localization.json; with --truth, their error "
+        "(algorithms/localization/README.md)");
+    cmd->add_option("SESSION", a->session, "a rig or odometry session folder")->required();
+    cmd->add_option("--map", a->map, "the map package (bimslam rig-map)")->required();
+    cmd->add_option("--out,-o", a->out, "output folder")->required();
+    cmd->add_option("--truth", a->truth,
+                    "ground truth T_bim_sensor (TUM, the session's clock), e.g. a simulated "
+                    "capture's ground_truth.tum: the live poses' error, with no alignment");
+    cmd->add_option("--inject-false-loops", a->inject_false_loops,
+                    "robustness tests: while searching, each keyframe adds with this probability "
+                    "a loop to a random reference keyframe, kept whatever its fitness")
+        ->check(CLI::Range(0.0, 0.95));
+    cmd->add_option("--seed", a->seed, "the injected loops' seed")->capture_default_str();
+    cmd->add_flag("--json", a->json, "also print the summary as JSON");
+    cmd->callback([a, &exit_code] { exit_code = Run([&] { return Localize(*a); }); });
+}
+
+}  // namespace bimslam::cli
