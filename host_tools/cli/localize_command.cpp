@@ -216,7 +216,8 @@ void AddLocalizeCommand(CLI::App& app, int& exit_code) {
     auto a = std::make_shared<LocalizeArgs>();
     auto* cmd = app.add_subcommand(
         "localize",
-        "Feed a session's keyframes, one by one, to the relocaliser made for the rig, against a map "
+        "Feed a session's keyframes, one by one, to the relocaliser made for the rig, against a "
+        "map "
         "package (bimslam rig-map): the states it would show live (searching, candidate, "
         "localised, ambiguous, lost), its live poses in the model (OUT/trajectory_bim_live.tum, "
         "every scan once localised), OUT/localization.json; with --truth, their error "
