@@ -113,6 +113,15 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"wall_s", s.wall_s},
                             {"stop_signal", s.stop_signal},
                             {"warnings", s.warnings},
+                            {"bim_map",
+                             {{"path", s.bim_map},
+                              {"loaded", !s.bim_map.empty() && s.bim_map_error.empty()},
+                              {"error", s.bim_map_error},
+                              {"model", s.bim_map_model},
+                              {"keyframes", s.bim_map_keyframes},
+                              {"storeys", s.bim_map_storeys},
+                              {"bytes", s.bim_map_bytes},
+                              {"load_ms", s.bim_map_load_ms}}},
                             // The keys `bimslam odometry --json` gives the same verdict.
                             {"verdict", s.trust.Verdict()},
                             {"failed_stretches", s.trust.ToJson().at("failed_stretches")},
@@ -144,6 +153,15 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
         (unsigned long long)s.can_e2e_errors, (unsigned long long)s.queue_drops,
         (unsigned long long)s.go1_bridge_link_down, (unsigned long long)s.go1_bridge_not_running);
     std::printf("  trajectory %s\n", s.trust.Describe().c_str());
+    if (!s.bim_map.empty() && s.bim_map_error.empty()) {
+        std::printf("  map package %s: %s, %llu keyframes on %llu storeys, %.1f MB read in %.0f ms\n",
+                    s.bim_map.c_str(), s.bim_map_model.c_str(),
+                    (unsigned long long)s.bim_map_keyframes, (unsigned long long)s.bim_map_storeys,
+                    double(s.bim_map_bytes) / 1e6, s.bim_map_load_ms);
+    } else if (!s.bim_map.empty()) {
+        std::printf("  %s (FAULT_BIM_MAP): the rig mapped in its own frame\n",
+                    s.bim_map_error.c_str());
+    }
     for (const auto& [name, stalls] : s.threads_stalled) {
         std::printf("  thread '%s' stalled %llu times (FAULT_THREAD_STALLED)\n", name.c_str(),
                     (unsigned long long)stalls);

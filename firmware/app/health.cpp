@@ -15,7 +15,7 @@ const char* const kFaultNames[kNumFaults] = {
     "QUEUE_OVERFLOW", "CPU_OVERLOAD",        "DISK_LOW",
     "DISK_WRITE",     "ODOMETRY_DEGENERATE", "ODOMETRY_OVER_BUDGET",
     "ODOMETRY_LOST",  "CLOCK_JUMP",          "CONFIG",
-    "LCM_PUBLISH",    "THREAD_STALLED"};
+    "LCM_PUBLISH",    "THREAD_STALLED",      "BIM_MAP"};
 enum Bit {
     kLidarTimeout,
     kLidarRejects,
@@ -36,7 +36,8 @@ enum Bit {
     kClockJump,
     kConfig,
     kLcmPublish,
-    kThreadStalled
+    kThreadStalled,
+    kBimMap
 };
 
 // STS_BridgeState's values (go1_odometry.dbc VAL_ 320).
@@ -251,6 +252,8 @@ void Health::DetectRigFaults(const Snapshot& n, Faults& f) {
               n.ic.clock_backwards > last_ingest_.clock_backwards,
           step ? "the wall clock stepped" : "the sensor clock jumped (the odometry started again)");
     f.Set(kLcmPublish, n.lc.failures > last_lcm_.failures, "LCM publish failed");
+    f.Set(kBimMap, !in_.bim_map_error.empty(),
+          in_.bim_map_error + " (no relocalisation: the rig maps in its own frame)");
 }
 
 // The watchdog's rule (HeartbeatStale), per thread: the log names each stuck thread and how long

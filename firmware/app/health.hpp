@@ -30,7 +30,7 @@
 
 namespace bimslam::rig {
 
-inline constexpr int kNumFaults = 20;  // rig_health_t::NUM_FAULTS
+inline constexpr int kNumFaults = 21;  // rig_health_t::NUM_FAULTS
 // "LIDAR_TIMEOUT", ... in bit order (the FAULT_* names without the prefix).
 const char* FaultName(int bit);
 
@@ -55,6 +55,8 @@ struct HealthInputs {
     const std::atomic<bool>& stop;
     bool replay;          // lossless: the LCM queues wait for room
     bool unpaced_replay;  // --speed max: using every core is the point, not CPU_OVERLOAD
+    // Why the configured map package was refused (FAULT_BIM_MAP); empty: none refused.
+    std::string bim_map_error = {};
 };
 
 class Health {

@@ -12,6 +12,7 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
+#include "algorithms/localization/rig_map.hpp"
 #include "drivers/net/ros_packet_bag.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "firmware/app/health.hpp"
@@ -165,6 +166,7 @@ public:
     explicit Rig(const RunOptions& o)
         : o_(o), cfg_(o.config), in_(ResolveInputs(o)), q_(cfg_, PointsPerScan(in_.info)) {
         clock_.speed = o.speed;
+        LoadBimMap();
         MakeModules();
         AddThreads();
     }
@@ -178,6 +180,7 @@ public:
     }
 
 private:
+    void LoadBimMap();
     void MakeModules();
     void AddThreads();
     void Start();
@@ -190,6 +193,7 @@ private:
     const RigConfig& cfg_;
     Inputs in_;
     Queues q_;
+    std::optional<localization::RigMap> bim_map_;  // localization.map, once read and accepted
     ReplayClock clock_;
     OdometryWorkerConfig wc_;
     std::optional<LidarIngest> ingest_;
@@ -206,6 +210,35 @@ private:
     int64_t cpu0_ = 0, t0_ = 0;
     RunSummary summary_;
 };
+
+// The map package (localization.map): read before any thread starts, in time and memory bounded
+// by its size (ReadRigMap: kRigMapMaxBytes). One that cannot be used is refused with the reason
+// (FAULT_BIM_MAP, the summary's warnings) and the rig maps in its own frame: a run never fails
+// for want of a package.
+void Rig::LoadBimMap() {
+    if (cfg_.bim_map.empty()) return;
+    summary_.bim_map = cfg_.bim_map;
+    const int64_t t0 = runtime::MonotonicNs();
+    try {
+        localization::RigMap map = localization::ReadRigMap(cfg_.bim_map);
+        if (!cfg_.bim_model_sha256.empty() && map.model_sha256 != cfg_.bim_model_sha256) {
+            throw common::FileError(StatusCode::kInvalidArgument, cfg_.bim_map, 0,
+                                    "a package of " + map.model_file + " (SHA-256 " +
+                                        map.model_sha256 + "), not of the model " +
+                                        cfg_.bim_model_sha256 + " (localization.model_sha256)");
+        }
+        summary_.bim_map_keyframes = map.keyframes.size();
+        summary_.bim_map_storeys = map.storeys.size();
+        summary_.bim_map_model = map.model_file;
+        std::error_code ec;
+        summary_.bim_map_bytes = uint64_t(fs::file_size(cfg_.bim_map, ec));
+        bim_map_ = std::move(map);
+    } catch (const common::Error& e) {
+        summary_.bim_map_error = std::string("localization.map refused: ") + e.what();
+        summary_.warnings.push_back(summary_.bim_map_error);
+    }
+    summary_.bim_map_load_ms = double(runtime::MonotonicNs() - t0) * 1e-6;
+}
 
 void Rig::MakeModules() {
     const bool replay = in_.replay;
@@ -308,7 +341,8 @@ void Rig::AddThreads() {
     health_.emplace(HealthInputs{threads_, *ingest_, can_ ? &*can_ : nullptr, *worker_,
                                  recorder_ ? &*recorder_ : nullptr, *publisher_, q_.All(),
                                  q_.health_lcm, q_.stats_lcm, notifier_, cfg_, in_.info,
-                                 health_stop_, in_.replay, in_.replay && clock_.unpaced()});
+                                 health_stop_, in_.replay, in_.replay && clock_.unpaced(),
+                                 summary_.bim_map_error});
     threads_.Add(Spec("health", cfg_.health, int64_t(cfg_.health_period_s * 1e9), 0, "period",
                       "nothing (reads atomics)"),
                  [this](runtime::ThreadStats& s) {

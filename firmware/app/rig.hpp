@@ -60,6 +60,10 @@ struct RunSummary {
     double rss_mb = 0;                         // at the end
     double wall_s = 0;
     std::vector<std::string> warnings;  // what was refused at start-up
+    // The map package (localization.map): loaded, or why it was refused (FAULT_BIM_MAP).
+    std::string bim_map, bim_map_error, bim_map_model;
+    uint64_t bim_map_keyframes = 0, bim_map_storeys = 0, bim_map_bytes = 0;
+    double bim_map_load_ms = 0;
     // The odometry's verdict over the run (trusted / untrusted, the failed stretches), as
     // `bimslam odometry` gives it; each session's share is its odometry_verdict.json.
     odometry::TrajectoryTrust trust;

@@ -198,6 +198,12 @@ std::vector<Binding> Bindings(RigConfig& c) {
     b.push_back(Int("queues.publish", c.publish_queue, 8, 65536, "items", "messages -> LCM"));
     b.push_back(Int("queues.keyframes", c.keyframe_queue, 1, 256, "items",
                     "keyframes -> session writer and LCM"));
+    b.push_back(Text("localization.map", c.bim_map,
+                     "the building's map package (bimslam rig-map); \"\": none. A package "
+                     "missing, damaged or of another model is refused (FAULT_BIM_MAP) and the rig "
+                     "maps in its own frame"));
+    b.push_back(Text("localization.model_sha256", c.bim_model_sha256,
+                     "SHA-256 (hex) of the IFC model the package must be of; \"\": any"));
     b.push_back(Bool("runtime.lock_memory", c.lock_memory, "mlockall at start"));
     ThreadKeys(b, "ingest", c.ingest);
     ThreadKeys(b, "can", c.can);

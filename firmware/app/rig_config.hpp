@@ -71,6 +71,10 @@ struct RigConfig {
     int publish_queue = 64;
     int keyframe_queue = 8;
 
+    // localization: the building's model on board (issue 35; algorithms/localization).
+    std::string bim_map;           // the map package (bimslam rig-map); "": none
+    std::string bim_model_sha256;  // the model the package must be of; "": any
+
     // runtime.
     bool lock_memory = true;
     ThreadConfig ingest{80, -1}, can{70, -1}, odometry{60, -1}, writer{0, -1}, lcm{0, -1},

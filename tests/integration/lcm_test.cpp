@@ -823,7 +823,7 @@ TEST(LcmConstants, AreConsistent) {
     EXPECT_EQ(static_cast<int32_t>(ouster_stats_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(go1_state_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(imu_sample_t::SCHEMA_VERSION), 1);
-    EXPECT_EQ(static_cast<int32_t>(rig_health_t::SCHEMA_VERSION), 2);  // + thread_stalls
+    EXPECT_EQ(static_cast<int32_t>(rig_health_t::SCHEMA_VERSION), 3);  // + FAULT_BIM_MAP
     EXPECT_EQ(static_cast<int32_t>(can_frame_t::SCHEMA_VERSION), 1);
 
     // can_frame_t: the FLAG_* bits are distinct single bits.
@@ -869,7 +869,8 @@ TEST(LcmConstants, AreConsistent) {
                               rig_health_t::FAULT_CLOCK_JUMP,
                               rig_health_t::FAULT_CONFIG,
                               rig_health_t::FAULT_LCM_PUBLISH,
-                              rig_health_t::FAULT_THREAD_STALLED};
+                              rig_health_t::FAULT_THREAD_STALLED,
+                              rig_health_t::FAULT_BIM_MAP};
     ASSERT_EQ(static_cast<int32_t>(std::size(faults)),
               static_cast<int32_t>(rig_health_t::NUM_FAULTS));
     for (size_t i = 0; i < std::size(faults); ++i) {

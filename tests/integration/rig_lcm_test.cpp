@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/localization/rig_map.hpp"
 #include "host_tools/capture/udp_replay.hpp"
 #include "tests/integration/rig_test_support.hpp"
 
@@ -245,6 +246,91 @@ LogCounts CountLog(const fs::path& path) {
 // (--lcm-log, LCM's log format) holds every message it published, on every channel; the session
 // is complete; no queue overflowed and no fault says so. (Over UDP multicast a receiver that the
 // scheduler starves can still lose datagrams: the replay paces its output, lcmtypes/README.md.)
+// The FAULT_BIM_MAP bits of every rig_health_t in an LCM log: how many messages, and in how many
+// it was active.
+std::pair<int, int> BimMapFaults(const fs::path& path) {
+    lcm::LogFile log(path.string(), "r");
+    int messages = 0, active = 0;
+    const int64_t bit = bimslam::rig_health_t::FAULT_BIM_MAP;
+    while (log.good()) {
+        const lcm::LogEvent* e = log.readNextEvent();
+        if (e == nullptr) break;
+        if (e->channel != "BIMSLAM_RIG_HEALTH") continue;
+        bimslam::rig_health_t h;
+        if (h.decode(e->data, 0, e->datalen) < 0) continue;
+        ++messages;
+        active += (h.faults & bit) != 0;
+    }
+    return {messages, active};
+}
+
+// A small but valid map package of a model whose SHA-256 is 64 x 'a' (algorithms/localization).
+void WriteTinyPackage(const fs::path& path) {
+    localization::RigMap m;
+    m.model_file = "tiny.ifc";
+    m.model_sha256 = std::string(64, 'a');
+    m.storeys = {{"Ground", "g", 0.0}};
+    m.keyframes = {Eigen::Isometry3d::Identity()};
+    m.keyframe_storey = {0};
+    m.descriptors.emplace_back(scancontext::Descriptor::Zero(20, 60));
+    for (const double voxel : {1.0, 0.5, 0.25}) {
+        registration::SurfelMapConfig c;
+        c.voxel_size = voxel;
+        m.levels.push_back(registration::SurfelMap::Restore(c, {}, {}));
+    }
+    localization::WriteRigMap(path, m);
+}
+
+// localization.map (issue 35, items 1 and 4): a package missing, damaged or of another model than
+// localization.model_sha256 is refused, named with the reason in the summary and as FAULT_BIM_MAP
+// on rig_health_t, and the rig maps on: the session is written as without it. A good one loads.
+TEST_F(RigLcm, AMapPackageThatCannotBeUsedIsRefusedWithItsFaultOnLcmAndTheRigMapsOn) {
+    const fs::path cap = Capture("go1", 8);
+    const fs::path good = Tmp() / "tiny.rigmap";
+    WriteTinyPackage(good);
+    const fs::path damaged = Tmp() / "damaged.rigmap";
+    std::string bytes = io::ReadFileToString(good);
+    bytes[bytes.size() / 2] ^= 0x5a;
+    io::WriteFileAtomic(damaged, bytes);
+    const std::string other_sha(64, 'b');
+    const struct {
+        std::string name, yaml, error;
+    } cases[] = {
+        {"missing", "localization:\n  map: " + (Tmp() / "none.rigmap").string() + "\n",
+         (Tmp() / "none.rigmap").string() + ": cannot open"},
+        {"damaged", "localization:\n  map: " + damaged.string() + "\n", "damaged"},
+        {"other", "localization:\n  map: " + good.string() + "\n  model_sha256: " + other_sha + "\n",
+         "not of the model " + other_sha},
+        {"good", "localization:\n  map: " + good.string() + "\n  model_sha256: " +
+                     std::string(64, 'a') + "\n",
+         ""},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.name);
+        const fs::path config = test::rig::WriteConfig(Tmp() / (c.name + ".yaml"), c.yaml);
+        const fs::path log = Tmp() / (c.name + ".lcmlog");
+        // Paced (2 s of replay): the health thread publishes once a second.
+        const nlohmann::json j = test::rig::RigJson(
+            kRig + " replay " + cap.string() + " --speed 4 --json --config " + config.string() +
+            " --session-root " + (Tmp() / c.name).string() + " --lcm-log " + log.string());
+        ASSERT_FALSE(j.is_null());
+        EXPECT_GT(j["scans"].get<int>(), 60);
+        EXPECT_TRUE(fs::exists(fs::path(j["session"].get<std::string>()) / "session.json"));
+        const auto [messages, active] = BimMapFaults(log);
+        ASSERT_GT(messages, 0);
+        if (c.error.empty()) {
+            EXPECT_TRUE(j["bim_map"]["loaded"].get<bool>()) << j["bim_map"].dump();
+            EXPECT_EQ(j["bim_map"]["keyframes"], 1);
+            EXPECT_EQ(active, 0);
+        } else {
+            EXPECT_FALSE(j["bim_map"]["loaded"].get<bool>());
+            const std::string error = j["bim_map"]["error"];
+            EXPECT_NE(error.find(c.error), std::string::npos) << error;
+            EXPECT_EQ(active, messages) << "FAULT_BIM_MAP holds for the whole run";
+        }
+    }
+}
+
 TEST_F(RigLcm, ReplayAtFullSpeedLosesNothingOnAnyOutput) {
     const fs::path cap = Capture("go1", 10);
     const fs::path log = Tmp() / "max.lcmlog";
