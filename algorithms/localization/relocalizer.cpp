@@ -22,21 +22,6 @@ Eigen::Isometry3d Yaw(double yaw) {
     return T;
 }
 
-// The Scan Context configuration the package's descriptors were made with.
-scancontext::ScanContextConfig DescriptorConfig(const io::SessionManifest::Descriptor& d) {
-    scancontext::ScanContextConfig c = d.kind == "indoor"
-                                           ? scancontext::ScanContextConfig::Indoor()
-                                           : scancontext::ScanContextConfig::Outdoor();
-    c.num_rings = d.rings;
-    c.num_sectors = d.sectors;
-    c.max_radius = d.max_radius_m;
-    if (d.kind == "indoor") {
-        c.indoor_min_points = d.min_points;
-        c.indoor_min_z_span = d.min_z_span_m;
-    }
-    return c;
-}
-
 double Median(std::vector<double> v) {
     if (v.empty()) return 0;
     std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
@@ -65,7 +50,7 @@ Relocalizer::Relocalizer(const RigMap& map, const RelocalizerConfig& config)
     : map_(map),
       config_(config),
       pyramid_(map.Pyramid()),
-      index_(DescriptorConfig(map.descriptor)),
+      index_(map.DescriptorConfig()),
       rng_(config.seed) {
     config_.registration.Validate();
     if (map.keyframes.empty()) {

@@ -99,6 +99,7 @@ json MetaJson(const RigMap& m) {
 }
 
 void CheckMap(const RigMap& m) {
+    m.DescriptorConfig().Validate();  // throws common::Error naming the field
     const size_t n = m.keyframes.size();
     if (m.keyframe_storey.size() != n || m.descriptors.size() != n) {
         Invalid(std::to_string(n) + " keyframes, " + std::to_string(m.keyframe_storey.size()) +
@@ -302,10 +303,13 @@ void Parser::ReadMeta(RigMap& m) const {
     } catch (const std::exception& e) {  // json's and Validate's
         Fail(at, std::string("META: ") + e.what());
     }
-    if (m.descriptor.rings < 1 || m.descriptor.rings > scancontext::kMaxRings ||
-        m.descriptor.sectors < 1 || m.descriptor.sectors > scancontext::kMaxSectors) {
-        Fail(at, "META: a descriptor of " + std::to_string(m.descriptor.rings) + " x " +
-                     std::to_string(m.descriptor.sectors));
+    if (m.descriptor.kind != "indoor" && m.descriptor.kind != "outdoor") {
+        Fail(at, "META: descriptor kind '" + m.descriptor.kind + "'");
+    }
+    try {
+        m.DescriptorConfig().Validate();
+    } catch (const common::Error& e) {
+        Fail(at, std::string("META: descriptor: ") + e.what());
     }
 }
 
@@ -407,6 +411,20 @@ RigMap Parser::Parse() {
 }
 
 }  // namespace
+
+scancontext::ScanContextConfig RigMap::DescriptorConfig() const {
+    const bool indoor = descriptor.kind == "indoor";
+    scancontext::ScanContextConfig c = indoor ? scancontext::ScanContextConfig::Indoor()
+                                              : scancontext::ScanContextConfig::Outdoor();
+    c.num_rings = descriptor.rings;
+    c.num_sectors = descriptor.sectors;
+    c.max_radius = descriptor.max_radius_m;
+    if (indoor) {
+        c.indoor_min_points = descriptor.min_points;
+        c.indoor_min_z_span = descriptor.min_z_span_m;
+    }
+    return c;
+}
 
 int32_t StoreyAt(const std::vector<RigMapStorey>& storeys, double z) {
     int32_t found = -1;

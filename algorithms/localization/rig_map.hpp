@@ -23,6 +23,7 @@
 #include "algorithms/io/session.hpp"
 #include "algorithms/registration/registration.hpp"
 #include "algorithms/registration/surfel_map.hpp"
+#include "algorithms/scancontext/config.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
 
 namespace bimslam::localization {
@@ -57,6 +58,9 @@ struct RigMap {
     std::vector<registration::SurfelMap> levels;
 
     registration::SurfelPyramid Pyramid() const { return registration::SurfelPyramid(levels); }
+    // The Scan Context configuration `descriptor` describes (a query keyframe's descriptor must be
+    // made with it).
+    scancontext::ScanContextConfig DescriptorConfig() const;
 };
 
 // The storey a point at height z is on: the highest storey whose elevation is at most z (the

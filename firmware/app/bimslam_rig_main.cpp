@@ -66,6 +66,33 @@ nlohmann::json Stages(const bimslam::rig::RunSummary& s) {
     return j;
 }
 
+// The map package (localization.map) and the localiser's run (firmware/app/README.md).
+nlohmann::json BimMapJson(const bimslam::rig::RunSummary& s) {
+    return {{"path", s.bim_map},
+            {"loaded", !s.bim_map.empty() && s.bim_map_error.empty()},
+            {"error", s.bim_map_error},
+            {"model", s.bim_map_model},
+            {"keyframes", s.bim_map_keyframes},
+            {"storeys", s.bim_map_storeys},
+            {"bytes", s.bim_map_bytes},
+            {"load_ms", s.bim_map_load_ms}};
+}
+
+nlohmann::json LocalizationJson(const bimslam::rig::RunSummary& s) {
+    nlohmann::json states = nlohmann::json::object();
+    for (const auto& [state, n] : s.localization_states) states[state] = n;
+    return {{"keyframes", s.localization_keyframes},
+            {"states", states},
+            {"final_state", s.localization_final},
+            {"time_to_localised_s", s.localization_time_to_localised_s >= 0
+                                        ? nlohmann::json(s.localization_time_to_localised_s)
+                                        : nlohmann::json()},
+            {"cpu_ms_p50", s.localization_cpu_ms_p50},
+            {"cpu_ms_p99", s.localization_cpu_ms_p99},
+            {"cpu_percent", s.localization_cpu_percent},
+            {"deadline_misses", s.localization_deadline_misses}};
+}
+
 void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
     if (json) {
         nlohmann::json j = {{"session", s.session_dir},
@@ -100,7 +127,8 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                               {bimslam::rig::kImuChannel, s.lcm_imu},
                               {bimslam::rig::kGo1StateChannel, s.lcm_go1_state},
                               {bimslam::rig::kRigHealthChannel, s.lcm_rig_health},
-                              {bimslam::rig::kOusterStatsChannel, s.lcm_ouster_stats}}},
+                              {bimslam::rig::kOusterStatsChannel, s.lcm_ouster_stats},
+                              {bimslam::rig::kBimPoseChannel, s.lcm_bim_pose}}},
                             {"lcm_paced_s", s.lcm_paced_s},
                             {"lcm_logged", s.lcm_logged},
                             {"write_errors", s.write_errors},
@@ -113,20 +141,13 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             {"wall_s", s.wall_s},
                             {"stop_signal", s.stop_signal},
                             {"warnings", s.warnings},
-                            {"bim_map",
-                             {{"path", s.bim_map},
-                              {"loaded", !s.bim_map.empty() && s.bim_map_error.empty()},
-                              {"error", s.bim_map_error},
-                              {"model", s.bim_map_model},
-                              {"keyframes", s.bim_map_keyframes},
-                              {"storeys", s.bim_map_storeys},
-                              {"bytes", s.bim_map_bytes},
-                              {"load_ms", s.bim_map_load_ms}}},
                             // The keys `bimslam odometry --json` gives the same verdict.
                             {"verdict", s.trust.Verdict()},
                             {"failed_stretches", s.trust.ToJson().at("failed_stretches")},
                             {"bridged_by_prior", s.trust.bridged_by_prior()},
                             {"bridged_over_budget", s.trust.bridged_over_budget()}};
+        j["bim_map"] = BimMapJson(s);
+        j["localization"] = LocalizationJson(s);
         std::cout << j.dump(2) << std::endl;
         return;
     }
@@ -154,10 +175,22 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
         (unsigned long long)s.go1_bridge_link_down, (unsigned long long)s.go1_bridge_not_running);
     std::printf("  trajectory %s\n", s.trust.Describe().c_str());
     if (!s.bim_map.empty() && s.bim_map_error.empty()) {
-        std::printf("  map package %s: %s, %llu keyframes on %llu storeys, %.1f MB read in %.0f ms\n",
-                    s.bim_map.c_str(), s.bim_map_model.c_str(),
-                    (unsigned long long)s.bim_map_keyframes, (unsigned long long)s.bim_map_storeys,
-                    double(s.bim_map_bytes) / 1e6, s.bim_map_load_ms);
+        std::printf(
+            "  map package %s: %s, %llu keyframes on %llu storeys, %.1f MB read in %.0f ms\n",
+            s.bim_map.c_str(), s.bim_map_model.c_str(), (unsigned long long)s.bim_map_keyframes,
+            (unsigned long long)s.bim_map_storeys, double(s.bim_map_bytes) / 1e6,
+            s.bim_map_load_ms);
+        std::printf("  localisation: %llu keyframes, last state %s, ",
+                    (unsigned long long)s.localization_keyframes, s.localization_final.c_str());
+        if (s.localization_time_to_localised_s >= 0) {
+            std::printf("localised %.1f s after the first keyframe",
+                        s.localization_time_to_localised_s);
+        } else {
+            std::printf("never localised");
+        }
+        std::printf("; CPU per keyframe p50 %.1f ms, p99 %.1f ms, %.2f %% of one core\n",
+                    s.localization_cpu_ms_p50, s.localization_cpu_ms_p99,
+                    s.localization_cpu_percent);
     } else if (!s.bim_map.empty()) {
         std::printf("  %s (FAULT_BIM_MAP): the rig mapped in its own frame\n",
                     s.bim_map_error.c_str());

@@ -15,7 +15,8 @@ const char* const kFaultNames[kNumFaults] = {
     "QUEUE_OVERFLOW", "CPU_OVERLOAD",        "DISK_LOW",
     "DISK_WRITE",     "ODOMETRY_DEGENERATE", "ODOMETRY_OVER_BUDGET",
     "ODOMETRY_LOST",  "CLOCK_JUMP",          "CONFIG",
-    "LCM_PUBLISH",    "THREAD_STALLED",      "BIM_MAP"};
+    "LCM_PUBLISH",    "THREAD_STALLED",      "BIM_MAP",
+    "BIM_LOST"};
 enum Bit {
     kLidarTimeout,
     kLidarRejects,
@@ -37,7 +38,8 @@ enum Bit {
     kConfig,
     kLcmPublish,
     kThreadStalled,
-    kBimMap
+    kBimMap,
+    kBimLost
 };
 
 // STS_BridgeState's values (go1_odometry.dbc VAL_ 320).
@@ -254,6 +256,14 @@ void Health::DetectRigFaults(const Snapshot& n, Faults& f) {
     f.Set(kLcmPublish, n.lc.failures > last_lcm_.failures, "LCM publish failed");
     f.Set(kBimMap, !in_.bim_map_error.empty(),
           in_.bim_map_error + " (no relocalisation: the rig maps in its own frame)");
+    if (in_.localizer != nullptr) {
+        const BimPoseState b = in_.localizer->latest();
+        const double unlocalised_s =
+            b.unlocalised_since_ns > 0 ? double(n.now - b.unlocalised_since_ns) * 1e-9 : 0.0;
+        f.Set(kBimLost, unlocalised_s > in_.config.bim_lost_fault_s,
+              "not localised in the model for " + std::to_string(int(unlocalised_s)) + " s (" +
+                  std::string(localization::ToString(b.state)) + ")");
+    }
 }
 
 // The watchdog's rule (HeartbeatStale), per thread: the log names each stuck thread and how long

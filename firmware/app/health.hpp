@@ -19,6 +19,7 @@
 
 #include "drivers/ouster/sensor_info.hpp"
 #include "firmware/app/rig_config.hpp"
+#include "firmware/modules/bim_localizer.hpp"
 #include "firmware/modules/can_ingest.hpp"
 #include "firmware/modules/lcm_bridge.hpp"
 #include "firmware/modules/lidar_ingest.hpp"
@@ -30,7 +31,7 @@
 
 namespace bimslam::rig {
 
-inline constexpr int kNumFaults = 21;  // rig_health_t::NUM_FAULTS
+inline constexpr int kNumFaults = 22;  // rig_health_t::NUM_FAULTS
 // "LIDAR_TIMEOUT", ... in bit order (the FAULT_* names without the prefix).
 const char* FaultName(int bit);
 
@@ -57,6 +58,7 @@ struct HealthInputs {
     bool unpaced_replay;  // --speed max: using every core is the point, not CPU_OVERLOAD
     // Why the configured map package was refused (FAULT_BIM_MAP); empty: none refused.
     std::string bim_map_error = {};
+    const BimLocalizer* localizer = nullptr;  // FAULT_BIM_LOST; nullptr: no package loaded
 };
 
 class Health {

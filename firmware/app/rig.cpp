@@ -12,10 +12,12 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
+#include "algorithms/localization/relocalizer.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "drivers/net/ros_packet_bag.hpp"
 #include "drivers/ouster/metadata.hpp"
 #include "firmware/app/health.hpp"
+#include "firmware/modules/bim_localizer.hpp"
 #include "firmware/modules/can_ingest.hpp"
 #include "firmware/modules/lcm_bridge.hpp"
 #include "firmware/modules/lidar_ingest.hpp"
@@ -124,6 +126,10 @@ struct Queues {
                         &lcm_wakeup),
           keyframes_session("keyframes_session", size_t(cfg.keyframe_queue),
                             ReserveKeyframe(points), &writer_wakeup),
+          // One slot without a map package (nothing uses it then).
+          keyframes_localizer("keyframes_localizer",
+                              cfg.bim_map.empty() ? 1 : size_t(cfg.keyframe_queue),
+                              ReserveKeyframe(cfg.bim_map.empty() ? 0 : points), &localizer_wakeup),
           poses("poses", size_t(cfg.publish_queue) * 4, {}, &writer_wakeup),
           imu_lcm("imu_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup),
           go1_lcm("go1_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup),
@@ -137,16 +143,27 @@ struct Queues {
         };
     }
     std::vector<const runtime::QueueBase*> All() const {
-        return {&scans, &imu,     &bodies,  &odometry_out, &keyframes_lcm, &keyframes_session,
-                &poses, &imu_lcm, &go1_lcm, &health_lcm,   &stats_lcm};
+        return {&scans,
+                &imu,
+                &bodies,
+                &odometry_out,
+                &keyframes_lcm,
+                &keyframes_session,
+                &keyframes_localizer,
+                &poses,
+                &imu_lcm,
+                &go1_lcm,
+                &health_lcm,
+                &stats_lcm};
     }
 
-    runtime::Wakeup worker_wakeup, writer_wakeup, lcm_wakeup;  // declared first: built first
+    // Declared first: built first.
+    runtime::Wakeup worker_wakeup, writer_wakeup, lcm_wakeup, localizer_wakeup;
     runtime::SpscQueue<ScanSlot> scans;
     runtime::SpscQueue<ImuItem> imu;
     runtime::SpscQueue<BodyItem> bodies;
     runtime::SpscQueue<OdometryItem> odometry_out;
-    runtime::SpscQueue<KeyframeItem> keyframes_lcm, keyframes_session;
+    runtime::SpscQueue<KeyframeItem> keyframes_lcm, keyframes_session, keyframes_localizer;
     runtime::SpscQueue<PoseItem> poses;
     runtime::SpscQueue<OusterImuItem> imu_lcm;
     runtime::SpscQueue<Go1Item> go1_lcm;
@@ -188,6 +205,7 @@ private:
     void StopInOrder();
     void Summarize();
     void SummarizeCan();
+    void SummarizeLocalizer();
 
     const RunOptions& o_;
     const RigConfig& cfg_;
@@ -201,6 +219,8 @@ private:
     std::optional<OdometryWorker> worker_;
     std::optional<SessionRecorder> recorder_;
     std::optional<LcmPublisher> publisher_;
+    std::optional<BimLocalizer> localizer_;  // a map package loaded
+    std::atomic<bool> localizer_done_{true};
     std::atomic<bool> stop_sources_{false}, ingest_done_{false}, can_done_{true},
         worker_done_{false}, health_stop_{false}, health_done_{false}, lcm_inputs_done_{false};
     runtime::ThreadTable threads_;
@@ -227,6 +247,8 @@ void Rig::LoadBimMap() {
                                         map.model_sha256 + "), not of the model " +
                                         cfg_.bim_model_sha256 + " (localization.model_sha256)");
         }
+        // What the localiser thread will build: a package it cannot take is refused here.
+        { const localization::Relocalizer check(map); }
         summary_.bim_map_keyframes = map.keyframes.size();
         summary_.bim_map_storeys = map.storeys.size();
         summary_.bim_map_model = map.model_file;
@@ -283,8 +305,14 @@ void Rig::MakeModules() {
     wc_.record = cfg_.record;
     worker_.emplace(wc_,
                     WorkerQueues{q_.scans, q_.imu, q_.bodies, q_.odometry_out, q_.keyframes_lcm,
-                                 q_.keyframes_session, q_.poses, q_.worker_wakeup},
+                                 q_.keyframes_session, q_.poses, q_.worker_wakeup,
+                                 bim_map_ ? &q_.keyframes_localizer : nullptr},
                     can_ ? &*can_ : nullptr);
+    if (bim_map_) {
+        localizer_.emplace(*bim_map_, q_.keyframes_localizer, q_.localizer_wakeup,
+                           int64_t(cfg_.localizer_deadline_ms * 1e6));
+        localizer_done_.store(false);
+    }
 
     if (cfg_.record) {
         SessionRecorderConfig rc;
@@ -301,6 +329,8 @@ void Rig::MakeModules() {
         lcm_output.pace_messages_per_s = cfg_.lcm_replay_messages_per_s;
     }
     lcm_output.log_path = o_.lcm_log;
+    lcm_output.localizer = localizer_ ? &*localizer_ : nullptr;
+    lcm_output.T_base_lidar = in_.T_base_lidar;
     publisher_.emplace(cfg_.lcm_url, pc.keyframes,
                        LcmQueues{q_.odometry_out, q_.keyframes_lcm, q_.imu_lcm, q_.go1_lcm,
                                  q_.health_lcm, q_.stats_lcm, q_.lcm_wakeup},
@@ -331,7 +361,16 @@ void Rig::AddThreads() {
                      worker_done_.store(true);
                      q_.writer_wakeup.Notify();
                      q_.lcm_wakeup.Notify();
+                     q_.localizer_wakeup.Notify();
                  });
+    if (localizer_) {
+        threads_.Add(Spec("localizer", cfg_.localizer, 0, int64_t(cfg_.localizer_deadline_ms * 1e6),
+                          "a keyframe (about 1 Hz)", "the keyframe queue"),
+                     [this](runtime::ThreadStats& s) {
+                         localizer_->Run(s, worker_done_);
+                         localizer_done_.store(true);
+                     });
+    }
     if (recorder_) {
         threads_.Add(Spec("writer", cfg_.writer, 0, 0, "poses, keyframes", "the disk (fsync)"),
                      [this](runtime::ThreadStats& s) { recorder_->Run(s, worker_done_); });
@@ -342,7 +381,7 @@ void Rig::AddThreads() {
                                  recorder_ ? &*recorder_ : nullptr, *publisher_, q_.All(),
                                  q_.health_lcm, q_.stats_lcm, notifier_, cfg_, in_.info,
                                  health_stop_, in_.replay, in_.replay && clock_.unpaced(),
-                                 summary_.bim_map_error});
+                                 summary_.bim_map_error, localizer_ ? &*localizer_ : nullptr});
     threads_.Add(Spec("health", cfg_.health, int64_t(cfg_.health_period_s * 1e9), 0, "period",
                       "nothing (reads atomics)"),
                  [this](runtime::ThreadStats& s) {
@@ -406,7 +445,7 @@ void Rig::StopInOrder() {
         const timespec wait{0, 20'000'000};
         if (sigtimedwait(&signals_, nullptr, &wait) > 0) break;  // a second signal: hurry
     }
-    while (!worker_done_.load() || !can_done_.load()) {
+    while (!worker_done_.load() || !can_done_.load() || !localizer_done_.load()) {
         const timespec wait{0, 20'000'000};
         nanosleep(&wait, nullptr);
     }
@@ -481,6 +520,31 @@ void Rig::Summarize() {
     s.latency_p99_ms = publisher_->latency().PercentileMs(0.99);
     s.latency_max_ms = publisher_->latency().PercentileMs(1.0);
     s.latency_stages = StagePercentiles(publisher_->latency_stages());
+    s.lcm_bim_pose = lc.bim_pose;
+    if (localizer_) SummarizeLocalizer();
+}
+
+// The localiser's run: its states per keyframe, when it first localised (seconds of sensor time
+// from the first keyframe), its CPU per keyframe and share of one core, its last state.
+void Rig::SummarizeLocalizer() {
+    RunSummary& s = summary_;
+    const LocalizerCounters c = localizer_->counters();
+    s.localization_keyframes = c.keyframes;
+    s.localization_states = {{"searching", c.searching},
+                             {"candidate", c.candidate},
+                             {"localised", c.localised},
+                             {"ambiguous", c.ambiguous},
+                             {"lost", c.lost}};
+    s.localization_final = localizer_->latest().any
+                               ? std::string(localization::ToString(localizer_->latest().state))
+                               : "";
+    s.localization_time_to_localised_s =
+        c.first_localised_ns >= 0 ? double(c.first_localised_ns - c.first_keyframe_ns) * 1e-9
+                                  : -1.0;
+    s.localization_cpu_ms_p50 = localizer_->cpu().PercentileMs(0.5);
+    s.localization_cpu_ms_p99 = localizer_->cpu().PercentileMs(0.99);
+    s.localization_cpu_percent = 100.0 * double(c.cpu_ns) * 1e-9 / std::max(s.wall_s, 1e-9);
+    s.localization_deadline_misses = c.deadline_misses;
 }
 
 }  // namespace

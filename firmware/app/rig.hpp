@@ -64,6 +64,14 @@ struct RunSummary {
     std::string bim_map, bim_map_error, bim_map_model;
     uint64_t bim_map_keyframes = 0, bim_map_storeys = 0, bim_map_bytes = 0;
     double bim_map_load_ms = 0;
+    // The localiser's run (a package loaded): keyframes per state, its last state, seconds of
+    // sensor time from the first keyframe to the first localised one (-1: never), CPU per
+    // keyframe and share of one core, keyframes over localization.deadline_ms.
+    uint64_t localization_keyframes = 0, localization_deadline_misses = 0, lcm_bim_pose = 0;
+    std::vector<std::pair<std::string, uint64_t>> localization_states;
+    std::string localization_final;
+    double localization_time_to_localised_s = -1, localization_cpu_ms_p50 = 0,
+           localization_cpu_ms_p99 = 0, localization_cpu_percent = 0;
     // The odometry's verdict over the run (trusted / untrusted, the failed stretches), as
     // `bimslam odometry` gives it; each session's share is its odometry_verdict.json.
     odometry::TrajectoryTrust trust;

@@ -204,6 +204,10 @@ std::vector<Binding> Bindings(RigConfig& c) {
                      "maps in its own frame"));
     b.push_back(Text("localization.model_sha256", c.bim_model_sha256,
                      "SHA-256 (hex) of the IFC model the package must be of; \"\": any"));
+    b.push_back(Real("localization.deadline_ms", c.localizer_deadline_ms, 10, 60000, "ms",
+                     "a keyframe's relocalisation (CPU time) longer than this is a deadline miss"));
+    b.push_back(Real("localization.lost_fault_s", c.bim_lost_fault_s, 1, 3600, "s",
+                     "lost or searching this long after a localisation: FAULT_BIM_LOST"));
     b.push_back(Bool("runtime.lock_memory", c.lock_memory, "mlockall at start"));
     ThreadKeys(b, "ingest", c.ingest);
     ThreadKeys(b, "can", c.can);
@@ -211,6 +215,7 @@ std::vector<Binding> Bindings(RigConfig& c) {
     ThreadKeys(b, "writer", c.writer);
     ThreadKeys(b, "lcm", c.lcm);
     ThreadKeys(b, "health", c.health);
+    ThreadKeys(b, "localizer", c.localizer);
     b.push_back(Real("health.period_s", c.health_period_s, 0.1, 10, "s",
                      "rig health, Ouster stats, watchdog and fault logs"));
     b.push_back(Real("health.log_interval_s", c.log_interval_s, 0.1, 3600, "s",

@@ -72,13 +72,15 @@ struct RigConfig {
     int keyframe_queue = 8;
 
     // localization: the building's model on board (issue 35; algorithms/localization).
-    std::string bim_map;           // the map package (bimslam rig-map); "": none
-    std::string bim_model_sha256;  // the model the package must be of; "": any
+    std::string bim_map;                  // the map package (bimslam rig-map); "": none
+    std::string bim_model_sha256;         // the model the package must be of; "": any
+    double localizer_deadline_ms = 1000;  // a keyframe's relocalisation, CPU time
+    double bim_lost_fault_s = 30;  // unlocalised this long after a localisation: FAULT_BIM_LOST
 
     // runtime.
     bool lock_memory = true;
     ThreadConfig ingest{80, -1}, can{70, -1}, odometry{60, -1}, writer{0, -1}, lcm{0, -1},
-        health{0, -1};
+        health{0, -1}, localizer{0, -1};
     double health_period_s = 1.0;  // rig_health_t, ouster_stats_t, the watchdog, the logs
     double log_interval_s = 10.0;  // the same fault is logged at most this often
 

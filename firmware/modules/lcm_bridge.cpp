@@ -17,6 +17,44 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }
 
+// bim_pose_t.state is RelocalizerState's value.
+static_assert(
+    int(localization::RelocalizerState::kSearching) == bimslam::bim_pose_t::STATE_SEARCHING &&
+    int(localization::RelocalizerState::kCandidate) == bimslam::bim_pose_t::STATE_CANDIDATE &&
+    int(localization::RelocalizerState::kLocalised) == bimslam::bim_pose_t::STATE_LOCALISED &&
+    int(localization::RelocalizerState::kAmbiguous) == bimslam::bim_pose_t::STATE_AMBIGUOUS &&
+    int(localization::RelocalizerState::kLost) == bimslam::bim_pose_t::STATE_LOST);
+
+void ToMessage(const BimPoseState& bim, const localization::RigMap& map, const OdometryItem& item,
+               uint32_t segment, const Eigen::Isometry3d& T_base_lidar, int64_t publish_ns,
+               bimslam::bim_pose_t* m) {
+    using B = bimslam::bim_pose_t;
+    using localization::RelocalizerState;
+    const bool here = bim.any && bim.segment == segment;
+    const RelocalizerState state = here ? bim.state : RelocalizerState::kSearching;
+    m->schema_version = B::SCHEMA_VERSION;
+    m->sample_time_ns = item.result.stamp_ns;
+    m->publish_time_ns = publish_ns;
+    m->keyframe_time_ns = here ? bim.keyframe_stamp_ns : 0;
+    m->state = int8_t(state);  // RelocalizerState's order is STATE_*'s
+    m->consistent_loops = here ? int32_t(bim.consistent_loops) : 0;
+    m->num_hypotheses = here ? int32_t(bim.hypotheses) : 0;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const bool localised = state == RelocalizerState::kLocalised;
+    const Eigen::Isometry3d T =
+        bim.T_bim_odom() * item.result.T_odom_lidar * T_base_lidar.inverse();
+    const Eigen::Quaterniond q(T.rotation());
+    for (int i = 0; i < 3; ++i) m->position[i] = localised ? T.translation()[i] : nan;
+    const double qv[4] = {q.w(), q.x(), q.y(), q.z()};
+    for (int i = 0; i < 4; ++i) m->orientation[i] = localised ? qv[i] : nan;
+    for (double& c : m->pose_covariance) c = nan;
+    m->storey = localised && bim.storey >= 0 && size_t(bim.storey) < map.storeys.size()
+                    ? map.storeys[size_t(bim.storey)].name
+                    : "";
+    m->space_name.clear();
+    m->space_global_id.clear();
+}
+
 void ToMessage(const OdometryItem& item, int64_t publish_ns, bimslam::odometry_t* m) {
     using O = bimslam::odometry_t;
     const odometry::OdometryResult& r = item.result;
@@ -216,7 +254,11 @@ int64_t PublishPacer::Take(int64_t bytes, int64_t now_ns) {
 
 LcmPublisher::LcmPublisher(const std::string& url, const keyframes::KeyframeConfig& keyframes,
                            LcmQueues queues, const LcmOutputConfig& output)
-    : lcm_(std::make_unique<lcm::LCM>(url)), keyframes_(keyframes), q_(queues) {
+    : lcm_(std::make_unique<lcm::LCM>(url)),
+      keyframes_(keyframes),
+      q_(queues),
+      localizer_(output.localizer),
+      T_base_lidar_(output.T_base_lidar) {
     // A burst of 256 kB: small messages pass at once, a keyframe waits for a full bucket.
     if (output.pace_bytes_per_s > 0) {
         pacer_.emplace(output.pace_bytes_per_s, output.pace_messages_per_s, 256.0 * 1024);
@@ -278,6 +320,7 @@ void LcmPublisher::Run(runtime::ThreadStats& stats, const std::atomic<bool>& pro
     bimslam::keyframe_t keyframe;
     bimslam::imu_sample_t imu;
     bimslam::go1_state_t go1;
+    bimslam::bim_pose_t bim_pose;
     for (;;) {
         stats.Beat();
         const uint32_t seen = q_.wakeup.Sequence();
@@ -291,6 +334,13 @@ void LcmPublisher::Run(runtime::ThreadStats& stats, const std::atomic<bool>& pro
             const LatencyStages stages = LatencyStages::From(o->times, published);
             for (size_t i = 0; i < LatencyStages::kCount; ++i) {
                 stages_[i].Add(int64_t(stages.us[i]) * 1000);
+            }
+            if (o->reset) ++segment_;
+            if (localizer_ != nullptr) {
+                ToMessage(localizer_->latest(), localizer_->map(), *o, segment_, T_base_lidar_,
+                          runtime::RealtimeNs(), &bim_pose);
+                Publish(kBimPoseChannel, bim_pose);
+                ++c_.bim_pose;
             }
             q_.odometry.Pop();
             ++c_.odometry;

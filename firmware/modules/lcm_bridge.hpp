@@ -8,6 +8,7 @@
 
 #include <array>
 #include <atomic>
+#include <bimslam/bim_pose_t.hpp>
 #include <bimslam/go1_state_t.hpp>
 #include <bimslam/imu_sample_t.hpp>
 #include <bimslam/keyframe_t.hpp>
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "firmware/modules/bim_localizer.hpp"
 #include "firmware/modules/rig_types.hpp"
 #include "firmware/runtime/latency_histogram.hpp"
 #include "firmware/runtime/seqlock.hpp"
@@ -38,6 +40,7 @@ inline constexpr char kOusterStatsChannel[] = "BIMSLAM_OUSTER_STATS";
 inline constexpr char kGo1StateChannel[] = "BIMSLAM_GO1_STATE";
 inline constexpr char kImuChannel[] = "BIMSLAM_IMU";
 inline constexpr char kRigHealthChannel[] = "BIMSLAM_RIG_HEALTH";
+inline constexpr char kBimPoseChannel[] = "BIMSLAM_BIM_POSE";
 
 void ToMessage(const OdometryItem& item, int64_t publish_ns, bimslam::odometry_t* msg);
 void ToMessage(const KeyframeItem& item, const keyframes::KeyframeConfig& config,
@@ -45,6 +48,12 @@ void ToMessage(const KeyframeItem& item, const keyframes::KeyframeConfig& config
 // The Ouster IMU sample in the IMU's own frame (the ingest rotates it back from the sensor frame).
 void ToMessage(const OusterImuItem& item, int64_t publish_ns, bimslam::imu_sample_t* msg);
 void ToMessage(const Go1Item& item, int64_t publish_ns, bimslam::go1_state_t* msg);
+// A scan's pose in the model: its odometry composed with the localiser's latest T_bim_odom
+// (`bim`, of the odometry's segment `segment`; another segment's is not this frame's) and
+// T_base_lidar; NaN unless localised in this segment.
+void ToMessage(const BimPoseState& bim, const localization::RigMap& map, const OdometryItem& item,
+               uint32_t segment, const Eigen::Isometry3d& T_base_lidar, int64_t publish_ns,
+               bimslam::bim_pose_t* msg);
 
 struct LcmQueues {
     runtime::SpscQueue<OdometryItem>& odometry;
@@ -85,12 +94,16 @@ struct LcmOutputConfig {
     // Every message published is also written here, in LCM's log format (lcm::LogFile, as
     // lcm-logger writes it): the lossless record of the run's LCM output. Empty: none.
     std::string log_path;
+    // The localiser whose latest step each scan's bim_pose_t carries; nullptr: no bim_pose_t.
+    const BimLocalizer* localizer = nullptr;
+    Eigen::Isometry3d T_base_lidar = Eigen::Isometry3d::Identity();
 };
 
 struct LcmCounters {
     uint64_t published = 0;
     uint64_t failures = 0;  // lcm publish returned an error
     uint64_t odometry = 0, keyframes = 0, imu = 0, go1 = 0, health = 0, ouster_stats = 0;
+    uint64_t bim_pose = 0;
     uint64_t logged = 0;   // messages written to the LCM log (LcmOutputConfig::log_path)
     int64_t paced_ns = 0;  // time a replay's output waited for the pacer
 };
@@ -140,6 +153,9 @@ private:
     std::vector<uint8_t> log_buffer_;
     keyframes::KeyframeConfig keyframes_;
     LcmQueues q_;
+    const BimLocalizer* localizer_;
+    Eigen::Isometry3d T_base_lidar_;
+    uint32_t segment_ = 0;  // the odometry's: its resets seen
     LcmCounters c_;
     runtime::Seqlock<LcmCounters> counters_;
     runtime::LatencyHistogram latency_;

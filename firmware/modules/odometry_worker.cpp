@@ -101,6 +101,7 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         };
         if (config_.record) push(q_.keyframes_session, fill);
         push(q_.keyframes_lcm, fill);
+        if (q_.keyframes_localizer != nullptr) push(*q_.keyframes_localizer, fill);
     }
     const int64_t latency = times.handed - times.last_packet;
     stats.Cycle(latency, config_.deadline_ns);

@@ -53,6 +53,8 @@ struct WorkerQueues {
     runtime::SpscQueue<KeyframeItem>& keyframes_session;
     runtime::SpscQueue<PoseItem>& poses;
     runtime::Wakeup& wakeup;  // notified by the three input queues
+    // The localiser thread's keyframes (a map package loaded); nullptr: none.
+    runtime::SpscQueue<KeyframeItem>* keyframes_localizer = nullptr;
 };
 
 class OdometryWorker {

@@ -102,12 +102,7 @@ int Localize(const LocalizeArgs& a) {
                       md.max_radius_m == map.descriptor.max_radius_m &&
                       md.min_points == map.descriptor.min_points &&
                       md.min_z_span_m == map.descriptor.min_z_span_m;
-    scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
-    sc.num_rings = map.descriptor.rings;
-    sc.num_sectors = map.descriptor.sectors;
-    sc.max_radius = map.descriptor.max_radius_m;
-    sc.indoor_min_points = map.descriptor.min_points;
-    sc.indoor_min_z_span = map.descriptor.min_z_span_m;
+    const scancontext::ScanContextConfig sc = map.DescriptorConfig();
 
     json steps = json::array();
     std::vector<double> cpu_ms;

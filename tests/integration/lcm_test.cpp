@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <bimslam/bim_pose_t.hpp>
 #include <bimslam/can_frame_t.hpp>
 #include <bimslam/go1_bridge_status_t.hpp>
 #include <bimslam/go1_state_t.hpp>
@@ -271,6 +272,22 @@ void ExpectSameMessage(const can_frame_t& a, const can_frame_t& b) {
     EXPECT_FIELD(flags);
     EXPECT_FIELD(len);
     EXPECT_FIELD(data);
+}
+
+void ExpectSameMessage(const bim_pose_t& a, const bim_pose_t& b) {
+    EXPECT_FIELD(schema_version);
+    EXPECT_FIELD(sample_time_ns);
+    EXPECT_FIELD(publish_time_ns);
+    EXPECT_FIELD(keyframe_time_ns);
+    EXPECT_FIELD(state);
+    EXPECT_FIELD(consistent_loops);
+    EXPECT_FIELD(num_hypotheses);
+    EXPECT_FIELD(position);
+    EXPECT_FIELD(orientation);
+    EXPECT_FIELD(pose_covariance);
+    EXPECT_FIELD(storey);
+    EXPECT_FIELD(space_name);
+    EXPECT_FIELD(space_global_id);
 }
 
 void ExpectSameMessage(const go1_bridge_status_t& a, const go1_bridge_status_t& b) {
@@ -621,6 +638,25 @@ go1_bridge_status_t MakeGo1BridgeStatus() {
     return m;
 }
 
+bim_pose_t MakeBimPose() {
+    Values v;
+    bim_pose_t m;
+    m.schema_version = bim_pose_t::SCHEMA_VERSION;
+    m.sample_time_ns = v.I64();
+    m.publish_time_ns = v.I64();
+    m.keyframe_time_ns = v.I64();
+    m.state = bim_pose_t::STATE_LOCALISED;
+    m.consistent_loops = v.I32();
+    m.num_hypotheses = v.I32();
+    v.Fill(m.position);
+    v.Fill(m.orientation);
+    v.Fill(m.pose_covariance);
+    m.storey = v.Str("First Floor");
+    m.space_name = v.Str("Office 1.04");
+    m.space_global_id = v.Str("2O2Fr$t4X7Zf8NOew3FLOH");
+    return m;
+}
+
 // ------------------------------------------------------------------------------------------------
 // The messages each type is tested with.
 
@@ -653,6 +689,10 @@ std::vector<rig_health_t> Samples() {
 template <>
 std::vector<go1_bridge_status_t> Samples() {
     return {MakeGo1BridgeStatus()};
+}
+template <>
+std::vector<bim_pose_t> Samples() {
+    return {MakeBimPose()};
 }
 template <>
 std::vector<can_frame_t> Samples() {
@@ -711,8 +751,9 @@ std::string MulticastHint(const std::string& url) {
 template <class T>
 class LcmRoundTrip : public ::testing::Test {};
 
-using MessageTypes = ::testing::Types<odometry_t, keyframe_t, ouster_stats_t, go1_state_t,
-                                      imu_sample_t, rig_health_t, can_frame_t, go1_bridge_status_t>;
+using MessageTypes =
+    ::testing::Types<odometry_t, keyframe_t, ouster_stats_t, go1_state_t, imu_sample_t,
+                     rig_health_t, can_frame_t, go1_bridge_status_t, bim_pose_t>;
 
 // Short type names for channel names. (No gtest name generator: ctest's test discovery in
 // CMake 3.25 only understands the default numbered typed-suite names, which it shows as
@@ -727,6 +768,7 @@ std::string TypeName() {
     if (std::is_same_v<T, rig_health_t>) return "rig_health_t";
     if (std::is_same_v<T, can_frame_t>) return "can_frame_t";
     if (std::is_same_v<T, go1_bridge_status_t>) return "go1_bridge_status_t";
+    if (std::is_same_v<T, bim_pose_t>) return "bim_pose_t";
     return "unknown";
 }
 
@@ -825,6 +867,12 @@ TEST(LcmConstants, AreConsistent) {
     EXPECT_EQ(static_cast<int32_t>(imu_sample_t::SCHEMA_VERSION), 1);
     EXPECT_EQ(static_cast<int32_t>(rig_health_t::SCHEMA_VERSION), 3);  // + FAULT_BIM_MAP
     EXPECT_EQ(static_cast<int32_t>(can_frame_t::SCHEMA_VERSION), 1);
+    EXPECT_EQ(static_cast<int32_t>(bim_pose_t::SCHEMA_VERSION), 1);
+    // bim_pose_t: the STATE_* values are RelocalizerState's order (firmware/modules/lcm_bridge).
+    const int8_t states[] = {bim_pose_t::STATE_SEARCHING, bim_pose_t::STATE_CANDIDATE,
+                             bim_pose_t::STATE_LOCALISED, bim_pose_t::STATE_AMBIGUOUS,
+                             bim_pose_t::STATE_LOST};
+    for (size_t i = 0; i < std::size(states); ++i) EXPECT_EQ(states[i], int8_t(i));
 
     // can_frame_t: the FLAG_* bits are distinct single bits.
     const int32_t can_flags[] = {can_frame_t::FLAG_EFF,    can_frame_t::FLAG_RTR,
@@ -870,7 +918,8 @@ TEST(LcmConstants, AreConsistent) {
                               rig_health_t::FAULT_CONFIG,
                               rig_health_t::FAULT_LCM_PUBLISH,
                               rig_health_t::FAULT_THREAD_STALLED,
-                              rig_health_t::FAULT_BIM_MAP};
+                              rig_health_t::FAULT_BIM_MAP,
+                              rig_health_t::FAULT_BIM_LOST};
     ASSERT_EQ(static_cast<int32_t>(std::size(faults)),
               static_cast<int32_t>(rig_health_t::NUM_FAULTS));
     for (size_t i = 0; i < std::size(faults); ++i) {
@@ -881,7 +930,7 @@ TEST(LcmConstants, AreConsistent) {
     const int64_t hashes[] = {odometry_t::getHash(),     keyframe_t::getHash(),
                               ouster_stats_t::getHash(), go1_state_t::getHash(),
                               imu_sample_t::getHash(),   rig_health_t::getHash(),
-                              can_frame_t::getHash()};
+                              can_frame_t::getHash(),    bim_pose_t::getHash()};
     for (size_t i = 0; i < std::size(hashes); ++i) {
         for (size_t j = i + 1; j < std::size(hashes); ++j) {
             EXPECT_NE(hashes[i], hashes[j]) << i << " vs " << j;

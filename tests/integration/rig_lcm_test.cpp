@@ -11,6 +11,7 @@
 #include <sys/un.h>
 
 #include <atomic>
+#include <bimslam/bim_pose_t.hpp>
 #include <bimslam/go1_state_t.hpp>
 #include <bimslam/imu_sample_t.hpp>
 #include <bimslam/keyframe_t.hpp>
@@ -26,7 +27,9 @@
 #include <thread>
 #include <vector>
 
+#include "algorithms/io/capture_files.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/io/trajectory.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "host_tools/capture/udp_replay.hpp"
 #include "tests/integration/rig_test_support.hpp"
@@ -272,6 +275,8 @@ void WriteTinyPackage(const fs::path& path) {
     m.storeys = {{"Ground", "g", 0.0}};
     m.keyframes = {Eigen::Isometry3d::Identity()};
     m.keyframe_storey = {0};
+    m.descriptor.min_points = 3;  // the indoor Scan Context the rig makes
+    m.descriptor.min_z_span_m = 0.3;
     m.descriptors.emplace_back(scancontext::Descriptor::Zero(20, 60));
     for (const double voxel : {1.0, 0.5, 0.25}) {
         registration::SurfelMapConfig c;
@@ -299,10 +304,12 @@ TEST_F(RigLcm, AMapPackageThatCannotBeUsedIsRefusedWithItsFaultOnLcmAndTheRigMap
         {"missing", "localization:\n  map: " + (Tmp() / "none.rigmap").string() + "\n",
          (Tmp() / "none.rigmap").string() + ": cannot open"},
         {"damaged", "localization:\n  map: " + damaged.string() + "\n", "damaged"},
-        {"other", "localization:\n  map: " + good.string() + "\n  model_sha256: " + other_sha + "\n",
+        {"other",
+         "localization:\n  map: " + good.string() + "\n  model_sha256: " + other_sha + "\n",
          "not of the model " + other_sha},
-        {"good", "localization:\n  map: " + good.string() + "\n  model_sha256: " +
-                     std::string(64, 'a') + "\n",
+        {"good",
+         "localization:\n  map: " + good.string() + "\n  model_sha256: " + std::string(64, 'a') +
+             "\n",
          ""},
     };
     for (const auto& c : cases) {
@@ -329,6 +336,79 @@ TEST_F(RigLcm, AMapPackageThatCannotBeUsedIsRefusedWithItsFaultOnLcmAndTheRigMap
             EXPECT_EQ(active, messages) << "FAULT_BIM_MAP holds for the whole run";
         }
     }
+}
+
+// The localiser thread (issue 35, item 2): with the sample office's package, each scan's
+// bim_pose_t is published after its odometry_t; once localised its T_bim_base lies on the
+// capture's ground truth; and the rig's relocaliser, fed live by the odometry worker, gives
+// per state the keyframes `bimslam localize` gives on the session the rig wrote (replay equals
+// the host tool on the same keyframes).
+TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocalizeFindsIt) {
+    const fs::path cap = Capture("go1", 20);
+    const fs::path package = Tmp() / "office.rigmap";
+    if (!fs::exists(package)) {
+        const auto r =
+            test::RunCommand(kCli + " rig-map " + Model().string() + " -o " + package.string());
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    const fs::path config = test::rig::WriteConfig(
+        Tmp() / "localise.yaml", "localization:\n  map: " + package.string() + "\n");
+    const fs::path log = Tmp() / "localise.lcmlog";
+    const nlohmann::json j = test::rig::RigJson(
+        kRig + " replay " + cap.string() + " --speed max --json --config " + config.string() +
+        " --session-root " + (Tmp() / "localise").string() + " --lcm-log " + log.string());
+    ASSERT_FALSE(j.is_null());
+    const nlohmann::json& l = j["localization"];
+    EXPECT_EQ(l["final_state"], "localised") << l.dump(1);
+    EXPECT_LE(l["time_to_localised_s"].get<double>(), 10.0);
+    EXPECT_EQ(l["keyframes"], j["keyframes"]);
+    EXPECT_EQ(j["lcm_published"]["BIMSLAM_BIM_POSE"], j["scans"]);
+
+    // Every bim_pose_t; the localised ones against the truth (T_bim_lidar composed with the
+    // capture's mount: T_bim_base).
+    const auto truth = io::ReadTum(cap / "ground_truth.tum");
+    const auto mount = io::ReadCaptureMount(cap / "capture.json");
+    ASSERT_TRUE(mount.has_value());
+    lcm::LogFile file(log.string(), "r");
+    size_t messages = 0, localised = 0;
+    double worst = 0;
+    while (const lcm::LogEvent* e = file.readNextEvent()) {
+        if (e->channel != "BIMSLAM_BIM_POSE") continue;
+        bimslam::bim_pose_t m;
+        ASSERT_GE(m.decode(e->data, 0, e->datalen), 0);
+        ++messages;
+        if (m.state != bimslam::bim_pose_t::STATE_LOCALISED) {
+            EXPECT_TRUE(std::isnan(m.position[0]));
+            continue;
+        }
+        ++localised;
+        EXPECT_FALSE(m.storey.empty());
+        const auto t =
+            std::lower_bound(truth.begin(), truth.end(), m.sample_time_ns,
+                             [](const io::StampedPose& p, int64_t s) { return p.stamp_ns < s; });
+        ASSERT_NE(t, truth.end());
+        if (std::llabs(t->stamp_ns - m.sample_time_ns) > 1'000'000) continue;
+        const Eigen::Vector3d base = (t->Pose() * mount->inverse()).translation();
+        worst = std::max(
+            worst, (base - Eigen::Vector3d(m.position[0], m.position[1], m.position[2])).norm());
+    }
+    EXPECT_EQ(int64_t(messages), j["scans"].get<int64_t>());
+    EXPECT_GT(localised, messages / 2);
+    EXPECT_LT(worst, 0.05) << "live T_bim_base off the truth";
+
+    const fs::path out = Tmp() / "localise_host";
+    const auto r =
+        test::RunCommand(kCli + " localize " + j["session"].get<std::string>() + " --map " +
+                         package.string() + " -o " + out.string() + " --json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json host =
+        nlohmann::json::parse(io::ReadFileToString(out / "localization.json"))["summary"];
+    for (const auto& [state, n] : l["states"].items()) {
+        EXPECT_EQ(host["states"].contains(state) ? host["states"][state].get<int>() : 0,
+                  n.get<int>())
+            << state;
+    }
+    EXPECT_EQ(host["localised_at_keyframe"].is_null(), false);
 }
 
 TEST_F(RigLcm, ReplayAtFullSpeedLosesNothingOnAnyOutput) {

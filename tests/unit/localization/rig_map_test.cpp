@@ -48,6 +48,9 @@ Made MakeMap() {
     const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
     m.map.descriptor.rings = sc.num_rings;
     m.map.descriptor.sectors = sc.num_sectors;
+    m.map.descriptor.max_radius_m = sc.max_radius;
+    m.map.descriptor.min_points = sc.indoor_min_points;
+    m.map.descriptor.min_z_span_m = sc.indoor_min_z_span;
     scancontext::DescriptorBuilder builder(sc);
     registration::OrientedCloudConfig oc;
     oc.sample_voxel_size = 0.05;
@@ -172,6 +175,9 @@ TEST(RigMap, TheWriterRefusesCountsThatDisagree) {
     EXPECT_THROW(SerializeRigMap(m), common::Error);
     m = MakeMap().map;
     m.descriptors[0].resize(3, 4);
+    EXPECT_THROW(SerializeRigMap(m), common::Error);
+    m = MakeMap().map;
+    m.descriptor.min_points = 0;  // no Scan Context the rig could make
     EXPECT_THROW(SerializeRigMap(m), common::Error);
 }
 
