@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "algorithms/common/point_cloud.hpp"
@@ -157,6 +158,15 @@ public:
     void AddEdge(const SessionEdge& edge);
     // A scan's pose for trajectory.tum (every scan, in time order).
     void AddScanPose(const StampedPose& pose);
+    // The rig in the building's model (issue 35): a scan's live pose in the model for
+    // trajectory_bim_live.tum (T_bim_lidar: its odometry composed with the relocaliser's
+    // T_bim_odom then; scans while localised, in time order), and a change of the relocaliser's
+    // state for localization_states.csv (`t_s state consistent_loops hypotheses storey`, the
+    // keyframe's time in seconds, the storey's name the rest of the line, - for none). The first
+    // call of either makes both files part of the session.
+    void AddLivePose(const StampedPose& pose);
+    void AddLocalizationState(int64_t stamp_ns, std::string_view state, size_t consistent_loops,
+                              size_t hypotheses, std::string_view storey);
     // Rewrites the line-oriented files now.
     void Flush();
     // Flushes and writes session.json. Further calls are errors.
@@ -174,6 +184,7 @@ private:
     // keyframe: 34 ms and 6 allocations a number at two hours of 10 Hz scans).
     struct Text {
         std::string times, world, odom, vertices, edges, trajectory;
+        std::string live, states;  // trajectory_bim_live.tum, localization_states.csv
     };
     std::filesystem::path dir_;
     SessionManifest manifest_;
@@ -185,6 +196,7 @@ private:
     int64_t last_scan_ns_ = 0;
     size_t unflushed_ = 0;
     bool finished_ = false;
+    bool localization_ = false;  // AddLivePose or AddLocalizationState was called
     Sync sync() const { return options_.sync_each_file ? Sync::kNow : Sync::kDeferred; }
 };
 

@@ -173,6 +173,21 @@ void SessionWriter::AddScanPose(const StampedPose& pose) {
     ++scans_;
 }
 
+void SessionWriter::AddLivePose(const StampedPose& pose) {
+    localization_ = true;
+    AppendTumLine(text_.live, pose);
+}
+
+void SessionWriter::AddLocalizationState(int64_t stamp_ns, std::string_view state,
+                                         size_t consistent_loops, size_t hypotheses,
+                                         std::string_view storey) {
+    if (!localization_) text_.states = "# t_s state consistent_loops hypotheses storey\n";
+    localization_ = true;
+    text_.states += FormatNsAsSeconds(stamp_ns) + ' ' + std::string(state) + ' ' +
+                    std::to_string(consistent_loops) + ' ' + std::to_string(hypotheses) + ' ' +
+                    (storey.empty() ? std::string("-") : std::string(storey)) + '\n';
+}
+
 void SessionWriter::Flush() {
     WriteFileAtomic(dir_ / "times.txt", text_.times, sync());
     WriteFileAtomic(dir_ / "optimized_poses.txt", text_.world, sync());
@@ -184,6 +199,10 @@ void SessionWriter::Flush() {
     // The g2o file is every vertex, then every edge (SerializeG2o's order).
     WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", text_.vertices + text_.edges, sync());
     WriteFileAtomic(dir_ / "trajectory.tum", text_.trajectory, sync());
+    if (localization_) {
+        WriteFileAtomic(dir_ / "trajectory_bim_live.tum", text_.live, sync());
+        WriteFileAtomic(dir_ / "localization_states.csv", text_.states, sync());
+    }
     unflushed_ = 0;
 }
 

@@ -131,6 +131,7 @@ struct Queues {
                               cfg.bim_map.empty() ? 1 : size_t(cfg.keyframe_queue),
                               ReserveKeyframe(cfg.bim_map.empty() ? 0 : points), &localizer_wakeup),
           poses("poses", size_t(cfg.publish_queue) * 4, {}, &writer_wakeup),
+          bim_steps("bim_steps", size_t(cfg.keyframe_queue) * 8, {}, &writer_wakeup),
           imu_lcm("imu_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup),
           go1_lcm("go1_lcm", size_t(cfg.publish_queue) * 4, {}, &lcm_wakeup),
           health_lcm("health_lcm", 4, {}, &lcm_wakeup),
@@ -151,6 +152,7 @@ struct Queues {
                 &keyframes_session,
                 &keyframes_localizer,
                 &poses,
+                &bim_steps,
                 &imu_lcm,
                 &go1_lcm,
                 &health_lcm,
@@ -165,6 +167,7 @@ struct Queues {
     runtime::SpscQueue<OdometryItem> odometry_out;
     runtime::SpscQueue<KeyframeItem> keyframes_lcm, keyframes_session, keyframes_localizer;
     runtime::SpscQueue<PoseItem> poses;
+    runtime::SpscQueue<BimStepItem> bim_steps;  // localizer -> writer
     runtime::SpscQueue<OusterImuItem> imu_lcm;
     runtime::SpscQueue<Go1Item> go1_lcm;
     runtime::SpscQueue<bimslam::rig_health_t> health_lcm;
@@ -310,7 +313,8 @@ void Rig::MakeModules() {
                     can_ ? &*can_ : nullptr);
     if (bim_map_) {
         localizer_.emplace(*bim_map_, q_.keyframes_localizer, q_.localizer_wakeup,
-                           int64_t(cfg_.localizer_deadline_ms * 1e6));
+                           int64_t(cfg_.localizer_deadline_ms * 1e6),
+                           cfg_.record ? &q_.bim_steps : nullptr, replay);
         localizer_done_.store(false);
     }
 
@@ -320,7 +324,12 @@ void Rig::MakeModules() {
         rc.manifest = pipeline::MakeSessionManifest(in_.info, in_.metadata_path.filename().string(),
                                                     pc.keyframes);
         rc.min_free_bytes = int64_t(cfg_.min_free_mb * 1e6);
-        recorder_.emplace(rc, q_.poses, q_.keyframes_session, q_.writer_wakeup);
+        if (bim_map_) {
+            for (const localization::RigMapStorey& s : bim_map_->storeys)
+                rc.storeys.push_back(s.name);
+        }
+        recorder_.emplace(rc, q_.poses, q_.keyframes_session, q_.writer_wakeup,
+                          localizer_ ? &q_.bim_steps : nullptr);
         summary_.session_dir = recorder_->first_dir().string();
     }
     LcmOutputConfig lcm_output;
@@ -369,11 +378,15 @@ void Rig::AddThreads() {
                      [this](runtime::ThreadStats& s) {
                          localizer_->Run(s, worker_done_);
                          localizer_done_.store(true);
+                         q_.writer_wakeup.Notify();
                      });
     }
     if (recorder_) {
         threads_.Add(Spec("writer", cfg_.writer, 0, 0, "poses, keyframes", "the disk (fsync)"),
-                     [this](runtime::ThreadStats& s) { recorder_->Run(s, worker_done_); });
+                     // With a localiser, its steps come after the odometry's last output.
+                     [this](runtime::ThreadStats& s) {
+                         recorder_->Run(s, localizer_ ? localizer_done_ : worker_done_);
+                     });
     }
     threads_.Add(Spec("lcm", cfg_.lcm, 0, 0, "messages", "the LCM socket"),
                  [this](runtime::ThreadStats& s) { publisher_->Run(s, lcm_inputs_done_); });

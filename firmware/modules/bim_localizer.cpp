@@ -10,8 +10,14 @@ using localization::RelocalizerState;
 
 BimLocalizer::BimLocalizer(const localization::RigMap& map,
                            runtime::SpscQueue<KeyframeItem>& keyframes, runtime::Wakeup& wakeup,
-                           int64_t deadline_ns)
-    : map_(map), keyframes_(keyframes), wakeup_(wakeup), deadline_ns_(deadline_ns) {}
+                           int64_t deadline_ns, runtime::SpscQueue<BimStepItem>* steps,
+                           bool lossless)
+    : map_(map),
+      keyframes_(keyframes),
+      wakeup_(wakeup),
+      deadline_ns_(deadline_ns),
+      steps_(steps),
+      lossless_(lossless) {}
 
 void BimLocalizer::Process(const KeyframeItem& k) {
     const io::SessionKeyframe& kf = k.keyframe;
@@ -73,6 +79,23 @@ void BimLocalizer::Process(const KeyframeItem& k) {
     state_.hypotheses = uint32_t(step.hypotheses.size());
     state_.storey = step.storey;
     latest_.Store(state_);
+    if (steps_ != nullptr) {
+        BimStepItem* s = steps_->BeginPushWaiting(lossless_, never_);
+        if (s == nullptr) {
+            steps_->CountDrop();
+            ++c_.steps_dropped;
+        } else {
+            s->keyframe_stamp_ns = kf.stamp_ns;
+            s->segment = k.segment;
+            s->state = uint8_t(step.state);
+            s->localised = localised;
+            s->T_bim_odom = step.T_bim_odom;
+            s->consistent_loops = uint32_t(step.consistent_loops);
+            s->hypotheses = uint32_t(step.hypotheses.size());
+            s->storey = step.storey;
+            steps_->CommitPush();
+        }
+    }
     counters_.Store(c_);
 }
 

@@ -44,6 +44,7 @@ struct LocalizerCounters {
     uint64_t keyframes = 0, localised = 0, candidate = 0, searching = 0, ambiguous = 0, lost = 0;
     uint64_t registrations = 0, deadline_misses = 0, restarts = 0;
     uint64_t errors = 0;              // keyframes the relocaliser threw on (none expected: counted)
+    uint64_t steps_dropped = 0;       // steps the session writer's full queue refused (live)
     int64_t first_keyframe_ns = -1;   // sensor clock
     int64_t first_localised_ns = -1;  // sensor clock: the keyframe it was first localised at
     int64_t cpu_ns = 0;               // the relocaliser's CPU time, all keyframes
@@ -52,9 +53,11 @@ struct LocalizerCounters {
 class BimLocalizer {
 public:
     // `map` must outlive it. deadline_ns: a keyframe's relocalisation longer than this is a miss.
-    // `wakeup`: the one the keyframe queue notifies.
+    // `wakeup`: the one the keyframe queue notifies. `steps`: each keyframe's step for the
+    // session writer (nullptr: none), waiting for room when `lossless` (a replay).
     BimLocalizer(const localization::RigMap& map, runtime::SpscQueue<KeyframeItem>& keyframes,
-                 runtime::Wakeup& wakeup, int64_t deadline_ns);
+                 runtime::Wakeup& wakeup, int64_t deadline_ns,
+                 runtime::SpscQueue<BimStepItem>* steps = nullptr, bool lossless = false);
 
     // Until `producers_done` and the queue is empty.
     void Run(runtime::ThreadStats& stats, const std::atomic<bool>& producers_done);
@@ -72,6 +75,9 @@ private:
     runtime::SpscQueue<KeyframeItem>& keyframes_;
     runtime::Wakeup& wakeup_;
     int64_t deadline_ns_;
+    runtime::SpscQueue<BimStepItem>* steps_;
+    bool lossless_;
+    std::atomic<bool> never_{false};  // BeginPushWaiting's stop: the writer always drains
     std::optional<localization::Relocalizer> relocalizer_;
     uint32_t segment_ = 0;
     double path_m_ = 0;

@@ -95,6 +95,18 @@ struct PoseItem {
     uint32_t flags = 0, check_reasons = 0;
 };
 
+// The localiser's step on one keyframe, for the session writer (trajectory_bim_live.tum,
+// localization_states.csv).
+struct BimStepItem {
+    int64_t keyframe_stamp_ns = 0;  // sensor clock: the keyframe's scan
+    uint32_t segment = 0;
+    uint8_t state = 0;  // localization::RelocalizerState
+    bool localised = false;
+    Eigen::Isometry3d T_bim_odom = Eigen::Isometry3d::Identity();
+    uint32_t consistent_loops = 0, hypotheses = 0;
+    int32_t storey = -1;
+};
+
 // The Go1 state for LCM: the sample and the decoder's counters when it was emitted.
 struct Go1Item {
     can::Go1Sample sample;

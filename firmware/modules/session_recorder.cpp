@@ -7,6 +7,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "algorithms/localization/relocalizer.hpp"
 #include "firmware/runtime/process_stats.hpp"
 
 namespace bimslam::rig {
@@ -26,8 +27,8 @@ std::string StartName() {
 SessionRecorder::SessionRecorder(const SessionRecorderConfig& config,
                                  runtime::SpscQueue<PoseItem>& poses,
                                  runtime::SpscQueue<KeyframeItem>& keyframes,
-                                 runtime::Wakeup& wakeup)
-    : config_(config), poses_(poses), keyframes_(keyframes), wakeup_(wakeup) {
+                                 runtime::Wakeup& wakeup, runtime::SpscQueue<BimStepItem>* steps)
+    : config_(config), poses_(poses), keyframes_(keyframes), wakeup_(wakeup), steps_(steps) {
     std::error_code ec;
     fs::create_directories(config_.root, ec);
     if (ec || !fs::is_directory(config_.root)) {
@@ -133,12 +134,19 @@ void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& 
                         keyframes_.Pop();
                     }
                     WriteVerdict();
+                    ApplySteps(true);
                     writer_->Finish();
                     segment_ = p->segment;
+                    current_.reset();
+                    last_state_ = -1;
                     Open();
                     session_has_scans_ = false;
                 }
                 writer_->AddScanPose(p->pose);
+                if (steps_ != nullptr) {
+                    pending_.push_back(p->pose);
+                    last_pose_ns_ = p->pose.stamp_ns;
+                }
                 AddVerdict(*p);
                 ++c_.poses;
                 dirty = true;
@@ -150,6 +158,10 @@ void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& 
                 Write(*k);
                 keyframes_.Pop();
                 dirty = false;  // AddKeyframe flushed the line files
+                worked = true;
+            }
+            if (steps_ != nullptr && ApplySteps(false)) {
+                dirty = true;
                 worked = true;
             }
             if (dirty && runtime::MonotonicNs() - last_flush > config_.flush_period_ns) {
@@ -175,11 +187,61 @@ void SessionRecorder::Run(runtime::ThreadStats& stats, const std::atomic<bool>& 
     }
     WriteVerdict();  // before session.json, as `bimslam odometry` writes it
     try {
+        ApplySteps(true);
         writer_->Finish();
     } catch (const std::exception&) {
         ++c_.write_errors;
     }
     counters_.Store(c_);
+}
+
+bool SessionRecorder::ApplySteps(bool all) {
+    if (steps_ == nullptr) return false;  // no map package
+    bool applied = false;
+    while (BimStepItem* s = steps_->Front()) {
+        if (s->segment < segment_) {  // an earlier session's: it has been closed
+            steps_->Pop();
+            continue;
+        }
+        // A later session's, or a keyframe whose scan's pose has not been written yet: later
+        // (the localiser's queue and the poses' are separate; either may be seen first).
+        if (s->segment > segment_) break;
+        if (!all && s->keyframe_stamp_ns > last_pose_ns_) break;
+        ApplyStep(*s);
+        steps_->Pop();
+        applied = true;
+    }
+    if (all) WritePending(std::numeric_limits<int64_t>::max());
+    return applied;
+}
+
+void SessionRecorder::ApplyStep(const BimStepItem& s) {
+    WritePending(s.keyframe_stamp_ns);
+    current_ = s;
+    if (int(s.state) != last_state_) {
+        const std::string storey =
+            s.localised && s.storey >= 0 && size_t(s.storey) < config_.storeys.size()
+                ? config_.storeys[size_t(s.storey)]
+                : "";
+        writer_->AddLocalizationState(
+            s.keyframe_stamp_ns, localization::ToString(localization::RelocalizerState(s.state)),
+            s.consistent_loops, s.hypotheses, storey);
+        last_state_ = int(s.state);
+    }
+}
+
+void SessionRecorder::WritePending(int64_t before_ns) {
+    while (!pending_.empty() && pending_.front().stamp_ns < before_ns) {
+        const io::StampedPose& p = pending_.front();
+        if (current_ && current_->localised) {
+            Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+            T.linear() = p.rotation.toRotationMatrix();
+            T.translation() = p.translation;
+            writer_->AddLivePose(
+                io::StampedPose::FromIsometry(p.stamp_ns, current_->T_bim_odom * T));
+        }
+        pending_.pop_front();
+    }
 }
 
 }  // namespace bimslam::rig

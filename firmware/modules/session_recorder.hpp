@@ -20,10 +20,13 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "algorithms/io/session.hpp"
 #include "algorithms/odometry/trajectory_trust.hpp"
@@ -38,6 +41,8 @@ struct SessionRecorderConfig {
     io::SessionManifest manifest;
     int64_t min_free_bytes = int64_t(1) << 30;
     int64_t flush_period_ns = 2'000'000'000;  // trajectory.tum rewritten at least this often
+    // With a map package: the storeys' names (the localiser's steps name them by index).
+    std::vector<std::string> storeys;
 };
 
 struct RecorderCounters {
@@ -54,8 +59,11 @@ struct RecorderCounters {
 class SessionRecorder {
 public:
     // Creates the first session folder; throws common::FileError when it cannot.
+    // `steps`: the localiser's step per keyframe (a map package loaded), for
+    // trajectory_bim_live.tum and localization_states.csv; nullptr: none.
     SessionRecorder(const SessionRecorderConfig& config, runtime::SpscQueue<PoseItem>& poses,
-                    runtime::SpscQueue<KeyframeItem>& keyframes, runtime::Wakeup& wakeup);
+                    runtime::SpscQueue<KeyframeItem>& keyframes, runtime::Wakeup& wakeup,
+                    runtime::SpscQueue<BimStepItem>* steps = nullptr);
     ~SessionRecorder();
 
     // Until `producer_done` and both queues are empty; then Finish().
@@ -71,6 +79,14 @@ private:
     void Write(const KeyframeItem& k);
     void AddVerdict(const PoseItem& p);
     void WriteVerdict();
+    // The localiser's steps (trajectory_bim_live.tum): a scan's live pose is its odometry
+    // composed with the step of the last keyframe at or before it, as `bimslam localize` composes
+    // them, so each pose waits in pending_ for the next step (or the session's end).
+    // Applies the steps whose keyframe's pose has been written (all: every one of this session,
+    // and the poses after the last); returns whether it applied any.
+    bool ApplySteps(bool all);
+    void ApplyStep(const BimStepItem& s);
+    void WritePending(int64_t before_ns);
 
     SessionRecorderConfig config_;
     runtime::SpscQueue<PoseItem>& poses_;
@@ -87,6 +103,11 @@ private:
     bool session_has_scans_ = false;
     bool verdict_dirty_ = false;    // the stretches changed since odometry_verdict.json
     size_t verdict_stretches_ = 0;  // stretches when it was last written
+    runtime::SpscQueue<BimStepItem>* steps_;
+    std::deque<io::StampedPose> pending_;
+    std::optional<BimStepItem> current_;  // the last step applied, this session's
+    int last_state_ = -1;
+    int64_t last_pose_ns_ = std::numeric_limits<int64_t>::min();
     RecorderCounters c_;
     runtime::Seqlock<RecorderCounters> counters_;
     mutable std::mutex dir_mutex_;  // between two slow threads (writer, health)

@@ -341,8 +341,9 @@ TEST_F(RigLcm, AMapPackageThatCannotBeUsedIsRefusedWithItsFaultOnLcmAndTheRigMap
 // The localiser thread (issue 35, item 2): with the sample office's package, each scan's
 // bim_pose_t is published after its odometry_t; once localised its T_bim_base lies on the
 // capture's ground truth; and the rig's relocaliser, fed live by the odometry worker, gives
-// per state the keyframes `bimslam localize` gives on the session the rig wrote (replay equals
-// the host tool on the same keyframes).
+// per state the keyframes `bimslam localize` gives on the session the rig wrote, and the
+// session's trajectory_bim_live.tum is `bimslam localize`'s (replay equals the host tool on the
+// same keyframes).
 TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocalizeFindsIt) {
     const fs::path cap = Capture("go1", 20);
     const fs::path package = Tmp() / "office.rigmap";
@@ -409,6 +410,14 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
             << state;
     }
     EXPECT_EQ(host["localised_at_keyframe"].is_null(), false);
+    // The session's live trajectory is the host's to the byte (each scan's odometry composed
+    // with the step of the last keyframe at or before it); its state changes end localised.
+    const fs::path session = j["session"].get<std::string>();
+    EXPECT_EQ(io::ReadFileToString(session / "trajectory_bim_live.tum"),
+              io::ReadFileToString(out / "trajectory_bim_live.tum"));
+    EXPECT_GT(io::ReadFileToString(session / "trajectory_bim_live.tum").size(), 1000u);
+    const std::string states = io::ReadFileToString(session / "localization_states.csv");
+    EXPECT_NE(states.find(" localised "), std::string::npos) << states;
 }
 
 TEST_F(RigLcm, ReplayAtFullSpeedLosesNothingOnAnyOutput) {
