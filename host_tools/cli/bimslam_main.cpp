@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddMapCommand(app, exit_code);
     bimslam::cli::AddRigMapCommand(app, exit_code);
     bimslam::cli::AddLocalizeCommand(app, exit_code);
+    bimslam::cli::AddLiveCommand(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

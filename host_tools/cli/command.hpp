@@ -49,5 +49,7 @@ void AddMapCommand(CLI::App& app, int& exit_code);
 void AddRigMapCommand(CLI::App& app, int& exit_code);
 // `bimslam localize`: a session through the rig's relocaliser (localization/relocalizer.hpp).
 void AddLocalizeCommand(CLI::App& app, int& exit_code);
+// `bimslam live`: bim_pose_t on the storey's plan (host_tools/live).
+void AddLiveCommand(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

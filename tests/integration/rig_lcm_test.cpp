@@ -10,6 +10,7 @@
 #include <sys/socket.h>
 #include <sys/un.h>
 
+#include <algorithm>
 #include <atomic>
 #include <bimslam/bim_pose_t.hpp>
 #include <bimslam/go1_state_t.hpp>
@@ -343,7 +344,7 @@ TEST_F(RigLcm, AMapPackageThatCannotBeUsedIsRefusedWithItsFaultOnLcmAndTheRigMap
 // capture's ground truth; and the rig's relocaliser, fed live by the odometry worker, gives
 // per state the keyframes `bimslam localize` gives on the session the rig wrote, and the
 // session's trajectory_bim_live.tum is `bimslam localize`'s (replay equals the host tool on the
-// same keyframes).
+// same keyframes); `bimslam live` draws the log's last frame.
 TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocalizeFindsIt) {
     const fs::path cap = Capture("go1", 20);
     const fs::path package = Tmp() / "office.rigmap";
@@ -418,6 +419,23 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
     EXPECT_GT(io::ReadFileToString(session / "trajectory_bim_live.tum").size(), 1000u);
     const std::string states = io::ReadFileToString(session / "localization_states.csv");
     EXPECT_NE(states.find(" localised "), std::string::npos) << states;
+
+    // `bimslam live` draws the log's last frame: the state and storey, the plan's walls, the
+    // rig's arrow; a log without bim_pose_t is refused naming it.
+    const auto frame = test::RunCommand(kCli + " live --map " + package.string() + " --log " +
+                                        log.string() + " --width 80");
+    ASSERT_EQ(frame.exit_code, 0) << frame.err;
+    std::cout << frame.out;
+    EXPECT_NE(frame.out.find("localised on '"), std::string::npos) << frame.out;
+    const std::string plan = frame.out.substr(frame.out.find('\n') + 1);
+    EXPECT_GT(std::count(plan.begin(), plan.end(), '#'), 200);
+    EXPECT_NE(plan.find_first_of("<>^v"), std::string::npos) << "no rig on the plan";
+    const fs::path empty = Tmp() / "empty.lcmlog";
+    { lcm::LogFile(empty.string(), "w"); }
+    const auto none =
+        test::RunCommand(kCli + " live --map " + package.string() + " --log " + empty.string());
+    EXPECT_EQ(none.exit_code, 2);
+    EXPECT_NE(none.err.find(empty.string()), std::string::npos) << none.err;
 }
 
 TEST_F(RigLcm, ReplayAtFullSpeedLosesNothingOnAnyOutput) {
