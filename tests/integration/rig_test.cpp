@@ -298,14 +298,21 @@ TEST_F(Rig, BadConfigurationExits2NamingFileLineAndKey) {
     EXPECT_NE(r.err.find("nothing"), std::string::npos) << r.err;
 }
 
+// With the building's map package, so that the localiser's session files are compared too (issue
+// 35, item 6: replay equals live).
 TEST_F(Rig, LiveOnLoopbackFedByTheReplayerWritesTheReplaySession) {
     const fs::path cap = Capture("handheld", 8);
     const int port = test::rig::FreeUdpPortPair();
+    const fs::path package = Tmp() / "office.rigmap";
+    const auto made =
+        test::RunCommand(kCli + " rig-map " + Model().string() + " -o " + package.string());
+    ASSERT_EQ(made.exit_code, 0) << made.err;
     const fs::path config =
         WriteConfig(Tmp() / "live.yaml",
                     "sensor:\n  metadata: " + (cap / "metadata.json").string() +
                         "\n  bind_address: 127.0.0.1\n  lidar_port: " + std::to_string(port) +
-                        "\n  imu_port: " + std::to_string(port + 1) + "\ncan:\n  source: none\n");
+                        "\n  imu_port: " + std::to_string(port + 1) +
+                        "\ncan:\n  source: none\nlocalization:\n  map: " + package.string() + "\n");
     // The replay first: how many scans the live run must reach before it is stopped.
     const nlohmann::json replay =
         RigJson(kRig + " replay " + cap.string() + " --handheld --speed max --json --config " +
@@ -331,6 +338,11 @@ TEST_F(Rig, LiveOnLoopbackFedByTheReplayerWritesTheReplaySession) {
     const fs::path a = live["session"].get<std::string>(), b = replay["session"].get<std::string>();
     EXPECT_EQ(Slurp(a / "trajectory.tum"), Slurp(b / "trajectory.tum"));
     EXPECT_EQ(Slurp(a / "optimized_poses.txt"), Slurp(b / "optimized_poses.txt"));
+    EXPECT_EQ(Slurp(a / "localization_states.csv"), Slurp(b / "localization_states.csv"));
+    EXPECT_EQ(Slurp(a / "trajectory_bim_live.tum"), Slurp(b / "trajectory_bim_live.tum"));
+    EXPECT_FALSE(Slurp(a / "localization_states.csv").empty());
+    EXPECT_EQ(live["localization"]["states"], replay["localization"]["states"]);
+    std::cout << "live on loopback: localisation " << live["localization"].dump() << "\n";
     std::cout << "live on loopback: latency p50 " << live["latency_ms_p50"] << " ms, p99 "
               << live["latency_ms_p99"] << " ms, CPU " << live["cpu_percent"] << " %\n";
 }
