@@ -98,6 +98,24 @@ json MetaJson(const RigMap& m) {
             {"levels", levels}};
 }
 
+// SPAC: [{"name", "global_id", "storey", "z": [min, max], "xy": [x, y, x, y, ...]}, ...].
+json SpacesJson(const RigMap& m) {
+    json spaces = json::array();
+    for (const RigMapSpace& s : m.spaces) {
+        json xy = json::array();
+        for (const Eigen::Vector2f& v : s.triangles) {
+            xy.push_back(v.x());
+            xy.push_back(v.y());
+        }
+        spaces.push_back({{"name", s.name},
+                          {"global_id", s.global_id},
+                          {"storey", s.storey},
+                          {"z", {s.z_min, s.z_max}},
+                          {"xy", xy}});
+    }
+    return spaces;
+}
+
 void CheckMap(const RigMap& m) {
     m.DescriptorConfig().Validate();  // throws common::Error naming the field
     const size_t n = m.keyframes.size();
@@ -121,6 +139,11 @@ void CheckMap(const RigMap& m) {
     }
     for (const registration::SurfelMap& l : m.levels) {
         if (!l.built()) Invalid("a surfel level is not built");
+    }
+    for (const RigMapSpace& s : m.spaces) {
+        if (s.triangles.size() % 3 != 0 || s.storey < -1 || s.storey >= int32_t(m.storeys.size())) {
+            Invalid("space '" + s.name + "': bad triangles or storey");
+        }
     }
 }
 
@@ -189,6 +212,7 @@ private:
     void ReadKeyframes(RigMap& m) const;
     void ReadDescriptors(RigMap& m) const;
     void ReadLevels(RigMap& m) const;
+    void ReadSpaces(RigMap& m) const;
     std::string_view Section(uint32_t tag, size_t index = 0, size_t* at = nullptr) const;
 
     struct Entry {
@@ -399,6 +423,39 @@ void Parser::ReadLevels(RigMap& m) const {
     }
 }
 
+// The optional SPAC section (a package without spaces has none).
+void Parser::ReadSpaces(RigMap& m) const {
+    for (const Entry& e : sections_) {
+        if (e.tag != Tag("SPAC")) continue;
+        try {
+            for (const json& s : json::parse(bytes_.substr(e.at, e.size))) {
+                RigMapSpace sp;
+                sp.name = s.at("name").get<std::string>();
+                sp.global_id = s.at("global_id").get<std::string>();
+                sp.storey = s.at("storey").get<int32_t>();
+                sp.z_min = s.at("z").at(0).get<float>();
+                sp.z_max = s.at("z").at(1).get<float>();
+                const json& xy = s.at("xy");
+                if (xy.size() % 6 != 0)
+                    Fail(e.at, "SPAC: space '" + sp.name + "': " + std::to_string(xy.size()) +
+                                   " numbers are not whole triangles");
+                for (size_t i = 0; i + 1 < xy.size(); i += 2) {
+                    sp.triangles.emplace_back(xy[i].get<float>(), xy[i + 1].get<float>());
+                }
+                if (sp.storey < -1 || sp.storey >= int32_t(m.storeys.size())) {
+                    Fail(e.at,
+                         "SPAC: space '" + sp.name + "': storey " + std::to_string(sp.storey));
+                }
+                m.spaces.push_back(std::move(sp));
+            }
+        } catch (const FileError&) {
+            throw;
+        } catch (const std::exception& x) {
+            Fail(e.at, std::string("SPAC: ") + x.what());
+        }
+    }
+}
+
 RigMap Parser::Parse() {
     CheckHeader();
     ReadSections();
@@ -407,6 +464,7 @@ RigMap Parser::Parse() {
     ReadKeyframes(m);
     ReadDescriptors(m);
     ReadLevels(m);
+    ReadSpaces(m);
     return m;
 }
 
@@ -426,6 +484,26 @@ scancontext::ScanContextConfig RigMap::DescriptorConfig() const {
     return c;
 }
 
+int SpaceAt(const RigMap& map, const Eigen::Vector3d& p) {
+    const Eigen::Vector2f q(float(p.x()), float(p.y()));
+    const auto cross = [](const Eigen::Vector2f& a, const Eigen::Vector2f& b) {
+        return a.x() * b.y() - a.y() * b.x();
+    };
+    for (size_t s = 0; s < map.spaces.size(); ++s) {
+        const RigMapSpace& sp = map.spaces[s];
+        if (p.z() < sp.z_min || p.z() > sp.z_max) continue;
+        for (size_t t = 0; t + 2 < sp.triangles.size(); t += 3) {
+            const Eigen::Vector2f &a = sp.triangles[t], &b = sp.triangles[t + 1],
+                                  &c = sp.triangles[t + 2];
+            const float d1 = cross(b - a, q - a), d2 = cross(c - b, q - b),
+                        d3 = cross(a - c, q - c);
+            const bool neg = d1 < 0 || d2 < 0 || d3<0, pos = d1> 0 || d2 > 0 || d3 > 0;
+            if (!(neg && pos)) return int(s);
+        }
+    }
+    return -1;
+}
+
 int32_t StoreyAt(const std::vector<RigMapStorey>& storeys, double z) {
     int32_t found = -1;
     for (size_t s = 0; s < storeys.size(); ++s) {
@@ -443,9 +521,10 @@ std::string SerializeRigMap(const RigMap& m) {
     for (const registration::SurfelMap& l : m.levels) {
         AppendSection(body, Tag("SURF"), SurfelsPayload(l));
     }
+    if (!m.spaces.empty()) AppendSection(body, Tag("SPAC"), SpacesJson(m).dump());
     std::string out(kMagic, sizeof kMagic);
     Append(out, kRigMapVersion);
-    Append(out, uint32_t(3 + m.levels.size()));
+    Append(out, uint32_t(3 + m.levels.size() + (m.spaces.empty() ? 0 : 1)));
     Append(out, uint64_t(kHeaderBytes + body.size()));
     Append(out, Crc32(body));
     Append(out, Crc32(out));

@@ -36,6 +36,16 @@ struct RigMapStorey {
     double elevation_m = 0;  // IfcBuildingStorey.Elevation, in the model's frame
 };
 
+// An IfcSpace as the rig looks it up: the footprint of its horizontal faces (triangles in the
+// model's x y, three points each) between its lowest and highest z.
+struct RigMapSpace {
+    std::string name;  // its LongName, else its Name
+    std::string global_id;
+    int32_t storey = -1;
+    float z_min = 0, z_max = 0;
+    std::vector<Eigen::Vector2f> triangles;
+};
+
 struct RigMap {
     // The model: its file's name (not its path: the package travels) and SHA-256 (hex), which a
     // rig's configuration can name to refuse a package of another model.
@@ -57,11 +67,18 @@ struct RigMap {
     // The surfel pyramid's levels, built, in the order of the anchoring's RegistrationConfig.
     std::vector<registration::SurfelMap> levels;
 
+    // The model's spaces (an optional section, SPAC: a package without it reads as none).
+    std::vector<RigMapSpace> spaces;
+
     registration::SurfelPyramid Pyramid() const { return registration::SurfelPyramid(levels); }
     // The Scan Context configuration `descriptor` describes (a query keyframe's descriptor must be
     // made with it).
     scancontext::ScanContextConfig DescriptorConfig() const;
 };
+
+// The space (index into map.spaces) holding point p: within its heights and over one of its
+// footprint's triangles; -1 in none.
+int SpaceAt(const RigMap& map, const Eigen::Vector3d& p);
 
 // The storey a point at height z is on: the highest storey whose elevation is at most z (the
 // sensor rides above its floor); -1 below every storey. `storeys` by elevation.

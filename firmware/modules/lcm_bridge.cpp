@@ -51,8 +51,9 @@ void ToMessage(const BimPoseState& bim, const localization::RigMap& map, const O
     m->storey = localised && bim.storey >= 0 && size_t(bim.storey) < map.storeys.size()
                     ? map.storeys[size_t(bim.storey)].name
                     : "";
-    m->space_name.clear();
-    m->space_global_id.clear();
+    const int space = localised ? localization::SpaceAt(map, T.translation()) : -1;
+    m->space_name = space >= 0 ? map.spaces[size_t(space)].name : "";
+    m->space_global_id = space >= 0 ? map.spaces[size_t(space)].global_id : "";
 }
 
 void ToMessage(const OdometryItem& item, int64_t publish_ns, bimslam::odometry_t* m) {

@@ -62,6 +62,7 @@ void Update(live::LiveState& st, const bimslam::bim_pose_t& m, const localizatio
         return;
     }
     st.position = p;
+    st.space = m.space_name;
     const Eigen::Quaterniond q(m.orientation[0], m.orientation[1], m.orientation[2],
                                m.orientation[3]);
     const Eigen::Vector3d x = q.normalized() * Eigen::Vector3d::UnitX();

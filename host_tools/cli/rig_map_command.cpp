@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -66,12 +68,44 @@ std::vector<localization::RigMapStorey> RigMapStoreys(const bim::BimModel& model
     return out;
 }
 
+// The model's IfcSpaces for the package: each one's horizontal faces projected on x y (its
+// footprint, floor and ceiling alike) and its heights, named by its LongName, else its Name.
+std::vector<localization::RigMapSpace> RigMapSpaces(const bim::BimModel& model) {
+    std::vector<localization::RigMapSpace> out;
+    const common::TriangleMesh& mesh = model.mesh;
+    for (const bim::BimElement& el : model.elements) {
+        if (!el.ifc_class.starts_with("IfcSpace") || el.triangle_count == 0) continue;
+        localization::RigMapSpace s;
+        s.name = el.long_name.empty() ? el.name : el.long_name;
+        s.global_id = el.global_id;
+        s.storey = el.storey;
+        s.z_min = std::numeric_limits<float>::max();
+        s.z_max = std::numeric_limits<float>::lowest();
+        for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
+            const auto& tri = mesh.triangles[t];
+            const Eigen::Vector3f &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]],
+                                  &c = mesh.vertices[tri[2]];
+            for (const Eigen::Vector3f* v : {&a, &b, &c}) {
+                s.z_min = std::min(s.z_min, v->z());
+                s.z_max = std::max(s.z_max, v->z());
+            }
+            const Eigen::Vector3f n = (b - a).cross(c - a);
+            if (std::abs(n.z()) < 0.5f * n.norm()) continue;  // a wall's face
+            for (const Eigen::Vector3f* v : {&a, &b, &c}) s.triangles.push_back(v->head<2>());
+        }
+        if (!s.triangles.empty()) out.push_back(std::move(s));
+    }
+    return out;
+}
+
 int MakePackage(const RigMapArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     if (fs::exists(a.out) && !a.overwrite) {
         throw FileError(StatusCode::kAlreadyExists, a.out, 0, "exists (--overwrite replaces it)");
     }
-    const bim::BimModel model = bim::LoadIfc(a.model, {});
+    bim::IfcLoadOptions load;
+    load.space_geometry = true;  // the package's spaces; the reference casts structure only
+    const bim::BimModel model = bim::LoadIfc(a.model, load);
     const std::string sha = io::Sha256File(a.model);
     fs::path reference = a.reference;
     fs::path made;  // a reference made here, removed at the end
@@ -95,6 +129,7 @@ int MakePackage(const RigMapArgs& a) {
         fs::remove_all(made);
         map.reference = "made from the model by bimslam rig-map";
     }
+    map.spaces = RigMapSpaces(model);
     map.created = common::FormatUtcTime(std::chrono::duration_cast<std::chrono::nanoseconds>(
                                             std::chrono::system_clock::now().time_since_epoch())
                                             .count());
@@ -103,7 +138,7 @@ int MakePackage(const RigMapArgs& a) {
     std::vector<size_t> surfels;
     for (const auto& l : map.levels) surfels.push_back(l.size());
     std::cout << "rig map  " << a.out << ": " << map.keyframes.size() << " keyframes on "
-              << map.storeys.size() << " storeys, surfels";
+              << map.storeys.size() << " storeys, " << map.spaces.size() << " spaces, surfels";
     for (size_t l = 0; l < surfels.size(); ++l) {
         std::cout << (l ? " / " : " ") << surfels[l] << " at "
                   << Fixed(map.levels[l].config().voxel_size, 2) << " m";
@@ -115,6 +150,7 @@ int MakePackage(const RigMapArgs& a) {
                             {"bytes", size_t(bytes)},
                             {"keyframes", map.keyframes.size()},
                             {"storeys", map.storeys.size()},
+                            {"spaces", map.spaces.size()},
                             {"surfels", surfels},
                             {"model_file", map.model_file},
                             {"model_sha256", map.model_sha256},

@@ -39,9 +39,10 @@ std::string PlanView::Render(const LiveState& st, int width) const {
     std::string out;
     if (st.position) {
         std::snprintf(line, sizeof line,
-                      "%.1f s  %s on '%s' at (%.2f, %.2f, %.2f) m, heading %.0f deg\n", st.t_s,
-                      st.state.c_str(), storey.c_str(), st.position->x(), st.position->y(),
-                      st.position->z(), st.yaw * 180 / M_PI);
+                      "%.1f s  %s on '%s'%s%s at (%.2f, %.2f, %.2f) m, heading %.0f deg\n", st.t_s,
+                      st.state.c_str(), storey.c_str(), st.space.empty() ? "" : " in ",
+                      st.space.c_str(), st.position->x(), st.position->y(), st.position->z(),
+                      st.yaw * 180 / M_PI);
     } else {
         std::snprintf(line, sizeof line, "%.1f s  %s (%d consistent loops, %d hypotheses)\n",
                       st.t_s, st.state.c_str(), st.consistent_loops, st.hypotheses);

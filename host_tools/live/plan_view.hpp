@@ -23,6 +23,7 @@ struct LiveState {
     std::optional<Eigen::Vector3d> position;  // localised only
     double yaw = 0;                           // rad, about the model's z
     int storey = -1;                          // into the package's storeys; -1: unknown
+    std::string space;                        // the IfcSpace it stands in; "": none
     std::vector<Eigen::Vector3d> walk;
     double t_s = 0;  // sensor time of the last message, s
 };

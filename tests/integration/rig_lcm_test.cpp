@@ -372,7 +372,7 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
     const auto mount = io::ReadCaptureMount(cap / "capture.json");
     ASSERT_TRUE(mount.has_value());
     lcm::LogFile file(log.string(), "r");
-    size_t messages = 0, localised = 0;
+    size_t messages = 0, localised = 0, in_space = 0;
     double worst = 0;
     while (const lcm::LogEvent* e = file.readNextEvent()) {
         if (e->channel != "BIMSLAM_BIM_POSE") continue;
@@ -385,6 +385,7 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
         }
         ++localised;
         EXPECT_FALSE(m.storey.empty());
+        in_space += !m.space_name.empty() && m.space_global_id.size() == 22;
         const auto t =
             std::lower_bound(truth.begin(), truth.end(), m.sample_time_ns,
                              [](const io::StampedPose& p, int64_t s) { return p.stamp_ns < s; });
@@ -396,6 +397,7 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
     }
     EXPECT_EQ(int64_t(messages), j["scans"].get<int64_t>());
     EXPECT_GT(localised, messages / 2);
+    EXPECT_GT(in_space, localised * 8 / 10) << "the IfcSpace the rig stands in";
     EXPECT_LT(worst, 0.05) << "live T_bim_base off the truth";
 
     const fs::path out = Tmp() / "localise_host";

@@ -5,6 +5,9 @@
 // from the model alone; refused for a reference of another model or over an existing file.
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
 #include "algorithms/io/sha256.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "tests/integration/map_test_support.hpp"
@@ -45,6 +48,18 @@ TEST(RigMapCli, ThePackageOfAMapsReferenceHoldsItsKeyframesDescriptorsAndStoreys
     EXPECT_GT(on[1], 20u);
     ASSERT_EQ(map.levels.size(), 3u);
     for (const auto& level : map.levels) EXPECT_GT(level.size(), 1000u);
+    // The office's spaces, named; the reference walks through them: most keyframes (the sensor
+    // 0.5 m over the floor) stand in one, and the corridor is among them.
+    EXPECT_GE(map.spaces.size(), 10u);
+    size_t in_space = 0;
+    std::set<std::string> names;
+    for (const Eigen::Isometry3d& T : map.keyframes) {
+        const int s = localization::SpaceAt(map, T.translation());
+        in_space += s >= 0;
+        if (s >= 0) names.insert(map.spaces[size_t(s)].name);
+    }
+    EXPECT_GT(in_space, map.keyframes.size() * 8 / 10);
+    EXPECT_TRUE(names.count("Corridor")) << names.size();
 
     // Over an existing package: refused, the package untouched.
     const auto again = Cli("rig-map " + model.string() + " --reference " + reference.string() +

@@ -64,6 +64,14 @@ Made MakeMap() {
     }
     m.pyramid.Build();
     for (size_t l = 0; l < m.pyramid.levels(); ++l) m.map.levels.push_back(m.pyramid.level(l));
+    // One space: a 2 x 1 m room as two triangles, 0 to 3 m high, on the ground storey.
+    RigMapSpace room;
+    room.name = "Room 1";
+    room.global_id = "3vB2YO$MX4xv5uCqZZG05x";
+    room.storey = 0;
+    room.z_max = 3;
+    room.triangles = {{0, 0}, {2, 0}, {2, 1}, {0, 0}, {2, 1}, {0, 1}};
+    m.map.spaces = {room};
     return m;
 }
 
@@ -92,6 +100,10 @@ TEST(RigMap, ARoundTripKeepsEveryFieldAndRegistersAsThePyramidItCameFrom) {
         EXPECT_TRUE(b.descriptors[k] == a.descriptors[k]);
         EXPECT_GT(a.descriptors[k].sum(), 0.0f);
     }
+    ASSERT_EQ(b.spaces.size(), 1u);
+    EXPECT_EQ(b.spaces[0].name, "Room 1");
+    EXPECT_EQ(b.spaces[0].global_id, a.spaces[0].global_id);
+    EXPECT_EQ(b.spaces[0].triangles, a.spaces[0].triangles);
     ASSERT_EQ(b.levels.size(), a.levels.size());
     for (size_t l = 0; l < a.levels.size(); ++l) {
         ASSERT_GT(a.levels[l].size(), 10u);
@@ -179,6 +191,14 @@ TEST(RigMap, TheWriterRefusesCountsThatDisagree) {
     m = MakeMap().map;
     m.descriptor.min_points = 0;  // no Scan Context the rig could make
     EXPECT_THROW(SerializeRigMap(m), common::Error);
+}
+
+TEST(RigMap, APointIsInTheSpaceWhoseFootprintAndHeightsHoldIt) {
+    const RigMap m = MakeMap().map;
+    EXPECT_EQ(SpaceAt(m, {1.5, 0.2, 0.5}), 0);   // in the first triangle
+    EXPECT_EQ(SpaceAt(m, {0.1, 0.9, 2.9}), 0);   // in the second
+    EXPECT_EQ(SpaceAt(m, {2.5, 0.5, 0.5}), -1);  // beside it
+    EXPECT_EQ(SpaceAt(m, {1.0, 0.5, 3.5}), -1);  // above it
 }
 
 TEST(RigMap, AKeyframeIsOnTheHighestStoreyAtOrBelowIt) {
