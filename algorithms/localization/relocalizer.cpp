@@ -114,12 +114,7 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
             const registration::RegistrationResult r =
                 registration::Register(cloud, pyramid_, init, config_.registration);
             ++step_.registrations;
-            if (!Verified(r, true)) continue;
-            const double seen =
-                registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
-                                             r.T_target_source, config_.free_space)
-                    .ratio();
-            loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+            if (Verified(r, true)) AddLoop(cloud, r, T_odom_lidar, path_m);
         }
     }
     if (config_.inject_false_loops > 0 &&
@@ -130,11 +125,7 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
             cloud, pyramid_, map_.keyframes[t] * Yaw(yaw), config_.registration);
         ++step_.registrations;
         if (!r.failed) {  // accepted whatever its fitness: the worst case
-            const double seen =
-                registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
-                                             r.T_target_source, config_.free_space)
-                    .ratio();
-            loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+            AddLoop(cloud, r, T_odom_lidar, path_m);
             ++step_.injected;
         }
     }
@@ -147,17 +138,26 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
         const registration::RegistrationResult r =
             registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
         ++step_.registrations;
-        if (!Verified(r, true) || !Near(predicted, r.T_target_source)) continue;
-        const double seen =
-            registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
-                                         r.T_target_source, config_.free_space)
-                .ratio();
-        loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+        if (Verified(r, true) && Near(predicted, r.T_target_source)) {
+            AddLoop(cloud, r, T_odom_lidar, path_m);
+        }
     }
     // The window: only the loops of the last window_keyframes keyframes.
     std::erase_if(
         loops_, [&](const Loop& l) { return l.keyframe + config_.window_keyframes < keyframes_; });
     Decide(Cliques());
+}
+
+// A loop at the registered pose, with the share of the keyframe's rays that pass through the
+// model's surfaces there (free-space evidence, judged per clique in Decide).
+void Relocalizer::AddLoop(const registration::OrientedCloud& cloud,
+                          const registration::RegistrationResult& r,
+                          const Eigen::Isometry3d& T_odom_lidar, double path_m) {
+    const double seen =
+        registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
+                                     r.T_target_source, config_.free_space)
+            .ratio();
+    loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
 }
 
 // The offline test (host_tools/anchor/place_recognition.cpp, Consistent): b's keyframe placed

@@ -135,6 +135,9 @@ private:
     };
 
     bool Verified(const registration::RegistrationResult& r, bool full_rank) const;
+    void AddLoop(const registration::OrientedCloud& cloud,
+                 const registration::RegistrationResult& r, const Eigen::Isometry3d& T_odom_lidar,
+                 double path_m);
     void Search(const registration::OrientedCloud& cloud, const scancontext::Descriptor& d,
                 const Eigen::Isometry3d& T_odom_lidar, double path_m);
     std::vector<Clique> Cliques() const;
