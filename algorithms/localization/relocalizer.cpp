@@ -52,21 +52,26 @@ Relocalizer::Relocalizer(const RigMap& map, const RelocalizerConfig& config)
       pyramid_(map.Pyramid()),
       index_(map.DescriptorConfig()),
       rng_(config.seed) {
-    config_.registration.Validate();
-    if (map.keyframes.empty()) {
-        throw common::Error(common::StatusCode::kInvalidArgument, "Relocalizer: no keyframes");
-    }
-    if (map.levels.size() != config_.registration.levels.size()) {
-        throw common::Error(common::StatusCode::kInvalidArgument,
-                            "Relocalizer: the package has " + std::to_string(map.levels.size()) +
-                                " surfel levels, the registration " +
-                                std::to_string(config_.registration.levels.size()));
-    }
+    Check(map, config_);
     for (const scancontext::Descriptor& d : map.descriptors) {
         const common::Status s = index_.Add(d);
         if (!s.ok()) throw common::Error(common::StatusCode::kInvalidArgument, s.message());
     }
     index_.Build();
+}
+
+void Relocalizer::Check(const RigMap& map, const RelocalizerConfig& config) {
+    config.registration.Validate();
+    map.DescriptorConfig().Validate();
+    if (map.keyframes.empty()) {
+        throw common::Error(common::StatusCode::kInvalidArgument, "Relocalizer: no keyframes");
+    }
+    if (map.levels.size() != config.registration.levels.size()) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "Relocalizer: the package has " + std::to_string(map.levels.size()) +
+                                " surfel levels, the registration " +
+                                std::to_string(config.registration.levels.size()));
+    }
 }
 
 const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,

@@ -110,6 +110,11 @@ public:
     // without keyframes or surfel levels other than the registration's.
     Relocalizer(const RigMap& map, const RelocalizerConfig& config = {});
 
+    // What the constructor checks of a package, without building anything (the rig refuses a
+    // package at start with it): keyframes, the surfel levels the registration runs, descriptors
+    // of a configuration the Scan Context index takes. Throws common::Error naming the problem.
+    static void Check(const RigMap& map, const RelocalizerConfig& config = {});
+
     // One keyframe: its deskewed cloud (lidar frame), its descriptor (the package's kind and
     // shape), its odometry pose, and how far the rig has walked (m, from the start).
     const RelocalizerStep& AddKeyframe(const common::PointCloud& cloud,

@@ -250,8 +250,8 @@ void Rig::LoadBimMap() {
                                         map.model_sha256 + "), not of the model " +
                                         cfg_.bim_model_sha256 + " (localization.model_sha256)");
         }
-        // What the localiser thread will build: a package it cannot take is refused here.
-        { const localization::Relocalizer check(map); }
+        // A package the localiser thread could not take is refused here, before any thread.
+        localization::Relocalizer::Check(map);
         summary_.bim_map_keyframes = map.keyframes.size();
         summary_.bim_map_storeys = map.storeys.size();
         summary_.bim_map_model = map.model_file;
