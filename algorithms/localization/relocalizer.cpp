@@ -30,6 +30,10 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
+io::StampedPose LivePose(const Eigen::Isometry3d& T_bim_odom, const io::StampedPose& odom) {
+    return io::StampedPose::FromIsometry(odom.stamp_ns, T_bim_odom * odom.Pose());
+}
+
 std::string_view ToString(RelocalizerState state) {
     switch (state) {
         case RelocalizerState::kSearching:

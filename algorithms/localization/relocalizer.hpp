@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "algorithms/common/point_cloud.hpp"
+#include "algorithms/io/trajectory.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/registration/oriented_cloud.hpp"
@@ -87,6 +88,11 @@ struct RelocalizerConfig {
     double inject_false_loops = 0.0;
     uint64_t seed = 1;
 };
+
+// A scan's live pose in the model: its odometry pose composed with the relocaliser's T_bim_odom
+// of the last keyframe at or before it. One function, so that `bimslam localize` and the rig's
+// session write the same trajectory_bim_live.tum.
+io::StampedPose LivePose(const Eigen::Isometry3d& T_bim_odom, const io::StampedPose& odom);
 
 enum class RelocalizerState : uint8_t { kSearching, kCandidate, kLocalised, kAmbiguous, kLost };
 std::string_view ToString(RelocalizerState state);

@@ -234,11 +234,7 @@ void SessionRecorder::WritePending(int64_t before_ns) {
     while (!pending_.empty() && pending_.front().stamp_ns < before_ns) {
         const io::StampedPose& p = pending_.front();
         if (current_ && current_->localised) {
-            Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-            T.linear() = p.rotation.toRotationMatrix();
-            T.translation() = p.translation;
-            writer_->AddLivePose(
-                io::StampedPose::FromIsometry(p.stamp_ns, current_->T_bim_odom * T));
+            writer_->AddLivePose(localization::LivePose(current_->T_bim_odom, p));
         }
         pending_.pop_front();
     }

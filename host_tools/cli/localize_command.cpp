@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,18 +70,14 @@ json PoseJson(const Eigen::Isometry3d& T) {
 
 // Every scan's live pose in the model: the session's odometry composed with the T_bim_odom the
 // relocaliser held at the scan's time (its last keyframe at or before it), while localised.
-std::vector<io::StampedPose> LivePoses(const io::Session& s,
-                                       const std::map<int64_t, Eigen::Isometry3d>& held) {
+std::vector<io::StampedPose> LivePoses(
+    const io::Session& s, const std::map<int64_t, std::optional<Eigen::Isometry3d>>& held) {
     std::vector<io::StampedPose> out;
     for (const io::StampedPose& p : s.trajectory) {
         auto it = held.upper_bound(p.stamp_ns);
         if (it == held.begin()) continue;
         --it;
-        if (it->second.matrix().isZero()) continue;  // not localised then
-        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-        T.linear() = p.rotation.toRotationMatrix();
-        T.translation() = p.translation;
-        out.push_back(io::StampedPose::FromIsometry(p.stamp_ns, it->second * T));
+        if (it->second) out.push_back(localization::LivePose(*it->second, p));  // localised then
     }
     return out;
 }
@@ -106,7 +103,8 @@ int Localize(const LocalizeArgs& a) {
 
     json steps = json::array();
     std::vector<double> cpu_ms;
-    std::map<int64_t, Eigen::Isometry3d> held;  // T_bim_odom from each keyframe's stamp on
+    // T_bim_odom from each keyframe's stamp on; nullopt while not localised.
+    std::map<int64_t, std::optional<Eigen::Isometry3d>> held;
     std::map<std::string, size_t> counts;
     double path_m = 0;
     std::optional<size_t> first_localised;
@@ -126,8 +124,7 @@ int Localize(const LocalizeArgs& a) {
         const std::string state(localization::ToString(step.state));
         ++counts[state];
         const bool localised = step.state == RelocalizerState::kLocalised;
-        held[kf.stamp_ns] =
-            localised ? step.T_bim_odom : Eigen::Isometry3d(Eigen::Matrix4d::Zero());
+        held[kf.stamp_ns] = localised ? std::optional(step.T_bim_odom) : std::nullopt;
         if (localised && !first_localised) first_localised = k;
         if (k == 0 || step.state != last_state) {
             changes.push_back(
