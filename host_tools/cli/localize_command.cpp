@@ -25,6 +25,7 @@
 #include "algorithms/scancontext/descriptor.hpp"
 #include "host_tools/cli/command.hpp"
 #include "host_tools/evaluation/trajectory_metrics.hpp"
+#include "host_tools/replay/capture_odometry.hpp"
 
 namespace bimslam::cli {
 namespace {
@@ -46,12 +47,6 @@ double ThreadCpuMs() {
     timespec t{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
-}
-
-double Percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(p * double(v.size())))];
 }
 
 // The keyframe's descriptor as the package's were made: the session's own when it was made the
@@ -163,9 +158,9 @@ int Localize(const LocalizeArgs& a) {
                          : json()},
         {"live_poses", live.size()},
         {"cpu_ms_per_keyframe",
-         {{"p50", Percentile(cpu_ms, 0.5)},
-          {"p99", Percentile(cpu_ms, 0.99)},
-          {"max", Percentile(cpu_ms, 1.0)}}}};
+         {{"p50", replay::Percentile(cpu_ms, 0.5)},
+          {"p99", replay::Percentile(cpu_ms, 0.99)},
+          {"max", replay::Percentile(cpu_ms, 1.0)}}}};
     std::cout << "localize " << s.keyframes.size() << " keyframes: ";
     for (const auto& [state, n] : counts) std::cout << state << " " << n << "  ";
     std::cout << "\n";
@@ -177,8 +172,8 @@ int Localize(const LocalizeArgs& a) {
         std::cout << "         never localised; final state " << localization::ToString(last_state)
                   << "\n";
     }
-    std::cout << "cpu      per keyframe p50 " << Fixed(Percentile(cpu_ms, 0.5), 1) << " ms, p99 "
-              << Fixed(Percentile(cpu_ms, 0.99), 1) << " ms\n";
+    std::cout << "cpu      per keyframe p50 " << Fixed(replay::Percentile(cpu_ms, 0.5), 1)
+              << " ms, p99 " << Fixed(replay::Percentile(cpu_ms, 0.99), 1) << " ms\n";
     if (!a.truth.empty() && live.size() >= 3) {
         evaluation::EvaluationConfig ec;
         ec.align = evaluation::Alignment::kNone;
