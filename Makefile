@@ -55,11 +55,8 @@ deb-arm64:
 	@cmake --build build/aarch64 -j $(JOBS) --target deb_contents
 	@cd build/aarch64 && cpack -G DEB
 
-# test: the Release tests, with the ASan build compiled beside them at nice 19, then the ASan
-# tests (toolchain/run-tests.sh says why); test-release and test-asan run one half each.
 test: DEPS_FLAGS = --test
-test: configure
-	@JOBS=$(JOBS) bash toolchain/run-tests.sh
+test: test-release test-asan
 
 # The `sanitized` tests run in test-asan; Release builds and runs the rest (`make build` and
 # `ctest --preset release` build and run everything, the sanitized tests included).
