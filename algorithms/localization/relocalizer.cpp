@@ -2,6 +2,7 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "algorithms/localization/relocalizer.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -32,6 +33,32 @@ double Median(std::vector<double> v) {
 
 io::StampedPose LivePose(const Eigen::Isometry3d& T_bim_odom, const io::StampedPose& odom) {
     return io::StampedPose::FromIsometry(odom.stamp_ns, T_bim_odom * odom.Pose());
+}
+
+common::Matrix6d LiveCovariance(const common::Matrix6d& fix_information,
+                                const Eigen::Isometry3d& T_lidar_fix_base, double odometry_m,
+                                const RelocalizerConfig& config) {
+    // The inverse on the information's eigenvectors: a zero eigenvalue (a degenerate direction,
+    // registration.hpp) is no knowledge, not certainty.
+    const Eigen::SelfAdjointEigenSolver<common::Matrix6d> eig(
+        0.5 * (fix_information + fix_information.transpose()));
+    const double largest = std::max(eig.eigenvalues().maxCoeff(), 0.0);
+    common::Vector6d variance;
+    for (int i = 0; i < 6; ++i) {
+        const double l = eig.eigenvalues()[i];
+        variance[i] = l > 1e-12 * largest && l > 0 ? std::min(1 / l, kUnconstrainedVariance)
+                                                   : kUnconstrainedVariance;
+    }
+    const common::Matrix6d at_fix =
+        eig.eigenvectors() * variance.asDiagonal() * eig.eigenvectors().transpose();
+    const common::Matrix6d Ad = common::Adjoint(T_lidar_fix_base.inverse());
+    common::Matrix6d body = Ad * at_fix * Ad.transpose();
+    const double d = std::max(odometry_m, 0.0);
+    const double drift_t = config.drift_per_m * d,
+                 drift_r = config.drift_deg_per_m * M_PI / 180 * d;
+    body.diagonal().head<3>().array() += drift_t * drift_t;
+    body.diagonal().tail<3>().array() += drift_r * drift_r;
+    return body;
 }
 
 std::string_view ToString(RelocalizerState state) {
@@ -82,11 +109,13 @@ const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,
                                                 const scancontext::Descriptor& descriptor,
                                                 const Eigen::Isometry3d& T_odom_lidar,
                                                 double path_m) {
-    const RelocalizerState was = step_.state;
-    const Eigen::Isometry3d T_bim_odom = step_.T_bim_odom;
+    const RelocalizerStep last = std::move(step_);
     step_ = RelocalizerStep{};
-    step_.state = was;
-    step_.T_bim_odom = T_bim_odom;
+    step_.state = last.state;
+    step_.T_bim_odom = last.T_bim_odom;
+    step_.fix_information = last.fix_information;
+    step_.T_odom_lidar_fix = last.T_odom_lidar_fix;
+    const RelocalizerState was = last.state;
     step_.keyframe = keyframes_++;
     const registration::OrientedCloud oc = registration::MakeOrientedCloud(cloud, config_.cloud);
     if (was == RelocalizerState::kLocalised) {
@@ -166,7 +195,8 @@ void Relocalizer::AddLoop(const registration::OrientedCloud& cloud,
         registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
                                      r.T_target_source, config_.free_space)
             .ratio();
-    loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen});
+    loops_.push_back(
+        {step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen, r.information});
 }
 
 // The offline test (host_tools/anchor/place_recognition.cpp, Consistent): b's keyframe placed
@@ -265,8 +295,12 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
         return;
     }
     // Localised: T_bim_odom of the clique's newest loop (the odometry has drifted least since).
+    const Loop& newest =
+        loops_[*std::max_element(rivals[0]->loops.begin(), rivals[0]->loops.end())];
     step_.state = RelocalizerState::kLocalised;
     step_.T_bim_odom = step_.hypotheses.front();
+    step_.fix_information = newest.information;
+    step_.T_odom_lidar_fix = newest.T_odom_lidar;
     loops_.clear();
     guides_.clear();
     misses_ = contradicted_ = 0;
@@ -282,6 +316,8 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
     if (Verified(r, false)) {
         if (Near(predicted, r.T_target_source)) {
             step_.T_bim_odom = r.T_target_source * T_odom_lidar.inverse();
+            step_.fix_information = r.information;
+            step_.T_odom_lidar_fix = T_odom_lidar;
             step_.accepted = true;
             misses_ = contradicted_ = 0;
             return;

@@ -94,6 +94,18 @@ struct RelocalizerConfig {
 // session write the same trajectory_bim_live.tum.
 io::StampedPose LivePose(const Eigen::Isometry3d& T_bim_odom, const io::StampedPose& odom);
 
+// The covariance of a live T_bim_base (bim_pose_t.pose_covariance): the fixing registration's
+// information (Censi's sigma^2 H^-1, algorithms/registration/registration.hpp) carried from the
+// fix's lidar frame to the base by the adjoint (T Exp(d) T_rel = T T_rel Exp(Ad(T_rel^-1) d)),
+// plus the odometry's drift since the fix (RelocalizerConfig::drift_per_m and drift_deg_per_m
+// over `odometry_m`, the distance the odometry moved since). Over the right perturbation
+// [rho; phi] of T_bim_base (the base's axes, as odometry_t's), m^2 and rad^2. A direction the
+// registration could not constrain (zero information: degenerate) gets kUnconstrainedVariance.
+inline constexpr double kUnconstrainedVariance = 1e4;
+common::Matrix6d LiveCovariance(const common::Matrix6d& fix_information,
+                                const Eigen::Isometry3d& T_lidar_fix_base, double odometry_m,
+                                const RelocalizerConfig& config);
+
 enum class RelocalizerState : uint8_t { kSearching, kCandidate, kLocalised, kAmbiguous, kLost };
 std::string_view ToString(RelocalizerState state);
 
@@ -104,6 +116,11 @@ struct RelocalizerStep {
     std::vector<Eigen::Isometry3d> hypotheses;  // T_bim_odom of each clique kept, best first
     Eigen::Isometry3d T_bim_odom = Eigen::Isometry3d::Identity();   // localised: the tracked one
     Eigen::Isometry3d T_bim_lidar = Eigen::Isometry3d::Identity();  // localised: this keyframe
+    // Localised: the registration that last fixed T_bim_odom (a loop of the deciding clique, or
+    // a tracked keyframe): its information over the right perturbation of T_bim_lidar there, and
+    // that keyframe's odometry pose. LiveCovariance carries it to any later scan.
+    common::Matrix6d fix_information = common::Matrix6d::Zero();
+    Eigen::Isometry3d T_odom_lidar_fix = Eigen::Isometry3d::Identity();
     int32_t storey = -1;       // localised: index into the package's storeys
     size_t registrations = 0;  // run for this keyframe
     size_t injected = 0;       // false loops added (RelocalizerConfig::inject_false_loops)
@@ -137,6 +154,7 @@ private:
         Eigen::Isometry3d T_odom_lidar;
         double path_m = 0;
         double seen_through = 0;
+        common::Matrix6d information = common::Matrix6d::Zero();
         Eigen::Isometry3d T_bim_odom() const { return T_bim_lidar * T_odom_lidar.inverse(); }
     };
     struct Clique {

@@ -73,6 +73,10 @@ void BimLocalizer::Process(const KeyframeItem& k) {
     const Eigen::Matrix4d T =
         localised ? step.T_bim_odom.matrix() : Eigen::Matrix4d(Eigen::Matrix4d::Identity());
     Eigen::Matrix4d::Map(state_.T_bim_odom_matrix.data()) = T;
+    Eigen::Map<Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(state_.fix_information.data()) =
+        localised ? step.fix_information : common::Matrix6d::Zero();
+    Eigen::Matrix4d::Map(state_.T_odom_lidar_fix_matrix.data()) =
+        localised ? step.T_odom_lidar_fix.matrix() : Eigen::Matrix4d(Eigen::Matrix4d::Identity());
     state_.keyframe_stamp_ns = kf.stamp_ns;
     state_.segment = k.segment;
     state_.consistent_loops = uint32_t(step.consistent_loops);

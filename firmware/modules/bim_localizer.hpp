@@ -31,6 +31,18 @@ struct BimPoseState {
     Eigen::Isometry3d T_bim_odom() const {
         return Eigen::Isometry3d(Eigen::Matrix4d::Map(T_bim_odom_matrix.data()));
     }
+    // Localised: RelocalizerStep's fix (its information, row-major, and the fix keyframe's
+    // T_odom_lidar, column-major) for bim_pose_t's covariance (localization::LiveCovariance).
+    std::array<double, 36> fix_information = {};
+    std::array<double, 16> T_odom_lidar_fix_matrix = {1, 0, 0, 0, 0, 1, 0, 0,
+                                                      0, 0, 1, 0, 0, 0, 0, 1};
+    Eigen::Isometry3d T_odom_lidar_fix() const {
+        return Eigen::Isometry3d(Eigen::Matrix4d::Map(T_odom_lidar_fix_matrix.data()));
+    }
+    common::Matrix6d FixInformation() const {
+        return Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(
+            fix_information.data());
+    }
     int64_t keyframe_stamp_ns = 0;  // sensor clock: the keyframe it came from
     uint32_t segment = 0;           // the odometry's segment (a clock jump starts another)
     uint32_t consistent_loops = 0, hypotheses = 0;

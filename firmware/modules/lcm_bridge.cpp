@@ -47,7 +47,17 @@ void ToMessage(const BimPoseState& bim, const localization::RigMap& map, const O
     for (int i = 0; i < 3; ++i) m->position[i] = localised ? T.translation()[i] : nan;
     const double qv[4] = {q.w(), q.x(), q.y(), q.z()};
     for (int i = 0; i < 4; ++i) m->orientation[i] = localised ? qv[i] : nan;
-    for (double& c : m->pose_covariance) c = nan;
+    if (localised) {
+        // From the registration that fixed T_bim_odom to this scan's base.
+        const Eigen::Isometry3d T_odom_base = item.result.T_odom_lidar * T_base_lidar.inverse();
+        const Eigen::Isometry3d T_fix = bim.T_odom_lidar_fix();
+        const common::Matrix6d C = localization::LiveCovariance(
+            bim.FixInformation(), T_fix.inverse() * T_odom_base,
+            (item.result.T_odom_lidar.translation() - T_fix.translation()).norm(), {});
+        for (int i = 0; i < 36; ++i) m->pose_covariance[i] = C(i / 6, i % 6);
+    } else {
+        for (double& c : m->pose_covariance) c = nan;
+    }
     m->storey = localised && bim.storey >= 0 && size_t(bim.storey) < map.storeys.size()
                     ? map.storeys[size_t(bim.storey)].name
                     : "";
