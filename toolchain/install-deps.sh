@@ -39,6 +39,8 @@ packages=(
     libifcplusplus-dev libembree-dev libtbb-dev
     # the report page's 3D view: three.js r111 and OrbitControls, embedded at build time
     libjs-three
+    # `bimslam live --serve`: the page's HTTP server (host_tools/live)
+    libcpp-httplib-dev
     # tests and benchmarks
     libgtest-dev libgmock-dev libbenchmark-dev
     # `ip`, for the loopback multicast route the LCM tests need (toolchain/setup-multicast.sh)

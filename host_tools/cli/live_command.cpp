@@ -11,10 +11,12 @@
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "host_tools/cli/command.hpp"
+#include "host_tools/live/live_server.hpp"
 #include "host_tools/live/plan_view.hpp"
 
 namespace bimslam::cli {
@@ -28,6 +30,9 @@ struct LiveArgs {
     int width = 100;
     double rate_hz = 2;
     double seconds = 0;
+    bool serve = false;
+    std::string bind = "127.0.0.1";
+    int port = 8765;
 };
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -74,6 +79,38 @@ void Update(live::LiveState& st, const bimslam::bim_pose_t& m, const localizatio
     if (st.walk.empty() || (st.walk.back() - p).norm() > 0.1) st.walk.push_back(p);
 }
 
+using LiveClock = std::chrono::steady_clock;
+
+bool TimeIsUp(const LiveArgs& a, LiveClock::time_point start) {
+    return a.seconds > 0 &&
+           std::chrono::duration<double>(LiveClock::now() - start).count() > a.seconds;
+}
+
+// With --serve: the page's server, bound and serving (its address printed), else none.
+std::unique_ptr<live::LiveServer> Serve(const LiveArgs& a, const live::PlanView& view) {
+    if (!a.serve) return nullptr;
+    auto server = std::make_unique<live::LiveServer>(view, a.rate_hz);
+    server->Start(a.bind, a.port);
+    if (a.bind != "127.0.0.1" && a.bind != "::1" && a.bind != "localhost") {
+        std::cerr << "bimslam live: serving on " << a.bind
+                  << ", not only this machine: anyone who reaches it sees the rig's place\n";
+    }
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    std::cout << "serving http://"
+              << (a.bind.find(':') != std::string::npos ? "[" + a.bind + "]" : a.bind) << ":"
+              << server->port() << "/ (Ctrl-C stops)" << std::endl;
+    return server;
+}
+
+// Serves a log's last frame until Ctrl-C or --seconds.
+void WaitForStop(const LiveArgs& a) {
+    const auto start = LiveClock::now();
+    while (!g_stop && !TimeIsUp(a, start)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+}
+
 int FromLog(const LiveArgs& a, const localization::RigMap& map, const live::PlanView& view) {
     lcm::LogFile log(a.log, "r");
     if (!log.good()) {
@@ -93,6 +130,11 @@ int FromLog(const LiveArgs& a, const localization::RigMap& map, const live::Plan
         throw common::FileError(
             common::StatusCode::kInvalidArgument, a.log, 0,
             "no bim_pose_t on " + a.channel + " (is localization.map set on the rig?)");
+    }
+    if (auto server = Serve(a, view)) {
+        server->Publish(st, messages);
+        WaitForStop(a);
+        return kExitOk;
     }
     std::cout << view.Render(st, a.width);
     return kExitOk;
@@ -115,23 +157,23 @@ int Live(const LiveArgs& a, const localization::RigMap& map, const live::PlanVie
     }
     Receiver r{&map, {}};
     lcm.subscribe(a.channel, &Receiver::Handle, &r);
+    const auto server = Serve(a, view);
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
-    using LiveClock = std::chrono::steady_clock;
     const auto start = LiveClock::now();
     auto next = start;
-    while (!g_stop) {
+    while (!g_stop && !TimeIsUp(a, start)) {
         lcm.handleTimeout(50);
         if (LiveClock::now() < next) continue;
         next += std::chrono::milliseconds(int(1000 / a.rate_hz));
+        if (server) {
+            server->Publish(r.state, r.messages);
+            continue;
+        }
         std::cout << "\033[H\033[2J"
                   << (r.messages ? view.Render(r.state, a.width)
                                  : "waiting for bim_pose_t on " + a.channel + " (" + a.url + ")\n")
                   << std::flush;
-        if (a.seconds > 0 &&
-            std::chrono::duration<double>(LiveClock::now() - start).count() > a.seconds) {
-            break;
-        }
     }
     return kExitOk;
 }
@@ -144,8 +186,8 @@ void AddLiveCommand(CLI::App& app, int& exit_code) {
         "live",
         "The rig's place in the model as it walks: bim_pose_t (bimslam-rig with localization.map) "
         "from LCM drawn on its storey's plan in the terminal, with its walk and the "
-        "relocaliser's state, redrawn about twice a second; or, with --log, the last frame of an "
-        "LCM log (algorithms/localization/README.md)");
+        "relocaliser's state, redrawn about twice a second, or (--serve) as a page on this "
+        "machine; or, with --log, the last frame of an LCM log (host_tools/live/README.md)");
     cmd->add_option("--map", a->map, "the rig's map package (bimslam rig-map): the plans")
         ->required();
     cmd->add_option("--url", a->url, "LCM provider URL")->capture_default_str();
@@ -158,6 +200,16 @@ void AddLiveCommand(CLI::App& app, int& exit_code) {
         ->check(CLI::Range(0.1, 20.0))
         ->capture_default_str();
     cmd->add_option("--seconds", a->seconds, "stop after this long (0: until Ctrl-C)");
+    cmd->add_flag("--serve", a->serve,
+                  "instead of the terminal, serve the plan as a page (http://127.0.0.1:8765/ by "
+                  "default) redrawn at --rate; with --log, the log's last frame until Ctrl-C");
+    cmd->add_option("--bind", a->bind,
+                    "the address to serve on: this machine only unless told (0.0.0.0: every "
+                    "interface, so anyone on the network sees the rig's place)")
+        ->capture_default_str();
+    cmd->add_option("--port", a->port, "the page's TCP port (0: any free one, printed)")
+        ->check(CLI::Range(0, 65535))
+        ->capture_default_str();
     cmd->callback([a, &exit_code] {
         exit_code = Run([&] {
             const localization::RigMap map = localization::ReadRigMap(a->map);

@@ -37,11 +37,16 @@ public:
     // '#' a wall, '.' the walk, the rig as an arrow (> ^ < v) by its heading.
     std::string Render(const LiveState& state, int width = 100) const;
 
-private:
+    // A storey's walls as points in the model's x-y (the surfels' centroids) and their extent.
     struct Plan {
         Eigen::Vector2d min = Eigen::Vector2d::Zero(), max = Eigen::Vector2d::Zero();
         std::vector<Eigen::Vector2d> walls;
     };
+    // One per storey of the package, in its order.
+    const std::vector<Plan>& plans() const { return plans_; }
+    const localization::RigMap& map() const { return map_; }
+
+private:
     const localization::RigMap& map_;
     std::vector<Plan> plans_;  // per storey
 };

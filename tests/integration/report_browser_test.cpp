@@ -24,6 +24,7 @@
 #include <string>
 
 #include "algorithms/io/file_util.hpp"
+#include "tests/integration/headless_chromium.hpp"
 #include "tests/integration/map_test_support.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -34,74 +35,16 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace map_test;
 
-// chromium on PATH, or empty.
-fs::path Chromium() {
-    const char* path = std::getenv("PATH");
-    std::stringstream dirs(path ? path : "");
-    for (std::string d; std::getline(dirs, d, ':');) {
-        for (const char* name : {"chromium", "chromium-browser"}) {
-            std::error_code ec;
-            if (!d.empty() && fs::is_regular_file(fs::path(d) / name, ec))
-                return fs::path(d) / name;
-        }
-    }
-    return {};
-}
-
-struct PageRun {
-    json selftest;
-    std::string console;  // chromium's console lines
-    fs::path screenshot;
-};
-
 // The window, and so the screenshot: the whole page (1400 x 5200) for the page of one walk, its
 // first screen (1400 x 1200) for the others. Chromium composites the window in software each
 // frame: a run of the 40 s walk's page took 27-34 s of CPU at 5200 px and 18 s at 1200, with the
 // same self-test result but for the 3D canvas' width (no scroll bar; tests/tools/cpu_time.py).
 enum class Window { kWholePage, kFirstScreen };
 
-// One headless run: the DOM after the self-test, and a screenshot of the window.
-PageRun OpenPage(const fs::path& html, const std::string& shot_name,
-                 Window window = Window::kFirstScreen) {
-    PageRun run;
-    const fs::path shots = BIMSLAM_SCREENSHOT_DIR;
-    fs::create_directories(shots);
-    run.screenshot = shots / shot_name;
-    fs::remove(run.screenshot);
-    // Headless chromium now and then never ends a --virtual-time-budget run (CI, stop 45: the
-    // visits page hung idle for 10 minutes; the same command on the same page then took 27 s).
-    // So each run is bounded (timeout(1): exit 124) and a hung one is run once more, anew; the
-    // page's self-test is judged as before.
-    test::CommandResult r;
-    for (int attempt = 1; attempt <= 2; ++attempt) {
-        test::TempDir profile;
-        r = test::RunCommand(
-            "timeout -k 10 240 " + Chromium().string() + " --headless --no-sandbox " +
-            "--use-angle=swiftshader --enable-unsafe-swiftshader --user-data-dir=" +
-            profile.path().string() +
-            " --window-size=" + (window == Window::kWholePage ? "1400,5200" : "1400,1200") +
-            " --virtual-time-budget=3000 --enable-logging=stderr --v=0" +
-            " --screenshot=" + run.screenshot.string() + " --dump-dom 'file://" +
-            fs::absolute(html).string() + "#selftest'");
-        if (r.exit_code != 124 && r.exit_code != 137) break;
-        std::cout << "chromium hung (attempt " << attempt << "), exit " << r.exit_code << "\n";
-    }
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    const std::string open = "<pre id=\"selftest\">", close = "</pre>";
-    const size_t a = r.out.find(open);
-    const size_t b = r.out.find(close, a);
-    if (a == std::string::npos || b == std::string::npos) {
-        ADD_FAILURE() << "no self-test result in the DOM (did the page's script run?):\n"
-                      << r.out.substr(0, 2000) << r.err.substr(0, 4000);
-        return run;
-    }
-    run.selftest = json::parse(r.out.substr(a + open.size(), b - a - open.size()));
-    std::stringstream lines(r.err);
-    for (std::string line; std::getline(lines, line);) {
-        if (line.find(":CONSOLE") != std::string::npos) run.console += line + "\n";
-    }
-    std::cout << "self-test: " << run.selftest.dump() << "\nscreenshot: " << run.screenshot << "\n";
-    return run;
+test::PageRun OpenPage(const fs::path& html, const std::string& shot_name,
+                       Window window = Window::kFirstScreen) {
+    return test::OpenHeadless("file://" + fs::absolute(html).string() + "#selftest", shot_name,
+                              window == Window::kWholePage ? "1400,5200" : "1400,1200");
 }
 
 bool IsPng(const fs::path& file) {
@@ -137,11 +80,11 @@ void ExpectScoresInView(const json& t, const fs::path& fixture) {
 }
 
 TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClickSelects) {
-    if (Chromium().empty()) {
+    if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
                         "installs it through toolchain/install-deps.sh --test)";
     }
-    const PageRun run =
+    const test::PageRun run =
         OpenPage(Mapped() / "out" / "report" / "report.html", "report.png", Window::kWholePage);
     const json& t = run.selftest;
     ASSERT_TRUE(t.is_object());
@@ -304,13 +247,13 @@ json ExpectedRows(const json& history, const std::string& visit) {
 // column missing, then built) is marked, and a click on it shows its history: missing, then
 // confirmed; a click on the gone crate's plan mark shows its sightings.
 TEST(ReportBrowser, TheTimelineSelectsAVisitsWalksAndChangesAndARowShowsItsHistory) {
-    if (Chromium().empty()) {
+    if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
                         "installs it through toolchain/install-deps.sh --test)";
     }
     using namespace two_days;
     const fs::path out = AllAtOnce() / "out";
-    const PageRun run = OpenPage(out / "report" / "report.html", "report_visits.png");
+    const test::PageRun run = OpenPage(out / "report" / "report.html", "report_visits.png");
     const json& t = run.selftest;
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
@@ -356,11 +299,11 @@ TEST(ReportBrowser, TheTimelineSelectsAVisitsWalksAndChangesAndARowShowsItsHisto
 // A walk up the office's stair and back (issue 31, item 6): each storey's plan draws its part of
 // the trajectory, the flights dashed on both plans; the storey filter draws less for each storey.
 TEST(ReportBrowser, ATwoStoreyWalkIsDrawnOnEachStoreysPlanWithItsFlightsOnBoth) {
-    if (Chromium().empty()) {
+    if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
                         "installs it through toolchain/install-deps.sh --test)";
     }
-    const PageRun run =
+    const test::PageRun run =
         OpenPage(TwoStoreys() / "out" / "report" / "report.html", "report_two_storeys.png");
     const json& t = run.selftest;
     ASSERT_TRUE(t.is_object());
@@ -386,12 +329,12 @@ TEST(ReportBrowser, ATwoStoreyWalkIsDrawnOnEachStoreysPlanWithItsFlightsOnBoth) 
 }
 
 TEST(ReportBrowser, ANotAnchoredRecordingIsShownAsSuchWithoutErrors) {
-    if (Chromium().empty()) {
+    if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
                         "installs it through toolchain/install-deps.sh --test)";
     }
     const fs::path html = Unanchorable() / "out" / "report" / "report.html";
-    const PageRun run = OpenPage(html, "report_not_anchored.png");
+    const test::PageRun run = OpenPage(html, "report_not_anchored.png");
     const json& t = run.selftest;
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
@@ -404,12 +347,12 @@ TEST(ReportBrowser, ANotAnchoredRecordingIsShownAsSuchWithoutErrors) {
 }
 
 TEST(ReportBrowser, AnUntrustedOdometryGetsABannerNamingItsStretches) {
-    if (Chromium().empty()) {
+    if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
                         "installs it through toolchain/install-deps.sh --test)";
     }
     const fs::path html = Untrusted() / "out" / "report" / "report.html";
-    const PageRun run = OpenPage(html, "report_untrusted.png");
+    const test::PageRun run = OpenPage(html, "report_untrusted.png");
     const json& t = run.selftest;
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);
@@ -424,12 +367,12 @@ TEST(ReportBrowser, AnUntrustedOdometryGetsABannerNamingItsStretches) {
 }
 
 TEST(ReportBrowser, ARecordingAnchoredInPartsGetsItsBannerAndItsAnchoredPieces) {
-    if (Chromium().empty()) {
+    if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
                         "installs it through toolchain/install-deps.sh --test)";
     }
     const fs::path html = InParts() / "out" / "report" / "report.html";
-    const PageRun run = OpenPage(html, "report_in_parts.png");
+    const test::PageRun run = OpenPage(html, "report_in_parts.png");
     const json& t = run.selftest;
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t.at("errors").empty()) << t.at("errors").dump(1);

@@ -114,6 +114,8 @@ if(BIMSLAM_HOST_TOOLS)
     pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
     # SHA-256 and base64 (algorithms/io, host_tools/report): OpenSSL's libcrypto (libssl-dev).
     find_package(OpenSSL REQUIRED COMPONENTS Crypto)
+    # `bimslam live --serve` (host_tools/live): Debian's cpp-httplib (libcpp-httplib-dev).
+    pkg_check_modules(CPP_HTTPLIB REQUIRED IMPORTED_TARGET GLOBAL cpp-httplib)
 endif()
 
 if(BUILD_TESTING)
