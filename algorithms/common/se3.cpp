@@ -122,6 +122,12 @@ Matrix6d Adjoint(const Eigen::Isometry3d& T) {
     return Ad;
 }
 
+Eigen::Isometry3d YawPose(double yaw) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    return T;
+}
+
 Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg) {
     const Eigen::Vector3d r = rpy_deg * (M_PI / 180.0);
     return (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *

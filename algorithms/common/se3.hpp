@@ -51,6 +51,8 @@ Eigen::Quaterniond Rotation(const Eigen::Isometry3d& T);
 
 // A mount or a pose from x y z (m) and roll pitch yaw (deg), rotation R = Rz(yaw) Ry(pitch)
 // Rx(roll) (the fixed-axis x-y-z convention of ROS' RPY and of the rig's `mount` setting).
+// A rotation about z by `yaw` (rad), no translation: a Scan Context match's yaw as a pose.
+Eigen::Isometry3d YawPose(double yaw);
 Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg);
 Eigen::Isometry3d PoseFromXyzRpyDeg(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy_deg);
 

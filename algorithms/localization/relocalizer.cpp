@@ -17,12 +17,6 @@ namespace {
 
 constexpr int kMaxHypotheses = 3;  // as offline: the best and at most two rivals
 
-Eigen::Isometry3d Yaw(double yaw) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    return T;
-}
-
 double Median(std::vector<double> v) {
     if (v.empty()) return 0;
     std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
@@ -148,7 +142,8 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
         for (const scancontext::Candidate& cand : c) {
             if (int(step_.registrations) >= config_.sc_candidates) break;
             if (cand.scan_context.distance > config_.max_sc_distance) break;
-            const Eigen::Isometry3d init = map_.keyframes[cand.index] * Yaw(cand.scan_context.yaw);
+            const Eigen::Isometry3d init =
+                map_.keyframes[cand.index] * common::YawPose(cand.scan_context.yaw);
             const registration::RegistrationResult r =
                 registration::Register(cloud, pyramid_, init, config_.registration);
             ++step_.registrations;
@@ -160,7 +155,7 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
         const size_t t = std::uniform_int_distribution<size_t>(0, map_.keyframes.size() - 1)(rng_);
         const double yaw = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng_);
         const registration::RegistrationResult r = registration::Register(
-            cloud, pyramid_, map_.keyframes[t] * Yaw(yaw), config_.registration);
+            cloud, pyramid_, map_.keyframes[t] * common::YawPose(yaw), config_.registration);
         ++step_.registrations;
         if (!r.failed) {  // accepted whatever its fitness: the worst case
             AddLoop(cloud, r, T_odom_lidar, path_m);
@@ -314,7 +309,9 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
     step_.registrations = 1;
     step_.consistent_loops = 1;
     if (Verified(r, false)) {
-        if (Near(predicted, r.T_target_source)) {
+        const double since_fix =
+            (T_odom_lidar.translation() - step_.T_odom_lidar_fix.translation()).norm();
+        if (Near(predicted, r.T_target_source, since_fix)) {
             step_.T_bim_odom = r.T_target_source * T_odom_lidar.inverse();
             step_.fix_information = r.information;
             step_.T_odom_lidar_fix = T_odom_lidar;
@@ -340,6 +337,16 @@ void Relocalizer::StartSearch(RelocalizerState state) {
     loops_.clear();
     guides_.clear();
     misses_ = contradicted_ = 0;
+}
+
+bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found,
+                       double odometry_m) const {
+    const Eigen::Isometry3d E = predicted.inverse() * found;
+    const double max_t =
+        std::min(config_.track_max_m, config_.track_step_m + config_.drift_per_m * odometry_m);
+    const double max_deg = std::min(config_.track_max_deg,
+                                    config_.track_step_deg + config_.drift_deg_per_m * odometry_m);
+    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_deg * M_PI / 180;
 }
 
 bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found) const {

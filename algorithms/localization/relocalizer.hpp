@@ -76,8 +76,15 @@ struct RelocalizerConfig {
     // keyframes) make the hypotheses: the clique search stays small, and a wrong loop from long
     // ago cannot hold a hypothesis up.
     size_t window_keyframes = 120;
-    // Tracking: a registration from the predicted pose is accepted within 0.5 m and 5 degrees of
-    // it (offline's proximity bounds).
+    // Tracking: a registration from the predicted pose moves T_bim_odom by at most what the
+    // odometry can have drifted since the last fix (drift_per_m and drift_deg_per_m over the
+    // distance the odometry moved since), plus track_step_m and track_step_deg for the
+    // registrations' own spread, and never by more than track_max_m and track_max_deg (offline's
+    // proximity bounds). The drift's bound, not only the proximity's: on Duplex_A a wall's two
+    // basins 31 cm apart were both within 0.5 m of each prediction, and T_bim_odom flipped
+    // between them from keyframe to keyframe (live error 0 or 31 cm by turns).
+    double track_step_m = 0.1;
+    double track_step_deg = 1.0;
     double track_max_m = 0.5;
     double track_max_deg = 5.0;
     int lost_after = 15;     // keyframes without an accepted registration (about 15 m)
@@ -174,8 +181,11 @@ private:
     void Decide(const std::vector<Clique>& cliques);
     void Track(const registration::OrientedCloud& cloud, const Eigen::Isometry3d& T_odom_lidar);
     void StartSearch(RelocalizerState state);
-    // Within the tracking bounds of the prediction.
+    // Within the proximity bounds of the prediction (track_max_m, track_max_deg).
     bool Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found) const;
+    // Within the tracking bounds, `odometry_m` from the last fix (RelocalizerConfig, Tracking).
+    bool Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found,
+              double odometry_m) const;
 
     const RigMap& map_;
     RelocalizerConfig config_;

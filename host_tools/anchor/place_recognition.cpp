@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/stopwatch.hpp"
 #include "algorithms/posegraph/max_clique.hpp"
 #include "algorithms/registration/free_space.hpp"
@@ -18,13 +19,6 @@
 namespace bimslam::anchor {
 namespace {
 using Clock = std::chrono::steady_clock;
-
-Eigen::Isometry3d Yaw(double yaw) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    return T;
-}
-
 }  // namespace
 
 LoopRecord NewLoop(size_t query, size_t index, const TargetKeyframe& target, LoopSource source) {
@@ -104,7 +98,8 @@ std::vector<LoopRecord> AnchoringProblem::FindPlaceLoops(size_t query, const Tar
     times()->candidates_s += common::SecondsSince(t0);
 
     std::vector<Eigen::Isometry3d> init;
-    for (const LoopRecord& r : records) init.push_back(r.T_world_target * Yaw(r.sc_yaw));
+    for (const LoopRecord& r : records)
+        init.push_back(r.T_world_target * common::YawPose(r.sc_yaw));
     RegisterLoops(target, init, 0, false, &records);
     return records;
 }
@@ -131,7 +126,7 @@ void AnchoringProblem::InjectFalseLoops(size_t query, const Target& target,
                                              target.index().descriptor(t), 1.0);
         r.sc_distance = d.distance;
         r.sc_yaw = d.yaw;
-        init[k] = tk.T_world_lidar * Yaw(r.sc_yaw);
+        init[k] = tk.T_world_lidar * common::YawPose(r.sc_yaw);
     }
     RegisterLoops(target, init, 0, false, &fake);
     for (LoopRecord& r : fake) {
