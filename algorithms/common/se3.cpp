@@ -128,6 +128,8 @@ Eigen::Isometry3d YawPose(double yaw) {
     return T;
 }
 
+double Heading(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+
 Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg) {
     const Eigen::Vector3d r = rpy_deg * (M_PI / 180.0);
     return (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) *

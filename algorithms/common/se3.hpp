@@ -49,10 +49,13 @@ Eigen::Isometry3d Interpolate(const Eigen::Isometry3d& T0, const Eigen::Isometry
 Eigen::Isometry3d FromQuaternionTranslation(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
 Eigen::Quaterniond Rotation(const Eigen::Isometry3d& T);
 
-// A mount or a pose from x y z (m) and roll pitch yaw (deg), rotation R = Rz(yaw) Ry(pitch)
-// Rx(roll) (the fixed-axis x-y-z convention of ROS' RPY and of the rig's `mount` setting).
 // A rotation about z by `yaw` (rad), no translation: a Scan Context match's yaw as a pose.
 Eigen::Isometry3d YawPose(double yaw);
+// The heading of R (rad): the angle of its x axis in the x-y plane, atan2(R10, R00).
+double Heading(const Eigen::Matrix3d& R);
+
+// A mount or a pose from x y z (m) and roll pitch yaw (deg), rotation R = Rz(yaw) Ry(pitch)
+// Rx(roll) (the fixed-axis x-y-z convention of ROS' RPY and of the rig's `mount` setting).
 Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg);
 Eigen::Isometry3d PoseFromXyzRpyDeg(const Eigen::Vector3d& xyz, const Eigen::Vector3d& rpy_deg);
 

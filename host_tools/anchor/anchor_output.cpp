@@ -6,6 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
 #include "algorithms/io/pcd.hpp"
@@ -24,7 +25,7 @@ json PoseJson(const Eigen::Isometry3d& T) {
     const Eigen::Vector3d t = T.translation();
     return {{"translation", {t.x(), t.y(), t.z()}},
             {"quaternion_xyzw", {q.x(), q.y(), q.z(), q.w()}},
-            {"yaw_deg", std::atan2(T.linear()(1, 0), T.linear()(0, 0)) * 180 / M_PI}};
+            {"yaw_deg", common::Heading(T.linear()) * 180 / M_PI}};
 }
 
 // A session's (or a piece's) verdict and the numbers behind it.

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "host_tools/bim/building_graph.hpp"
 #include "host_tools/bim/stairs.hpp"
@@ -44,10 +45,7 @@ std::vector<io::StampedPose> PosesAlong(const std::vector<Eigen::Vector3d>& way,
     return out;
 }
 
-double YawOf(const io::StampedPose& p) {
-    const Eigen::Vector3d x = p.Pose().linear().col(0);
-    return std::atan2(x.y(), x.x());
-}
+double YawOf(const io::StampedPose& p) { return common::Heading(p.Pose().linear()); }
 
 // The way from `from` on storey a to `to` on storey b by a walkable flight joining them: the route
 // on a to the flight's end there, the flight, the route on b. Empty, with the reason in `why`, when

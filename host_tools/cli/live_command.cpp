@@ -11,9 +11,12 @@
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 
+#include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
+#include "algorithms/localization/relocalizer.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "host_tools/cli/command.hpp"
 #include "host_tools/live/live_server.hpp"
@@ -38,20 +41,11 @@ struct LiveArgs {
 volatile std::sig_atomic_t g_stop = 0;
 void OnSignal(int) { g_stop = 1; }
 
-const char* StateName(int8_t s) {
-    switch (s) {
-        case bimslam::bim_pose_t::STATE_SEARCHING:
-            return "searching";
-        case bimslam::bim_pose_t::STATE_CANDIDATE:
-            return "candidate";
-        case bimslam::bim_pose_t::STATE_LOCALISED:
-            return "localised";
-        case bimslam::bim_pose_t::STATE_AMBIGUOUS:
-            return "ambiguous";
-        case bimslam::bim_pose_t::STATE_LOST:
-            return "lost";
-    }
-    return "?";
+// bim_pose_t.state is RelocalizerState's value (firmware/modules/lcm_bridge.cpp asserts the two
+// agree, in the same build), so its names are the relocaliser's, as localization_states.csv and
+// `bimslam localize` write them; "?" for a value it does not have.
+std::string_view StateName(int8_t s) {
+    return localization::ToString(localization::RelocalizerState(uint8_t(s)));
 }
 
 // One message into the frame's state: the pose and its storey (by name, else by height) when
@@ -70,8 +64,7 @@ void Update(live::LiveState& st, const bimslam::bim_pose_t& m, const localizatio
     st.space = m.space_name;
     const Eigen::Quaterniond q(m.orientation[0], m.orientation[1], m.orientation[2],
                                m.orientation[3]);
-    const Eigen::Vector3d x = q.normalized() * Eigen::Vector3d::UnitX();
-    st.yaw = std::atan2(x.y(), x.x());
+    st.yaw = common::Heading(q.normalized().toRotationMatrix());
     st.storey = localization::StoreyAt(map.storeys, p.z());
     for (size_t s = 0; s < map.storeys.size(); ++s) {
         if (map.storeys[s].name == m.storey) st.storey = int(s);

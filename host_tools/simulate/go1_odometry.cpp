@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "algorithms/common/se3.hpp"
+
 namespace bimslam::simulate {
 namespace {
 // On stairs (a building walk's flights): each step onto a new tread may slip on its nosing, the
@@ -95,7 +97,7 @@ can::Go1Sample Go1OdometryModel::Next(double t) {
     }
     // Roll and pitch as they are, yaw as the Go1 believes it.
     const Eigen::Matrix3d R3 = k.T_world_frame.linear();
-    const double true_yaw = std::atan2(R3(1, 0), R3(0, 0));
+    const double true_yaw = common::Heading(R3);
     const Eigen::Quaterniond q(Eigen::AngleAxisd(odom_yaw_ - true_yaw, Eigen::Vector3d::UnitZ()) *
                                R3);
     s.quat_wxyz = {q.w(), q.x(), q.y(), q.z()};
