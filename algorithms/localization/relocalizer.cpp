@@ -171,7 +171,8 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
         const registration::RegistrationResult r =
             registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
         ++step_.registrations;
-        if (Verified(r, true) && Near(predicted, r.T_target_source)) {
+        if (Verified(r, true) &&
+            Near(predicted, r.T_target_source, config_.track_max_m, config_.track_max_deg)) {
             AddLoop(cloud, r, T_odom_lidar, path_m);
         }
     }
@@ -309,9 +310,14 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
     step_.registrations = 1;
     step_.consistent_loops = 1;
     if (Verified(r, false)) {
+        // What the odometry can have drifted since the last fix (RelocalizerConfig, Tracking).
         const double since_fix =
             (T_odom_lidar.translation() - step_.T_odom_lidar_fix.translation()).norm();
-        if (Near(predicted, r.T_target_source, since_fix)) {
+        const double max_m =
+            std::min(config_.track_max_m, config_.track_step_m + config_.drift_per_m * since_fix);
+        const double max_deg = std::min(
+            config_.track_max_deg, config_.track_step_deg + config_.drift_deg_per_m * since_fix);
+        if (Near(predicted, r.T_target_source, max_m, max_deg)) {
             step_.T_bim_odom = r.T_target_source * T_odom_lidar.inverse();
             step_.fix_information = r.information;
             step_.T_odom_lidar_fix = T_odom_lidar;
@@ -340,19 +346,9 @@ void Relocalizer::StartSearch(RelocalizerState state) {
 }
 
 bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found,
-                       double odometry_m) const {
+                       double max_m, double max_deg) const {
     const Eigen::Isometry3d E = predicted.inverse() * found;
-    const double max_t =
-        std::min(config_.track_max_m, config_.track_step_m + config_.drift_per_m * odometry_m);
-    const double max_deg = std::min(config_.track_max_deg,
-                                    config_.track_step_deg + config_.drift_deg_per_m * odometry_m);
-    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_deg * M_PI / 180;
-}
-
-bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found) const {
-    const Eigen::Isometry3d E = predicted.inverse() * found;
-    return E.translation().norm() <= config_.track_max_m &&
-           common::RotationAngle(E) <= config_.track_max_deg * M_PI / 180;
+    return E.translation().norm() <= max_m && common::RotationAngle(E) <= max_deg * M_PI / 180;
 }
 
 }  // namespace bimslam::localization

@@ -181,11 +181,9 @@ private:
     void Decide(const std::vector<Clique>& cliques);
     void Track(const registration::OrientedCloud& cloud, const Eigen::Isometry3d& T_odom_lidar);
     void StartSearch(RelocalizerState state);
-    // Within the proximity bounds of the prediction (track_max_m, track_max_deg).
-    bool Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found) const;
-    // Within the tracking bounds, `odometry_m` from the last fix (RelocalizerConfig, Tracking).
-    bool Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found,
-              double odometry_m) const;
+    // `found` within max_m and max_deg of `predicted`.
+    bool Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found, double max_m,
+              double max_deg) const;
 
     const RigMap& map_;
     RelocalizerConfig config_;
