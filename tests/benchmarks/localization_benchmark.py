@@ -21,7 +21,7 @@ starts (office and hall): the scenarios that start 5 m before the main entrance.
 hand-held, seeds 1..N.
 
 Usage: localization_benchmark.py [--bimslam BIN] [--seeds N] [--seconds S] [--only TEXT] [--again DIR]
-       [--keep DIR]
+       [--keep DIR] [--inject 0.3]
 """
 import argparse
 import json
@@ -104,7 +104,7 @@ def buildings(bimslam, work):
 OUTSIDE = {"office": "outdoor_start.yaml", "hall": "hall_outdoor_start.yaml"}
 
 
-def one(bimslam, work, name, ifc, package, platform, start, seed, seconds, keep):
+def one(bimslam, work, name, ifc, package, platform, start, seed, seconds, keep, inject):
     tag = "%s_%s_%s_%d" % (name, platform, start, seed)
     cap = os.path.join(work, tag, "capture")
     sim = [bimslam, "simulate", "--model", ifc, "--seed", str(seed), "--duration", str(seconds),
@@ -122,29 +122,33 @@ def one(bimslam, work, name, ifc, package, platform, start, seed, seconds, keep)
         sim += ["--platform", platform, "--storey", "all"]
     run(sim, allow_partial=True)
     run([bimslam, "odometry", cap, "-o", os.path.join(work, tag, "session"), "--overwrite"])
-    row = localize(bimslam, os.path.join(work, tag), package)
+    row = localize(bimslam, os.path.join(work, tag), package, inject)
     if keep:
         os.makedirs(keep, exist_ok=True)
         run(["cp", "-r", os.path.join(work, tag), keep])
     return row
 
 
-def localize(bimslam, walk, package):
+def localize(bimslam, walk, package, inject):
     """The relocaliser over walk/session against the package, scored against walk/capture's
-    truth, into walk/localize; the row of the table (the walk's folder is named by its tag)."""
+    truth, into walk/localize; the row of the table (the walk's folder is named by its tag).
+    inject > 0: that share of wrong loops added while searching, seeded by the walk's seed."""
     tag = os.path.basename(walk)
     name, platform, start, seed = tag.rsplit("_", 3)
     cap, out = os.path.join(walk, "capture"), os.path.join(walk, "localize")
+    flags = ["--inject-false-loops", str(inject), "--seed", seed] if inject > 0 else []
     run([bimslam, "localize", os.path.join(walk, "session"), "--map", package, "-o", out,
-         "--truth", os.path.join(cap, "ground_truth.tum")])
+         "--truth", os.path.join(cap, "ground_truth.tum")] + flags)
     with open(os.path.join(out, "localization.json")) as f:
-        summary = json.load(f)["summary"]
+        result = json.load(f)
+    summary = result["summary"]
     live = read_tum(os.path.join(out, "trajectory_bim_live.tum"))
     truth = read_tum(os.path.join(cap, "ground_truth.tum"))
     row = {"tag": tag, "name": name, "platform": platform, "start": start, "seed": int(seed),
            "localised_s": summary.get("time_to_localised_s"),
            "final": summary.get("final_state"),
            "wrong": wrong_scans(live, truth),
+           "injected": sum(k["injected"] for k in result["keyframes"]),
            "cpu_p50": summary["cpu_ms_per_keyframe"]["p50"],
            "cpu_p99": summary["cpu_ms_per_keyframe"]["p99"]}
     if start == "outside":
@@ -183,7 +187,9 @@ def table(rows, title):
     if rmse:
         print("; live RMSE %.2f-%.2f cm (median %.2f), max %.2f cm" % (
             min(rmse), max(rmse), statistics.median(rmse), max(mx)), end="")
-    print("; wrong scans %d" % sum(r["wrong"] for r in rows))
+    print("; wrong scans %d" % sum(r["wrong"] for r in rows), end="")
+    injected = sum(r["injected"] for r in rows)
+    print("; %d wrong loops injected" % injected if injected else "")
 
 
 def report(rows):
@@ -207,7 +213,7 @@ def again(a):
             ifc, package = packages[name]
             if not os.path.exists(package):
                 run([a.bimslam, "rig-map", ifc, "-o", package])
-            rows.append(localize(a.bimslam, walk, package))
+            rows.append(localize(a.bimslam, walk, package, a.inject))
         report(rows)
     return 0
 
@@ -219,6 +225,9 @@ def main():
     p.add_argument("--seconds", type=float, default=60)
     p.add_argument("--only", default="", help="run only the walks whose name contains this")
     p.add_argument("--keep", default="", help="copy each walk's folders here")
+    p.add_argument("--inject", type=float, default=0.0,
+                   help="while searching, add this share of wrong loops (bimslam localize "
+                        "--inject-false-loops, the walk's seed): the issue's 30 %% runs")
     p.add_argument("--again", default="",
                    help="a --keep folder: localise its walks' sessions again (the relocaliser "
                         "changed) without simulating or running the odometry again")
@@ -238,7 +247,8 @@ def main():
             run([a.bimslam, "rig-map", ifc, "-o", package])
             for pl, st, s in picked:
                 try:
-                    rows.append(one(a.bimslam, work, name, ifc, package, pl, st, s, a.seconds, a.keep))
+                    rows.append(one(a.bimslam, work, name, ifc, package, pl, st, s, a.seconds, a.keep,
+                                    a.inject))
                     r = rows[-1]
                     print("%-30s localised %s s, %s cm RMSE, wrong %d" % (
                         r["tag"], fmt(r["localised_s"], ".1f"), fmt(r.get("rmse_cm"), ".2f"),
