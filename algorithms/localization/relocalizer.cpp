@@ -179,7 +179,8 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
             registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
         ++step_.registrations;
         if (Verified(r, true) &&
-            Near(predicted, r.T_target_source, config_.track_max_m, config_.track_max_deg)) {
+            Near(predicted, r.T_target_source, config_.track_max_m, config_.track_max_m,
+                 config_.track_max_deg)) {
             AddLoop(cloud, r, T_odom_lidar, path_m);
         }
     }
@@ -320,14 +321,18 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
     step_.registrations = 1;
     step_.consistent_loops = 1;
     if (Verified(r, false)) {
-        // What the odometry can have drifted since the last fix (RelocalizerConfig, Tracking).
-        const double since_fix =
-            (T_odom_lidar.translation() - step_.T_odom_lidar_fix.translation()).norm();
-        const double max_m =
-            std::min(config_.track_max_m, config_.track_step_m + config_.drift_per_m * since_fix);
-        const double max_deg = std::min(
-            config_.track_max_deg, config_.track_step_deg + config_.drift_deg_per_m * since_fix);
-        if (Near(predicted, r.T_target_source, max_m, max_deg)) {
+        // What the odometry can have drifted since the last fix (RelocalizerConfig, Tracking):
+        // with the distance it moved, and in height by as much as it climbed besides.
+        const Eigen::Vector3d moved =
+            step_.T_bim_odom.linear() *
+            (T_odom_lidar.translation() - step_.T_odom_lidar_fix.translation());
+        const double max_m = std::min(config_.track_max_m,
+                                      config_.track_step_m + config_.drift_per_m * moved.norm());
+        const double max_up = std::min(config_.track_max_m, max_m + std::abs(moved.z()));
+        const double max_deg =
+            std::min(config_.track_max_deg,
+                     config_.track_step_deg + config_.drift_deg_per_m * moved.norm());
+        if (Near(predicted, r.T_target_source, max_m, max_up, max_deg)) {
             step_.T_bim_odom = r.T_target_source * T_odom_lidar.inverse();
             step_.fix_information = r.information;
             step_.T_odom_lidar_fix = T_odom_lidar;
@@ -356,9 +361,10 @@ void Relocalizer::StartSearch(RelocalizerState state) {
 }
 
 bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found,
-                       double max_m, double max_deg) const {
-    const Eigen::Isometry3d E = predicted.inverse() * found;
-    return E.translation().norm() <= max_m && common::RotationAngle(E) <= max_deg * M_PI / 180;
+                       double max_m, double max_up, double max_deg) const {
+    const Eigen::Vector3d d = found.translation() - predicted.translation();  // the model's axes
+    return d.head<2>().norm() <= max_m && std::abs(d.z()) <= max_up &&
+           common::RotationAngle(predicted.inverse() * found) <= max_deg * M_PI / 180;
 }
 
 }  // namespace bimslam::localization

@@ -791,6 +791,44 @@ TEST_F(AnchorCli, LiveTheRelocaliserKeepsAWalkFromUpstairsOnItsTrueStoreys) {
     EXPECT_EQ(seen.size(), 2u);
 }
 
+// On a flight the stairwell hides floor and ceiling and the odometry's height drifts faster
+// than on a floor (issue 31: 50 cm over the held-out Office_A's first Go1 climb). The upstairs
+// walk with its odometry's every height change overstated by 40 % (16 cm a keyframe on the
+// office's stair, 1.3 m low at its foot): the tracking takes the registrations that put the
+// height right, and the rig stays localised. Measured: 5.2 cm RMSE, max 23 cm (between fixes on
+// the flight), never unlocalised; with the distance's bound in height too, the hypothesis was
+// dropped on the flight, searched for again, and 61 cm RMSE.
+TEST_F(AnchorCli, LiveTheRelocaliserFollowsAnOdometryWhoseHeightDriftsOnTheStair) {
+    const fs::path office = Office();
+    const fs::path walk = Upstairs(office);
+    const fs::path drifted = Out("drifted");
+    fs::create_directories(drifted);
+    fs::copy(walk / "session", drifted / "session", fs::copy_options::recursive);
+    fs::create_directories(drifted / "capture");
+    fs::copy(walk / "capture" / "ground_truth.tum", drifted / "capture" / "ground_truth.tum");
+    auto keyframes = io::ReadKitti(walk / "session" / "optimized_poses.txt");
+    auto scans = io::ReadTum(walk / "session" / "trajectory.tum");
+    ASSERT_FALSE(keyframes.empty());
+    const double z0 = keyframes.front().translation().z();
+    for (Eigen::Isometry3d& T : keyframes) T.translation().z() += 0.4 * (T.translation().z() - z0);
+    for (io::StampedPose& p : scans) p.translation.z() += 0.4 * (p.translation.z() - z0);
+    io::WriteKitti(drifted / "session" / "optimized_poses.txt", keyframes);
+    io::WriteTum(drifted / "session" / "trajectory.tum", scans);
+
+    const json j = Localize(office, drifted, Out("live"));
+    const json& s = j["summary"];
+    EXPECT_EQ(s["final_state"], "localised");
+    size_t after = 0;  // keyframes from the first localised one on that are not localised
+    bool localised = false;
+    for (const json& k : j["keyframes"]) {
+        localised = localised || k["state"] == "localised";
+        after += localised && k["state"] != "localised";
+    }
+    EXPECT_TRUE(localised);
+    EXPECT_EQ(after, 0u) << s["state_changes"].dump(1);
+    EXPECT_LT(s["truth"]["ape_rmse_m"].get<double>(), 0.10);
+}
+
 // The mirror-symmetric building: ambiguous with both placements, never localised, with or
 // without false loops.
 TEST_F(AnchorCli, LiveTheRelocaliserNeverLocalisesInAMirrorSymmetricBuilding) {
