@@ -92,6 +92,13 @@ void SampleBuildingOptions::Validate() const {
                             "(millimetre), not " +
                                 std::to_string(length_unit_m));
     }
+    if (storeys != 0 && (layout != BuildingLayout::kHall || storeys < 2 || storeys > 8)) {
+        throw common::Error(common::StatusCode::kInvalidArgument,
+                            "sample building: storeys " + std::to_string(storeys) +
+                                (layout == BuildingLayout::kHall
+                                     ? " is not 2 to 8"
+                                     : ": only the hall layout takes another number of storeys"));
+    }
 }
 
 AlignedBox2d SampleRoom::Bounds() const {

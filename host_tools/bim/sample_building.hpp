@@ -57,6 +57,10 @@ struct SampleBuildingOptions {
     // Their frames close the building for the occupancy grid (occupancy_grid.hpp, closures), so
     // every storey's free space stays enclosed with them too (sample_coverage_test.cpp).
     bool exterior_doors = false;
+    // The hall's number of storeys, 2 to 8 (its two upper plans take turns above the first
+    // floor, joined by flights that take turns too); 0: the layout's own (the hall's three). The
+    // other layouts have theirs only.
+    int storeys = 0;
 
     // Throws common::Error (kInvalidArgument) naming the field and value.
     void Validate() const;

@@ -24,6 +24,7 @@ struct SampleOptions {
     uint64_t seed = 1;
     bool no_furniture = false;
     bool exterior_doors = false;
+    int storeys = 0;
     bool force = false;
 };
 
@@ -39,6 +40,7 @@ int Sample(const SampleOptions& o) {
     options.seed = o.seed;
     options.furniture = !o.no_furniture;
     options.exterior_doors = o.exterior_doors;
+    options.storeys = o.storeys;
     bim::WriteSampleBuilding(path, options);
     const bim::SampleLayout L = bim::SampleBuildingLayout(options);
 
@@ -85,7 +87,9 @@ void AddBimSampleCommand(CLI::App& bim, int& exit_code) {
         "             a stair, a slanted wall (the default; the demo's building)\n"
         "  hall       three storeys, 24 x 20 m, 3.5 m floor to floor: a central hall with\n"
         "             columns on the ground floor, corridors along y above, a stair hall with\n"
-        "             two flights; --exterior-doors adds the entrance in the south wall\n"
+        "             two flights; --exterior-doors adds the entrance in the south wall;\n"
+        "             --storeys 2 to 8 makes it lower or taller (the upper plans and the\n"
+        "             flights take turns)\n"
         "  symmetric  one storey, 20 x 12 m, the same under the mirror about both centre lines\n"
         "             (and a half turn): a rig in it cannot tell where it is up to the symmetry;\n"
         "             --exterior-doors adds the same entrance at both ends");
@@ -102,6 +106,9 @@ void AddBimSampleCommand(CLI::App& bim, int& exit_code) {
     cmd->add_flag("--no-furniture", o->no_furniture, "leave the furniture out");
     cmd->add_flag("--exterior-doors", o->exterior_doors,
                   "doors to the outside on the ground floor (see the layouts)");
+    cmd->add_option("--storeys", o->storeys,
+                    "the hall's number of storeys, 2 to 8 (default: its three)")
+        ->check(CLI::Range(2, 8));
     cmd->add_flag("--force", o->force, "overwrite an existing file");
     cmd->callback([o, &exit_code] { exit_code = Run([&] { return Sample(*o); }); });
 }

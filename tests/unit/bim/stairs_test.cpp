@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <regex>
+#include <utility>
 #include <string>
 
+#include "algorithms/common/status.hpp"
 #include "host_tools/bim/building_graph.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
@@ -102,6 +104,39 @@ TEST(Stairs, TheHallsTwoFlightsReachItsThreeStoreys) {
         EXPECT_TRUE(f.Walkable()) << f.problem;
         EXPECT_NEAR(f.rise_m, 0.175, 1e-4);
         EXPECT_EQ(f.upper, f.lower + 1);
+    }
+}
+
+// `bim sample --layout hall --storeys N`: the upper plans and the flights take turns, and every
+// storey is reached from the ground floor through the file's stairs and slab openings.
+TEST(Stairs, ATallerHallIsReachedStoreyByStorey) {
+    SampleBuildingOptions options;
+    options.layout = BuildingLayout::kHall;
+    options.storeys = 5;
+    const SampleLayout L = SampleBuildingLayout(options);
+    ASSERT_EQ(L.storeys.size(), 5u);
+    EXPECT_EQ(L.storeys[4].name, "Fourth Floor");
+    EXPECT_NEAR(L.storeys[4].elevation_m, 14.0, 1e-12);
+    EXPECT_EQ(L.stairs.size(), 4u);
+    const BimModel model = ParseIfc("hall5.ifc", SampleBuildingIfc(options));
+    const BuildingGraph g = Graph(model, StairLimits::Go1());
+    EXPECT_EQ(g.reached, (std::vector<int>{0, 1, 2, 3, 4}));
+    ASSERT_EQ(g.flights.size(), 4u);
+    for (const StairFlight& f : g.flights) {
+        EXPECT_TRUE(f.Walkable()) << f.problem;
+        EXPECT_EQ(f.upper, f.lower + 1);
+    }
+    // The three-storey hall is the default's, and only the hall takes a count, 2 to 8.
+    options.storeys = 3;
+    SampleBuildingOptions plain;
+    plain.layout = BuildingLayout::kHall;
+    EXPECT_EQ(SampleBuildingIfc(options), SampleBuildingIfc(plain));
+    for (const auto& [layout, storeys] :
+         {std::pair{BuildingLayout::kHall, 1}, std::pair{BuildingLayout::kHall, 9},
+          std::pair{BuildingLayout::kOffice, 3}}) {
+        options.layout = layout;
+        options.storeys = storeys;
+        EXPECT_THROW(options.Validate(), common::Error) << storeys;
     }
 }
 
