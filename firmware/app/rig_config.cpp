@@ -207,7 +207,7 @@ std::vector<Binding> Bindings(RigConfig& c) {
     b.push_back(Real("localization.deadline_ms", c.localizer_deadline_ms, 10, 60000, "ms",
                      "a keyframe's relocalisation (CPU time) longer than this is a deadline miss"));
     b.push_back(Real("localization.lost_fault_s", c.bim_lost_fault_s, 1, 3600, "s",
-                     "lost or searching this long after a localisation: FAULT_BIM_LOST"));
+                     "not localised this long after a localisation: FAULT_BIM_LOST"));
     b.push_back(Bool("runtime.lock_memory", c.lock_memory, "mlockall at start"));
     ThreadKeys(b, "ingest", c.ingest);
     ThreadKeys(b, "can", c.can);

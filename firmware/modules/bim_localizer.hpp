@@ -47,7 +47,7 @@ struct BimPoseState {
     uint32_t segment = 0;           // the odometry's segment (a clock jump starts another)
     uint32_t consistent_loops = 0, hypotheses = 0;
     int32_t storey = -1;  // into the package's storeys
-    // CLOCK_MONOTONIC ns since when the state has been lost or searching after a localisation
+    // CLOCK_MONOTONIC ns since when the state has not been localised after a localisation
     // (FAULT_BIM_LOST); 0 while localised or before the first localisation.
     int64_t unlocalised_since_ns = 0;
 };

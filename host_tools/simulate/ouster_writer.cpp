@@ -62,13 +62,16 @@ ouster::SensorInfo SensorFor(const SensorSpec& spec) {
 }
 
 OusterWriter::OusterWriter(const ouster::SensorInfo& info, net::PcapWriter& writer,
-                           const NetworkSpec& network, uint64_t seed, int64_t host_minus_sensor_ns)
+                           const NetworkSpec& network, uint64_t seed, int64_t host_minus_sensor_ns,
+                           int64_t jump_at_ns, int64_t jump_ns)
     : info_(info),
       encoder_(info, /*fill_crc=*/true),
       writer_(writer),
       network_(network),
       loss_rng_(seed ^ 0x1055ull),
       host_minus_sensor_ns_(host_minus_sensor_ns),
+      jump_at_ns_(jump_at_ns),
+      jump_ns_(jump_ns),
       sensor_ip_(*net::ParseIpv4("169.254.42.10")),
       host_ip_(*net::ParseIpv4("169.254.42.1")) {
     frame_.Reset(encoder_.format());
@@ -92,7 +95,10 @@ void OusterWriter::Send(int64_t sensor_ns, uint16_t port, std::span<const uint8_
 void OusterWriter::SendImuUpTo(std::span<const ouster::ImuSample> imu, size_t& next,
                                int64_t sensor_ns) {
     for (; next < imu.size() && int64_t(imu[next].time_ns) <= sensor_ns; ++next) {
-        encoder_.EncodeLegacyImuPacket(imu[next], imu[next].time_ns, imu_packet_.data());
+        ouster::ImuSample stamped = imu[next];
+        stamped.time_ns = Stamp(imu[next].time_ns);
+        stamped.gyro_time_ns = Stamp(imu[next].gyro_time_ns);
+        encoder_.EncodeLegacyImuPacket(stamped, stamped.time_ns, imu_packet_.data());
         Send(int64_t(imu[next].time_ns), info_.udp_port_imu.value_or(kDefaultImuPort), imu_packet_);
     }
 }
@@ -109,7 +115,7 @@ void OusterWriter::WriteFrame(uint32_t index, const simulation::ScanImage& image
     if (!f.near_ir.empty()) std::fill(f.near_ir.begin(), f.near_ir.end(), uint16_t(320));
     f.frame_id = index & 0xFFFF;
     for (int v = 0; v < f.w; ++v) {
-        f.timestamp[size_t(v)] = column_ns[size_t(v)];
+        f.timestamp[size_t(v)] = Stamp(column_ns[size_t(v)]);
         f.measurement_id[size_t(v)] = uint16_t(v);
         f.status[size_t(v)] = 1;
     }
@@ -117,7 +123,7 @@ void OusterWriter::WriteFrame(uint32_t index, const simulation::ScanImage& image
     size_t next_imu = 0;
     for (int p = 0; p < encoder_.packets_per_frame(); ++p) {
         // Sent when its last column is measured.
-        const int64_t sent = int64_t(f.timestamp[size_t(std::min((p + 1) * per_packet, f.w) - 1)]);
+        const int64_t sent = int64_t(column_ns[size_t(std::min((p + 1) * per_packet, f.w) - 1)]);
         SendImuUpTo(imu, next_imu, sent);
         encoder_.EncodeLidarPacket(f, p, packet_.data());
         Send(sent, info_.udp_port_lidar.value_or(kDefaultLidarPort), packet_);

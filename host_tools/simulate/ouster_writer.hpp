@@ -6,7 +6,8 @@
 // IMU packets, in the order a host receives them: each lidar packet when its last column is
 // measured, each IMU packet when it is sampled, both plus a fixed 60 us of link latency. Datagrams
 // are cut into IPv4 fragments at MTU 1500 (NetworkSpec::fragment), as the sensor's link does, and
-// lost with NetworkSpec::packet_loss, independently, drawn from the seed.
+// lost with NetworkSpec::packet_loss, independently, drawn from the seed. A step of the sensor's
+// clock (SensorSpec::clock_jump_s) moves the timestamps in the packets, not when they arrive.
 #pragma once
 
 #include <cstdint>
@@ -34,8 +35,10 @@ class OusterWriter {
 public:
     // `writer` (Ethernet link type) stays the caller's. host_minus_sensor_ns maps the sensor
     // clock to the capture's (host) time stamps.
+    // The sensor's clock steps by jump_ns at jump_at_ns (its own clock; jump_ns 0: never).
     OusterWriter(const ouster::SensorInfo& info, net::PcapWriter& writer,
-                 const NetworkSpec& network, uint64_t seed, int64_t host_minus_sensor_ns);
+                 const NetworkSpec& network, uint64_t seed, int64_t host_minus_sensor_ns,
+                 int64_t jump_at_ns = 0, int64_t jump_ns = 0);
 
     // Frame `index` of simulated ranges (the image's layout is the sensor's), whose column v was
     // measured at column_ns[v] (sensor clock), with the IMU samples measured up to the frame's
@@ -51,6 +54,10 @@ public:
 private:
     void Send(int64_t sensor_ns, uint16_t port, std::span<const uint8_t> payload);
     void SendImuUpTo(std::span<const ouster::ImuSample> imu, size_t& next, int64_t sensor_ns);
+    // What the sensor stamps at true time t (its clock after a step).
+    uint64_t Stamp(uint64_t t) const {
+        return jump_ns_ != 0 && int64_t(t) >= jump_at_ns_ ? uint64_t(int64_t(t) + jump_ns_) : t;
+    }
 
     ouster::SensorInfo info_;
     ouster::PacketEncoder encoder_;
@@ -58,6 +65,7 @@ private:
     NetworkSpec network_;
     std::mt19937_64 loss_rng_;
     int64_t host_minus_sensor_ns_;
+    int64_t jump_at_ns_, jump_ns_;
     uint32_t sensor_ip_, host_ip_;
     ouster::LidarFrame frame_;
     std::vector<uint8_t> packet_;

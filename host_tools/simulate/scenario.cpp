@@ -130,6 +130,11 @@ void ValidateSensor(const SensorSpec& s) {
     Require(s.mount_rpy_deg.allFinite() && s.mount_rpy_deg.cwiseAbs().maxCoeff() <= 180.0,
             "sensor.mount_rpy_deg", Vec(s.mount_rpy_deg),
             "must be finite, each within [-180, 180]");
+    Require(std::isfinite(s.clock_jump_s) && std::abs(s.clock_jump_s) <= 3600, "sensor.clock_jump_s",
+            std::to_string(s.clock_jump_s), "must be within [-3600, 3600] s");
+    Require(std::isfinite(s.clock_jump_at_s) && (s.clock_jump_s == 0 || s.clock_jump_at_s > 0),
+            "sensor.clock_jump_at_s", std::to_string(s.clock_jump_at_s),
+            "must be after the start of the walk (> 0 s) when sensor.clock_jump_s is set");
 }
 
 void ValidateNoise(const NoiseSpec& n) {

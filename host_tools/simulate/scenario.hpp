@@ -75,6 +75,12 @@ struct SensorSpec {
     // The platform's own body in view (rig_body.hpp): the Go1's trunk and legs, the person
     // carrying the sensor, the car's roof and body. Off by default, as most captures so far.
     bool body_in_view = false;
+    // A step of the sensor's clock (a restart, or its time source stepping): from clock_jump_at_s
+    // of the walk on, the packets' timestamps (lidar columns and IMU) are clock_jump_s later; the
+    // capture's time stamps and the truth keep the true time. 0: none. The rig's odometry starts
+    // again there, in a new frame (algorithms/pipeline/scan_pipeline.hpp, clock_jump_forward_s).
+    double clock_jump_at_s = 0;
+    double clock_jump_s = 0;
 
     bool operator==(const SensorSpec&) const = default;
 };

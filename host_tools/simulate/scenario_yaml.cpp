@@ -426,7 +426,7 @@ Scenario ReadScenario(Reader& r, const Node& root) {
     const Node sensor = Reader::At(root, "sensor");
     r.Keys(sensor, "sensor",
            {"metadata", "model", "lidar_mode", "udp_profile", "mount_xyz", "mount_rpy_deg",
-            "body_in_view"});
+            "body_in_view", "clock_jump_at_s", "clock_jump_s"});
     r.Get(sensor, "sensor", "metadata", s.sensor.metadata);
     r.Get(sensor, "sensor", "model", s.sensor.model);
     r.Get(sensor, "sensor", "lidar_mode", s.sensor.lidar_mode);
@@ -434,6 +434,8 @@ Scenario ReadScenario(Reader& r, const Node& root) {
     r.Get(sensor, "sensor", "mount_xyz", s.sensor.mount_xyz);
     r.Get(sensor, "sensor", "mount_rpy_deg", s.sensor.mount_rpy_deg);
     r.Get(sensor, "sensor", "body_in_view", s.sensor.body_in_view);
+    r.Get(sensor, "sensor", "clock_jump_at_s", s.sensor.clock_jump_at_s);
+    r.Get(sensor, "sensor", "clock_jump_s", s.sensor.clock_jump_s);
 
     const Node network = Reader::At(root, "network");
     r.Keys(network, "network", {"fragment", "packet_loss", "go1_highstate_crc"});

@@ -201,6 +201,8 @@ std::string ScenarioToYaml(const Scenario& s) {
     w.Vec("mount_xyz", s.sensor.mount_xyz);
     w.Vec("mount_rpy_deg", s.sensor.mount_rpy_deg);
     w.Key("body_in_view").out() << (s.sensor.body_in_view ? "true" : "false");
+    w.Num("clock_jump_at_s", s.sensor.clock_jump_at_s);
+    w.Num("clock_jump_s", s.sensor.clock_jump_s);
     w.EndMap();
 
     w.BeginMap("network");

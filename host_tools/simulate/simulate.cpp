@@ -472,7 +472,8 @@ CaptureReport SimulateCapture(const Scenario& s, const bim::BimModel& model,
     std::filesystem::create_directories(dir);
     io::WriteFileAtomic(dir / "metadata.json", ouster::SerializeMetadata(info));
     net::PcapWriter pcap(dir / "lidar.pcap");
-    OusterWriter writer(info, pcap, s.network, s.seed, HostMinusSensorNs(s));
+    OusterWriter writer(info, pcap, s.network, s.seed, HostMinusSensorNs(s),
+                        kSensorBootNs + Ns(s.sensor.clock_jump_at_s), Ns(s.sensor.clock_jump_s));
     const double period_s = 1.0 / double(bim::LidarModelFromSensorInfo(info).frame_rate_hz);
     const size_t frames = size_t(std::floor(end_s / period_s + 1e-9));
     BeamHitCounter hits(model, world, watch);

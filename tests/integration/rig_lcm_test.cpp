@@ -465,6 +465,62 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
     EXPECT_NE(none.err.find(empty.string()), std::string::npos) << none.err;
 }
 
+// FAULT_BIM_LOST (issue 35, item 4), end to end: a hand-held walk whose sensor clock steps 30 s
+// ahead at 20 s (simulate's sensor.clock_jump_*: a sensor restart). The odometry starts again in
+// a new frame and a new session, so the relocaliser starts again and searches; unlocalised longer
+// than localization.lost_fault_s (1 s here) after a localisation, rig_health_t carries
+// FAULT_BIM_LOST, never before the step; the rig localises again and it clears. At 1x: the
+// health thread publishes once a second of wall time. Measured: unlocalised 3.8 s of walk after
+// the step (candidate, ambiguous), FAULT_BIM_LOST in 2-3 of 28 health messages; a step at 10 s
+// was localised again within 0.4 s, too soon for any fault.
+TEST_F(RigLcm, LosingTheModelAfterALocalisationRaisesFaultBimLostUntilLocalisedAgain) {
+    const fs::path cap =
+        Capture("handheld", 28, "seed: 3\nsensor:\n  clock_jump_at_s: 20\n  clock_jump_s: 30\n");
+    const fs::path package = Tmp() / "office.rigmap";
+    if (!fs::exists(package)) {
+        const auto r =
+            test::RunCommand(kCli + " rig-map " + Model().string() + " -o " + package.string());
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    const fs::path config = test::rig::WriteConfig(
+        Tmp() / "lost.yaml",
+        "localization:\n  map: " + package.string() + "\n  lost_fault_s: 1\n");
+    const fs::path log = Tmp() / "lost.lcmlog";
+    const nlohmann::json j = test::rig::RigJson(
+        kRig + " replay " + cap.string() + " --speed 1 --json --config " + config.string() +
+        " --session-root " + (Tmp() / "lost").string() + " --lcm-log " + log.string());
+    ASSERT_FALSE(j.is_null());
+    EXPECT_EQ(j["clock_jumps"], 1);
+    EXPECT_EQ(j["localization"]["final_state"], "localised") << j["localization"].dump(1);
+
+    // In the log's order: localised (bim_pose_t), then the fault on rig_health_t, then it clears.
+    lcm::LogFile file(log.string(), "r");
+    const int64_t bit = bimslam::rig_health_t::FAULT_BIM_LOST;
+    bool localised = false, raised = false, cleared = false;
+    int health = 0, with_fault = 0, before_localised = 0;
+    while (const lcm::LogEvent* e = file.readNextEvent()) {
+        if (e->channel == "BIMSLAM_BIM_POSE") {
+            bimslam::bim_pose_t m;
+            ASSERT_GE(m.decode(e->data, 0, e->datalen), 0);
+            localised = localised || m.state == bimslam::bim_pose_t::STATE_LOCALISED;
+        } else if (e->channel == "BIMSLAM_RIG_HEALTH") {
+            bimslam::rig_health_t h;
+            ASSERT_GE(h.decode(e->data, 0, e->datalen), 0);
+            ++health;
+            const bool active = (h.faults & bit) != 0;
+            with_fault += active;
+            before_localised += active && !localised;
+            cleared = cleared || (raised && !active);
+            raised = raised || active;
+        }
+    }
+    std::cout << "FAULT_BIM_LOST in " << with_fault << " of " << health << " rig_health_t\n";
+    EXPECT_GT(health, 20);
+    EXPECT_TRUE(raised) << "FAULT_BIM_LOST never raised";
+    EXPECT_EQ(before_localised, 0);
+    EXPECT_TRUE(cleared) << "FAULT_BIM_LOST never cleared once localised again";
+}
+
 TEST_F(RigLcm, ReplayAtFullSpeedLosesNothingOnAnyOutput) {
     const fs::path cap = Capture("go1", 10);
     const fs::path log = Tmp() / "max.lcmlog";

@@ -152,6 +152,8 @@ TEST(ScenarioTest, WrongValueNamesTheField) {
         {"sensor: {mount_xyz: [1, 2]}",
          "sensor.mount_xyz: expected [x, y, z], got a sequence of 2"},
         {"sensor: {mount_xyz: [0, 0, x]}", "sensor.mount_xyz[2]: expected a number, got 'x'"},
+        {"sensor: {clock_jump_s: 30}", "sensor.clock_jump_at_s = 0"},
+        {"sensor: {clock_jump_at_s: 5, clock_jump_s: 1e9}", "sensor.clock_jump_s = "},
         {"network: {packet_loss: 1.5}", "network.packet_loss = 1.5: must be in [0, 1)"},
         {"network: {fragment: maybe}", "network.fragment: expected true or false, got 'maybe'"},
         {"network: {go1_highstate_crc: encrypted}",
@@ -279,6 +281,8 @@ Scenario Everything() {
     s.sensor.mount_xyz = {0.1, -0.02, 0.3};
     s.sensor.mount_rpy_deg = {1, -2, 180};
     s.sensor.body_in_view = true;
+    s.sensor.clock_jump_at_s = 12.5;
+    s.sensor.clock_jump_s = -7.25;
     s.network = {false, 0.01, go1::CrcForm::kPlain};
     s.noise.lidar = {0.02, 0.005, 120, 0.35, 12.5};
     s.noise.imu = {0.03, 0.06, 0.07, 0.3};
