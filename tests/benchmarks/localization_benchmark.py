@@ -14,6 +14,9 @@ states as the rig's localizer thread: firmware/app/README.md). Per run:
              RMSE and max (cm), rotation max (deg)
   wrong      scans localised more than 1 m or 5 deg off the truth (target: 0 over all runs)
   cpu        the relocaliser's CPU per keyframe, p50 / p99 (ms)
+  vs offline with --offline: the walk anchored offline (`bimslam anchor`, the whole walk at once)
+             against the live poses at the same scans: RMSE / max (cm), max rotation (deg);
+             the issue's target: within 3 cm
 Walks: the sample office and hall (made by `bimslam bim sample`), and from ../shared/data
 AC20-FZK-Haus, Duplex_A and Office_A (Office_A is held out of all tuning: its rows are printed
 apart). Inside starts: `--storey all`, the coverage of every storey the stairs reach; outside
@@ -21,7 +24,7 @@ starts (office and hall): the scenarios that start 5 m before the main entrance.
 hand-held, seeds 1..N.
 
 Usage: localization_benchmark.py [--bimslam BIN] [--seeds N] [--seconds S] [--only TEXT] [--again DIR]
-       [--keep DIR] [--inject 0.3]
+       [--keep DIR] [--inject 0.3] [--offline]
 """
 import argparse
 import json
@@ -104,7 +107,8 @@ def buildings(bimslam, work):
 OUTSIDE = {"office": "outdoor_start.yaml", "hall": "hall_outdoor_start.yaml"}
 
 
-def one(bimslam, work, name, ifc, package, platform, start, seed, seconds, keep, inject):
+def one(bimslam, work, name, ifc, package, platform, start, seed, seconds, keep, inject,
+        reference):
     tag = "%s_%s_%s_%d" % (name, platform, start, seed)
     cap = os.path.join(work, tag, "capture")
     sim = [bimslam, "simulate", "--model", ifc, "--seed", str(seed), "--duration", str(seconds),
@@ -122,17 +126,49 @@ def one(bimslam, work, name, ifc, package, platform, start, seed, seconds, keep,
         sim += ["--platform", platform, "--storey", "all"]
     run(sim, allow_partial=True)
     run([bimslam, "odometry", cap, "-o", os.path.join(work, tag, "session"), "--overwrite"])
-    row = localize(bimslam, os.path.join(work, tag), package, inject)
+    row = localize(bimslam, os.path.join(work, tag), package, inject, reference)
     if keep:
         os.makedirs(keep, exist_ok=True)
         run(["cp", "-r", os.path.join(work, tag), keep])
     return row
 
 
-def localize(bimslam, walk, package, inject):
+def make_package(bimslam, ifc, package, reference):
+    """The building's rig map package; with `reference` (--offline) from the reference session
+    made there by `bimslam bim2session` (the one `rig-map` would make), kept for `bimslam anchor`."""
+    if reference:
+        run([bimslam, "bim2session", ifc, "-o", reference])
+        run([bimslam, "rig-map", ifc, "--reference", reference, "-o", package])
+    else:
+        run([bimslam, "rig-map", ifc, "-o", package])
+
+
+def against_offline(bimslam, walk, reference, live):
+    """The walk anchored offline (`bimslam anchor` against the reference, into walk/anchor) and
+    its every scan's pose (trajectory_bim.tum) against the live one at the same scan: RMSE and max
+    of the distance (cm), max rotation (deg); the issue's target: within 3 cm."""
+    out = os.path.join(walk, "anchor")
+    subprocess.run([bimslam, "anchor", "--reference", reference, "--query",
+                    os.path.join(walk, "session"), "-o", out, "--overwrite"],
+                   capture_output=True, text=True)  # exit 1: not anchored, said by the row
+    path = os.path.join(out, "session", "trajectory_bim.tum")
+    if not os.path.exists(path):
+        return {"offline": "not anchored"}
+    offline = read_tum(path)
+    d = [(math.dist(p[:3], offline[t][:3]), rotation_deg(p[3:], offline[t][3:]))
+         for t, p in live.items() if t in offline]
+    if not d:
+        return {"offline": "no common scan"}
+    return {"offline": "%.2f/%.2f/%.2f" % (
+        100 * math.sqrt(sum(x * x for x, _ in d) / len(d)), 100 * max(x for x, _ in d),
+        max(r for _, r in d)), "offline_max_cm": 100 * max(x for x, _ in d)}
+
+
+def localize(bimslam, walk, package, inject, reference=None):
     """The relocaliser over walk/session against the package, scored against walk/capture's
     truth, into walk/localize; the row of the table (the walk's folder is named by its tag).
-    inject > 0: that share of wrong loops added while searching, seeded by the walk's seed."""
+    inject > 0: that share of wrong loops added while searching, seeded by the walk's seed;
+    reference: the live poses also against the walk anchored offline (against_offline)."""
     tag = os.path.basename(walk)
     name, platform, start, seed = tag.rsplit("_", 3)
     cap, out = os.path.join(walk, "capture"), os.path.join(walk, "localize")
@@ -157,6 +193,8 @@ def localize(bimslam, walk, package, inject):
     if t:
         row.update({"rmse_cm": 100 * t["ape_rmse_m"], "max_cm": 100 * t["ape_max_m"],
                     "rot_rmse_deg": t["rot_rmse_deg"], "rot_max_deg": t["rot_max_deg"]})
+    if reference:
+        row.update(against_offline(bimslam, walk, reference, live))
     return row
 
 
@@ -174,7 +212,8 @@ def table(rows, title):
             r["tag"], fmt(r["localised_s"], ".1f"), fmt(r.get("entered_s"), ".1f"),
             fmt(r.get("rmse_cm"), ".2f"), fmt(r.get("max_cm"), ".2f"),
             fmt(r.get("rot_rmse_deg"), ".2f"), fmt(r.get("rot_max_deg"), ".2f"), r["wrong"],
-            fmt(r["cpu_p50"], ".1f"), fmt(r["cpu_p99"], ".1f"), r["final"]))
+            fmt(r["cpu_p50"], ".1f"), fmt(r["cpu_p99"], ".1f"), r["final"])
+              + ("  vs offline %s" % r["offline"] if "offline" in r else ""))
     # From the start, or for a walk from outside from entering the building (the issue's rule).
     loc = [r["localised_s"] - (r.get("entered_s") or 0) for r in rows
            if r["localised_s"] is not None]
@@ -189,7 +228,12 @@ def table(rows, title):
             min(rmse), max(rmse), statistics.median(rmse), max(mx)), end="")
     print("; wrong scans %d" % sum(r["wrong"] for r in rows), end="")
     injected = sum(r["injected"] for r in rows)
-    print("; %d wrong loops injected" % injected if injected else "")
+    print("; %d wrong loops injected" % injected if injected else "", end="")
+    off = [r["offline_max_cm"] for r in rows if "offline_max_cm" in r]
+    if any("offline" in r for r in rows):
+        print("; live against offline (rmse/max cm, max deg) in %d of %d: max %s cm" % (
+            len(off), len(rows), fmt(max(off) if off else None, ".2f")), end="")
+    print()
 
 
 def report(rows):
@@ -211,9 +255,10 @@ def again(a):
             if a.only not in tag or name not in packages or not os.path.isdir(walk):
                 continue
             ifc, package = packages[name]
+            reference = os.path.join(work, name + "_reference") if a.offline else None
             if not os.path.exists(package):
-                run([a.bimslam, "rig-map", ifc, "-o", package])
-            rows.append(localize(a.bimslam, walk, package, a.inject))
+                make_package(a.bimslam, ifc, package, reference)
+            rows.append(localize(a.bimslam, walk, package, a.inject, reference))
         report(rows)
     return 0
 
@@ -228,6 +273,9 @@ def main():
     p.add_argument("--inject", type=float, default=0.0,
                    help="while searching, add this share of wrong loops (bimslam localize "
                         "--inject-false-loops, the walk's seed): the issue's 30 %% runs")
+    p.add_argument("--offline", action="store_true",
+                   help="also anchor each walk offline (bimslam anchor against the building's "
+                        "reference) and compare its poses with the live ones, scan by scan")
     p.add_argument("--again", default="",
                    help="a --keep folder: localise its walks' sessions again (the relocaliser "
                         "changed) without simulating or running the odometry again")
@@ -244,11 +292,12 @@ def main():
                       if a.only in "%s_%s_%s_%d" % (name, pl, st, s)]
             if not picked:
                 continue
-            run([a.bimslam, "rig-map", ifc, "-o", package])
+            reference = os.path.join(work, name + "_reference") if a.offline else None
+            make_package(a.bimslam, ifc, package, reference)
             for pl, st, s in picked:
                 try:
                     rows.append(one(a.bimslam, work, name, ifc, package, pl, st, s, a.seconds, a.keep,
-                                    a.inject))
+                                    a.inject, reference))
                     r = rows[-1]
                     print("%-30s localised %s s, %s cm RMSE, wrong %d" % (
                         r["tag"], fmt(r["localised_s"], ".1f"), fmt(r.get("rmse_cm"), ".2f"),
