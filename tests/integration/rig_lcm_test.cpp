@@ -466,16 +466,16 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
 }
 
 // FAULT_BIM_LOST (issue 35, item 4), end to end: a hand-held walk whose sensor clock steps 30 s
-// ahead at 20 s (simulate's sensor.clock_jump_*: a sensor restart). The odometry starts again in
+// ahead at 12 s (simulate's sensor.clock_jump_*: a sensor restart), 1.9 s after it was localised. The odometry starts again in
 // a new frame and a new session, so the relocaliser starts again and searches; unlocalised longer
 // than localization.lost_fault_s (1 s here) after a localisation, rig_health_t carries
 // FAULT_BIM_LOST, never before the step; the rig localises again and it clears. At 1x: the
-// health thread publishes once a second of wall time. Measured: unlocalised 3.8 s of walk after
-// the step (candidate, ambiguous), FAULT_BIM_LOST in 2-3 of 28 health messages; a step at 10 s
-// was localised again within 0.4 s, too soon for any fault.
+// health thread publishes once a second of wall time. Measured: unlocalised 3.4 s of walk after
+// the step, FAULT_BIM_LOST in 2 of 20 health messages; a step at 10 s came before the first
+// localisation (no fault to raise), and at 20 s cost 8 s more of test time for the same check.
 TEST_F(RigLcm, LosingTheModelAfterALocalisationRaisesFaultBimLostUntilLocalisedAgain) {
     const fs::path cap =
-        Capture("handheld", 28, "seed: 3\nsensor:\n  clock_jump_at_s: 20\n  clock_jump_s: 30\n");
+        Capture("handheld", 20, "seed: 1\nsensor:\n  clock_jump_at_s: 12\n  clock_jump_s: 30\n");
     const fs::path package = Tmp() / "office.rigmap";
     if (!fs::exists(package)) {
         const auto r =
@@ -515,7 +515,7 @@ TEST_F(RigLcm, LosingTheModelAfterALocalisationRaisesFaultBimLostUntilLocalisedA
         }
     }
     std::cout << "FAULT_BIM_LOST in " << with_fault << " of " << health << " rig_health_t\n";
-    EXPECT_GT(health, 20);
+    EXPECT_GE(health, 15);  // about one a second of the 20 s replay
     EXPECT_TRUE(raised) << "FAULT_BIM_LOST never raised";
     EXPECT_EQ(before_localised, 0);
     EXPECT_TRUE(cleared) << "FAULT_BIM_LOST never cleared once localised again";
