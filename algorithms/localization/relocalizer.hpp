@@ -16,9 +16,9 @@
 //     with the distance walked between them), a clique whose keyframes see through the model's
 //     surfaces (median over its loops) more than `max_seen_through` dropped as contradicted
 //     (the search goes on until three cliques stand), a rival outweighed by free space as
-//     offline. Each hypothesis standing after the previous
-//     keyframe also registers this one from where it puts it (guided loops: offline's proximity
-//     rounds, live), so a hypothesis grows where Scan Context finds no candidate.
+//     offline. Each hypothesis standing after the previous keyframe also registers this one from
+//     where it puts it (guided loops: offline's proximity rounds, live), so a hypothesis grows
+//     where Scan Context finds no candidate.
 //       - no clique whose loops come from min_clique keyframes: candidate (with the largest
 //         clique's loops) or searching. Keyframes, not loops: one keyframe's two candidates at
 //         neighbouring reference keyframes register to one place and would count twice;
