@@ -347,12 +347,8 @@ TEST_F(RigLcm, AMapPackageThatCannotBeUsedIsRefusedWithItsFaultOnLcmAndTheRigMap
 // same keyframes); `bimslam live` draws the log's last frame.
 TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocalizeFindsIt) {
     const fs::path cap = Capture("go1", 20);
-    const fs::path package = Tmp() / "office.rigmap";
-    if (!fs::exists(package)) {
-        const auto r =
-            test::RunCommand(kCli + " rig-map " + Model().string() + " -o " + package.string());
-        ASSERT_EQ(r.exit_code, 0) << r.err;
-    }
+    const fs::path package = Package();
+    ASSERT_TRUE(fs::exists(package));
     const fs::path config = test::rig::WriteConfig(
         Tmp() / "localise.yaml", "localization:\n  map: " + package.string() + "\n");
     const fs::path log = Tmp() / "localise.lcmlog";
@@ -476,12 +472,8 @@ TEST_F(RigLcm, TheLocaliserPublishesBimPoseForEveryScanOnTheTruthAsBimslamLocali
 TEST_F(RigLcm, LosingTheModelAfterALocalisationRaisesFaultBimLostUntilLocalisedAgain) {
     const fs::path cap =
         Capture("handheld", 20, "seed: 1\nsensor:\n  clock_jump_at_s: 12\n  clock_jump_s: 30\n");
-    const fs::path package = Tmp() / "office.rigmap";
-    if (!fs::exists(package)) {
-        const auto r =
-            test::RunCommand(kCli + " rig-map " + Model().string() + " -o " + package.string());
-        ASSERT_EQ(r.exit_code, 0) << r.err;
-    }
+    const fs::path package = Package();
+    ASSERT_TRUE(fs::exists(package));
     const fs::path config = test::rig::WriteConfig(
         Tmp() / "lost.yaml",
         "localization:\n  map: " + package.string() + "\n  lost_fault_s: 1\n");

@@ -62,6 +62,17 @@ protected:
         return file;
     }
 
+    // The rig map package of Model() (`bimslam rig-map`), made once per test suite.
+    static fs::path Package() {
+        const fs::path file = Tmp() / "office.rigmap";
+        if (!fs::exists(file)) {
+            const auto r =
+                RunCommand(kCli + " rig-map " + Model().string() + " -o " + file.string());
+            EXPECT_EQ(r.exit_code, 0) << r.err;
+        }
+        return file;
+    }
+
     // A capture of the default walk; `scenario` is extra scenario YAML.
     static fs::path Capture(const std::string& platform, int seconds,
                             const std::string& scenario = "") {
