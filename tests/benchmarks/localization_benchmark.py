@@ -148,9 +148,12 @@ def against_offline(bimslam, walk, reference, live):
     its every scan's pose (trajectory_bim.tum) against the live one at the same scan: RMSE and max
     of the distance (cm), max rotation (deg); the issue's target: within 3 cm."""
     out = os.path.join(walk, "anchor")
-    subprocess.run([bimslam, "anchor", "--reference", reference, "--query",
-                    os.path.join(walk, "session"), "-o", out, "--overwrite"],
-                   capture_output=True, text=True)  # exit 1: not anchored, said by the row
+    r = subprocess.run([bimslam, "anchor", "--reference", reference, "--query",
+                        os.path.join(walk, "session"), "-o", out, "--overwrite"],
+                       capture_output=True, text=True)
+    if r.returncode not in (0, 1):  # 1: not anchored, which the row says; anything else fails
+        raise RuntimeError("bimslam anchor exited %d on %s:\n%s" % (r.returncode, walk,
+                                                                    r.stderr[-2000:]))
     path = os.path.join(out, "session", "trajectory_bim.tum")
     if not os.path.exists(path):
         return {"offline": "not anchored"}
