@@ -171,9 +171,11 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
         }
     }
     // Each standing hypothesis guides a registration from where it puts this keyframe (from the
-    // middle level, as offline's proximity rounds), so that a hypothesis gathers loops where
-    // Scan Context finds no candidate (a flight of stairs, a room the reference saw from
-    // elsewhere). Full rank and the tracking bounds, as a loop must be to count.
+    // middle level, 0.5 m reach: a clique's anchor may be decimetres off, where offline's
+    // proximity rounds start from the graph's estimate at the finest), so that a hypothesis
+    // gathers loops where Scan Context finds no candidate (a flight of stairs, a room the
+    // reference saw from elsewhere). Full rank and the tracking bounds, as a loop must be to
+    // count.
     for (const Eigen::Isometry3d& T_bim_odom : guides_) {
         const Eigen::Isometry3d predicted = T_bim_odom * T_odom_lidar;
         const registration::RegistrationResult r =

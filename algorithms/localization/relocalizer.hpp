@@ -24,11 +24,13 @@
 //         neighbouring reference keyframes register to one place and would count twice;
 //       - a rival clique of at least rival_min_ratio of the best's keyframes: ambiguous, with both;
 //       - else localised, T_bim_odom from the clique's newest loop.
-//   - localised: the keyframe registered from where T_bim_odom puts it (from the middle level, as
-//     offline's proximity rounds), accepted when verified and within track bounds of that
-//     prediction: T_bim_odom follows it. `lost_after` keyframes in a row without an accepted
-//     registration: lost (the search starts again); `contradictions` in a row verified but far
-//     from the prediction: the hypothesis is dropped and the search starts again (searching).
+//   - localised: the keyframe registered from where T_bim_odom puts it (from the middle level),
+//     accepted when verified and within track bounds of that prediction: T_bim_odom follows it.
+//     The bounds also refuse a slide into a wall's second basin 0.31 m off, which made offline's
+//     proximity rounds start at the finest level. `lost_after` keyframes in a row without an
+//     accepted registration: lost (the search starts again); `contradictions` in a row verified
+//     but far from the prediction: the hypothesis is dropped and the search starts again
+//     (searching).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -62,7 +64,7 @@ struct RelocalizerConfig {
     double max_sc_distance = 0.6;
     double min_inlier_ratio = 0.5;
     double max_inlier_rmse = 0.03;  // m
-    double consistency_m = 0.3;
+    double consistency_m = 0.15;
     double consistency_deg = 2.0;
     double drift_per_m = 0.03;
     double drift_deg_per_m = 0.15;
