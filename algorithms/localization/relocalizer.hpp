@@ -68,7 +68,9 @@ struct RelocalizerConfig {
     double consistency_deg = 2.0;
     double drift_per_m = 0.03;
     double drift_deg_per_m = 0.15;
-    int min_clique = 4;  // here: distinct keyframes (offline: loops)
+    // Here distinct keyframes; offline 3 loops, since it follows a clique with proximity rounds
+    // that must then find 5 loops, where a live clique of 4 keyframes decides at once.
+    int min_clique = 4;
     double rival_min_ratio = 0.25;
     registration::FreeSpaceConfig free_space;
     size_t free_space_level = 1;

@@ -62,6 +62,8 @@ void AnchorConfig::Validate() const {
     Require(rival_min_ratio > 0 && rival_min_ratio <= 1, c, "rival_min_ratio", rival_min_ratio,
             "must be in (0, 1]");
     Require(max_hypotheses >= 1, c, "max_hypotheses", max_hypotheses, "must be at least 1");
+    Require(max_cliques >= max_hypotheses, c, "max_cliques", max_cliques,
+            "must be at least max_hypotheses");
     Require(proximity_radius_m > 0, c, "proximity_radius_m", proximity_radius_m,
             "must be positive");
     Require(proximity_height_m > 0, c, "proximity_height_m", proximity_height_m,

@@ -27,7 +27,9 @@ bool Consistent(const LoopRecord& a, const LoopRecord& b,
 
 // The cliques of mutually consistent loops among `loops` (indices into records): the largest
 // first, then the largest among the loops that disagree with every clique found so far, while a
-// clique has at least min_clique loops and rival_min_ratio of the first's.
+// clique has at least min_clique loops and rival_min_ratio of the first's; at most
+// max_hypotheses. A clique whose loops see through the model (median seen_through over
+// max_seen_through) is passed over and not returned; max_cliques bounds the search.
 std::vector<std::vector<size_t>> ConsistentHypotheses(const std::vector<LoopRecord>& records,
                                                       const std::vector<size_t>& loops,
                                                       const std::vector<AnchorSession>& sessions,

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // Anchoring's rules on small hand-built inputs whose answer is known (host_tools/anchor/README.md,
-// "The method"): the anchor a loop implies, the pairwise consistency of two loops (0.3 m / 2 deg
-// plus 3 % / 0.15 deg per metre travelled between them), the verdict's thresholds (anchored,
-// ambiguous, failed) and the free-space check that contradicts a wrong placement.
+// "The method"): the anchor a loop implies, the pairwise consistency of two loops (0.15 m / 2 deg
+// plus 3 % / 0.15 deg per metre travelled between them), the cliques of consistent loops, the
+// verdict's thresholds (anchored, ambiguous, failed) and the free-space check that contradicts a
+// wrong placement.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -163,6 +164,49 @@ Verdict Decide(std::vector<Hypothesis> hs, size_t keyframes, std::string* reason
     const Verdict v = DecideVerdict(ranked, s[1].poses, config, &why);
     if (reason) *reason = why;
     return v;
+}
+
+// Loops of keyframes `ks` placed by `anchor` (each at its keyframe), seeing through the model
+// with `seen` of their rays, appended to `records`.
+void AddLoops(const std::vector<AnchorSession>& s, const Eigen::Isometry3d& anchor,
+              const std::vector<size_t>& ks, double seen, std::vector<LoopRecord>* records) {
+    for (size_t k : ks) {
+        LoopRecord l = Loop(k, anchor * s[1].poses[k]);
+        l.seen_through = seen;
+        records->push_back(l);
+    }
+}
+
+TEST(ConsistentHypotheses, CliquesSeenThroughTheModelArePassedOverForASmallerRightOne) {
+    // A walk from outside: two wrong places agree with 5 and 4 loops each (the storey above, 3 m
+    // up; 4 m along x), both seeing through the model's surfaces (20 % and 9 % of their rays);
+    // the right place has 3 loops (1 % seen through). Searched as before, the three hypotheses
+    // would be the two wrong ones and nothing else; now the right one is found and followed.
+    const auto s = Walk(40);
+    std::vector<LoopRecord> records;
+    AddLoops(s, Pose(0, 0, 3, 0) * kAnchor, {10, 12, 14, 16, 18}, 0.20, &records);
+    AddLoops(s, Pose(4, 0, 0, 0) * kAnchor, {20, 22, 24, 26}, 0.09, &records);
+    AddLoops(s, kAnchor, {5, 30, 36}, 0.01, &records);
+    std::vector<size_t> all(records.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+    AnchorConfig config = Defaults();
+    ASSERT_EQ(config.min_clique, 3);
+    const auto cliques = ConsistentHypotheses(records, all, s, config);
+    ASSERT_EQ(cliques.size(), 1u);
+    EXPECT_EQ(cliques[0], (std::vector<size_t>{9, 10, 11}));
+    // Seen through less than 5 %, the wrong places are hypotheses as well, largest first (step
+    // 4's free-space check on the whole walk judges them).
+    for (size_t i = 0; i < 9; ++i) records[i].seen_through = 0.04;
+    const auto all_three = ConsistentHypotheses(records, all, s, config);
+    ASSERT_EQ(all_three.size(), 3u);
+    EXPECT_EQ(all_three[0].size(), 5u);
+    EXPECT_EQ(all_three[2], (std::vector<size_t>{9, 10, 11}));
+    // The search is bounded: with a single clique searched, the wrong one is passed over and
+    // nothing is left.
+    for (size_t i = 0; i < 9; ++i) records[i].seen_through = 0.2;
+    config.max_hypotheses = 1;
+    config.max_cliques = 1;
+    EXPECT_TRUE(ConsistentHypotheses(records, all, s, config).empty());
 }
 
 TEST(Verdict, NoHypothesisFails) { EXPECT_EQ(Decide({}, 40), Verdict::kFailed); }
