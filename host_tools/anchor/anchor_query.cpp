@@ -46,7 +46,7 @@ std::string AnchoredReason(const std::vector<Evaluation>& ranked, size_t keyfram
 QueryOutcome AnchoringProblem::AnchorQuery(size_t q, const Target& target) {
     QueryOutcome out;
     const std::vector<size_t> verified = PlaceRecognition(q, target, &out);
-    const std::vector<std::vector<size_t>> cliques = Cliques(verified, &out.records);
+    const std::vector<std::vector<size_t>> cliques = Cliques(verified, &out);
     std::vector<Evaluation> evals;
     for (size_t h = 0; h < cliques.size(); ++h) {
         std::optional<Evaluation> e = FollowClique(q, target, cliques[h], int(h), &out.records);
@@ -88,18 +88,26 @@ std::vector<size_t> AnchoringProblem::PlaceRecognition(size_t q, const Target& t
 // Step 2: the hypotheses, cliques of consistent loops (PCM), or all verified loops together
 // (GNC, none).
 std::vector<std::vector<size_t>> AnchoringProblem::Cliques(const std::vector<size_t>& verified,
-                                                           std::vector<LoopRecord>* records) {
+                                                           QueryOutcome* out) {
+    std::vector<LoopRecord>& records = out->records;
     const auto t0 = Clock::now();
-    std::vector<std::vector<size_t>> cliques;
+    std::vector<std::vector<size_t>> cliques, seen_through;
     if (config_.outliers == OutlierMethod::kPcm) {
-        cliques = ConsistentHypotheses(*records, verified, sessions_, config_);
+        cliques = ConsistentHypotheses(records, verified, sessions_, config_, &seen_through);
     } else if (int(verified.size()) >= config_.min_clique) {
         cliques.push_back(verified);
     }
     times()->consistency_s += common::SecondsSince(t0);
-    for (auto& r : *records) {
+    for (auto& r : records) {
         if (r.verified) r.reason = "not in a consistent set of loops";
     }
+    for (const std::vector<size_t>& c : seen_through) {
+        for (size_t k : c) {
+            records[k].reason = "in a consistent set of " + std::to_string(c.size()) +
+                                " loops that sees through the model (passed over)";
+        }
+    }
+    out->cliques_seen_through = seen_through.size();
     return cliques;
 }
 
@@ -160,6 +168,11 @@ void AnchoringProblem::Decide(size_t q, const std::vector<Evaluation>& ranked,
         res.reason = "no set of at least " + std::to_string(config_.min_clique) +
                      " mutually consistent loops among " + std::to_string(res.verified) +
                      " verified of " + std::to_string(res.candidates) + " candidates";
+        if (out->cliques_seen_through > 0) {
+            res.reason += " that the model does not contradict (" +
+                          std::to_string(out->cliques_seen_through) +
+                          " passed over: their loops see through its surfaces)";
+        }
     }
 }
 

@@ -30,6 +30,7 @@ namespace bimslam::anchor {
 // verdict, the accepted loops and the query's state when anchored.
 struct QueryOutcome {
     SessionResult result;
+    size_t cliques_seen_through = 0;  // consistent sets passed over (Cliques)
     std::vector<LoopRecord> records;
     std::vector<LoopRecord> accepted;
     State state;
@@ -82,7 +83,7 @@ private:
     // AnchorQuery's steps.
     std::vector<size_t> PlaceRecognition(size_t q, const Target& target, QueryOutcome* out);
     std::vector<std::vector<size_t>> Cliques(const std::vector<size_t>& verified,
-                                             std::vector<LoopRecord>* records);
+                                             QueryOutcome* out);
     std::optional<Evaluation> FollowClique(size_t q, const Target& target,
                                            const std::vector<size_t>& clique, int h,
                                            std::vector<LoopRecord>* records);

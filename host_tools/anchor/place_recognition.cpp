@@ -154,10 +154,10 @@ bool Consistent(const LoopRecord& a, const LoopRecord& b,
     return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_r;
 }
 
-std::vector<std::vector<size_t>> ConsistentHypotheses(const std::vector<LoopRecord>& records,
-                                                      const std::vector<size_t>& loops,
-                                                      const std::vector<AnchorSession>& sessions,
-                                                      const AnchorConfig& config) {
+std::vector<std::vector<size_t>> ConsistentHypotheses(
+    const std::vector<LoopRecord>& records, const std::vector<size_t>& loops,
+    const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
+    std::vector<std::vector<size_t>>* passed_over) {
     const size_t n = loops.size();
     posegraph::Graph g(n);
     for (size_t a = 0; a < n; ++a) {
@@ -200,10 +200,13 @@ std::vector<std::vector<size_t>> ConsistentHypotheses(const std::vector<LoopReco
         std::vector<double> seen;
         for (size_t m : c.vertices) seen.push_back(records[loops[m]].seen_through);
         std::nth_element(seen.begin(), seen.begin() + seen.size() / 2, seen.end());
-        if (seen[seen.size() / 2] > config.max_seen_through) continue;
         std::vector<size_t> members;
         for (size_t m : c.vertices) members.push_back(loops[m]);
-        out.push_back(std::move(members));
+        if (seen[seen.size() / 2] <= config.max_seen_through) {
+            out.push_back(std::move(members));
+        } else if (passed_over) {
+            passed_over->push_back(std::move(members));
+        }
     }
     return out;
 }

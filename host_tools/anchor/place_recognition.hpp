@@ -29,10 +29,11 @@ bool Consistent(const LoopRecord& a, const LoopRecord& b,
 // first, then the largest among the loops that disagree with every clique found so far, while a
 // clique has at least min_clique loops and rival_min_ratio of the first's; at most
 // max_hypotheses. A clique whose loops see through the model (median seen_through over
-// max_seen_through) is passed over and not returned; max_cliques bounds the search.
-std::vector<std::vector<size_t>> ConsistentHypotheses(const std::vector<LoopRecord>& records,
-                                                      const std::vector<size_t>& loops,
-                                                      const std::vector<AnchorSession>& sessions,
-                                                      const AnchorConfig& config);
+// max_seen_through) is passed over: not returned, but added to `passed_over` when given;
+// max_cliques bounds the search.
+std::vector<std::vector<size_t>> ConsistentHypotheses(
+    const std::vector<LoopRecord>& records, const std::vector<size_t>& loops,
+    const std::vector<AnchorSession>& sessions, const AnchorConfig& config,
+    std::vector<std::vector<size_t>>* passed_over = nullptr);
 
 }  // namespace bimslam::anchor

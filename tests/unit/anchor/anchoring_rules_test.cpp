@@ -191,9 +191,13 @@ TEST(ConsistentHypotheses, CliquesSeenThroughTheModelArePassedOverForASmallerRig
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     AnchorConfig config = Defaults();
     ASSERT_EQ(config.min_clique, 3);
-    const auto cliques = ConsistentHypotheses(records, all, s, config);
+    std::vector<std::vector<size_t>> passed_over;
+    const auto cliques = ConsistentHypotheses(records, all, s, config, &passed_over);
     ASSERT_EQ(cliques.size(), 1u);
     EXPECT_EQ(cliques[0], (std::vector<size_t>{9, 10, 11}));
+    ASSERT_EQ(passed_over.size(), 2u);  // said in the loops' reasons and the verdict's
+    EXPECT_EQ(passed_over[0], (std::vector<size_t>{0, 1, 2, 3, 4}));
+    EXPECT_EQ(passed_over[1], (std::vector<size_t>{5, 6, 7, 8}));
     // Seen through less than 5 %, the wrong places are hypotheses as well, largest first (step
     // 4's free-space check on the whole walk judges them).
     for (size_t i = 0; i < 9; ++i) records[i].seen_through = 0.04;
