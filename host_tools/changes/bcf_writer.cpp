@@ -156,8 +156,14 @@ std::string VisinfoXml(const BcfViewpoint& vp, BcfVersion v) {
         components(vp.selected);
         x.End();
     }
-    // Every component visible (2.1 requires the element; 3.0's default is false: say true).
-    x.Start("Visibility").Attr("DefaultVisibility", "true").End();
+    // 2.1 requires the element; 3.0's default is false, so it is always said.
+    x.Start("Visibility").Attr("DefaultVisibility", vp.default_visibility ? "true" : "false");
+    if (!vp.visibility_exceptions.empty()) {
+        x.Start("Exceptions");
+        components(vp.visibility_exceptions);
+        x.End();
+    }
+    x.End();
     if (!vp.colors.empty()) {
         x.Start("Coloring");
         for (const auto& [color, ids] : vp.colors) {
@@ -170,11 +176,16 @@ std::string VisinfoXml(const BcfViewpoint& vp, BcfVersion v) {
         x.End();
     }
     x.End();  // Components
-    x.Start("PerspectiveCamera");
+    if (vp.camera == BcfCamera::kNone) return x.Finish();
+    const bool perspective = vp.camera == BcfCamera::kPerspective;
+    x.Start(perspective ? "PerspectiveCamera" : "OrthogonalCamera");
     x.Vector("CameraViewPoint", vp.eye).Vector("CameraDirection", vp.direction.normalized());
     x.Vector("CameraUpVector", vp.up.normalized());
-    // 2.1 allows 45..60 degrees only.
-    x.Number("FieldOfView", v3 ? vp.fov_deg : std::clamp(vp.fov_deg, 45.0, 60.0));
+    if (perspective) {  // 2.1 allows 45..60 degrees only
+        x.Number("FieldOfView", v3 ? vp.fov_deg : std::clamp(vp.fov_deg, 45.0, 60.0));
+    } else {
+        x.Number("ViewToWorldScale", vp.view_to_world_scale);
+    }
     if (v3) x.Number("AspectRatio", vp.aspect);
     x.End();
     return x.Finish();

@@ -33,14 +33,23 @@ const char* ToString(BcfVersion version);
 // Throws common::Error (kInvalidArgument) for anything but "2.1" and "3.0".
 BcfVersion ParseBcfVersion(const std::string& text);
 
+// A viewpoint's camera: bimslam writes perspective ones; other tools' files may hold an
+// orthogonal one, or none (a viewpoint of components only).
+enum class BcfCamera { kNone, kPerspective, kOrthogonal };
+
 struct BcfViewpoint {
     std::string guid;
+    BcfCamera camera = BcfCamera::kPerspective;
     Eigen::Vector3d eye = Eigen::Vector3d::Zero();  // the model's coordinates, metres
     Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
     Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-    double fov_deg = 60;  // vertical
+    double fov_deg = 60;  // vertical (perspective)
+    double view_to_world_scale = 0;  // the view's height in metres (orthogonal)
     double aspect = 4.0 / 3.0;
     std::vector<std::string> selected;  // IFC GlobalIds
+    // Every component shown (true) but the exceptions, or none shown but the exceptions.
+    bool default_visibility = true;
+    std::vector<std::string> visibility_exceptions;
     // "RRGGBB" -> GlobalIds drawn in that colour.
     std::vector<std::pair<std::string, std::vector<std::string>>> colors;
     std::string snapshot_png;  // the PNG's bytes; empty: none

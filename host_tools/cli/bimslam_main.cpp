@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
     bimslam::cli::AddRigMapCommand(app, exit_code);
     bimslam::cli::AddLocalizeCommand(app, exit_code);
     bimslam::cli::AddLiveCommand(app, exit_code);
+    bimslam::cli::AddBcfCommands(app, exit_code);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

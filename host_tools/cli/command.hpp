@@ -51,5 +51,7 @@ void AddRigMapCommand(CLI::App& app, int& exit_code);
 void AddLocalizeCommand(CLI::App& app, int& exit_code);
 // `bimslam live`: bim_pose_t on the storey's plan (host_tools/live).
 void AddLiveCommand(CLI::App& app, int& exit_code);
+// `bimslam bcf info`: a BCF file read back (host_tools/changes/bcf_reader.hpp).
+void AddBcfCommands(CLI::App& app, int& exit_code);
 
 }  // namespace bimslam::cli

@@ -302,6 +302,46 @@ TEST(ChangesBcf21, BcfJsReadsTheSameTopics) {
     }
 }
 
+// The second reader for both versions (3.0 has no other here): `bimslam bcf info --json`
+// (host_tools/changes/bcf_reader.hpp) against the XML read by XPath above.
+TEST_P(ChangesBcf, BimslamsReaderGetsTheSameTopics) {
+    const fs::path bcf = BcfOf(GetParam());
+    const auto r = test::RunCommand(kCli + " bcf info --json " + Quote(bcf));
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const json read = json::parse(r.out);
+    EXPECT_EQ(read["version"], GetParam());
+    std::map<std::string, json> theirs;
+    for (const json& t : read["topics"]) theirs[t["guid"]] = t;
+    const std::vector<Topic> ours = Topics(Entries(bcf));
+    ASSERT_EQ(theirs.size(), ours.size());
+    for (const Topic& t : ours) {
+        ASSERT_TRUE(theirs.contains(t.folder)) << t.folder;
+        const json& j = theirs[t.folder];
+        EXPECT_EQ(j["title"], t.title);
+        EXPECT_EQ(j["type"], t.type);
+        EXPECT_EQ(j["status"], "Open");
+        EXPECT_EQ(j["priority"], t.priority);
+        EXPECT_EQ(j["description"], t.description);
+        EXPECT_EQ(j["creation_date"], t.date);
+        ASSERT_EQ(j["viewpoints"].size(), 1u) << j.dump();
+        const json& v = j["viewpoints"][0];
+        EXPECT_EQ(v["camera"], "perspective");
+        EXPECT_EQ(v["selected"], json(t.selected));
+        ASSERT_EQ(v["colors"].size(), t.colors.size());
+        EXPECT_EQ(v["colors"][0]["color"], t.colors[0]);
+        EXPECT_EQ(v["snapshot_bytes"], t.png.size());
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(v["eye"][k].get<double>(), t.eye[k], 1e-9);
+            EXPECT_NEAR(v["direction"][k].get<double>(), t.direction[k], 1e-9);
+        }
+    }
+    // Not a BCF: exit 2, the file named.
+    const fs::path json_file = changes_test::Walk() / "out" / "changes.json";
+    const auto bad = test::RunCommand(kCli + " bcf info " + Quote(json_file));
+    EXPECT_EQ(bad.exit_code, 2) << bad.out << bad.err;
+    EXPECT_NE(bad.err.find(json_file.string() + ": not a BCF zip"), std::string::npos) << bad.err;
+}
+
 // An RGB picture, decoded by libpng.
 struct Picture {
     int width = 0, height = 0;
