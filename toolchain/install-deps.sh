@@ -20,8 +20,9 @@ packages=(
     libeigen3-dev libflann-dev liblz4-dev nlohmann-json3-dev
     # LiDAR odometry: Ceres (scan-to-map registration)
     libceres-dev
-    # gzip input; PNG output (libpng, below); SHA-256 and base64 by OpenSSL's libcrypto
-    zlib1g-dev libssl-dev
+    # gzip input; PNG output (libpng, below); SHA-256 and base64 by OpenSSL's libcrypto; the
+    # Ouster packets' CRC-64 by liblzma on x86-64 (drivers/ouster/crc64.hpp)
+    zlib1g-dev libssl-dev liblzma-dev
     # changes.bcf (host_tools/changes): snapshots rendered off screen by Mesa's OSMesa (llvmpipe),
     # written by libpng; the XML by libxml2, the zip by libzip
     libosmesa6-dev libpng-dev libxml2-dev libzip-dev

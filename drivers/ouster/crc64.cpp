@@ -5,6 +5,10 @@
 #include <array>
 #include <cstring>
 
+#ifdef BIMSLAM_CRC64_LIBLZMA
+#include <lzma.h>
+#endif
+
 namespace bimslam::ouster {
 namespace {
 constexpr uint64_t kPoly = 0xC96C5795D7870F42ull;  // ECMA-182, reflected
@@ -26,7 +30,7 @@ struct Tables {
 constexpr Tables kTables;
 }  // namespace
 
-uint64_t Crc64Xz(const uint8_t* data, size_t size) {
+uint64_t Crc64XzTable(const uint8_t* data, size_t size) {
     const auto& t = kTables.t;
     uint64_t crc = ~uint64_t{0};
     while (size >= 8) {
@@ -41,6 +45,14 @@ uint64_t Crc64Xz(const uint8_t* data, size_t size) {
     }
     while (size-- > 0) crc = (crc >> 8) ^ t[0][(crc ^ *data++) & 0xFF];
     return ~crc;
+}
+
+uint64_t Crc64Xz(const uint8_t* data, size_t size) {
+#ifdef BIMSLAM_CRC64_LIBLZMA
+    return lzma_crc64(data, size, 0);  // 0 starts a new CRC; init and final xor are its own
+#else
+    return Crc64XzTable(data, size);
+#endif
 }
 
 }  // namespace bimslam::ouster
