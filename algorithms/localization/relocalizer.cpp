@@ -94,7 +94,7 @@ Relocalizer::Relocalizer(const RigMap& map, const RelocalizerConfig& config)
 }
 
 void Relocalizer::Check(const RigMap& map, const RelocalizerConfig& config) {
-    config.registration.Validate();
+    config.ValidateLoopRules("RelocalizerConfig");
     map.DescriptorConfig().Validate();
     if (map.keyframes.empty()) {
         throw common::Error(common::StatusCode::kInvalidArgument, "Relocalizer: no keyframes");
@@ -210,10 +210,7 @@ void Relocalizer::AddLoop(const registration::OrientedCloud& cloud,
 // through a's T_bim_odom and the odometry lies where b's registration put it.
 bool Relocalizer::Consistent(const Loop& a, const Loop& b) const {
     const Eigen::Isometry3d E = (a.T_bim_odom() * b.T_odom_lidar).inverse() * b.T_bim_lidar;
-    const double d = std::abs(a.path_m - b.path_m);
-    const double max_t = config_.consistency_m + config_.drift_per_m * d;
-    const double max_r = (config_.consistency_deg + config_.drift_deg_per_m * d) * M_PI / 180;
-    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_r;
+    return config_.Agree(E, std::abs(a.path_m - b.path_m));
 }
 
 // The largest clique of mutually consistent loops, then the largest among the loops that disagree

@@ -42,6 +42,7 @@
 
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/io/trajectory.hpp"
+#include "algorithms/localization/loop_rules.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/registration/oriented_cloud.hpp"
@@ -52,31 +53,12 @@ namespace bimslam::localization {
 
 // The defaults are the offline anchoring's (host_tools/anchor/anchor_config.hpp), whose README
 // gives the reasons; what only the live search has says its own.
-struct RelocalizerConfig {
-    registration::OrientedCloudConfig cloud;
-    registration::RegistrationConfig registration = [] {
-        registration::RegistrationConfig r;
-        r.information_scale = 0.006;
-        return r;
-    }();
-    int ring_key_candidates = 10;
-    int sc_candidates = 2;
-    double max_sc_distance = 0.6;
-    double min_inlier_ratio = 0.5;
-    double max_inlier_rmse = 0.03;  // m
-    double consistency_m = 0.15;
-    double consistency_deg = 2.0;
-    double drift_per_m = 0.03;
-    double drift_deg_per_m = 0.15;
+// The loops' rules are LoopRules, the offline anchoring's own (loop_rules.hpp); the rest is the
+// live search's and the tracking's.
+struct RelocalizerConfig : LoopRules {
     // Here distinct keyframes; offline 3 loops, since it follows a clique with proximity rounds
     // that must then find 5 loops, where a live clique of 4 keyframes decides at once.
     int min_clique = 4;
-    double rival_min_ratio = 0.25;
-    registration::FreeSpaceConfig free_space;
-    size_t free_space_level = 1;
-    double max_seen_through = 0.05;
-    double outweigh_ratio = 3.0;
-    double outweigh_gap = 0.02;
     // Live only. The loops of the last 120 keyframes (about 120 m of walk at the rig's 1 m
     // keyframes) make the hypotheses: the clique search stays small, and a wrong loop from long
     // ago cannot hold a hypothesis up.

@@ -6,10 +6,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "algorithms/localization/loop_rules.hpp"
 #include "algorithms/posegraph/pose_graph.hpp"
-#include "algorithms/registration/free_space.hpp"
-#include "algorithms/registration/oriented_cloud.hpp"
-#include "algorithms/registration/registration.hpp"
 #include "algorithms/scancontext/config.hpp"
 
 namespace bimslam::anchor {
@@ -23,28 +21,11 @@ enum class OutlierMethod {
 std::string_view ToString(OutlierMethod m);
 bool ParseOutlierMethod(std::string_view name, OutlierMethod* out);
 
-struct AnchorConfig {
-    // Place recognition: each query keyframe's nearest ring keys, then the best few of them by
-    // Scan Context distance are registered.
+// The loops' rules (place recognition, verification, consistency, free space) are
+// localization::LoopRules, shared with the rig's relocaliser; the rest is the offline anchoring's.
+struct AnchorConfig : localization::LoopRules {
     scancontext::ScanContextConfig descriptor = scancontext::ScanContextConfig::Indoor();
-    int ring_key_candidates = 10;  // [SC] uses 10
-    int sc_candidates = 2;         // registered per query keyframe (2: symmetric places)
-    double max_sc_distance = 0.6;  // candidates beyond are not worth a registration
 
-    // Registration and what a loop must show to count as verified. The information of a loop
-    // is the registration's Hessian over its residual variance, times information_scale: the
-    // points of one scan do not err independently (a wall's points share its plane's error), so
-    // they carry the information of far fewer points. 0.006 (about one point in 150) makes the
-    // loops' errors against ground truth match their stated sigma (median |e|/sigma 0.67 as for
-    // a normal distribution) on the sample building's Go1 and handheld captures
-    // (README.md, "Calibration"); 0.1, Censi's closed form with a 1 cm floor, claimed 3-5x too
-    // little error.
-    registration::OrientedCloudConfig cloud;
-    registration::RegistrationConfig registration = [] {
-        registration::RegistrationConfig r;
-        r.information_scale = 0.006;
-        return r;
-    }();
     // The query's odometry edges keep their covariances from the session's g2o, scaled by this:
     // the rig's odometry states its per-scan registration covariance, which the same calibration
     // measured to be about 3x too small in sigma (median |e|/sigma 2.0).
@@ -59,27 +40,14 @@ struct AnchorConfig {
     // (README.md, "The model's tolerance"). Loops between query sessions never get it.
     double model_tolerance_m = 0.0;
     double model_tolerance_deg = 0.0;
-    double min_inlier_ratio = 0.5;  // of the query's planar points within 5 cm of the model
-    double max_inlier_rmse = 0.03;  // m
     // Place-recognition loops must be well constrained in every direction: one that is not (a
     // corridor) kept its initial guess along its weak axis, and that guess was only "here".
     bool require_full_rank = true;
 
-    // Pairwise consistency of two loops of one session (PCM): the pose of one query keyframe
-    // predicted through the other loop and the odometry between them must agree within
-    // consistency_* plus drift_* times the distance travelled between the two keyframes.
-    // 0.15 m: verified loops were within 2 cm of the truth or 0.30 m and more off (2987 loops of
-    // 42 walks); at 0.3 m a loop in a wall's second basin 0.31 m away joined its right neighbour's
-    // clique (Duplex_A, README.md "Two registration basins").
-    double consistency_m = 0.15;
-    double consistency_deg = 2.0;
-    double drift_per_m = 0.03;  // 3 %: three times this project's odometry without IMU
-    double drift_deg_per_m = 0.15;
     // Fewer mutually consistent loops are no hypothesis. 3: a Go1 walk from outside had 3 right
     // loops among 35 verified (README.md, "Walks from outside"); a hypothesis still needs
     // min_loops after its proximity rounds to be anchored.
     int min_clique = 3;
-    double rival_min_ratio = 0.25;  // a rival clique this big (relative) is examined too
     int max_hypotheses = 3;
     // Cliques searched in all, those passed over as seen through the model included: a bound
     // on the search's time (the relocaliser's kMaxCliques).
@@ -101,25 +69,6 @@ struct AnchorConfig {
     // ... and the accepted set is the same. After the last round, a loop whose whitened residual
     // exceeds this chi-square (6 dof, 0.999) is dropped as inconsistent with the solution.
     double max_loop_chi2 = 22.5;
-
-    // Negative evidence (registration::CheckFreeSpace), on the surfel map of this registration
-    // level: a hypothesis whose keyframes see through the target's surfaces (the median share of
-    // their rays) more than max_seen_through is contradicted, however well it registers. 5 %:
-    // right placements measured 0.6-1.7 % (1.7 % in a changed building with removed columns),
-    // the sample building's ground floor placed on its first floor 5.6-7.6 % (README.md).
-    registration::FreeSpaceConfig free_space;
-    size_t free_space_level = 1;
-    double max_seen_through = 0.05;
-    // Between hypotheses that explain the loops about equally well (ambiguity_ratio), free space
-    // decides when one's keyframes see through the model decisively less often than the other's:
-    // at most 1/outweigh_ratio as often and by at least outweigh_gap less. The other is
-    // "outweighed" and no longer a rival. A handheld walk's ground floor placed on the sample
-    // building's first floor saw through 4.4 % of its rays, under max_seen_through, where the
-    // right placement saw 0.66 %: with identical coverage (63 keyframes each) it was reported
-    // ambiguous (README.md). Right placements measured 0.6-1.7 %, so two of them differ by less
-    // than the gap; a mirror-symmetric building's two placements see alike and stay ambiguous.
-    double outweigh_ratio = 3.0;
-    double outweigh_gap = 0.02;
 
     // Earlier visits' anchored sessions (AnchorSession::earlier) are held where their own
     // anchoring put them by a prior on each keyframe's world pose, this sigma per axis. The

@@ -148,10 +148,7 @@ bool Consistent(const LoopRecord& a, const LoopRecord& b,
     const AnchorSession& q = sessions[a.query_session];
     const Eigen::Isometry3d predicted = ImpliedAnchor(a, sessions) * q.poses[b.query_index];
     const Eigen::Isometry3d E = predicted.inverse() * b.registration.T_target_source;
-    const double d = std::abs(q.path_m[a.query_index] - q.path_m[b.query_index]);
-    const double max_t = config.consistency_m + config.drift_per_m * d;
-    const double max_r = (config.consistency_deg + config.drift_deg_per_m * d) * M_PI / 180;
-    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_r;
+    return config.Agree(E, std::abs(q.path_m[a.query_index] - q.path_m[b.query_index]));
 }
 
 std::vector<std::vector<size_t>> ConsistentHypotheses(

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
+#include "algorithms/localization/loop_rules.hpp"
+
+#include <cmath>
+
+#include "algorithms/common/se3.hpp"
+#include "algorithms/common/status.hpp"
+
+namespace bimslam::localization {
+using common::Require;
+
+LoopRules::LoopRules() { registration.information_scale = 0.006; }
+
+void LoopRules::ValidateLoopRules(const char* c) const {
+    cloud.Validate();
+    registration.Validate();
+    Require(ring_key_candidates >= 1, c, "ring_key_candidates", ring_key_candidates,
+            "must be >= 1");
+    Require(sc_candidates >= 1 && sc_candidates <= ring_key_candidates, c, "sc_candidates",
+            sc_candidates, "must be in [1, ring_key_candidates]");
+    Require(max_sc_distance > 0 && max_sc_distance <= 2, c, "max_sc_distance", max_sc_distance,
+            "must be in (0, 2]");
+    Require(min_inlier_ratio >= 0 && min_inlier_ratio <= 1, c, "min_inlier_ratio", min_inlier_ratio,
+            "must be in [0, 1]");
+    Require(max_inlier_rmse > 0, c, "max_inlier_rmse", max_inlier_rmse, "must be positive");
+    Require(consistency_m > 0, c, "consistency_m", consistency_m, "must be positive");
+    Require(consistency_deg > 0, c, "consistency_deg", consistency_deg, "must be positive");
+    Require(drift_per_m >= 0, c, "drift_per_m", drift_per_m, "must not be negative");
+    Require(drift_deg_per_m >= 0, c, "drift_deg_per_m", drift_deg_per_m, "must not be negative");
+    Require(rival_min_ratio > 0 && rival_min_ratio <= 1, c, "rival_min_ratio", rival_min_ratio,
+            "must be in (0, 1]");
+    Require(free_space_level < registration.levels.size(), c, "free_space_level",
+            double(free_space_level), "must name a registration level");
+    Require(max_seen_through > 0 && max_seen_through <= 1, c, "max_seen_through", max_seen_through,
+            "must be in (0, 1]");
+    Require(outweigh_ratio >= 1, c, "outweigh_ratio", outweigh_ratio, "must be at least 1");
+    Require(outweigh_gap > 0 && outweigh_gap <= 1, c, "outweigh_gap", outweigh_gap,
+            "must be in (0, 1]");
+}
+
+bool LoopRules::Agree(const Eigen::Isometry3d& E, double path_m) const {
+    const double max_t = consistency_m + drift_per_m * path_m;
+    const double max_r = (consistency_deg + drift_deg_per_m * path_m) * M_PI / 180;
+    return E.translation().norm() <= max_t && common::RotationAngle(E) <= max_r;
+}
+
+}  // namespace bimslam::localization

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// SPDX-FileCopyrightText: 2026 The bimslam authors
+// The rules a loop to the model is held to, one set for the offline anchoring
+// (host_tools/anchor, AnchorConfig) and the rig's relocaliser (relocalizer.hpp, RelocalizerConfig):
+// both configurations derive from LoopRules, so the live relocaliser finds, verifies and checks
+// its loops as the offline anchoring does (issue 35) and a default changed in one is changed in
+// the other. What only one of them needs (proximity rounds, tracking, the clique size) stays in
+// its own configuration. The reasons for the values are the offline measurements
+// (host_tools/anchor/README.md).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+
+#include "algorithms/registration/free_space.hpp"
+#include "algorithms/registration/oriented_cloud.hpp"
+#include "algorithms/registration/registration.hpp"
+
+namespace bimslam::localization {
+
+struct LoopRules {
+    // Out of line: GCC 12 inlined the registration's levels into every configuration made and
+    // warned of them as "maybe uninitialized" (a false positive) in two places.
+    LoopRules();
+
+    // Place recognition: each keyframe's nearest ring keys, then the best few of them by Scan
+    // Context distance are registered.
+    int ring_key_candidates = 10;  // [SC] uses 10
+    int sc_candidates = 2;         // registered per query keyframe (2: symmetric places)
+    double max_sc_distance = 0.6;  // candidates beyond are not worth a registration
+
+    // Registration and what a loop must show to count as verified. The information of a loop
+    // is the registration's Hessian over its residual variance, times information_scale: the
+    // points of one scan do not err independently (a wall's points share its plane's error), so
+    // they carry the information of far fewer points. 0.006 (about one point in 150) makes the
+    // loops' errors against ground truth match their stated sigma (median |e|/sigma 0.67 as for
+    // a normal distribution) on the sample building's Go1 and handheld captures
+    // (host_tools/anchor/README.md, "Calibration"); 0.1, Censi's closed form with a 1 cm floor,
+    // claimed 3-5x too little error.
+    registration::OrientedCloudConfig cloud;
+    registration::RegistrationConfig registration;  // information_scale 0.006 (the constructor)
+    double min_inlier_ratio = 0.5;  // of the query's planar points within 5 cm of the model
+    double max_inlier_rmse = 0.03;  // m
+
+    // Pairwise consistency of two loops of one session (PCM): the pose of one keyframe predicted
+    // through the other loop and the odometry between them must agree within consistency_* plus
+    // drift_* times the distance travelled between the two keyframes (Agree). 0.15 m: verified
+    // loops were within 2 cm of the truth or 0.30 m and more off (2987 loops of 42 walks); at
+    // 0.3 m a loop in a wall's second basin 0.31 m away joined its right neighbour's clique
+    // (Duplex_A, host_tools/anchor/README.md "Two registration basins").
+    double consistency_m = 0.15;
+    double consistency_deg = 2.0;
+    double drift_per_m = 0.03;  // 3 %: three times this project's odometry without IMU
+    double drift_deg_per_m = 0.15;
+    double rival_min_ratio = 0.25;  // a rival clique this big (relative) is examined too
+
+    // Negative evidence (registration::CheckFreeSpace), on the surfel map of this registration
+    // level: a hypothesis whose keyframes see through the target's surfaces (the median share of
+    // their rays) more than max_seen_through is contradicted, however well it registers. 5 %:
+    // right placements measured 0.6-1.7 % (1.7 % in a changed building with removed columns),
+    // the sample building's ground floor placed on its first floor 5.6-7.6 %.
+    registration::FreeSpaceConfig free_space;
+    size_t free_space_level = 1;
+    double max_seen_through = 0.05;
+    // Between hypotheses that explain the loops about equally well, free space decides when one's
+    // keyframes see through the model decisively less often than the other's: at most
+    // 1/outweigh_ratio as often and by at least outweigh_gap less. The other is "outweighed" and
+    // no longer a rival. A handheld walk's ground floor placed on the sample building's first
+    // floor saw through 4.4 % of its rays, under max_seen_through, where the right placement saw
+    // 0.66 %: with identical coverage (63 keyframes each) it was reported ambiguous. Right
+    // placements measured 0.6-1.7 %, so two of them differ by less than the gap; a
+    // mirror-symmetric building's two placements see alike and stay ambiguous.
+    double outweigh_ratio = 3.0;
+    double outweigh_gap = 0.02;
+
+    // Throws common::Error (kInvalidArgument) naming `owner` (the derived configuration), the
+    // field, its value and the rule.
+    void ValidateLoopRules(const char* owner) const;
+
+    // Two loops agree when E, the disagreement of the poses they imply for one keyframe, is
+    // within the consistency bounds grown by the drift over `path_m`, the odometry's path between
+    // their keyframes.
+    bool Agree(const Eigen::Isometry3d& E, double path_m) const;
+};
+
+}  // namespace bimslam::localization
