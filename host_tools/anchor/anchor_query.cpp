@@ -4,8 +4,10 @@
 // AnchorQuery): place recognition, the hypotheses, each followed, ranked, and the verdict.
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <set>
 #include <string>
+#include <tuple>
 
 #include "algorithms/common/stopwatch.hpp"
 #include "host_tools/anchor/anchoring_problem.hpp"
@@ -179,7 +181,7 @@ void AnchoringProblem::Decide(size_t q, const std::vector<Evaluation>& ranked,
 // An anchored query: its pose and loops from the best hypothesis; the records say which loops
 // were accepted, and gain the chosen hypothesis's proximity loops and its rejected ones.
 void AnchoringProblem::Accept(const std::vector<Evaluation>& ranked, size_t keyframes,
-                              QueryOutcome* out) {
+                              QueryOutcome* out) const {
     const Evaluation& best = ranked[0];
     SessionResult& res = out->result;
     res.anchor = best.hypothesis.anchor;
@@ -190,15 +192,36 @@ void AnchoringProblem::Accept(const std::vector<Evaluation>& ranked, size_t keyf
     out->state = best.query;
     out->accepted = best.accepted;
     std::set<std::pair<size_t, size_t>> accepted_pr;
+    std::set<size_t> proximity_keyframes;  // keyframes whose accepted loop is a proximity loop
     for (const LoopRecord& l : best.accepted) {
         if (l.source != LoopSource::kProximity) accepted_pr.insert({l.query_index, l.target_index});
+        else proximity_keyframes.insert(l.query_index);
     }
+    // A place-recognition loop the final solution dropped (chi-square) is said so on its own
+    // record, not listed a second time beside a record that calls it superseded.
+    using Key = std::tuple<size_t, size_t, LoopSource>;
+    std::map<Key, const LoopRecord*> dropped;
+    for (const LoopRecord& l : best.rejected) {
+        if (l.source != LoopSource::kProximity)
+            dropped[{l.query_index, l.target_index, l.source}] = &l;
+    }
+    std::set<Key> said;  // dropped loops said on their own record
+    // PCM's hypothesis is a consistent set; GNC's and none's hold every verified loop.
+    const std::string in_set =
+        config_.outliers == OutlierMethod::kPcm ? "consistent" : "in the hypothesis";
     for (LoopRecord& r : out->records) {
-        if (accepted_pr.count({r.query_index, r.target_index}) && r.verified) {
+        if (!r.verified) continue;
+        const Key key{r.query_index, r.target_index, r.source};
+        if (accepted_pr.count({r.query_index, r.target_index})) {
             r.accepted = true;
             r.reason = "accepted";
-        } else if (r.verified && r.hypothesis == best.clique) {
-            r.reason = "consistent; superseded by a proximity loop of the same keyframe";
+        } else if (const auto d = dropped.find(key); d != dropped.end()) {
+            r.reason = d->second->reason;
+            said.insert(key);
+        } else if (r.hypothesis == best.clique) {
+            r.reason = in_set + (proximity_keyframes.count(r.query_index)
+                                     ? "; superseded by a proximity loop of the same keyframe"
+                                     : "; not in the final solution");
         }
     }
     for (LoopRecord l : best.accepted) {
@@ -207,7 +230,9 @@ void AnchoringProblem::Accept(const std::vector<Evaluation>& ranked, size_t keyf
         l.reason = "accepted";
         out->records.push_back(l);
     }
-    for (const LoopRecord& l : best.rejected) out->records.push_back(l);
+    for (const LoopRecord& l : best.rejected) {
+        if (!said.count({l.query_index, l.target_index, l.source})) out->records.push_back(l);
+    }
 }
 
 }  // namespace bimslam::anchor

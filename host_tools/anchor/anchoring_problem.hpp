@@ -89,7 +89,7 @@ private:
                                            std::vector<LoopRecord>* records);
     std::vector<Evaluation> Rank(std::vector<Evaluation> evals, SessionResult* res) const;
     void Decide(size_t q, const std::vector<Evaluation>& ranked, QueryOutcome* out) const;
-    static void Accept(const std::vector<Evaluation>& ranked, size_t keyframes, QueryOutcome* out);
+    void Accept(const std::vector<Evaluation>& ranked, size_t keyframes, QueryOutcome* out) const;
 
     // FollowHypothesis's steps. The rounds of proximity registration from q's estimate in
     // *state, optimising after each, until the keyframes with loops and the poses stop changing
