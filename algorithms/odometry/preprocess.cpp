@@ -137,8 +137,9 @@ double Preprocessor::Adapt(double voxel, size_t count, size_t target, double fin
 }
 
 void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
-                               double voxel, std::vector<Eigen::Vector3f>* out,
-                               std::vector<float>* out_alpha, size_t* expected) {
+                               std::span<const uint16_t> ring, double voxel,
+                               std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
+                               size_t* expected) {
     // The table's lookups are cache misses (a mixed hash scatters neighbouring voxels), ~60 % of
     // the filter's time over a full table (2 x max_points slots, 4 MB). So only as many slots are
     // used as the last scan's output needs at a load of at most 1/2 (a 128-beam scan's 20 000 map
@@ -154,12 +155,20 @@ void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<co
         const float inv = static_cast<float>(1.0 / voxel);
         bool full = false;
         // Points come column by column and ring by ring, so neighbours in the scan often share a
-        // voxel: the previous point's key is checked before the table.
+        // voxel: the previous point's key (the ring below, same column) and its ring's last key
+        // (the column before) are checked before the table. Both are keys already in the table,
+        // so skipping on them changes nothing; a ring's entry is one of kRingKeys by its low bits.
         uint64_t previous = common::VoxelHash::kEmpty;
+        ring_keys_.fill(common::VoxelHash::kEmpty);
         for (size_t i = 0; i < in.size() && !full; ++i) {
             const uint64_t key = common::VoxelKey(in[i], inv);
             if (key == previous) continue;
             previous = key;
+            if (!ring.empty()) {
+                uint64_t& last = ring_keys_[ring[i] & (kRingKeys - 1)];
+                if (last == key) continue;
+                last = key;
+            }
             for (size_t slot = common::MixKey(key) & mask;; slot = (slot + 1) & mask) {
                 uint64_t& k = table_[slot];
                 if (k == common::VoxelHash::kEmpty) {
@@ -259,7 +268,8 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
         stats_.range_p90 = range_sample_[k];
     }
 
-    VoxelFilter(deskewed_.xyz, alpha_, map_voxel_, &map_points_, &map_alpha_, &expected_map_);
+    VoxelFilter(deskewed_.xyz, alpha_, deskewed_.ring, map_voxel_, &map_points_, &map_alpha_,
+                &expected_map_);
     const size_t map_target = config_.target_map_points;
     if (map_target > 0 && map_points_.size() > 2 * map_target) {
         const double v =
@@ -269,13 +279,13 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
             map_voxel_ = v;
             map_points_.swap(refilter_points_);  // both reserved: no allocation
             map_alpha_.swap(refilter_alpha_);
-            VoxelFilter(refilter_points_, refilter_alpha_, map_voxel_, &map_points_, &map_alpha_,
-                        &expected_map_);
+            VoxelFilter(refilter_points_, refilter_alpha_, {}, map_voxel_, &map_points_,
+                        &map_alpha_, &expected_map_);
         }
     }
     stats_.map_voxel = map_voxel_;
     stats_.registration_voxel = registration_voxel_;
-    VoxelFilter(map_points_, map_alpha_, std::max(registration_voxel_, map_voxel_),
+    VoxelFilter(map_points_, map_alpha_, {}, std::max(registration_voxel_, map_voxel_),
                 &registration_points_, &registration_alpha_, &expected_registration_);
     const size_t found = registration_points_.size();
     // Cap: keep every k-th point (they are in column order, so this thins evenly in azimuth).

@@ -130,9 +130,11 @@ public:
 
 private:
     // First point per voxel of `in` into `out` (with its alpha), using the preallocated table;
-    // *expected: the last output count of this filter, in and out.
+    // `ring`: each point's ring, or empty; *expected: the last output count of this filter, in
+    // and out.
     void VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
-                     double voxel, std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
+                     std::span<const uint16_t> ring, double voxel,
+                     std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
                      size_t* expected);
     // The next scan's voxel size from this scan's count (header of PreprocessConfig).
     static double Adapt(double voxel, size_t count, size_t target, double finest, double coarsest);
@@ -154,6 +156,9 @@ private:
     // of the table the next one uses.
     std::vector<uint64_t> table_;
     std::vector<uint32_t> used_;
+    // Each ring's last key in VoxelFilter (rings by their low bits: 256 covers every Ouster).
+    static constexpr size_t kRingKeys = 256;
+    std::array<uint64_t, kRingKeys> ring_keys_{};
     size_t expected_map_ = 0, expected_registration_ = 0;
 };
 
