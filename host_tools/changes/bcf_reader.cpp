@@ -156,6 +156,15 @@ double Number(const ZipIn& zip, const std::string& entry, const xmlNode* parent,
     return v;
 }
 
+// An xs:int (an Index): a number that is a whole one within int's range, else refused (a cast
+// of 1e300 to int would be undefined).
+int Integer(const ZipIn& zip, const std::string& entry, const xmlNode* parent, const char* name) {
+    const double v = Number(zip, entry, parent, name);
+    if (v != std::floor(v) || v < INT_MIN || v > INT_MAX)
+        zip.Fail(entry, std::string(name) + " '" + Text(parent, name) + "' is not an xs:int");
+    return static_cast<int>(v);
+}
+
 Eigen::Vector3d Vector(const ZipIn& zip, const std::string& entry, const xmlNode* parent,
                        const char* name) {
     const xmlNode* v = Child(parent, name);
@@ -214,7 +223,7 @@ BcfViewpoint ReadViewpoint(const ZipIn& zip, const std::string& folder, const st
     vp.guid = Attr(ref, "Guid");
     const std::string index_text = Text(ref, "Index");
     *index = INT_MAX;
-    if (!index_text.empty()) *index = int(Number(zip, markup, ref, "Index"));
+    if (!index_text.empty()) *index = Integer(zip, markup, ref, "Index");
     // 2.1 and 3.0 name the file; an older habit leaves it out for "viewpoint.bcfv".
     std::string file = Text(ref, "Viewpoint");
     if (file.empty() && zip.Has(folder + "viewpoint.bcfv")) file = "viewpoint.bcfv";
@@ -256,7 +265,7 @@ BcfReadTopic ReadTopic(const ZipIn& zip, const std::string& markup, bool v3) {
     t.status = Attr(topic, "TopicStatus");
     t.title = Text(topic, "Title");
     t.priority = Text(topic, "Priority");
-    if (Child(topic, "Index")) t.index = int(Number(zip, markup, topic, "Index"));
+    if (Child(topic, "Index")) t.index = Integer(zip, markup, topic, "Index");
     if (v3) {
         for (const xmlNode* l : Children(Child(topic, "Labels"), "Label")) t.labels.push_back(Text(l));
     } else {

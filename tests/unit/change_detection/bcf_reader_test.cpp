@@ -183,6 +183,10 @@ TEST(BcfReader, DamagedFilesAreRefusedNamingTheEntryAndWhatIsWrong) {
                     R"(<VisualizationInfo><PerspectiveCamera><CameraViewPoint><X>1</X><Y>two</Y>)"
                     R"(<Z>3</Z></CameraViewPoint></PerspectiveCamera></VisualizationInfo>)"}},
                   "t1/v1.bcfv: Y 'two' is not a number");
+    ExpectRefused({{"bcf.version", kVersion21},
+                   {"t1/markup.bcf",
+                    R"(<Markup><Topic Guid="t1"><Title>x</Title><Index>1e300</Index></Topic></Markup>)"}},
+                  "t1/markup.bcf: Index '1e300' is not an xs:int");
     // An entity that would read a local file (XXE) is not expanded.
     const BcfFile f = ReadBcfBytes(
         "x.bcf", Zip({{"bcf.version", kVersion21},
