@@ -89,6 +89,14 @@ fs::path Walk(const std::string& name, const fs::path& building, const std::stri
     });
 }
 
+// The sample office with its entrances, and a walk into it from 5 m outside
+// (host_tools/simulate/scenarios/outdoor_start.yaml).
+fs::path OfficeWithEntrances() { return Building("office_entrances", "--exterior-doors"); }
+fs::path WalkFromOutside(const std::string& name, int seconds) {
+    return Walk(name, OfficeWithEntrances(), "--scenario " + kScenarios + "/outdoor_start.yaml",
+                seconds);
+}
+
 json ReadJson(const fs::path& file) { return json::parse(io::ReadFileToString(file)); }
 
 struct Accuracy {
@@ -239,12 +247,10 @@ TEST_F(AnchorCli, AQueryHundredMetresAwayAndTurned170DegreesAnchors) {
 }
 
 TEST_F(AnchorCli, AWalkThatStartsOutsideAnchors) {
-    // The sample building with its entrances (host_tools/simulate/scenarios/outdoor_start.yaml).
-    const fs::path building = Building("office_entrances", "--exterior-doors");
+    const fs::path building = OfficeWithEntrances();
     // 80 s: in 40 s the walk sees only the corridor, whose doors repeat along it, and that is
     // not enough to tell where it is (it fails, saying so).
-    const fs::path walk =
-        Walk("outdoor", building, "--scenario " + kScenarios + "/outdoor_start.yaml", 80);
+    const fs::path walk = WalkFromOutside("outdoor", 80);
     const fs::path out = Out("anchor");
     ASSERT_EQ(Anchor(building / "reference", {walk / "session"}, out), 0);
     // The start, 5 m outside, is placed through the odometry from the first loops inside.
@@ -263,9 +269,8 @@ TEST_F(AnchorCli, AMinuteFromOutsideAnchorsOnTheFewRightLoopsItHas) {
     // the storey above, whose cliques see through the model. It was not anchored while cliques
     // needed 4 loops and the wrong ones were followed first (host_tools/anchor/README.md, "Walks
     // from outside").
-    const fs::path building = Building("office_entrances", "--exterior-doors");
-    const fs::path walk =
-        Walk("outdoor_60", building, "--scenario " + kScenarios + "/outdoor_start.yaml", 60);
+    const fs::path building = OfficeWithEntrances();
+    const fs::path walk = WalkFromOutside("outdoor_60", 60);
     const fs::path out = Out("anchor");
     ASSERT_EQ(Anchor(building / "reference", {walk / "session"}, out), 0);
     const Accuracy a = Evaluate(out / "session" / "trajectory_bim.tum", walk);
@@ -281,8 +286,7 @@ TEST_F(AnchorCli, WithTheCauchyLossAloneEachLoopIsListedOnceWithWhatHappenedToIt
     // proximity loop", once as dropped. And with --outliers none nothing tested the loops'
     // consistency: they are "in the hypothesis".
     const fs::path office = Office();
-    const fs::path walk = Walk("outdoor_60", Building("office_entrances", "--exterior-doors"),
-                               "--scenario " + kScenarios + "/outdoor_start.yaml", 60);
+    const fs::path walk = WalkFromOutside("outdoor_60", 60);
     const fs::path out = Out("none");
     ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, out,
                      "--outliers none --inject-false-loops 0.3 --seed 1"),
@@ -766,7 +770,7 @@ json Localize(const fs::path& building, const fs::path& walk, const fs::path& ou
 // while three contradicted cliques could keep the right one from guiding registrations).
 TEST_F(AnchorCli, LiveTheRelocaliserLocalisesAGo1WalkAndAWalkFromOutsideAndFollowsThem) {
     const fs::path office = Office();
-    const fs::path entrances = Building("office_entrances", "--exterior-doors");
+    const fs::path entrances = OfficeWithEntrances();
     // A person from the same start (the scenario is the Go1's).
     const fs::path carried = Fixture("outdoor_handheld_scenario", [](const fs::path& d) {
         std::string text = io::ReadFileToString(kScenarios + "/outdoor_start.yaml");
@@ -777,8 +781,7 @@ TEST_F(AnchorCli, LiveTheRelocaliserLocalisesAGo1WalkAndAWalkFromOutsideAndFollo
     });
     const fs::path walks[][2] = {
         {office, Walk("go1", office, "--platform go1 --seed 11")},
-        {entrances,
-         Walk("outdoor", entrances, "--scenario " + kScenarios + "/outdoor_start.yaml", 80)},
+        {entrances, WalkFromOutside("outdoor", 80)},
         {entrances, Walk("outdoor_handheld", entrances,
                          "--scenario " + (carried / "scenario.yaml").string() + " --seed 1", 60)},
     };
