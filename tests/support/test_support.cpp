@@ -59,7 +59,8 @@ std::string RandomBytes(size_t n, std::mt19937& rng) {
 CommandResult RunCommand(const std::string& command) {
     TempDir dir;
     const std::string out = (dir / "out").string(), err = (dir / "err").string();
-    const int status = std::system((command + " >" + out + " 2>" + err).c_str());
+    // In braces, so that a list (`a || b`, `a; b`) is redirected whole, not only its last part.
+    const int status = std::system(("{ " + command + "\n} >" + out + " 2>" + err).c_str());
     CommandResult r;
     if (status != -1 && WIFEXITED(status)) {
         r.exit_code = WEXITSTATUS(status);
