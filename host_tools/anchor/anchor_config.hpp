@@ -91,6 +91,9 @@ struct AnchorConfig : localization::LoopRules {
     // (SessionResult::odometry_breaks): 10-20 times what the graph bends a sound edge by.
     double odometry_break_m = 0.2;
     double odometry_break_deg = 5.0;
+    // Such breaks are mended by dropping the loops on their wrong side (break_repair.hpp). Off:
+    // reported only (benchmarks compare the two).
+    bool repair_odometry_breaks = true;
 
     // Verdict.
     int min_loops = 5;             // loops of the best hypothesis for "anchored"

@@ -29,6 +29,16 @@ json PoseJson(const Eigen::Isometry3d& T) {
 }
 
 // A session's (or a piece's) verdict and the numbers behind it.
+json BreaksJson(const std::vector<SessionResult::OdometryBreak>& breaks) {
+    json out = json::array();
+    for (const SessionResult::OdometryBreak& b : breaks)
+        out.push_back({{"from", b.from},
+                       {"to", b.to},
+                       {"offset_m", b.offset_m},
+                       {"rotation_deg", b.rotation_deg}});
+    return out;
+}
+
 json ResultJson(const SessionResult& s) {
     json hyps = json::array();
     for (const Hypothesis& h : s.hypotheses) {
@@ -54,14 +64,11 @@ json ResultJson(const SessionResult& s) {
               {"via_other_sessions", s.via_other_sessions},
               {"hypotheses", hyps}};
     if (s.verdict == Verdict::kAnchored) e["T_world_local"] = PoseJson(s.anchor);
-    if (!s.odometry_breaks.empty()) {  // only then: other outputs stay as they were
-        json breaks = json::array();
-        for (const SessionResult::OdometryBreak& b : s.odometry_breaks)
-            breaks.push_back({{"from", b.from},
-                              {"to", b.to},
-                              {"offset_m", b.offset_m},
-                              {"rotation_deg", b.rotation_deg}});
-        e["odometry_breaks"] = breaks;
+    // Only when there are some: other outputs stay as they were.
+    if (!s.odometry_breaks.empty()) e["odometry_breaks"] = BreaksJson(s.odometry_breaks);
+    if (!s.breaks_repaired.empty()) {
+        e["odometry_breaks_repaired"] = BreaksJson(s.breaks_repaired);
+        e["loops_dropped_at_breaks"] = s.loops_dropped_at_breaks;
     }
     return e;
 }

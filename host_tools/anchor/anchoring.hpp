@@ -128,6 +128,10 @@ struct SessionResult {
         double offset_m = 0, rotation_deg = 0;
     };
     std::vector<OdometryBreak> odometry_breaks;
+    // The breaks the first joint solution had, when dropping the loops of the keyframes on their
+    // wrong side mended them (break_repair.cpp), and how many loops that dropped.
+    std::vector<OdometryBreak> breaks_repaired;
+    size_t loops_dropped_at_breaks = 0;
 };
 
 // One piece of a split session: its keyframes (the session's indices) and its result as a session

@@ -49,7 +49,7 @@ AnchorResult AnchoringProblem::Solve() {
     for (size_t q : Anchored()) state_[q] = outcomes_[q - 1].state;
     RetryWithAnchored();
     // 6: loops between anchored query sessions, by proximity, then all together.
-    const std::vector<LoopRecord> joint = LoopsBetweenSessions();
+    std::vector<LoopRecord> joint = LoopsBetweenSessions();
     const std::vector<size_t> now = Anchored();
     for (size_t q : now) state_[q].fixed = false;
     // 7: the earlier visits free too, each keyframe held by its prior.
@@ -59,6 +59,8 @@ AnchorResult AnchoringProblem::Solve() {
     }
     if (!now.empty()) {
         OptimizeStates(sessions_, &state_, joint, config_, times(), {}, nullptr, &result_.graph);
+        if (config_.repair_odometry_breaks && RepairOdometryBreaks(&joint))
+            result_.graph = BuildGraph(sessions_, state_, joint, config_);
     }
     Gather();
     GatherEarlier();

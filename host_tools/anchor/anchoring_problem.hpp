@@ -10,6 +10,7 @@
 //   hypothesis.cpp         FollowHypothesis and its steps, ProximityLoops (step 3)
 //   anchoring_problem.cpp  Solve: every query, the retries, the loops between query sessions
 //                          and the joint optimisation (step 6)
+//   break_repair.cpp       RepairOdometryBreaks: a trusted odometry the joint solution broke (6)
 #pragma once
 
 #include <Eigen/Geometry>
@@ -107,6 +108,10 @@ private:
                                             std::vector<State>* state,
                                             std::vector<LoopRecord>* rejected);
 
+    // RepairOdometryBreaks's bookkeeping (break_repair.cpp): q's result and every record.
+    void Repaired(size_t q, const std::vector<SessionResult::OdometryBreak>& breaks,
+                  const std::vector<LoopRecord>& dropped);
+
     // Negative evidence: each keyframe of q near the target, placed by query_state, cast
     // through the target's surfels (registration::CheckFreeSpace; with earlier visits, the
     // model's alone: model_only_); *median is the median share of rays seen through over the
@@ -121,6 +126,8 @@ private:
     std::vector<size_t> Anchored() const;
     void RetryWithAnchored();
     std::vector<LoopRecord> LoopsBetweenSessions();
+    // A trusted odometry the joint solution broke, mended (RepairBreaks): true when one was.
+    bool RepairOdometryBreaks(std::vector<LoopRecord>* loops);
     void Gather();
     void FindOdometryBreaks(size_t q, SessionResult* r) const;
     void GatherEarlier();

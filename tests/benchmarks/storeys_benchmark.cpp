@@ -16,6 +16,8 @@
 //             another storey (height off by more than half the storeys' spacing). A walk whose
 //             odometry failed in places is anchored in pieces (anchored-in-parts): the figures are
 //             over the keyframes of its anchored pieces, and how many of all they are.
+//             A trusted odometry the solution broke and the repair mended (anchor/break_repair.hpp)
+//             is said, with the keyframes' APE of the same walk anchored without the repair.
 // Suites (command line; default all):
 //   buildings  the sample office and hall, and from ../shared/data AC20-FZK-Haus, Duplex_A and
 //              Office_A (where present), Go1 and hand-held, BIMSLAM_STOREYS_SEEDS seeds (3)
@@ -204,14 +206,41 @@ struct Anchored {
     bench::Accuracy keyframes;  // the placed ones (all, or the anchored pieces')
     size_t keyframe_count = 0, placed = 0, wrong_storey = 0;
     std::string pieces;  // anchored in parts: each piece's keyframes and verdict
+    std::string breaks;  // a trusted odometry the solution broke: repaired, left
 };
 
 Anchored RunAnchor(const Building& b, const fs::path& session,
+                   const std::vector<io::StampedPose>& truth, bool repair = true);
+
+// What the anchoring said of odometry breaks (anchor/break_repair.hpp); a repaired walk is
+// anchored again without the repair, to compare.
+std::string Breaks(const anchor::SessionResult& res, const Building& b, const fs::path& session,
                    const std::vector<io::StampedPose>& truth) {
+    std::string out;
+    if (!res.breaks_repaired.empty()) {
+        const Anchored plain = RunAnchor(b, session, truth, false);
+        char t[200];
+        std::snprintf(t, sizeof t,
+                      "repaired %zu break(s), %zu loop(s) dropped; without the repair kf "
+                      "%.2f/%.2f cm",
+                      res.breaks_repaired.size(), res.loops_dropped_at_breaks,
+                      plain.keyframes.rmse_cm, plain.keyframes.max_cm);
+        out = t;
+    }
+    if (!res.odometry_breaks.empty())
+        out += (out.empty() ? "" : "; ") + std::to_string(res.odometry_breaks.size()) +
+               " break(s) left";
+    return out;
+}
+
+Anchored RunAnchor(const Building& b, const fs::path& session,
+                   const std::vector<io::StampedPose>& truth, bool repair) {
     std::vector<anchor::AnchorSession> sessions;
     sessions.push_back(anchor::LoadAnchorSession(b.reference, {}));
     sessions.push_back(anchor::LoadAnchorSession(session, {}));
-    const anchor::AnchorResult r = anchor::Anchor(sessions, {});
+    anchor::AnchorConfig config;
+    config.repair_odometry_breaks = repair;
+    const anchor::AnchorResult r = anchor::Anchor(sessions, config);
     Anchored a;
     const anchor::SessionResult& res = r.sessions[0];
     a.verdict = std::string(anchor::ToString(res.verdict));
@@ -221,6 +250,7 @@ Anchored RunAnchor(const Building& b, const fs::path& session,
                     std::to_string(p.span.last) + " " + std::string(ToString(p.result.verdict));
     }
     for (const anchor::OdometryStretch& o : res.untrusted) a.pieces += "; failed " + o.Describe();
+    if (repair) a.breaks = Breaks(res, b, session, truth);
     if (res.verdict != anchor::Verdict::kAnchored &&
         res.verdict != anchor::Verdict::kAnchoredInParts)
         return a;
@@ -303,6 +333,7 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
         a.verdict.c_str(), a.keyframes.rmse_cm, a.keyframes.max_cm, a.placed, a.keyframe_count,
         a.wrong_storey, common::SecondsSince(t0));
     if (!a.pieces.empty()) std::printf("    pieces (keyframes): %s\n", a.pieces.c_str());
+    if (!a.breaks.empty()) std::printf("    odometry breaks: %s\n", a.breaks.c_str());
     std::fflush(stdout);
     ++t->runs;
     t->imu.push_back(imu.ape.rmse_cm);
