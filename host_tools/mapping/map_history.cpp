@@ -17,6 +17,8 @@ using nlohmann::json;
 json HistoryConfig::ToJson() const {
     return {{"same_min_iou", same_min_iou},
             {"same_max_centroid_m", same_max_centroid_m},
+            {"part_min_inside", part_min_inside},
+            {"part_margin_m", part_margin_m},
             {"moved_max_m", moved_max_m},
             {"shape_tolerance", shape_tolerance},
             {"shape_tolerance_m", shape_tolerance_m},

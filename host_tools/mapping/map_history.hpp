@@ -29,6 +29,14 @@ struct HistoryConfig {
     // 3D IoU at least this, or centres within this.
     double same_min_iou = 0.25;
     double same_max_centroid_m = 0.3;
+    // A part of a known object: a visit that saw an object from one side only finds a box that
+    // is a slice of the object's (the sample office's Go1 visit, walking past room 0.02's door,
+    // found the bookcase's west face alone: 5 cm of its 1.2 m, its centre 0.6 m off). An object
+    // with at least part_min_inside of its box's volume inside a known object's box grown by
+    // part_margin_m (a voxel of the map: a face lies on the box's side) is that object seen in
+    // part, not a new one; the known box stays as it was.
+    double part_min_inside = 0.8;
+    double part_margin_m = 0.05;
     // A moved object: one of the same shape (SameShape, object_tracks.hpp: its height within
     // shape_tolerance relative, or shape_tolerance_m, whichever is larger, and its volume; a box
     // of the map's 5 cm voxels measures an object to a few cm; a crate of 0.8 x 0.6 x 0.8 m and a

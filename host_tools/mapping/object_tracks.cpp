@@ -113,6 +113,16 @@ bool SamePlace(const Box& a, const Box& b, const HistoryConfig& config) {
            (a.center() - b.center()).norm() <= config.same_max_centroid_m;
 }
 
+double InsideShare(const Box& a, const Box& b, double margin_m) {
+    const double va = a.volume();
+    if (a.isEmpty() || va <= 0) return 0.0;
+    Box grown = b;
+    grown.min().array() -= margin_m;
+    grown.max().array() += margin_m;
+    const Box i = a.intersection(grown);
+    return i.isEmpty() ? 0.0 : i.volume() / va;
+}
+
 bool SameShape(const FoundChanges::Object& a, const FoundChanges::Object& b,
                const HistoryConfig& config) {
     const auto close = [&](double x, double y, double relative) {
@@ -154,6 +164,28 @@ ObjectTracks::Pairs ObjectTracks::InPlace(const std::vector<size_t>& alive,
     return OneToOne(pairs);
 }
 
+// The best-containing track of each unmatched object (the largest share inside, then the nearest
+// centre).
+ObjectTracks::Pairs ObjectTracks::Parts(const std::vector<size_t>& alive,
+                                        const VisitFindings& visit,
+                                        const std::vector<bool>& object_done) const {
+    Pairs parts;
+    const auto& objects = visit.found.objects;
+    for (size_t o = 0; o < objects.size(); ++o) {
+        if (object_done[o]) continue;
+        std::optional<std::pair<double, size_t>> best;  // (-share + closeness, track)
+        for (const size_t t : alive) {
+            const Box& known = tracks_[t].last.box;
+            const double share = InsideShare(objects[o].box, known, config_.part_margin_m);
+            if (share < config_.part_min_inside) continue;
+            const double key = -share + 1e-3 * (known.center() - objects[o].box.center()).norm();
+            if (!best || key < best->first) best = {key, t};
+        }
+        if (best) parts.emplace_back(best->second, o);
+    }
+    return parts;
+}
+
 // Moved objects: of the same shape and storey, within reach, whose old place was seen empty;
 // the nearest first.
 ObjectTracks::Pairs ObjectTracks::Moved(const std::vector<size_t>& tracks,
@@ -189,6 +221,19 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
         tracks_[t].last = objects[o];
         tracks_[t].last_seen = v;
         tracks_[t].sightings.push_back(Placed(visit, o, "seen"));
+        track_done[t] = object_done[o] = true;
+    }
+    for (const auto& [t, o] : Parts(alive, visit, object_done)) {
+        if (!track_done[t]) {
+            // A part only: the object stands where it is known to (its box kept, the sighting's
+            // place); the part found is said beside it.
+            json s = Placed(visit, o, "seen");
+            s["part"] = {{"centroid", s["centroid"]}, {"size_m", s["size_m"]}};
+            s["centroid"] = Vec(tracks_[t].last.box.center());
+            s["size_m"] = Vec(tracks_[t].last.box.sizes());
+            tracks_[t].sightings.push_back(s);
+            tracks_[t].last_seen = v;
+        }
         track_done[t] = object_done[o] = true;
     }
     // Where the tracks left unmatched stood: seen empty, or not judged (-1).

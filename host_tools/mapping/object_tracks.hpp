@@ -22,6 +22,8 @@ nlohmann::json Vec(const Eigen::Vector3d& v);
 // The same object in place: IoU or centres (HistoryConfig).
 bool SamePlace(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
                const HistoryConfig& config);
+// The share of a's volume inside b grown by margin_m on every side (0 for an empty a).
+double InsideShare(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b, double margin_m);
 // The same shape (HistoryConfig): the height within the tolerance, and the boxes' sorted plan
 // sides within it too, or else the voxel solids' volumes within volume_tolerance (a turn about z
 // changes an axis-aligned box's plan, not its solid's volume; but a solid seen from one side is
@@ -55,6 +57,10 @@ private:
 
     std::vector<size_t> Alive() const;
     Pairs InPlace(const std::vector<size_t>& alive, const VisitFindings& visit) const;
+    // Objects left unmatched that lie inside a known object's box (HistoryConfig::part_*), each
+    // with the track it is a part of; one track may have several parts.
+    Pairs Parts(const std::vector<size_t>& alive, const VisitFindings& visit,
+                const std::vector<bool>& object_done) const;
     Pairs Moved(const std::vector<size_t>& tracks, const std::vector<size_t>& objects,
                 const VisitFindings& visit, const std::vector<double>& seen_empty) const;
 

@@ -216,7 +216,8 @@ function objectHistory(box_, id) {
     const tr = el('tr', {class: 'hv', 'data-visit': s.visit, 'data-verdict': s.status}, t);
     el('td', {}, tr, s.visit);
     el('td', {}, tr, visitStart(s.visit).replace('T', ' ').replace('Z', ' UTC'));
-    el('td', {}, tr, s.status.replace('_', ' ') + (s.offset_m ? ' by ' + mm(s.offset_m) : '') +
+    el('td', {}, tr, s.status.replace('_', ' ') + (s.part ? ' in part (a ' + s.part.size_m.map(v => fmt(v, 2)).join(' × ') + ' m piece)' : '') +
+       (s.offset_m ? ' by ' + mm(s.offset_m) : '') +
        (s.floor_seen !== undefined ? ' (' + fmt(100 * s.floor_seen, 0) + ' % of its floor seen)' : ''));
     el('td', {class: 'num'}, tr, s.centroid ? s.centroid.map(v => fmt(v, 2)).join(', ') : '–');
     el('td', {class: 'num'}, tr, s.size_m ? s.size_m.map(v => fmt(v, 2)).join(' × ') : '–');

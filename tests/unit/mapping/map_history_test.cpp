@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "host_tools/mapping/object_tracks.hpp"
+
 namespace bimslam::mapping {
 namespace {
 namespace BIMSLAM_UNITY_ID {
@@ -86,6 +88,39 @@ TEST(MapHistory, AnObjectAddedInVisit2AndRemovedInVisit3IsNewThenGone) {
     EXPECT_EQ(Since(h, 2, "since_previous").at("gone"), json::array({"O1"}));
     EXPECT_TRUE(Since(h, 2, "since_previous").at("new").empty());
     EXPECT_TRUE(Since(h, 2, "since_model").at("new_objects").empty());
+}
+
+// A visit that saw a known object from one side finds a slice of its box (the sample office's
+// Go1 visit: the bookcase's west face, 5 cm of its 1.2 m). That is the bookcase seen in part, not
+// a new object; its box stays whole, so the next visit that sees it all finds it in place. A
+// crate beside it, outside its box, is new.
+TEST(MapHistory, AnObjectSeenInPartIsTheKnownObjectNotANewOne) {
+    const Box bookcase = Standing(3.0, 3.0, 1.2, 0.4, 2.0);  // x 2.4 .. 3.6
+    const Box face(Eigen::Vector3d(2.38, 2.85, 0.0), Eigen::Vector3d(2.43, 3.12, 1.95));
+    const Box crate = Standing(1.9, 3.0, 0.5, 0.5, 0.5);  // x 1.65 .. 2.15
+    const json h =
+        BuildHistory({Findings("v1", 1, {bookcase}), Findings("v2", 40, {face, crate}, {bookcase}),
+                      Findings("v3", 90, {bookcase, crate})});
+    ASSERT_EQ(h.at("objects").size(), 2u) << h.dump(1);
+    const json& o = h["objects"][0];
+    EXPECT_EQ(o.at("sightings").at(1).at("status"), "seen");
+    // Where it stands is its known box's centre; the part found is said beside it.
+    EXPECT_EQ(o.at("sightings").at(1).at("centroid"), json::array({3.0, 3.0, 1.0}));
+    EXPECT_NEAR(o.at("sightings").at(1).at("part").at("centroid")[0].get<double>(), 2.405, 1e-9);
+    EXPECT_EQ(o.at("sightings").at(2).at("status"), "seen") << "its whole box kept";
+    EXPECT_FALSE(o.at("sightings").at(2).contains("part"));
+    EXPECT_EQ(Since(h, 1, "since_previous").at("new"), json::array({"O2"})) << "the crate only";
+    EXPECT_TRUE(Since(h, 1, "since_previous").at("gone").empty());
+    EXPECT_TRUE(Since(h, 2, "since_previous").at("new").empty());
+}
+
+TEST(ObjectTracks, InsideShareCountsTheVolumeWithinTheGrownBox) {
+    const Box b = Standing(0, 0, 1, 1, 1);  // x, y -0.5 .. 0.5
+    EXPECT_DOUBLE_EQ(InsideShare(Standing(0, 0, 0.5, 0.5, 0.5), b, 0.0), 1.0);
+    EXPECT_NEAR(InsideShare(Standing(0.5, 0, 0.2, 0.2, 0.5), b, 0.0), 0.5, 1e-9);
+    EXPECT_NEAR(InsideShare(Standing(0.5, 0, 0.2, 0.2, 0.5), b, 0.05), 0.75, 1e-9);
+    EXPECT_EQ(InsideShare(Standing(3, 0, 0.2, 0.2, 0.5), b, 0.05), 0.0);
+    EXPECT_EQ(InsideShare(Box(), b, 0.05), 0.0) << "an empty box";
 }
 
 TEST(MapHistory, AnObjectWhosePlaceWasNotSeenIsNotObservedNotGone) {
