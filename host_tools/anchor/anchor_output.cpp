@@ -28,7 +28,7 @@ json PoseJson(const Eigen::Isometry3d& T) {
             {"yaw_deg", common::Heading(T.linear()) * 180 / M_PI}};
 }
 
-// A session's (or a piece's) verdict and the numbers behind it.
+// Odometry breaks (SessionResult::OdometryBreak) as anchor.json lists them.
 json BreaksJson(const std::vector<SessionResult::OdometryBreak>& breaks) {
     json out = json::array();
     for (const SessionResult::OdometryBreak& b : breaks)
@@ -39,6 +39,7 @@ json BreaksJson(const std::vector<SessionResult::OdometryBreak>& breaks) {
     return out;
 }
 
+// A session's (or a piece's) verdict and the numbers behind it.
 json ResultJson(const SessionResult& s) {
     json hyps = json::array();
     for (const Hypothesis& h : s.hypotheses) {

@@ -111,6 +111,19 @@ TEST(RigMapRead, ASmallPackageReadsBack) {
     EXPECT_EQ(b.spaces[0].triangles, a.spaces[0].triangles);
 }
 
+// The helper computes the header the writer does (its size and CRC-32s are a copy of the
+// format's, rig_map.cpp): a package it seals again is unchanged to the byte, so the cuts and
+// mutants below reach the section parser instead of all stopping at the checksums.
+TEST(RigMapRead, TheHeaderHelperSealsAsTheWriterDoes) {
+    const std::string bytes = SerializeRigMap(SmallRigMap());
+    std::string sealed = bytes;
+    sealed[24] ^= 0x5a;  // both CRC-32s and the size spoilt
+    sealed[28] ^= 0x5a;
+    sealed[16] ^= 0x01;
+    test::MakeRigMapHeaderAgree(&sealed);
+    EXPECT_EQ(sealed, bytes);
+}
+
 // Every length from the header's end on: the sections are cut wherever the cut falls.
 TEST(RigMapRead, EveryCutIsRefused) {
     const std::string bytes = SerializeRigMap(SmallRigMap());
@@ -126,15 +139,18 @@ TEST(RigMapRead, MutatedBytesAreReadOrRefusedNeverMisread) {
     std::mt19937 rng(7);
     std::uniform_int_distribution<size_t> at(8, bytes.size() - 1);  // past the magic
     std::uniform_int_distribution<int> value(0, 255);
-    size_t refused = 0;
+    size_t refused = 0, read = 0;
     for (const int flips : {1, 8}) {
         for (int k = 0; k < 2000; ++k) {
             std::string m = bytes;
             for (int f = 0; f < flips; ++f) m[at(rng)] = char(value(rng));
-            refused += !ReadOrRefused(m);
+            const bool ok = ReadOrRefused(m);
+            refused += !ok;
+            read += ok;
         }
     }
     EXPECT_GT(refused, 100u) << "the mutants reached the checks";
+    EXPECT_GT(read, 100u) << "the mutants got past the checksums (a flip in a float still reads)";
 }
 
 // The fuzz target's seed (tests/fuzz/corpus/rig_map_fuzz) is a package this build reads. It is
