@@ -11,9 +11,10 @@
 //    the scan when present), voxel downsampling at sizes adapted to the point count
 //    (Preprocessor).
 // 3. Registration of the downsampled scan to the local map from the prediction (ScanRegistration,
-//    Ceres): the pose at the scan start and a correction of the motion during the sweep, with
-//    degenerate directions kept at the prediction, and correspondences within a distance adapted
-//    to how far the predictions have been off (KISS-ICP's adaptive threshold).
+//    a Gauss-Newton step per association): the pose at the scan start and a correction of the
+//    motion during the sweep, with degenerate directions kept at the prediction, and
+//    correspondences within a distance adapted to how far the predictions have been off
+//    (KISS-ICP's adaptive threshold).
 //    Without the correction (its default), when the motion the estimate implies differs from
 //    the one the scan was deskewed with, the scan is deskewed again with it and registered once
 //    more. A start in motion: the first scan was deskewed with no motion; at the second scan, once
@@ -33,8 +34,7 @@
 // scan. Time stamps: one clock for scans, IMU and body motion (the sensor's; the caller converts
 // the Go1's).
 //
-// Allocation: none per scan after the first, except inside ceres::Solve, which builds its
-// evaluator on every call (measured in tests/unit/odometry/allocation_test.cpp).
+// Allocation: none per scan after the first (tests/unit/odometry/allocation_test.cpp).
 #pragma once
 
 #include <Eigen/Core>

@@ -2,13 +2,11 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "algorithms/odometry/scan_registration.hpp"
 
-#include <ceres/ceres.h>
 #include <time.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <vector>
 
 #include "algorithms/common/status.hpp"
@@ -20,8 +18,6 @@ void RegistrationConfig::Validate() const {
     const char* c = "RegistrationConfig";
     Require(max_iterations >= 1 && max_iterations <= 100, c, "max_iterations", max_iterations,
             "must be in [1, 100]");
-    Require(max_solver_iterations >= 1 && max_solver_iterations <= 100, c, "max_solver_iterations",
-            max_solver_iterations, "must be in [1, 100]");
     Require(max_correspondence_distance > 0 && max_correspondence_distance <= 10, c,
             "max_correspondence_distance", max_correspondence_distance, "must be in (0, 10] m");
     Require(cauchy_scale > 0 && cauchy_scale <= 10, c, "cauchy_scale", cauchy_scale,
@@ -75,69 +71,34 @@ struct RowModel {
 };
 }  // namespace
 
-// The whole scan as one residual block of n residuals over [delta, xi] (the IRLS weights are
-// inside), so that Ceres's overhead is per scan, not per point.
-class ScanRegistration::Cost final : public ceres::CostFunction {
-public:
-    Cost(const std::vector<Correspondence>* corr, const Eigen::Isometry3d& T0)
-        : corr_(corr), T0_(T0) {
-        mutable_parameter_block_sizes()->push_back(6);
-        mutable_parameter_block_sizes()->push_back(6);
-    }
-    void SetCount(int n) { set_num_residuals(n); }
-
-    bool Evaluate(double const* const* parameters, double* residuals,
-                  double** jacobians) const override {
-        const RowModel m(T0_, parameters[0], parameters[1]);
-        const int n = num_residuals();
-        for (int i = 0; i < n; ++i) {
-            const Correspondence& c = (*corr_)[size_t(i)];
-            const Eigen::Vector3d L = m.Local(c.p, c.alpha);
-            residuals[i] = c.sqrt_w * (c.n.dot(m.R * L + m.t) - c.d);
-            if (!jacobians) continue;
-            const Eigen::Vector3d Rn = m.R.transpose() * c.n;
-            if (jacobians[0]) {
-                double* J = jacobians[0] + 6 * i;
-                const Eigen::Vector3d jt = c.sqrt_w * (m.R0.transpose() * c.n);
-                const Eigen::Vector3d jr = c.sqrt_w * (m.Jr.transpose() * L.cross(Rn));
-                J[0] = jt.x(), J[1] = jt.y(), J[2] = jt.z();
-                J[3] = jr.x(), J[4] = jr.y(), J[5] = jr.z();
-            }
-            if (jacobians[1]) {
-                double* J = jacobians[1] + 6 * i;
-                const double s = c.sqrt_w * c.alpha;
-                const Eigen::Vector3d jt = s * Rn;
-                const Eigen::Vector3d jr = s * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha));
-                J[0] = jt.x(), J[1] = jt.y(), J[2] = jt.z();
-                J[3] = jr.x(), J[4] = jr.y(), J[5] = jr.z();
-            }
+// The normal equations of the weighted residuals at (delta, xi) over [delta; xi] (the header's
+// Jacobians): H = J^T W J and g = J^T W r, W the IRLS weights. Without the correction only
+// delta's block is filled (xi's rows stay zero).
+void ScanRegistration::NormalEquations(const Eigen::Isometry3d& T0, const common::Vector6d& delta,
+                                       const common::Vector6d& xi, int n, bool correcting,
+                                       Matrix12d* H, Vector12d* g) const {
+    const RowModel m(T0, delta.data(), xi.data());
+    const Eigen::Matrix3d R0t = m.R0.transpose(), Jrt = m.Jr.transpose(), Rt = m.R.transpose();
+    H->setZero();
+    g->setZero();
+    Vector12d J = Vector12d::Zero();
+    for (int i = 0; i < n; ++i) {
+        const Correspondence& c = corr_[size_t(i)];
+        const Eigen::Vector3d L = m.Local(c.p, c.alpha);
+        const Eigen::Vector3d Rn = Rt * c.n;
+        J.segment<3>(0) = R0t * c.n;
+        J.segment<3>(3) = Jrt * L.cross(Rn);
+        if (correcting) {
+            J.segment<3>(6) = c.alpha * Rn;
+            J.segment<3>(9) = c.alpha * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha));
         }
-        return true;
+        const double w = c.sqrt_w * c.sqrt_w;
+        const double r = c.n.dot(m.R * L + m.t) - c.d;
+        H->selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+        *g += (w * r) * J;
     }
-
-private:
-    const std::vector<Correspondence>* corr_;
-    Eigen::Isometry3d T0_;
-};
-
-// The correction's prior: r = s * xi / sigma (componentwise), s the point residuals' scale, so
-// that it weighs as one correspondence per unit of sigma.
-class ScanRegistration::CorrectionPrior final : public ceres::SizedCostFunction<6, 6> {
-public:
-    explicit CorrectionPrior(const common::Vector6d& scale_over_sigma) : k_(scale_over_sigma) {}
-    bool Evaluate(double const* const* parameters, double* residuals,
-                  double** jacobians) const override {
-        for (int k = 0; k < 6; ++k) residuals[k] = k_(k) * parameters[0][k];
-        if (jacobians && jacobians[0]) {
-            for (int k = 0; k < 36; ++k) jacobians[0][k] = 0;
-            for (int k = 0; k < 6; ++k) jacobians[0][7 * k] = k_(k);
-        }
-        return true;
-    }
-
-private:
-    common::Vector6d k_;
-};
+    *H = H->selfadjointView<Eigen::Lower>();
+}
 
 ScanRegistration::ScanRegistration(const RegistrationConfig& config, size_t max_points)
     : config_(config) {
@@ -219,6 +180,40 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
     return n;
 }
 
+// One Gauss-Newton step on the weighted problem (the weights fixed at this association, then
+// found again: iteratively reweighted least squares, as KISS-ICP takes one step per association).
+// The correction's prior r = k .* xi adds k^2 to its diagonal. The damping is that of the first
+// Levenberg-Marquardt iteration the Ceres solve this replaces took (diag(H) / 1e4, Ceres'
+// initial trust region radius): a no-op on a well-posed scan, a bound along a direction the scan
+// does not see until the degeneracy test below handles it. Parameters held (the rotation under
+// fix_rotation, the correction when not estimated) get an identity row: their step is zero.
+void ScanRegistration::Step(const Eigen::Isometry3d& T0, int n, bool correcting, bool fix_rotation,
+                            const common::Vector6d& prior_k, common::Vector6d* delta,
+                            common::Vector6d* xi) const {
+    Matrix12d H;
+    Vector12d g;
+    NormalEquations(T0, *delta, *xi, n, correcting, &H, &g);
+    if (correcting) {
+        H.diagonal().tail<6>() += prior_k.cwiseAbs2();
+        g.tail<6>() += prior_k.cwiseAbs2().cwiseProduct(*xi);
+    }
+    for (int k = 0; k < 12; ++k) {
+        const bool held = (k >= 6 && !correcting) || (k >= 3 && k < 6 && fix_rotation);
+        if (held) {
+            H.row(k).setZero();
+            H.col(k).setZero();
+            H(k, k) = 1;
+            g(k) = 0;
+            continue;
+        }
+        H(k, k) += std::clamp(H(k, k), 1e-6, 1e32) * 1e-4;
+    }
+    const Vector12d dx = H.ldlt().solve(-g);
+    if (!dx.allFinite()) return;  // no correspondence moves the pose: keep it
+    *delta += dx.head<6>();
+    *xi += dx.tail<6>();
+}
+
 std::chrono::steady_clock::time_point BudgetNow(bool cpu_time) {
     if (!cpu_time) return std::chrono::steady_clock::now();
     timespec t{};
@@ -266,26 +261,9 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
                                     ? in.max_correspondence_distance
                                     : config_.max_correspondence_distance;
     common::Vector6d delta = common::Vector6d::Zero(), xi = common::Vector6d::Zero();
-    Cost cost(&corr_, T0);
     // The prior weighs like a correspondence at the final Cauchy scale per sigma of correction.
     common::Vector6d prior_k = common::Vector6d::Zero();
     if (correcting) prior_k = in.correction_sigma.cwiseInverse() * config_.cauchy_scale;
-    CorrectionPrior prior(prior_k);
-    ceres::Problem::Options problem_options;
-    problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    std::optional<ceres::SubsetManifold> rotation_fixed;  // delta = [rho; phi]: phi held at 0
-    if (in.fix_rotation) rotation_fixed.emplace(6, std::vector<int>{3, 4, 5});
-    ceres::Solver::Options options;
-    // The normal equations (6x6, or 12x12 with the correction) by Cholesky rather than a QR of
-    // the n x 6 Jacobian: the Householder QR of ~2000 rows was a tenth of a LiDAR-only scan's
-    // profile. Same iterations and APE on 18 runs (README.md, "Time"); the problem is well
-    // conditioned (a degenerate direction is handled after the solve, below).
-    options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-    options.max_num_iterations = config_.max_solver_iterations;
-    options.num_threads = 1;
-    options.logging_type = ceres::SILENT;
-    options.minimizer_progress_to_stdout = false;
 
     int n = 0;
     neighbours_cached_ = 0;  // another map, or the same one changed since the last Align
@@ -293,9 +271,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     double kernel = std::max(config_.cauchy_scale_initial, max_distance / 6);
     for (int it = 0; it < config_.max_iterations;
          ++it, kernel = std::max(config_.cauchy_scale, kernel / 2)) {
-        const double remaining =
-            std::chrono::duration<double>(deadline - BudgetNow(config_.cpu_time_budget)).count();
-        if (remaining <= 0) {
+        if (BudgetNow(config_.cpu_time_budget) >= deadline) {
             result_.over_budget = true;
             break;
         }
@@ -310,19 +286,8 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
             break;  // keep the last solution, whose correspondences were enough
         }
         n = found;
-        cost.SetCount(n);
         const common::Vector6d xi_before = xi;
-        ceres::Problem problem(problem_options);
-        problem.AddResidualBlock(&cost, nullptr, delta.data(), xi.data());
-        if (rotation_fixed) problem.SetManifold(delta.data(), &*rotation_fixed);
-        if (correcting) {
-            problem.AddResidualBlock(&prior, nullptr, xi.data());
-        } else {
-            problem.SetParameterBlockConstant(xi.data());
-        }
-        options.max_solver_time_in_seconds = remaining;
-        ceres::Solver::Summary summary;
-        ceres::Solve(options, &problem, &summary);
+        Step(T0, n, correcting, in.fix_rotation, prior_k, &delta, &xi);
         ++result_.iterations;
         const Eigen::Isometry3d step = common::Between(T, ApplyPerturbation(T0, delta));
         // The correction's step, as the displacement it makes at the end of the sweep 10 m out.
@@ -344,34 +309,31 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     int inliers = 0;
     for (int i = 0; i < n; ++i) mean_range += corr_[size_t(i)].p.norm();
     mean_range = n > 0 ? std::max(1.0, mean_range / n) : 1.0;
-    using Matrix12d = Eigen::Matrix<double, 12, 12>;
-    using Vector12d = Eigen::Matrix<double, 12, 1>;
-    Matrix12d H = Matrix12d::Zero();
+    const Eigen::Matrix3d R0t = m.R0.transpose();
     for (int i = 0; i < n; ++i) {
         const Correspondence& c = corr_[size_t(i)];
-        const Eigen::Vector3d L = m.Local(c.p, c.alpha);
-        const Eigen::Vector3d Rn = m.R.transpose() * c.n;
-        Vector12d J;
-        J.segment<3>(0) = m.R0.transpose() * c.n;
-        J.segment<3>(3) = m.Jr.transpose() * L.cross(Rn) / mean_range;
-        J.segment<3>(6) = c.alpha * Rn;
-        J.segment<3>(9) = c.alpha * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha)) / mean_range;
         const double w = c.sqrt_w * c.sqrt_w;
-        const double r = c.n.dot(m.R * L + m.t) - c.d;
-        H.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+        const double r = c.n.dot(m.R * m.Local(c.p, c.alpha) + m.t) - c.d;
         // The axis's evidence: a surface facing it (its normal within 60 deg), hit by the ray at
         // more than grazing incidence (cos > 0.1). A voxel holding one or two rings' points at a
         // corner fits a "plane" across the walls, and the rays run along it: in a 2.4 m shaft
         // such voxels at the map's upper and lower edge put 1-2 % of the weights on the height.
-        const double facing = in.axis.dot(J.head<3>());  // cos of the normal to the axis
-        if (std::abs(facing) >= 0.5 && std::abs(J.head<3>().dot(c.p)) > 0.1 * c.p.norm()) {
+        const Eigen::Vector3d n0 = R0t * c.n;   // the normal in T0's lidar frame
+        const double facing = in.axis.dot(n0);  // cos of the normal to the axis
+        if (std::abs(facing) >= 0.5 && std::abs(n0.dot(c.p)) > 0.1 * c.p.norm()) {
             axis_sum += w * facing * facing;
         }
         weight_sum += w;
         weighted_sq += w * r * r;
         inliers += std::abs(r) <= config_.inlier_distance ? 1 : 0;
     }
-    H = H.selfadjointView<Eigen::Lower>();
+    Matrix12d H;
+    Vector12d g;
+    NormalEquations(T0, delta, xi, n, correcting, &H, &g);
+    Vector12d scale12 = Vector12d::Ones();  // J' = J S: rotations per metre of mean range
+    scale12.segment<3>(3).setConstant(1 / mean_range);
+    scale12.segment<3>(9).setConstant(1 / mean_range);
+    H = scale12.asDiagonal() * H * scale12.asDiagonal();
     common::Vector6d scale;
     scale << 1, 1, 1, 1 / mean_range, 1 / mean_range, 1 / mean_range;  // x = S x'
     // The correction's block: its prior (in scaled units), or pinned when not estimated.

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
-// Scan-to-map registration: point-to-plane ICP against the VoxelMap's planes, solved with Ceres;
+// Scan-to-map registration: point-to-plane ICP against the VoxelMap's planes, solved by damped
+// Gauss-Newton on the normal equations (12 unknowns; Ceres did it until stop 57: README.md,
+// "Gauss-Newton without Ceres");
 // optionally LOAM edge points point-to-line against an edge map (edge_features.hpp).
 //
 // Why point-to-plane, and edges off by default: measured on the project's 3-minute captures
@@ -30,11 +32,11 @@
 // with correction_sigma (over the sweep), so that it stays put where the scene cannot see it.
 //
 // Robust loss: Cauchy, applied by iteratively reweighted least squares: each outer iteration
-// finds correspondences at the current pose and sets w_i = 1 / (1 + (r_i / c)^2); Ceres then
-// solves the weighted problem. c is annealed from coarse to fine (graduated non-convexity, as in
-// Yang et al., "GNC", RA-L 2020). Correspondences farther than the correspondence distance are
-// not made at all; the caller adapts that distance to how good its predictions have been
-// (KISS-ICP's adaptive threshold, lidar_odometry.hpp).
+// finds correspondences at the current pose and sets w_i = 1 / (1 + (r_i / c)^2); one Gauss-Newton
+// step then solves the weighted problem. c is annealed from coarse to fine (graduated
+// non-convexity, as in Yang et al., "GNC", RA-L 2020). Correspondences farther than the
+// correspondence distance are not made at all; the caller adapts that distance to how good its
+// predictions have been (KISS-ICP's adaptive threshold, lidar_odometry.hpp).
 //
 // Degeneracy (Zhang, Kaess, Singh, "On Degeneracy of Optimization-based State Estimation
 // Problems", ICRA 2016): the information about delta with the correction marginalised out (the
@@ -64,12 +66,6 @@ struct RegistrationConfig {
     // odometry's own work, not the time other processes took (LidarOdometry uses it too).
     bool cpu_time_budget = false;
     int max_iterations = 20;                   // outer: correspondences found again
-    // Ceres iterations per outer iteration. One: each reweighting takes one Levenberg-Marquardt
-    // step and the correspondences are found again (iteratively reweighted least squares, as
-    // KISS-ICP takes one Gauss-Newton step per association). Four cost up to a fifth more CPU
-    // per scan for 1 % fewer outer iterations and the same APE (README.md, "One solver step per
-    // reweighting").
-    int max_solver_iterations = 1;
     double max_correspondence_distance = 0.5;  // m
     // The Cauchy scale is annealed: it starts at cauchy_scale_initial, so that a prediction a
     // few decimetres off still pulls every point, and halves each outer iteration down to
@@ -188,8 +184,15 @@ private:
         double sqrt_w = 1;
         double alpha = 0;
     };
-    class Cost;
-    class CorrectionPrior;
+    using Matrix12d = Eigen::Matrix<double, 12, 12>;
+    using Vector12d = Eigen::Matrix<double, 12, 1>;
+    // J^T W J and J^T W r over [delta; xi] of the first n correspondences at (delta, xi).
+    void NormalEquations(const Eigen::Isometry3d& T0, const common::Vector6d& delta,
+                         const common::Vector6d& xi, int n, bool correcting, Matrix12d* H,
+                         Vector12d* g) const;
+    // One damped Gauss-Newton step of (delta, xi) on the first n correspondences.
+    void Step(const Eigen::Isometry3d& T0, int n, bool correcting, bool fix_rotation,
+              const common::Vector6d& prior_k, common::Vector6d* delta, common::Vector6d* xi) const;
     int Associate(const AlignInput& in, const VoxelMap& map, const Eigen::Isometry3d& T,
                   const common::Vector6d& xi, double max_distance, double cauchy_scale);
     // Where the scan's evidence along in.axis is under in.hold_axis_below, the solution `scaled`

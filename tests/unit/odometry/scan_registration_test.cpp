@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
-// Point-to-plane registration with Ceres against the voxel map: exact poses recovered in a
+// Point-to-plane registration (Gauss-Newton) against the voxel map: exact poses recovered in a
 // furnished room; a corridor's axis detected as degenerate and kept at the initial guess.
 #include "algorithms/odometry/scan_registration.hpp"
 
@@ -144,6 +144,65 @@ TEST(ScanRegistration, TheTwoFacesOfAThinWallAreNotOnePlane) {
     const Eigen::Isometry3d err = truth.inverse() * r.T_map_lidar;
     EXPECT_LT(err.translation().norm(), 0.01);
     EXPECT_LT(common::RotationAngle(err) * 180 / M_PI, 0.2);
+}
+
+// The gyro's gate registers again with the rotation held (AlignInput::fix_rotation): the
+// rotation is the guess's to the bit and the translation is found.
+TEST(ScanRegistration, AHeldRotationStaysTheGuessAndTheTranslationIsFound) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    const Eigen::Isometry3d map_pose = Pose(0, 0, 0.5, 0);
+    const Eigen::Isometry3d truth = Pose(0.25, -0.12, 0.52, 0.08, 0.01, -0.015);
+    Preprocessor pre;
+    VoxelMap map;
+    map.Insert(WorldMapPoints(scene, map_pose, pre));
+    pre.Run(test::Scan(
+                scene, [&](double) { return truth; }, 100'000'000, 2),
+            ScanMotion());
+    AlignInput in;
+    in.points = pre.registration_points();
+    in.T0 = truth;
+    in.T0.translation() += Eigen::Vector3d(0.12, -0.08, 0.04);
+    in.fix_rotation = true;
+    ScanRegistration reg;
+    const RegistrationResult& r =
+        reg.Align(in, map, ScanRegistration::Clock::now() + std::chrono::seconds(10));
+    EXPECT_FALSE(r.failed);
+    EXPECT_LT(common::RotationAngle(in.T0.inverse() * r.T_map_lidar), 1e-12);
+    EXPECT_LT((r.T_map_lidar.translation() - truth.translation()).norm(), 0.01);
+}
+
+// A sweep taken while turning at 0.5 rad/s and walking at 1 m/s, not deskewed: a rigid pose
+// cannot fit it; with the correction of the sweep's motion (AlignInput::correction_sigma) the
+// registration finds the pose at the sweep's start and, with it, the motion over the sweep.
+TEST(ScanRegistration, TheSweepsMotionIsEstimatedWithThePose) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    const Eigen::Isometry3d map_pose = Pose(0, 0, 0.5, 0);
+    const auto moving = [](double t) { return Pose(0.2 + 1.0 * t, -0.1, 0.5, 0.05 + 0.5 * t); };
+    Preprocessor pre;
+    VoxelMap map;
+    map.Insert(WorldMapPoints(scene, map_pose, pre));
+    pre.Run(test::Scan(scene, moving, 100'000'000, 2), ScanMotion());
+    AlignInput in;
+    in.points = pre.registration_points();
+    in.alpha = pre.registration_alpha();
+    in.T0 = map_pose;
+    const auto deadline = [] { return ScanRegistration::Clock::now() + std::chrono::seconds(10); };
+    ScanRegistration reg;
+    const RegistrationResult rigid = reg.Align(in, map, deadline());
+    in.correction_sigma << 0.1, 0.1, 0.1, 0.05, 0.05, 0.05;
+    const RegistrationResult& r = reg.Align(in, map, deadline());
+    ASSERT_FALSE(r.failed);
+    const double duration = pre.duration_s();
+    ASSERT_GT(duration, 0.09);
+    const Eigen::Isometry3d start = moving(0);
+    const double rigid_error = (rigid.T_map_lidar.translation() - start.translation()).norm();
+    const double error = (r.T_map_lidar.translation() - start.translation()).norm();
+    EXPECT_LT(error, 0.01);
+    EXPECT_LT(common::RotationAngle(start.inverse() * r.T_map_lidar) * 180 / M_PI, 0.2);
+    EXPECT_GT(rigid_error, 2 * error) << "a rigid pose fits the smeared sweep worse";
+    // The correction is the motion over the sweep: 0.05 rad of yaw and 10 cm along the heading.
+    EXPECT_NEAR(r.correction(5), 0.5 * duration, 0.01);
+    EXPECT_NEAR(r.correction.head<2>().norm(), 1.0 * duration, 0.02);
 }
 
 TEST(ScanRegistration, TooFewCorrespondencesFailsWithTheGuess) {
