@@ -46,15 +46,14 @@ namespace {
 struct RowModel {
     Eigen::Matrix3d R0, R, Jr;
     Eigen::Vector3d t, rho_x, phi_x;
-    RowModel(const Eigen::Isometry3d& T0, const double* delta, const double* xi) {
-        const Eigen::Map<const common::Vector6d> x(delta);
+    RowModel(const Eigen::Isometry3d& T0, const common::Vector6d& delta,
+             const common::Vector6d& xi) {
         R0 = T0.linear();
-        R = R0 * common::ExpSO3(x.tail<3>());
-        t = T0.translation() + R0 * x.head<3>();
-        Jr = common::LeftJacobianSO3(-x.tail<3>());
-        const Eigen::Map<const common::Vector6d> c(xi);
-        rho_x = c.head<3>();
-        phi_x = c.tail<3>();
+        R = R0 * common::ExpSO3(delta.tail<3>());
+        t = T0.translation() + R0 * delta.head<3>();
+        Jr = common::LeftJacobianSO3(-delta.tail<3>());
+        rho_x = xi.head<3>();
+        phi_x = xi.tail<3>();
     }
     // L = Exp(alpha phi_x) q + alpha rho_x, second order (CorrectPoint).
     Eigen::Vector3d Local(const Eigen::Vector3d& q, double alpha) const {
@@ -77,7 +76,7 @@ struct RowModel {
 void ScanRegistration::NormalEquations(const Eigen::Isometry3d& T0, const common::Vector6d& delta,
                                        const common::Vector6d& xi, int n, bool correcting,
                                        Matrix12d* H, Vector12d* g) const {
-    const RowModel m(T0, delta.data(), xi.data());
+    const RowModel m(T0, delta, xi);
     const Eigen::Matrix3d R0t = m.R0.transpose(), Jrt = m.Jr.transpose(), Rt = m.R.transpose();
     H->setZero();
     g->setZero();
@@ -306,7 +305,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
 
     // The normal equations at the solution, with rotation scaled to metres (header comment):
     // H over [delta, xi], the correction's prior added to its block.
-    const RowModel m(T0, delta.data(), xi.data());
+    const RowModel m(T0, delta, xi);
     double mean_range = 0, weight_sum = 0, weighted_sq = 0, axis_sum = 0;
     int inliers = 0;
     for (int i = 0; i < n; ++i) mean_range += corr_[size_t(i)].p.norm();
