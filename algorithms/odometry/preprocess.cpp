@@ -13,6 +13,7 @@ using common::Require;
 namespace {
 
 constexpr size_t kRangeSamples = 4096;
+constexpr size_t kAhead = 16;  // VoxelFilter's prefetch distance in points
 
 size_t NextPowerOfTwo(size_t n) {
     size_t p = 1;
@@ -160,8 +161,19 @@ void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<co
         // so skipping on them changes nothing; a ring's entry is one of kRingKeys by its low bits.
         uint64_t previous = common::VoxelHash::kEmpty;
         ring_keys_.fill(common::VoxelHash::kEmpty);
+        // A lookup in the table is a cache miss the loop would wait for (27 % of the filter's
+        // samples were on the one load of the slot, `perf annotate`), and no point's key depends
+        // on it: the keys are computed kAhead points early and their slots prefetched.
+        std::array<uint64_t, kAhead> ahead;
+        const auto look_ahead = [&](size_t j) {
+            const uint64_t key = common::VoxelKey(in[j], inv);
+            ahead[j % kAhead] = key;
+            __builtin_prefetch(&table_[common::MixKey(key) & mask]);
+        };
+        for (size_t j = 0; j < std::min(kAhead, in.size()); ++j) look_ahead(j);
         for (size_t i = 0; i < in.size() && !full; ++i) {
-            const uint64_t key = common::VoxelKey(in[i], inv);
+            const uint64_t key = ahead[i % kAhead];
+            if (i + kAhead < in.size()) look_ahead(i + kAhead);
             if (key == previous) continue;
             previous = key;
             if (!ring.empty()) {
