@@ -300,7 +300,7 @@ void Health::QueueHealth(const Snapshot& snapshot) {
     const int64_t now = snapshot.now, now_rt = snapshot.now_rt;
     const double interval_s = snapshot.interval_s, cpu_percent = snapshot.cpu_percent;
     const RecorderCounters& rc = snapshot.rc;
-    if (bimslam::rig_health_t* h = in_.health_out.BeginPushWaiting(in_.replay, in_.stop)) {
+    if (bimslam::rig_health_t* h = in_.health_out.BeginPushWaiting(in_.replay, never_)) {
         h->schema_version = bimslam::rig_health_t::SCHEMA_VERSION;
         h->sample_time_ns = now_rt;
         h->publish_time_ns = now_rt;
@@ -364,7 +364,7 @@ void Health::QueueHealth(const Snapshot& snapshot) {
 void Health::QueueOusterStats(const Snapshot& n) {
     const IngestCounters& ic = n.ic;
     const int64_t now_rt = n.now_rt;
-    if (bimslam::ouster_stats_t* s = in_.stats_out.BeginPushWaiting(in_.replay, in_.stop)) {
+    if (bimslam::ouster_stats_t* s = in_.stats_out.BeginPushWaiting(in_.replay, never_)) {
         const ouster::LidarStats& l = ic.lidar;
         s->schema_version = bimslam::ouster_stats_t::SCHEMA_VERSION;
         s->sample_time_ns = now_rt;

@@ -103,6 +103,9 @@ private:
     LcmCounters last_lcm_{};
     uint64_t last_queue_drops_ = 0;
     std::vector<uint64_t> last_thread_misses_;
+    // A replay's messages wait for room even while this thread is told to stop: the LCM thread
+    // drains until it is done (Rig::StopInOrder).
+    std::atomic<bool> never_{false};
 };
 
 }  // namespace bimslam::rig

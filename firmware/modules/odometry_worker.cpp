@@ -58,9 +58,12 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
     if (first_stamp_ns_ < 0) first_stamp_ns_ = out.stamp_ns;
     const double t_s = double(out.stamp_ns - first_stamp_ns_) * 1e-9;
     trust_.Add(size_t(out.scan_index), t_s, r.flags, r.check_reasons, out.stamp_ns);
-    // Outputs. A full queue drops the item and counts it (the consumer is behind).
+    // Outputs. A full queue drops the item and counts it (the consumer is behind); a replay
+    // waits for room even once the sources have stopped: every consumer runs until this thread
+    // is done (Rig::StopInOrder). Waiting on `stop` lost the last keyframe on LCM in 2 of 12
+    // replays at --speed max, when the end of the recording found the paced LCM queue full.
     const auto push = [&](auto& queue, auto&& fill) {
-        auto* item = queue.BeginPushWaiting(config_.lossless, stop);
+        auto* item = queue.BeginPushWaiting(config_.lossless, never_);
         if (item == nullptr) {
             queue.CountDrop();
             ++c_.outputs_dropped;

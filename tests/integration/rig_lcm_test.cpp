@@ -539,6 +539,7 @@ TEST_F(RigLcm, ReplayAtFullSpeedLosesNothingOnAnyOutput) {
     }
     EXPECT_EQ(j["lcm_logged"], total);
     EXPECT_GT(published["BIMSLAM_KEYFRAME"].get<int>(), 5);
+    EXPECT_EQ(published["BIMSLAM_KEYFRAME"], j["keyframes"]);  // the last one too
     EXPECT_EQ(published["BIMSLAM_ODOMETRY"], j["scans"]);
     EXPECT_EQ(published["BIMSLAM_IMU"], j["imu_samples"]);
     EXPECT_EQ(published["BIMSLAM_GO1_STATE"], j["go1_samples"]);
