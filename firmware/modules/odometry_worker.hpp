@@ -83,7 +83,7 @@ private:
     WorkerCounters c_;
     runtime::Seqlock<WorkerCounters> counters_;
     odometry::TrajectoryTrust trust_;
-    int64_t first_stamp_ns_ = -1;  // the run's first scan's stamp: TrajectoryTrust's seconds
+    int64_t first_stamp_ns_ = -1;     // the run's first scan's stamp: TrajectoryTrust's seconds
     std::atomic<bool> never_{false};  // a replay's outputs wait for room until pushed
 };
 

@@ -388,6 +388,71 @@ size_t AddObstacle(OccupancyGrid& g, const common::TriangleMesh& mesh, double ob
     return taken;
 }
 
+namespace {
+// The part of polygon `in` on one side of the plane z = h (Sutherland-Hodgman, one plane).
+void ClipZ(const std::vector<Eigen::Vector3d>& in, double h, bool keep_above,
+           std::vector<Eigen::Vector3d>* out) {
+    out->clear();
+    for (size_t i = 0; i < in.size(); ++i) {
+        const Eigen::Vector3d& a = in[i];
+        const Eigen::Vector3d& b = in[(i + 1) % in.size()];
+        const bool a_in = keep_above ? a.z() >= h : a.z() <= h;
+        const bool b_in = keep_above ? b.z() >= h : b.z() <= h;
+        if (a_in) out->push_back(a);
+        if (a_in != b_in) out->push_back(a + (h - a.z()) / (b.z() - a.z()) * (b - a));
+    }
+}
+}  // namespace
+
+std::vector<uint8_t> StandableCells(const BimModel& model, const OccupancyGrid& g,
+                                    double headroom_m) {
+    constexpr double kFloorBand = 0.3;   // m around the storey's elevation: the slab's faces
+    constexpr double kAboveFloor = 0.3;  // m: what is lower is the floor, a threshold, a step
+    std::vector<uint8_t> floor(g.cells.size(), 0), overhead(g.cells.size(), 0);
+    std::vector<Eigen::Vector3d> poly, clipped;
+    for (const BimElement& e : model.elements) {
+        if (e.role != ElementRole::kStructure) continue;
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            const auto& tri = model.mesh.triangles[t];
+            poly.clear();
+            for (const uint32_t k : tri) poly.push_back(model.mesh.vertices[k].cast<double>());
+            const Eigen::Vector3d n = (poly[1] - poly[0]).cross(poly[2] - poly[0]);
+            const double zmin = std::min({poly[0].z(), poly[1].z(), poly[2].z()});
+            const double zmax = std::max({poly[0].z(), poly[1].z(), poly[2].z()});
+            // A horizontal face at the storey's elevation (the slab's top or underside): floor.
+            if (std::abs(n.z()) > 0.7 * n.norm() && zmin > g.floor_z - kFloorBand &&
+                zmax < g.floor_z + kFloorBand) {
+                RasterizeTriangle(g, poly[0].head<2>(), poly[1].head<2>(), poly[2].head<2>(),
+                                  floor);
+                continue;
+            }
+            // Any structure between kAboveFloor and the headroom: in the way of standing.
+            const double lo = g.floor_z + kAboveFloor, hi = g.floor_z + headroom_m;
+            if (zmax < lo || zmin > hi) continue;
+            ClipZ(poly, lo, true, &clipped);
+            ClipZ(clipped, hi, false, &poly);
+            for (size_t k = 1; k + 1 < poly.size(); ++k) {
+                RasterizeTriangle(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(),
+                                  overhead);
+            }
+        }
+    }
+    // Some models have no floor slabs (Office_A's storeys have none, only ceilings): where the
+    // floor faces are under less than half of the free space, the floor is not modelled and not
+    // asked for.
+    size_t free = 0, floored = 0;
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        free += g.cells[i] == Cell::kFree;
+        floored += g.cells[i] == Cell::kFree && floor[i];
+    }
+    const bool floor_modelled = 2 * floored >= free;
+    std::vector<uint8_t> standable(g.cells.size(), 0);
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        standable[i] = g.cells[i] == Cell::kFree && (floor[i] || !floor_modelled) && !overhead[i];
+    }
+    return standable;
+}
+
 io::Image GridImage(const OccupancyGrid& g) {
     io::Image img(g.width, g.height, 1, 205);
     for (int y = 0; y < g.height; ++y) {

@@ -69,6 +69,17 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
 size_t AddObstacle(OccupancyGrid& grid, const common::TriangleMesh& mesh,
                    double object_height_m = GridConfig{}.object_height_m);
 
+// Per cell of `grid` (of `model`'s storey), 1 where a robot or a person can stand: a free cell
+// with the storey's floor under it (a horizontal face of the structure within 0.3 m of the
+// storey's elevation) and no structure between 0.3 m and headroom_m above the floor. A storey
+// whose floor faces lie under less than half of its free space has no floor slabs modelled
+// (Office_A's): there the floor is not asked for. The grid's one slice sees neither a void in
+// the floor (an attic floor that stops short of the eaves, a stairwell) nor a roof that comes
+// down below a person's head: a hand-held walk of the storeys benchmark once started over
+// FZK-Haus' ground floor at attic height, its sensor inside the roof (issue 31).
+std::vector<uint8_t> StandableCells(const BimModel& model, const OccupancyGrid& grid,
+                                    double headroom_m);
+
 // 4-connected components of the cells `in` accepts (by index y * width + x): per cell its
 // component, numbered from 0, or -1.
 std::vector<int> LabelRegions(const OccupancyGrid& grid, const std::function<bool(size_t)>& in);

@@ -70,14 +70,25 @@ std::map<int64_t, StoreyRow> ReadStoreys(const fs::path& file) {
     return out;
 }
 
-// A random place on the storey's grid with room around it (clearance + 0.3 m).
-Eigen::Vector2d RandomPlace(const bim::OccupancyGrid& g, double clearance, std::mt19937_64& rng) {
+// A random place on the storey's grid with room around it (clearance + 0.3 m) where the platform
+// can stand (bim::StandableCells): a floor under it and `headroom` above it. A place that is not
+// is drawn again, so every walk whose places were standable stays the walk it was.
+Eigen::Vector2d RandomPlace(const bim::BimModel& model, const bim::OccupancyGrid& g,
+                            double clearance, double headroom, std::mt19937_64& rng) {
     std::vector<size_t> cells;
     for (size_t i = 0; i < g.cells.size(); ++i) {
         if (g.cells[i] == bim::Cell::kFree && g.clearance[i] > clearance + 0.3) cells.push_back(i);
     }
     if (cells.empty()) return Eigen::Vector2d::Zero();
-    const size_t i = cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
+    const std::vector<uint8_t> standable = bim::StandableCells(model, g, headroom);
+    size_t i = 0;
+    for (int tries = 0; tries < 10000; ++tries) {
+        i = cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
+        if (standable[i]) break;
+        const Eigen::Vector2d p = g.Center(int(i % size_t(g.width)), int(i / size_t(g.width)));
+        std::printf("  (%s: no place to stand at %.2f %.2f; drawn again)\n", g.storey.c_str(),
+                    p.x(), p.y());
+    }
     return g.Center(int(i % size_t(g.width)), int(i / size_t(g.width)));
 }
 
@@ -98,9 +109,12 @@ std::optional<simulate::Scenario> StoreyWalk(const Building& b, Platform platfor
     const int from = seed % 2 ? lower : upper, to = seed % 2 ? upper : lower;
     std::mt19937_64 rng(seed * 7919);
     s.path.mode = simulate::PathMode::kWaypoints;
-    s.path.waypoints = {RandomPlace(g.grids[size_t(from)], clearance, rng),
-                        RandomPlace(g.grids[size_t(to)], clearance, rng),
-                        RandomPlace(g.grids[size_t(to)], clearance, rng)};
+    // Headroom: a person's height with a margin, or the Go1 with its lidar.
+    const double headroom = platform == Platform::kHandheld ? 1.9 : 0.8;
+    const auto place = [&](int storey) {
+        return RandomPlace(b.model, g.grids[size_t(storey)], clearance, headroom, rng);
+    };
+    s.path.waypoints = {place(from), place(to), place(to)};
     s.path.waypoint_storeys = {b.model.storeys[size_t(from)].name, b.model.storeys[size_t(to)].name,
                                b.model.storeys[size_t(to)].name};
     return s;

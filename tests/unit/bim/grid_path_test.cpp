@@ -55,6 +55,85 @@ TEST(OccupancyGrid, SliceFootprintsAndReachableFreeSpace) {
     EXPECT_THROW(BuildOccupancyGrid(m, 0, config), common::Error);
 }
 
+// A sloped roof face over the north room: z 3 at y 5 down to 1 at y 8 (two triangles).
+void AddRoofFace(BimModel& m) {
+    BimElement e;
+    e.global_id = "roof";
+    e.ifc_class = "IfcSlab";
+    e.role = ElementRole::kStructure;
+    e.first_triangle = uint32_t(m.mesh.triangles.size());
+    e.triangle_count = 2;
+    const uint32_t base = uint32_t(m.mesh.vertices.size());
+    for (const Eigen::Vector3f& v : {Eigen::Vector3f(0, 5, 3), Eigen::Vector3f(12, 5, 3),
+                                     Eigen::Vector3f(12, 8, 1), Eigen::Vector3f(0, 8, 1)}) {
+        m.mesh.vertices.push_back(v);
+    }
+    m.mesh.triangles.push_back({base, base + 1, base + 2});
+    m.mesh.triangles.push_back({base, base + 2, base + 3});
+    m.triangle_element.insert(m.triangle_element.end(), 2, uint32_t(m.elements.size()));
+    m.elements.push_back(e);
+}
+
+TEST(OccupancyGrid, StandableCellsHaveAFloorUnderThemAndHeadroomAboveThem) {
+    BimModel m = Floor();
+    const OccupancyGrid g = BuildOccupancyGrid(m, 0, {});
+    const auto at = [&g](const std::vector<uint8_t>& s, double x, double y) {
+        int cx, cy;
+        EXPECT_TRUE(g.ToCell({x, y}, &cx, &cy));
+        return s[size_t(cy) * g.width + cx] != 0;
+    };
+    const std::vector<uint8_t> person = StandableCells(m, g, 1.9);
+    EXPECT_TRUE(at(person, 3, 1.5));
+    EXPECT_TRUE(at(person, 10, 2));
+    EXPECT_TRUE(at(person, 3, 7));
+    EXPECT_FALSE(at(person, 6.0, 1.0));    // a wall
+    EXPECT_FALSE(at(person, 9.7, 6.9));    // the desk
+    EXPECT_FALSE(at(person, -0.5, -0.5));  // outdoors
+
+    // The roof comes down to 1.9 m at y = 5 + 1.1 / (2 / 3) = 6.65: a person stands before it, not
+    // past it; the Go1 (0.8 m) under all of it (the grid's one slice at 0.6 m sees none of it).
+    AddRoofFace(m);
+    const std::vector<uint8_t> roofed = StandableCells(m, g, 1.9);
+    EXPECT_TRUE(at(roofed, 3, 6.4));
+    EXPECT_FALSE(at(roofed, 3, 6.9));
+    EXPECT_FALSE(at(roofed, 3, 7.5));
+    EXPECT_TRUE(at(roofed, 3, 1.5));
+    const std::vector<uint8_t> go1 = StandableCells(m, g, 0.8);
+    EXPECT_TRUE(at(go1, 3, 7.5));
+
+    // The floor slab only under x < 6: the east half is a void (as FZK-Haus' attic floor stops
+    // short of its eaves), free at the slice's height and no place to stand.
+    BimModel half = Floor();
+    for (const BimElement& e : half.elements) {
+        if (e.ifc_class != "IfcSlab") continue;
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (const uint32_t k : half.mesh.triangles[t]) {
+                Eigen::Vector3f& v = half.mesh.vertices[k];
+                if (v.z() <= 0 && v.x() > 6) v.x() = 6;
+            }
+        }
+    }
+    const std::vector<uint8_t> voided = StandableCells(half, g, 1.9);
+    EXPECT_TRUE(at(voided, 3, 1.5));
+    EXPECT_FALSE(at(voided, 10, 2));
+    EXPECT_FALSE(at(voided, 9, 7));
+
+    // Under less than half of the free space (x < 2): the model has no floor slabs to speak of,
+    // as Office_A has none, and the floor is not asked for.
+    for (BimElement& e : half.elements) {
+        if (e.ifc_class != "IfcSlab") continue;
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (const uint32_t k : half.mesh.triangles[t]) {
+                Eigen::Vector3f& v = half.mesh.vertices[k];
+                if (v.z() <= 0 && v.x() > 2) v.x() = 2;
+            }
+        }
+    }
+    const std::vector<uint8_t> unmodelled = StandableCells(half, g, 1.9);
+    EXPECT_TRUE(at(unmodelled, 10, 2));
+    EXPECT_TRUE(at(unmodelled, 3, 1.5));
+}
+
 TEST(OccupancyGrid, WritesMapServerFiles) {
     test::TempDir tmp;
     const OccupancyGrid g = BuildOccupancyGrid(Floor(), 0, {});

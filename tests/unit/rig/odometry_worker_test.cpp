@@ -37,10 +37,10 @@ TEST(OdometryWorker, AReplayKeepsEveryOutputOfTheScansLeftWhenTheSourcesStop) {
     OdometryWorkerConfig config;
     config.lossless = true;  // a replay
     config.record = false;   // no session writer: poses and keyframes_session stay unused
-    OdometryWorker worker(
-        config, WorkerQueues{scans, imu, bodies, odometry_out, keyframes_lcm, keyframes_session,
-                             poses, wakeup},
-        nullptr);
+    OdometryWorker worker(config,
+                          WorkerQueues{scans, imu, bodies, odometry_out, keyframes_lcm,
+                                       keyframes_session, poses, wakeup},
+                          nullptr);
     for (int i = 0; i < kScans; ++i) {
         ScanSlot* slot = scans.BeginPush();
         ASSERT_NE(slot, nullptr);
