@@ -404,48 +404,57 @@ void ClipZ(const std::vector<Eigen::Vector3d>& in, double h, bool keep_above,
 }
 }  // namespace
 
+namespace {
+constexpr double kFloorBand = 0.3;   // m around the storey's elevation: the slab's faces
+constexpr double kAboveFloor = 0.3;  // m: what is lower is the floor, a threshold, a step
+
+// One structure triangle (in `poly`, which it overwrites): a horizontal face at the storey's
+// elevation (the slab's top or underside) marks `floor`; its part between kAboveFloor and the
+// headroom marks `overhead`.
+void MarkStanding(const OccupancyGrid& g, double headroom_m, std::vector<Eigen::Vector3d>& poly,
+                  std::vector<Eigen::Vector3d>& clipped, std::vector<uint8_t>& floor,
+                  std::vector<uint8_t>& overhead) {
+    const Eigen::Vector3d n = (poly[1] - poly[0]).cross(poly[2] - poly[0]);
+    const double zmin = std::min({poly[0].z(), poly[1].z(), poly[2].z()});
+    const double zmax = std::max({poly[0].z(), poly[1].z(), poly[2].z()});
+    if (std::abs(n.z()) > 0.7 * n.norm() && zmin > g.floor_z - kFloorBand &&
+        zmax < g.floor_z + kFloorBand) {
+        RasterizeTriangle(g, poly[0].head<2>(), poly[1].head<2>(), poly[2].head<2>(), floor);
+        return;
+    }
+    const double lo = g.floor_z + kAboveFloor, hi = g.floor_z + headroom_m;
+    if (zmax < lo || zmin > hi) return;
+    ClipZ(poly, lo, true, &clipped);
+    ClipZ(clipped, hi, false, &poly);
+    for (size_t k = 1; k + 1 < poly.size(); ++k) {
+        RasterizeTriangle(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(), overhead);
+    }
+}
+}  // namespace
+
 std::vector<uint8_t> StandableCells(const BimModel& model, const OccupancyGrid& g,
                                     double headroom_m) {
-    constexpr double kFloorBand = 0.3;   // m around the storey's elevation: the slab's faces
-    constexpr double kAboveFloor = 0.3;  // m: what is lower is the floor, a threshold, a step
     std::vector<uint8_t> floor(g.cells.size(), 0), overhead(g.cells.size(), 0);
     std::vector<Eigen::Vector3d> poly, clipped;
     for (const BimElement& e : model.elements) {
         if (e.role != ElementRole::kStructure) continue;
         for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
-            const auto& tri = model.mesh.triangles[t];
             poly.clear();
-            for (const uint32_t k : tri) poly.push_back(model.mesh.vertices[k].cast<double>());
-            const Eigen::Vector3d n = (poly[1] - poly[0]).cross(poly[2] - poly[0]);
-            const double zmin = std::min({poly[0].z(), poly[1].z(), poly[2].z()});
-            const double zmax = std::max({poly[0].z(), poly[1].z(), poly[2].z()});
-            // A horizontal face at the storey's elevation (the slab's top or underside): floor.
-            if (std::abs(n.z()) > 0.7 * n.norm() && zmin > g.floor_z - kFloorBand &&
-                zmax < g.floor_z + kFloorBand) {
-                RasterizeTriangle(g, poly[0].head<2>(), poly[1].head<2>(), poly[2].head<2>(),
-                                  floor);
-                continue;
+            for (const uint32_t k : model.mesh.triangles[t]) {
+                poly.push_back(model.mesh.vertices[k].cast<double>());
             }
-            // Any structure between kAboveFloor and the headroom: in the way of standing.
-            const double lo = g.floor_z + kAboveFloor, hi = g.floor_z + headroom_m;
-            if (zmax < lo || zmin > hi) continue;
-            ClipZ(poly, lo, true, &clipped);
-            ClipZ(clipped, hi, false, &poly);
-            for (size_t k = 1; k + 1 < poly.size(); ++k) {
-                RasterizeTriangle(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(),
-                                  overhead);
-            }
+            MarkStanding(g, headroom_m, poly, clipped, floor, overhead);
         }
     }
     // Some models have no floor slabs (Office_A's storeys have none, only ceilings): where the
     // floor faces are under less than half of the free space, the floor is not modelled and not
     // asked for.
-    size_t free = 0, floored = 0;
+    size_t free_cells = 0, floored = 0;
     for (size_t i = 0; i < g.cells.size(); ++i) {
-        free += g.cells[i] == Cell::kFree;
+        free_cells += g.cells[i] == Cell::kFree;
         floored += g.cells[i] == Cell::kFree && floor[i];
     }
-    const bool floor_modelled = 2 * floored >= free;
+    const bool floor_modelled = 2 * floored >= free_cells;
     std::vector<uint8_t> standable(g.cells.size(), 0);
     for (size_t i = 0; i < g.cells.size(); ++i) {
         standable[i] = g.cells[i] == Cell::kFree && (floor[i] || !floor_modelled) && !overhead[i];

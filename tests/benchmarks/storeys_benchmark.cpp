@@ -81,15 +81,22 @@ Eigen::Vector2d RandomPlace(const bim::BimModel& model, const bim::OccupancyGrid
     }
     if (cells.empty()) return Eigen::Vector2d::Zero();
     const std::vector<uint8_t> standable = bim::StandableCells(model, g, headroom);
-    size_t i = 0;
-    for (int tries = 0; tries < 10000; ++tries) {
-        i = cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
-        if (standable[i]) break;
-        const Eigen::Vector2d p = g.Center(int(i % size_t(g.width)), int(i / size_t(g.width)));
-        std::printf("  (%s: no place to stand at %.2f %.2f; drawn again)\n", g.storey.c_str(),
-                    p.x(), p.y());
+    const auto center = [&g](size_t i) {
+        return g.Center(int(i % size_t(g.width)), int(i / size_t(g.width)));
+    };
+    const auto draw = [&] {
+        return cells[std::uniform_int_distribution<size_t>(0, cells.size() - 1)(rng)];
+    };
+    if (std::none_of(cells.begin(), cells.end(), [&](size_t i) { return standable[i] != 0; })) {
+        std::printf("  (%s: no place to stand found, the grid's place taken)\n", g.storey.c_str());
+        return center(draw());
     }
-    return g.Center(int(i % size_t(g.width)), int(i / size_t(g.width)));
+    size_t i = draw();
+    for (; !standable[i]; i = draw()) {
+        std::printf("  (%s: no place to stand at %.2f %.2f; drawn again)\n", g.storey.c_str(),
+                    center(i).x(), center(i).y());
+    }
+    return center(i);
 }
 
 // The walk: from a random place on the start storey to two on the other, joined by the stairs.
