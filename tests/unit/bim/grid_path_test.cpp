@@ -74,6 +74,19 @@ void AddRoofFace(BimModel& m) {
     m.elements.push_back(e);
 }
 
+// The floor slab (the IfcSlab at and below z 0) cut back to end at x = x_end.
+void EndFloorSlabAt(BimModel& m, float x_end) {
+    for (const BimElement& e : m.elements) {
+        if (e.ifc_class != "IfcSlab") continue;
+        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+            for (const uint32_t k : m.mesh.triangles[t]) {
+                Eigen::Vector3f& v = m.mesh.vertices[k];
+                if (v.z() <= 0 && v.x() > x_end) v.x() = x_end;
+            }
+        }
+    }
+}
+
 TEST(OccupancyGrid, StandableCellsHaveAFloorUnderThemAndHeadroomAboveThem) {
     BimModel m = Floor();
     const OccupancyGrid g = BuildOccupancyGrid(m, 0, {});
@@ -104,15 +117,7 @@ TEST(OccupancyGrid, StandableCellsHaveAFloorUnderThemAndHeadroomAboveThem) {
     // The floor slab only under x < 6: the east half is a void (as FZK-Haus' attic floor stops
     // short of its eaves), free at the slice's height and no place to stand.
     BimModel half = Floor();
-    for (const BimElement& e : half.elements) {
-        if (e.ifc_class != "IfcSlab") continue;
-        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
-            for (const uint32_t k : half.mesh.triangles[t]) {
-                Eigen::Vector3f& v = half.mesh.vertices[k];
-                if (v.z() <= 0 && v.x() > 6) v.x() = 6;
-            }
-        }
-    }
+    EndFloorSlabAt(half, 6);
     const std::vector<uint8_t> voided = StandableCells(half, g, 1.9);
     EXPECT_TRUE(at(voided, 3, 1.5));
     EXPECT_FALSE(at(voided, 10, 2));
@@ -120,15 +125,7 @@ TEST(OccupancyGrid, StandableCellsHaveAFloorUnderThemAndHeadroomAboveThem) {
 
     // Under less than half of the free space (x < 2): the model has no floor slabs to speak of,
     // as Office_A has none, and the floor is not asked for.
-    for (BimElement& e : half.elements) {
-        if (e.ifc_class != "IfcSlab") continue;
-        for (uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
-            for (const uint32_t k : half.mesh.triangles[t]) {
-                Eigen::Vector3f& v = half.mesh.vertices[k];
-                if (v.z() <= 0 && v.x() > 2) v.x() = 2;
-            }
-        }
-    }
+    EndFloorSlabAt(half, 2);
     const std::vector<uint8_t> unmodelled = StandableCells(half, g, 1.9);
     EXPECT_TRUE(at(unmodelled, 10, 2));
     EXPECT_TRUE(at(unmodelled, 3, 1.5));
