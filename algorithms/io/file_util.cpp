@@ -203,6 +203,33 @@ void WriteFileAtomic(const std::filesystem::path& path,
     if (d.fd >= 0) ::fsync(d.fd);
 }
 
+AppendFile::AppendFile(std::filesystem::path path) : path_(std::move(path)) {
+    fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
+    if (fd_ < 0) ThrowErrno(path_, "cannot create");
+}
+
+AppendFile::~AppendFile() { ::close(fd_); }
+
+void AppendFile::Append(std::string_view bytes, Sync sync) {
+    if (!WriteAll(fd_, bytes.data(), bytes.size())) {
+        // What went in of a failed append (a full disk) is cut off again: the next append must
+        // not follow half a line.
+        const int err = errno;
+        (void)::ftruncate(fd_, static_cast<off_t>(size_));
+        errno = err;
+        ThrowErrno(path_, "cannot append");
+    }
+    size_ += bytes.size();
+    if (sync == Sync::kDeferred) return;
+    if (::fdatasync(fd_) != 0) ThrowErrno(path_, "cannot fdatasync");
+    if (entry_synced_) return;
+    const std::filesystem::path dir =
+        path_.has_parent_path() ? path_.parent_path() : std::filesystem::path(".");
+    Fd d;
+    d.fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    entry_synced_ = d.fd >= 0 && ::fsync(d.fd) == 0;
+}
+
 void SyncFileSystem(const std::filesystem::path& dir) {
     Fd d;
     d.fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);

@@ -39,6 +39,31 @@ void WriteFileAtomic(const std::filesystem::path& path,
                      const std::function<std::string_view()>& next, Sync sync = Sync::kNow,
                      Cache cache = Cache::kPage);
 
+// A file that grows at its end: a session's line files, which a recorder extends every few
+// seconds for hours (rewriting them whole, as WriteFileAtomic would, costs memory and disk
+// writes that grow with the session). The constructor creates the file empty (or empties it);
+// Append writes the bytes at its end and, with Sync::kNow, fdatasync(2)s them (the folder's
+// entry too, the first time). A failed append is cut back off the file, so the file holds only
+// whole appends; but a power cut during an append can leave part of it on disk, so readers of
+// such files drop a last line without its newline when they recover a cut-off session
+// (algorithms/io/README.md, "Writing"). Throws common::FileError naming the file on failure.
+class AppendFile {
+public:
+    explicit AppendFile(std::filesystem::path path);
+    ~AppendFile();
+    AppendFile(const AppendFile&) = delete;
+    AppendFile& operator=(const AppendFile&) = delete;
+
+    void Append(std::string_view bytes, Sync sync);
+    size_t size() const { return size_; }
+
+private:
+    std::filesystem::path path_;
+    int fd_ = -1;
+    size_t size_ = 0;
+    bool entry_synced_ = false;
+};
+
 // Flushes everything written to the file system holding `dir` (syncfs(2)). Throws
 // common::FileError (kIoError) naming the folder on failure.
 void SyncFileSystem(const std::filesystem::path& dir);

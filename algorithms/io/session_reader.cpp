@@ -16,11 +16,15 @@ using common::FileError;
 using common::StatusCode;
 namespace fs = std::filesystem;
 
-// A line-oriented file of the session: required ones must exist in a complete session; in a
-// recovered one a missing file holds zero keyframes.
-template <typename Reader>
-auto ReadPart(const fs::path& path, bool required, Reader read)
-    -> std::optional<decltype(read(path))> {
+// A line-oriented file of the session, parsed by `parse(name, text)`: required ones must exist;
+// in a recovered (not strict) session a missing file holds zero keyframes. The writer appends
+// to these files (AppendFile), so a power cut can leave a recovered session's file ending in part
+// of a line: that part is dropped and said in `notes`. A complete session's files were synced
+// before its session.json, and a line cut there is an error.
+template <typename Parser>
+auto ReadPart(const fs::path& path, bool strict, bool required, Parser parse,
+              std::vector<std::string>& notes)
+    -> std::optional<decltype(parse(std::string(), std::string_view()))> {
     if (!fs::exists(path)) {
         if (required) {
             throw FileError(StatusCode::kNotFound, path.string(), 0,
@@ -28,7 +32,15 @@ auto ReadPart(const fs::path& path, bool required, Reader read)
         }
         return std::nullopt;
     }
-    return read(path);
+    std::string text = ReadFileToString(path);
+    if (!strict && !text.empty() && text.back() != '\n') {
+        const size_t whole = text.rfind('\n') + 1;  // 0 when no line is whole (npos + 1)
+        notes.push_back(path.filename().string() + ": dropped its last " +
+                        std::to_string(text.size() - whole) +
+                        " bytes, a line cut off before its end");
+        text.resize(whole);
+    }
+    return parse(path.string(), text);
 }
 
 // Contiguous Scans/NNNNNN.pcd (or SCDs) files from 0.
@@ -48,8 +60,11 @@ size_t CountContiguous(const fs::path& dir, fs::path (*path_of)(const fs::path&,
 }  // namespace
 
 std::vector<int64_t> ReadTimes(const fs::path& path) {
-    const std::string text = ReadFileToString(path);
-    LineReader r(path.string(), text);
+    return ParseTimes(path.string(), ReadFileToString(path));
+}
+
+std::vector<int64_t> ParseTimes(const std::string& name, std::string_view text) {
+    LineReader r(name, text);
     std::vector<int64_t> out;
     std::string_view line;
     std::vector<std::string_view> tok;
@@ -118,16 +133,11 @@ Session ReadSession(const fs::path& dir, const SessionReadOptions& options) {
     const bool strict = s.complete;
     const bool odom_required = strict && s.manifest.source == "rig";
 
-    auto times = ReadPart(dir / "times.txt", strict, ReadTimes);
-    auto world = ReadPart(dir / "optimized_poses.txt", strict,
-                          [](const fs::path& p) { return ReadKitti(p); });
-    auto odom = ReadPart(dir / "odom_poses.txt", odom_required,
-                         [](const fs::path& p) { return ReadKitti(p); });
-    auto graph = ReadPart(dir / "singlesession_posegraph.g2o", strict, [](const fs::path& p) {
-        return ParseG2o(p.string(), ReadFileToString(p));
-    });
-    auto trajectory =
-        ReadPart(dir / "trajectory.tum", strict, [](const fs::path& p) { return ReadTum(p); });
+    auto times = ReadPart(dir / "times.txt", strict, strict, ParseTimes, s.notes);
+    auto world = ReadPart(dir / "optimized_poses.txt", strict, strict, ParseKitti, s.notes);
+    auto odom = ReadPart(dir / "odom_poses.txt", strict, odom_required, ParseKitti, s.notes);
+    auto graph = ReadPart(dir / "singlesession_posegraph.g2o", strict, strict, ParseG2o, s.notes);
+    auto trajectory = ReadPart(dir / "trajectory.tum", strict, strict, ParseTum, s.notes);
     const size_t scans = CountContiguous(dir, KeyframeCloudPath);
     const size_t scds = CountContiguous(dir, KeyframeDescriptorPath);
 

@@ -142,7 +142,7 @@ size_t SessionWriter::AddKeyframe(const SessionKeyframe& kf) {
     text_.times += FormatNsAsSeconds(kf.stamp_ns) + "\n";
     AppendKittiLine(text_.world, kf.T_world_lidar);
     if (kf.T_odom_lidar) AppendKittiLine(text_.odom, *kf.T_odom_lidar);
-    AppendG2oVertex(text_.vertices, i, kf.T_world_lidar);
+    AppendG2oVertex(text_.graph, i, kf.T_world_lidar);
     if (i == 0) keyframes_have_odom_ = kf.T_odom_lidar.has_value();
     ++keyframes_;
     if (++unflushed_ >= options_.flush_every) Flush();
@@ -160,7 +160,7 @@ void SessionWriter::AddEdge(const SessionEdge& e) {
                             dir_.string() + ": edge " + std::to_string(e.from) + " -> " +
                                 std::to_string(e.to) + " has a non-finite or non-rigid value");
     }
-    AppendG2oEdge(text_.edges, e);
+    AppendG2oEdge(text_.graph, e);
 }
 
 void SessionWriter::AddScanPose(const StampedPose& pose) {
@@ -181,7 +181,6 @@ void SessionWriter::AddLivePose(const StampedPose& pose) {
 void SessionWriter::AddLocalizationState(int64_t stamp_ns, std::string_view state,
                                          size_t consistent_loops, size_t hypotheses,
                                          std::string_view storey) {
-    if (!localization_) text_.states = "# t_s state consistent_loops hypotheses storey\n";
     localization_ = true;
     text_.states += FormatNsAsSeconds(stamp_ns) + ' ' + std::string(state) + ' ' +
                     std::to_string(consistent_loops) + ' ' + std::to_string(hypotheses) + ' ' +
@@ -189,21 +188,36 @@ void SessionWriter::AddLocalizationState(int64_t stamp_ns, std::string_view stat
 }
 
 void SessionWriter::Flush() {
-    WriteFileAtomic(dir_ / "times.txt", text_.times, sync());
-    WriteFileAtomic(dir_ / "optimized_poses.txt", text_.world, sync());
+    Append(files_.times, "times.txt", text_.times, true);
+    Append(files_.world, "optimized_poses.txt", text_.world, true);
     // A rig session has odometry poses even before its first keyframe (the reader requires the
     // file of a complete rig session; a full disk can leave it without keyframes).
-    if (!text_.odom.empty() || manifest_.source == "rig") {
-        WriteFileAtomic(dir_ / "odom_poses.txt", text_.odom, sync());
+    Append(files_.odom, "odom_poses.txt", text_.odom,
+           !text_.odom.empty() || manifest_.source == "rig");
+    Append(files_.graph, "singlesession_posegraph.g2o", text_.graph, true);
+    Append(files_.trajectory, "trajectory.tum", text_.trajectory, true);
+    Append(files_.live, "trajectory_bim_live.tum", text_.live, localization_);
+    if (localization_ && !files_.states) {  // a new file starts with its header
+        text_.states.insert(0, "# t_s state consistent_loops hypotheses storey\n");
     }
-    // The g2o file is every vertex, then every edge (SerializeG2o's order).
-    WriteFileAtomic(dir_ / "singlesession_posegraph.g2o", text_.vertices + text_.edges, sync());
-    WriteFileAtomic(dir_ / "trajectory.tum", text_.trajectory, sync());
-    if (localization_) {
-        WriteFileAtomic(dir_ / "trajectory_bim_live.tum", text_.live, sync());
-        WriteFileAtomic(dir_ / "localization_states.csv", text_.states, sync());
-    }
+    Append(files_.states, "localization_states.csv", text_.states, localization_);
     unflushed_ = 0;
+}
+
+size_t SessionWriter::pending_bytes() const {
+    return text_.times.size() + text_.world.size() + text_.odom.size() + text_.graph.size() +
+           text_.trajectory.size() + text_.live.size() + text_.states.size();
+}
+
+void SessionWriter::Append(std::optional<AppendFile>& file, const char* name, std::string& text,
+                           bool create) {
+    if (!file) {
+        if (!create) return;
+        file.emplace(dir_ / name);
+    }
+    // On a failure the text stays, to be appended by the next flush (AppendFile cut it back off).
+    file->Append(text, sync());
+    text.clear();
 }
 
 void SessionWriter::Finish() {

@@ -216,7 +216,7 @@ TEST_F(Rig, SigkillLeavesARecoverableSession) {
     ASSERT_TRUE(fs::is_directory(root));
     const fs::path session = fs::directory_iterator(root)->path();
     // Killed once two keyframes are complete: in the pose graph, the last of the files that
-    // hold them (SessionWriter::Flush, each written atomically).
+    // hold them (SessionWriter::Flush appends to each in turn).
     EXPECT_TRUE(test::rig::WaitUntil([&] {
         std::ifstream graph(session / "singlesession_posegraph.g2o");
         int vertices = 0;

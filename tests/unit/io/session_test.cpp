@@ -3,6 +3,7 @@
 #include "algorithms/io/session.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <random>
 
@@ -156,25 +157,64 @@ TEST(Session, DeferredSyncWritesTheSameSession) {
     }
 }
 
-// The writer formats each item once, as it is added, and a flush writes the text kept so far:
-// the files must be what formatting the whole session at once gives (the writer before did
-// that at every flush), edges added between keyframes included.
+// The writer formats each item once, as it is added, and a flush appends the text added since
+// the last one: the files must be what formatting the whole session at once gives (the writer
+// before did that at every flush), the pose graph's lines in the order they were added (an edge
+// after the keyframes it joins).
 TEST(Session, EachFileIsTheWholeSessionFormattedAtOnce) {
     test::TempDir tmp;
     const Written w = WriteSession(tmp / "s", 9, true);
-    std::string times;
+    std::string times, graph;
     std::vector<Eigen::Isometry3d> world, odom;
-    for (const SessionKeyframe& k : w.keyframes) {
+    for (size_t i = 0; i < w.keyframes.size(); ++i) {
+        const SessionKeyframe& k = w.keyframes[i];
         times += FormatNsAsSeconds(k.stamp_ns) + "\n";
         world.push_back(k.T_world_lidar);
         odom.push_back(*k.T_odom_lidar);
+        AppendG2oVertex(graph, i, k.T_world_lidar);  // SerializeG2o's lines, in adding order
+        if (i > 0) AppendG2oEdge(graph, w.edges[i - 1]);
     }
     EXPECT_EQ(ReadFileToString(tmp / "s" / "times.txt"), times);
     EXPECT_EQ(ReadFileToString(tmp / "s" / "optimized_poses.txt"), SerializeKitti(world));
     EXPECT_EQ(ReadFileToString(tmp / "s" / "odom_poses.txt"), SerializeKitti(odom));
-    EXPECT_EQ(ReadFileToString(tmp / "s" / "singlesession_posegraph.g2o"),
-              SerializeG2o({world, w.edges}));
+    EXPECT_EQ(ReadFileToString(tmp / "s" / "singlesession_posegraph.g2o"), graph);
     EXPECT_EQ(ReadFileToString(tmp / "s" / "trajectory.tum"), SerializeTum(w.trajectory));
+}
+
+// A rig session is written for hours: the writer keeps only the text since its last flush, and
+// a flush appends it (the files keep their inode: nothing rewritten whole).
+TEST(Session, TheWriterHoldsOnlyWhatCameSinceItsLastFlush) {
+    test::TempDir tmp;
+    const fs::path dir = tmp / "s";
+    std::mt19937 rng(7);
+    SessionWriter writer(dir, Manifest(), {.flush_every = 1000});
+    writer.Flush();
+    const auto inode = [&](const char* f) {
+        struct stat st {};
+        EXPECT_EQ(::stat((dir / f).c_str(), &st), 0) << f;
+        return st.st_ino;
+    };
+    const ino_t trajectory = inode("trajectory.tum"), graph = inode("singlesession_posegraph.g2o");
+    EXPECT_EQ(writer.pending_bytes(), 0u);
+    for (int i = 0; i < 200; ++i) {
+        writer.AddScanPose(StampedPose::FromIsometry(int64_t(i) * 100'000'000,
+                                                     Eigen::Isometry3d::Identity()));
+    }
+    writer.AddKeyframe(MakeKeyframe(0, rng));
+    const size_t pending = writer.pending_bytes();
+    EXPECT_GT(pending, 200u * 20);
+    writer.Flush();
+    EXPECT_EQ(writer.pending_bytes(), 0u);
+    EXPECT_EQ(fs::file_size(dir / "trajectory.tum") + fs::file_size(dir / "times.txt") +
+                  fs::file_size(dir / "optimized_poses.txt") + fs::file_size(dir / "odom_poses.txt") +
+                  fs::file_size(dir / "singlesession_posegraph.g2o"),
+              pending);
+    writer.AddScanPose(StampedPose::FromIsometry(int64_t(200) * 100'000'000,
+                                                 Eigen::Isometry3d::Identity()));
+    writer.Flush();
+    EXPECT_EQ(inode("trajectory.tum"), trajectory);
+    EXPECT_EQ(inode("singlesession_posegraph.g2o"), graph);
+    EXPECT_EQ(ReadTum(dir / "trajectory.tum").size(), 201u);
 }
 
 TEST(Session, ManifestRoundTripAndBimModel) {
@@ -293,6 +333,39 @@ TEST(Session, CutOffBeforeFirstFlushRecoversNothing) {
     const Session s = ReadSession(dir);
     EXPECT_FALSE(s.complete);
     EXPECT_TRUE(s.keyframes.empty());
+}
+
+// The line files grow by appends, so a power cut can leave part of a line at the end of any of
+// them: recovery drops that part and says so; in a finished session (its files synced before
+// session.json) such a line is damage, an error naming the file and line.
+TEST(Session, ALineCutOffByAPowerCutIsDroppedOnRecovery) {
+    test::TempDir tmp;
+    const fs::path dir = tmp / "s";
+    WriteSession(dir, 6, /*finish=*/false);
+    const auto append = [&](const char* f, const std::string& bytes) {
+        test::WriteBytes(dir / f, ReadFileToString(dir / f) + bytes);
+    };
+    append("times.txt", "1800000000.5");
+    append("optimized_poses.txt", "1 0 0 0.5 0 1");
+    append("singlesession_posegraph.g2o", "EDGE_SE3:QUAT 4 5 0.1");
+    append("trajectory.tum", std::string(7, '\0'));  // a block the disk never got
+    const Session s = ReadSession(dir);
+    EXPECT_FALSE(s.complete);
+    EXPECT_EQ(s.keyframes.size(), 6u);
+    EXPECT_EQ(s.edges.size(), 5u);
+    EXPECT_EQ(s.trajectory.size(), 18u);
+    std::string notes;
+    for (const std::string& n : s.notes) notes += n + "\n";
+    for (const char* f : {"times.txt: dropped its last 12 bytes",
+                          "singlesession_posegraph.g2o: dropped its last 21 bytes",
+                          "trajectory.tum: dropped its last 7 bytes"}) {
+        EXPECT_NE(notes.find(f), std::string::npos) << f << " in\n" << notes;
+    }
+
+    const fs::path done = tmp / "done";
+    WriteSession(done, 6, /*finish=*/true);
+    test::WriteBytes(done / "times.txt", ReadFileToString(done / "times.txt") + "1800000000.5");
+    EXPECT_FILE_ERROR(ReadSession(done), (done / "times.txt").string(), 7);
 }
 
 TEST(Session, DamagedFilesAreErrorsNamingFileAndLine) {

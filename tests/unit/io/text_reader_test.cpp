@@ -3,7 +3,10 @@
 #include "algorithms/io/text_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <cstdint>
 #include <filesystem>
@@ -152,6 +155,43 @@ TEST(FileUtil, AtomicWriteInPiecesPastThePageCache) {
         EXPECT_EQ(std::filesystem::file_size(path), 0u);
         std::filesystem::remove(path);
     }
+}
+
+// A session's line files grow by appends. One that fails part-way (here the file-size limit of
+// setrlimit(2), which lets a write in up to the limit and refuses the rest with EFBIG, as a full
+// disk does) is cut back off the file: the next append follows the last whole one, never half a
+// line.
+TEST(FileUtil, AppendFileGrowsAndCutsAFailedAppendBackOff) {
+    test::TempDir dir;
+    const auto path = dir / "lines.txt";
+    WriteFileAtomic(path, "an old file\n");
+    AppendFile f(path);
+    EXPECT_EQ(ReadFileToString(path), "");  // a new file starts empty
+    f.Append("one\n", Sync::kNow);
+    f.Append("two\n", Sync::kDeferred);
+    EXPECT_EQ(ReadFileToString(path), "one\ntwo\n");
+    EXPECT_EQ(f.size(), 8u);
+
+    rlimit old{};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    void (*old_handler)(int) = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit small = old;
+    small.rlim_cur = 12;  // room for 4 of the 8 bytes below
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    std::string error;
+    try {
+        f.Append("three3\n", Sync::kNow);
+    } catch (const FileError& e) {
+        error = e.what();
+    }
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0);
+    std::signal(SIGXFSZ, old_handler);
+    EXPECT_NE(error.find("lines.txt"), std::string::npos) << error;
+    EXPECT_NE(error.find("cannot append"), std::string::npos) << error;
+    EXPECT_EQ(ReadFileToString(path), "one\ntwo\n");
+    f.Append("four\n", Sync::kNow);
+    EXPECT_EQ(ReadFileToString(path), "one\ntwo\nfour\n");
+    EXPECT_THROW(AppendFile(dir / "no" / "such" / "dir.txt"), FileError);
 }
 
 TEST(FileUtil, FormatIsShortestExact) {
