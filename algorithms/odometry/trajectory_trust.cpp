@@ -42,37 +42,59 @@ FailedStretch& TrajectoryTrust::StretchFor(size_t first, double first_s, int64_t
     return s;
 }
 
-void TrajectoryTrust::AddHeightUnseen(size_t scan, double t_s, int64_t stamp_ns) {
-    if (!unseen_run_ || scan != unseen_last_ + 1) {
-        unseen_run_ = true;
-        unseen_first_ = scan;
-        unseen_first_s_ = t_s;
-        unseen_first_ns_ = stamp_ns;
+void FlagRuns::Add(bool flagged, size_t scan, double t_s, int64_t stamp_ns) {
+    if (!flagged) {
+        in_run_ = false;
+        return;
     }
-    unseen_last_ = scan;
-    const double run_s = t_s - unseen_first_s_;
-    if (run_s <= kMaxHeightUnseenS) return;
-    if (blind_.empty() || blind_.back().first_scan != unseen_first_) {
-        FailedStretch b;
-        b.first_scan = unseen_first_;
-        b.first_s = unseen_first_s_;
-        b.first_ns = unseen_first_ns_;
-        blind_.push_back(b);
+    if (!in_run_ || scan != run_.last_scan + 1) {
+        in_run_ = true;
+        run_ = FailedStretch{};
+        run_.first_scan = scan;
+        run_.first_s = t_s;
+        run_.first_ns = stamp_ns;
     }
-    FailedStretch& b = blind_.back();
-    b.last_scan = scan;
-    b.last_s = t_s;
-    b.last_ns = stamp_ns;
-    b.height_unseen_s = run_s;
+    run_.last_scan = scan;
+    run_.last_s = t_s;
+    run_.last_ns = stamp_ns;
+    run_.seconds = t_s - run_.first_s;
+    if (run_.seconds <= limit_s_) return;
+    if (runs_.empty() || runs_.back().first_scan != run_.first_scan) runs_.push_back(run_);
+    runs_.back() = run_;
+}
+
+nlohmann::json FlagRuns::Json(size_t first_scan, size_t last_scan) const {
+    nlohmann::json list = nlohmann::json::array();
+    for (const FailedStretch& b : runs_) {
+        if (b.last_scan < first_scan || b.first_scan > last_scan) continue;
+        list.push_back({{"first_scan", b.first_scan},
+                        {"last_scan", b.last_scan},
+                        {"first_s", b.first_s},
+                        {"last_s", b.last_s},
+                        {"first_stamp_ns", b.first_ns},
+                        {"last_stamp_ns", b.last_ns},
+                        {"seconds", b.seconds}});
+    }
+    return list;
+}
+
+std::string FlagRuns::Text() const {
+    std::string text;
+    char buf[96];
+    for (size_t k = 0; k < runs_.size() && k < 8; ++k) {
+        const FailedStretch& b = runs_[k];
+        std::snprintf(buf, sizeof buf, " scans %zu-%zu (%.1f-%.1f s)%s", b.first_scan, b.last_scan,
+                      b.first_s, b.last_s, k + 1 < runs_.size() ? "," : "");
+        text += buf;
+    }
+    if (runs_.size() > 8) text += " ...";
+    return text;
 }
 
 void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t check_reasons,
                           int64_t stamp_ns) {
-    if (flags & odometry::kHeightUnseen) {
-        AddHeightUnseen(scan, t_s, stamp_ns);
-    } else {
-        unseen_run_ = false;
-    }
+    blind_.Add((flags & odometry::kHeightUnseen) != 0, scan, t_s, stamp_ns);
+    degenerate_.Add((flags & odometry::kDegenerate) != 0, scan, t_s, stamp_ns);
     const bool reg_failed = (flags & odometry::kRegistrationFailed) != 0;
     const bool check_failed = (flags & odometry::kCheckFailed) != 0;
     if (!reg_failed && !check_failed) return;
@@ -107,7 +129,7 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
 }
 
 std::string TrajectoryTrust::Describe() const {
-    return (trusted() ? DescribeTrusted() : DescribeFailed()) + DescribeBlind();
+    return (trusted() ? DescribeTrusted() : DescribeFailed()) + DescribeRuns();
 }
 
 std::string TrajectoryTrust::DescribeTrusted() const {
@@ -140,34 +162,17 @@ std::string TrajectoryTrust::DescribeFailed() const {
     return text;
 }
 
-std::string TrajectoryTrust::DescribeBlind() const {
-    if (blind_.empty()) return "";
-    std::string text = "; the height not seen for over " + std::to_string(int(kMaxHeightUnseenS)) +
-                       " s (the accelerometers' alone) at";
-    char buf[96];
-    for (size_t k = 0; k < blind_.size() && k < 8; ++k) {
-        const FailedStretch& b = blind_[k];
-        std::snprintf(buf, sizeof buf, " scans %zu-%zu (%.1f-%.1f s)%s", b.first_scan, b.last_scan,
-                      b.first_s, b.last_s, k + 1 < blind_.size() ? "," : "");
-        text += buf;
+std::string TrajectoryTrust::DescribeRuns() const {
+    std::string text;
+    if (!blind_.runs().empty()) {
+        text += "; the height not seen for over " + std::to_string(int(kMaxHeightUnseenS)) +
+                " s (the accelerometers' alone) at" + blind_.Text();
     }
-    if (blind_.size() > 8) text += " ...";
+    if (!degenerate_.runs().empty()) {
+        text += "; degenerate for over " + std::to_string(int(kMaxDegenerateS)) +
+                " s (some directions the prediction's) at" + degenerate_.Text();
+    }
     return text;
-}
-
-nlohmann::json TrajectoryTrust::BlindJson(size_t first_scan, size_t last_scan) const {
-    nlohmann::json list = nlohmann::json::array();
-    for (const FailedStretch& b : blind_) {
-        if (b.last_scan < first_scan || b.first_scan > last_scan) continue;
-        list.push_back({{"first_scan", b.first_scan},
-                        {"last_scan", b.last_scan},
-                        {"first_s", b.first_s},
-                        {"last_s", b.last_s},
-                        {"first_stamp_ns", b.first_ns},
-                        {"last_stamp_ns", b.last_ns},
-                        {"seconds", b.height_unseen_s}});
-    }
-    return list;
 }
 
 nlohmann::json TrajectoryTrust::ToJson() const {
@@ -184,7 +189,8 @@ nlohmann::json TrajectoryTrust::ToJson() const {
             {"failed_stretches", list},
             {"bridged_by_prior", bridged_},
             {"bridged_over_budget", bridged_over_budget_},
-            {"height_unseen_stretches", BlindJson(0, SIZE_MAX)}};
+            {"height_unseen_stretches", blind_.Json(0, SIZE_MAX)},
+            {"degenerate_stretches", degenerate_.Json(0, SIZE_MAX)}};
 }
 
 nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan) const {
@@ -206,7 +212,8 @@ nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan)
             {"first_scan", first_scan},
             {"last_scan", last_scan},
             {"failed_stretches", list},
-            {"height_unseen_stretches", BlindJson(first_scan, last_scan)}};
+            {"height_unseen_stretches", blind_.Json(first_scan, last_scan)},
+            {"degenerate_stretches", degenerate_.Json(first_scan, last_scan)}};
 }
 
 }  // namespace bimslam::odometry

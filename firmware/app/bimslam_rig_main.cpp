@@ -144,6 +144,9 @@ void PrintSummary(const bimslam::rig::RunSummary& s, bool json) {
                             // The keys `bimslam odometry --json` gives the same verdict.
                             {"verdict", s.trust.Verdict()},
                             {"failed_stretches", s.trust.ToJson().at("failed_stretches")},
+                            {"height_unseen_stretches",
+                             s.trust.ToJson().at("height_unseen_stretches")},
+                            {"degenerate_stretches", s.trust.ToJson().at("degenerate_stretches")},
                             {"bridged_by_prior", s.trust.bridged_by_prior()},
                             {"bridged_over_budget", s.trust.bridged_over_budget()}};
         j["bim_map"] = BimMapJson(s);

@@ -188,7 +188,10 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--overwrite", args->overwrite, "Replace an existing session");
     cmd->add_flag("--json", args->json,
                   "Print the summary as JSON (verdict: trusted or untrusted, failed_stretches: "
-                  "the scans and times that failed their registration checks)");
+                  "the scans and times that failed their registration checks; said apart, not "
+                  "untrusting: height_unseen_stretches, the height the accelerometers' alone for "
+                  "over 2 s, and degenerate_stretches, some directions the prediction's for over "
+                  "1 s)");
     cmd->add_option(
         "--scans-csv", args->scans_csv,
         "Write every scan's registration evidence to this CSV (flags, check reasons, "

@@ -186,6 +186,16 @@ Odometry RunOdometry(const fs::path& capture, bool lidar_only,
     const replay::CaptureOdometryReport rep = replay::RunCaptureOdometry(o);
     Odometry out;
     out.verdict = rep.trust.Verdict();
+    // What the run said apart from its verdict: its longest degenerate run (trajectory_trust.hpp).
+    double degenerate_s = 0;
+    for (const odometry::FailedStretch& d : rep.trust.degenerate()) {
+        degenerate_s = std::max(degenerate_s, d.seconds);
+    }
+    if (degenerate_s > 0) {
+        char said[48];
+        std::snprintf(said, sizeof said, " (degenerate %.1f s)", degenerate_s);
+        out.verdict += said;
+    }
     evaluation::EvaluationConfig c;
     c.align = evaluation::Alignment::kSe3;
     const auto e = evaluation::Evaluate(est, truth, c);
@@ -411,8 +421,8 @@ void RunOdometryOnly(const fs::path& tmp, const Building& b, Platform p, uint64_
     t->cv.push_back(c.ape.rmse_cm);
     t->cv_max.push_back(c.ape.max_cm);
     t->cv_dz.push_back(c.flight_dz_cm);
-    t->untrusted_accel += a.verdict != "trusted";
-    t->untrusted_cv += c.verdict != "trusted";
+    t->untrusted_accel += a.verdict.rfind("trusted", 0) != 0;  // "trusted (degenerate ...)" too
+    t->untrusted_cv += c.verdict.rfind("trusted", 0) != 0;
 }
 
 void PrintTotals(const Totals& t) {

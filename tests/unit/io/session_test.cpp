@@ -197,8 +197,8 @@ TEST(Session, TheWriterHoldsOnlyWhatCameSinceItsLastFlush) {
     const ino_t trajectory = inode("trajectory.tum"), graph = inode("singlesession_posegraph.g2o");
     EXPECT_EQ(writer.pending_bytes(), 0u);
     for (int i = 0; i < 200; ++i) {
-        writer.AddScanPose(StampedPose::FromIsometry(int64_t(i) * 100'000'000,
-                                                     Eigen::Isometry3d::Identity()));
+        writer.AddScanPose(
+            StampedPose::FromIsometry(int64_t(i) * 100'000'000, Eigen::Isometry3d::Identity()));
     }
     writer.AddKeyframe(MakeKeyframe(0, rng));
     const size_t pending = writer.pending_bytes();
@@ -206,11 +206,12 @@ TEST(Session, TheWriterHoldsOnlyWhatCameSinceItsLastFlush) {
     writer.Flush();
     EXPECT_EQ(writer.pending_bytes(), 0u);
     EXPECT_EQ(fs::file_size(dir / "trajectory.tum") + fs::file_size(dir / "times.txt") +
-                  fs::file_size(dir / "optimized_poses.txt") + fs::file_size(dir / "odom_poses.txt") +
+                  fs::file_size(dir / "optimized_poses.txt") +
+                  fs::file_size(dir / "odom_poses.txt") +
                   fs::file_size(dir / "singlesession_posegraph.g2o"),
               pending);
-    writer.AddScanPose(StampedPose::FromIsometry(int64_t(200) * 100'000'000,
-                                                 Eigen::Isometry3d::Identity()));
+    writer.AddScanPose(
+        StampedPose::FromIsometry(int64_t(200) * 100'000'000, Eigen::Isometry3d::Identity()));
     writer.Flush();
     EXPECT_EQ(inode("trajectory.tum"), trajectory);
     EXPECT_EQ(inode("singlesession_posegraph.g2o"), graph);

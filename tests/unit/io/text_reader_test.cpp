@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <csignal>
-
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>

@@ -147,7 +147,7 @@ TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsSaidWithWhere) {
     EXPECT_EQ(s.first_scan, 30u);  // from the run's first scan, not where it became too long
     EXPECT_EQ(s.last_scan, 30u + size_t(std::lround((limit + 1.0) * 10)));
     EXPECT_EQ(s.first_ns, 3000000000);
-    EXPECT_NEAR(s.height_unseen_s, limit + 1.0, 1e-9);
+    EXPECT_NEAR(s.seconds, limit + 1.0, 1e-9);
     EXPECT_NE(long_runs.Describe().find("trusted: every registration passed its checks; the height "
                                         "not seen for over 2 s (the accelerometers' alone) at "
                                         "scans 30-60 (3.0-6.0 s), scans 91-121"),
@@ -160,6 +160,43 @@ TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsSaidWithWhere) {
     ASSERT_EQ(session.at("height_unseen_stretches").size(), 1u);
     EXPECT_EQ(session.at("height_unseen_stretches")[0].at("first_stamp_ns"), 3000000000);
     EXPECT_DOUBLE_EQ(session.at("height_unseen_stretches")[0].at("seconds"), limit + 1.0);
+}
+
+// Degenerate scans take some directions from the prediction (LiDAR-only: the velocity before):
+// a run longer than kMaxDegenerateS is said with where it was, as the height unseen is, and
+// apart from it; shorter runs are not; the verdict stays what the registrations earned.
+// Office_A's stairwell gave LiDAR-only runs of 1.5-3.5 s and a walk 38.55 cm off, called trusted.
+TEST(TrajectoryTrust, ADegenerateRunForTooLongIsSaidWithWhere) {
+    const double limit = TrajectoryTrust::kMaxDegenerateS;
+    TrajectoryTrust t;
+    size_t scan = 0;
+    const auto add = [&](uint32_t flags, int n) {
+        for (int k = 0; k < n; ++k, ++scan) {
+            t.Add(scan, 0.1 * double(scan), flags, 0, int64_t(scan) * 100000000);
+        }
+    };
+    add(0, 20);
+    add(kDegenerate, int(std::lround(limit * 10)));  // 0.9 s from its first scan to its last
+    add(0, 20);
+    add(kDegenerate, 36);  // scans 50-85, and with the next five 50-90: 4.0 s
+    add(kDegenerate | kHeightUnseen, 5);
+    add(0, 20);
+    EXPECT_TRUE(t.trusted());
+    ASSERT_EQ(t.degenerate().size(), 1u);
+    EXPECT_EQ(t.degenerate()[0].first_scan, 50u);
+    EXPECT_EQ(t.degenerate()[0].last_scan, 90u);
+    EXPECT_NEAR(t.degenerate()[0].seconds, 4.0, 1e-9);
+    EXPECT_TRUE(t.height_unseen().empty());  // 0.4 s of it
+    EXPECT_EQ(t.Describe(),
+              "trusted: every registration passed its checks; degenerate for over 1 s (some "
+              "directions the prediction's) at scans 50-90 (5.0-9.0 s)");
+    EXPECT_EQ(t.ToJson().at("degenerate_stretches").size(), 1u);
+    const nlohmann::json session = t.SessionJson(0, 40);
+    EXPECT_EQ(session.at("verdict"), "trusted");
+    EXPECT_TRUE(session.at("degenerate_stretches").empty());
+    const nlohmann::json later = t.SessionJson(80, 120);
+    ASSERT_EQ(later.at("degenerate_stretches").size(), 1u);
+    EXPECT_EQ(later.at("degenerate_stretches")[0].at("first_stamp_ns"), 5000000000);
 }
 
 }  // namespace BIMSLAM_UNITY_ID
