@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <utility>
 
 #include "algorithms/odometry/lidar_odometry.hpp"
 
@@ -19,6 +20,13 @@ std::vector<std::string> Reasons(const FailedStretch& s) {
         if (s.check_reasons & bit) out.push_back(CheckReasonText(bit));
     }
     return out;
+}
+
+// Where a stretch is: its scans, seconds since the first scan and stamps (a session's files').
+nlohmann::json Where(const FailedStretch& s) {
+    return {{"first_scan", s.first_scan},   {"last_scan", s.last_scan},
+            {"first_s", s.first_s},         {"last_s", s.last_s},
+            {"first_stamp_ns", s.first_ns}, {"last_stamp_ns", s.last_ns}};
 }
 
 }  // namespace
@@ -67,13 +75,9 @@ nlohmann::json FlagRuns::Json(size_t first_scan, size_t last_scan) const {
     nlohmann::json list = nlohmann::json::array();
     for (const FailedStretch& b : runs_) {
         if (b.last_scan < first_scan || b.first_scan > last_scan) continue;
-        list.push_back({{"first_scan", b.first_scan},
-                        {"last_scan", b.last_scan},
-                        {"first_s", b.first_s},
-                        {"last_s", b.last_s},
-                        {"first_stamp_ns", b.first_ns},
-                        {"last_stamp_ns", b.last_ns},
-                        {"seconds", b.seconds}});
+        nlohmann::json run = Where(b);
+        run["seconds"] = b.seconds;
+        list.push_back(std::move(run));
     }
     return list;
 }
@@ -197,14 +201,10 @@ nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan)
     nlohmann::json list = nlohmann::json::array();
     for (const FailedStretch& s : stretches_) {
         if (s.last_scan < first_scan || s.first_scan > last_scan) continue;
-        list.push_back({{"first_scan", s.first_scan},
-                        {"last_scan", s.last_scan},
-                        {"first_s", s.first_s},
-                        {"last_s", s.last_s},
-                        {"first_stamp_ns", s.first_ns},
-                        {"last_stamp_ns", s.last_ns},
-                        {"failed", s.failed},
-                        {"reasons", Reasons(s)}});
+        nlohmann::json stretch = Where(s);
+        stretch["failed"] = s.failed;
+        stretch["reasons"] = Reasons(s);
+        list.push_back(std::move(stretch));
     }
     return {{"format", "bimslam-odometry-verdict"},
             {"version", 1},
