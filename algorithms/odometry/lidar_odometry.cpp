@@ -69,6 +69,7 @@ void LidarOdometryConfig::Validate() const {
     Require(body_translation_gate >= 0, c, "body_translation_gate", body_translation_gate,
             "must be >= 0");
     Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
+    Require(max_redeskew_move >= 0, c, "max_redeskew_move", max_redeskew_move, "must be >= 0");
     Require(max_deskew_rounds >= 0 && max_deskew_rounds <= 5, c, "max_deskew_rounds",
             max_deskew_rounds, "must be in [0, 5]");
     Require(deskew_step > 0 && deskew_step <= 1, c, "deskew_step", deskew_step,
@@ -579,8 +580,8 @@ void LidarOdometry::DeskewAgain() {
         }
         const ScanMotion estimated = EstimatedMotion();
         const Eigen::Isometry3d diff = common::Between(w.motion.End(), estimated.End());
-        if (diff.translation().norm() + 10.0 * common::RotationAngle(diff) <=
-            config_.redeskew_threshold) {
+        const double move = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
+        if (move <= config_.redeskew_threshold) {
             r.deskew_stop = DeskewStop::kHolds;
             break;
         }
@@ -590,7 +591,14 @@ void LidarOdometry::DeskewAgain() {
             break;
         }
         w.motion = estimated;
-        PreprocessScan(*w.scan, w.motion);
+        if (w.gyro && move <= config_.max_redeskew_move) {
+            // The points the filters chose, moved to where the new motion puts them.
+            preprocessor_.Redeskew(w.motion);
+            if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
+            result_.edge_points = edges_.size();
+        } else {
+            PreprocessScan(*w.scan, w.motion);
+        }
         if (!Align(w.T, kCutDeskewRound)) {
             r.deskew_stop = w.cut ? DeskewStop::kDeadline : DeskewStop::kFailed;
             break;

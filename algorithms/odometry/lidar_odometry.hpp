@@ -124,6 +124,14 @@ struct LidarOdometryConfig {
     // the displacement of a point 10 m away). Not with the sweep's motion correction, which
     // estimates that motion itself.
     double redeskew_threshold = 0.02;
+    // With the gyro, a round whose motion moves the points by at most this much over the sweep
+    // (the same measure) moves the points the voxel filters chose (Preprocessor::Redeskew, about
+    // a fifth of the cost); a larger move, or any round without the gyro, preprocesses the scan
+    // again, filters included. Half the finest map voxel: the filters' choice still holds but for
+    // points near a border. Without the gyro the rounds move the points by 10-40 cm, and moving
+    // the chosen points measured worse there even under this limit (README.md, "A deskew round
+    // moves the chosen points").
+    double max_redeskew_move = 0.05;
     // Rounds of deskewing again and registering, while the motion still moves by more than the
     // threshold: a fixed-point iteration of deskew and pose. Without the IMU one round left a
     // sudden turn's scan (6 deg/scan from 1) most of the way at the prediction; three took the

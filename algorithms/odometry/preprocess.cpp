@@ -88,6 +88,10 @@ Preprocessor::Preprocessor(const PreprocessConfig& config) : config_(config) {
     refilter_alpha_.reserve(config_.max_points);
     registration_points_.reserve(config_.max_points);
     registration_alpha_.reserve(config_.max_points);
+    poses_.reserve(config_.max_points);
+    moves_.reserve(config_.max_points);
+    for (auto* v : {&pose_, &map_pose_, &registration_pose_, &refilter_pose_})
+        v->reserve(config_.max_points);
     range_sample_.reserve(kRangeSamples);
     const size_t slots = NextPowerOfTwo(2 * config_.max_points);
     table_.assign(slots, common::VoxelHash::kEmpty);
@@ -129,6 +133,29 @@ void Preprocessor::ApplyCorrection(const common::Vector6d& xi) {
     Correct(map_points_, map_alpha_, rho, phi);
 }
 
+void Preprocessor::Redeskew(const ScanMotion& motion) {
+    if (poses_.empty() || pose_.size() != deskewed_.size()) return;  // Run() did not deskew
+    // Each pose's move q -> D q + e, with D = R' R^T and e = t' - D t (R', t': the new motion's
+    // T_start_tau at its time); the pose becomes the new one, for another round.
+    moves_.clear();
+    for (SweepPose& s : poses_) {
+        const Eigen::Isometry3d T = motion.At(s.tau_ns * 1e-9);
+        const SweepPose now{s.tau_ns, T.linear().cast<float>(), T.translation().cast<float>()};
+        const Eigen::Matrix3f D = now.R * s.R.transpose();
+        moves_.push_back({s.tau_ns, D, now.t - D * s.t});
+        s = now;
+    }
+    const auto move = [this](std::span<Eigen::Vector3f> points, std::span<const uint32_t> pose) {
+        for (size_t i = 0; i < points.size(); ++i) {
+            const SweepPose& m = moves_[pose[i]];
+            points[i] = m.R * points[i] + m.t;
+        }
+    };
+    move(deskewed_.xyz, pose_);
+    move(map_points_, map_pose_);
+    move(registration_points_, registration_pose_);
+}
+
 double Preprocessor::Adapt(double voxel, size_t count, size_t target, double finest,
                            double coarsest) {
     if (target == 0 || count == 0) return voxel;
@@ -138,8 +165,9 @@ double Preprocessor::Adapt(double voxel, size_t count, size_t target, double fin
 }
 
 void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
-                               std::span<const uint16_t> ring, double voxel,
-                               std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
+                               std::span<const uint32_t> in_pose, std::span<const uint16_t> ring,
+                               double voxel, std::vector<Eigen::Vector3f>* out,
+                               std::vector<float>* out_alpha, std::vector<uint32_t>* out_pose,
                                size_t* expected) {
     // The table's lookups are cache misses (a mixed hash scatters neighbouring voxels), ~60 % of
     // the filter's time over a full table (2 x max_points slots, 4 MB). So only as many slots are
@@ -151,6 +179,7 @@ void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<co
     for (;;) {
         out->clear();
         out_alpha->clear();
+        out_pose->clear();
         used_.clear();
         const size_t mask = slots - 1, limit = slots / 2;
         const float inv = static_cast<float>(1.0 / voxel);
@@ -188,6 +217,7 @@ void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<co
                     used_.push_back(uint32_t(slot));
                     out->push_back(in[i]);
                     out_alpha->push_back(in_alpha[i]);
+                    if (!in_pose.empty()) out_pose->push_back(in_pose[i]);
                     full = out->size() > limit && slots < all;
                     break;
                 }
@@ -207,6 +237,8 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
     stats_.input = scan.size();
     deskewed_.Clear();
     alpha_.clear();
+    poses_.clear();
+    pose_.clear();
     deskewed_.stamp = scan.stamp;
     deskewed_.frame = scan.frame;
     const bool with_i = scan.HasIntensity(), with_r = scan.HasRing(), with_t = scan.HasTime();
@@ -263,8 +295,10 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
                 t = T.translation().cast<float>();
                 pose_time = tau;
                 have_pose = true;
+                poses_.push_back({tau, R, t});
             }
             q = R * p + t;
+            pose_.push_back(uint32_t(poses_.size() - 1));
         }
         deskewed_.xyz.push_back(q);
         alpha_.push_back(with_t ? float(scan.time_offset_ns[i]) * inv_duration : 0.0f);
@@ -280,8 +314,8 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
         stats_.range_p90 = range_sample_[k];
     }
 
-    VoxelFilter(deskewed_.xyz, alpha_, deskewed_.ring, map_voxel_, &map_points_, &map_alpha_,
-                &expected_map_);
+    VoxelFilter(deskewed_.xyz, alpha_, pose_, deskewed_.ring, map_voxel_, &map_points_, &map_alpha_,
+                &map_pose_, &expected_map_);
     const size_t map_target = config_.target_map_points;
     if (map_target > 0 && map_points_.size() > 2 * map_target) {
         const double v =
@@ -289,27 +323,32 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
                      config_.max_map_voxel);
         if (v > map_voxel_) {
             map_voxel_ = v;
-            map_points_.swap(refilter_points_);  // both reserved: no allocation
+            map_points_.swap(refilter_points_);  // all reserved: no allocation
             map_alpha_.swap(refilter_alpha_);
-            VoxelFilter(refilter_points_, refilter_alpha_, {}, map_voxel_, &map_points_,
-                        &map_alpha_, &expected_map_);
+            map_pose_.swap(refilter_pose_);
+            VoxelFilter(refilter_points_, refilter_alpha_, refilter_pose_, {}, map_voxel_,
+                        &map_points_, &map_alpha_, &map_pose_, &expected_map_);
         }
     }
     stats_.map_voxel = map_voxel_;
     stats_.registration_voxel = registration_voxel_;
-    VoxelFilter(map_points_, map_alpha_, {}, std::max(registration_voxel_, map_voxel_),
-                &registration_points_, &registration_alpha_, &expected_registration_);
+    VoxelFilter(map_points_, map_alpha_, map_pose_, {}, std::max(registration_voxel_, map_voxel_),
+                &registration_points_, &registration_alpha_, &registration_pose_,
+                &expected_registration_);
     const size_t found = registration_points_.size();
     // Cap: keep every k-th point (they are in column order, so this thins evenly in azimuth).
     const size_t cap = config_.max_registration_points;
     if (registration_points_.size() > cap) {
         const double step = double(registration_points_.size()) / double(cap);
+        const bool with_pose = !registration_pose_.empty();
         for (size_t k = 0; k < cap; ++k) {
             registration_points_[k] = registration_points_[size_t(k * step)];
             registration_alpha_[k] = registration_alpha_[size_t(k * step)];
+            if (with_pose) registration_pose_[k] = registration_pose_[size_t(k * step)];
         }
         registration_points_.resize(cap);
         registration_alpha_.resize(cap);
+        if (with_pose) registration_pose_.resize(cap);
     }
     stats_.map_points = map_points_.size();
     stats_.registration_points = registration_points_.size();

@@ -127,15 +127,22 @@ public:
     // order, scan_registration.hpp CorrectPoint), so the keyframe cloud and the map get it where
     // the registration found it belongs.
     void ApplyCorrection(const common::Vector6d& xi);
+    // Deskews the last Run()'s points again with `motion` instead of the motion Run() used (the
+    // odometry's deskew rounds with the gyro, lidar_odometry.hpp max_redeskew_move): every kept,
+    // map and registration point moves to where `motion` puts it, for about a fifth of Run()'s
+    // cost: one pose per distinct time offset and a transform per point, no crop, no voxel
+    // filter. Which points the filters chose stays, so the caller keeps the moves well under a
+    // voxel; the next scan's voxel sizes are not adapted again. No-op when Run() did not deskew.
+    void Redeskew(const ScanMotion& motion);
 
 private:
-    // First point per voxel of `in` into `out` (with its alpha), using the preallocated table;
-    // `ring`: each point's ring, or empty; *expected: the last output count of this filter, in
-    // and out.
+    // First point per voxel of `in` into `out` (with its alpha and pose entry), using the
+    // preallocated table; `ring`: each point's ring, or empty; *expected: the last output count
+    // of this filter, in and out.
     void VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<const float> in_alpha,
-                     std::span<const uint16_t> ring, double voxel,
-                     std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
-                     size_t* expected);
+                     std::span<const uint32_t> in_pose, std::span<const uint16_t> ring,
+                     double voxel, std::vector<Eigen::Vector3f>* out, std::vector<float>* out_alpha,
+                     std::vector<uint32_t>* out_pose, size_t* expected);
     // The next scan's voxel size from this scan's count (header of PreprocessConfig).
     static double Adapt(double voxel, size_t count, size_t target, double finest, double coarsest);
 
@@ -148,6 +155,16 @@ private:
     std::vector<float> map_alpha_, registration_alpha_;
     std::vector<Eigen::Vector3f> refilter_points_;  // scratch for a second map filter
     std::vector<float> refilter_alpha_;
+    // The poses that deskewed the last Run()'s points, one per distinct time offset in the order
+    // met (points come column by column), and each kept, map and registration point's entry:
+    // what Redeskew moves them by.
+    struct SweepPose {
+        uint32_t tau_ns = 0;
+        Eigen::Matrix3f R = Eigen::Matrix3f::Identity();
+        Eigen::Vector3f t = Eigen::Vector3f::Zero();
+    };
+    std::vector<SweepPose> poses_, moves_;  // moves_: Redeskew's scratch
+    std::vector<uint32_t> pose_, map_pose_, registration_pose_, refilter_pose_;
     std::vector<float> range_sample_;  // scratch for the range percentile
     double duration_s_ = 0;
     double map_voxel_ = 0, registration_voxel_ = 0;  // the current (adapted) sizes
