@@ -11,6 +11,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "algorithms/changes/dbscan.hpp"
@@ -180,48 +181,89 @@ void ChangeModel::Validate() const {
 
 namespace {
 
-// Steps 1-6 on the keyframes' poses as given (checked by DetectChanges).
-ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
-                           const ChangeDetectorConfig& config, const ChangeProgress& progress) {
-    const auto report = [&](std::string_view stage, double f) {
-        if (progress) progress(stage, f);
+// One run of steps 1-6: what every step reads (the model, the keyframes, the config, the progress
+// callback) and fills (the result, counts and timings included), and what later steps take from
+// step 2. What one step alone hands the next passes between them in DetectOnPoses.
+struct Detection {
+    struct Candidates {  // as step 3 sorted them
+        std::vector<uint32_t> transient_points, seeds, band;
     };
-    ChangeResult out;
 
-    // 1. The aligned map.
-    auto t0 = Clock::now();
+    Detection(const ChangeModel& m, std::span<const MapKeyframe> k, const ChangeDetectorConfig& c,
+              const ChangeProgress& p)
+        : model(m), keyframes(k), config(c), progress(p) {}
+
+    void Report(std::string_view stage, double f) const {
+        if (progress) progress(stage, f);
+    }
+
+    void AlignMap();                                                     // 1.
+    void MeasureDistances();                                             // 2.
+    std::vector<uint32_t> SelectCandidates();                            // 2.
+    Candidates FindTransients(const std::vector<uint32_t>& candidates);  // 3.
+    void FindNewObjects(const Candidates& sorted);                       // 4.
+    std::vector<ElementEvidence> CollectEvidence();                      // 5.
+    void JudgeElements(std::span<const ElementEvidence> evidence);       // 6.
+
+    // What steps 3 and 4 call.
+    void JudgeTransients(const std::vector<uint32_t>& far, std::vector<uint8_t>& transient);
+    std::vector<std::vector<uint32_t>> GrowClusters(const std::vector<uint32_t>& seeds,
+                                                    const std::vector<uint32_t>& band);
+    NewObject MakeObject(std::vector<uint32_t> points) const;
+    void ClusterTransients(const std::vector<uint32_t>& transient_points);
+
+    const ChangeModel& model;
+    const std::span<const MapKeyframe> keyframes;
+    const ChangeDetectorConfig& config;
+    const ChangeProgress& progress;
+    const float high = float(config.new_object_threshold_m);
+    const float low = float(config.band_threshold_m);
+    ChangeResult out;
+    std::optional<simulation::Scene> scene;  // of the whole model, from step 2 on
+    std::vector<uint32_t> nearest_triangle;  // per map point (kNoElement: none), from step 2
+};
+
+// 1. The aligned map.
+void Detection::AlignMap() {
+    const auto t0 = Clock::now();
     out.map = BuildAlignedMap(keyframes, config.map);
-    ChangeResult::Timings& sec = out.seconds;
-    sec.map_s = common::SecondsSince(t0);
-    report("map", 1.0);
+    out.seconds.map_s = common::SecondsSince(t0);
+    Report("map", 1.0);
     if (out.map.size() == 0) {
         common::ThrowInvalid("the session's keyframes hold no points between " +
                              std::to_string(config.map.min_range_m) + " and " +
                              std::to_string(config.map.max_range_m) + " m");
     }
+}
+
+// 2. Signed distances to the whole model.
+void Detection::MeasureDistances() {
     const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
     const size_t n = xyz.size();
-
-    // 2. Signed distances to the whole model.
-    t0 = Clock::now();
-    const simulation::Scene scene(model.mesh);
-    PointDistances d = ComputeDistances(scene, xyz, std::numeric_limits<float>::infinity(),
-                                        [&](double f) { report("distances", f); });
+    const auto t0 = Clock::now();
+    scene.emplace(model.mesh);
+    PointDistances d = ComputeDistances(*scene, xyz, std::numeric_limits<float>::infinity(),
+                                        [&](double f) { Report("distances", f); });
     out.signed_distance_m = std::move(d.signed_m);
     out.element.assign(n, kNoElement);
     for (size_t i = 0; i < n; ++i) {
         if (d.triangle[i] != kNoElement) out.element[i] = model.triangle_element[d.triangle[i]];
     }
-    sec.distance_s = common::SecondsSince(t0);
+    nearest_triangle = std::move(d.triangle);
+    out.seconds.distance_s = common::SecondsSince(t0);
+}
 
+// The end of step 2: the candidates, the points farther than band_threshold_m from the model
+// within the compared region and inside the building.
+std::vector<uint32_t> Detection::SelectCandidates() {
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
+    const size_t n = xyz.size();
     // The compared region: the model's box plus a margin (the outdoors seen through windows and
     // doors is not the building's).
     Eigen::AlignedBox3f region;
     for (const auto& v : model.mesh.vertices) region.extend(v);
     region.min().array() -= float(config.crop_margin_m);
     region.max().array() += float(config.crop_margin_m);
-    const float high = float(config.new_object_threshold_m);
-    const float low = float(config.band_threshold_m);
     out.point_class.assign(n, PointClass::kModel);
     out.object.assign(n, -1);
     std::vector<uint32_t> candidates;
@@ -230,7 +272,7 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
     const float depth = region.sizes().z();
     const auto outside_footprint = [&](const Eigen::Vector3f& p) {
         return config.crop_to_footprint &&
-               !scene.Intersect(p, -Eigen::Vector3f::UnitZ(), 0.0f, depth).has_value();
+               !scene->Intersect(p, -Eigen::Vector3f::UnitZ(), 0.0f, depth).has_value();
     };
     for (size_t i = 0; i < n; ++i) {
         const float s = std::abs(out.signed_distance_m[i]);
@@ -247,105 +289,85 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         }
     }
     out.counts.candidates = candidates.size();
+    return candidates;
+}
 
-    // 3. Transients among the points that would start new objects (a person's lower 10 cm are
-    // band points: without transient seeds next to them they never become part of an object).
-    t0 = Clock::now();
+// 3. Transients among the points that would start new objects (a person's lower 10 cm are
+// band points: without transient seeds next to them they never become part of an object).
+Detection::Candidates Detection::FindTransients(const std::vector<uint32_t>& candidates) {
+    const auto t0 = Clock::now();
     std::vector<uint32_t> far;
     for (const uint32_t i : candidates) {
         if (std::abs(out.signed_distance_m[i]) > high) far.push_back(i);
     }
-    std::vector<uint8_t> transient(n, 0);
-    if (config.detect_transients && !far.empty()) {
-        std::vector<Eigen::Vector3f> cxyz(far.size()), viewpoint(far.size());
-        std::vector<uint32_t> seen_by(far.size());
-        for (size_t k = 0; k < far.size(); ++k) {
-            cxyz[k] = xyz[far[k]];
-            seen_by[k] = out.map.first_keyframe[far[k]];
-            viewpoint[k] = keyframes[seen_by[k]].T_world_lidar.translation().cast<float>();
-        }
-        const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
-        const PointNormals normals = EstimateNormals(cxyz, radius, viewpoint, seen_by);
-        const FreeSpaceIndex index(keyframes, config.free_space);
-        std::vector<uint8_t> far_transient(far.size(), 0), judged(far.size(), 0);
-        const size_t chunk = std::max<size_t>(1024, far.size() / 20);
-        for (size_t first = 0; first < far.size(); first += chunk) {
-            const size_t last = std::min(far.size(), first + chunk);
-            tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 256), [&](const auto& r) {
-                for (size_t k = r.begin(); k < r.end(); ++k) {
-                    FreeSpaceIndex::Votes v = index.Vote(cxyz[k], normals.all[k]);
-                    bool is = index.Transient(v);
-                    bool voted = v.free + v.seen > 0;
-                    // The second normal where there is one: even 20 deg between the two can turn
-                    // the beams along a corridor from grazing to crossing.
-                    const Eigen::Vector3f& second = normals.same_keyframe[k];
-                    if (!is && second.squaredNorm() > 0) {
-                        v = index.Vote(cxyz[k], second);
-                        is = index.Transient(v);
-                        voted |= v.free + v.seen > 0;
-                    }
-                    far_transient[k] = is;
-                    judged[k] = voted;
-                }
-            });
-            report("transients", double(last) / double(far.size()));
-        }
-        out.counts.transient_by_neighbours =
-            JudgeByNeighbours(cxyz, judged, far_transient, config.free_space.unjudged_radius_m);
-        for (size_t k = 0; k < far.size(); ++k) {
-            transient[far[k]] = far_transient[k];
-            out.counts.unjudged_points += !judged[k];
-        }
-    }
-    std::vector<uint32_t> transient_points, seeds, band;
+    std::vector<uint8_t> transient(out.map.xyz.size(), 0);
+    if (config.detect_transients && !far.empty()) JudgeTransients(far, transient);
+    Candidates sorted;
     for (const uint32_t i : candidates) {
         if (transient[i]) {
-            transient_points.push_back(i);
+            sorted.transient_points.push_back(i);
             out.point_class[i] = PointClass::kTransient;
         } else if (std::abs(out.signed_distance_m[i]) > high) {
-            seeds.push_back(i);
+            sorted.seeds.push_back(i);
         } else {
-            band.push_back(i);
+            sorted.band.push_back(i);
         }
     }
-    out.counts.transient_points = transient_points.size();
-    out.counts.seed_points = seeds.size();
-    sec.transient_s = common::SecondsSince(t0);
+    out.counts.transient_points = sorted.transient_points.size();
+    out.counts.seed_points = sorted.seeds.size();
+    out.seconds.transient_s = common::SecondsSince(t0);
+    return sorted;
+}
 
-    // 4. New objects: DBSCAN over the seeds, grown into the band.
-    t0 = Clock::now();
-    std::vector<Eigen::Vector3f> seed_xyz(seeds.size());
-    for (size_t k = 0; k < seeds.size(); ++k) seed_xyz[k] = xyz[seeds[k]];
-    const DbscanResult clusters = Dbscan(seed_xyz, config.dbscan);
-    out.counts.clusters = size_t(clusters.clusters);
-    std::vector<std::vector<uint32_t>> members(size_t(clusters.clusters));
-    for (size_t k = 0; k < seeds.size(); ++k) {
-        if (clusters.labels[k] >= 0) members[size_t(clusters.labels[k])].push_back(seeds[k]);
+// Step 3's free-space test of the `far` points (map indices): sets transient[far[k]] for those
+// the keyframes looked through, by their votes or their neighbours'.
+void Detection::JudgeTransients(const std::vector<uint32_t>& far, std::vector<uint8_t>& transient) {
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
+    std::vector<Eigen::Vector3f> cxyz(far.size()), viewpoint(far.size());
+    std::vector<uint32_t> seen_by(far.size());
+    for (size_t k = 0; k < far.size(); ++k) {
+        cxyz[k] = xyz[far[k]];
+        seen_by[k] = out.map.first_keyframe[far[k]];
+        viewpoint[k] = keyframes[seen_by[k]].T_world_lidar.translation().cast<float>();
     }
-    {
-        std::vector<Eigen::Vector3f> band_xyz(band.size());
-        for (size_t k = 0; k < band.size(); ++k) band_xyz[k] = xyz[band[k]];
-        const float eps = float(config.dbscan.eps_m);
-        const PointGrid band_grid(band_xyz, eps);
-        std::vector<uint8_t> taken(band.size(), 0);
-        for (auto& cluster : members) {
-            Eigen::AlignedBox3f limit;
-            for (const uint32_t i : cluster) limit.extend(xyz[i]);
-            limit.min().array() -= high;
-            limit.max().array() += high;
-            std::deque<uint32_t> queue(cluster.begin(), cluster.end());
-            while (!queue.empty()) {
-                const uint32_t i = queue.front();
-                queue.pop_front();
-                band_grid.ForEachPointWithin(xyz[i], eps, [&](uint32_t k) {
-                    if (taken[k] || !limit.contains(band_xyz[k])) return;
-                    taken[k] = 1;
-                    cluster.push_back(band[k]);
-                    queue.push_back(band[k]);
-                });
+    const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
+    const PointNormals normals = EstimateNormals(cxyz, radius, viewpoint, seen_by);
+    const FreeSpaceIndex index(keyframes, config.free_space);
+    std::vector<uint8_t> far_transient(far.size(), 0), judged(far.size(), 0);
+    const size_t chunk = std::max<size_t>(1024, far.size() / 20);
+    for (size_t first = 0; first < far.size(); first += chunk) {
+        const size_t last = std::min(far.size(), first + chunk);
+        tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 256), [&](const auto& r) {
+            for (size_t k = r.begin(); k < r.end(); ++k) {
+                FreeSpaceIndex::Votes v = index.Vote(cxyz[k], normals.all[k]);
+                bool is = index.Transient(v);
+                bool voted = v.free + v.seen > 0;
+                // The second normal where there is one: even 20 deg between the two can turn
+                // the beams along a corridor from grazing to crossing.
+                const Eigen::Vector3f& second = normals.same_keyframe[k];
+                if (!is && second.squaredNorm() > 0) {
+                    v = index.Vote(cxyz[k], second);
+                    is = index.Transient(v);
+                    voted |= v.free + v.seen > 0;
+                }
+                far_transient[k] = is;
+                judged[k] = voted;
             }
-        }
+        });
+        Report("transients", double(last) / double(far.size()));
     }
+    out.counts.transient_by_neighbours =
+        JudgeByNeighbours(cxyz, judged, far_transient, config.free_space.unjudged_radius_m);
+    for (size_t k = 0; k < far.size(); ++k) {
+        transient[far[k]] = far_transient[k];
+        out.counts.unjudged_points += !judged[k];
+    }
+}
+
+// 4. New objects: DBSCAN over the seeds, grown into the band.
+void Detection::FindNewObjects(const Candidates& sorted) {
+    const auto t0 = Clock::now();
+    std::vector<std::vector<uint32_t>> members = GrowClusters(sorted.seeds, sorted.band);
     std::vector<std::vector<uint32_t>> object_points;
     for (auto& cluster : members) {
         if (cluster.size() < config.min_object_points) continue;
@@ -360,55 +382,107 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         }
         object_points.push_back(std::move(cluster));
     }
-    const float voxel = float(config.map.voxel_m);
-    const float floor_reach = high + 2 * voxel;
     for (size_t o = 0; o < object_points.size(); ++o) {
-        NewObject obj;
-        obj.points = std::move(object_points[o]);
-        std::sort(obj.points.begin(), obj.points.end());
-        std::vector<Eigen::Vector3f> pts(obj.points.size());
-        std::vector<float> floor_z(obj.points.size(), std::numeric_limits<float>::quiet_NaN());
-        Eigen::AlignedBox3d box;
-        for (size_t k = 0; k < obj.points.size(); ++k) {
-            pts[k] = xyz[obj.points[k]];
-            box.extend(pts[k].cast<double>());
-        }
-        // The floor under the object: a surface facing up within reach below its points.
-        const float bottom = float(box.min().z());
-        for (size_t k = 0; k < pts.size(); ++k) {
-            if (pts[k].z() > bottom + floor_reach) continue;
-            const auto hit = scene.Intersect(pts[k], -Eigen::Vector3f::UnitZ(), 0.0f, floor_reach);
-            if (hit && hit->normal.z() > 0.7f) floor_z[k] = pts[k].z() - hit->t;
-        }
-        for (const float z : floor_z) {
-            if (std::isfinite(z) && z < box.min().z()) {
-                box.min().z() = z;
-                obj.on_floor = true;
-            }
-        }
-        if (!obj.on_floor && config.max_unseen_support_drop_m > 0) {
-            const float z = UnseenSupport(scene, xyz, pts, box,
-                                          float(config.max_unseen_support_drop_m), voxel, low);
-            if (std::isfinite(z) && z < box.min().z()) {
-                box.min().z() = z;
-                obj.on_floor = true;
-            }
-        }
-        obj.solid = MakeVoxelSolid(pts, voxel, float(box.min().z()));
-        obj.mesh = VoxelSurface(obj.solid);
-        obj.box_min = box.min();
-        obj.box_max = box.max();
-        obj.centroid = obj.solid.centroid();
-        obj.volume_m3 = obj.solid.volume_m3();
+        NewObject obj = MakeObject(std::move(object_points[o]));
         for (const uint32_t i : obj.points) {
             out.point_class[i] = PointClass::kNewObject;
             out.object[i] = int32_t(o);
         }
         out.objects.push_back(std::move(obj));
     }
-    report("objects", 0.5);
+    Report("objects", 0.5);
+    ClusterTransients(sorted.transient_points);
+    out.seconds.cluster_s = common::SecondsSince(t0);
+    Report("objects", 1.0);
+}
 
-    // Transient clusters, reported apart.
+// Step 4's clusters of seeds (DBSCAN), each grown into the band points that touch it, within
+// new_object_threshold_m of its seeds' box.
+std::vector<std::vector<uint32_t>> Detection::GrowClusters(const std::vector<uint32_t>& seeds,
+                                                           const std::vector<uint32_t>& band) {
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
+    std::vector<Eigen::Vector3f> seed_xyz(seeds.size());
+    for (size_t k = 0; k < seeds.size(); ++k) seed_xyz[k] = xyz[seeds[k]];
+    const DbscanResult clusters = Dbscan(seed_xyz, config.dbscan);
+    out.counts.clusters = size_t(clusters.clusters);
+    std::vector<std::vector<uint32_t>> members(size_t(clusters.clusters));
+    for (size_t k = 0; k < seeds.size(); ++k) {
+        if (clusters.labels[k] >= 0) members[size_t(clusters.labels[k])].push_back(seeds[k]);
+    }
+    std::vector<Eigen::Vector3f> band_xyz(band.size());
+    for (size_t k = 0; k < band.size(); ++k) band_xyz[k] = xyz[band[k]];
+    const float eps = float(config.dbscan.eps_m);
+    const PointGrid band_grid(band_xyz, eps);
+    std::vector<uint8_t> taken(band.size(), 0);
+    for (auto& cluster : members) {
+        Eigen::AlignedBox3f limit;
+        for (const uint32_t i : cluster) limit.extend(xyz[i]);
+        limit.min().array() -= high;
+        limit.max().array() += high;
+        std::deque<uint32_t> queue(cluster.begin(), cluster.end());
+        while (!queue.empty()) {
+            const uint32_t i = queue.front();
+            queue.pop_front();
+            band_grid.ForEachPointWithin(xyz[i], eps, [&](uint32_t k) {
+                if (taken[k] || !limit.contains(band_xyz[k])) return;
+                taken[k] = 1;
+                cluster.push_back(band[k]);
+                queue.push_back(band[k]);
+            });
+        }
+    }
+    return members;
+}
+
+// Step 4's object of the map points `points`: their box, its bottom extended to what the object
+// stands on, the voxel solid and its mesh (the points' classes are the caller's).
+NewObject Detection::MakeObject(std::vector<uint32_t> points) const {
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
+    const float voxel = float(config.map.voxel_m);
+    const float floor_reach = high + 2 * voxel;
+    NewObject obj;
+    obj.points = std::move(points);
+    std::sort(obj.points.begin(), obj.points.end());
+    std::vector<Eigen::Vector3f> pts(obj.points.size());
+    std::vector<float> floor_z(obj.points.size(), std::numeric_limits<float>::quiet_NaN());
+    Eigen::AlignedBox3d box;
+    for (size_t k = 0; k < obj.points.size(); ++k) {
+        pts[k] = xyz[obj.points[k]];
+        box.extend(pts[k].cast<double>());
+    }
+    // The floor under the object: a surface facing up within reach below its points.
+    const float bottom = float(box.min().z());
+    for (size_t k = 0; k < pts.size(); ++k) {
+        if (pts[k].z() > bottom + floor_reach) continue;
+        const auto hit = scene->Intersect(pts[k], -Eigen::Vector3f::UnitZ(), 0.0f, floor_reach);
+        if (hit && hit->normal.z() > 0.7f) floor_z[k] = pts[k].z() - hit->t;
+    }
+    for (const float z : floor_z) {
+        if (std::isfinite(z) && z < box.min().z()) {
+            box.min().z() = z;
+            obj.on_floor = true;
+        }
+    }
+    if (!obj.on_floor && config.max_unseen_support_drop_m > 0) {
+        const float z = UnseenSupport(*scene, xyz, pts, box,
+                                      float(config.max_unseen_support_drop_m), voxel, low);
+        if (std::isfinite(z) && z < box.min().z()) {
+            box.min().z() = z;
+            obj.on_floor = true;
+        }
+    }
+    obj.solid = MakeVoxelSolid(pts, voxel, float(box.min().z()));
+    obj.mesh = VoxelSurface(obj.solid);
+    obj.box_min = box.min();
+    obj.box_max = box.max();
+    obj.centroid = obj.solid.centroid();
+    obj.volume_m3 = obj.solid.volume_m3();
+    return obj;
+}
+
+// Transient clusters, reported apart.
+void Detection::ClusterTransients(const std::vector<uint32_t>& transient_points) {
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
     std::vector<Eigen::Vector3f> transient_xyz(transient_points.size());
     for (size_t k = 0; k < transient_points.size(); ++k) {
         transient_xyz[k] = xyz[transient_points[k]];
@@ -432,11 +506,11 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         }
         c.centroid = sum / double(c.points.size());
     }
-    sec.cluster_s = common::SecondsSince(t0);
-    report("objects", 1.0);
+}
 
-    // 5. The beams' evidence on the opaque elements.
-    t0 = Clock::now();
+// 5. The beams' evidence on the opaque elements.
+std::vector<ElementEvidence> Detection::CollectEvidence() {
+    const auto t0 = Clock::now();
     common::TriangleMesh opaque;
     std::vector<uint32_t> opaque_element;
     opaque.vertices = model.mesh.vertices;  // unused vertices cost Embree nothing
@@ -446,22 +520,27 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         opaque_element.push_back(model.triangle_element[t]);
     }
     const simulation::Scene opaque_scene(opaque);
-    const std::vector<ElementEvidence> evidence = CollectElementEvidence(
+    std::vector<ElementEvidence> evidence = CollectElementEvidence(
         opaque_scene, opaque, opaque_element, model.element_count(), keyframes, config.evidence,
-        [&](double f) { report("elements", 0.9 * f); });
-    sec.evidence_s = common::SecondsSince(t0);
+        [&](double f) { Report("elements", 0.9 * f); });
+    out.seconds.evidence_s = common::SecondsSince(t0);
+    return evidence;
+}
 
-    // 6. Verdicts and deviations, then moved elements.
-    t0 = Clock::now();
+// 6. Verdicts and deviations, then moved elements.
+void Detection::JudgeElements(std::span<const ElementEvidence> evidence) {
+    const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
+    const size_t n = xyz.size();
+    const auto t0 = Clock::now();
     std::vector<uint8_t> usable(n, 0);
     for (size_t i = 0; i < n; ++i) {
         usable[i] = out.point_class[i] == PointClass::kModel ||
                     out.point_class[i] == PointClass::kUnexplained;
     }
     const std::vector<std::vector<uint32_t>> support = ElementSupport(
-        model, out.signed_distance_m, d.triangle, usable, config.elements.support_distance_m);
-    out.elements =
-        CheckElements(model, out.signed_distance_m, d.triangle, support, evidence, config.elements);
+        model, out.signed_distance_m, nearest_triangle, usable, config.elements.support_distance_m);
+    out.elements = CheckElements(model, out.signed_distance_m, nearest_triangle, support, evidence,
+                                 config.elements);
     std::vector<std::vector<uint32_t>> objects_points(out.objects.size());
     for (size_t o = 0; o < out.objects.size(); ++o) objects_points[o] = out.objects[o].points;
     const std::vector<uint32_t> explained =
@@ -471,9 +550,22 @@ ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe
         if (explained[o] == kNoElement) continue;
         for (const uint32_t i : out.objects[o].points) out.point_class[i] = PointClass::kMoved;
     }
-    sec.elements_s = common::SecondsSince(t0);
-    report("elements", 1.0);
-    return out;
+    out.seconds.elements_s = common::SecondsSince(t0);
+    Report("elements", 1.0);
+}
+
+// Steps 1-6 on the keyframes' poses as given (checked by DetectChanges).
+ChangeResult DetectOnPoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           const ChangeDetectorConfig& config, const ChangeProgress& progress) {
+    Detection run(model, keyframes, config, progress);
+    run.AlignMap();                                                       // 1.
+    run.MeasureDistances();                                               // 2.
+    const std::vector<uint32_t> candidates = run.SelectCandidates();      // 2.
+    const Detection::Candidates sorted = run.FindTransients(candidates);  // 3.
+    run.FindNewObjects(sorted);                                           // 4.
+    const std::vector<ElementEvidence> evidence = run.CollectEvidence();  // 5.
+    run.JudgeElements(evidence);                                          // 6.
+    return std::move(run.out);
 }
 
 }  // namespace
