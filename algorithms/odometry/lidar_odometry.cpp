@@ -420,6 +420,10 @@ void LidarOdometry::Predict() {
 
 void LidarOdometry::PreprocessScan(const common::PointCloud& cloud, const ScanMotion& motion) {
     result_.preprocess = preprocessor_.Run(cloud, motion);
+    ExtractEdges();
+}
+
+void LidarOdometry::ExtractEdges() {
     if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
     result_.edge_points = edges_.size();
 }
@@ -594,8 +598,7 @@ void LidarOdometry::DeskewAgain() {
         if (w.gyro && move <= config_.max_redeskew_move) {
             // The points the filters chose, moved to where the new motion puts them.
             preprocessor_.Redeskew(w.motion);
-            if (edge_extractor_) edges_ = edge_extractor_->Run(preprocessor_.deskewed());
-            result_.edge_points = edges_.size();
+            ExtractEdges();
         } else {
             PreprocessScan(*w.scan, w.motion);
         }

@@ -330,6 +330,7 @@ private:
     void BeginScan(const common::PointCloud& scan);
     void Predict();  // 1: work_.delta and sigma
     void PreprocessScan(const common::PointCloud& cloud, const ScanMotion& motion);  // 2
+    void ExtractEdges();        // the edge features of the deskewed points, when configured
     bool TooFewPoints() const;  // fewer registration points than registration needs
     // 3: from the prediction, the gyro's gate, other headings, a start in motion, deskew rounds.
     void Register();
