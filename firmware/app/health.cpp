@@ -245,13 +245,15 @@ void Health::DetectRigFaults(const Snapshot& n, Faults& f) {
     f.Set(kDegenerate, wc.degenerate > last_worker_.degenerate, "degenerate registration");
     f.Set(kOverBudget, wc.over_budget > last_worker_.over_budget, "odometry over its budget");
     f.Set(kLost, wc.failed > last_worker_.failed, "registration failed");
-    // A wall clock step: CLOCK_REALTIME - CLOCK_MONOTONIC moved by more than 50 ms.
+    // A wall clock step: CLOCK_REALTIME - CLOCK_MONOTONIC moved by more than 50 ms. Not the
+    // ingest's arrival times going back (LidarCounters::clock_backwards): datagrams read in
+    // batches, one socket after the other, go back between the sockets by the batch's span
+    // whenever they come faster than they are read, and the ingest keeps them in order; a step
+    // of the clock those kernel stamps come from (CLOCK_REALTIME) is the step seen here.
     const int64_t offset = n.now_rt - n.now;
     const bool step = std::llabs(offset - rt_minus_mono_) > 50'000'000;
     rt_minus_mono_ = offset;
-    f.Set(kClockJump,
-          step || wc.clock_jumps > last_worker_.clock_jumps ||
-              n.ic.clock_backwards > last_ingest_.clock_backwards,
+    f.Set(kClockJump, step || wc.clock_jumps > last_worker_.clock_jumps,
           step ? "the wall clock stepped" : "the sensor clock jumped (the odometry started again)");
     f.Set(kLcmPublish, n.lc.failures > last_lcm_.failures, "LCM publish failed");
     f.Set(kBimMap, !in_.bim_map_error.empty(),
