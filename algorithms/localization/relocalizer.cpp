@@ -33,6 +33,20 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
+Eigen::Isometry3d FuseWithPrediction(const Eigen::Isometry3d& predicted,
+                                     const registration::RegistrationResult& r, double sigma_m,
+                                     double sigma_up, double sigma_deg) {
+    const common::Vector6d nu = common::LogSE3(predicted.inverse() * r.T_target_source);
+    const Eigen::Matrix3d R = predicted.linear();  // the model's axes to the lidar's
+    const Eigen::Vector3d var(sigma_m * sigma_m, sigma_m * sigma_m, sigma_up * sigma_up);
+    common::Matrix6d P_inv = common::Matrix6d::Zero();
+    P_inv.topLeftCorner<3, 3>() = R.transpose() * var.cwiseInverse().asDiagonal() * R;
+    const double sigma_rad = sigma_deg * M_PI / 180;
+    P_inv.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() / (sigma_rad * sigma_rad);
+    const common::Vector6d delta = (P_inv + r.information).ldlt().solve(r.information * nu);
+    return predicted * common::ExpSE3(delta);
+}
+
 io::StampedPose LivePose(const Eigen::Isometry3d& T_bim_odom, const io::StampedPose& odom) {
     return io::StampedPose::FromIsometry(odom.stamp_ns, T_bim_odom * odom.Pose());
 }
@@ -332,8 +346,9 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
         const double max_deg =
             std::min(config_.track_max_deg,
                      config_.track_step_deg + config_.drift_deg_per_m * moved.norm());
-        if (Near(predicted, r.T_target_source, max_m, max_up, max_deg)) {
-            step_.T_bim_odom = r.T_target_source * T_odom_lidar.inverse();
+        const Eigen::Isometry3d found = FuseWithPrediction(predicted, r, max_m, max_up, max_deg);
+        if (Near(predicted, found, max_m, max_up, max_deg)) {
+            step_.T_bim_odom = found * T_odom_lidar.inverse();
             step_.fix_information = r.information;
             step_.T_odom_lidar_fix = T_odom_lidar;
             step_.accepted = true;
