@@ -259,7 +259,9 @@ void CommonOptions(CLI::App* cmd, Args& a) {
                   "Print the effective configuration (every key, unit and range) and exit");
     cmd->add_option("--session-root", a.session_root, "Overrides session.root");
     cmd->add_flag("--no-record", a.no_record, "Write no session");
-    cmd->add_option("--duration", a.duration_s, "Stop after this many seconds (0: never)")
+    cmd->add_option("--duration", a.duration_s,
+                    "Stop after this many seconds of running, on this machine's clock (a replay at "
+                    "--speed max covers more of its recording in them; 0: never)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--json", a.json, "Print the summary at exit as JSON");
     cmd->add_option("--lcm-log", a.lcm_log,
