@@ -63,8 +63,10 @@ struct CanIngest::Impl {
             CountBridge(s);
             BodyItem* slot = bodies.BeginPushWaiting(replay != nullptr, stop);
             if (slot == nullptr) {
-                bodies.CountDrop();
-                ++c.bodies_dropped;
+                if (replay == nullptr) {  // a replay's nullptr is its stop, not a drop
+                    bodies.CountDrop();
+                    ++c.bodies_dropped;
+                }
             } else {
                 slot->body = pipeline::BodyFromGo1(s);
                 bodies.CommitPush();

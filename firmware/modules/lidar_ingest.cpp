@@ -80,7 +80,8 @@ struct LidarIngest::Impl {
         R_imu_sensor = info.imu_to_sensor_transform.topLeftCorner<3, 3>().transpose();
     }
 
-    // The slot to fill, waiting for room in a replay; nullptr when the item must be dropped.
+    // The slot to fill, waiting for room in a replay; nullptr when the item must be dropped, or
+    // in a replay when the run stops (its end, not a drop: the callers count only the former).
     template <typename Q>
     auto Slot(Q& q, const std::atomic<bool>& stop) -> decltype(q.BeginPush()) {
         return q.BeginPushWaiting(replay != nullptr, stop);
@@ -93,8 +94,10 @@ struct LidarIngest::Impl {
         for (const ouster::LidarFrame* frame : batcher.ready()) {
             ScanSlot* slot = Slot(scans, stop);
             if (slot == nullptr) {
-                scans.CountDrop();
-                ++c.scans_dropped;
+                if (replay == nullptr) {
+                    scans.CountDrop();
+                    ++c.scans_dropped;
+                }
                 continue;
             }
             pipeline::FrameToScan(*frame, arrival_ns, imu_pushed, &slot->scan);
@@ -145,8 +148,10 @@ struct LidarIngest::Impl {
         for (size_t i = 0; i < r.samples; ++i) {
             ImuItem* slot = Slot(imu, stop);
             if (slot == nullptr) {
-                imu.CountDrop();
-                ++c.imu_dropped;
+                if (replay == nullptr) {
+                    imu.CountDrop();
+                    ++c.imu_dropped;
+                }
             } else {
                 slot->measurement = pipeline::ImuFromOuster(samples[i]);
                 imu.CommitPush();

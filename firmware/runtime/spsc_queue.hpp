@@ -96,11 +96,12 @@ public:
         }
         return slot;
     }
-    // Producer: TryPush with BeginPushWaiting's policy; a drop is counted.
+    // Producer: TryPush with BeginPushWaiting's policy; a drop is counted. A waiting push that
+    // the stop ended is the run's end, not a drop (a replay stopped by its duration).
     bool PushWaiting(const T& item, bool wait, const std::atomic<bool>& stop) {
         T* slot = BeginPushWaiting(wait, stop);
         if (slot == nullptr) {
-            CountDrop();
+            if (!wait) CountDrop();
             return false;
         }
         *slot = item;

@@ -390,6 +390,19 @@ TEST_F(Rig, DatagramsInBurstsOnItsTwoSocketsAreNoClockJump) {
         << Slurp(Tmp() / "burst.err");
 }
 
+// A replay stopped by its --duration mid-recording: the scan the ingest was handing over when the
+// stop came is the run's end, not a scan dropped by a full queue ("a replay loses nothing at any
+// speed"). Until stop 61 it was counted as one (scans_dropped 1, queue_drops 1).
+TEST_F(Rig, AReplayStoppedByItsDurationDropsNothing) {
+    const fs::path cap = Capture("handheld", 8);
+    const nlohmann::json j = RigJson(kRig + " replay " + cap.string() +
+                                     " --handheld --speed max --no-record --duration 0.3 --json");
+    ASSERT_FALSE(j.is_null());
+    EXPECT_LT(j["scans"].get<int>(), 80) << "the recording ended before the duration";
+    EXPECT_EQ(j["scans_dropped"], 0) << j.dump(1);
+    EXPECT_EQ(j["queue_drops"], 0) << j.dump(1);
+}
+
 TEST_F(Rig, RefusedSchedulingIsAWarningNotAFailure) {
     if (::geteuid() != 0) {
         GTEST_SKIP() << "runs the rig as nobody through setpriv, which needs root";
