@@ -13,10 +13,11 @@
 //      DBSCAN (dbscan.hpp), grown into the band down to band_threshold_m (so the part of an object
 //      near the floor or a wall is not cut off), turned into voxel solids and meshes
 //      (voxel_mesh.hpp);
-//   5. missing, deviating and unobserved elements from the beams (element_evidence.hpp,
-//      element_check.hpp), moved elements paired with the new objects they became
-//      (moved_elements.hpp);
-//   6. the as-built deviation of every element (element_check.hpp).
+//   5. the beams' evidence on every opaque element: rays that agree with it, went through it,
+//      or were occluded in front of it (element_evidence.hpp);
+//   6. from it and the map's points near each element, the verdicts (missing, deviating,
+//      unobserved) and the as-built deviation of every element (element_check.hpp), then the
+//      moved elements paired with the new objects they became (moved_elements.hpp).
 // The storey and the IfcSpace of a new object, the files and the IFC are the host tool's
 // (host_tools/changes), which knows the BIM.
 #pragma once
