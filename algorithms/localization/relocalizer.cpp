@@ -47,6 +47,16 @@ Eigen::Isometry3d FuseWithPrediction(const Eigen::Isometry3d& predicted,
     return predicted * common::ExpSE3(delta);
 }
 
+bool MeasuredAlong(const registration::RegistrationResult& r, const Eigen::Isometry3d& predicted,
+                   const Eigen::Vector3d& along, double sigma_m, double sigma_up) {
+    if (along.isZero()) return true;
+    const Eigen::Vector3d a = predicted.linear().transpose() * along;  // the lidar's axes
+    const double measured = a.dot(r.information.topLeftCorner<3, 3>() * a);
+    const double known = along.head<2>().squaredNorm() / (sigma_m * sigma_m) +
+                         along.z() * along.z() / (sigma_up * sigma_up);
+    return measured >= known;
+}
+
 io::StampedPose LivePose(const Eigen::Isometry3d& T_bim_odom, const io::StampedPose& odom) {
     return io::StampedPose::FromIsometry(odom.stamp_ns, T_bim_odom * odom.Pose());
 }
@@ -325,6 +335,7 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
     loops_.clear();
     guides_.clear();
     misses_ = contradicted_ = 0;
+    contradicted_along_.setZero();
 }
 
 void Relocalizer::Track(const registration::OrientedCloud& cloud,
@@ -352,13 +363,16 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
             step_.fix_information = r.information;
             step_.T_odom_lidar_fix = T_odom_lidar;
             step_.accepted = true;
-            misses_ = contradicted_ = 0;
+            misses_ = 0;
+            if (MeasuredAlong(r, predicted, contradicted_along_, max_m, max_up)) contradicted_ = 0;
             return;
         }
         ++contradicted_;
-    } else {
-        contradicted_ = 0;
+        const Eigen::Vector3d off = r.T_target_source.translation() - predicted.translation();
+        const bool moved_off = off.head<2>().norm() > max_m || std::abs(off.z()) > max_up;
+        contradicted_along_ = moved_off ? off.normalized() : Eigen::Vector3d::Zero();
     }
+    // A registration that failed its check measured nothing: it clears no contradiction.
     ++misses_;
     if (contradicted_ >= config_.contradictions) {
         StartSearch(RelocalizerState::kSearching);
@@ -373,6 +387,7 @@ void Relocalizer::StartSearch(RelocalizerState state) {
     loops_.clear();
     guides_.clear();
     misses_ = contradicted_ = 0;
+    contradicted_along_.setZero();
 }
 
 bool Relocalizer::Near(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& found,

@@ -28,8 +28,9 @@
 //     accepted when verified and within track bounds of that prediction: T_bim_odom follows it.
 //     The bounds also refuse a slide into a wall's second basin 0.31 m off, which made offline's
 //     proximity rounds start at the finest level. `lost_after` keyframes in a row without an
-//     accepted registration: lost (the search starts again); `contradictions` in a row verified
-//     but far from the prediction: the hypothesis is dropped and the search starts again
+//     accepted registration: lost (the search starts again); `contradictions` verified but far
+//     from the prediction, with no registration in between that measured the contradicted
+//     direction and agreed (MeasuredAlong): the hypothesis is dropped and the search starts again
 //     (searching).
 #pragma once
 
@@ -81,7 +82,7 @@ struct RelocalizerConfig : LoopRules {
     double track_max_m = 0.5;
     double track_max_deg = 5.0;
     int lost_after = 15;     // keyframes without an accepted registration (about 15 m)
-    int contradictions = 3;  // verified registrations in a row far from the prediction
+    int contradictions = 3;  // verified registrations far from the prediction, uncleared
     // Tests of robustness only (issue 35: "30 % of the candidate loops injected wrong"): while
     // searching, each keyframe adds with this probability a loop to a random reference keyframe,
     // registered from there and kept whatever its fitness (as offline's inject_false_loops).
@@ -103,6 +104,18 @@ struct RelocalizerConfig : LoopRules {
 Eigen::Isometry3d FuseWithPrediction(const Eigen::Isometry3d& predicted,
                                      const registration::RegistrationResult& r, double sigma_m,
                                      double sigma_up, double sigma_deg);
+
+// Whether a tracked registration measured the direction `along` (unit, the model's axes) at least
+// as well as the prediction knows it (the same bounds as sigmas as FuseWithPrediction): only such
+// a registration, agreeing with the prediction, clears the contradictions counted against it. A
+// zero `along` (the contradictions were in rotation, or none): any agreeing registration clears.
+// On the held-out Office_A's Go1 climb the odometry's height ended 1 m low; upstairs every
+// registration that saw the floor said so (1 m up, information 22 000 along the vertical), and
+// between them one whose height was degenerate (information under 5) agreed with the wrong
+// height, cleared the count, and the hypothesis stood 1 m off for the rest of the walk
+// (localization README, "A contradiction is cleared by what measured it").
+bool MeasuredAlong(const registration::RegistrationResult& r, const Eigen::Isometry3d& predicted,
+                   const Eigen::Vector3d& along, double sigma_m, double sigma_up);
 
 // A scan's live pose in the model: its odometry pose composed with the relocaliser's T_bim_odom
 // of the last keyframe at or before it. One function, so that `bimslam localize` and the rig's
@@ -203,6 +216,9 @@ private:
     RelocalizerStep step_;
     size_t keyframes_ = 0;
     int misses_ = 0, contradicted_ = 0;
+    // The last contradiction's translation from the prediction (unit, the model's axes), or zero
+    // when it was off in rotation only (MeasuredAlong).
+    Eigen::Vector3d contradicted_along_ = Eigen::Vector3d::Zero();
     std::mt19937_64 rng_;
 };
 

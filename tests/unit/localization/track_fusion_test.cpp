@@ -53,6 +53,27 @@ TEST(TrackFusion, AHeightTheRegistrationCouldNotConstrainStaysThePredictions) {
     EXPECT_NEAR(d.z(), 0.0, 1e-4);          // 11 cm that nothing measured: none of it
 }
 
+// A contradiction 1 m up (the held-out Office_A's climb, localization README) is cleared only by
+// a registration that measured the height; one degenerate there measured nothing of it. One
+// across is cleared by a registration that measured across, whatever it knew of the height.
+TEST(TrackFusion, OnlyARegistrationThatMeasuredTheContradictedDirectionClearsIt) {
+    Case c;
+    const Eigen::Vector3d up = Eigen::Vector3d::UnitZ(), across = Eigen::Vector3d::UnitX();
+    EXPECT_TRUE(MeasuredAlong(c.r, c.predicted, up, 0.1, 0.1));
+    EXPECT_TRUE(MeasuredAlong(c.r, c.predicted, across, 0.1, 0.1));
+    const Eigen::Vector3d up_lidar = c.predicted.linear().transpose() * up;
+    const Eigen::Matrix3d keep = Eigen::Matrix3d::Identity() - up_lidar * up_lidar.transpose();
+    c.r.information.topLeftCorner<3, 3>() = keep * c.r.information.topLeftCorner<3, 3>() * keep;
+    EXPECT_FALSE(MeasuredAlong(c.r, c.predicted, up, 0.1, 0.1));
+    EXPECT_TRUE(MeasuredAlong(c.r, c.predicted, across, 0.1, 0.1));
+    // Off in rotation only (no direction): any agreeing registration clears it.
+    EXPECT_TRUE(MeasuredAlong(c.r, c.predicted, Eigen::Vector3d::Zero(), 0.1, 0.1));
+    // Measured, but less well than the prediction knows the height (sigma 20 cm against 10).
+    c.r.information.topLeftCorner<3, 3>() += 25.0 * up_lidar * up_lidar.transpose();
+    EXPECT_FALSE(MeasuredAlong(c.r, c.predicted, up, 0.1, 0.1));
+    EXPECT_TRUE(MeasuredAlong(c.r, c.predicted, up, 0.1, 0.3));
+}
+
 }  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::localization
