@@ -15,7 +15,8 @@
 // single-threaded one hand the odometry the same samples before each scan:
 // - Ouster IMU samples come from the same stream as the lidar packets: a scan gets every IMU
 //   sample that arrived before the packet that emitted its frame (ScanInput::imu_before, a count
-//   of AddImu calls since the start);
+//   of AddImu calls since the start), which holds only if the caller adds them in arrival order
+//   (the rig's live ingest reads its two sockets so: firmware/modules/lidar_ingest.cpp, LiveTurn);
 // - Go1 samples come from another stream (CAN): a scan gets every sample received (Go1Sample::
 //   host_time_ns, the receive time of the frame that completed it) up to the arrival of the
 //   packet that emitted its frame (ScanInput::emitted_arrival_ns). A caller must have added them

@@ -170,6 +170,7 @@ UdpBatch UdpSource::Receive(common::Duration timeout) {
         return batch;
     }
     ++stats_.batches;
+    batch.full = static_cast<size_t>(got) == n;
     int64_t software_ns = -1;
     size_t accepted = 0;
     for (size_t i = 0; i < static_cast<size_t>(got); ++i) {

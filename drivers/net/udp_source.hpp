@@ -60,6 +60,7 @@ struct UdpSourceStats {
 // kDeadlineExceeded (nothing arrived within the timeout), kIoError (error_number holds errno).
 struct UdpBatch {
     std::span<const UdpDatagram> datagrams;
+    bool full = false;  // the read took batch_size datagrams: more may be queued
     common::StatusCode code = common::StatusCode::kOk;
     int error_number = 0;
 };

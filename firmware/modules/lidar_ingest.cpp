@@ -35,7 +35,12 @@ int64_t ReplayClock::WaitFor(int64_t capture_ns, const std::atomic<bool>& stop) 
 
 namespace {
 constexpr int kAdoptInitIdAfter = 64;  // packets in a row with the same new init_id
-}
+constexpr size_t kImuBatch = 16;       // IMU datagrams per read (100 a second)
+constexpr size_t kHeldImuBytes = 256;  // an Ouster IMU packet is 48 bytes (larger: not held)
+// A datagram stamped this little before the lidar read may not be in its socket yet (the kernel
+// stamps, then queues).
+constexpr int64_t kStampToQueueNs = 200'000;
+}  // namespace
 
 struct LidarIngest::Impl {
     LidarIngestConfig config;
@@ -48,6 +53,14 @@ struct LidarIngest::Impl {
     ReplayClock* replay;
     // Live.
     std::optional<net::UdpSource> lidar_socket, imu_socket;
+    // IMU datagrams that arrived after this turn's lidar read, routed next turn (LiveTurn).
+    struct HeldImu {
+        int64_t timestamp_ns = 0;
+        size_t size = 0;
+        std::array<uint8_t, kHeldImuBytes> bytes{};
+    };
+    std::array<HeldImu, kImuBatch> held;
+    size_t held_count = 0;
     // Replay.
     std::optional<net::PacketRecording> reader;
     int64_t first_capture_ns = kEndOfStream;
@@ -182,6 +195,70 @@ struct LidarIngest::Impl {
             ++c.other_datagrams;
         }
     }
+
+    // One live turn: both sockets read, their datagrams routed in the order they arrived. Reading
+    // one socket after the other is not enough: an IMU datagram that arrived after the lidar read
+    // would be routed before lidar packets that arrived before it and are read only next turn, and
+    // the scan they complete would get an IMU sample that came after it. A replay (the recording's
+    // order) would not: live and replay must hand the odometry the same samples
+    // (algorithms/pipeline/scan_pipeline.hpp, "Order of inputs"). So the lidar socket is read
+    // first, and an IMU datagram stamped after that read is held for the next turn. Both sockets
+    // are read every turn (non-blocking), not only those poll found readable, for the same reason.
+    void LiveTurn(const std::atomic<bool>& stop) {
+        const int64_t lidar_read = runtime::RealtimeNs();
+        const int64_t rt_minus_mono = lidar_read - runtime::MonotonicNs();
+        const net::UdpBatch lidar_batch = lidar_socket->Receive(common::Duration{0});
+        const net::UdpBatch imu_batch = imu_socket->Receive(common::Duration{0});
+        if (lidar_batch.code == common::StatusCode::kIoError ||
+            imu_batch.code == common::StatusCode::kIoError)
+            ++c.socket_errors;
+        // Everything that arrived before the cutoff has been read: the lidar read's time, or, when
+        // its batch was full, its last datagram's.
+        int64_t cutoff = lidar_read - kStampToQueueNs;
+        if (!lidar_batch.datagrams.empty()) {
+            const int64_t last = lidar_batch.datagrams.back().timestamp_ns;
+            cutoff = lidar_batch.full ? last : std::max(cutoff, last);
+        }
+        size_t routable = 0;  // this batch's IMU datagrams up to the cutoff
+        while (routable < imu_batch.datagrams.size() &&
+               (imu_batch.datagrams[routable].timestamp_ns <= cutoff ||
+                imu_batch.datagrams[routable].payload.size() > kHeldImuBytes)) {
+            ++routable;
+        }
+        // The IMU in arrival order: last turn's held ones, then this batch's routable ones.
+        using Stamped = std::pair<int64_t, std::span<const uint8_t>>;
+        const size_t imu_n = held_count + routable;
+        const auto imu_at = [&](size_t j) {
+            if (j < held_count)
+                return Stamped(held[j].timestamp_ns, {held[j].bytes.data(), held[j].size});
+            const net::UdpDatagram& d = imu_batch.datagrams[j - held_count];
+            return Stamped(d.timestamp_ns, d.payload);
+        };
+        const std::span<const net::UdpDatagram> lidar = lidar_batch.datagrams;
+        size_t i = 0, j = 0;
+        while (i < lidar.size() || j < imu_n) {
+            const bool take_lidar =
+                j >= imu_n || (i < lidar.size() && lidar[i].timestamp_ns <= imu_at(j).first);
+            const Stamped d =
+                take_lidar ? Stamped(lidar[i].timestamp_ns, lidar[i].payload) : imu_at(j);
+            if (take_lidar) {
+                ++i;
+            } else {
+                ++j;
+            }
+            const int64_t arrival = d.first - rt_minus_mono;
+            Route(take_lidar ? config.lidar_port : config.imu_port, d.second, arrival, arrival,
+                  stop);
+        }
+        held_count = 0;
+        for (size_t k = routable; k < imu_batch.datagrams.size(); ++k) {
+            const net::UdpDatagram& d = imu_batch.datagrams[k];
+            HeldImu& h = held[held_count++];
+            h.timestamp_ns = d.timestamp_ns;
+            h.size = d.payload.size();
+            std::copy(d.payload.begin(), d.payload.end(), h.bytes.begin());
+        }
+    }
 };
 
 LidarIngest::LidarIngest(const LidarIngestConfig& config, const ouster::SensorInfo& info,
@@ -207,7 +284,7 @@ LidarIngest::LidarIngest(const LidarIngestConfig& config, const ouster::SensorIn
         u.port = config.lidar_port;
         m.lidar_socket.emplace(u);
         u.port = config.imu_port;
-        u.batch_size = 16;
+        u.batch_size = kImuBatch;
         m.imu_socket.emplace(u);
         description_ = "lidar on UDP " + config.bind_address + ":" +
                        std::to_string(m.lidar_socket->port()) + ", IMU on port " +
@@ -267,7 +344,7 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
         publish(true);
         return;
     }
-    // Live: both sockets; each turn merges what both hold by receive time.
+    // Live: both sockets; each turn merges what both hold by receive time (LiveTurn).
     pollfd fds[2] = {{m.lidar_socket->fd(), POLLIN, 0}, {m.imu_socket->fd(), POLLIN, 0}};
     while (!stop.load(std::memory_order_relaxed)) {
         stats.Beat();
@@ -277,28 +354,7 @@ void LidarIngest::Run(runtime::ThreadStats& stats, const std::atomic<bool>& stop
             continue;
         }
         const int64_t t0 = runtime::MonotonicNs();
-        // CLOCK_REALTIME kernel stamps to CLOCK_MONOTONIC with the offset of this moment.
-        const int64_t rt_minus_mono = runtime::RealtimeNs() - t0;
-        // Only the sockets poll found readable: a system call less per datagram.
-        const auto receive = [](net::UdpSource& socket, const pollfd& fd) {
-            return (fd.revents & (POLLIN | POLLERR)) ? socket.Receive(common::Duration{0})
-                                                     : net::UdpBatch{};
-        };
-        const net::UdpBatch lidar = receive(*m.lidar_socket, fds[0]);
-        const net::UdpBatch imu = receive(*m.imu_socket, fds[1]);
-        if (lidar.code == common::StatusCode::kIoError || imu.code == common::StatusCode::kIoError)
-            ++m.c.socket_errors;
-        size_t i = 0, j = 0;
-        while (i < lidar.datagrams.size() || j < imu.datagrams.size()) {
-            const bool take_lidar =
-                j >= imu.datagrams.size() ||
-                (i < lidar.datagrams.size() &&
-                 lidar.datagrams[i].timestamp_ns <= imu.datagrams[j].timestamp_ns);
-            const net::UdpDatagram& d = take_lidar ? lidar.datagrams[i++] : imu.datagrams[j++];
-            const int64_t arrival = d.timestamp_ns - rt_minus_mono;
-            m.Route(take_lidar ? m.config.lidar_port : m.config.imu_port, d.payload, arrival,
-                    arrival, stop);
-        }
+        m.LiveTurn(stop);
         stats.Cycle(runtime::MonotonicNs() - t0, 0);
         publish(false);
     }
