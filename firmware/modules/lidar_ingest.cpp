@@ -8,7 +8,9 @@
 #include <array>
 #include <ctime>
 #include <optional>
+#include <span>
 #include <thread>
+#include <vector>
 
 #include "algorithms/common/status.hpp"
 #include "drivers/net/ipv4.hpp"
@@ -36,7 +38,6 @@ int64_t ReplayClock::WaitFor(int64_t capture_ns, const std::atomic<bool>& stop) 
 namespace {
 constexpr int kAdoptInitIdAfter = 64;  // packets in a row with the same new init_id
 constexpr size_t kImuBatch = 16;       // IMU datagrams per read (100 a second)
-constexpr size_t kHeldImuBytes = 256;  // an Ouster IMU packet is 48 bytes (larger: not held)
 // A datagram stamped this little before the lidar read may not be in its socket yet (the kernel
 // stamps, then queues).
 constexpr int64_t kStampToQueueNs = 200'000;
@@ -56,11 +57,11 @@ struct LidarIngest::Impl {
     // IMU datagrams that arrived after this turn's lidar read, routed next turn (LiveTurn).
     struct HeldImu {
         int64_t timestamp_ns = 0;
-        size_t size = 0;
-        std::array<uint8_t, kHeldImuBytes> bytes{};
+        std::span<const uint8_t> payload;  // in held_bytes
     };
     std::array<HeldImu, kImuBatch> held;
     size_t held_count = 0;
+    std::vector<uint8_t> held_bytes;  // kImuBatch IMU packets, allocated once
     // Replay.
     std::optional<net::PacketRecording> reader;
     int64_t first_capture_ns = kEndOfStream;
@@ -221,16 +222,14 @@ struct LidarIngest::Impl {
         }
         size_t routable = 0;  // this batch's IMU datagrams up to the cutoff
         while (routable < imu_batch.datagrams.size() &&
-               (imu_batch.datagrams[routable].timestamp_ns <= cutoff ||
-                imu_batch.datagrams[routable].payload.size() > kHeldImuBytes)) {
+               imu_batch.datagrams[routable].timestamp_ns <= cutoff) {
             ++routable;
         }
         // The IMU in arrival order: last turn's held ones, then this batch's routable ones.
         using Stamped = std::pair<int64_t, std::span<const uint8_t>>;
         const size_t imu_n = held_count + routable;
         const auto imu_at = [&](size_t j) {
-            if (j < held_count)
-                return Stamped(held[j].timestamp_ns, {held[j].bytes.data(), held[j].size});
+            if (j < held_count) return Stamped(held[j].timestamp_ns, held[j].payload);
             const net::UdpDatagram& d = imu_batch.datagrams[j - held_count];
             return Stamped(d.timestamp_ns, d.payload);
         };
@@ -251,12 +250,16 @@ struct LidarIngest::Impl {
                   stop);
         }
         held_count = 0;
+        const size_t slot = held_bytes.size() / kImuBatch;
         for (size_t k = routable; k < imu_batch.datagrams.size(); ++k) {
             const net::UdpDatagram& d = imu_batch.datagrams[k];
-            HeldImu& h = held[held_count++];
-            h.timestamp_ns = d.timestamp_ns;
-            h.size = d.payload.size();
-            std::copy(d.payload.begin(), d.payload.end(), h.bytes.begin());
+            if (d.payload.size() > slot) {  // not an IMU packet: the decoder counts it, no sample
+                Imu(d.payload.data(), d.payload.size(), stop);
+                continue;
+            }
+            uint8_t* to = held_bytes.data() + held_count * slot;
+            std::copy(d.payload.begin(), d.payload.end(), to);
+            held[held_count++] = {d.timestamp_ns, {to, d.payload.size()}};
         }
     }
 };
@@ -285,6 +288,7 @@ LidarIngest::LidarIngest(const LidarIngestConfig& config, const ouster::SensorIn
         m.lidar_socket.emplace(u);
         u.port = config.imu_port;
         u.batch_size = kImuBatch;
+        m.held_bytes.resize(kImuBatch * m.imu_decoder.packet_size());
         m.imu_socket.emplace(u);
         description_ = "lidar on UDP " + config.bind_address + ":" +
                        std::to_string(m.lidar_socket->port()) + ", IMU on port " +
