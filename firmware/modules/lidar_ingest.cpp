@@ -95,10 +95,18 @@ struct LidarIngest::Impl {
     }
 
     // The slot to fill, waiting for room in a replay; nullptr when the item must be dropped, or
-    // in a replay when the run stops (its end, not a drop: the callers count only the former).
+    // in a replay when the run stops (its end, not a drop: NoSlot counts only the former).
     template <typename Q>
     auto Slot(Q& q, const std::atomic<bool>& stop) -> decltype(q.BeginPush()) {
         return q.BeginPushWaiting(replay != nullptr, stop);
+    }
+    // What a nullptr from Slot means: live, a drop (counted on the queue and in `dropped`); in a
+    // replay, the stop.
+    template <typename Q>
+    void NoSlot(Q& q, uint64_t& dropped) {
+        if (replay != nullptr) return;
+        q.CountDrop();
+        ++dropped;
     }
 
     // taken_ns: when this thread took up the packet that completed the frames (the latency's
@@ -108,10 +116,7 @@ struct LidarIngest::Impl {
         for (const ouster::LidarFrame* frame : batcher.ready()) {
             ScanSlot* slot = Slot(scans, stop);
             if (slot == nullptr) {
-                if (replay == nullptr) {
-                    scans.CountDrop();
-                    ++c.scans_dropped;
-                }
+                NoSlot(scans, c.scans_dropped);
                 continue;
             }
             pipeline::FrameToScan(*frame, arrival_ns, imu_pushed, &slot->scan);
@@ -162,10 +167,7 @@ struct LidarIngest::Impl {
         for (size_t i = 0; i < r.samples; ++i) {
             ImuItem* slot = Slot(imu, stop);
             if (slot == nullptr) {
-                if (replay == nullptr) {
-                    imu.CountDrop();
-                    ++c.imu_dropped;
-                }
+                NoSlot(imu, c.imu_dropped);
             } else {
                 slot->measurement = pipeline::ImuFromOuster(samples[i]);
                 imu.CommitPush();
