@@ -119,6 +119,12 @@ private:
     std::vector<registration::FreeSpaceResult> SeenThrough(size_t q, const Target& target,
                                                            const State& query_state,
                                                            double* median) const;
+    // Where negative evidence is looked for: the model alone (model_only_) when earlier visits
+    // are targets too, else `target`. Both the loops' seen_through (RegisterLoops, which the
+    // cliques are passed over by) and the hypotheses' (SeenThrough) use it.
+    const Target& FreeSpaceTarget(const Target& target) const {
+        return model_only_ ? *model_only_ : target;
+    }
 
     // Solve's steps.
     Target TargetOf(const Members& members);

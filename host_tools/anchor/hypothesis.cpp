@@ -164,7 +164,7 @@ std::vector<registration::FreeSpaceResult> AnchoringProblem::SeenThrough(size_t 
                                                                          double* median) const {
     const size_t n = sessions_[q].keyframes();
     std::vector<registration::FreeSpaceResult> fs(n);
-    const Target& model = model_only_ ? *model_only_ : target;  // see Solve
+    const Target& model = FreeSpaceTarget(target);  // see Solve
     const registration::SurfelMap& fs_map = model.map().level(config_.free_space_level);
     tbb::parallel_for(size_t(0), n, [&](size_t j) {
         const Eigen::Isometry3d T = query_state.anchor * query_state.poses[j];
