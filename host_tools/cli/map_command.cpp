@@ -81,12 +81,19 @@ void PrintHistory(const json& S) {
 // found.
 void PrintSummary(const mapping::MapRun& run) {
     std::cout << "steps     ";
+    std::vector<std::string> other_build;
     for (size_t k = 0; k < run.steps.size(); ++k) {
         const mapping::StepRun& s = run.steps[k];
         std::cout << (k ? ", " : "") << s.step << " "
                   << (s.skipped ? "up to date" : Fixed(s.seconds, 1) + " s");
+        if (s.other_build) other_build.push_back(s.step);
     }
     std::cout << "\n";
+    if (!other_build.empty()) {
+        std::cout << "          made by another build of bimslam, kept:";
+        for (const std::string& s : other_build) std::cout << " " << s << ";";
+        std::cout << " --force makes every step again with this one\n";
+    }
     const json& S = run.summary;
     std::cout << "model     " << S["model"]["file"].get<std::string>();
     if (S.contains("reference")) {
@@ -195,8 +202,10 @@ int MapMain(MapArgs& a) {
         json j = run.summary;
         j["steps"] = json::array();
         for (const auto& s : run.steps) {
-            j["steps"].push_back(
-                {{"step", s.step}, {"skipped", s.skipped}, {"seconds", s.seconds}});
+            j["steps"].push_back({{"step", s.step},
+                                  {"skipped", s.skipped},
+                                  {"other_build", s.other_build},
+                                  {"seconds", s.seconds}});
         }
         std::cout << j.dump(2) << "\n";
     } else {
@@ -292,7 +301,9 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--bcf-version", a->config.bcf_version,
                     "changes.bcf's BCF-XML version: 2.1 or 3.0")
         ->capture_default_str();
-    cmd->add_flag("--force", a->force, "run every step again, up to date or not");
+    cmd->add_flag("--force", a->force,
+                  "run every step again, up to date or not (also those another build of bimslam "
+                  "made, which a run keeps and names)");
     cmd->add_flag("--no-report", a->no_report, "skip the HTML report");
     cmd->add_flag("--json", a->json, "print OUT/summary.json (and the steps) instead of the text");
     cmd->footer(

@@ -78,7 +78,7 @@ public:
         const fs::path file_stamp = stamps / (stamp_name + ".json");
         const auto t0 = Clock::now();
         if (!force_ && stamp.Matches(file_stamp)) {
-            run_->steps.push_back({step, true, 0.0});
+            run_->steps.push_back({step, true, !stamp.MadeByThisProgram(), 0.0});
             return false;
         }
         std::error_code ec;
@@ -92,7 +92,7 @@ public:
         }
         stamp.MarkMade();
         stamp.Write(file_stamp);
-        run_->steps.push_back({step, false, common::SecondsSince(t0)});
+        run_->steps.push_back({step, false, false, common::SecondsSince(t0)});
         return true;
     }
 

@@ -73,6 +73,9 @@ struct StepRun {
     std::string
         step;  // "reference", "odometry <name>", "anchor <visit>", "changes <visit>", "report"
     bool skipped = false;
+    // Skipped, but made by another build of bimslam (StepStamp::MadeByThisProgram): its results
+    // are that build's; --force makes them again with this one.
+    bool other_build = false;
     double seconds = 0;
 };
 

@@ -129,6 +129,34 @@ TEST(MapCli, ASecondRunSkipsEveryStepAndTouchingTheRecordingRerunsOdometryAndAft
     EXPECT_EQ(steps.size(), 6u)
         << steps.dump();  // reference, odometry, anchor, changes, history, report
     EXPECT_EQ(json::parse(second.out).at("recordings"), json::parse(first.out).at("recordings"));
+    for (const json& s : json::parse(second.out).at("steps"))
+        EXPECT_EQ(s.at("other_build"), false) << s.dump() << ": this build made every step";
+
+    // Steps another build of bimslam made (their stamp names another program, or none: made
+    // before stamps named it) are kept, not made again, and said, with how to make them again.
+    const fs::path stamps = VisitOf(tmp / "out") / "stamps";
+    json anchor_stamp = ReadJson(stamps / "anchor.json");
+    ASSERT_TRUE(anchor_stamp.at("program").get<std::string>().rfind("build-id ", 0) == 0)
+        << anchor_stamp.dump();
+    anchor_stamp["program"] = "build-id 0123456789abcdef";
+    io::WriteFileAtomic(stamps / "anchor.json", anchor_stamp.dump(2));
+    json odometry_stamp = ReadJson(stamps / "odometry_capture.json");
+    odometry_stamp.erase("program");
+    io::WriteFileAtomic(stamps / "odometry_capture.json", odometry_stamp.dump(2));
+    const auto older = Cli(args);
+    ASSERT_EQ(older.exit_code, 0) << older.err;
+    for (const json& s : json::parse(older.out).at("steps")) {
+        const std::string step = s.at("step");
+        EXPECT_EQ(s.at("skipped"), true) << step;
+        EXPECT_EQ(s.at("other_build"), step == "anchor " + kVisit || step == "odometry capture")
+            << step;
+    }
+    const auto said = Cli(MapArgs(tmp / "capture", tmp / "out"));
+    ASSERT_EQ(said.exit_code, 0) << said.err;
+    EXPECT_NE(said.out.find("made by another build of bimslam, kept: odometry capture; anchor " +
+                            kVisit + "; --force makes every step again with this one"),
+              std::string::npos)
+        << said.out;
 
     const fs::path pcap = tmp / "capture" / "lidar.pcap";
     fs::last_write_time(pcap, fs::last_write_time(pcap) + std::chrono::seconds(5));

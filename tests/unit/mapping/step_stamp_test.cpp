@@ -7,6 +7,7 @@
 #include "host_tools/mapping/step_stamp.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -88,6 +89,45 @@ TEST(StepStamp, AMissingDamagedOrForeignFileDoesNotMatch) {
     s.MarkMade();
     s.Write(tmp / "stamp.json");
     EXPECT_TRUE(s.Matches(tmp / "stamp.json"));
+}
+
+// The program that made a step: this test program's GNU build ID (Debian's linker writes one),
+// matched by its stamp; another build's stamp, or one naming none, still matches (the step is
+// kept) but says so, and the digest the steps after it hold is the same.
+TEST(StepStamp, NamesTheProgramThatMadeItAndKeepsAnotherBuildsStepSayingSo) {
+    test::TempDir tmp;
+    const std::string& program = StepStamp::Program();
+    ASSERT_EQ(program.rfind("build-id ", 0), 0u) << program;
+    EXPECT_EQ(program.size(), std::string("build-id ").size() + 40) << "SHA-1: 20 bytes in hex";
+    const auto readelf =
+        test::RunCommand("readelf -n /proc/" + std::to_string(::getpid()) + "/exe");
+    if (readelf.exit_code == 0) {
+        EXPECT_NE(readelf.out.find("Build ID: " + program.substr(9)), std::string::npos)
+            << readelf.out;
+    }
+    StepStamp made("changes");
+    made.AddParameter("tolerance_m", 0.01);
+    made.MarkMade();
+    EXPECT_EQ(made.json().at("program"), program);
+    made.Write(tmp / "stamp.json");
+    StepStamp now("changes");
+    now.AddParameter("tolerance_m", 0.01);
+    ASSERT_TRUE(now.Matches(tmp / "stamp.json"));
+    EXPECT_TRUE(now.MadeByThisProgram());
+    for (const nlohmann::json& other : {nlohmann::json("build-id 0123"), nlohmann::json()}) {
+        nlohmann::json j = made.json();
+        if (other.is_null()) {
+            j.erase("program");  // a stamp of before the program was named
+        } else {
+            j["program"] = other;
+        }
+        io::WriteFileAtomic(tmp / "stamp.json", j.dump(2));
+        StepStamp again("changes");
+        again.AddParameter("tolerance_m", 0.01);
+        ASSERT_TRUE(again.Matches(tmp / "stamp.json")) << j.dump();
+        EXPECT_FALSE(again.MadeByThisProgram()) << j.dump();
+        EXPECT_EQ(again.Digest(), made.Digest()) << "the steps after it stay up to date";
+    }
 }
 
 TEST(MapInputs, AModelThatIsNotIfcIsRefusedNamingTheFile) {
