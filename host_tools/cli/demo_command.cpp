@@ -262,8 +262,8 @@ int RunDemo(const DemoOptions& opt) {
     fs::remove_all(session_dir);
     fs::rename(odo.session, session_dir);
     std::cout << "  bimslam-rig replay " << odo.scans << " scans, " << odo.keyframes
-              << " keyframes in " << odo.wall_s << " s (last packet to odometry on LCM p50 "
-              << std::setprecision(2) << odo.latency_p50_ms << " ms)" << std::setprecision(1)
+              << " keyframes in " << odo.wall_s << " s at full speed (" << odo.lcm_paced_s
+              << " s of it holding its LCM output to a pace lcm-logger keeps up with)"
               << "\n           " << session_dir.string() << "/"
               << (odo.lcm_log.empty() ? "" : ", LCM recorded in " + odo.lcm_log.string()) << "\n";
 

@@ -78,8 +78,7 @@ RigReplayRun RunRigReplay(const fs::path& capture, const fs::path& work_dir) {
     run.keyframes = j.at("keyframes_written").get<size_t>();
     run.scans_dropped = j.at("scans_dropped").get<size_t>();
     run.wall_s = j.at("wall_s").get<double>();
-    run.latency_p50_ms = j.at("latency_ms_p50").get<double>();
-    run.latency_max_ms = j.at("latency_ms_max").get<double>();
+    run.lcm_paced_s = j.at("lcm_paced_s").get<double>();
     return run;
 }
 

@@ -16,7 +16,11 @@ struct RigReplayRun {
     std::filesystem::path session;  // the session the rig wrote
     std::filesystem::path lcm_log;  // empty when lcm-logger is not installed
     size_t scans = 0, keyframes = 0, scans_dropped = 0;
-    double wall_s = 0, latency_p50_ms = 0, latency_max_ms = 0;
+    double wall_s = 0;
+    // Of wall_s, the time its LCM output waited for the replay's pacer (firmware/app/README.md:
+    // paced so that lcm-logger keeps up). At full speed the frames' latency to LCM counts that
+    // wait, not the rig's work, so the demo does not print it (rig_benchmark measures it at 1x).
+    double lcm_paced_s = 0;
 };
 
 // Replays `capture` at full speed (lossless) into a session under `work_dir`/sessions, recording
