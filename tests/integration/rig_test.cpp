@@ -327,24 +327,43 @@ TEST_F(Rig, LiveOnLoopbackFedByTheReplayerWritesTheReplaySession) {
         RigJson(kRig + " replay " + cap.string() + " --handheld --speed max --json --config " +
                 config.string() + " --session-root " + (Tmp() / "replayed").string());
     ASSERT_FALSE(replay.is_null());
-    test::rig::NotifySocket notify(Tmp() / "live.sock");
-    const pid_t rig = Spawn(notify.Env() + kRig + " live --json --config " + config.string() +
-                                " --session-root " + (Tmp() / "live").string(),
-                            Tmp() / "live.out", Tmp() / "live.err");
-    EXPECT_TRUE(notify.WaitForReady()) << notify.messages();  // its sockets are bound
-    // At 3x the datagrams come in bursts and the rig reads the lidar and IMU sockets in batches
-    // that interleave: an IMU sample routed before lidar packets that came before it gave the
-    // live scans one sample more than the replay's, and other trajectories (6 of 13 runs).
-    const auto sent = test::RunCommand(
-        kCli + " ouster replay " + cap.string() + " --to 127.0.0.1 --lidar-port " +
-        std::to_string(port) + " --imu-port " + std::to_string(port + 1) + " --json --speed 3");
-    EXPECT_EQ(sent.exit_code, 0) << sent.err;
-    // Stopped once it has done the replay's scans (a scan lost would never come: then the
-    // guard ends the wait and the comparison below fails).
-    EXPECT_TRUE(notify.WaitForScans(replay["scans"].get<int>())) << notify.messages();
-    ::kill(rig, SIGINT);
-    ASSERT_EQ(Wait(rig), 0) << Slurp(Tmp() / "live.err");
-    const auto live = nlohmann::json::parse(Slurp(Tmp() / "live.out"));
+    // The live run, fed at 2x. Live, the rig drops new items on a full queue by design: at 3x
+    // (until stop 62) its first seconds, the localiser's first keyframes, overflowed a queue
+    // (QUEUE_OVERFLOW at scan 20, 2 items) in a CI run and in 1 of 2 runs on an idle machine, a
+    // scan never came and the comparison could not be made. A run that drops is said and done
+    // once more; a second one that drops fails the test.
+    nlohmann::json live;
+    for (int attempt = 1; attempt <= 2; ++attempt) {
+        const std::string name = "live" + std::to_string(attempt);
+        test::rig::NotifySocket notify(Tmp() / (name + ".sock"));
+        const pid_t rig = Spawn(notify.Env() + kRig + " live --json --config " + config.string() +
+                                    " --session-root " + (Tmp() / name).string(),
+                                Tmp() / (name + ".out"), Tmp() / (name + ".err"));
+        EXPECT_TRUE(notify.WaitForReady()) << notify.messages();  // its sockets are bound
+        // Faster than real time the datagrams come in bursts and the rig reads the lidar and IMU
+        // sockets in batches that interleave: an IMU sample routed before lidar packets that came
+        // before it gave the live scans one sample more than the replay's, and other trajectories
+        // (6 of 13 runs at 3x before stop 61).
+        const auto sent = test::RunCommand(
+            kCli + " ouster replay " + cap.string() + " --to 127.0.0.1 --lidar-port " +
+            std::to_string(port) + " --imu-port " + std::to_string(port + 1) + " --json --speed 2");
+        EXPECT_EQ(sent.exit_code, 0) << sent.err;
+        // Stopped once it has done the replay's scans (a scan lost never comes: then the guard
+        // ends the wait).
+        const bool all = notify.WaitForScans(replay["scans"].get<int>());
+        ::kill(rig, SIGINT);
+        ASSERT_EQ(Wait(rig), 0) << Slurp(Tmp() / (name + ".err"));
+        live = nlohmann::json::parse(Slurp(Tmp() / (name + ".out")));
+        const bool dropped = live["queue_drops"].get<int64_t>() > 0;
+        if (all && !dropped) break;
+        std::cout << "live run " << attempt << ": " << live["scans"] << " of " << replay["scans"]
+                  << " scans, " << live["queue_drops"] << " items dropped on full queues\n"
+                  << notify.messages() << "\n";
+        if (attempt == 2) {
+            ADD_FAILURE() << "two live runs dropped data or lost scans at 2x";
+        }
+    }
+    EXPECT_EQ(live["queue_drops"], 0);
     EXPECT_EQ(live["scans"], replay["scans"]);
     EXPECT_EQ(live["scans_dropped"], 0);
     const fs::path a = live["session"].get<std::string>(), b = replay["session"].get<std::string>();
