@@ -7,7 +7,6 @@
 
 #include <chrono>
 #include <cstring>
-#include <optional>
 #include <system_error>
 
 #include "algorithms/io/file_util.hpp"
@@ -127,8 +126,7 @@ bool StepStamp::Matches(const fs::path& file) {
         if (!stored.is_object() || !stored.contains("made")) return false;
         const nlohmann::json made = stored["made"];
         // A stamp of before stop 62 names no program: another build, as far as anyone knows.
-        const std::optional<nlohmann::json> program =
-            stored.contains("program") ? std::optional(stored["program"]) : std::nullopt;
+        const std::string program = stored.value("program", std::string());
         nlohmann::json mine = json_;
         for (nlohmann::json* j : {&stored, &mine}) {
             j->erase("made");
@@ -136,13 +134,9 @@ bool StepStamp::Matches(const fs::path& file) {
         }
         if (stored != mine) return false;
         // Kept as it was made: its token (which the stamps after it hold through its digest) and
-        // its program (or none).
+        // its program, which the digest leaves out.
         json_["made"] = made;
-        if (program) {
-            json_["program"] = *program;
-        } else {
-            json_.erase("program");
-        }
+        json_["program"] = program;
         return true;
     } catch (const std::exception&) {
         return false;  // unreadable or not JSON: the step runs again and rewrites it
