@@ -477,6 +477,7 @@ NewObject Detection::MakeObject(std::vector<uint32_t> points) const {
     obj.box_max = box.max();
     obj.centroid = obj.solid.centroid();
     obj.volume_m3 = obj.solid.volume_m3();
+    obj.plan = SmallestPlanRectangle(pts);
     return obj;
 }
 

@@ -95,6 +95,7 @@ struct NewObject {
     Eigen::Vector3d box_min, box_max;  // of the points, the bottom extended to the floor
     Eigen::Vector3d centroid;          // of the solid
     double volume_m3 = 0;
+    PlanRectangle plan;                   // of the points, whatever the object's turn
     bool on_floor = false;                // its bottom was extended to a surface below
     uint32_t moved_element = kNoElement;  // when it is that element, moved
 };

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <tuple>
@@ -141,6 +142,32 @@ common::TriangleMesh VoxelSurface(const VoxelSolid& solid) {
         }
     }
     return mesh;
+}
+
+PlanRectangle SmallestPlanRectangle(std::span<const Eigen::Vector3f> points) {
+    PlanRectangle best;
+    if (points.empty()) return best;
+    double best_area = std::numeric_limits<double>::infinity();
+    constexpr int kSteps = 180;  // 0.5 deg over a quarter turn: the rectangle repeats after it
+    for (int k = 0; k < kSteps; ++k) {
+        const double a = 0.5 * M_PI * k / kSteps;
+        const Eigen::Vector2d u(std::cos(a), std::sin(a)), v(-u.y(), u.x());
+        double u0 = std::numeric_limits<double>::infinity(), u1 = -u0, v0 = u0, v1 = -u0;
+        for (const Eigen::Vector3f& p : points) {
+            const Eigen::Vector2d q = p.head<2>().cast<double>();
+            u0 = std::min(u0, u.dot(q));
+            u1 = std::max(u1, u.dot(q));
+            v0 = std::min(v0, v.dot(q));
+            v1 = std::max(v1, v.dot(q));
+        }
+        const double du = u1 - u0, dv = v1 - v0;
+        if (du * dv >= best_area) continue;
+        best_area = du * dv;
+        // The long side's direction: u, or v a quarter turn on.
+        const double yaw = (du >= dv ? a : a + 0.5 * M_PI) * 180 / M_PI;
+        best = {std::max(du, dv), std::min(du, dv), std::fmod(yaw, 180.0)};
+    }
+    return best;
 }
 
 }  // namespace bimslam::changes

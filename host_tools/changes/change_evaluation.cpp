@@ -171,6 +171,16 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
                                         o.value("volume_m3", 0.0)};
             if (o.contains("storey") && o.at("storey").is_object())
                 object.storey = o.at("storey").value("name", "");
+            if (o.contains("plan_size_m")) {
+                const json& plan = o.at("plan_size_m");
+                if (!plan.is_array() || plan.size() != 2 || !plan[0].is_number() ||
+                    !plan[1].is_number() || !(plan[0].get<double>() >= plan[1].get<double>()) ||
+                    !(plan[1].get<double>() >= 0)) {
+                    Bad(file, "plan_size_m must be [long, short] in metres, long >= short >= 0");
+                }
+                object.plan_long_m = plan[0].get<double>();
+                object.plan_short_m = plan[1].get<double>();
+            }
             f.objects.push_back(std::move(object));
         }
         for (const json& t : j.at("transients")) {

@@ -87,6 +87,8 @@ struct FoundChanges {
         std::string storey = {};         // its storey's name ("" when none)
         int id = -1;                     // its id in changes.json (its mesh's part)
         double volume_m3 = 0;            // of its voxel solid (0 in older files)
+        // Its smallest rectangle in plan, whatever its turn (long >= short; 0 in older files).
+        double plan_long_m = 0, plan_short_m = 0;
     };
     struct Element {
         std::string verdict;

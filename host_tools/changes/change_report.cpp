@@ -126,6 +126,8 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                            {"size_m", Vec(obj.box_max - obj.box_min)},
                            {"centroid", Vec(obj.centroid + o)},
                            {"volume_m3", obj.volume_m3},
+                           {"plan_size_m", {obj.plan.long_m, obj.plan.short_m}},
+                           {"plan_yaw_deg", obj.plan.yaw_deg},
                            {"voxels", obj.solid.voxels.size()},
                            {"on_floor", obj.on_floor},
                            {"storey", StoreyJson(model, place.storey, "height")},

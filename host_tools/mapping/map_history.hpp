@@ -45,8 +45,9 @@ struct HistoryConfig {
     double moved_max_m = 10.0;
     double shape_tolerance = 0.1;
     double shape_tolerance_m = 0.1;
-    // The voxel solids' volumes (changes.json's volume_m3) agree within this share: a turn about
-    // z changes an axis-aligned box's plan (a 0.6 m crate turned 30 degrees: 0.82 m), not it.
+    // The voxel solids' volumes (changes.json's volume_m3) agree within this share, where the
+    // plans do not (older files' axis-aligned boxes, which a turn about z makes larger: a 0.6 m
+    // crate turned 30 degrees measures 0.82 m).
     double volume_tolerance = 0.35;
     // An old place seen empty: of the cells (cell_m) wholly inside its footprint that no object
     // of the visit covers, at least min_floor_seen have a map point within floor_band_m of the

@@ -130,9 +130,15 @@ bool SameShape(const FoundChanges::Object& a, const FoundChanges::Object& b,
     };
     const Eigen::Vector3d sa = a.box.sizes(), sb = b.box.sizes();
     if (!close(sa.z(), sb.z(), config.shape_tolerance)) return false;
-    const bool plan =
-        close(std::min(sa.x(), sa.y()), std::min(sb.x(), sb.y()), config.shape_tolerance) &&
-        close(std::max(sa.x(), sa.y()), std::max(sb.x(), sb.y()), config.shape_tolerance);
+    // The plan's sides: the smallest rectangles', which a turn leaves as they are (files without
+    // them: the boxes' sorted sides).
+    const auto sides = [](const FoundChanges::Object& o, const Eigen::Vector3d& s) {
+        return o.plan_long_m > 0 ? Eigen::Vector2d(o.plan_long_m, o.plan_short_m)
+                                 : Eigen::Vector2d(std::max(s.x(), s.y()), std::min(s.x(), s.y()));
+    };
+    const Eigen::Vector2d pa = sides(a, sa), pb = sides(b, sb);
+    const bool plan = close(pa.x(), pb.x(), config.shape_tolerance) &&
+                      close(pa.y(), pb.y(), config.shape_tolerance);
     const bool volume = a.volume_m3 > 0 && b.volume_m3 > 0 &&
                         std::abs(a.volume_m3 - b.volume_m3) <=
                             config.volume_tolerance * std::max(a.volume_m3, b.volume_m3);

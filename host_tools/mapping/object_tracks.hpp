@@ -24,11 +24,11 @@ bool SamePlace(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
                const HistoryConfig& config);
 // The share of a's volume inside b grown by margin_m on every side (0 for an empty a).
 double InsideShare(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b, double margin_m);
-// The same shape (HistoryConfig): the height within the tolerance, and the boxes' sorted plan
-// sides within it too, or else the voxel solids' volumes within volume_tolerance (a turn about z
-// changes an axis-aligned box's plan, not its solid's volume; but a solid seen from one side is
-// a shell, seen around filled: a sofa measured 0.34 and 1.75 m3 with the same box, so the volume
-// only stands in for the plan).
+// The same shape (HistoryConfig): the height within the tolerance, and the smallest plan
+// rectangles' sides within it too (changes.json's plan_size_m, which a turn about z leaves as
+// they are; the boxes' sorted sides in files without it), or else the voxel solids' volumes
+// within volume_tolerance (a solid seen from one side is a shell, seen around filled: a sofa
+// measured 0.34 and 1.75 m3 with the same box, so the volume only stands in for the plan).
 bool SameShape(const change_detection::FoundChanges::Object& a,
                const change_detection::FoundChanges::Object& b, const HistoryConfig& config);
 

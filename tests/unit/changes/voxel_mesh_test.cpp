@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 
@@ -69,6 +72,33 @@ TEST(VoxelMesh, ASolidFromPointsOnTopAndSidesOfABoxIsFilledDownToTheFloor) {
     ExpectWatertight(m);
     EXPECT_NEAR(SignedVolume(m), solid.volume_m3(), 1e-6);
     EXPECT_NEAR(solid.box_min().z(), 0.0, 1e-6);
+}
+
+// A 1.2 x 0.5 m top seen at any turn keeps its sides, where its axis-aligned box grows with the
+// turn; the long side's direction is the turn's.
+TEST(VoxelMesh, TheSmallestPlanRectangleKeepsAnObjectsSidesWhateverItsTurn) {
+    for (const double yaw_deg : {0.0, 15.0, 37.0, 90.0, 128.0}) {
+        const double a = yaw_deg * M_PI / 180;
+        const Eigen::Matrix2d R = Eigen::Rotation2Dd(a).toRotationMatrix();
+        std::vector<Eigen::Vector3f> p;
+        for (double x = -0.6; x <= 0.6 + 1e-9; x += 0.025) {
+            for (double y = -0.25; y <= 0.25 + 1e-9; y += 0.025) {
+                const Eigen::Vector2d q = R * Eigen::Vector2d(x, y) + Eigen::Vector2d(3, -2);
+                p.emplace_back(float(q.x()), float(q.y()), 0.7f);
+            }
+        }
+        const PlanRectangle r = SmallestPlanRectangle(p);
+        EXPECT_NEAR(r.long_m, 1.2, 0.005) << yaw_deg;
+        EXPECT_NEAR(r.short_m, 0.5, 0.005) << yaw_deg;
+        const double turn = std::fmod(r.yaw_deg - yaw_deg + 360.0, 180.0);
+        EXPECT_LE(std::min(turn, 180.0 - turn), 0.5) << yaw_deg << " measured " << r.yaw_deg;
+        Eigen::AlignedBox2d box;
+        for (const auto& v : p) box.extend(v.head<2>().cast<double>());
+        if (yaw_deg == 15.0) {
+            EXPECT_GT(box.sizes().minCoeff(), 0.5 + 0.25) << "the box grows";
+        }
+    }
+    EXPECT_EQ(SmallestPlanRectangle({}).long_m, 0.0);
 }
 
 TEST(AlignedMap, MergesKeyframesCountingTheKeyframesThatSawEachVoxel) {
