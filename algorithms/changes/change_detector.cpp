@@ -15,6 +15,7 @@
 #include <string>
 
 #include "algorithms/changes/dbscan.hpp"
+#include "algorithms/changes/extension.hpp"
 #include "algorithms/changes/model_distance.hpp"
 #include "algorithms/changes/point_grid.hpp"
 #include "algorithms/common/status.hpp"
@@ -150,6 +151,11 @@ void ChangeDetectorConfig::Validate() const {
                              std::to_string(band_threshold_m));
     }
     if (!(crop_margin_m >= 0)) common::ThrowInvalid("crop_margin_m must be >= 0");
+    if (!(extension_margin_m >= 0 && extension_clearance_m >= 0)) {
+        common::ThrowInvalid("extension_margin_m and extension_clearance_m must be >= 0, not " +
+                             std::to_string(extension_margin_m) + " and " +
+                             std::to_string(extension_clearance_m));
+    }
     if (!(max_unseen_support_drop_m >= 0)) {
         common::ThrowInvalid("max_unseen_support_drop_m must be >= 0, not " +
                              std::to_string(max_unseen_support_drop_m));
@@ -197,9 +203,11 @@ struct Detection {
         if (progress) progress(stage, f);
     }
 
-    void AlignMap();                                                     // 1.
-    void MeasureDistances();                                             // 2.
-    std::vector<uint32_t> SelectCandidates();                            // 2.
+    void AlignMap();                           // 1.
+    void MeasureDistances();                   // 2.
+    std::vector<uint32_t> SelectCandidates();  // 2.
+    void AddExtension(const std::vector<uint32_t>& off_footprint,
+                      std::vector<uint32_t>& candidates);
     Candidates FindTransients(const std::vector<uint32_t>& candidates);  // 3.
     void FindNewObjects(const Candidates& sorted);                       // 4.
     std::vector<ElementEvidence> CollectEvidence();                      // 5.
@@ -221,6 +229,7 @@ struct Detection {
     ChangeResult out;
     std::optional<simulation::Scene> scene;  // of the whole model, from step 2 on
     std::vector<uint32_t> nearest_triangle;  // per map point (kNoElement: none), from step 2
+    std::vector<uint8_t> beyond;  // per map point: off the footprint, compared (extension_margin_m)
 };
 
 // 1. The aligned map.
@@ -259,14 +268,18 @@ std::vector<uint32_t> Detection::SelectCandidates() {
     const std::vector<Eigen::Vector3f>& xyz = out.map.xyz;
     const size_t n = xyz.size();
     // The compared region: the model's box plus a margin (the outdoors seen through windows and
-    // doors is not the building's).
+    // doors is not the building's), and around it in plan the extension's.
     Eigen::AlignedBox3f region;
     for (const auto& v : model.mesh.vertices) region.extend(v);
     region.min().array() -= float(config.crop_margin_m);
     region.max().array() += float(config.crop_margin_m);
+    Eigen::AlignedBox3f wide = region;
+    wide.min().head<2>().array() -= float(config.extension_margin_m);
+    wide.max().head<2>().array() += float(config.extension_margin_m);
     out.point_class.assign(n, PointClass::kModel);
     out.object.assign(n, -1);
-    std::vector<uint32_t> candidates;
+    beyond.assign(n, 0);
+    std::vector<uint32_t> candidates, off_footprint;
     // Off the model and inside the box, yet outside the building: the ground and what stands
     // around the entrances, which a model does not hold. Such a point has no element below it.
     const float depth = region.sizes().z();
@@ -276,20 +289,42 @@ std::vector<uint32_t> Detection::SelectCandidates() {
     };
     for (size_t i = 0; i < n; ++i) {
         const float s = std::abs(out.signed_distance_m[i]);
-        if (!region.contains(xyz[i])) {
+        const bool in_region = region.contains(xyz[i]);
+        if (!in_region && !(config.extension_margin_m > 0 && wide.contains(xyz[i]) && s > low)) {
             out.point_class[i] = PointClass::kOutside;
         } else if (s > low) {
-            if (outside_footprint(xyz[i])) {
+            if (!in_region || outside_footprint(xyz[i])) {
                 out.point_class[i] = PointClass::kOutside;
                 ++out.counts.outside_footprint;
+                off_footprint.push_back(uint32_t(i));
                 continue;
             }
             if (s > high) out.point_class[i] = PointClass::kUnexplained;
             candidates.push_back(uint32_t(i));
         }
     }
+    if (config.extension_margin_m > 0) AddExtension(off_footprint, candidates);
     out.counts.candidates = candidates.size();
     return candidates;
+}
+
+// Of the points off the footprint, those above the ground around them join the candidates,
+// marked `beyond` (ChangeDetectorConfig::extension_margin_m).
+void Detection::AddExtension(const std::vector<uint32_t>& off_footprint,
+                             std::vector<uint32_t>& candidates) {
+    constexpr float kGroundCellM = 1.0f;  // the ground within 1.5 m: an annex's floor beside it
+    const std::vector<uint8_t> above = AboveLocalGround(out.map.xyz, off_footprint, kGroundCellM,
+                                                        float(config.extension_clearance_m));
+    for (size_t k = 0; k < off_footprint.size(); ++k) {
+        if (!above[k]) continue;
+        const uint32_t i = off_footprint[k];
+        beyond[i] = 1;
+        out.point_class[i] = std::abs(out.signed_distance_m[i]) > high ? PointClass::kUnexplained
+                                                                       : PointClass::kModel;
+        candidates.push_back(i);
+        ++out.counts.extension_points;
+    }
+    std::sort(candidates.begin(), candidates.end());
 }
 
 // 3. Transients among the points that would start new objects (a person's lower 10 cm are
@@ -384,6 +419,9 @@ void Detection::FindNewObjects(const Candidates& sorted) {
     }
     for (size_t o = 0; o < object_points.size(); ++o) {
         NewObject obj = MakeObject(std::move(object_points[o]));
+        const auto off = std::count_if(obj.points.begin(), obj.points.end(),
+                                       [&](uint32_t i) { return beyond[i] != 0; });
+        obj.outside_footprint = 2 * size_t(off) > obj.points.size();
         for (const uint32_t i : obj.points) {
             out.point_class[i] = PointClass::kNewObject;
             out.object[i] = int32_t(o);

@@ -66,8 +66,16 @@ struct ChangeDetectorConfig {
     double max_unseen_support_drop_m = 3.0;
     double crop_margin_m = 0.5;  // map points outside the model's box + this are not compared
     // Points off the model with no element below them (a ray straight down meets nothing: the
-    // ground outside, things around the entrances) are outside the building, not new objects.
+    // ground outside, things around the entrances) are outside the building, not new objects...
     bool crop_to_footprint = true;
+    // ... but for those within extension_margin_m of the model's box in plan that stand more than
+    // extension_clearance_m above the lowest such points within 1.5 m around them (the ground
+    // there: extension.hpp): an annex or a shed the model lacks, seen through the windows or
+    // walked into. They are compared as the others, and their objects are new objects marked
+    // outside_footprint (issue 33, the paper's map extension). A margin of 0 keeps the footprint
+    // alone, as before.
+    double extension_margin_m = 5.0;
+    double extension_clearance_m = 0.2;
     bool detect_transients = true;
     FreeSpaceConfig free_space;
     ElementEvidenceConfig evidence;
@@ -97,6 +105,7 @@ struct NewObject {
     double volume_m3 = 0;
     PlanRectangle plan;                   // of the points, whatever the object's turn
     bool on_floor = false;                // its bottom was extended to a surface below
+    bool outside_footprint = false;       // most of its points off the model's footprint
     uint32_t moved_element = kNoElement;  // when it is that element, moved
 };
 
@@ -118,6 +127,7 @@ struct ChangeResult {
     struct Counts {
         size_t candidates = 0;  // farther than band_threshold_m from the model, inside the region
         size_t outside_footprint = 0;  // of the others that far, with no element below them
+        size_t extension_points = 0;   // of those, compared (extension_margin_m)
         size_t transient_points = 0;
         size_t unjudged_points = 0;  // of the far ones, with no free or seen vote (free_space.hpp)
         size_t transient_by_neighbours = 0;  // of those, transient by their neighbours' votes

@@ -392,6 +392,12 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
     cmd->add_flag("--keep-outside", a->keep_outside,
                   "compare points with no element below them too (the ground outside, things at "
                   "the entrances), which are otherwise outside the building");
+    cmd->add_option("--extension-margin", c.extension_margin_m,
+                    "off the model's footprint, compare what stands more than 0.2 m above the "
+                    "ground around it within this many metres of the model's box in plan: an "
+                    "annex or a shed the model lacks, reported as new objects outside the "
+                    "footprint; 0: the footprint alone (5)")
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return Changes(*a); }); });
 }
 

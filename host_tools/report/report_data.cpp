@@ -36,9 +36,14 @@ void ReportConfig::Validate() const {
 namespace {
 
 // A new object's room in the page: the space's LongName ("Open office") when the file has one,
-// else its Name; "" outside every space. changes.json before stop 49 has no long_name.
-json RoomName(const json& space) {
-    if (space.is_null()) return "";
+// else its Name; "" outside every space, and beyond the model's walls what it is: an annex or a
+// shed the model lacks, or what stands around the building. changes.json before stop 49 has no
+// long_name, before stop 63 no outside_footprint.
+json RoomName(const json& object) {
+    const json& space = object.at("space");
+    if (space.is_null()) {
+        return object.value("outside_footprint", false) ? "outside the model's footprint" : "";
+    }
     const std::string long_name = space.value("long_name", "");
     return long_name.empty() ? space.at("name") : json(long_name);
 }
@@ -291,19 +296,18 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
         const json c = ReadJson(cdir / "changes.json");
         change_dirs.push_back(cdir);
         for (const json& o : c.at("new_objects")) {
-            changes_rows.push_back(
-                {{"kind", "new object"},
-                 {"session", name},
-                 {"id", o.at("id")},
-                 {"name", "new object " + std::to_string(o.at("id").get<int>())},
-                 {"min", o.at("box_min")},
-                 {"max", o.at("box_max")},
-                 {"size", o.at("size_m")},
-                 {"position", o.at("centroid")},
-                 {"storey", StoreyName(o)},
-                 {"room", RoomName(o.at("space"))},
-                 {"verdict", "new"},
-                 {"color", o.at("color")}});
+            changes_rows.push_back({{"kind", "new object"},
+                                    {"session", name},
+                                    {"id", o.at("id")},
+                                    {"name", "new object " + std::to_string(o.at("id").get<int>())},
+                                    {"min", o.at("box_min")},
+                                    {"max", o.at("box_max")},
+                                    {"size", o.at("size_m")},
+                                    {"position", o.at("centroid")},
+                                    {"storey", StoreyName(o)},
+                                    {"room", RoomName(o)},
+                                    {"verdict", "new"},
+                                    {"color", o.at("color")}});
         }
         for (const char* kind : {"missing", "deviating"}) {
             for (const json& e : c.at(kind)) {
