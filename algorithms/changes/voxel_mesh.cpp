@@ -147,7 +147,7 @@ common::TriangleMesh VoxelSurface(const VoxelSolid& solid) {
 PlanRectangle SmallestPlanRectangle(std::span<const Eigen::Vector3f> points) {
     PlanRectangle best;
     if (points.empty()) return best;
-    double best_area = std::numeric_limits<double>::infinity();
+    double best_perimeter = std::numeric_limits<double>::infinity();
     constexpr int kSteps = 180;  // 0.5 deg over a quarter turn: the rectangle repeats after it
     for (int k = 0; k < kSteps; ++k) {
         const double a = 0.5 * M_PI * k / kSteps;
@@ -161,8 +161,8 @@ PlanRectangle SmallestPlanRectangle(std::span<const Eigen::Vector3f> points) {
             v1 = std::max(v1, v.dot(q));
         }
         const double du = u1 - u0, dv = v1 - v0;
-        if (du * dv >= best_area) continue;
-        best_area = du * dv;
+        if (du + dv >= best_perimeter) continue;
+        best_perimeter = du + dv;
         // The long side's direction: u, or v a quarter turn on.
         const double yaw = (du >= dv ? a : a + 0.5 * M_PI) * 180 / M_PI;
         best = {std::max(du, dv), std::min(du, dv), std::fmod(yaw, 180.0)};

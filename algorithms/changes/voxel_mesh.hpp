@@ -33,12 +33,14 @@ struct VoxelSolid {
 // stand on something: 2.5D (a table becomes a block down to the floor; README.md, "Limits").
 VoxelSolid MakeVoxelSolid(std::span<const Eigen::Vector3f> points, float voxel_m, float base_z);
 
-// An object's rectangle in plan that is smallest in area, whatever its turn about z: its sides
+// An object's rectangle in plan of the smallest perimeter, whatever its turn about z: its sides
 // (long_m >= short_m) and the long side's direction (yaw_deg in [0, 180)). An axis-aligned box
 // measures a turned object larger (a 0.6 m crate turned 15 deg: 0.74 m), so visits that saw one
-// object at two turns compare these instead (the history's moved objects). Tried every 0.5 deg
-// over a quarter turn: the sides within side * (1 - cos 0.25 deg) + other * sin 0.25 deg of the
-// exact rectangle's (under 4 mm for 0.8 m).
+// object at two turns compare these instead (the history's moved objects). The perimeter, not the
+// area: of a crate seen from one corner (two faces, an L in plan) the smallest area is the
+// diagonal's (0.85 x 0.46 m for 0.6 x 0.6, the sample hall's Go1 visit), the smallest perimeter
+// the crate's own. Tried every 0.5 deg over a quarter turn: the sides within side * (1 - cos
+// 0.25 deg) + other * sin 0.25 deg of the exact rectangle's (under 4 mm for 0.8 m).
 struct PlanRectangle {
     double long_m = 0, short_m = 0, yaw_deg = 0;
 };

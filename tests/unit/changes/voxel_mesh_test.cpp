@@ -99,6 +99,19 @@ TEST(VoxelMesh, TheSmallestPlanRectangleKeepsAnObjectsSidesWhateverItsTurn) {
         }
     }
     EXPECT_EQ(SmallestPlanRectangle({}).long_m, 0.0);
+    // A 0.6 m crate seen from a corner, turned 20 deg: two faces, an L in plan. The smallest
+    // area would be the diagonal's rectangle (0.85 x 0.42 m); the perimeter's is the crate's.
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(20 * M_PI / 180).toRotationMatrix();
+    std::vector<Eigen::Vector3f> corner;
+    for (double t = 0; t <= 0.6 + 1e-9; t += 0.025) {
+        for (const Eigen::Vector2d& q : {Eigen::Vector2d(t, 0), Eigen::Vector2d(0, t)}) {
+            const Eigen::Vector2d p = R * q;
+            corner.emplace_back(float(p.x()), float(p.y()), 0.3f);
+        }
+    }
+    const PlanRectangle c = SmallestPlanRectangle(corner);
+    EXPECT_NEAR(c.long_m, 0.6, 0.005);
+    EXPECT_NEAR(c.short_m, 0.6, 0.005);
 }
 
 TEST(AlignedMap, MergesKeyframesCountingTheKeyframesThatSawEachVoxel) {
