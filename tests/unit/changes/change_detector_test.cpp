@@ -207,6 +207,19 @@ TEST(ChangeDetector, APersonWalkingToAndFroAlongTheCorridorIsTransientNotANewObj
     EXPECT_GE(stretches, int(covered.size()) - 2) << Describe(r);
 }
 
+// The scene's keyframes and one more at `sensor` (unrotated) that saw `cloud` (its lidar frame).
+std::vector<MapKeyframe> WithOneMoreView(const test::ChangeScene& s,
+                                         const common::PointCloud& cloud,
+                                         const Eigen::Vector3f& sensor) {
+    std::vector<MapKeyframe> keyframes = s.keyframes;
+    MapKeyframe view;
+    view.cloud = &cloud;
+    view.T_world_lidar =
+        Eigen::Translation3d(sensor.cast<double>()) * Eigen::Isometry3d::Identity();
+    keyframes.push_back(view);
+    return keyframes;
+}
+
 // A 0.6 m crate on the ground outside the west wall, within the compared box (the model's box
 // plus 0.5 m), and the ground around it, seen by one more keyframe standing outside: no element is
 // below them. The ground is outside; the crate is an object outside the footprint (an annex or a
@@ -228,12 +241,7 @@ TEST(ChangeDetector, AThingBesideTheBuildingIsAnObjectOutsideItsFootprintAndTheG
             seen.xyz.push_back(Eigen::Vector3f(x, y, 0.0f) - sensor);
         }
     }
-    std::vector<MapKeyframe> keyframes = s.keyframes;
-    MapKeyframe outside;
-    outside.cloud = &seen;
-    outside.T_world_lidar =
-        Eigen::Translation3d(sensor.cast<double>()) * Eigen::Isometry3d::Identity();
-    keyframes.push_back(outside);
+    const std::vector<MapKeyframe> keyframes = WithOneMoreView(s, seen, sensor);
     const auto objects_outside = [](const ChangeResult& r) {
         std::vector<const NewObject*> found;
         for (const NewObject& obj : r.objects) {
@@ -303,13 +311,7 @@ TEST(ChangeDetector, APartInsideAnObjectsBoxIsThatObject) {
     config.detect_transients = false;
     const size_t before = DetectChanges(s.model, s.keyframes, config).objects.size();
     const auto detect = [&](const common::PointCloud& c) {
-        std::vector<MapKeyframe> keyframes = s.keyframes;
-        MapKeyframe view;
-        view.cloud = &c;
-        view.T_world_lidar =
-            Eigen::Translation3d(sensor.cast<double>()) * Eigen::Isometry3d::Identity();
-        keyframes.push_back(view);
-        return DetectChanges(s.model, keyframes, config);
+        return DetectChanges(s.model, WithOneMoreView(s, c, sensor), config);
     };
     const common::PointCloud inside = cloud(1.0f), beyond = cloud(0.5f);
     const ChangeResult joined = detect(inside);
