@@ -664,6 +664,9 @@ void LidarOdometry::UpdateVelocity() {
         }
     }
     UpdateImuHeight();
+    if (config_.use_imu && config_.imu_height && imu_height_.initialized()) {
+        result_.height_sigma = std::sqrt(imu_height_.covariance()(0, 0));
+    }
     initialized_ = true;
     last_degenerate_ = (r.flags & (kDegenerate | kRegistrationFailed)) != 0;
     last_stamp_ns_ = w.stamp;

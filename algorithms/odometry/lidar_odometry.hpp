@@ -41,6 +41,7 @@
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -266,7 +267,11 @@ struct OdometryResult {
     int deskew_rounds = 0;   // times this scan was deskewed and registered again (step 3)
     DeskewStop deskew_stop = DeskewStop::kNotTried;
     double correspondence_distance = 0;  // m, the adaptive threshold this scan used
-    double map_radius = 0;               // m, the map kept around the sensor
+    // With the IMU's height filter (imu_height.hpp): its height's 1-sigma after this scan, m;
+    // NaN without it. Where the scans do not see the height it grows with the accelerometers'
+    // noise and bias over the time unseen.
+    double height_sigma = std::numeric_limits<double>::quiet_NaN();
+    double map_radius = 0;  // m, the map kept around the sensor
     // Wall time of the steps: preprocess_ms the scan's first preprocessing only; register_ms
     // everything from there to the map update, so the deskew rounds and the start's refinement
     // (their preprocessing again included) count there; map_ms the map update.
