@@ -61,6 +61,8 @@ void LidarOdometryConfig::Validate() const {
     Require(rest_gyro > 0, c, "rest_gyro", rest_gyro, "must be > 0");
     Require(height_seen_share > 0 && height_seen_share <= 1, c, "height_seen_share",
             height_seen_share, "must be in (0, 1]");
+    Require(height_ambiguous_sigma > 0, c, "height_ambiguous_sigma", height_ambiguous_sigma,
+            "must be > 0");
 
     Require(constant_velocity_sigma.allFinite() && (constant_velocity_sigma.array() > 0).all(), c,
             "constant_velocity_sigma", constant_velocity_sigma.minCoeff(), "must all be > 0");
@@ -689,11 +691,19 @@ void LidarOdometry::UpdateImuHeight() {
     const Eigen::Vector3d up_lidar = w.T.linear().transpose() * imu_height_.up();
     const double h = imu_height_.up().dot(w.T.translation());
     const bool failed = (r.flags & (kRegistrationFailed | kCheckFailed | kTooFewPoints)) != 0;
+    const bool seen_before = last_height_seen_;
     last_height_seen_ = !failed && r.registration.axis_share >= config_.height_seen_share;
     if (!last_height_seen_) {
         result_.flags |= kHeightUnseen;
         imu_height_.Hold(h);
         return;
+    }
+    // Seen again after scans that did not see it, the filter's height this uncertain: the
+    // registration settled on the surface nearest its guess (the filter's own start, its
+    // velocity unknown, is not this: the scans before saw the height).
+    if (!seen_before &&
+        std::sqrt(imu_height_.covariance()(0, 0)) > config_.height_ambiguous_sigma) {
+        result_.flags |= kHeightAmbiguous;
     }
     imu_height_.Update(h, up_lidar.dot(r.covariance.topLeftCorner<3, 3>() * up_lidar));
 }

@@ -111,6 +111,11 @@ struct LidarOdometryConfig {
     // A scan saw the height when the surfaces facing up or down it hit carry at least this share
     // of its registration's weights (RegistrationResult::axis_share).
     double height_seen_share = 0.01;
+    // A height seen again while the accelerometers' filter is more uncertain than this (1-sigma,
+    // m) is ambiguous (kHeightAmbiguous): half of the lowest riser of a stair (15 cm; most rise
+    // 15-20 cm), beyond which the registration can settle on the step next to the true one. Said,
+    // not acted on: the estimate is the same with it.
+    double height_ambiguous_sigma = 0.075;
     // At rest over the gravity window: the specific force's spread (m/s^2, the root of its
     // per-axis variances' sum) and the gyro's largest rate (rad/s) under these.
     double rest_accel_sigma = 0.1;
@@ -225,6 +230,11 @@ enum OdometryFlag : uint32_t {
     // With the IMU: the scan did not see the height (height_seen_share), so its height is a
     // prediction's (TrajectoryTrust counts how long in a row).
     kHeightUnseen = 1u << 17,
+    // With the IMU: the scan saw the height again while the accelerometers' height was more
+    // uncertain than height_ambiguous_sigma, so the registration's height is the nearest stair
+    // tread's (or floor's) to the guess: it may be off by whole risers (TrajectoryTrust says
+    // where). Office_A's Go1 climb: sigma 30 cm, then 1 m low for the rest of the walk.
+    kHeightAmbiguous = 1u << 18,
 };
 
 // The steps of a scan the budget cut (OdometryResult::budget_cut): a registration stopped at the

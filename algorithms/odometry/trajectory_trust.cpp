@@ -99,6 +99,7 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
                           int64_t stamp_ns) {
     blind_.Add((flags & odometry::kHeightUnseen) != 0, scan, t_s, stamp_ns);
     degenerate_.Add((flags & odometry::kDegenerate) != 0, scan, t_s, stamp_ns);
+    ambiguous_.Add((flags & odometry::kHeightAmbiguous) != 0, scan, t_s, stamp_ns);
     const bool reg_failed = (flags & odometry::kRegistrationFailed) != 0;
     const bool check_failed = (flags & odometry::kCheckFailed) != 0;
     if (!reg_failed && !check_failed) return;
@@ -176,6 +177,12 @@ std::string TrajectoryTrust::DescribeRuns() const {
         text += "; degenerate for over " + std::to_string(int(kMaxDegenerateS)) +
                 " s (some directions the prediction's) at" + degenerate_.Text();
     }
+    if (!ambiguous_.runs().empty()) {
+        text +=
+            "; the height seen again while the accelerometers' was uncertain (it may be off "
+            "by whole stair risers from there on) at" +
+            ambiguous_.Text();
+    }
     return text;
 }
 
@@ -194,7 +201,8 @@ nlohmann::json TrajectoryTrust::ToJson() const {
             {"bridged_by_prior", bridged_},
             {"bridged_over_budget", bridged_over_budget_},
             {"height_unseen_stretches", blind_.Json(0, SIZE_MAX)},
-            {"degenerate_stretches", degenerate_.Json(0, SIZE_MAX)}};
+            {"degenerate_stretches", degenerate_.Json(0, SIZE_MAX)},
+            {"height_ambiguous_stretches", ambiguous_.Json(0, SIZE_MAX)}};
 }
 
 nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan) const {
@@ -213,7 +221,8 @@ nlohmann::json TrajectoryTrust::SessionJson(size_t first_scan, size_t last_scan)
             {"last_scan", last_scan},
             {"failed_stretches", list},
             {"height_unseen_stretches", blind_.Json(first_scan, last_scan)},
-            {"degenerate_stretches", degenerate_.Json(first_scan, last_scan)}};
+            {"degenerate_stretches", degenerate_.Json(first_scan, last_scan)},
+            {"height_ambiguous_stretches", ambiguous_.Json(first_scan, last_scan)}};
 }
 
 }  // namespace bimslam::odometry

@@ -76,18 +76,22 @@ public:
     // The runs of degenerate scans (kDegenerate: some directions the prediction's) longer than
     // kMaxDegenerateS (failed is 0).
     const std::vector<FailedStretch>& degenerate() const { return degenerate_.runs(); }
+    // The runs of scans that saw the height again while the accelerometers' was uncertain
+    // (odometry::kHeightAmbiguous): the height there, and after, may be off by whole stair
+    // risers. Said, as height_unseen(), not untrusting: anchoring corrects it against the model.
+    const std::vector<FailedStretch>& height_ambiguous() const { return ambiguous_.runs(); }
     // "trusted" or "untrusted".
     std::string Verdict() const { return trusted() ? "trusted" : "untrusted"; }
     // One line for a person: what failed where, and where the height was not seen.
     std::string Describe() const;
     // {"verdict", "failed_stretches": [{first_scan, last_scan, first_s, last_s, failed,
-    // reasons: [...]}], "height_unseen_stretches": [{..., seconds}], "degenerate_stretches":
-    // [{..., seconds}]}.
+    // reasons: [...]}], "height_unseen_stretches": [{..., seconds}], "degenerate_stretches" and
+    // "height_ambiguous_stretches" the same way}.
     nlohmann::json ToJson() const;
     // The verdict a session of scans [first_scan, last_scan] carries (kSessionFile in its folder):
-    // ToJson() of the stretches (and height_unseen_stretches, degenerate_stretches) that overlap
-    // those scans, with their stamps, so that anchoring
-    // can find the keyframes on either side (host_tools/anchor/README.md, "Untrusted odometry").
+    // ToJson() of the stretches (and the height_unseen, degenerate, height_ambiguous ones) that
+    // overlap those scans, with their stamps, so that anchoring can find the keyframes on either
+    // side (host_tools/anchor/README.md, "Untrusted odometry").
     nlohmann::json SessionJson(size_t first_scan, size_t last_scan) const;
 
     // The file in a session folder that holds SessionJson().
@@ -115,6 +119,7 @@ private:
     std::vector<FailedStretch> stretches_;
     FlagRuns blind_{kMaxHeightUnseenS};     // height_unseen()
     FlagRuns degenerate_{kMaxDegenerateS};  // degenerate()
+    FlagRuns ambiguous_{-1.0};              // height_ambiguous(): every run, one scan included
     size_t bridged_ = 0;
     size_t bridged_over_budget_ = 0;
     size_t cut_run_ = 0, last_cut_scan_ = 0;  // scans cut by the budget in a row, the last one

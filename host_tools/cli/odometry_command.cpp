@@ -190,8 +190,10 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
                   "Print the summary as JSON (verdict: trusted or untrusted, failed_stretches: "
                   "the scans and times that failed their registration checks; said apart, not "
                   "untrusting: height_unseen_stretches, the height the accelerometers' alone for "
-                  "over 2 s, and degenerate_stretches, some directions the prediction's for over "
-                  "1 s)");
+                  "over 2 s, degenerate_stretches, some directions the prediction's for over "
+                  "1 s, and height_ambiguous_stretches, the height seen again while the "
+                  "accelerometers' was uncertain by over 7.5 cm: off by whole stair risers, may "
+                  "be)");
     cmd->add_option(
         "--scans-csv", args->scans_csv,
         "Write every scan's registration evidence to this CSV (flags, check reasons, "

@@ -89,6 +89,7 @@ nlohmann::json ReportJson(const CaptureOdometryReport& r) {
             {"failed_stretches", r.trust.ToJson().at("failed_stretches")},
             {"height_unseen_stretches", r.trust.ToJson().at("height_unseen_stretches")},
             {"degenerate_stretches", r.trust.ToJson().at("degenerate_stretches")},
+            {"height_ambiguous_stretches", r.trust.ToJson().at("height_ambiguous_stretches")},
             {"bridged_by_prior", r.trust.bridged_by_prior()},
             {"bridged_over_budget", r.trust.bridged_over_budget()},
             {"not_converged", r.not_converged},

@@ -153,6 +153,7 @@ TEST(LidarOdometry, AFeaturelessCorridorDoesNotDivergeWithTheGo1Prior) {
     EXPECT_TRUE(with.flags & kDegenerate) << "the corridor's axis is detected";
     EXPECT_TRUE(with.flags & kBodyPriorUsed);
     EXPECT_FALSE(with.flags & kHeightUnseen) << "the floor is in view";
+    EXPECT_FALSE(with.flags & kHeightAmbiguous) << "the height never uncertain";
     EXPECT_TRUE(with.finite);
     EXPECT_LT(with.max_translation_error, 0.05) << "6 s, about 5 m, along a featureless axis";
     EXPECT_LT(with.max_rotation_error_deg, 1.0);

@@ -162,6 +162,38 @@ TEST(TrajectoryTrust, TheHeightUnseenForTooLongIsSaidWithWhere) {
     EXPECT_DOUBLE_EQ(session.at("height_unseen_stretches")[0].at("seconds"), limit + 1.0);
 }
 
+// A height seen again while the accelerometers' was uncertain (Office_A's Go1 climb: sigma 30 cm,
+// then 1 m low on a tread) is said wherever it happens, one scan included, with where; the run
+// stays trusted, and the session's file carries the ones within its scans.
+TEST(TrajectoryTrust, AHeightSeenAgainWhileUncertainIsSaidWithWhere) {
+    TrajectoryTrust t;
+    for (size_t scan = 0; scan < 100; ++scan) {
+        const uint32_t flags =
+            scan == 45 || scan == 80 || scan == 81 ? uint32_t(kHeightAmbiguous) : 0u;
+        t.Add(scan, 0.1 * double(scan), flags | kImuUsed, 0, int64_t(scan) * 100000000);
+    }
+    EXPECT_TRUE(t.trusted());
+    ASSERT_EQ(t.height_ambiguous().size(), 2u);
+    EXPECT_EQ(t.height_ambiguous()[0].first_scan, 45u);
+    EXPECT_EQ(t.height_ambiguous()[0].last_scan, 45u);
+    EXPECT_EQ(t.height_ambiguous()[1].first_scan, 80u);
+    EXPECT_EQ(t.height_ambiguous()[1].last_scan, 81u);
+    EXPECT_NE(t.Describe().find("the height seen again while the accelerometers' was uncertain (it "
+                                "may be off by whole stair risers from there on) at scans 45-45 "
+                                "(4.5-4.5 s), scans 80-81"),
+              std::string::npos)
+        << t.Describe();
+    EXPECT_EQ(t.ToJson().at("height_ambiguous_stretches").size(), 2u);
+    const nlohmann::json session = t.SessionJson(60, 99);
+    EXPECT_EQ(session.at("verdict"), "trusted");
+    ASSERT_EQ(session.at("height_ambiguous_stretches").size(), 1u);
+    EXPECT_EQ(session.at("height_ambiguous_stretches")[0].at("first_stamp_ns"), 8000000000);
+    TrajectoryTrust none;
+    for (size_t scan = 0; scan < 10; ++scan) none.Add(scan, 0.1 * double(scan), kImuUsed, 0);
+    EXPECT_TRUE(none.height_ambiguous().empty());
+    EXPECT_EQ(none.Describe(), "trusted: every registration passed its checks");
+}
+
 // Degenerate scans take some directions from the prediction (LiDAR-only: the velocity before):
 // a run longer than kMaxDegenerateS is said with where it was, as the height unseen is, and
 // apart from it; shorter runs are not; the verdict stays what the registrations earned.
