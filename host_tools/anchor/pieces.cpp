@@ -36,7 +36,7 @@ OdometryVerdict ReadOdometryVerdict(const fs::path& dir) {
         if (v.verdict != "trusted" && v.verdict != "untrusted") {
             throw bad("verdict '" + v.verdict + "': expected trusted or untrusted");
         }
-        for (const nlohmann::json& s : j.at("failed_stretches")) {
+        const auto stretch = [&](const nlohmann::json& s, const char* kind) {
             OdometryStretch o;
             o.first_scan = s.at("first_scan").get<size_t>();
             o.last_scan = s.at("last_scan").get<size_t>();
@@ -48,10 +48,17 @@ OdometryVerdict ReadOdometryVerdict(const fs::path& dir) {
             for (const nlohmann::json& r : s.value("reasons", nlohmann::json::array()))
                 o.reasons.push_back(r.get<std::string>());
             if (o.last_ns < o.first_ns || o.last_scan < o.first_scan) {
-                throw bad("failed stretch " + o.Describe() + " ends before it starts");
+                throw bad(std::string(kind) + " stretch " + o.Describe() +
+                          " ends before it starts");
             }
-            v.stretches.push_back(std::move(o));
-        }
+            return o;
+        };
+        for (const nlohmann::json& s : j.at("failed_stretches"))
+            v.stretches.push_back(stretch(s, "failed"));
+        // Written since stop 63; an older file has none.
+        for (const nlohmann::json& s :
+             j.value("height_ambiguous_stretches", nlohmann::json::array()))
+            v.height_ambiguous.push_back(stretch(s, "height ambiguous"));
     } catch (const FileError&) {
         throw;
     } catch (const std::exception& e) {

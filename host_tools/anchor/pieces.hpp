@@ -36,6 +36,9 @@ struct OdometryStretch {
 struct OdometryVerdict {
     std::string verdict;
     std::vector<OdometryStretch> stretches;  // empty unless untrusted
+    // Where the odometry saw its height again while uncertain (odometry::kHeightAmbiguous): the
+    // height may be off by whole stair risers from there on (the relocaliser reads it).
+    std::vector<OdometryStretch> height_ambiguous;
 };
 
 inline constexpr const char* kOdometryVerdictFile = "odometry_verdict.json";

@@ -150,7 +150,7 @@ TEST(CombinePieces, NeverAnchoredWhole) {
 TEST(MergePieces, ASplitSessionGetsItsPiecesVerdictsPosesAndLoopsInItsOwnNumbers) {
     std::vector<AnchorSession> sessions{Line(3), Line(8)};
     sessions[0].name = "reference";
-    sessions[1].odometry = {"untrusted", {Stretch(2.5, 4.0)}};
+    sessions[1].odometry = {"untrusted", {Stretch(2.5, 4.0)}, {}};
     const SplitQueries parts = SplitAtUntrustedOdometry(sessions);
     ASSERT_EQ(parts.sessions.size(), 3u);  // the reference, keyframes 0-2, keyframes 5-7
     EXPECT_EQ(parts.sessions[2].name, "walk[5-7]");
@@ -212,7 +212,7 @@ TEST(MergePieces, ASplitSessionGetsItsPiecesVerdictsPosesAndLoopsInItsOwnNumbers
 
 TEST(MergePieces, ASessionWithTrustedOdometryKeepsItsResult) {
     std::vector<AnchorSession> sessions{Line(3), Line(4)};
-    sessions[1].odometry = {"trusted", {}};
+    sessions[1].odometry = {"trusted", {}, {}};
     const SplitQueries parts = SplitAtUntrustedOdometry(sessions);
     ASSERT_EQ(parts.sessions.size(), 2u);
     AnchorResult r;
@@ -229,7 +229,7 @@ TEST(MergePieces, ASessionWithTrustedOdometryKeepsItsResult) {
 
 TEST(WorldTrajectory, ScansArePlacedOnlyFromKeyframesTheOdometryJoinsThemTo) {
     AnchorSession s = Line(6);
-    s.odometry = {"untrusted", {Stretch(2.4, 2.6)}};
+    s.odometry = {"untrusted", {Stretch(2.4, 2.6)}, {}};
     // Pieces 0-2 (moved 1 m in y) and 3-5 (moved 2 m in y); keyframe 5 not placed.
     std::vector<Eigen::Isometry3d> world;
     for (size_t k = 0; k < 6; ++k)
@@ -256,7 +256,9 @@ TEST(OdometryVerdictFile, WrittenByTheOdometryReadByTheAnchoring) {
     odometry::TrajectoryTrust trust(/*merge_gap=*/3);
     for (size_t scan = 0; scan < 60; ++scan) {
         const bool failed = scan == 20 || scan == 22 || scan == 50;
-        trust.Add(scan, 0.1 * double(scan), failed ? uint32_t(odometry::kCheckFailed) : 0u,
+        const uint32_t ambiguous = scan == 45 ? uint32_t(odometry::kHeightAmbiguous) : 0u;
+        trust.Add(scan, 0.1 * double(scan),
+                  (failed ? uint32_t(odometry::kCheckFailed) : 0u) | ambiguous,
                   failed ? uint32_t(odometry::kLowOverlap) : 0u,
                   1000 * kSecond + int64_t(scan) * kSecond / 10);
     }
@@ -272,10 +274,16 @@ TEST(OdometryVerdictFile, WrittenByTheOdometryReadByTheAnchoring) {
     EXPECT_EQ(v.stretches[0].last_ns, 1000 * kSecond + 22 * kSecond / 10);
     EXPECT_EQ(v.stretches[0].failed, 2u);
     EXPECT_EQ(v.stretches[0].Describe(), "scans 20-22 (2.0-2.2 s: low overlap with the map)");
-    // Scans 40-59: trusted until scan 50; a session of scans 23-49 is trusted.
+    EXPECT_TRUE(v.height_ambiguous.empty());
+    // Scans 40-59: trusted until scan 50; a session of scans 23-49 is trusted, its height
+    // seen again while uncertain at scan 45 (the relocaliser reads it: bimslam localize).
     io::WriteFileAtomic(tmp / kOdometryVerdictFile, trust.SessionJson(23, 49).dump());
-    EXPECT_EQ(ReadOdometryVerdict(tmp.path()).verdict, "trusted");
-    EXPECT_TRUE(ReadOdometryVerdict(tmp.path()).stretches.empty());
+    const OdometryVerdict later = ReadOdometryVerdict(tmp.path());
+    EXPECT_EQ(later.verdict, "trusted");
+    EXPECT_TRUE(later.stretches.empty());
+    ASSERT_EQ(later.height_ambiguous.size(), 1u);
+    EXPECT_EQ(later.height_ambiguous[0].first_scan, 45u);
+    EXPECT_EQ(later.height_ambiguous[0].first_ns, 1000 * kSecond + 45 * kSecond / 10);
 }
 
 TEST(OdometryVerdictFile, NoneIsNotJudgedAndABadOneNamesTheFile) {
@@ -287,6 +295,8 @@ TEST(OdometryVerdictFile, NoneIsNotJudgedAndABadOneNamesTheFile) {
           "{\"verdict\": \"untrusted\", \"failed_stretches\": [{\"first_scan\": 5}]}",
           "{\"verdict\": \"untrusted\", \"failed_stretches\": [{\"first_scan\": 5, \"last_scan\": "
           "6, \"first_s\": 1, \"last_s\": 2, \"first_stamp_ns\": 9, \"last_stamp_ns\": 8}]}",
+          "{\"verdict\": \"trusted\", \"failed_stretches\": [], \"height_ambiguous_stretches\": "
+          "[{\"first_scan\": 5}]}",
           "not json"}) {
         io::WriteFileAtomic(tmp / kOdometryVerdictFile, bad);
         try {
