@@ -134,7 +134,7 @@ void Relocalizer::Check(const RigMap& map, const RelocalizerConfig& config) {
 const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,
                                                 const scancontext::Descriptor& descriptor,
                                                 const Eigen::Isometry3d& T_odom_lidar,
-                                                double path_m) {
+                                                double path_m, bool height_ambiguous) {
     const RelocalizerStep last = std::move(step_);
     step_ = RelocalizerStep{};
     step_.state = last.state;
@@ -144,6 +144,7 @@ const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,
     const RelocalizerState was = last.state;
     step_.keyframe = keyframes_++;
     const registration::OrientedCloud oc = registration::MakeOrientedCloud(cloud, config_.cloud);
+    height_ambiguous_ = height_ambiguous_ || height_ambiguous;
     if (was == RelocalizerState::kLocalised) {
         Track(oc, T_odom_lidar);
     } else {
@@ -205,9 +206,8 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
         const registration::RegistrationResult r =
             registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
         ++step_.registrations;
-        if (Verified(r, true) &&
-            Near(predicted, r.T_target_source, config_.track_max_m, config_.track_max_m,
-                 config_.track_max_deg)) {
+        if (Verified(r, true) && Near(predicted, r.T_target_source, config_.track_max_m,
+                                      config_.track_max_m, config_.track_max_deg)) {
             AddLoop(cloud, r, T_odom_lidar, path_m);
         }
     }
@@ -332,6 +332,9 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
     step_.T_bim_odom = step_.hypotheses.front();
     step_.fix_information = newest.information;
     step_.T_odom_lidar_fix = newest.T_odom_lidar;
+    // A loop is verified at full rank: it measured the height too.
+    height_fix_odom_ = newest.T_odom_lidar.translation();
+    height_ambiguous_ = false;
     loops_.clear();
     guides_.clear();
     misses_ = contradicted_ = 0;
@@ -341,8 +344,10 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
 void Relocalizer::Track(const registration::OrientedCloud& cloud,
                         const Eigen::Isometry3d& T_odom_lidar) {
     const Eigen::Isometry3d predicted = step_.T_bim_odom * T_odom_lidar;
-    const registration::RegistrationResult r =
-        registration::Register(cloud, pyramid_, predicted, config_.registration, 1);
+    // From the middle level: the prediction is within its reach. A height the odometry flagged
+    // may be off by more: from the coarse level then, whose reach (1.2 m) spans several risers.
+    const registration::RegistrationResult r = registration::Register(
+        cloud, pyramid_, predicted, config_.registration, height_ambiguous_ ? 0 : 1);
     step_.registrations = 1;
     step_.consistent_loops = 1;
     if (Verified(r, false)) {
@@ -353,10 +358,18 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
             (T_odom_lidar.translation() - step_.T_odom_lidar_fix.translation());
         const double max_m = std::min(config_.track_max_m,
                                       config_.track_step_m + config_.drift_per_m * moved.norm());
-        const double max_up = std::min(config_.track_max_m, max_m + std::abs(moved.z()));
-        const double max_deg =
-            std::min(config_.track_max_deg,
-                     config_.track_step_deg + config_.drift_deg_per_m * moved.norm());
+        double max_up = std::min(config_.track_max_m, max_m + std::abs(moved.z()));
+        const bool measured_height = MeasuredAlong(r, predicted, Eigen::Vector3d::UnitZ(), max_m,
+                                                   config_.height_measured_sigma);
+        if (height_ambiguous_ && measured_height) {
+            // Whole risers off (RelocalizerConfig::height_measured_sigma): up to the climb since
+            // the height was last measured, from a registration that measured it.
+            const double climbed =
+                (step_.T_bim_odom.linear() * (T_odom_lidar.translation() - height_fix_odom_)).z();
+            max_up = std::max(max_up, max_m + std::abs(climbed));
+        }
+        const double max_deg = std::min(
+            config_.track_max_deg, config_.track_step_deg + config_.drift_deg_per_m * moved.norm());
         const Eigen::Isometry3d found = FuseWithPrediction(predicted, r, max_m, max_up, max_deg);
         if (Near(predicted, found, max_m, max_up, max_deg)) {
             step_.T_bim_odom = found * T_odom_lidar.inverse();
@@ -365,6 +378,10 @@ void Relocalizer::Track(const registration::OrientedCloud& cloud,
             step_.accepted = true;
             misses_ = 0;
             if (MeasuredAlong(r, predicted, contradicted_along_, max_m, max_up)) contradicted_ = 0;
+            if (measured_height) {
+                height_fix_odom_ = T_odom_lidar.translation();
+                height_ambiguous_ = false;
+            }
             return;
         }
         ++contradicted_;

@@ -81,6 +81,16 @@ struct RelocalizerConfig : LoopRules {
     double track_step_deg = 1.0;
     double track_max_m = 0.5;
     double track_max_deg = 5.0;
+    // A height the odometry saw again while uncertain (odometry::kHeightAmbiguous: its
+    // accelerometers' filter over half a stair's lowest riser, 7.5 cm) may be off by whole
+    // risers from there on, more than track_max_m. Until a tracked registration measures the
+    // height to this sigma (the odometry's own height_ambiguous_sigma), the height's bound is
+    // what the odometry climbed since the height was last measured so, uncapped: an odometry is
+    // not off in height by more than it climbed. On the held-out Office_A's Go1 climb the height
+    // ended 1 m low at such a scan; the registrations that saw the floor upstairs said so and
+    // were refused by the 0.5 m cap, and the live pose stood 1 m low for 60 s (localization
+    // README, "A height the odometry flagged").
+    double height_measured_sigma = 0.075;
     int lost_after = 15;     // keyframes without an accepted registration (about 15 m)
     int contradictions = 3;  // verified registrations far from the prediction, uncleared
     // Tests of robustness only (issue 35: "30 % of the candidate loops injected wrong"): while
@@ -167,10 +177,13 @@ public:
     static void Check(const RigMap& map, const RelocalizerConfig& config = {});
 
     // One keyframe: its deskewed cloud (lidar frame), its descriptor (the package's kind and
-    // shape), its odometry pose, and how far the rig has walked (m, from the start).
+    // shape), its odometry pose, how far the rig has walked (m, from the start), and whether
+    // the odometry flagged its height ambiguous (odometry::kHeightAmbiguous) at a scan since the
+    // previous keyframe, this one's included (RelocalizerConfig::height_measured_sigma).
     const RelocalizerStep& AddKeyframe(const common::PointCloud& cloud,
                                        const scancontext::Descriptor& descriptor,
-                                       const Eigen::Isometry3d& T_odom_lidar, double path_m);
+                                       const Eigen::Isometry3d& T_odom_lidar, double path_m,
+                                       bool height_ambiguous = false);
 
     const RelocalizerStep& last() const { return step_; }
     RelocalizerState state() const { return step_.state; }
@@ -219,6 +232,10 @@ private:
     // The last contradiction's translation from the prediction (unit, the model's axes), or zero
     // when it was off in rotation only (MeasuredAlong).
     Eigen::Vector3d contradicted_along_ = Eigen::Vector3d::Zero();
+    // Where (the odometry's frame) the height was last measured to height_measured_sigma, and
+    // whether the odometry flagged its height ambiguous since (RelocalizerConfig).
+    Eigen::Vector3d height_fix_odom_ = Eigen::Vector3d::Zero();
+    bool height_ambiguous_ = false;
     std::mt19937_64 rng_;
 };
 

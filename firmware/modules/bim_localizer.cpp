@@ -33,8 +33,8 @@ void BimLocalizer::Process(const KeyframeItem& k) {
     path_m_ += (kf.T_world_lidar.translation() - last_position_).norm();
     last_position_ = kf.T_world_lidar.translation();
     const int64_t cpu0 = runtime::ThreadCpuNs();
-    const localization::RelocalizerStep& step =
-        relocalizer_->AddKeyframe(kf.cloud, kf.descriptor, kf.T_world_lidar, path_m_);
+    const localization::RelocalizerStep& step = relocalizer_->AddKeyframe(
+        kf.cloud, kf.descriptor, kf.T_world_lidar, path_m_, k.height_ambiguous);
     const int64_t cpu = runtime::ThreadCpuNs() - cpu0;
     cpu_.Add(cpu);
     c_.cpu_ns += cpu;

@@ -58,6 +58,8 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
     if (first_stamp_ns_ < 0) first_stamp_ns_ = out.stamp_ns;
     const double t_s = double(out.stamp_ns - first_stamp_ns_) * 1e-9;
     trust_.Add(size_t(out.scan_index), t_s, r.flags, r.check_reasons, out.stamp_ns);
+    height_ambiguous_ =
+        (height_ambiguous_ && !out.clock_jump) || (r.flags & odometry::kHeightAmbiguous) != 0;
     // Outputs. A full queue drops the item and counts it (the consumer is behind); a replay
     // waits for room even once the sources have stopped: every consumer runs until this thread
     // is done (Rig::StopInOrder). Waiting on `stop` lost the last keyframe on LCM in 2 of 12
@@ -101,10 +103,12 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
             k.keyframe_index = out.keyframe_index;
             k.scan_index = out.scan_index;
             k.segment = segment_;
+            k.height_ambiguous = height_ambiguous_;
         };
         if (config_.record) push(q_.keyframes_session, fill);
         push(q_.keyframes_lcm, fill);
         if (q_.keyframes_localizer != nullptr) push(*q_.keyframes_localizer, fill);
+        height_ambiguous_ = false;
     }
     const int64_t latency = times.handed - times.last_packet;
     stats.Cycle(latency, config_.deadline_ns);

@@ -80,6 +80,7 @@ private:
     const CanIngest* can_;
     pipeline::ScanPipeline pipeline_;
     uint32_t segment_ = 0;
+    bool height_ambiguous_ = false;  // a scan since the last keyframe flagged kHeightAmbiguous
     WorkerCounters c_;
     runtime::Seqlock<WorkerCounters> counters_;
     odometry::TrajectoryTrust trust_;

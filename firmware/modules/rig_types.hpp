@@ -82,6 +82,9 @@ struct KeyframeItem {
     uint64_t keyframe_index = 0;  // of the selector, in its segment
     uint64_t scan_index = 0;
     uint32_t segment = 0;  // a clock jump starts a new segment (a new session folder)
+    // The odometry flagged its height ambiguous (odometry::kHeightAmbiguous) at a scan since the
+    // previous keyframe, this one's included: for the localiser (Relocalizer::AddKeyframe).
+    bool height_ambiguous = false;
 };
 
 struct PoseItem {
