@@ -160,8 +160,7 @@ void AnchoringProblem::Gather() {
 // The trusted odometry edges of query q that its anchored state breaks
 // (SessionResult::odometry_breaks), said in the reason.
 void AnchoringProblem::FindOdometryBreaks(size_t q, SessionResult* r) const {
-    r->odometry_breaks = OdometryBreaks(sessions_[q].session.edges, state_[q].poses,
-                                        config_.odometry_break_m, config_.odometry_break_deg);
+    r->odometry_breaks = OdometryBreaks(sessions_[q], state_[q].poses, config_);
     if (r->odometry_breaks.empty()) return;
     double worst = 0;
     for (const SessionResult::OdometryBreak& b : r->odometry_breaks)

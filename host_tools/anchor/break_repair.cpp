@@ -75,8 +75,7 @@ BreakRepair TryPiece(const std::vector<AnchorSession>& sessions, const std::vect
         (!of_q || fits ? r.kept : r.dropped).push_back(l);
     }
     OptimizeStates(sessions, &r.state, r.kept, config, times);
-    r.left = OdometryBreaks(sessions[q].session.edges, r.state[q].poses, config.odometry_break_m,
-                            config.odometry_break_deg);
+    r.left = OdometryBreaks(sessions[q], r.state[q].poses, config);
     return r;
 }
 
@@ -92,8 +91,7 @@ std::optional<BreakRepair> RepairBreaks(const std::vector<AnchorSession>& sessio
                                         const std::vector<LoopRecord>& loops, size_t q,
                                         const AnchorConfig& config, StageTimes* times) {
     const std::vector<SessionResult::OdometryBreak> found =
-        OdometryBreaks(sessions[q].session.edges, state[q].poses, config.odometry_break_m,
-                       config.odometry_break_deg);
+        OdometryBreaks(sessions[q], state[q].poses, config);
     if (found.empty()) return std::nullopt;
     size_t count = 0;
     const std::vector<size_t> piece =

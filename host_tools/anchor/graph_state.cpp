@@ -122,14 +122,31 @@ std::vector<double> GncWeights(const std::vector<AnchorSession>& sessions,
 
 std::vector<SessionResult::OdometryBreak> OdometryBreaks(
     const std::vector<io::SessionEdge>& edges, const std::vector<Eigen::Isometry3d>& poses,
-    double max_m, double max_deg) {
+    double max_m, double max_deg, const std::vector<bool>& height_unsure) {
     std::vector<SessionResult::OdometryBreak> breaks;
-    for (const io::SessionEdge& e : edges) {
+    for (size_t i = 0; i < edges.size(); ++i) {
+        const io::SessionEdge& e = edges[i];
         const Eigen::Isometry3d d = e.T_from_to.inverse() * (poses[e.from].inverse() * poses[e.to]);
-        const double m = d.translation().norm(), deg = common::RotationAngle(d) * 180 / M_PI;
+        double m = d.translation().norm();
+        if (i < height_unsure.size() && height_unsure[i]) {
+            // d's translation is in the frame of `to` as the odometry measured it from `from`.
+            const Eigen::Matrix3d R_local = poses[e.from].linear() * e.T_from_to.linear();
+            m = (R_local * d.translation()).head<2>().norm();
+        }
+        const double deg = common::RotationAngle(d) * 180 / M_PI;
         if (m > max_m || deg > max_deg) breaks.push_back({e.from, e.to, m, deg});
     }
     return breaks;
+}
+
+std::vector<SessionResult::OdometryBreak> OdometryBreaks(
+    const AnchorSession& s, const std::vector<Eigen::Isometry3d>& poses,
+    const AnchorConfig& config) {
+    std::vector<int64_t> stamps;
+    for (const io::SessionKeyframe& k : s.session.keyframes) stamps.push_back(k.stamp_ns);
+    return OdometryBreaks(s.session.edges, poses, config.odometry_break_m,
+                          config.odometry_break_deg,
+                          HeightUnsureEdges(s.session.edges, stamps, s.odometry));
 }
 
 }  // namespace bimslam::anchor

@@ -2,6 +2,7 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 #include "host_tools/anchor/pieces.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -59,6 +60,8 @@ OdometryVerdict ReadOdometryVerdict(const fs::path& dir) {
         for (const nlohmann::json& s :
              j.value("height_ambiguous_stretches", nlohmann::json::array()))
             v.height_ambiguous.push_back(stretch(s, "height ambiguous"));
+        for (const nlohmann::json& s : j.value("height_unseen_stretches", nlohmann::json::array()))
+            v.height_unseen.push_back(stretch(s, "height unseen"));
     } catch (const FileError&) {
         throw;
     } catch (const std::exception& e) {
@@ -76,6 +79,21 @@ bool StretchBetween(const std::vector<OdometryStretch>& stretches, int64_t a_ns,
         if (s.first_ns <= b_ns && s.last_ns >= a_ns) return true;
     }
     return false;
+}
+
+std::vector<bool> HeightUnsureEdges(const std::vector<io::SessionEdge>& edges,
+                                    const std::vector<int64_t>& keyframe_ns,
+                                    const OdometryVerdict& v) {
+    std::vector<bool> out;
+    if (v.height_unseen.empty() && v.height_ambiguous.empty()) return out;  // none unsure
+    out.reserve(edges.size());
+    for (const io::SessionEdge& e : edges) {
+        const int64_t a = keyframe_ns.at(std::min(e.from, e.to));
+        const int64_t b = keyframe_ns.at(std::max(e.from, e.to));
+        out.push_back(StretchBetween(v.height_unseen, a, b) ||
+                      StretchBetween(v.height_ambiguous, a, b));
+    }
+    return out;
 }
 
 SessionSplit SplitAtStretches(const std::vector<int64_t>& keyframe_ns,

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/io/session.hpp"
+
 namespace bimslam::anchor {
 
 struct AnchorSession;
@@ -39,6 +41,9 @@ struct OdometryVerdict {
     // Where the odometry saw its height again while uncertain (odometry::kHeightAmbiguous): the
     // height may be off by whole stair risers from there on (the relocaliser reads it).
     std::vector<OdometryStretch> height_ambiguous;
+    // Where the scans did not see the height for longer than the odometry allows
+    // (odometry::TrajectoryTrust::kMaxHeightUnseenS): the accelerometers' height drifted there.
+    std::vector<OdometryStretch> height_unseen;
 };
 
 inline constexpr const char* kOdometryVerdictFile = "odometry_verdict.json";
@@ -62,6 +67,14 @@ struct SessionSplit {
 
 // Whether some stretch overlaps the times [a_ns, b_ns] (inclusive at both ends).
 bool StretchBetween(const std::vector<OdometryStretch>& stretches, int64_t a_ns, int64_t b_ns);
+
+// Per odometry edge (from, to: indices into keyframe_ns): whether the odometry said it did not
+// know its height between the two keyframes, a height-unseen or height-ambiguous stretch of `v`
+// overlapping the times from the one to the other. Such an edge's height may be off by whole
+// stair risers (OdometryBreaks, graph_state.hpp). Empty when `v` has no such stretch.
+std::vector<bool> HeightUnsureEdges(const std::vector<io::SessionEdge>& edges,
+                                    const std::vector<int64_t>& keyframe_ns,
+                                    const OdometryVerdict& v);
 
 // The pieces of a session whose keyframes' scans were taken at keyframe_ns (increasing): a
 // keyframe whose stamp lies inside a stretch is in no piece; two consecutive keyframes are in one

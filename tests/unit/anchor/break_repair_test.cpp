@@ -104,6 +104,39 @@ TEST(BreakRepair, ARunOfWrongLoopsInTheMiddleIsDroppedAndTheWalkFollowsItsOdomet
     EXPECT_LT(WorstError(r->state[1], s[0].poses), 0.01);
 }
 
+// The same walk, its odometry 0.75 m wrong in height over the two edges around the run (a stair
+// whose height it did not see, the held-out Office_A's Go1 climb), and saying so in its verdict
+// (odometry_verdict.json's height_unseen_stretches): the loops are right and no break is found.
+TEST(BreakRepair, NoBreakWhereTheOdometrySaidItDidNotKnowItsHeight) {
+    std::vector<AnchorSession> s = Corridor();
+    for (size_t k = 0; k < kKeyframes; ++k) {
+        io::SessionKeyframe kf;
+        kf.stamp_ns = int64_t(k) * 1'000'000'000;
+        s[1].session.keyframes.push_back(kf);
+    }
+    s[1].session.edges[9].T_from_to.translation().z() = 0.75;    // 9 -> 10
+    s[1].session.edges[19].T_from_to.translation().z() = -0.75;  // 19 -> 20
+    std::vector<LoopRecord> loops;
+    for (size_t k = 0; k < kKeyframes; ++k) loops.push_back(LoopAt(k, Eigen::Vector3d::Zero()));
+    const AnchorConfig config;
+    StageTimes times;
+    const std::vector<State> state = Solved(s, loops, config, &times);
+    EXPECT_EQ(OdometryBreaks(s[1], state[1].poses, config).size(), 2u) << "no word of the height";
+    EXPECT_TRUE(RepairBreaks(s, state, loops, 1, config, &times).has_value());
+
+    OdometryStretch unseen;  // scans from 9.5 to 9.9 s and from 19.2 to 19.6 s
+    unseen.first_ns = 9'500'000'000;
+    unseen.last_ns = 9'900'000'000;
+    s[1].odometry.verdict = "trusted";
+    s[1].odometry.height_unseen.push_back(unseen);
+    unseen.first_ns = 19'200'000'000;
+    unseen.last_ns = 19'600'000'000;
+    s[1].odometry.height_unseen.push_back(unseen);
+    EXPECT_TRUE(OdometryBreaks(s[1], state[1].poses, config).empty());
+    EXPECT_FALSE(RepairBreaks(s, state, loops, 1, config, &times).has_value());
+    EXPECT_LT(WorstError(state[1], s[0].poses), 0.01) << "the loops hold the walk";
+}
+
 // Duplex_A's second registration basin (host_tools/anchor/README.md): the walk's last keyframes
 // slid 0.31 m sideways. One edge breaks; the piece before it explains more loops, and the tail's
 // wrong loops go.

@@ -127,6 +127,45 @@ TEST(OdometryBreaks, ARunOfKeyframesMovedAgainstTheOdometryBreaksTheEdgesAroundI
     EXPECT_EQ(breaks[1].to, 7u);
     EXPECT_NEAR(breaks[0].offset_m, 0.75, 0.01);
     EXPECT_TRUE(OdometryBreaks(edges, poses, 1.0, 5.0).empty());
+
+    // Where the odometry said it did not know its height (edges 3-4 and 6-7), a vertical offset
+    // is no break; a horizontal one still is.
+    std::vector<bool> unsure(edges.size(), false);
+    unsure[3] = unsure[6] = true;
+    EXPECT_TRUE(OdometryBreaks(edges, poses, 0.2, 5.0, unsure).empty());
+    poses[7].translation().y() += 0.5;
+    const auto aside = OdometryBreaks(edges, poses, 0.2, 5.0, unsure);
+    ASSERT_EQ(aside.size(), 2u);  // 6-7 across, 7-8 back
+    EXPECT_EQ(aside[0].from, 6u);
+    EXPECT_NEAR(aside[0].offset_m, 0.5, 0.03);
+    EXPECT_EQ(aside[1].from, 7u);
+}
+
+// An edge is unsure of its height where a height-unseen or height-ambiguous stretch overlaps the
+// times between its keyframes, at either end included; a failed stretch is not that.
+TEST(OdometryBreaks, AnEdgeIsUnsureOfItsHeightWhereTheOdometrySaidSo) {
+    std::vector<io::SessionEdge> edges(6);
+    std::vector<int64_t> stamps;
+    for (uint32_t k = 0; k < 7; ++k) {
+        stamps.push_back(int64_t(k) * 1'000'000'000);
+        if (k > 0) {
+            edges[k - 1].from = k - 1;
+            edges[k - 1].to = k;
+        }
+    }
+    OdometryVerdict v;
+    const auto stretch = [](double a_s, double b_s) {
+        OdometryStretch o;
+        o.first_ns = int64_t(a_s * 1e9);
+        o.last_ns = int64_t(b_s * 1e9);
+        return o;
+    };
+    v.height_unseen = {stretch(1.2, 2.5)};     // edges 1-2 and 2-3
+    v.height_ambiguous = {stretch(5.0, 5.0)};  // at keyframe 5: edges 4-5 and 5-6
+    v.stretches = {stretch(0.2, 0.4)};         // failed: not this
+    EXPECT_EQ(HeightUnsureEdges(edges, stamps, v),
+              (std::vector<bool>{false, true, true, false, true, true}));
+    EXPECT_TRUE(HeightUnsureEdges(edges, stamps, OdometryVerdict{}).empty());
 }
 
 }  // namespace BIMSLAM_UNITY_ID

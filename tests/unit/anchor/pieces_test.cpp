@@ -150,7 +150,8 @@ TEST(CombinePieces, NeverAnchoredWhole) {
 TEST(MergePieces, ASplitSessionGetsItsPiecesVerdictsPosesAndLoopsInItsOwnNumbers) {
     std::vector<AnchorSession> sessions{Line(3), Line(8)};
     sessions[0].name = "reference";
-    sessions[1].odometry = {"untrusted", {Stretch(2.5, 4.0)}, {}};
+    sessions[1].odometry.verdict = "untrusted";
+    sessions[1].odometry.stretches = {Stretch(2.5, 4.0)};
     const SplitQueries parts = SplitAtUntrustedOdometry(sessions);
     ASSERT_EQ(parts.sessions.size(), 3u);  // the reference, keyframes 0-2, keyframes 5-7
     EXPECT_EQ(parts.sessions[2].name, "walk[5-7]");
@@ -212,7 +213,7 @@ TEST(MergePieces, ASplitSessionGetsItsPiecesVerdictsPosesAndLoopsInItsOwnNumbers
 
 TEST(MergePieces, ASessionWithTrustedOdometryKeepsItsResult) {
     std::vector<AnchorSession> sessions{Line(3), Line(4)};
-    sessions[1].odometry = {"trusted", {}, {}};
+    sessions[1].odometry.verdict = "trusted";
     const SplitQueries parts = SplitAtUntrustedOdometry(sessions);
     ASSERT_EQ(parts.sessions.size(), 2u);
     AnchorResult r;
@@ -229,7 +230,8 @@ TEST(MergePieces, ASessionWithTrustedOdometryKeepsItsResult) {
 
 TEST(WorldTrajectory, ScansArePlacedOnlyFromKeyframesTheOdometryJoinsThemTo) {
     AnchorSession s = Line(6);
-    s.odometry = {"untrusted", {Stretch(2.4, 2.6)}, {}};
+    s.odometry.verdict = "untrusted";
+    s.odometry.stretches = {Stretch(2.4, 2.6)};
     // Pieces 0-2 (moved 1 m in y) and 3-5 (moved 2 m in y); keyframe 5 not placed.
     std::vector<Eigen::Isometry3d> world;
     for (size_t k = 0; k < 6; ++k)
