@@ -69,10 +69,11 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         if (item == nullptr) {
             queue.CountDrop();
             ++c_.outputs_dropped;
-            return;
+            return false;
         }
         fill(*item);
         queue.CommitPush();
+        return true;
     };
     // The odometry first: the LCM thread publishes it before the keyframe (encoding a keyframe
     // of a whole scan takes milliseconds), and the keyframes' copies are not on its path.
@@ -107,8 +108,9 @@ bool OdometryWorker::ProcessOne(runtime::ThreadStats& stats, const std::atomic<b
         };
         if (config_.record) push(q_.keyframes_session, fill);
         push(q_.keyframes_lcm, fill);
-        if (q_.keyframes_localizer != nullptr) push(*q_.keyframes_localizer, fill);
-        height_ambiguous_ = false;
+        // A keyframe the localiser's full queue refused leaves the flag for its next one.
+        if (q_.keyframes_localizer == nullptr || push(*q_.keyframes_localizer, fill))
+            height_ambiguous_ = false;
     }
     const int64_t latency = times.handed - times.last_packet;
     stats.Cycle(latency, config_.deadline_ns);
