@@ -142,11 +142,9 @@ std::vector<SessionResult::OdometryBreak> OdometryBreaks(
 std::vector<SessionResult::OdometryBreak> OdometryBreaks(
     const AnchorSession& s, const std::vector<Eigen::Isometry3d>& poses,
     const AnchorConfig& config) {
-    std::vector<int64_t> stamps;
-    for (const io::SessionKeyframe& k : s.session.keyframes) stamps.push_back(k.stamp_ns);
     return OdometryBreaks(s.session.edges, poses, config.odometry_break_m,
                           config.odometry_break_deg,
-                          HeightUnsureEdges(s.session.edges, stamps, s.odometry));
+                          HeightUnsureEdges(s.session.edges, s.session.keyframes, s.odometry));
 }
 
 }  // namespace bimslam::anchor

@@ -82,14 +82,14 @@ bool StretchBetween(const std::vector<OdometryStretch>& stretches, int64_t a_ns,
 }
 
 std::vector<bool> HeightUnsureEdges(const std::vector<io::SessionEdge>& edges,
-                                    const std::vector<int64_t>& keyframe_ns,
+                                    const std::vector<io::SessionKeyframe>& keyframes,
                                     const OdometryVerdict& v) {
     std::vector<bool> out;
     if (v.height_unseen.empty() && v.height_ambiguous.empty()) return out;  // none unsure
     out.reserve(edges.size());
     for (const io::SessionEdge& e : edges) {
-        const int64_t a = keyframe_ns.at(std::min(e.from, e.to));
-        const int64_t b = keyframe_ns.at(std::max(e.from, e.to));
+        const int64_t a = keyframes.at(std::min(e.from, e.to)).stamp_ns;
+        const int64_t b = keyframes.at(std::max(e.from, e.to)).stamp_ns;
         out.push_back(StretchBetween(v.height_unseen, a, b) ||
                       StretchBetween(v.height_ambiguous, a, b));
     }

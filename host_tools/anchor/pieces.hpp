@@ -68,12 +68,12 @@ struct SessionSplit {
 // Whether some stretch overlaps the times [a_ns, b_ns] (inclusive at both ends).
 bool StretchBetween(const std::vector<OdometryStretch>& stretches, int64_t a_ns, int64_t b_ns);
 
-// Per odometry edge (from, to: indices into keyframe_ns): whether the odometry said it did not
+// Per odometry edge (from, to: indices into keyframes): whether the odometry said it did not
 // know its height between the two keyframes, a height-unseen or height-ambiguous stretch of `v`
 // overlapping the times from the one to the other. Such an edge's height may be off by whole
 // stair risers (OdometryBreaks, graph_state.hpp). Empty when `v` has no such stretch.
 std::vector<bool> HeightUnsureEdges(const std::vector<io::SessionEdge>& edges,
-                                    const std::vector<int64_t>& keyframe_ns,
+                                    const std::vector<io::SessionKeyframe>& keyframes,
                                     const OdometryVerdict& v);
 
 // The pieces of a session whose keyframes' scans were taken at keyframe_ns (increasing): a

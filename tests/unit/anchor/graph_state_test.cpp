@@ -145,9 +145,9 @@ TEST(OdometryBreaks, ARunOfKeyframesMovedAgainstTheOdometryBreaksTheEdgesAroundI
 // times between its keyframes, at either end included; a failed stretch is not that.
 TEST(OdometryBreaks, AnEdgeIsUnsureOfItsHeightWhereTheOdometrySaidSo) {
     std::vector<io::SessionEdge> edges(6);
-    std::vector<int64_t> stamps;
+    std::vector<io::SessionKeyframe> keyframes(7);
     for (uint32_t k = 0; k < 7; ++k) {
-        stamps.push_back(int64_t(k) * 1'000'000'000);
+        keyframes[k].stamp_ns = int64_t(k) * 1'000'000'000;
         if (k > 0) {
             edges[k - 1].from = k - 1;
             edges[k - 1].to = k;
@@ -163,9 +163,9 @@ TEST(OdometryBreaks, AnEdgeIsUnsureOfItsHeightWhereTheOdometrySaidSo) {
     v.height_unseen = {stretch(1.2, 2.5)};     // edges 1-2 and 2-3
     v.height_ambiguous = {stretch(5.0, 5.0)};  // at keyframe 5: edges 4-5 and 5-6
     v.stretches = {stretch(0.2, 0.4)};         // failed: not this
-    EXPECT_EQ(HeightUnsureEdges(edges, stamps, v),
+    EXPECT_EQ(HeightUnsureEdges(edges, keyframes, v),
               (std::vector<bool>{false, true, true, false, true, true}));
-    EXPECT_TRUE(HeightUnsureEdges(edges, stamps, OdometryVerdict{}).empty());
+    EXPECT_TRUE(HeightUnsureEdges(edges, keyframes, OdometryVerdict{}).empty());
 }
 
 }  // namespace BIMSLAM_UNITY_ID
