@@ -226,7 +226,7 @@ TEST(LidarOdometry, AHeightSeenAgainAfterSecondsUnseenIsSaidToBeAmbiguous) {
     ASSERT_GE(started, 0) << "the accelerometers' height never started";
     ASSERT_GT(first_seen, started + 10) << "the height seen while the shaft hides it";
     EXPECT_EQ(first_ambiguous, first_seen) << "said where the height was seen again, and there";
-    EXPECT_GT(run.results[size_t(first_seen) - 1].height_sigma, 0.075)
+    EXPECT_GT(run.results[size_t(first_seen) - 1].height_sigma, Unhurried().height_ambiguous_sigma)
         << "the accelerometers' height was uncertain by then";
     EXPECT_TRUE(run.results.back().flags & kImuUsed);
     std::cout << "shaft to a ledge: height seen again at " << first_seen * kScan
