@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <tuple>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
@@ -307,8 +306,12 @@ std::vector<int> TouchingGroups(const TruthChanges& truth, double touch_m) {
     return group;
 }
 
-// Precision, recall (all and large) of found boxes against true boxes, matched one to one.
+// Precision, recall (all and large) of found boxes against true boxes, matched one to one. A true
+// object may also be matched by the part of it the walk saw (`seen`, parallel to `truth`; an empty
+// box where there is none): the detector can only report what its map holds, and a bookcase seen
+// from its door is its face, whose centre is 0.6 m from the whole bookcase's.
 void ScoreBoxes(const std::vector<Eigen::AlignedBox3d>& truth,
+                const std::vector<Eigen::AlignedBox3d>& seen,
                 const std::vector<Eigen::AlignedBox3d>& found, const EvaluationConfig& config,
                 DetectionScores* all, DetectionScores* large_only, std::vector<int>* found_match) {
     struct Pair {
@@ -318,8 +321,12 @@ void ScoreBoxes(const std::vector<Eigen::AlignedBox3d>& truth,
     std::vector<Pair> pairs;
     for (size_t t = 0; t < truth.size(); ++t) {
         for (size_t f = 0; f < found.size(); ++f) {
-            const double iou = IoU(truth[t], found[f]);
-            const double d = (truth[t].center() - found[f].center()).norm();
+            double iou = IoU(truth[t], found[f]);
+            double d = (truth[t].center() - found[f].center()).norm();
+            if (t < seen.size() && !seen[t].isEmpty()) {
+                iou = std::max(iou, IoU(seen[t], found[f]));
+                d = std::min(d, (seen[t].center() - found[f].center()).norm());
+            }
             if (iou >= config.min_iou || d <= config.max_centroid_m)
                 pairs.push_back({iou, d, t, f});
         }
@@ -364,15 +371,19 @@ double BoxSurfaceDistance(const Eigen::AlignedBox3d& box, const Eigen::Vector3d&
 
 // The map points the keyframes put on a true object: within on_object_m of its surface (its mesh,
 // else its box), nearer to it than to the model and farther than band_threshold_m from the model.
-// Returns {points, seen by two keyframes or more}.
-std::pair<size_t, size_t> PointsOnObject(const TruthChanges::Added& a, const FoundChanges& found,
-                                         double on_object_m) {
+// Returns how many, how many of them two keyframes or more saw, and their box (the part seen).
+struct OnObject {
+    size_t points = 0, multi_view = 0;
+    Eigen::AlignedBox3d box;  // empty: none
+};
+OnObject PointsOnObject(const TruthChanges::Added& a, const FoundChanges& found,
+                        double on_object_m) {
     std::optional<simulation::Scene> scene;
     if (!a.mesh.empty()) scene.emplace(a.mesh);
     Eigen::AlignedBox3d reach = a.box;
     reach.min().array() -= on_object_m;
     reach.max().array() += on_object_m;
-    size_t points = 0, multi_view = 0;
+    OnObject on;
     for (const FoundChanges::MapPoint& m : found.map) {
         const Eigen::Vector3d p = m.xyz.cast<double>();
         if (!reach.contains(p) || m.model_distance_m <= found.band_threshold_m) continue;
@@ -386,49 +397,59 @@ std::pair<size_t, size_t> PointsOnObject(const TruthChanges::Added& a, const Fou
             if (d > on_object_m) continue;
         }
         if (d >= m.model_distance_m) continue;
-        ++points;
-        multi_view += m.keyframes >= 2;
+        ++on.points;
+        on.multi_view += m.keyframes >= 2;
+        on.box.extend(p);
     }
-    return {points, multi_view};
+    return on;
 }
 
-// The scores of what the walk saw (file comment of change_evaluation.hpp): recall over the true
-// objects in view (a true object counts as matched when a found one matched it); precision as for
-// all of them.
-void ScoreSeen(const TruthChanges& truth, const FoundChanges& found,
+// What the walk saw of each true added object (file comment of change_evaluation.hpp): its map
+// points, whether it was in view and, if so, the box of the part seen.
+std::vector<ChangeEvaluation::AddedView> AddedViews(const TruthChanges& truth,
+                                                    const FoundChanges& found,
+                                                    const EvaluationConfig& config) {
+    std::vector<ChangeEvaluation::AddedView> views;
+    for (const TruthChanges::Added& a : truth.added) {
+        ChangeEvaluation::AddedView v;
+        v.name = a.name;
+        v.large = a.box.sizes().maxCoeff() >= config.large_object_m;
+        v.beam_hits = a.beam_hits;
+        v.in_view = true;
+        if (found.has_map) {
+            const OnObject on = PointsOnObject(a, found, config.on_object_m);
+            v.map_points = on.points;
+            v.multi_view_points = on.multi_view;
+            v.in_view =
+                v.map_points >= found.min_object_points &&
+                double(v.multi_view_points) >= found.min_multi_view_fraction * double(v.map_points);
+            if (v.in_view) v.seen_box = on.box;
+        }
+        views.push_back(v);
+    }
+    return views;
+}
+
+// The scores of what the walk saw: recall over the true objects in view (a true object counts as
+// matched when a found one matched it); precision as for all of them.
+void ScoreSeen(std::vector<ChangeEvaluation::AddedView> views, const FoundChanges& found,
                const std::vector<int>& found_match, const EvaluationConfig& config,
                ChangeEvaluation* ev) {
     ev->in_view_rule = {found.min_object_points, found.min_multi_view_fraction, config.on_object_m,
                         found.band_threshold_m, found.min_judged_area_m2};
-    std::vector<bool> matched(truth.added.size(), false);
     for (const int t : found_match) {
-        if (t >= 0) matched[size_t(t)] = true;
+        if (t >= 0) views[size_t(t)].found = true;
     }
     ev->added_seen = ev->added;
     ev->added_seen_large = ev->added_large;
     ev->added_seen.truth = ev->added_seen.truth_matched = 0;
     ev->added_seen_large.truth = ev->added_seen_large.truth_matched = 0;
-    for (size_t t = 0; t < truth.added.size(); ++t) {
-        const TruthChanges::Added& a = truth.added[t];
-        ChangeEvaluation::AddedView v;
-        v.name = a.name;
-        v.large = a.box.sizes().maxCoeff() >= config.large_object_m;
-        v.found = matched[t];
-        v.beam_hits = a.beam_hits;
-        v.in_view = true;
-        if (found.has_map) {
-            std::tie(v.map_points, v.multi_view_points) =
-                PointsOnObject(a, found, config.on_object_m);
-            v.in_view =
-                v.map_points >= found.min_object_points &&
-                double(v.multi_view_points) >= found.min_multi_view_fraction * double(v.map_points);
-        }
-        ev->added_view.push_back(v);
+    for (const ChangeEvaluation::AddedView& v : views) {
         if (!v.in_view) {
             ++ev->added_out_of_view;
             ev->added_large_out_of_view += v.large;
-            ev->added_no_beam += a.beam_hits == 0;
-            ev->added_large_no_beam += v.large && a.beam_hits == 0;
+            ev->added_no_beam += v.beam_hits == 0;
+            ev->added_large_no_beam += v.large && v.beam_hits == 0;
             continue;
         }
         ++ev->added_seen.truth;
@@ -438,6 +459,7 @@ void ScoreSeen(const TruthChanges& truth, const FoundChanges& found,
             ev->added_seen_large.truth_matched += v.found;
         }
     }
+    ev->added_view = std::move(views);
 }
 
 }  // namespace
@@ -448,25 +470,31 @@ ChangeEvaluation EvaluateChanges(const TruthChanges& truth, const FoundChanges& 
     std::vector<Eigen::AlignedBox3d> truth_boxes, found_boxes;
     for (const auto& a : truth.added) truth_boxes.push_back(a.box);
     for (const auto& o : found.objects) found_boxes.push_back(o.box);
+    std::vector<ChangeEvaluation::AddedView> views = AddedViews(truth, found, config);
+    std::vector<Eigen::AlignedBox3d> seen_boxes;
+    for (const auto& v : views) seen_boxes.push_back(v.seen_box);
     std::vector<int> found_match;
-    ScoreBoxes(truth_boxes, found_boxes, config, &ev.added, &ev.added_large, &found_match);
-    ScoreSeen(truth, found, found_match, config, &ev);
-    // The same with touching true objects as one.
+    ScoreBoxes(truth_boxes, seen_boxes, found_boxes, config, &ev.added, &ev.added_large,
+               &found_match);
+    ScoreSeen(std::move(views), found, found_match, config, &ev);
+    // The same with touching true objects as one (and the parts of them seen, as one).
     const std::vector<int> group = TouchingGroups(truth, config.touch_m);
-    std::map<int, Eigen::AlignedBox3d> union_box;
+    std::map<int, Eigen::AlignedBox3d> union_box, union_seen;
     std::map<int, size_t> members;
     for (size_t i = 0; i < truth.added.size(); ++i) {
         union_box[group[i]].extend(truth.added[i].box);
+        union_seen[group[i]].extend(seen_boxes[i]);
         ++members[group[i]];
     }
-    std::vector<Eigen::AlignedBox3d> grouped;
+    std::vector<Eigen::AlignedBox3d> grouped, grouped_seen;
     for (const auto& [g, box] : union_box) {
         grouped.push_back(box);
+        grouped_seen.push_back(union_seen[g]);
         ev.touching_groups += members[g] > 1;
     }
     std::vector<int> grouped_match;
-    ScoreBoxes(grouped, found_boxes, config, &ev.added_separable, &ev.added_separable_large,
-               &grouped_match);
+    ScoreBoxes(grouped, grouped_seen, found_boxes, config, &ev.added_separable,
+               &ev.added_separable_large, &grouped_match);
 
     // Removed elements.
     const auto expected_area = [&](const std::string& id) {
@@ -581,6 +609,12 @@ json ChangeEvaluation::SeenJson() const {
                            {"beam_hits", v.beam_hits},
                            {"map_points", v.map_points},
                            {"multi_view_points", v.multi_view_points}});
+        if (!v.seen_box.isEmpty()) {
+            objects.back()["seen_box_min"] = {v.seen_box.min().x(), v.seen_box.min().y(),
+                                              v.seen_box.min().z()};
+            objects.back()["seen_box_max"] = {v.seen_box.max().x(), v.seen_box.max().y(),
+                                              v.seen_box.max().z()};
+        }
     }
     for (const RemovedView& v : removed_view) {
         removed_elements.push_back({{"global_id", v.global_id},

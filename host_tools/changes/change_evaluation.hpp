@@ -4,14 +4,17 @@
 // truth (a capture's changes.json, host_tools/simulate/world.hpp), the scores of issue 13:
 //   added objects     precision, recall, F1; a found object matches a true one (one to one,
 //                     best first) when their boxes' 3D IoU >= 0.25 or their centres are within
-//                     0.3 m. "large": true objects of at least 0.3 m (largest extent) for recall,
-//                     found objects of at least 0.3 m for precision (a small true object found
-//                     counts for neither; one found large but not true counts against).
-//                     "separable": the same with true objects whose surfaces come within
-//                     touch_m (one map voxel, 5 cm) of each other taken as one (their union box):
-//                     objects placed by hand may touch, and no 5 cm map separates them (the
-//                     simulator's random clutter keeps 5 cm clear of other objects).
-//                     Needs the truth's meshes (changes/*.ply beside its changes.json).
+//                     0.3 m, the true one's box being its whole box or, with the run's map, the
+//                     box of the map points on it ("seen", below: the part the walk saw; a
+//                     bookcase seen from its door is its face, 0.6 m from its centre). "large":
+//                     true objects of at least 0.3 m (largest extent) for recall, found objects of
+//                     at least 0.3 m for precision (a small true object found counts for neither;
+//                     one found large but not true counts against). "separable": the same with true
+//                     objects whose surfaces come within touch_m (one map voxel, 5 cm) of each
+//                     other taken as one (their union box): objects placed by hand may touch, and
+//                     no 5 cm map separates them (the simulator's random clutter keeps 5 cm clear
+//                     of other objects). Needs the truth's meshes (changes/*.ply beside its
+//                     changes.json).
 //   removed elements  recall and precision by GlobalId against the elements found missing; "large":
 //                     those with at least 1 m^2 of expected visible surface (elements.csv).
 //   moved elements    found (deviating with a fitted motion), the error of the translation and yaw.
@@ -168,6 +171,7 @@ struct ChangeEvaluation {
         bool large = false, in_view = false, found = false;
         long beam_hits = -1;                           // any scan's (the truth's), -1 unknown
         size_t map_points = 0, multi_view_points = 0;  // the keyframes' map points on it
+        Eigen::AlignedBox3d seen_box;                  // their box when in view, else empty
     };
     std::vector<AddedView> added_view;  // per true added object, in the truth's order
     struct RemovedView {

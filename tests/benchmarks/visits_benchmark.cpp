@@ -14,7 +14,9 @@
 //   since      the history's changes since the previous visit (history.json) against the truth
 //              of the pair (visits.json, its objects' boxes from each visit's changes.json):
 //              new, gone and moved together, a found change matching a true one of its kind
-//              when their centres are within 0.5 m in plan (a moved one where it stands now);
+//              when their centres are within 0.5 m in plan (a moved one where it stands now),
+//              the true one's centre being its object's or that of the part of it the visit saw
+//              (its evaluation.json: shelving seen at one end is found at that end);
 //              true changes the walks did not see (fewer than 30 beams on the object in the
 //              later walk, and in the earlier one for gone and moved) count for neither. P, R,
 //              F1, and the moved objects' offset error (cm)
@@ -33,6 +35,7 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -72,10 +75,34 @@ struct Change {
     Point at;
     double dx = 0, dy = 0;
     bool seen = true;  // a true change the walks saw
+    // A true change: where the part of its object the walk saw is (the visit's evaluation.json,
+    // seen.objects' seen box: the change evaluation matches by it too), if it was in view.
+    std::optional<Point> seen_at;
 };
 
-// The truth of the consecutive pair earlier -> later.
-std::vector<Change> TrueChanges(const fs::path& dir, const json& pair) {
+// The centres of the parts of the true objects a visit saw, by name (its evaluation.json).
+std::map<std::string, Point> SeenCentres(const fs::path& evaluation) {
+    std::map<std::string, Point> out;
+    if (!fs::exists(evaluation)) return out;
+    const json j = Read(evaluation);  // held: a range-for over a temporary's member dangles
+    for (const json& o : j.at("seen").at("objects")) {
+        if (o.contains("seen_box_min"))
+            out[o.at("name")] = Centre(o.at("seen_box_min"), o.at("seen_box_max"));
+    }
+    return out;
+}
+
+// The truth of the consecutive pair earlier -> later; the two visits' evaluation.json say where
+// the parts seen of their objects are.
+std::vector<Change> TrueChanges(const fs::path& dir, const json& pair,
+                                const fs::path& earlier_evaluation,
+                                const fs::path& later_evaluation) {
+    const std::map<std::string, Point> seen_before = SeenCentres(earlier_evaluation),
+                                       seen_after = SeenCentres(later_evaluation);
+    const auto seen_at = [](const std::map<std::string, Point>& seen, const json& name) {
+        const auto it = seen.find(name.get<std::string>());
+        return it == seen.end() ? std::optional<Point>() : std::optional<Point>(it->second);
+    };
     std::map<std::string, Point> before, after;
     for (const auto& [label, boxes] : {std::pair{pair.at("earlier").get<std::string>(), &before},
                                        std::pair{pair.at("later").get<std::string>(), &after}}) {
@@ -86,17 +113,20 @@ std::vector<Change> TrueChanges(const fs::path& dir, const json& pair) {
     std::vector<Change> out;
     const json& o = pair.at("objects");
     for (const json& n : o.at("new"))
-        out.push_back({"new", after[n.at("name")], 0, 0, n.value("beam_hits", 0L) >= kMinBeams});
+        out.push_back({"new", after[n.at("name")], 0, 0, n.value("beam_hits", 0L) >= kMinBeams,
+                       seen_at(seen_after, n.at("name"))});
     for (const json& g : o.at("gone")) {
         const bool seen =
             g.value("beam_hits", 0L) >= kMinBeams && g.value("beam_hits_earlier", 0L) >= kMinBeams;
-        out.push_back({"gone", before[g.at("name")], 0, 0, seen});
+        out.push_back(
+            {"gone", before[g.at("name")], 0, 0, seen, seen_at(seen_before, g.at("name"))});
     }
     for (const json& m : o.at("moved")) {
         const bool seen =
             m.value("beam_hits", 0L) >= kMinBeams && m.value("beam_hits_earlier", 0L) >= kMinBeams;
         const json& t = m.at("translation");
-        out.push_back({"moved", after[m.at("name")], t[0].get<double>(), t[1].get<double>(), seen});
+        out.push_back({"moved", after[m.at("name")], t[0].get<double>(), t[1].get<double>(), seen,
+                       seen_at(seen_after, m.at("name"))});
     }
     return out;
 }
@@ -119,11 +149,13 @@ std::vector<Change> FoundChanges(const json& history, size_t v) {
     };
     const json& since = history.at("changes").at(v).at("since_previous");
     std::vector<Change> out;
-    for (const json& id : since.at("new")) out.push_back({"new", place(id, false)});
-    for (const json& id : since.at("gone")) out.push_back({"gone", place(id, true)});
+    for (const json& id : since.at("new")) out.push_back({"new", place(id, false), 0, 0, true, {}});
+    for (const json& id : since.at("gone"))
+        out.push_back({"gone", place(id, true), 0, 0, true, {}});
     for (const json& m : since.at("moved")) {
         const json& d = m.at("offset_m");
-        out.push_back({"moved", place(m.at("id"), false), d[0].get<double>(), d[1].get<double>()});
+        out.push_back(
+            {"moved", place(m.at("id"), false), d[0].get<double>(), d[1].get<double>(), true, {}});
     }
     return out;
 }
@@ -140,9 +172,13 @@ struct Score {
 Score Match(const std::vector<Change>& truth, const std::vector<Change>& found) {
     Score s;
     if (std::getenv("BIMSLAM_VISITS_DEBUG")) {
-        for (const Change& c : truth)
-            std::printf("  true  %s (%.2f, %.2f)%s\n", c.kind.c_str(), c.at.x, c.at.y,
+        for (const Change& c : truth) {
+            std::printf("  true  %s (%.2f, %.2f)%s", c.kind.c_str(), c.at.x, c.at.y,
                         c.seen ? "" : " unseen");
+            if (c.seen_at)
+                std::printf(", the part seen at (%.2f, %.2f)", c.seen_at->x, c.seen_at->y);
+            std::printf("\n");
+        }
         for (const Change& c : found)
             std::printf("  found %s (%.2f, %.2f)\n", c.kind.c_str(), c.at.x, c.at.y);
     }
@@ -151,7 +187,9 @@ Score Match(const std::vector<Change>& truth, const std::vector<Change>& found) 
         size_t best = truth.size();
         double best_d = kMatchM;
         for (size_t t = 0; t < truth.size(); ++t) {
-            const double d = std::hypot(truth[t].at.x - f.at.x, truth[t].at.y - f.at.y);
+            double d = std::hypot(truth[t].at.x - f.at.x, truth[t].at.y - f.at.y);
+            if (const auto& p = truth[t].seen_at)
+                d = std::min(d, std::hypot(p->x - f.at.x, p->y - f.at.y));
             if (!used[t] && truth[t].kind == f.kind && d <= best_d) best = t, best_d = d;
         }
         if (best == truth.size()) {
@@ -231,7 +269,14 @@ void RunSeed(const Building& site, int seed, const fs::path& dir) {
                 if (p.at("later") == captures[v] && p.at("consecutive").get<bool>()) pair = &p;
             }
             if (!pair) throw std::runtime_error("visits.json has no pair ending at " + captures[v]);
-            const Score s = Match(TrueChanges(dir / "visits", *pair), FoundChanges(history, v));
+            const auto evaluation = [&](size_t k) {
+                return mc.out / "visits" /
+                       history.at("visits").at(k).at("label").get<std::string>() / "changes" /
+                       captures[k] / "evaluation.json";
+            };
+            const Score s =
+                Match(TrueChanges(dir / "visits", *pair, evaluation(v - 1), evaluation(v)),
+                      FoundChanges(history, v));
             char b[256];
             std::snprintf(b, sizeof b,
                           " | since %s: P %.2f R %.2f F1 %.2f (%zu found right, %zu wrong, %zu "

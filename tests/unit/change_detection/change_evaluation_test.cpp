@@ -108,6 +108,42 @@ TEST(ChangeEvaluation, SeenScoresCountOnlyWhatTheKeyframesPutEnoughPointsOn) {
     EXPECT_EQ(all.removed_seen.truth, all.removed.truth);
 }
 
+// Issue 33: a found object is matched by the part of a true object the walk saw. Shelving 3 m long
+// seen at one end only is found as that end, 1.4 m from the shelving's centre: it matches the
+// box of the map points on the shelving, and is no false alarm. Without the map nothing says
+// what was seen, and the whole box alone decides.
+TEST(ChangeEvaluation, AFoundObjectMatchesThePartOfATrueOneTheWalkSaw) {
+    TruthChanges truth;
+    truth.added = {Added("shelving", {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.4, 3, 2)}),
+                   Added("crate", Box(10, 0, 0.5))};
+    FoundChanges found;
+    found.has_map = true;
+    AddFace(&found, 0.4, 0.0, 40, 3);  // x = 0.41, y 0-0.35, z 0.2-0.36: the shelving's end
+    const Eigen::AlignedBox3d end(Eigen::Vector3d(0.39, 0, 0.2), Eigen::Vector3d(0.43, 0.35, 0.36));
+    found.objects = {{end}, {Box(12, 0, 0.5)}};  // the end, and a false alarm 2 m from the crate
+
+    const ChangeEvaluation ev = EvaluateChanges(truth, found);
+    ASSERT_EQ(ev.added_view.size(), 2u);
+    EXPECT_TRUE(ev.added_view[0].in_view);
+    EXPECT_FALSE(ev.added_view[1].in_view) << "no map point on the crate";
+    EXPECT_TRUE(ev.added_view[0].found);
+    EXPECT_NEAR(ev.added_view[0].seen_box.min().y(), 0.0, 1e-6);
+    EXPECT_NEAR(ev.added_view[0].seen_box.max().y(), 0.35, 1e-6);
+    EXPECT_TRUE(ev.added_view[1].seen_box.isEmpty());
+    EXPECT_EQ(ev.added.found_matched, 1u);
+    EXPECT_EQ(ev.added.truth_matched, 1u);
+    EXPECT_NEAR(ev.added_seen.recall(), 1.0, 1e-12);
+    EXPECT_NEAR(ev.added_seen.precision(), 0.5, 1e-12) << "the crate's false alarm stays one";
+    const nlohmann::json j = ev.ToJson();
+    EXPECT_NEAR(j["seen"]["objects"][0]["seen_box_max"][1].get<double>(), 0.35, 1e-6);
+    EXPECT_FALSE(j["seen"]["objects"][1].contains("seen_box_min"));
+
+    found.has_map = false;
+    found.map.clear();
+    const ChangeEvaluation whole = EvaluateChanges(truth, found);
+    EXPECT_EQ(whole.added.truth_matched, 0u) << "1.4 m from the whole shelving's centre";
+}
+
 TEST(ChangeEvaluation, ScoresObjectsElementsWallsAndPeople) {
     TruthChanges truth;
     truth.added = {Added("big", Box(0, 0, 0.5)), Added("small", Box(5, 0, 0.2)),
