@@ -10,6 +10,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <utility>
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/common/utc_time.hpp"
@@ -75,233 +76,290 @@ std::vector<std::pair<std::string, fs::path>> OutputFolders(const ChangesArgs& a
     return out;
 }
 
-int Changes(ChangesArgs& a) {
-    a.config.detect_transients = !a.no_transients;
-    a.config.moved.enabled = !a.no_moved;
-    a.config.crop_to_footprint = !a.keep_outside;
-    a.config.refinement.enabled = !a.no_refine;
-    a.config.Validate();
-    const change_detection::BcfVersion bcf_version =
-        change_detection::ParseBcfVersion(a.bcf_version);
-    int64_t date_ns = 0;
-    if (!a.date.empty()) {
+// What the change detection of one session found, counted for the summary.
+struct Tally {
+    size_t objects = 0, moved = 0, missing = 0, deviating = 0, confirmed = 0, unseen = 0;
+    double volume_m3 = 0;
+};
+
+Tally Count(const bim::BimModel& model, const changes::ChangeResult& r) {
+    Tally t;
+    for (const auto& o : r.objects) {
+        if (o.moved_element == changes::kNoElement) ++t.objects, t.volume_m3 += o.volume_m3;
+    }
+    for (size_t e = 0; e < r.elements.size(); ++e) {
+        if (!change_detection::Physical(model.elements[e])) continue;
+        const changes::ElementReport& rep = r.elements[e];
+        t.moved += rep.moved;
+        t.missing += rep.verdict == changes::Verdict::kMissing;
+        t.deviating += rep.verdict == changes::Verdict::kDeviating;
+        t.confirmed += rep.verdict == changes::Verdict::kConfirmed;
+        t.unseen += rep.verdict == changes::Verdict::kNotObserved;
+    }
+    return t;
+}
+
+// One session's run: its input, what was found and what was written.
+struct SessionRun {
+    SessionRun(std::string l, fs::path d, change_detection::SessionInput in)
+        : label(std::move(l)), dir(std::move(d)), input(std::move(in)) {}
+
+    std::string label;
+    fs::path dir;
+    change_detection::SessionInput input;
+    change_detection::SessionChanges found;  // found.input points at input: not moved
+    change_detection::IfcUpdate ifc;
+    size_t bcf_topics = 0;
+    double bcf_seconds = 0, seconds = 0;
+    Tally tally;
+};
+
+// A `bimslam changes` run: its arguments, the model and what every session shares (the change
+// model, the IFC file's text, the snapshots' renderer).
+class ChangesRun {
+public:
+    explicit ChangesRun(ChangesArgs& a) : a_(a) {}
+    int Run();
+
+private:
+    void CheckArguments();
+    void LoadModel();
+    void Detect(Clock::time_point t0, SessionRun* s);
+    json SessionJson(size_t k, const SessionRun& s) const;
+    void Print(const SessionRun& s) const;
+    json Evaluate(size_t k, const fs::path& dir) const;
+
+    ChangesArgs& a_;
+    change_detection::BcfVersion bcf_version_{};
+    int64_t date_ns_ = 0;
+    std::unique_ptr<ProgressBar> bar_;
+    bim::BimModel model_;
+    changes::ChangeModel change_model_;
+    std::string original_;  // the IFC file's text
+    change_detection::ModelInfo info_;
+    size_t compared_ = 0;  // elements compared
+    // changes.bcf's snapshots: the model's meshes, uploaded once.
+    std::unique_ptr<change_detection::SnapshotRenderer> renderer_;
+};
+
+void ChangesRun::CheckArguments() {
+    a_.config.detect_transients = !a_.no_transients;
+    a_.config.moved.enabled = !a_.no_moved;
+    a_.config.crop_to_footprint = !a_.keep_outside;
+    a_.config.refinement.enabled = !a_.no_refine;
+    a_.config.Validate();
+    bcf_version_ = change_detection::ParseBcfVersion(a_.bcf_version);
+    if (!a_.date.empty()) {
         try {
-            date_ns = common::ParseUtcTime(a.date);
+            date_ns_ = common::ParseUtcTime(a_.date);
         } catch (const common::Error& e) {
             BadInput("--date: " + std::string(e.what()));
         }
     }
-    if (!a.datum.empty()) {
-        change_detection::CheckSurveyDatumOption(a.datum, a.config.refinement.enabled);
+    if (!a_.datum.empty()) {
+        change_detection::CheckSurveyDatumOption(a_.datum, a_.config.refinement.enabled);
     }
-    if (!a.truths.empty() && a.truths.size() != a.sessions.size()) {
-        BadInput("--truth: give one per --session (" + std::to_string(a.sessions.size()) +
-                 " sessions, " + std::to_string(a.truths.size()) + " truths)");
+    if (!a_.truths.empty() && a_.truths.size() != a_.sessions.size()) {
+        BadInput("--truth: give one per --session (" + std::to_string(a_.sessions.size()) +
+                 " sessions, " + std::to_string(a_.truths.size()) + " truths)");
     }
     // Every session checked before the model is loaded (which takes seconds for a big one).
-    for (const std::string& s : a.sessions) {
+    for (const std::string& s : a_.sessions) {
         change_detection::LoadAnchoredSession(s, Eigen::Vector3d::Zero(), false);
     }
-    if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
+    if (fs::exists(a_.out) && !fs::is_empty(a_.out) && !a_.overwrite) {
         throw common::Error(common::StatusCode::kAlreadyExists,
-                            a.out + ": exists and is not empty (--overwrite replaces its files)");
+                            a_.out + ": exists and is not empty (--overwrite replaces its files)");
     }
-    const auto t_start = Clock::now();
-    ProgressBar bar(!a.json && ProgressBar::Terminal());
+}
 
+void ChangesRun::LoadModel() {
     // The model, with its spaces (for the space a new object stands in).
     bim::IfcLoadOptions load;
     load.space_geometry = true;
-    load.progress = [&](double f) { bar.Update("loading the model", f); };
-    const bim::BimModel model = bim::LoadIfc(a.model, load);
-    bar.Clear();
-    const changes::ChangeModel change_model = change_detection::ToChangeModel(model);
-    if (!a.datum.empty())
-        a.config.refinement.datum = change_detection::ReadSurveyDatum(a.datum, model);
-    const std::string original = io::ReadFileToString(a.model);
-    const change_detection::ModelInfo info{a.model, io::Sha256File(a.model)};
-    size_t compared = 0;
-    for (size_t e = 0; e < model.elements.size(); ++e) {
-        compared +=
-            change_detection::Physical(model.elements[e]) && model.elements[e].triangle_count > 0;
+    load.progress = [&](double f) { bar_->Update("loading the model", f); };
+    model_ = bim::LoadIfc(a_.model, load);
+    bar_->Clear();
+    change_model_ = change_detection::ToChangeModel(model_);
+    if (!a_.datum.empty())
+        a_.config.refinement.datum = change_detection::ReadSurveyDatum(a_.datum, model_);
+    original_ = io::ReadFileToString(a_.model);
+    info_ = {a_.model, io::Sha256File(a_.model)};
+    for (const bim::BimElement& e : model_.elements)
+        compared_ += change_detection::Physical(e) && e.triangle_count > 0;
+    if (!a_.json) {
+        std::cout << "model     " << a_.model << ": " << model_.schema << ", "
+                  << model_.storeys.size() << " storeys, " << compared_ << " elements compared, "
+                  << change_model_.mesh.triangles.size() << " triangles\n";
     }
-    if (!a.json) {
-        std::cout << "model     " << a.model << ": " << model.schema << ", " << model.storeys.size()
-                  << " storeys, " << compared << " elements compared, "
-                  << change_model.mesh.triangles.size() << " triangles\n";
-    }
+}
 
-    // changes.bcf's snapshots: the model's meshes, uploaded once.
-    change_detection::SnapshotRenderer renderer(model, 640, 480);
+// Detects a session's changes and writes its files: changes.json and the others, the updated IFC,
+// changes.bcf. t0: when its reading began.
+void ChangesRun::Detect(Clock::time_point t0, SessionRun* s) {
+    change_detection::SessionChanges& found = s->found;
+    found.label = s->label;
+    found.input = &s->input;
+    found.result = changes::DetectChanges(change_model_, s->input.keyframes, s->input.edges,
+                                          a_.config, [&](std::string_view stage, double f) {
+                                              bar_->Update(s->label + ": " + std::string(stage), f);
+                                          });
+    found.places = change_detection::PlaceObjects(model_, found.result.objects);
+    const uint64_t seed = Fnv1a(info_.sha256 + "/" + s->label);
+    for (size_t o = 0; o < found.result.objects.size(); ++o) {
+        found.object_global_ids.push_back(
+            bim::IfcWriter::GlobalId(seed, "new object " + std::to_string(o)));
+    }
+    bar_->Update(s->label + ": writing", 0.0);
+    fs::create_directories(s->dir);
+    change_detection::WriteChangeFiles(s->dir, model_, info_, found, a_.config);
+    s->ifc = change_detection::UpdateIfc(a_.model, original_, model_, found, seed);
+    io::WriteFileAtomic(s->dir / "model_updated.ifc", s->ifc.text);
+    bar_->Update(s->label + ": changes.bcf", 0.0);
+    change_detection::ChangeBcfOptions bcf_options;
+    bcf_options.version = bcf_version_;
+    bcf_options.date_ns = a_.date.empty() ? change_detection::SessionDate(s->input) : date_ns_;
+    bcf_options.model_sha256 = info_.sha256;
+    const auto t_bcf = Clock::now();
+    const change_detection::ChangeBcf bcf =
+        change_detection::ChangesBcf(model_, found, a_.config, bcf_options, *renderer_);
+    io::WriteFileAtomic(s->dir / "changes.bcf", bcf.zip);
+    s->bcf_topics = bcf.topics;
+    s->bcf_seconds = common::SecondsSince(t_bcf);
+    bar_->Clear();
+    s->seconds = common::SecondsSince(t0);
+    s->tally = Count(model_, found.result);
+}
+json ChangesRun::SessionJson(size_t k, const SessionRun& s) const {
+    const changes::ChangeResult& r = s.found.result;
+    const Tally& t = s.tally;
+    return {{"label", s.label},
+            {"session", a_.sessions[k]},
+            {"output", s.dir.string()},
+            {"keyframes", s.input.session.keyframes.size()},
+            {"points", s.input.points},
+            {"map_points", r.map.size()},
+            {"new_objects", t.objects},
+            {"new_objects_volume_m3", t.volume_m3},
+            {"moved_elements", t.moved},
+            {"transient_clusters", r.transients.size()},
+            {"missing", t.missing},
+            {"deviating", t.deviating},
+            {"confirmed", t.confirmed},
+            {"not_observed", t.unseen},
+            {"refinement",
+             {{"enabled", a_.config.refinement.enabled},
+              {"poses_moved_1cm", r.refinement.moved_1cm},
+              {"datum_elements", a_.config.refinement.datum.size()},
+              {"datum_seen", r.refinement.datum_seen},
+              {"mean_correction_m", r.refinement.mean_correction_m},
+              {"max_correction_m", r.refinement.max_correction_m}}},
+            {"ifc",
+             {{"file", (s.dir / "model_updated.ifc").string()},
+              {"proxies", s.ifc.proxies},
+              {"element_property_sets", s.ifc.element_property_sets},
+              {"entities_added", s.ifc.entities},
+              {"notes", s.ifc.notes}}},
+            {"bcf",
+             {{"file", (s.dir / "changes.bcf").string()},
+              {"version", change_detection::ToString(bcf_version_)},
+              {"topics", s.bcf_topics},
+              {"seconds", s.bcf_seconds}}},
+            {"seconds", s.seconds}};
+}
+
+void ChangesRun::Print(const SessionRun& s) const {
+    const changes::ChangeResult& r = s.found.result;
+    const Tally& t = s.tally;
+    std::cout << "session   " << s.label << ": " << s.input.session.keyframes.size()
+              << " keyframes, " << s.input.points << " points -> map of " << r.map.size()
+              << " points (" << a_.config.map.voxel_m * 100 << " cm voxels)\n";
+    if (a_.config.refinement.enabled) {
+        const changes::PoseRefinement& p = r.refinement;
+        std::cout << "refined   " << p.moved_1cm << " of " << p.T_world_lidar.size()
+                  << " keyframes moved by more than 1 cm (mean "
+                  << Fixed(100 * p.mean_correction_m, 2) << " cm, max "
+                  << Fixed(100 * p.max_correction_m, 2) << " cm, " << Fixed(p.max_correction_deg, 2)
+                  << " deg), " << s.input.edges.size() << " edges, " << Fixed(p.seconds, 1)
+                  << " s\n";
+        if (!a_.config.refinement.datum.empty()) {
+            std::cout << "datum     " << p.datum_seen << " of " << a_.config.refinement.datum.size()
+                      << " surveyed elements seen; they hold the frame"
+                      << (p.datum_seen == 0 ? " (none seen: the offsets' mean does)" : "") << "\n";
+        }
+    }
+    std::cout << "objects   " << t.objects << " new (" << Fixed(t.volume_m3, 2) << " m3), "
+              << t.moved << " moved elements, " << r.transients.size() << " transient clusters ("
+              << r.counts.transient_points << " points)\n"
+              << "elements  " << t.missing << " missing, " << t.deviating << " deviating, "
+              << t.confirmed << " confirmed, " << t.unseen << " not observed\n"
+              << "ifc       " << s.ifc.proxies << " proxies and " << s.ifc.element_property_sets
+              << " verdict property sets added (" << s.ifc.entities << " entities)\n";
+    for (const std::string& note : s.ifc.notes) std::cout << "          note: " << note << "\n";
+    std::cout << "bcf       " << s.bcf_topics << " topics with viewpoints and snapshots (BCF "
+              << change_detection::ToString(bcf_version_) << ", " << Fixed(s.bcf_seconds, 2)
+              << " s)\n";
+    std::cout << "time      " << Fixed(s.seconds, 1) << " s (refinement "
+              << Fixed(r.seconds.refinement_s, 1) << ", map " << Fixed(r.seconds.map_s, 1)
+              << ", distances " << Fixed(r.seconds.distance_s, 1) << ", transients "
+              << Fixed(r.seconds.transient_s, 1) << ", objects " << Fixed(r.seconds.cluster_s, 1)
+              << ", rays " << Fixed(r.seconds.evidence_s, 1) << ")\n"
+              << "written   " << s.dir.string()
+              << "/: changes.json, new_objects.ply, map_bim.ply, map_bim.las, "
+                 "elements.csv, model_updated.ifc, changes.bcf"
+              << (r.refinement.T_world_lidar.empty() ? "" : ", keyframes_refined.tum") << "\n";
+}
+
+// Session k's changes against its --truth: evaluation.json, and the scores printed.
+json ChangesRun::Evaluate(size_t k, const fs::path& dir) const {
+    const change_detection::ChangeEvaluation ev = change_detection::EvaluateChanges(
+        change_detection::ReadTruthChanges(a_.truths[k]), change_detection::ReadFoundChanges(dir));
+    const json ej = ev.ToJson();
+    io::WriteFileAtomic(dir / "evaluation.json", ej.dump(2) + "\n");
+    if (a_.json) return ej;
+    const auto& al = ev.added_large;
+    const auto& rl = ev.removed_large;
+    std::cout << "truth     added >= 0.3 m: P " << Fixed(al.precision(), 2) << " R "
+              << Fixed(al.recall(), 2) << " F1 " << Fixed(al.f1(), 2) << " (" << al.truth_matched
+              << "/" << al.truth << "); removed >= 1 m2: P " << Fixed(rl.precision(), 2) << " R "
+              << Fixed(rl.recall(), 2) << " (" << rl.truth_matched << "/" << rl.truth
+              << "); walls within 1 cm: " << ej["as_built"]["within_1cm"].get<size_t>() << "/"
+              << ev.walls.size()
+              << (ev.walls_datum > 0 ? " (and " + std::to_string(ev.walls_datum) + " surveyed)"
+                                     : std::string())
+              << "; people as objects: " << ev.people_as_objects << "\n"
+              << "seen      added >= 0.3 m in view: R " << Fixed(ev.added_seen_large.recall(), 2)
+              << " F1 " << Fixed(ev.added_seen_large.f1(), 2) << " ("
+              << ev.added_seen_large.truth_matched << "/" << ev.added_seen_large.truth << ", "
+              << ev.added_large_out_of_view << " out of view); removed in view: R "
+              << Fixed(ev.removed_seen.recall(), 2) << " (" << ev.removed_seen.truth_matched << "/"
+              << ev.removed_seen.truth << ", " << ev.removed_out_of_view << " out of view)\n"
+              << "          (" << (dir / "evaluation.json").string() << ")\n";
+    return ej;
+}
+
+int ChangesRun::Run() {
+    CheckArguments();
+    const auto t_start = Clock::now();
+    bar_ = std::make_unique<ProgressBar>(!a_.json && ProgressBar::Terminal());
+    LoadModel();
+    renderer_ = std::make_unique<change_detection::SnapshotRenderer>(model_, 640, 480);
     json sessions_json = json::array();
-    for (const auto& [label, dir] : OutputFolders(a)) {
+    for (const auto& [label, dir] : OutputFolders(a_)) {
         const size_t k = sessions_json.size();
         const auto t0 = Clock::now();
-        const change_detection::SessionInput input =
-            change_detection::LoadAnchoredSession(a.sessions[k], model.origin_m);
-        change_detection::SessionChanges found;
-        found.label = label;
-        found.input = &input;
-        found.result = changes::DetectChanges(change_model, input.keyframes, input.edges, a.config,
-                                              [&](std::string_view stage, double f) {
-                                                  bar.Update(label + ": " + std::string(stage), f);
-                                              });
-        found.places = change_detection::PlaceObjects(model, found.result.objects);
-        const uint64_t seed = Fnv1a(info.sha256 + "/" + label);
-        for (size_t o = 0; o < found.result.objects.size(); ++o) {
-            found.object_global_ids.push_back(
-                bim::IfcWriter::GlobalId(seed, "new object " + std::to_string(o)));
-        }
-        bar.Update(label + ": writing", 0.0);
-        fs::create_directories(dir);
-        change_detection::WriteChangeFiles(dir, model, info, found, a.config);
-        const change_detection::IfcUpdate ifc =
-            change_detection::UpdateIfc(a.model, original, model, found, seed);
-        io::WriteFileAtomic(dir / "model_updated.ifc", ifc.text);
-        bar.Update(label + ": changes.bcf", 0.0);
-        change_detection::ChangeBcfOptions bcf_options;
-        bcf_options.version = bcf_version;
-        bcf_options.date_ns = a.date.empty() ? change_detection::SessionDate(input) : date_ns;
-        bcf_options.model_sha256 = info.sha256;
-        const auto t_bcf = Clock::now();
-        const change_detection::ChangeBcf bcf =
-            change_detection::ChangesBcf(model, found, a.config, bcf_options, renderer);
-        io::WriteFileAtomic(dir / "changes.bcf", bcf.zip);
-        const double bcf_seconds = common::SecondsSince(t_bcf);
-        bar.Clear();
-        const double seconds = common::SecondsSince(t0);
-
-        const changes::ChangeResult& r = found.result;
-        size_t objects = 0, moved = 0, missing = 0, deviating = 0, confirmed = 0, unseen = 0;
-        double volume = 0;
-        for (const auto& o : r.objects) {
-            if (o.moved_element == changes::kNoElement) ++objects, volume += o.volume_m3;
-        }
-        for (size_t e = 0; e < r.elements.size(); ++e) {
-            if (!change_detection::Physical(model.elements[e])) continue;
-            const changes::ElementReport& rep = r.elements[e];
-            moved += rep.moved;
-            missing += rep.verdict == changes::Verdict::kMissing;
-            deviating += rep.verdict == changes::Verdict::kDeviating;
-            confirmed += rep.verdict == changes::Verdict::kConfirmed;
-            unseen += rep.verdict == changes::Verdict::kNotObserved;
-        }
-        json sj = {{"label", label},
-                   {"session", a.sessions[k]},
-                   {"output", dir.string()},
-                   {"keyframes", input.session.keyframes.size()},
-                   {"points", input.points},
-                   {"map_points", r.map.size()},
-                   {"new_objects", objects},
-                   {"new_objects_volume_m3", volume},
-                   {"moved_elements", moved},
-                   {"transient_clusters", r.transients.size()},
-                   {"missing", missing},
-                   {"deviating", deviating},
-                   {"confirmed", confirmed},
-                   {"not_observed", unseen},
-                   {"refinement",
-                    {{"enabled", a.config.refinement.enabled},
-                     {"poses_moved_1cm", r.refinement.moved_1cm},
-                     {"datum_elements", a.config.refinement.datum.size()},
-                     {"datum_seen", r.refinement.datum_seen},
-                     {"mean_correction_m", r.refinement.mean_correction_m},
-                     {"max_correction_m", r.refinement.max_correction_m}}},
-                   {"ifc",
-                    {{"file", (dir / "model_updated.ifc").string()},
-                     {"proxies", ifc.proxies},
-                     {"element_property_sets", ifc.element_property_sets},
-                     {"entities_added", ifc.entities},
-                     {"notes", ifc.notes}}},
-                   {"bcf",
-                    {{"file", (dir / "changes.bcf").string()},
-                     {"version", change_detection::ToString(bcf_version)},
-                     {"topics", bcf.topics},
-                     {"seconds", bcf_seconds}}},
-                   {"seconds", seconds}};
-        if (!a.json) {
-            std::cout << "session   " << label << ": " << input.session.keyframes.size()
-                      << " keyframes, " << input.points << " points -> map of " << r.map.size()
-                      << " points (" << a.config.map.voxel_m * 100 << " cm voxels)\n";
-            if (a.config.refinement.enabled) {
-                const changes::PoseRefinement& p = r.refinement;
-                std::cout << "refined   " << p.moved_1cm << " of " << p.T_world_lidar.size()
-                          << " keyframes moved by more than 1 cm (mean "
-                          << Fixed(100 * p.mean_correction_m, 2) << " cm, max "
-                          << Fixed(100 * p.max_correction_m, 2) << " cm, "
-                          << Fixed(p.max_correction_deg, 2) << " deg), " << input.edges.size()
-                          << " edges, " << Fixed(p.seconds, 1) << " s\n";
-                if (!a.config.refinement.datum.empty()) {
-                    std::cout << "datum     " << p.datum_seen << " of "
-                              << a.config.refinement.datum.size()
-                              << " surveyed elements seen; they hold the frame"
-                              << (p.datum_seen == 0 ? " (none seen: the offsets' mean does)" : "")
-                              << "\n";
-                }
-            }
-            std::cout << "objects   " << objects << " new (" << Fixed(volume, 2) << " m3), "
-                      << moved << " moved elements, " << r.transients.size()
-                      << " transient clusters (" << r.counts.transient_points << " points)\n"
-                      << "elements  " << missing << " missing, " << deviating << " deviating, "
-                      << confirmed << " confirmed, " << unseen << " not observed\n"
-                      << "ifc       " << ifc.proxies << " proxies and " << ifc.element_property_sets
-                      << " verdict property sets added (" << ifc.entities << " entities)\n";
-            for (const std::string& note : ifc.notes)
-                std::cout << "          note: " << note << "\n";
-            std::cout << "bcf       " << bcf.topics << " topics with viewpoints and snapshots (BCF "
-                      << change_detection::ToString(bcf_version) << ", " << Fixed(bcf_seconds, 2)
-                      << " s)\n";
-            std::cout << "time      " << Fixed(seconds, 1) << " s (refinement "
-                      << Fixed(r.seconds.refinement_s, 1) << ", map " << Fixed(r.seconds.map_s, 1)
-                      << ", distances " << Fixed(r.seconds.distance_s, 1) << ", transients "
-                      << Fixed(r.seconds.transient_s, 1) << ", objects "
-                      << Fixed(r.seconds.cluster_s, 1) << ", rays "
-                      << Fixed(r.seconds.evidence_s, 1) << ")\n"
-                      << "written   " << dir.string()
-                      << "/: changes.json, new_objects.ply, map_bim.ply, map_bim.las, "
-                         "elements.csv, model_updated.ifc, changes.bcf"
-                      << (r.refinement.T_world_lidar.empty() ? "" : ", keyframes_refined.tum")
-                      << "\n";
-        }
-        if (!a.truths.empty()) {
-            const change_detection::ChangeEvaluation ev =
-                change_detection::EvaluateChanges(change_detection::ReadTruthChanges(a.truths[k]),
-                                                  change_detection::ReadFoundChanges(dir));
-            const json ej = ev.ToJson();
-            io::WriteFileAtomic(dir / "evaluation.json", ej.dump(2) + "\n");
-            sj["evaluation"] = ej;
-            if (!a.json) {
-                const auto& al = ev.added_large;
-                const auto& rl = ev.removed_large;
-                std::cout << "truth     added >= 0.3 m: P " << Fixed(al.precision(), 2) << " R "
-                          << Fixed(al.recall(), 2) << " F1 " << Fixed(al.f1(), 2) << " ("
-                          << al.truth_matched << "/" << al.truth << "); removed >= 1 m2: P "
-                          << Fixed(rl.precision(), 2) << " R " << Fixed(rl.recall(), 2) << " ("
-                          << rl.truth_matched << "/" << rl.truth
-                          << "); walls within 1 cm: " << ej["as_built"]["within_1cm"].get<size_t>()
-                          << "/" << ev.walls.size()
-                          << (ev.walls_datum > 0
-                                  ? " (and " + std::to_string(ev.walls_datum) + " surveyed)"
-                                  : std::string())
-                          << "; people as objects: " << ev.people_as_objects << "\n"
-                          << "seen      added >= 0.3 m in view: R "
-                          << Fixed(ev.added_seen_large.recall(), 2) << " F1 "
-                          << Fixed(ev.added_seen_large.f1(), 2) << " ("
-                          << ev.added_seen_large.truth_matched << "/" << ev.added_seen_large.truth
-                          << ", " << ev.added_large_out_of_view
-                          << " out of view); removed in view: R "
-                          << Fixed(ev.removed_seen.recall(), 2) << " ("
-                          << ev.removed_seen.truth_matched << "/" << ev.removed_seen.truth << ", "
-                          << ev.removed_out_of_view << " out of view)\n"
-                          << "          (" << (dir / "evaluation.json").string() << ")\n";
-            }
-        }
+        SessionRun s(label, dir,
+                     change_detection::LoadAnchoredSession(a_.sessions[k], model_.origin_m));
+        Detect(t0, &s);
+        json sj = SessionJson(k, s);
+        if (!a_.json) Print(s);
+        if (!a_.truths.empty()) sj["evaluation"] = Evaluate(k, dir);
         sessions_json.push_back(sj);
     }
-    if (a.json) {
-        std::cout << json{{"model", a.model},
-                          {"output", a.out},
-                          {"elements_compared", compared},
+    if (a_.json) {
+        std::cout << json{{"model", a_.model},
+                          {"output", a_.out},
+                          {"elements_compared", compared_},
                           {"sessions", sessions_json},
                           {"seconds", common::SecondsSince(t_start)}}
                          .dump(2)
@@ -309,6 +367,8 @@ int Changes(ChangesArgs& a) {
     }
     return kExitOk;
 }
+
+int Changes(ChangesArgs& a) { return ChangesRun(a).Run(); }
 
 }  // namespace
 
