@@ -118,7 +118,7 @@ struct SessionRun {
 // model, the IFC file's text, the snapshots' renderer).
 class ChangesRun {
 public:
-    explicit ChangesRun(ChangesArgs& a) : a_(a) {}
+    explicit ChangesRun(ChangesArgs& a) : a_(a), bar_(!a.json && ProgressBar::Terminal()) {}
     int Run();
 
 private:
@@ -132,7 +132,7 @@ private:
     ChangesArgs& a_;
     change_detection::BcfVersion bcf_version_{};
     int64_t date_ns_ = 0;
-    std::unique_ptr<ProgressBar> bar_;
+    ProgressBar bar_;
     bim::BimModel model_;
     changes::ChangeModel change_model_;
     std::string original_;  // the IFC file's text
@@ -177,9 +177,9 @@ void ChangesRun::LoadModel() {
     // The model, with its spaces (for the space a new object stands in).
     bim::IfcLoadOptions load;
     load.space_geometry = true;
-    load.progress = [&](double f) { bar_->Update("loading the model", f); };
+    load.progress = [&](double f) { bar_.Update("loading the model", f); };
     model_ = bim::LoadIfc(a_.model, load);
-    bar_->Clear();
+    bar_.Clear();
     change_model_ = change_detection::ToChangeModel(model_);
     if (!a_.datum.empty())
         a_.config.refinement.datum = change_detection::ReadSurveyDatum(a_.datum, model_);
@@ -202,7 +202,7 @@ void ChangesRun::Detect(Clock::time_point t0, SessionRun* s) {
     found.input = &s->input;
     found.result = changes::DetectChanges(change_model_, s->input.keyframes, s->input.edges,
                                           a_.config, [&](std::string_view stage, double f) {
-                                              bar_->Update(s->label + ": " + std::string(stage), f);
+                                              bar_.Update(s->label + ": " + std::string(stage), f);
                                           });
     found.places = change_detection::PlaceObjects(model_, found.result.objects);
     const uint64_t seed = Fnv1a(info_.sha256 + "/" + s->label);
@@ -210,12 +210,12 @@ void ChangesRun::Detect(Clock::time_point t0, SessionRun* s) {
         found.object_global_ids.push_back(
             bim::IfcWriter::GlobalId(seed, "new object " + std::to_string(o)));
     }
-    bar_->Update(s->label + ": writing", 0.0);
+    bar_.Update(s->label + ": writing", 0.0);
     fs::create_directories(s->dir);
     change_detection::WriteChangeFiles(s->dir, model_, info_, found, a_.config);
     s->ifc = change_detection::UpdateIfc(a_.model, original_, model_, found, seed);
     io::WriteFileAtomic(s->dir / "model_updated.ifc", s->ifc.text);
-    bar_->Update(s->label + ": changes.bcf", 0.0);
+    bar_.Update(s->label + ": changes.bcf", 0.0);
     change_detection::ChangeBcfOptions bcf_options;
     bcf_options.version = bcf_version_;
     bcf_options.date_ns = a_.date.empty() ? change_detection::SessionDate(s->input) : date_ns_;
@@ -226,10 +226,11 @@ void ChangesRun::Detect(Clock::time_point t0, SessionRun* s) {
     io::WriteFileAtomic(s->dir / "changes.bcf", bcf.zip);
     s->bcf_topics = bcf.topics;
     s->bcf_seconds = common::SecondsSince(t_bcf);
-    bar_->Clear();
+    bar_.Clear();
     s->seconds = common::SecondsSince(t0);
     s->tally = Count(model_, found.result);
 }
+
 json ChangesRun::SessionJson(size_t k, const SessionRun& s) const {
     const changes::ChangeResult& r = s.found.result;
     const Tally& t = s.tally;
@@ -341,7 +342,6 @@ json ChangesRun::Evaluate(size_t k, const fs::path& dir) const {
 int ChangesRun::Run() {
     CheckArguments();
     const auto t_start = Clock::now();
-    bar_ = std::make_unique<ProgressBar>(!a_.json && ProgressBar::Terminal());
     LoadModel();
     renderer_ = std::make_unique<change_detection::SnapshotRenderer>(model_, 640, 480);
     json sessions_json = json::array();
