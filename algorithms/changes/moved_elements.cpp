@@ -98,6 +98,9 @@ MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
     Eigen::AlignedBox3d box;
     const common::TriangleMesh mesh = ElementMesh(model, element, &box);
     MotionFit best;
+    // No point within inlier_m of any start's fit: still one flag per point given, all 0 (the
+    // caller reads them for the object's share).
+    best.inlier.assign(points.size(), 0);
     if (mesh.empty() || points.empty()) return best;
     const simulation::Scene scene(mesh);
     const Eigen::Vector3d c = box.center();
