@@ -138,6 +138,7 @@ void ChangeDetectorConfig::Validate() const {
     map.Validate();
     dbscan.Validate();
     free_space.Validate();
+    walls.Validate();
     evidence.Validate();
     elements.Validate();
     moved.Validate();
@@ -219,6 +220,9 @@ struct Detection {
                                                     const std::vector<uint32_t>& band);
     NewObject MakeObject(std::vector<uint32_t> points) const;
     void MergeParts(std::vector<NewObject>& objects) const;
+    void SplitCorners(std::vector<NewObject>& objects) const;
+    void JoinHiddenGaps(std::vector<NewObject>& objects);
+    const FreeSpaceIndex& FreeSpace();
     void ClusterTransients(const std::vector<uint32_t>& transient_points);
 
     const ChangeModel& model;
@@ -231,6 +235,7 @@ struct Detection {
     std::optional<simulation::Scene> scene;  // of the whole model, from step 2 on
     std::vector<uint32_t> nearest_triangle;  // per map point (kNoElement: none), from step 2
     std::vector<uint8_t> beyond;  // per map point: off the footprint, compared (extension_margin_m)
+    std::optional<FreeSpaceIndex> free_space;  // the keyframes' range images, made when first asked
 };
 
 // 1. The aligned map.
@@ -368,7 +373,7 @@ void Detection::JudgeTransients(const std::vector<uint32_t>& far, std::vector<ui
     }
     const float radius = std::max(0.1f, 2.0f * float(config.map.voxel_m));
     const PointNormals normals = EstimateNormals(cxyz, radius, viewpoint, seen_by);
-    const FreeSpaceIndex index(keyframes, config.free_space);
+    const FreeSpaceIndex& index = FreeSpace();
     std::vector<uint8_t> far_transient(far.size(), 0), judged(far.size(), 0);
     const size_t chunk = std::max<size_t>(1024, far.size() / 20);
     for (size_t first = 0; first < far.size(); first += chunk) {
@@ -421,6 +426,9 @@ void Detection::FindNewObjects(const Candidates& sorted) {
     std::vector<NewObject> made;
     for (auto& points : object_points) made.push_back(MakeObject(std::move(points)));
     MergeParts(made);
+    if (config.walls.split_corners) SplitCorners(made);
+    if (config.walls.join_hidden_gaps) JoinHiddenGaps(made);
+    free_space.reset();  // its range images are large, and no later step asks them
     for (size_t o = 0; o < made.size(); ++o) {
         NewObject obj = std::move(made[o]);
         const auto off = std::count_if(obj.points.begin(), obj.points.end(),
@@ -480,6 +488,70 @@ void Detection::MergeParts(std::vector<NewObject>& objects) const {
             grew[o] ? MakeObject(std::move(objects[o].points)) : std::move(objects[o]);
     }
     objects.resize(kept);
+}
+
+// Step 4's objects that are two walls meeting at a corner, each made an object of its own. The
+// visits' annex (host_tools/mapping, visits_benchmark) came out as its west wall and one object
+// of its south and east walls, which matched neither.
+void Detection::SplitCorners(std::vector<NewObject>& objects) const {
+    const size_t n = objects.size();
+    for (size_t o = 0; o < n; ++o) {
+        auto parts = SplitAtCorner(out.map.xyz, objects[o].points, config.walls);
+        if (!parts) continue;
+        objects[o] = MakeObject(std::move((*parts)[0]));
+        objects.push_back(MakeObject(std::move((*parts)[1])));
+    }
+}
+
+// Step 4's pieces of one wall, seen apart, joined when no keyframe looked through the gap between
+// them: the visits' shed, seen through two windows of the hall, its middle hidden by the wall
+// between them, came out as two objects. Two things side by side with the floor or a wall seen
+// between them stay apart.
+void Detection::JoinHiddenGaps(std::vector<NewObject>& objects) {
+    std::vector<std::optional<WallPiece>> pieces(objects.size());
+    for (size_t o = 0; o < objects.size(); ++o) {
+        pieces[o] = AsWallPiece(out.map.xyz, objects[o].points, config.walls);
+    }
+    std::vector<size_t> group(objects.size());
+    for (size_t o = 0; o < group.size(); ++o) group[o] = o;
+    const auto root = [&](size_t o) {
+        while (group[o] != o) o = group[o];
+        return o;
+    };
+    for (size_t a = 0; a < objects.size(); ++a) {
+        for (size_t b = a + 1; b < objects.size() && pieces[a]; ++b) {
+            if (!pieces[b] || root(a) == root(b)) continue;
+            const std::optional<WallGap> gap = GapBetween(*pieces[a], *pieces[b], config.walls);
+            if (!gap) continue;
+            size_t looked_through = 0;
+            for (const Eigen::Vector3f& p : gap->samples) {
+                const FreeSpaceIndex::Votes v = FreeSpace().Vote(p, gap->normal);
+                looked_through += v.free > v.seen;
+            }
+            if (double(looked_through) >
+                config.walls.max_looked_through * double(gap->samples.size())) {
+                continue;
+            }
+            group[root(b)] = root(a);
+        }
+    }
+    std::vector<std::vector<uint32_t>> joined(objects.size());
+    for (size_t o = 0; o < objects.size(); ++o) {
+        std::vector<uint32_t>& to = joined[root(o)];
+        to.insert(to.end(), objects[o].points.begin(), objects[o].points.end());
+    }
+    size_t kept = 0;
+    for (size_t o = 0; o < objects.size(); ++o) {
+        if (root(o) != o) continue;
+        const bool grew = joined[o].size() != objects[o].points.size();
+        objects[kept++] = grew ? MakeObject(std::move(joined[o])) : std::move(objects[o]);
+    }
+    objects.resize(kept);
+}
+
+const FreeSpaceIndex& Detection::FreeSpace() {
+    if (!free_space) free_space.emplace(keyframes, config.free_space);
+    return *free_space;
 }
 
 // Step 4's clusters of seeds (DBSCAN), each grown into the band points that touch it, within

@@ -12,7 +12,8 @@
 //   4. new objects: points farther than new_object_threshold_m from the model, clustered with
 //      DBSCAN (dbscan.hpp), grown into the band down to band_threshold_m (so the part of an object
 //      near the floor or a wall is not cut off), turned into voxel solids and meshes
-//      (voxel_mesh.hpp);
+//      (voxel_mesh.hpp); clusters that are two walls meeting at a corner split, and pieces of
+//      one wall seen apart joined across a gap no keyframe looked through (wall_pieces.hpp);
 //   5. the beams' evidence on every opaque element: rays that agree with it, went through it,
 //      or were occluded in front of it (element_evidence.hpp);
 //   6. from it and the map's points near each element, the verdicts (missing, deviating,
@@ -38,6 +39,7 @@
 #include "algorithms/changes/moved_elements.hpp"
 #include "algorithms/changes/pose_refinement.hpp"
 #include "algorithms/changes/voxel_mesh.hpp"
+#include "algorithms/changes/wall_pieces.hpp"
 
 namespace bimslam::changes {
 
@@ -78,6 +80,9 @@ struct ChangeDetectorConfig {
     double extension_clearance_m = 0.2;
     bool detect_transients = true;
     FreeSpaceConfig free_space;
+    // Step 4's walls the model lacks: split at their corners, joined across gaps no beam went
+    // through (wall_pieces.hpp, README.md "Walls the model lacks").
+    WallPiecesConfig walls;
     ElementEvidenceConfig evidence;
     ElementCheckConfig elements;
     MovedConfig moved;

@@ -43,6 +43,7 @@ struct ChangesArgs {
     bool json = false;
     changes::ChangeDetectorConfig config;
     bool no_transients = false;
+    bool no_wall_split = false, no_wall_join = false;
     bool no_moved = false;
     bool keep_outside = false;
     bool no_refine = false;
@@ -144,6 +145,8 @@ private:
 
 void ChangesRun::CheckArguments() {
     a_.config.detect_transients = !a_.no_transients;
+    a_.config.walls.split_corners = !a_.no_wall_split;
+    a_.config.walls.join_hidden_gaps = !a_.no_wall_join;
     a_.config.moved.enabled = !a_.no_moved;
     a_.config.crop_to_footprint = !a_.keep_outside;
     a_.config.refinement.enabled = !a_.no_refine;
@@ -436,6 +439,12 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
                     "less expected visible surface is 'not observed', m2 (0.25)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--no-transients", a->no_transients, "skip the free-space check for transients");
+    cmd->add_flag("--no-wall-split", a->no_wall_split,
+                  "keep two new walls that meet at a corner (each at least 1.5 m long and high) "
+                  "as one object");
+    cmd->add_flag("--no-wall-join", a->no_wall_join,
+                  "keep the pieces of one new wall apart even where no beam went through the gap "
+                  "between them (a wall seen through two windows)");
     cmd->add_flag("--no-moved", a->no_moved, "do not pair missing elements with new objects");
     cmd->add_flag("--no-refine", a->no_refine,
                   "compare on the anchored poses as they are, without refining them jointly with "
