@@ -37,8 +37,17 @@ public:
     // The share of `box`'s footprint cells (wholly inside it in plan, and not under any box of
     // `cover` standing on the same floor) with a map point within `band` of its bottom; *cells:
     // how many were judged.
-    double FloorSeen(const Box& box, const std::vector<Box>& cover, double band,
+    double FloorSeen(const Box& object_box, const std::vector<Box>& cover, double band,
                      size_t* cells) const {
+        // A thin box (a partition, or a face seen alone: a shelf's front, 7 cm deep) holds no
+        // whole cell across: it is judged as two cells wide about its middle.
+        Box box = object_box;
+        for (int axis = 0; axis < 2; ++axis) {
+            if (box.sizes()[axis] >= 2 * cell_) continue;
+            const double c = box.center()[axis];
+            box.min()[axis] = c - cell_;
+            box.max()[axis] = c + cell_;
+        }
         const Eigen::Vector3i lo = Cell(box.min()), hi = Cell(box.max());
         const int z0 = Cell(box.min() - Eigen::Vector3d(0, 0, band)).z();
         const int z1 = Cell(box.min() + Eigen::Vector3d(0, 0, band)).z();
@@ -123,26 +132,42 @@ double InsideShare(const Box& a, const Box& b, double margin_m) {
     return i.isEmpty() ? 0.0 : i.volume() / va;
 }
 
-bool SameShape(const FoundChanges::Object& a, const FoundChanges::Object& b,
+namespace {
+
+bool Close(double x, double y, double relative, const HistoryConfig& config) {
+    return std::abs(x - y) <= std::max(config.shape_tolerance_m, relative * std::max(x, y));
+}
+
+// The height and the plan's sides agree: the smallest rectangles', which a turn leaves as they
+// are (files without them: the boxes' sorted sides).
+bool SameSides(const FoundChanges::Object& a, const FoundChanges::Object& b,
                const HistoryConfig& config) {
-    const auto close = [&](double x, double y, double relative) {
-        return std::abs(x - y) <= std::max(config.shape_tolerance_m, relative * std::max(x, y));
-    };
     const Eigen::Vector3d sa = a.box.sizes(), sb = b.box.sizes();
-    if (!close(sa.z(), sb.z(), config.shape_tolerance)) return false;
-    // The plan's sides: the smallest rectangles', which a turn leaves as they are (files without
-    // them: the boxes' sorted sides).
+    if (!Close(sa.z(), sb.z(), config.shape_tolerance, config)) return false;
     const auto sides = [](const FoundChanges::Object& o, const Eigen::Vector3d& s) {
         return o.plan_long_m > 0 ? Eigen::Vector2d(o.plan_long_m, o.plan_short_m)
                                  : Eigen::Vector2d(std::max(s.x(), s.y()), std::min(s.x(), s.y()));
     };
     const Eigen::Vector2d pa = sides(a, sa), pb = sides(b, sb);
-    const bool plan = close(pa.x(), pb.x(), config.shape_tolerance) &&
-                      close(pa.y(), pb.y(), config.shape_tolerance);
+    return Close(pa.x(), pb.x(), config.shape_tolerance, config) &&
+           Close(pa.y(), pb.y(), config.shape_tolerance, config);
+}
+
+}  // namespace
+
+bool SameShape(const FoundChanges::Object& a, const FoundChanges::Object& b,
+               const HistoryConfig& config) {
+    if (!Close(a.box.sizes().z(), b.box.sizes().z(), config.shape_tolerance, config)) return false;
     const bool volume = a.volume_m3 > 0 && b.volume_m3 > 0 &&
                         std::abs(a.volume_m3 - b.volume_m3) <=
                             config.volume_tolerance * std::max(a.volume_m3, b.volume_m3);
-    return plan || volume;
+    return SameSides(a, b, config) || volume;
+}
+
+bool Displaced(const FoundChanges::Object& a, const FoundChanges::Object& b,
+               const HistoryConfig& config) {
+    return SameSides(a, b, config) &&
+           (a.box.center() - b.box.center()).norm() > config.same_max_centroid_m;
 }
 
 std::vector<size_t> ObjectTracks::Alive() const {
@@ -161,7 +186,8 @@ ObjectTracks::Pairs ObjectTracks::InPlace(const std::vector<size_t>& alive,
     for (const size_t t : alive) {
         for (size_t o = 0; o < objects.size(); ++o) {
             const Box &a = tracks_[t].last.box, &b = objects[o].box;
-            if (!SamePlace(a, b, config_)) continue;
+            if (!SamePlace(a, b, config_) || Displaced(tracks_[t].last, objects[o], config_))
+                continue;
             const double distance = (a.center() - b.center()).norm();
             pairs.emplace_back(-Iou(a, b) + 1e-3 * distance, t, o);
         }
@@ -182,6 +208,7 @@ ObjectTracks::Pairs ObjectTracks::Parts(const std::vector<size_t>& alive,
         std::optional<std::pair<double, size_t>> best;  // (-share + closeness, track)
         for (const size_t t : alive) {
             const Box& known = tracks_[t].last.box;
+            if (Displaced(tracks_[t].last, objects[o], config_)) continue;  // moved, not a part
             const double share = InsideShare(objects[o].box, known, config_.part_margin_m);
             if (share < config_.part_min_inside) continue;
             const double key = -share + 1e-3 * (known.center() - objects[o].box.center()).norm();
@@ -200,10 +227,16 @@ ObjectTracks::Pairs ObjectTracks::Moved(const std::vector<size_t>& tracks,
                                         const std::vector<double>& seen_empty) const {
     std::vector<std::tuple<double, size_t, size_t>> pairs;
     for (const size_t t : tracks) {
-        if (seen_empty[t] < config_.min_floor_seen) continue;
+        const bool left = seen_empty[t] >= config_.min_floor_seen;
         for (const size_t o : objects) {
             const FoundChanges::Object& object = visit.found.objects[o];
             const Track& track = tracks_[t];
+            // An object of its shape standing partly where it stood is it, moved: two solids
+            // cannot share that space, so its old place needs no floor seen empty.
+            if (!left &&
+                !(Displaced(track.last, object, config_) && Iou(track.last.box, object.box) > 0)) {
+                continue;
+            }
             const double distance = (object.box.center() - track.last.box.center()).norm();
             const bool same_storey =
                 track.storey.empty() || object.storey.empty() || track.storey == object.storey;
