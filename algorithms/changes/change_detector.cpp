@@ -490,16 +490,18 @@ void Detection::MergeParts(std::vector<NewObject>& objects) const {
     objects.resize(kept);
 }
 
-// Step 4's objects that are two walls meeting at a corner, each made an object of its own. The
+// Step 4's objects that are walls meeting at corners, each wall made an object of its own. The
 // visits' annex (host_tools/mapping, visits_benchmark) came out as its west wall and one object
 // of its south and east walls, which matched neither.
 void Detection::SplitCorners(std::vector<NewObject>& objects) const {
     const size_t n = objects.size();
     for (size_t o = 0; o < n; ++o) {
-        auto parts = SplitAtCorner(out.map.xyz, objects[o].points, config.walls);
-        if (!parts) continue;
-        objects[o] = MakeObject(std::move((*parts)[0]));
-        objects.push_back(MakeObject(std::move((*parts)[1])));
+        std::vector<std::vector<uint32_t>> walls =
+            SplitIntoWalls(out.map.xyz, objects[o].points, config.walls);
+        if (walls.empty()) continue;
+        objects[o] = MakeObject(std::move(walls[0]));
+        for (size_t k = 1; k < walls.size(); ++k)
+            objects.push_back(MakeObject(std::move(walls[k])));
     }
 }
 

@@ -118,30 +118,44 @@ std::optional<PlaneFit> FitVerticalPlane(std::span<const Eigen::Vector3f> xyz,
     return fit;
 }
 
-std::optional<std::array<std::vector<uint32_t>, 2>> SplitAtCorner(
-    std::span<const Eigen::Vector3f> xyz, std::span<const uint32_t> points,
-    const WallPiecesConfig& config) {
+std::vector<std::vector<uint32_t>> SplitIntoWalls(std::span<const Eigen::Vector3f> xyz,
+                                                  std::span<const uint32_t> points,
+                                                  const WallPiecesConfig& config) {
+    constexpr int kMaxWalls = 4;  // a room's
     const float tol = float(config.plane_tolerance_m);
     const double n = double(points.size());
-    const std::optional<PlaneFit> first = FitVerticalPlane(xyz, points, tol);
-    if (!first || double(first->on.size()) >= config.min_on_planes * n) return std::nullopt;
-    const std::optional<PlaneFit> second = FitVerticalPlane(xyz, first->off, tol);
-    if (!second || double(first->on.size() + second->on.size()) < config.min_on_planes * n) {
-        return std::nullopt;
-    }
-    const VerticalPlane& p0 = first->plane;
-    const VerticalPlane& p1 = second->plane;
-    if (std::abs(p0.direction.dot(p1.direction)) > CosOfDegrees(config.min_corner_deg)) return std::nullopt;
-    std::array<std::vector<uint32_t>, 2> parts;
-    for (const uint32_t i : points) {
-        parts[p1.Distance(xyz[i]) < p0.Distance(xyz[i]) ? 1 : 0].push_back(i);
-    }
-    for (int k = 0; k < 2; ++k) {
-        const Extent e = ExtentOn(k == 0 ? p0 : p1, xyz, parts[size_t(k)], tol);
+    // Walls peeled off one by one, the one holding most of the rest first.
+    std::vector<VerticalPlane> walls;
+    std::vector<uint32_t> rest(points.begin(), points.end());
+    for (int k = 0; k<kMaxWalls&& double(rest.size())>(1 - config.min_on_planes) * n; ++k) {
+        std::optional<PlaneFit> fit = FitVerticalPlane(xyz, rest, tol);
+        if (!fit) break;
+        // Its extent over all the points: the corner it shares with a wall peeled before is its
+        // too (FZK-Haus's shed: its south wall, 1.64 m, measured 1.47 m without the corner).
+        const Extent e = ExtentOn(fit->plane, xyz, points, tol);
         if (e.Length() < float(config.min_wall_length_m) ||
             e.Height() < float(config.min_wall_height_m)) {
-            return std::nullopt;
+            break;
         }
+        walls.push_back(fit->plane);
+        rest = std::move(fit->off);
+    }
+    if (walls.size() < 2 || double(rest.size()) > (1 - config.min_on_planes) * n) return {};
+    bool corner = false;
+    for (size_t a = 0; a < walls.size(); ++a) {
+        for (size_t b = a + 1; b < walls.size(); ++b) {
+            corner |= std::abs(walls[a].direction.dot(walls[b].direction)) <=
+                      CosOfDegrees(config.min_corner_deg);
+        }
+    }
+    if (!corner) return {};  // parallel faces: a wall seen from both sides, or a thick one
+    std::vector<std::vector<uint32_t>> parts(walls.size());
+    for (const uint32_t i : points) {
+        size_t nearest = 0;
+        for (size_t k = 1; k < walls.size(); ++k) {
+            if (walls[k].Distance(xyz[i]) < walls[nearest].Distance(xyz[i])) nearest = k;
+        }
+        parts[nearest].push_back(i);
     }
     return parts;
 }
@@ -167,7 +181,8 @@ std::optional<WallPiece> AsWallPiece(std::span<const Eigen::Vector3f> xyz,
 std::optional<WallGap> GapBetween(const WallPiece& a, const WallPiece& b,
                                   const WallPiecesConfig& config) {
     const float tol = float(config.plane_tolerance_m);
-    if (std::abs(a.plane.direction.dot(b.plane.direction)) < CosOfDegrees(config.max_parallel_deg)) {
+    if (std::abs(a.plane.direction.dot(b.plane.direction)) <
+        CosOfDegrees(config.max_parallel_deg)) {
         return std::nullopt;
     }
     const Eigen::Vector2f normal = a.plane.Normal();

@@ -2,7 +2,7 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // Step 4's new objects that are walls the model lacks (an annex, a shed, new partitions), seen as
 // DBSCAN cuts them and not as they were built (issue 33, README.md "Walls the model lacks"):
-//   - two walls that meet at a corner are one cluster: SplitAtCorner gives each wall its points;
+//   - walls that meet at corners are one cluster: SplitIntoWalls gives each wall its points;
 //   - one wall seen through two windows, its middle hidden by the model's wall between them, is
 //     two clusters: GapBetween gives the part of their shared plane between them, which the
 //     caller asks the keyframes' range images about (free_space.hpp). A gap no beam went through
@@ -65,11 +65,14 @@ struct PlaneFit {
 std::optional<PlaneFit> FitVerticalPlane(std::span<const Eigen::Vector3f> xyz,
                                          std::span<const uint32_t> points, float tolerance_m);
 
-// The points of two walls meeting at a corner, each wall's apart (every point to the nearer
-// plane), or nothing when xyz[points] are not two such walls.
-std::optional<std::array<std::vector<uint32_t>, 2>> SplitAtCorner(
-    std::span<const Eigen::Vector3f> xyz, std::span<const uint32_t> points,
-    const WallPiecesConfig& config);
+// The points of two to four walls that meet at corners (an L, a U, a room seen from outside),
+// each wall's apart (every point to the nearest plane), or nothing when xyz[points] are not such
+// walls: the walls are peeled off one plane at a time, each at least min_wall_length_m long and
+// min_wall_height_m high, until min_on_planes of the points lie on them; two of them at least
+// min_corner_deg apart.
+std::vector<std::vector<uint32_t>> SplitIntoWalls(std::span<const Eigen::Vector3f> xyz,
+                                                  std::span<const uint32_t> points,
+                                                  const WallPiecesConfig& config);
 
 // An object that is one wall: its plane, the ends of its points on the plane (in plan) and their
 // heights. Nothing when fewer than min_on_planes of its points lie on one plane.

@@ -367,9 +367,10 @@ std::vector<const NewObject*> ObjectsInRoomB(const ChangeResult& r) {
     return found;
 }
 
-// Two new walls meeting at a corner (the visits' annex: its south and east walls were one object,
-// which matched neither) are two objects; a cabinet seen from two sides stays one.
-TEST(ChangeDetector, TwoWallsMeetingAtACornerAreTwoObjectsAndACabinetIsOne) {
+// New walls meeting at corners (the visits' annex: its south and east walls were one object, which
+// matched neither; the held-out Office_A's shed, three walls in a U, one object) are an object
+// each; a cabinet seen from two sides stays one.
+TEST(ChangeDetector, WallsMeetingAtCornersAreAnObjectEachAndACabinetIsOne) {
     const Eigen::Vector3f sensor(9.0f, 1.0f, 1.0f);
     const ChangeResult walls = DetectInRoomB(
         {{true, 4.5f, 9.0f, 11.5f, 0.05f, 2.2f}, {false, 11.5f, 2.0f, 4.5f, 0.05f, 2.2f}}, sensor);
@@ -380,6 +381,11 @@ TEST(ChangeDetector, TwoWallsMeetingAtACornerAreTwoObjectsAndACabinetIsOne) {
         EXPECT_LT(std::min(size.x(), size.y()), 0.15) << "one wall each: " << Describe(walls);
         EXPECT_GT(std::max(size.x(), size.y()), 2.3) << Describe(walls);
     }
+    const ChangeResult u = DetectInRoomB({{true, 4.8f, 8.8f, 11.3f, 0.05f, 2.2f},
+                                          {false, 8.8f, 2.3f, 4.8f, 0.05f, 2.2f},
+                                          {false, 11.3f, 2.3f, 4.8f, 0.05f, 2.2f}},
+                                         Eigen::Vector3f(10.05f, 1.0f, 1.0f));
+    EXPECT_EQ(ObjectsInRoomB(u).size(), 3u) << "a U of three walls: " << Describe(u);
     const ChangeResult cabinet = DetectInRoomB(
         {{true, 4.5f, 10.0f, 11.0f, 0.05f, 2.0f}, {false, 10.0f, 4.5f, 5.0f, 0.05f, 2.0f}}, sensor);
     EXPECT_EQ(ObjectsInRoomB(cabinet).size(), 1u) << Describe(cabinet);
