@@ -12,7 +12,7 @@
 //   4. new objects: points farther than new_object_threshold_m from the model, clustered with
 //      DBSCAN (dbscan.hpp), grown into the band down to band_threshold_m (so the part of an object
 //      near the floor or a wall is not cut off), turned into voxel solids and meshes
-//      (voxel_mesh.hpp); clusters that are two walls meeting at a corner split, and pieces of
+//      (voxel_mesh.hpp); clusters that are walls meeting at corners split per wall, and pieces of
 //      one wall seen apart joined across a gap no keyframe looked through (wall_pieces.hpp);
 //   5. the beams' evidence on every opaque element: rays that agree with it, went through it,
 //      or were occluded in front of it (element_evidence.hpp);

@@ -440,8 +440,8 @@ void AddChangesCommand(CLI::App& app, int& exit_code) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--no-transients", a->no_transients, "skip the free-space check for transients");
     cmd->add_flag("--no-wall-split", a->no_wall_split,
-                  "keep two new walls that meet at a corner (each at least 1.5 m long and high) "
-                  "as one object");
+                  "keep new walls that meet at corners (two to four, each at least 1.5 m long "
+                  "and high: an L, a U) as one object");
     cmd->add_flag("--no-wall-join", a->no_wall_join,
                   "keep the pieces of one new wall apart even where no beam went through the gap "
                   "between them (a wall seen through two windows)");
