@@ -27,6 +27,7 @@ build: configure
 
 # The demo needs the two programs only, not the tests.
 demo: configure
+	@bash toolchain/check-disk.sh 4
 	@cmake --build --preset release -j $(JOBS) --target bimslam bimslam-rig
 	@./build/release/bin/bimslam demo --out $(DEMO_OUT) --overwrite
 
@@ -61,6 +62,7 @@ test: test-release test-asan
 # The `sanitized` tests run in test-asan; Release builds and runs the rest (`make build` and
 # `ctest --preset release` build and run everything, the sanitized tests included).
 test-release: configure
+	@bash toolchain/check-disk.sh 8
 	@cmake --build --preset release -j $(JOBS) --target release_tests
 	@ctest --preset integration -j $(JOBS)
 

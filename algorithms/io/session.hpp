@@ -99,6 +99,13 @@ struct Session {
     std::vector<std::string> notes;
 };
 
+// Why a rig's session may hold no keyframe at all: the rig writes none while its disk has less
+// than session.min_free_mb free (firmware/modules/session_recorder.hpp), and counts them in its
+// summary's keyframes_skipped_disk. Said with every "no keyframes" error.
+inline constexpr const char* kNoKeyframesHint =
+    "a rig writes none while its disk has less than session.min_free_mb free: see its summary's "
+    "keyframes_skipped_disk";
+
 struct SessionReadOptions {
     bool load_clouds = true;
     // Read a session without session.json (cut off by power loss or a full disk) up to its last

@@ -155,9 +155,10 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
     s.odometry = ReadOdometryVerdict(dir);
     const size_t n = s.session.keyframes.size();
     if (n == 0) {
-        throw FileError(StatusCode::kDataLoss, dir.string(), 0,
-                        "holds no keyframes" +
-                            (s.notes.empty() ? std::string() : " (" + s.notes.front() + ")"));
+        throw FileError(
+            StatusCode::kDataLoss, dir.string(), 0,
+            "holds no keyframes (" +
+                (s.notes.empty() ? std::string(io::kNoKeyframesHint) : s.notes.front()) + ")");
     }
     // Descriptors: the session's own when they are the kind the reference uses, else computed.
     const bool compute =

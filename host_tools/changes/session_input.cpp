@@ -27,7 +27,10 @@ SessionInput LoadAnchoredSession(const std::filesystem::path& dir, const Eigen::
              "' frame, not the model's ('bim'): anchor it to the BIM reference session first "
              "(bimslam anchor), then compare the anchored session");
     }
-    if (in.session.keyframes.empty()) fail("the session has no keyframes: nothing to compare");
+    if (in.session.keyframes.empty()) {
+        fail(std::string("the session has no keyframes: nothing to compare (") +
+             io::kNoKeyframesHint + ")");
+    }
     Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
     shift.translation() = -origin_m;
     for (const io::SessionKeyframe& k : in.session.keyframes) {

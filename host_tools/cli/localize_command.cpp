@@ -231,8 +231,9 @@ int Localize(const LocalizeArgs& a) {
     const localization::RigMap map = localization::ReadRigMap(a.map);
     const io::Session s = io::ReadSession(a.session);
     if (s.keyframes.empty()) {
-        throw common::FileError(common::StatusCode::kInvalidArgument, a.session, 0,
-                                "the session has no keyframes");
+        throw common::FileError(
+            common::StatusCode::kInvalidArgument, a.session, 0,
+            std::string("the session has no keyframes (") + io::kNoKeyframesHint + ")");
     }
     const LocalizeRun run = RunRelocaliser(a, map, s);
     fs::create_directories(a.out);
