@@ -52,6 +52,7 @@ json ResultJson(const SessionResult& s) {
                         {"seen_through", h.seen_through},
                         {"contradicted", h.contradicted},
                         {"outweighed", h.outweighed},
+                        {"off_hint", h.off_hint},
                         {"rounds", h.rounds}});
     }
     json e = {{"name", s.name},
@@ -156,6 +157,10 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
                    {"inject_false_loops", config.inject_false_loops},
                    {"model_tolerance_m", config.model_tolerance_m},
                    {"model_tolerance_deg", config.model_tolerance_deg}};
+    if (config.near) {
+        j["config"]["near"] = {config.near->x(), config.near->y()};
+        j["config"]["near_radius_m"] = config.near_radius_m;
+    }
     if (!result.earlier.empty()) {
         j["config"]["earlier_sigma_m"] = config.earlier_sigma_m;
         j["config"]["earlier_sigma_deg"] = config.earlier_sigma_deg;

@@ -38,6 +38,7 @@ std::string AnchoredReason(const std::vector<Evaluation>& ranked, size_t keyfram
     const Hypothesis& next = ranked[1].hypothesis;
     return reason + "the next hypothesis explains " + std::to_string(next.covered) +
            (next.contradicted ? " and is contradicted (" + Percent(next.seen_through) + ")"
+            : next.off_hint   ? " and puts the walk's start off the hint (--near)"
             : next.outweighed ? " and is outweighed by free space (" + Percent(next.seen_through) +
                                     " of rays through the model)"
                               : std::string());
@@ -59,7 +60,7 @@ QueryOutcome AnchoringProblem::AnchorQuery(size_t q, const Target& target) {
         if (progress_) progress_("hypotheses: " + sessions_[q].name, h + 1, cliques.size());
     }
     // Free space marks and ranks the hypotheses; the verdict follows from the best two.
-    evals = Rank(std::move(evals), &out.result);
+    evals = Rank(q, std::move(evals), &out.result);
     Decide(q, evals, &out);
     if (out.result.verdict == Verdict::kAnchored) Accept(evals, sessions_[q].keyframes(), &out);
     return out;
@@ -147,11 +148,11 @@ std::optional<Evaluation> AnchoringProblem::FollowClique(size_t q, const Target&
 
 // Step 4: free space marks the hypotheses and ranks them (RankHypotheses); the result lists them
 // best first.
-std::vector<Evaluation> AnchoringProblem::Rank(std::vector<Evaluation> evals,
+std::vector<Evaluation> AnchoringProblem::Rank(size_t q, std::vector<Evaluation> evals,
                                                SessionResult* res) const {
     std::vector<Hypothesis> hypotheses;
     for (const Evaluation& e : evals) hypotheses.push_back(e.hypothesis);
-    const std::vector<size_t> order = RankHypotheses(hypotheses, config_);
+    const std::vector<size_t> order = RankHypotheses(hypotheses, sessions_[q].poses, config_);
     std::vector<Evaluation> ranked;
     for (size_t i : order) {
         ranked.push_back(std::move(evals[i]));
@@ -194,8 +195,10 @@ void AnchoringProblem::Accept(const std::vector<Evaluation>& ranked, size_t keyf
     std::set<std::pair<size_t, size_t>> accepted_pr;
     std::set<size_t> proximity_keyframes;  // keyframes whose accepted loop is a proximity loop
     for (const LoopRecord& l : best.accepted) {
-        if (l.source != LoopSource::kProximity) accepted_pr.insert({l.query_index, l.target_index});
-        else proximity_keyframes.insert(l.query_index);
+        if (l.source != LoopSource::kProximity)
+            accepted_pr.insert({l.query_index, l.target_index});
+        else
+            proximity_keyframes.insert(l.query_index);
     }
     // A place-recognition loop the final solution dropped (chi-square) is said so on its own
     // record, not listed a second time beside a record that calls it superseded.

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "algorithms/common/status.hpp"
 #include "host_tools/anchor/anchor_pieces.hpp"
@@ -20,14 +22,32 @@ double MeanDistance(const std::vector<Eigen::Isometry3d>& poses, const Eigen::Is
     return poses.empty() ? 0 : sum / double(poses.size());
 }
 
+std::string Metres(double m) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1) << m << " m";
+    return os.str();
+}
+
+std::string Point(const Eigen::Vector2d& p) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(2) << "(" << p.x() << ", " << p.y() << ")";
+    return os.str();
+}
+
 }  // namespace
 
 std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
+                                   const std::vector<Eigen::Isometry3d>& poses,
                                    const AnchorConfig& config) {
-    for (Hypothesis& h : hypotheses) h.contradicted = h.seen_through > config.max_seen_through;
+    for (Hypothesis& h : hypotheses) {
+        h.contradicted = h.seen_through > config.max_seen_through;
+        h.off_hint = config.near && !poses.empty() &&
+                     ((h.anchor * poses.front()).translation().head<2>() - *config.near).norm() >
+                         config.near_radius_m;
+    }
     for (Hypothesis& b : hypotheses) {
         for (const Hypothesis& a : hypotheses) {
-            if (&a == &b || a.contradicted || b.contradicted) continue;
+            if (&a == &b || a.contradicted || b.contradicted || a.off_hint) continue;
             if (double(a.covered) >= config.ambiguity_ratio * double(b.covered) &&
                 FreeSpacePrefers(a, b, config)) {
                 b.outweighed = true;
@@ -36,7 +56,7 @@ std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
     }
     const auto rank = [&](size_t i) {
         const Hypothesis& h = hypotheses[i];
-        return std::make_tuple(!h.contradicted, !h.outweighed, h.covered, h.loops);
+        return std::make_tuple(!h.contradicted, !h.off_hint, !h.outweighed, h.covered, h.loops);
     };
     std::vector<size_t> order(hypotheses.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -63,6 +83,13 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                   std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
         return Verdict::kFailed;
     }
+    if (best.off_hint) {
+        const Eigen::Vector2d at = (best.anchor * poses.front()).translation().head<2>();
+        *reason = "no hypothesis of " + std::to_string(ranked.size()) +
+                  " puts the walk's start within " + Metres(config.near_radius_m) + " of " +
+                  Point(*config.near) + " (--near); the best puts it at " + Point(at);
+        return Verdict::kFailed;
+    }
     const double min_cover = std::max(double(config.min_loops), config.min_coverage * double(n));
     if (double(best.covered) < min_cover || int(best.loops) < config.min_loops) {
         *reason = "the best hypothesis explains " + std::to_string(best.covered) + " of " +
@@ -71,7 +98,8 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                   " keyframes or " + std::to_string(config.min_loops) + " loops";
         return Verdict::kFailed;
     }
-    if (ranked.size() > 1 && !ranked[1].contradicted && !ranked[1].outweighed) {
+    if (ranked.size() > 1 && !ranked[1].contradicted && !ranked[1].off_hint &&
+        !ranked[1].outweighed) {
         const Hypothesis& rival = ranked[1];
         const double dist = MeanDistance(poses, best.anchor, rival.anchor);
         const double turn =

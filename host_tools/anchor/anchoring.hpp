@@ -91,6 +91,9 @@ struct Hypothesis {
     // Another uncontradicted hypothesis explains nearly as many keyframes and free space prefers
     // it decisively (FreeSpacePrefers): not a rival.
     bool outweighed = false;
+    // It puts the query's first keyframe farther than AnchorConfig::near_radius_m from
+    // AnchorConfig::near: set aside, not a rival.
+    bool off_hint = false;
     int rounds = 0;
 };
 
@@ -177,18 +180,22 @@ using Progress = std::function<void(const std::string&, size_t, size_t)>;
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
 
 // Marks each hypothesis contradicted (its keyframes see through the model more than
-// max_seen_through) or outweighed (another uncontradicted one explains at least ambiguity_ratio
-// of its keyframes and FreeSpacePrefers it). Returns their indices best first: uncontradicted,
-// then not outweighed, then by keyframes covered, then by loops.
-std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses, const AnchorConfig& config);
+// max_seen_through), off the hint (config.near given, and it puts the first of the query's
+// keyframes at `poses`, T_local_lidar, farther than near_radius_m from it) or outweighed (another
+// uncontradicted one on the hint explains at least ambiguity_ratio of its keyframes and
+// FreeSpacePrefers it). Returns their indices best first: uncontradicted, then on the hint, then
+// not outweighed, then by keyframes covered, then by loops.
+std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
+                                   const std::vector<Eigen::Isometry3d>& poses,
+                                   const AnchorConfig& config);
 
 // The verdict on a query whose keyframes are at `poses` (T_local_lidar) from its hypotheses
-// ranked best first (RankHypotheses): failed when there is none, when the best is contradicted,
-// or when it explains fewer than max(min_loops, min_coverage of the keyframes) keyframes or has
-// fewer than min_loops loops; ambiguous when the next (neither contradicted nor outweighed)
-// explains at least ambiguity_ratio as many keyframes at an anchor that places them more than
-// distinct_m away on average or turns them more than distinct_deg; anchored otherwise. *reason
-// says why when it is not anchored.
+// ranked best first (RankHypotheses): failed when there is none, when the best is contradicted
+// or off the hint, or when it explains fewer than max(min_loops, min_coverage of the keyframes)
+// keyframes or has fewer than min_loops loops; ambiguous when the next (neither contradicted nor
+// outweighed) (nor off the hint) explains at least ambiguity_ratio as many keyframes at an anchor
+// that places them more than distinct_m away on average or turns them more than distinct_deg;
+// anchored otherwise. *reason says why when it is not anchored.
 Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                       const std::vector<Eigen::Isometry3d>& poses, const AnchorConfig& config,
                       std::string* reason);

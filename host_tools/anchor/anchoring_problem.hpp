@@ -88,7 +88,7 @@ private:
     std::optional<Evaluation> FollowClique(size_t q, const Target& target,
                                            const std::vector<size_t>& clique, int h,
                                            std::vector<LoopRecord>* records);
-    std::vector<Evaluation> Rank(std::vector<Evaluation> evals, SessionResult* res) const;
+    std::vector<Evaluation> Rank(size_t q, std::vector<Evaluation> evals, SessionResult* res) const;
     void Decide(size_t q, const std::vector<Evaluation>& ranked, QueryOutcome* out) const;
     void Accept(const std::vector<Evaluation>& ranked, size_t keyframes, QueryOutcome* out) const;
 

@@ -26,6 +26,7 @@ struct AnchorArgs {
     std::string outliers = "pcm";
     double inject_false_loops = 0;
     double model_tolerance_m = anchor::AnchorConfig{}.model_tolerance_m;
+    std::vector<double> near;  // x y [radius]
     int threads = 0;
     uint64_t seed = 1;
     bool overwrite = false;
@@ -52,6 +53,8 @@ int AnchorMain(const AnchorArgs& a) {
     config.model_tolerance_deg = std::atan2(a.model_tolerance_m, 6.0) * 180.0 / M_PI;
     config.threads = a.threads;
     config.seed = a.seed;
+    if (a.near.size() >= 2) config.near = Eigen::Vector2d(a.near[0], a.near[1]);
+    if (a.near.size() == 3) config.near_radius_m = a.near[2];
     config.Validate();
     if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
         throw common::FileError(common::StatusCode::kAlreadyExists, a.out, 0,
@@ -183,6 +186,13 @@ void AddAnchorCommand(CLI::App& app, int& exit_code) {
                     "the trajectory; 0 trusts the model exactly")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
+    cmd->add_option("--near", args->near,
+                    "X Y [R]: where the walks start, in model metres, when you know it (within R, "
+                    "default 3 m): hypotheses that put a query's first keyframe farther away are "
+                    "set aside. For buildings of identical parts (two dwellings one turned 180 "
+                    "degrees), where a walk in one fits the other as well and is otherwise "
+                    "ambiguous")
+        ->expected(2, 3);
     cmd->add_option("--inject-false-loops", args->inject_false_loops,
                     "Benchmarks: replace this share of the verified loops by wrong pairs")
         ->check(CLI::Range(0.0, 0.95));

@@ -154,13 +154,13 @@ Hypothesis Hyp(size_t covered, size_t loops, const Eigen::Isometry3d& anchor = k
 }
 
 // RankHypotheses then DecideVerdict, as AnchorQuery runs them; *reason gets the reason.
-Verdict Decide(std::vector<Hypothesis> hs, size_t keyframes, std::string* reason = nullptr) {
-    const AnchorConfig& config = Defaults();
-    const std::vector<size_t> order = RankHypotheses(hs, config);
+Verdict Decide(std::vector<Hypothesis> hs, size_t keyframes, std::string* reason = nullptr,
+               const AnchorConfig& config = Defaults()) {
+    const auto s = Walk(keyframes);
+    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, config);
     std::vector<Hypothesis> ranked;
     for (size_t i : order) ranked.push_back(hs[i]);
     std::string why;
-    const auto s = Walk(keyframes);
     const Verdict v = DecideVerdict(ranked, s[1].poses, config, &why);
     if (reason) *reason = why;
     return v;
@@ -286,11 +286,36 @@ TEST(Verdict, AWrongStoreyUnderFivePercentIsOutweighedByFreeSpace) {
               Verdict::kAmbiguous);
 }
 
+TEST(Verdict, AHintOfWhereTheWalkStartsSetsTheTwinPlacementAside) {
+    // Duplex_A: two dwellings, one turned 180 degrees about a point 5 m away; a walk in one fits
+    // both alike.
+    const Eigen::Isometry3d twin = Pose(10, 0, 0, 180) * kAnchor;
+    const std::vector<Hypothesis> both = {Hyp(30, 30, twin, 0.010), Hyp(30, 30, kAnchor, 0.011)};
+    EXPECT_EQ(Decide(both, 40), Verdict::kAmbiguous);
+    // Told where it starts (within 3 m of its true first keyframe): the twin is off the hint.
+    const auto s = Walk(40);
+    const Eigen::Vector2d start = (kAnchor * s[1].poses.front()).translation().head<2>();
+    AnchorConfig config = Defaults();
+    config.near = start + Eigen::Vector2d(2.0, 1.0);
+    std::vector<Hypothesis> hs = both;
+    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, config);
+    EXPECT_TRUE(hs[0].off_hint);
+    EXPECT_FALSE(hs[1].off_hint);
+    EXPECT_EQ(order.front(), 1u);
+    EXPECT_EQ(Decide(both, 40, nullptr, config), Verdict::kAnchored);
+    // A hint that neither fits: failed, saying so (not the best of the two).
+    config.near = start + Eigen::Vector2d(3.5, 0.0);
+    std::string why;
+    EXPECT_EQ(Decide(both, 40, &why, config), Verdict::kFailed);
+    EXPECT_NE(why.find("no hypothesis of 2 puts the walk's start within 3.0 m"), std::string::npos)
+        << why;
+}
+
 TEST(RankHypotheses, MarksAndOrdersByEvidenceThenCoverage) {
     const AnchorConfig& config = Defaults();
     std::vector<Hypothesis> hs = {Hyp(40, 40, kAnchor, 0.09), Hyp(25, 25, kAnchor, 0.04),
                                   Hyp(24, 26, kAnchor, 0.005), Hyp(10, 10, kAnchor, 0.01)};
-    const std::vector<size_t> order = RankHypotheses(hs, config);
+    const std::vector<size_t> order = RankHypotheses(hs, {}, config);
     EXPECT_TRUE(hs[0].contradicted);
     EXPECT_FALSE(hs[1].contradicted);
     EXPECT_TRUE(hs[1].outweighed);  // 24 >= 80 % of 25, and 0.5 % against 4 %
