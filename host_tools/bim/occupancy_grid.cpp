@@ -227,6 +227,8 @@ void GridConfig::Validate() const {
                     "must be in [0, 100) m");
     common::Require(object_height_m > 0 && object_height_m < 10, "GridConfig", "object_height_m",
                     object_height_m, "must be in (0, 10) m");
+    common::Require(region >= 0 && region < 1000, "GridConfig", "region", double(region),
+                    "must be in [0, 1000)");
 }
 
 bool OccupancyGrid::ToCell(const Eigen::Vector2d& p, int* x, int* y) const {
@@ -347,17 +349,29 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
     if (seed_cell != SIZE_MAX) {
         chosen = inside[seed_cell];
     } else {
-        // The largest, counting open cells only (a run of closed cells alone is a facade).
+        // By size, counting open cells only (a run of closed cells alone is a facade); ties in
+        // label order, so the choice is the same on every run.
         std::vector<size_t> sizes;
         for (size_t i = 0; i < g.cells.size(); ++i) {
             if (inside[i] < 0 || closed[i]) continue;
             if (size_t(inside[i]) >= sizes.size()) sizes.resize(size_t(inside[i]) + 1, 0);
             ++sizes[size_t(inside[i])];
         }
+        std::vector<int> order;
         for (int id = 0; id < int(sizes.size()); ++id) {
-            if (sizes[size_t(id)] > 0 && (chosen < 0 || sizes[size_t(id)] > sizes[size_t(chosen)]))
-                chosen = id;
+            if (sizes[size_t(id)] > 0) order.push_back(id);
         }
+        std::stable_sort(order.begin(), order.end(),
+                         [&](int a, int b) { return sizes[size_t(a)] > sizes[size_t(b)]; });
+        for (const int id : order)
+            g.region_areas_m2.push_back(double(sizes[size_t(id)]) * g.resolution * g.resolution);
+        if (!order.empty() && config.region >= int(order.size())) {
+            throw common::Error(
+                StatusCode::kInvalidArgument,
+                model.file + ": storey '" + g.storey + "' has " + std::to_string(order.size()) +
+                    " enclosed free region(s), no region " + std::to_string(config.region + 1));
+        }
+        if (!order.empty()) chosen = order[size_t(config.region)];
     }
     if (chosen < 0) {
         throw common::Error(

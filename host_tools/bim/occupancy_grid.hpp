@@ -32,6 +32,9 @@ struct GridConfig {
     // Free space is what is reachable from this point (metres, model x y); without it, the
     // largest enclosed free region (one not touching the grid's border, i.e. not outdoors).
     std::optional<Eigen::Vector2d> seed;
+    // Without a seed: which enclosed region, by open area, largest first (0). A building of two
+    // dwellings (Duplex_A) has one per dwelling and storey, joined outside only.
+    int region = 0;
 
     void Validate() const;  // throws common::Error naming the field and value
 };
@@ -47,6 +50,9 @@ struct OccupancyGrid {
     double slice_z = 0;                                // height of the slice (m, model z)
     std::vector<Cell> cells;
     std::vector<float> clearance;  // metres from each free cell to the nearest non-free cell
+    // Built without a seed: the open area of every enclosed region of the storey, largest first
+    // (the grid's own is region_areas_m2[GridConfig::region]); with a seed, empty.
+    std::vector<double> region_areas_m2;
 
     Cell At(int x, int y) const { return cells[size_t(y) * width + x]; }
     bool Inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
@@ -59,7 +65,8 @@ struct OccupancyGrid {
 };
 
 // Throws common::Error when the storey index is out of range, or when no enclosed free space is
-// found (a storey with no walls at the slice height, or a seed inside a wall).
+// found (a storey with no walls at the slice height, a seed inside a wall, or fewer enclosed
+// regions than GridConfig::region asks for).
 OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config);
 
 // An object that is not in the model (a scenario's added cabinet, a desk it moved): the cells

@@ -118,6 +118,23 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
         sr.walk_s = path.duration_s;
         report.storeys.push_back(sr);
     }
+    for (const RegionWalk& r : walk.more_regions) {
+        const size_t k = size_t(std::find(walk.storeys.begin(), walk.storeys.end(), r.storey) -
+                                walk.storeys.begin());
+        if (!options.plan_dir.empty()) {
+            OccupancyGrid named = r.grid;  // its own files beside the storey's
+            named.storey += " region " + std::to_string(r.region + 1);
+            WriteStoreyPlan(options.plan_dir, named, r.coverage);
+        }
+        StoreyReport& sr = report.storeys[k];
+        ++sr.regions;
+        sr.rooms += r.coverage.rooms;
+        sr.viewpoints += int(r.coverage.viewpoints.size());
+        sr.unreachable_viewpoints += r.coverage.unreachable_viewpoints;
+        sr.free_area_m2 += double(r.grid.FreeCells()) * r.grid.resolution * r.grid.resolution;
+        sr.walk_m += r.coverage.length_m;
+        sr.walk_s += r.coverage.duration_s;
+    }
     for (const auto& piece : walk.pieces)
         report.walk_s += 1e-9 * double(piece.back().stamp_ns - piece.front().stamp_ns);
     report.flights_walked = walk.flights_walked;

@@ -51,6 +51,7 @@ struct ReferenceSessionOptions {
 
 struct StoreyReport {
     std::string name;
+    int regions = 1;  // enclosed regions walked (reference_walk.hpp)
     int rooms = 0;
     int viewpoints = 0;
     int unreachable_viewpoints = 0;

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
@@ -96,6 +98,88 @@ void Shift(std::vector<io::StampedPose>& poses, int64_t to_first_ns) {
     const int64_t d = to_first_ns - poses.front().stamp_ns;
     for (io::StampedPose& p : poses) p.stamp_ns += d;
 }
+
+std::string Ordinal(int region) {
+    static const char* const kNames[] = {"largest", "second", "third",   "fourth",
+                                         "fifth",   "sixth",  "seventh", "eighth"};
+    return region < 8 ? kNames[region] : std::to_string(region + 1) + "th";
+}
+
+// The walks of one pass: the grid.region-th enclosed region of each of `storeys` (by elevation),
+// joined by the flights that stand in them, appended to w (pieces, segments, flights, notes) a
+// second after its last pose. Returns the storeys walked; from the second region on, a storey
+// whose region gives no walk is left out (said in a note), the largest must give one (throws).
+struct Pass {
+    std::vector<int> storeys;
+    std::vector<OccupancyGrid> grids;
+    std::vector<CoveragePath> coverage;
+};
+
+Pass WalkRegions(const BimModel& model, const std::vector<int>& storeys, const GridConfig& grid,
+                 const PathConfig& path, ReferenceWalk& w) {
+    const bool first = grid.region == 0;
+    std::vector<std::string> graph_notes;
+    const std::optional<BuildingGraph> g = GraphFor(model, storeys, grid, path, &graph_notes);
+    // From the second region on, the graph's problems name every storey without such a region.
+    if (first) w.notes.insert(w.notes.end(), graph_notes.begin(), graph_notes.end());
+    Pass pass;
+    for (const int s : storeys) {
+        try {
+            // The graph's grid of a floor has the stairwell closed: no walk crosses the hole.
+            const bool floor = g && g->grids[size_t(s)].width > 0;
+            OccupancyGrid og = floor ? g->grids[size_t(s)] : BuildOccupancyGrid(model, s, grid);
+            CoveragePath cp = PlanCoveragePath(og, path);
+            pass.storeys.push_back(s);
+            pass.grids.push_back(std::move(og));
+            pass.coverage.push_back(std::move(cp));
+        } catch (const common::Error& e) {
+            if (first) throw;
+            w.notes.push_back("storey '" + model.storeys[size_t(s)].name + "': its " +
+                              Ordinal(grid.region) + " enclosed region is not walked: " + e.what());
+        }
+    }
+    for (size_t k = 0; k < pass.storeys.size(); ++k) {
+        std::vector<io::StampedPose> poses = pass.coverage[k].poses;
+        const bool joined_before = k > 0;
+        std::string why;
+        std::vector<Eigen::Vector3d> way;
+        if (joined_before && g) {
+            way = WayBetween(*g, path, pass.storeys[k - 1], pass.storeys[k],
+                             w.pieces.back().back().translation.head<2>(),
+                             poses.front().translation.head<2>(), &why);
+        }
+        if (way.empty()) {
+            if (joined_before) {
+                w.notes.push_back("storeys '" + model.storeys[size_t(pass.storeys[k - 1])].name +
+                                  "' and '" + model.storeys[size_t(pass.storeys[k])].name +
+                                  "' are not joined in the " + "reference" +
+                                  (first ? "" : " in their " + Ordinal(grid.region) + " regions") +
+                                  " (the stairs are not walked): " +
+                                  (g ? why : "the graph of the building could not be built"));
+            }
+            if (!w.pieces.empty()) Shift(poses, w.pieces.back().back().stamp_ns + 1'000'000'000);
+            w.segments.push_back(
+                {pass.storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
+            w.pieces.push_back(std::move(poses));
+            continue;
+        }
+        const io::StampedPose here = w.pieces.back().back();
+        way.front() = here.translation - Eigen::Vector3d(0, 0, path.sensor_height_m);
+        std::vector<io::StampedPose> join = PosesAlong(way, path, here.stamp_ns, YawOf(here));
+        join.pop_back();  // where the next storey's walk begins
+        for (size_t i = 1; i < way.size(); ++i) w.flight_m += (way[i] - way[i - 1]).norm();
+        ++w.flights_walked;
+        w.segments.push_back(
+            {pass.storeys[k - 1], true, join.front().stamp_ns, join.back().stamp_ns});
+        Shift(poses,
+              join.back().stamp_ns + int64_t(std::llround(path.spacing_m / path.speed_mps * 1e9)));
+        w.segments.push_back(
+            {pass.storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
+        w.pieces.back().insert(w.pieces.back().end(), join.begin(), join.end());
+        w.pieces.back().insert(w.pieces.back().end(), poses.begin(), poses.end());
+    }
+    return pass;
+}
 }  // namespace
 
 const WalkSegment& ReferenceWalk::SegmentAt(int64_t stamp_ns) const {
@@ -111,50 +195,33 @@ ReferenceWalk PlanReferenceWalk(const BimModel& model, std::vector<int> storeys,
     });
     ReferenceWalk w;
     w.storeys = storeys;
-    const std::optional<BuildingGraph> g = GraphFor(model, storeys, grid, path, &w.notes);
-    for (const int s : storeys) {
-        // The graph's grid of a floor has the stairwell closed: no walk crosses the hole.
-        const bool floor = g && g->grids[size_t(s)].width > 0;
-        w.grids.push_back(floor ? g->grids[size_t(s)] : BuildOccupancyGrid(model, s, grid));
-        w.coverage.push_back(PlanCoveragePath(w.grids.back(), path));
-    }
-    for (size_t k = 0; k < storeys.size(); ++k) {
-        std::vector<io::StampedPose> poses = w.coverage[k].poses;
-        if (k == 0) {
-            w.segments.push_back(
-                {storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
-            w.pieces.push_back(std::move(poses));
-            continue;
+    GridConfig largest = grid;
+    largest.region = 0;
+    Pass pass = WalkRegions(model, storeys, largest, path, w);
+    w.grids = std::move(pass.grids);
+    w.coverage = std::move(pass.coverage);
+    // The other regions, second largest first; a seed makes one region of whatever it reaches.
+    for (int r = 1; r < kMaxWalkedRegions && !grid.seed; ++r) {
+        std::vector<int> at;
+        for (size_t k = 0; k < storeys.size(); ++k) {
+            const std::vector<double>& areas = w.grids[k].region_areas_m2;
+            if (int(areas.size()) > r && areas[size_t(r)] >= kMinWalkedRegionM2)
+                at.push_back(storeys[k]);
         }
-        const io::StampedPose here = w.pieces.back().back();
-        std::string why;
-        std::vector<Eigen::Vector3d> way;
-        if (g) {
-            way = WayBetween(*g, path, storeys[k - 1], storeys[k], here.translation.head<2>(),
-                             poses.front().translation.head<2>(), &why);
+        if (at.empty()) break;
+        GridConfig other = grid;
+        other.region = r;
+        pass = WalkRegions(model, at, other, path, w);
+        for (size_t k = 0; k < pass.storeys.size(); ++k) {
+            const OccupancyGrid& og = pass.grids[k];
+            std::ostringstream area;
+            area << std::fixed << std::setprecision(1) << og.region_areas_m2[size_t(r)];
+            w.notes.push_back("storey '" + og.storey + "': its " + Ordinal(r) +
+                              " enclosed region (" + area.str() +
+                              " m2, joined to the largest outside only) is walked too");
+            w.more_regions.push_back(
+                {pass.storeys[k], r, std::move(pass.grids[k]), std::move(pass.coverage[k])});
         }
-        if (way.empty()) {
-            w.notes.push_back("storeys '" + model.storeys[size_t(storeys[k - 1])].name + "' and '" +
-                              model.storeys[size_t(storeys[k])].name +
-                              "' are not joined in the reference (the stairs are not walked): " +
-                              (g ? why : "the graph of the building could not be built"));
-            Shift(poses, here.stamp_ns + 1'000'000'000);
-            w.segments.push_back(
-                {storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
-            w.pieces.push_back(std::move(poses));
-            continue;
-        }
-        way.front() = here.translation - Eigen::Vector3d(0, 0, path.sensor_height_m);
-        std::vector<io::StampedPose> join = PosesAlong(way, path, here.stamp_ns, YawOf(here));
-        join.pop_back();  // where the next storey's walk begins
-        for (size_t i = 1; i < way.size(); ++i) w.flight_m += (way[i] - way[i - 1]).norm();
-        ++w.flights_walked;
-        w.segments.push_back({storeys[k - 1], true, join.front().stamp_ns, join.back().stamp_ns});
-        Shift(poses,
-              join.back().stamp_ns + int64_t(std::llround(path.spacing_m / path.speed_mps * 1e9)));
-        w.segments.push_back({storeys[k], false, poses.front().stamp_ns, poses.back().stamp_ns});
-        w.pieces.back().insert(w.pieces.back().end(), join.begin(), join.end());
-        w.pieces.back().insert(w.pieces.back().end(), poses.begin(), poses.end());
     }
     return w;
 }

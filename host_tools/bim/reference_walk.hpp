@@ -8,6 +8,11 @@
 // walked one after the other as before (a second apart, "the stairs are not walked"), with a note
 // naming the storeys and the reason.
 //
+// A storey may have several enclosed regions joined outside only (Duplex_A's two dwellings, each
+// with its own stair): the largest of each storey is walked first, as above; then the second
+// largest of each storey that has one of kMinWalkedRegionM2 or more, joined by the flights that
+// stand in them, and so on. A session walked in any of them then finds reference keyframes there.
+//
 // The flights are walked with a person's limits (StairLimits{}): the reference is cast from the
 // model, no platform climbs it; what matters is that its keyframes lie where a walk can pass.
 #pragma once
@@ -31,10 +36,24 @@ struct WalkSegment {
     int64_t end_ns = 0;
 };
 
+// Enclosed regions smaller than this get no walk of their own: a shaft, a duct, a closet whose
+// door the model lacks. At most kMaxWalkedRegions regions of a storey are walked.
+inline constexpr double kMinWalkedRegionM2 = 10.0;
+inline constexpr int kMaxWalkedRegions = 8;
+
+// A walk over a storey's enclosed region other than its largest.
+struct RegionWalk {
+    int storey = -1;  // model storey
+    int region = 1;   // GridConfig::region: 1 the second largest, ...
+    OccupancyGrid grid;
+    CoveragePath coverage;
+};
+
 struct ReferenceWalk {
-    std::vector<int> storeys;            // in the order walked (by elevation)
-    std::vector<OccupancyGrid> grids;    // one per walked storey, same order
-    std::vector<CoveragePath> coverage;  // one per walked storey, same order
+    std::vector<int> storeys;              // in the order walked (by elevation)
+    std::vector<OccupancyGrid> grids;      // one per walked storey, same order: its largest region
+    std::vector<CoveragePath> coverage;    // one per walked storey, same order
+    std::vector<RegionWalk> more_regions;  // the storeys' other regions walked, after those
     // The walk in connected pieces (a new piece where storeys are not joined), one clock.
     std::vector<std::vector<io::StampedPose>> pieces;
     std::vector<WalkSegment> segments;  // in time order

@@ -3,6 +3,7 @@
 #include "algorithms/common/stopwatch.hpp"
 // bimslam bim plan: a storey's occupancy grid and coverage walk.
 // bimslam bim2session: the reference session of a building (paper, Step 1).
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/lidar_from_metadata.hpp"
 #include "host_tools/bim/reference_session.hpp"
+#include "host_tools/bim/reference_walk.hpp"
 #include "host_tools/cli/command.hpp"
 
 namespace bimslam::cli {
@@ -105,9 +107,21 @@ int Plan(PlanArgs& a) {
                   << " viewpoints (" << path.unreachable_viewpoints << " unreachable), walk "
                   << path.length_m << " m, " << path.duration_s << " s at " << a.plan.path.speed_mps
                   << " m/s, clearance >= " << std::setprecision(2) << path.min_clearance_m
-                  << " m\n         " << stem << ".{pgm,yaml,png}, " << stem << "_path.{png,tum}\n";
+                  << " m\n";
+        // The regions a reference session walks, and how many pockets are too small for it.
+        const std::vector<double>& regions = grid.region_areas_m2;
+        const auto walked = size_t(std::count_if(
+            regions.begin(), regions.end(), [](double r) { return r >= bim::kMinWalkedRegionM2; }));
+        if (walked > 1) {
+            std::cout << "         " << walked << " enclosed regions of " << bim::kMinWalkedRegionM2
+                      << " m2 or more, each walked by bim2session (this plan walks the first):";
+            for (size_t i = 0; i < walked; ++i) std::cout << " " << regions[i];
+            std::cout << " m2\n";
+        }
+        std::cout << "         " << stem << ".{pgm,yaml,png}, " << stem << "_path.{png,tum}\n";
         summary.push_back({{"storey", grid.storey},
                            {"free_area_m2", area},
+                           {"region_areas_m2", grid.region_areas_m2},
                            {"rooms", path.rooms},
                            {"viewpoints", path.viewpoints.size()},
                            {"unreachable_viewpoints", path.unreachable_viewpoints},
@@ -164,9 +178,10 @@ int ToSession(SessionArgs& a) {
     std::cerr << "\r";
     const double total_s = common::SecondsSince(t0);
     for (const auto& s : r.storeys) {
-        std::cout << std::setprecision(1) << "storey   '" << s.name << "': " << s.rooms
-                  << " rooms, " << s.viewpoints << " viewpoints, walk " << s.walk_m << " m ("
-                  << s.walk_s << " s), " << s.keyframes << " keyframes\n";
+        std::cout << std::setprecision(1) << "storey   '" << s.name << "': "
+                  << (s.regions > 1 ? std::to_string(s.regions) + " enclosed regions, " : "")
+                  << s.rooms << " rooms, " << s.viewpoints << " viewpoints, walk " << s.walk_m
+                  << " m (" << s.walk_s << " s), " << s.keyframes << " keyframes\n";
     }
     if (r.storeys.size() > 1) {
         std::cout << "stairs   " << r.flights_walked << " of " << r.storeys.size() - 1

@@ -10,6 +10,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "host_tools/bim/coverage_path.hpp"
+#include "host_tools/bim/reference_walk.hpp"
 #include "host_tools/simulate/world.hpp"
 
 namespace bimslam::simulate {
@@ -86,6 +87,26 @@ std::vector<std::string> PutObstacles(bim::OccupancyGrid& grid,
     return notes;
 }
 
+// A walk that starts inside covers the enclosed region it starts in: the storey's largest, or
+// another of kMinWalkedRegionM2 or more (Duplex_A's second dwelling), whose grid then replaces
+// `grid`. Returns the region (GridConfig::region).
+int RegionOfStart(const bim::BimModel& model, int storey, const bim::GridConfig& gc,
+                  const Eigen::Vector2d& start, bim::OccupancyGrid& grid) {
+    if (IsFree(grid, start)) return gc.region;
+    const std::vector<double> areas = grid.region_areas_m2;
+    for (int r = 0; r < int(areas.size()) && r < bim::kMaxWalkedRegions; ++r) {
+        if (r == gc.region || areas[size_t(r)] < bim::kMinWalkedRegionM2) continue;
+        bim::GridConfig other = gc;
+        other.region = r;
+        bim::OccupancyGrid g = bim::BuildOccupancyGrid(model, storey, other);
+        if (IsFree(g, start)) {
+            grid = std::move(g);
+            return r;
+        }
+    }
+    return gc.region;  // outside, or in a wall: said where the walk is planned
+}
+
 }  // namespace
 
 bim::GridConfig GridConfigFor(const bim::BimModel& plan, const Scenario& s) {
@@ -159,8 +180,11 @@ Walk PlanWalk(const bim::BimModel& model_in, int storey, const Scenario& s) {
                                      : std::nullopt;
     const bim::BimModel& model = opened ? *opened : model_in;
     Walk w;
-    const bim::GridConfig gc = GridConfigFor(model, s);
+    bim::GridConfig gc = GridConfigFor(model, s);
     w.grid = bim::BuildOccupancyGrid(model, storey, gc);
+    if (s.path.start && s.platform != Platform::kVehicle) {
+        gc.region = RegionOfStart(model, storey, gc, s.path.start->xy, w.grid);
+    }
     const std::vector<Obstacle> obstacles = WalkObstacles(model_in, s.edits);
     if (!opened) {
         w.notes = PutObstacles(w.grid, obstacles, gc.object_height_m);

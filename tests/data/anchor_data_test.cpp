@@ -4,7 +4,9 @@
 // it (simulate, odometry, bim2session, anchor, evaluate): Duplex_A's Go1 walk of seed 1, whose
 // last 14 keyframes register into two basins 31 cm apart along a wall. The anchoring used to put
 // 9 of them into the wrong one and break the (right) odometry there: 9.0 cm RMSE, 31.8 cm max,
-// reported anchored (host_tools/anchor/README.md, "Two registration basins"). Skips, saying so,
+// reported anchored (host_tools/anchor/README.md, "Two registration basins"). Duplex_A's two
+// dwellings are one turned 180 degrees: since the reference walks both (stop 68), the walk in one
+// is ambiguous, as it must be, and anchored when told where it starts (--near). Skips, saying so,
 // when the model is absent.
 #include <gtest/gtest.h>
 
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "algorithms/io/trajectory.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace bimslam {
@@ -37,11 +40,25 @@ TEST(AnchorData, ADuplexGo1WalkIsNotPulledIntoAWallsSecondBasin) {
         " -o " + cap.string());
     Cli("odometry " + cap.string() + " -o " + ses.string());
     Cli("bim2session " + ifc.string() + " -o " + ref.string());
-    const nlohmann::json anchor = nlohmann::json::parse(Cli(
-        "anchor --reference " + ref.string() + " --query " + ses.string() + " -o " + out.string() +
-        " --json"));
+    // Alone, the walk fits both dwellings: ambiguous, the rival 180 degrees off, exit 1.
+    const std::string anchor_args =
+        "anchor --reference " + ref.string() + " --query " + ses.string() + " --json -o ";
+    const auto alone = test::RunCommand(kCli + " " + anchor_args + (tmp / "alone").string());
+    EXPECT_EQ(alone.exit_code, 1) << alone.err;
+    const nlohmann::json alone_json = nlohmann::json::parse(alone.out);
+    const nlohmann::json& a = alone_json.at("sessions").at(0);
+    EXPECT_EQ(a.at("verdict"), "ambiguous") << a.at("reason");
+    EXPECT_NE(a.at("reason").get<std::string>().find("179."), std::string::npos) << a.at("reason");
+    // Told where it starts (the ground truth's first pose, within the default 3 m): anchored.
+    const std::vector<io::StampedPose> truth = io::ReadTum(cap / "ground_truth.tum");
+    ASSERT_FALSE(truth.empty());
+    const Eigen::Vector3d start = truth.front().translation;
+    const nlohmann::json anchor =
+        nlohmann::json::parse(Cli(anchor_args + out.string() + " --near " +
+                                  std::to_string(start.x()) + " " + std::to_string(start.y())));
     const nlohmann::json& s = anchor.at("sessions").at(0);
     ASSERT_EQ(s.at("verdict"), "anchored") << s.at("reason");
+    EXPECT_TRUE(s.at("hypotheses").at(1).at("off_hint").get<bool>());
     // The solution keeps the odometry whole: no trusted edge torn to follow a group of loops
     // (anchor.json lists odometry_breaks only when there are some).
     EXPECT_FALSE(s.contains("odometry_breaks")) << s.at("odometry_breaks").dump();

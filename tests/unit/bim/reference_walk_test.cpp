@@ -2,7 +2,8 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // The reference session's walk over every storey (host_tools/bim/reference_walk.hpp): on the
 // sample office, one connected walk up its flight, with keyframes on it; the hall's three storeys
-// joined by its two flights; without the flight's geometry, the storeys walked apart with a note.
+// joined by its two flights; without the flight's geometry, the storeys walked apart with a note;
+// a region joined to no other (a room walled up) walked as a piece of its own.
 #include "host_tools/bim/reference_walk.hpp"
 
 #include <gtest/gtest.h>
@@ -109,6 +110,72 @@ TEST(ReferenceWalk, StoreysThatNoFlightJoinsAreWalkedApartWithANote) {
     EXPECT_NE(all.find("storeys 'Ground Floor' and 'First Floor' are not joined in the reference"),
               std::string::npos)
         << all;
+}
+
+// The sample office with office 0.01's only door walled up: the IfcRelVoidsElement of the door's
+// opening removed, so the wall is whole. The office is then an enclosed region of its own on the
+// ground floor, joined to the rest by nothing (as Duplex_A's two dwellings are joined outside
+// only).
+std::string OfficeWithARoomWalledUp() {
+    std::string text = SampleBuildingIfc();
+    const std::regex door(R"(#(\d+)=IFCDOOR\('[^']*',#\d+,'Door 0\.01-1')");
+    std::smatch d;
+    EXPECT_TRUE(std::regex_search(text, d, door));
+    const std::regex fills("IFCRELFILLSELEMENT\\('[^']*',#\\d+,\\$,\\$,#(\\d+),#" + d[1].str() +
+                           "\\)");
+    std::smatch f;
+    EXPECT_TRUE(std::regex_search(text, f, fills));
+    const std::regex voids("#\\d+=IFCRELVOIDSELEMENT\\('[^']*',#\\d+,\\$,\\$,#\\d+,#" + f[1].str() +
+                           "\\);\n");
+    const std::string walled = std::regex_replace(text, voids, "");
+    EXPECT_LT(walled.size(), text.size()) << "the opening's void";
+    return walled;
+}
+
+TEST(ReferenceWalk, AnEnclosedRegionJoinedToNoOtherIsWalkedAsAPieceOfItsOwn) {
+    const BimModel model = ParseIfc("office.ifc", OfficeWithARoomWalledUp());
+    const ReferenceWalk w = WalkAll(model);
+    // The ground floor's regions: the building, then the walled-up office (about 28 m2).
+    ASSERT_GE(w.grids[0].region_areas_m2.size(), 2u);
+    EXPECT_GT(w.grids[0].region_areas_m2[1], kMinWalkedRegionM2);
+    ASSERT_EQ(w.more_regions.size(), 1u);
+    const RegionWalk& r = w.more_regions[0];
+    EXPECT_EQ(r.storey, 0);
+    EXPECT_EQ(r.region, 1);
+    EXPECT_EQ(w.flights_walked, 1u) << "the storeys are still joined by the flight";
+    // Two pieces: the building up its flight, then the office, a second later, every pose of it
+    // on the office's free cells and none on the first walk's.
+    ASSERT_EQ(w.pieces.size(), 2u);
+    EXPECT_GE(w.pieces[1].front().stamp_ns, w.pieces[0].back().stamp_ns + 1'000'000'000);
+    ExpectContinuous(w.pieces[1], 0.25);
+    for (const io::StampedPose& p : w.pieces[1]) {
+        int x, y;
+        ASSERT_TRUE(r.grid.ToCell(p.translation.head<2>(), &x, &y));
+        ASSERT_EQ(r.grid.At(x, y), Cell::kFree);
+        ASSERT_TRUE(w.grids[0].ToCell(p.translation.head<2>(), &x, &y));
+        ASSERT_NE(w.grids[0].At(x, y), Cell::kFree);
+    }
+    EXPECT_EQ(w.SegmentAt(w.pieces[1].back().stamp_ns).storey, 0);
+    std::string all;
+    for (const std::string& n : w.notes) all += n + "\n";
+    EXPECT_NE(all.find("storey 'Ground Floor': its second enclosed region"), std::string::npos)
+        << all;
+    // The reference session counts it on its storey.
+    test::TempDir tmp;
+    ReferenceSessionOptions o;
+    o.lidar = simulation::LidarModel::DefaultOs1_32(256);
+    const ReferenceSessionReport rep = WriteReferenceSession(model, "ab12", tmp / "s", o);
+    ASSERT_EQ(rep.storeys.size(), 2u);
+    EXPECT_EQ(rep.storeys[0].regions, 2);
+    EXPECT_EQ(rep.storeys[1].regions, 1);
+}
+
+TEST(ReferenceWalk, SmallPocketsGetNoWalkOfTheirOwn) {
+    const ReferenceWalk w = WalkAll(SampleOffice());  // pockets of 1.4 m2 and less
+    ASSERT_GE(w.grids[0].region_areas_m2.size(), 2u);
+    EXPECT_LT(w.grids[0].region_areas_m2[1], kMinWalkedRegionM2);
+    EXPECT_TRUE(w.more_regions.empty());
+    EXPECT_EQ(w.pieces.size(), 1u);
 }
 
 TEST(ReferenceWalk, OneStoreyIsItsCoverageWalk) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // The planned walk: a vehicle's outdoor loop (planned on the outdoor grid, corners rounded to its
-// turning radius, a closed loop that starts over) and RoundCorners' geometry.
+// turning radius, a closed loop that starts over), RoundCorners' geometry, and what a Go1's walk
+// goes around, through or into.
 #include "host_tools/simulate/walk.hpp"
 
 #include <gtest/gtest.h>
@@ -260,6 +261,25 @@ TEST(Go1Walk, EntersAnAnnexBuiltOutsideThroughADoorOnlyWithWalkThrough) {
     bool in_annex = false;
     for (const Eigen::Vector2d& p : PlanWalk(model, 0, s).points) in_annex |= p.x() > 12.3;
     EXPECT_TRUE(in_annex);
+}
+
+TEST(Go1Walk, ACoverageWalkCoversTheEnclosedRegionItStartsIn) {
+    // The synthetic storey with the south-east room's door walled up: the room (x 6..12, y
+    // 0..3.5, about 19 m2) is an enclosed region joined to the rest by nothing, as Duplex_A's
+    // second dwelling is.
+    bim::BimModel model = bim::test_floor::Floor();
+    bim::test_floor::Wall(model, 8, 3.5, 9, 3.5);
+    const Eigen::AlignedBox2d room(Eigen::Vector2d(6.1, 0.1), Eigen::Vector2d(11.9, 3.4));
+    Scenario s = DefaultScenario(Platform::kGo1);
+    const Walk largest = PlanWalk(model, 0, s);
+    ASSERT_EQ(largest.grid.region_areas_m2.size(), 2u);
+    EXPECT_GT(largest.grid.region_areas_m2[1], 10.0);
+    for (const Eigen::Vector2d& p : largest.points) ASSERT_FALSE(room.contains(p)) << p.transpose();
+    s.path.start = Pose2d{{9.0, 1.75}, 0.0};
+    const Walk in_room = PlanWalk(model, 0, s);
+    EXPECT_FALSE(in_room.starts_outside);
+    for (const Eigen::Vector2d& p : in_room.points) ASSERT_TRUE(room.contains(p)) << p.transpose();
+    EXPECT_GE(in_room.points.size(), 2u);  // from the start to the room's one viewpoint
 }
 
 }  // namespace bimslam::simulate
