@@ -118,8 +118,19 @@ void TrajectoryTrust::Add(size_t scan, double t_s, uint32_t flags, uint32_t chec
         cut_run_ = (cut_run_ > 0 && scan == last_cut_scan_ + 1) ? cut_run_ + 1 : 1;
         last_cut_scan_ = scan;
     }
+    // The gyro alone turns the pose and keeps the velocity: kMaxGyroBridgedS in a row at most.
+    const bool legs = (flags & odometry::kBodyPriorUsed) != 0;
+    const bool gyro = !legs && (flags & odometry::kImuUsed) != 0;
+    if (gyro) {
+        const bool next = gyro_run_last_ != SIZE_MAX && scan == gyro_run_last_ + 1;
+        if (!next) gyro_run_first_s_ = t_s;
+        gyro_run_last_ = scan;
+    } else {
+        gyro_run_last_ = SIZE_MAX;
+    }
+    const bool within = legs || (gyro && t_s - gyro_run_first_s_ <= kMaxGyroBridgedS);
     if (((reg_failed && !check_failed) || cut_short) && (!cut || cut_run_ <= kMaxBridgedCuts) &&
-        (flags & (odometry::kImuUsed | odometry::kBodyPriorUsed)) != 0) {
+        within) {
         ++bridged_;
         bridged_over_budget_ += cut ? 1 : 0;
         return;

@@ -117,6 +117,30 @@ TEST(TrajectoryTrust, AScanTheBudgetCutIsBridgedByAMeasuredPriorAndSaysSo) {
               nlohmann::json({"registration failed", "cut by the budget", "high residual"}));
 }
 
+// The gyro alone (hand-held: no legs) turns the pose and keeps the velocity: it bridges
+// kMaxGyroBridgedS in a row at most, then the scans are a failed stretch. The legs measure the
+// motion and bridge any run; a scan registered between two runs starts a new one.
+TEST(TrajectoryTrust, TheGyroAloneBridgesASecondInARowTheLegsAnyRun) {
+    const auto t_s = [](size_t i) { return 0.125 * double(i); };  // 8 Hz, exact in binary
+    TrajectoryTrust gyro;
+    for (size_t i = 100; i < 125; ++i) gyro.Add(i, t_s(i), kRegistrationFailed | kImuUsed, 0);
+    EXPECT_FALSE(gyro.trusted());
+    EXPECT_EQ(gyro.bridged_by_prior(), 9u);  // 12.5 .. 13.5 s
+    ASSERT_EQ(gyro.stretches().size(), 1u);
+    EXPECT_EQ(gyro.stretches()[0].first_scan, 109u);
+    EXPECT_EQ(gyro.stretches()[0].failed, 16u);
+    TrajectoryTrust legs;
+    for (size_t i = 100; i < 125; ++i)
+        legs.Add(i, t_s(i), kRegistrationFailed | kImuUsed | kBodyPriorUsed, 0);
+    EXPECT_TRUE(legs.trusted());
+    EXPECT_EQ(legs.bridged_by_prior(), 25u);
+    TrajectoryTrust apart;  // runs of 7 scans (0.75 s), a registered scan between them
+    for (size_t i = 100; i < 132; ++i)
+        apart.Add(i, t_s(i), i % 8 == 7 ? kImuUsed : kRegistrationFailed | kImuUsed, 0);
+    EXPECT_TRUE(apart.trusted());
+    EXPECT_EQ(apart.bridged_by_prior(), 28u);
+}
+
 // Scans blind to the height (with the IMU) leave it to the accelerometers' dead reckoning: a run
 // longer than kMaxHeightUnseenS is said, with where it was; shorter runs, however many, are not.
 // Neither untrusts the run: anchoring the whole walk measured better than in pieces there.
