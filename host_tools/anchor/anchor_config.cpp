@@ -40,8 +40,6 @@ void AnchorConfig::Validate() const {
             model_tolerance_m, "must be in [0, 1] m");
     Require(model_tolerance_deg >= 0 && model_tolerance_deg <= 10, c, "model_tolerance_deg",
             model_tolerance_deg, "must be in [0, 10] degrees");
-    Require(near_radius_m > 0 && near_radius_m <= 1000, c, "near_radius_m", near_radius_m,
-            "must be in (0, 1000] m");
     Require(earlier_sigma_m > 0, c, "earlier_sigma_m", earlier_sigma_m, "must be positive");
     Require(earlier_sigma_deg > 0, c, "earlier_sigma_deg", earlier_sigma_deg, "must be positive");
     Require(earlier_spacing_m >= 0, c, "earlier_spacing_m", earlier_spacing_m,

@@ -3,9 +3,7 @@
 // The parameters of multi-session anchoring (anchoring.hpp), with the reasons for their defaults.
 #pragma once
 
-#include <Eigen/Core>
 #include <cstdint>
-#include <optional>
 #include <string_view>
 
 #include "algorithms/localization/loop_rules.hpp"
@@ -96,14 +94,6 @@ struct AnchorConfig : localization::LoopRules {
     // Such breaks are mended by dropping the loops on their wrong side (break_repair.hpp). Off:
     // reported only (benchmarks compare the two).
     bool repair_odometry_breaks = true;
-
-    // Where the walk starts, when the user knows (model x y, m): a hypothesis that puts the
-    // query's first keyframe farther than near_radius_m from it is set aside (Hypothesis::
-    // off_hint), never a rival. For buildings with identical parts: Duplex_A's two dwellings are
-    // one turned 180 degrees, and a walk in one fits the other as well (README.md, "Identical
-    // parts"). Without it, such a walk is ambiguous.
-    std::optional<Eigen::Vector2d> near;
-    double near_radius_m = 3.0;
 
     // Verdict.
     int min_loops = 5;             // loops of the best hypothesis for "anchored"

@@ -97,6 +97,7 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
         e["dir"] = in.dir.string();
         e["notes"] = in.notes;
         e["odometry_verdict"] = in.odometry.verdict.empty() ? "not judged" : in.odometry.verdict;
+        if (in.start) e["near"] = {in.start->xy.x(), in.start->xy.y(), in.start->radius_m};
         if (!s.untrusted.empty()) {
             json stretches = json::array();
             for (const OdometryStretch& o : s.untrusted) {
@@ -157,10 +158,6 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
                    {"inject_false_loops", config.inject_false_loops},
                    {"model_tolerance_m", config.model_tolerance_m},
                    {"model_tolerance_deg", config.model_tolerance_deg}};
-    if (config.near) {
-        j["config"]["near"] = {config.near->x(), config.near->y()};
-        j["config"]["near_radius_m"] = config.near_radius_m;
-    }
     if (!result.earlier.empty()) {
         j["config"]["earlier_sigma_m"] = config.earlier_sigma_m;
         j["config"]["earlier_sigma_deg"] = config.earlier_sigma_deg;

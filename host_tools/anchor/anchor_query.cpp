@@ -152,7 +152,8 @@ std::vector<Evaluation> AnchoringProblem::Rank(size_t q, std::vector<Evaluation>
                                                SessionResult* res) const {
     std::vector<Hypothesis> hypotheses;
     for (const Evaluation& e : evals) hypotheses.push_back(e.hypothesis);
-    const std::vector<size_t> order = RankHypotheses(hypotheses, sessions_[q].poses, config_);
+    const std::vector<size_t> order =
+        RankHypotheses(hypotheses, sessions_[q].poses, config_, sessions_[q].start);
     std::vector<Evaluation> ranked;
     for (size_t i : order) {
         ranked.push_back(std::move(evals[i]));
@@ -166,7 +167,8 @@ std::vector<Evaluation> AnchoringProblem::Rank(size_t q, std::vector<Evaluation>
 void AnchoringProblem::Decide(size_t q, const std::vector<Evaluation>& ranked,
                               QueryOutcome* out) const {
     SessionResult& res = out->result;
-    res.verdict = DecideVerdict(res.hypotheses, sessions_[q].poses, config_, &res.reason);
+    res.verdict =
+        DecideVerdict(res.hypotheses, sessions_[q].poses, config_, &res.reason, sessions_[q].start);
     if (ranked.empty()) {
         res.reason = "no set of at least " + std::to_string(config_.min_clique) +
                      " mutually consistent loops among " + std::to_string(res.verified) +

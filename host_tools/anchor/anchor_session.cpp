@@ -137,6 +137,12 @@ void ReadClouds(AnchorSession* session, const LoadOptions& options, bool compute
 
 }  // namespace
 
+void StartHint::Validate() const {
+    common::Require(radius_m > 0 && radius_m <= 1000, "StartHint", "radius_m", radius_m,
+                    "must be in (0, 1000] m");
+    common::Require(xy.allFinite(), "StartHint", "xy", xy.x(), "must be finite");
+}
+
 AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options) {
     AnchorSession s;
     s.dir = dir;

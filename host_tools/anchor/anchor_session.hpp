@@ -13,6 +13,7 @@
 
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,17 @@ namespace bimslam::anchor {
 inline constexpr double kDefaultEdgeSigmaPerMetre = 0.02;    // m per m
 inline constexpr double kDefaultEdgeSigmaDegPerMetre = 0.5;  // deg per m
 inline constexpr double kDefaultEdgeSigmaFloor = 0.01;       // m (and 0.25 deg)
+
+// Where a walk starts, when the user knows (model x y, m; `--near X Y [R]`): a hypothesis that
+// puts the session's first keyframe farther than radius_m from it is set aside (Hypothesis::
+// off_hint), never a rival. For buildings of identical parts: Duplex_A's two dwellings are one
+// turned 180 degrees, and a walk in one fits the other as well (README.md, "Identical parts");
+// without it, such a walk is ambiguous.
+struct StartHint {
+    Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+    double radius_m = 3.0;
+    void Validate() const;  // throws common::Error naming the radius
+};
 
 struct AnchorSession {
     std::string name;  // the folder's name
@@ -53,6 +65,9 @@ struct AnchorSession {
     // The keyframes' indices in the session's folder, once KeepKeyframes chose some (empty: all,
     // in order): for their clouds' files and the loops' target_index.
     std::vector<size_t> keyframe_ids;
+    // A query's start, when given; a piece of a split session has it only when it holds the
+    // session's first keyframe (pieces.hpp).
+    std::optional<StartHint> start;
     size_t keyframes() const { return poses.size(); }
     size_t KeyframeId(size_t k) const { return keyframe_ids.empty() ? k : keyframe_ids[k]; }
 };

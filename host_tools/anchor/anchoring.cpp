@@ -38,12 +38,13 @@ std::string Point(const Eigen::Vector2d& p) {
 
 std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
                                    const std::vector<Eigen::Isometry3d>& poses,
-                                   const AnchorConfig& config) {
+                                   const AnchorConfig& config,
+                                   const std::optional<StartHint>& start) {
     for (Hypothesis& h : hypotheses) {
         h.contradicted = h.seen_through > config.max_seen_through;
-        h.off_hint = config.near && !poses.empty() &&
-                     ((h.anchor * poses.front()).translation().head<2>() - *config.near).norm() >
-                         config.near_radius_m;
+        h.off_hint = start && !poses.empty() &&
+                     ((h.anchor * poses.front()).translation().head<2>() - start->xy).norm() >
+                         start->radius_m;
     }
     for (Hypothesis& b : hypotheses) {
         for (const Hypothesis& a : hypotheses) {
@@ -67,7 +68,7 @@ std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
 
 Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                       const std::vector<Eigen::Isometry3d>& poses, const AnchorConfig& config,
-                      std::string* reason) {
+                      std::string* reason, const std::optional<StartHint>& start) {
     const size_t n = poses.size();
     if (ranked.empty()) {
         *reason = "no hypothesis";
@@ -83,11 +84,11 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                   std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
         return Verdict::kFailed;
     }
-    if (best.off_hint) {
+    if (best.off_hint && start) {
         const Eigen::Vector2d at = (best.anchor * poses.front()).translation().head<2>();
         *reason = "no hypothesis of " + std::to_string(ranked.size()) +
-                  " puts the walk's start within " + Metres(config.near_radius_m) + " of " +
-                  Point(*config.near) + " (--near); the best puts it at " + Point(at);
+                  " puts the walk's start within " + Metres(start->radius_m) + " of " +
+                  Point(start->xy) + " (--near); the best puts it at " + Point(at);
         return Verdict::kFailed;
     }
     const double min_cover = std::max(double(config.min_loops), config.min_coverage * double(n));

@@ -91,8 +91,8 @@ struct Hypothesis {
     // Another uncontradicted hypothesis explains nearly as many keyframes and free space prefers
     // it decisively (FreeSpacePrefers): not a rival.
     bool outweighed = false;
-    // It puts the query's first keyframe farther than AnchorConfig::near_radius_m from
-    // AnchorConfig::near: set aside, not a rival.
+    // It puts the query's first keyframe farther than its StartHint allows: set aside, not a
+    // rival.
     bool off_hint = false;
     int rounds = 0;
 };
@@ -180,14 +180,15 @@ using Progress = std::function<void(const std::string&, size_t, size_t)>;
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
 
 // Marks each hypothesis contradicted (its keyframes see through the model more than
-// max_seen_through), off the hint (config.near given, and it puts the first of the query's
-// keyframes at `poses`, T_local_lidar, farther than near_radius_m from it) or outweighed (another
+// max_seen_through), off the hint (`start` given, and it puts the first of the query's keyframes
+// at `poses`, T_local_lidar, farther than start->radius_m from it) or outweighed (another
 // uncontradicted one on the hint explains at least ambiguity_ratio of its keyframes and
 // FreeSpacePrefers it). Returns their indices best first: uncontradicted, then on the hint, then
 // not outweighed, then by keyframes covered, then by loops.
 std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
                                    const std::vector<Eigen::Isometry3d>& poses,
-                                   const AnchorConfig& config);
+                                   const AnchorConfig& config,
+                                   const std::optional<StartHint>& start = std::nullopt);
 
 // The verdict on a query whose keyframes are at `poses` (T_local_lidar) from its hypotheses
 // ranked best first (RankHypotheses): failed when there is none, when the best is contradicted
@@ -198,7 +199,7 @@ std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
 // anchored otherwise. *reason says why when it is not anchored.
 Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
                       const std::vector<Eigen::Isometry3d>& poses, const AnchorConfig& config,
-                      std::string* reason);
+                      std::string* reason, const std::optional<StartHint>& start = std::nullopt);
 
 // The verdict on a session split at its odometry's failed stretches, from its pieces' verdicts:
 // anchored-in-parts when one piece or more is anchored (never anchored: the keyframes inside the

@@ -53,8 +53,10 @@ int AnchorMain(const AnchorArgs& a) {
     config.model_tolerance_deg = std::atan2(a.model_tolerance_m, 6.0) * 180.0 / M_PI;
     config.threads = a.threads;
     config.seed = a.seed;
-    if (a.near.size() >= 2) config.near = Eigen::Vector2d(a.near[0], a.near[1]);
-    if (a.near.size() == 3) config.near_radius_m = a.near[2];
+    std::optional<anchor::StartHint> start;
+    if (a.near.size() >= 2) start = anchor::StartHint{{a.near[0], a.near[1]}, 3.0};
+    if (a.near.size() == 3) start->radius_m = a.near[2];
+    if (start) start->Validate();
     config.Validate();
     if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
         throw common::FileError(common::StatusCode::kAlreadyExists, a.out, 0,
@@ -73,6 +75,7 @@ int AnchorMain(const AnchorArgs& a) {
         bar.Update("reading " + fs::path(dirs[k]).filename().string(),
                    double(k) / double(dirs.size()));
         sessions.push_back(anchor::LoadAnchorSession(dirs[k], lo));
+        if (k > 0) sessions.back().start = start;  // the queries'
     }
     for (const std::string& dir : a.earlier) {
         bar.Update("reading " + fs::path(dir).filename().string(), 1.0);

@@ -25,6 +25,7 @@ struct MapArgs {
     std::vector<std::string> inputs;  // MODEL RECORDING ... (with -o), or OUT (a project)
     std::vector<std::string> add;     // --add RECORDING ...
     std::string visit;
+    std::vector<double> near;  // --near X Y [R]
     std::string out;
     std::string outliers = "pcm";
     bool force = false;
@@ -174,6 +175,9 @@ int MapMain(MapArgs& a) {
         c.out = a.out;
     }
     c.visit = a.visit;
+    if (a.near.size() >= 2) c.start = anchor::StartHint{{a.near[0], a.near[1]}, 3.0};
+    if (a.near.size() == 3) c.start->radius_m = a.near[2];
+    if (c.start) c.start->Validate();
     c.force = a.force;
     c.report = !a.no_report;
     c.changes.refinement.enabled = !a.no_refine;
@@ -267,6 +271,12 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--visit", a->visit,
                     "the visit the new recordings go to (default: each its recording's UTC day, "
                     "YYYY-MM-DD)");
+    cmd->add_option("--near", a->near,
+                    "X Y [R]: where the recordings given now start, in model metres (within R, "
+                    "default 3 m), kept in the project for them: their anchoring sets aside "
+                    "placements that start elsewhere. For buildings of identical parts (two "
+                    "dwellings one turned 180 degrees), where a walk is otherwise ambiguous")
+        ->expected(2, 3);
     cmd->add_option("--outliers", a->outliers, "anchoring's outlier rejection: pcm, gnc or none")
         ->capture_default_str();
     cmd->add_option("--threads", a->config.threads, "anchoring threads (0: all cores)")

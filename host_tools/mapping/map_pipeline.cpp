@@ -290,14 +290,24 @@ std::vector<anchor::AnchorSession> EarlierSessions(const std::vector<EarlierVisi
 
 // 3. Anchoring: the visit's sessions at once (loops between them help), against the reference
 // and the earlier visits' anchored sessions (anchoring.hpp, step 7).
-StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
-                     const std::string& label, const std::vector<RecordingInput>& recordings,
-                     const StepStamp& reference, const std::vector<StepStamp>& odometry,
+StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit, const Visit& info,
+                     const std::vector<RecordingInput>& recordings, const StepStamp& reference,
+                     const std::vector<StepStamp>& odometry,
                      const std::vector<EarlierVisit>& earlier) {
+    const std::string& label = info.label;
     StepStamp anchoring("anchor");
     anchoring.AddUpstream(reference);
     for (const StepStamp& s : odometry) anchoring.AddUpstream(s);
     anchoring.AddParameter("anchor", AnchorParameters(c.config.anchor));
+    // Where the recordings start, when said (--near): only then, so that older stamps hold.
+    json near = json::array();
+    for (const ProjectRecording& r : info.recordings) {
+        near.push_back(r.start ? json{r.start->xy.x(), r.start->xy.y(), r.start->radius_m}
+                               : json(nullptr));
+    }
+    if (std::any_of(info.recordings.begin(), info.recordings.end(),
+                    [](const ProjectRecording& r) { return r.start.has_value(); }))
+        anchoring.AddParameter("near", near);
     if (!earlier.empty()) {  // the visits before it: re-anchored, this one is anchored again
         json before = json::array();
         for (const EarlierVisit& e : earlier)
@@ -321,6 +331,7 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit,
             c.progress(step + ": reading " + recordings[k].name, double(k) / recordings.size());
             sessions.push_back(
                 anchor::LoadAnchorSession(visit / "odometry" / recordings[k].name, lo));
+            sessions.back().start = info.recordings[k].start;  // in the same order
         }
         c.progress(step + ": reading the earlier visits", 1.0);
         for (anchor::AnchorSession& s : EarlierSessions(earlier, lo, ac.earlier_spacing_m))
@@ -515,8 +526,8 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
     config.Validate();
     // Every input checked before any step (the model, every recording of the project, the
     // earlier visits' folders): exit 2 names the file, and nothing is written.
-    ProjectInputs p =
-        OpenProject(config.out, config.model, config.recordings, config.visit, config.adding);
+    ProjectInputs p = OpenProject(config.out, config.model, config.recordings, config.visit,
+                                  config.adding, config.start);
     for (const Visit& v : p.project.visits) CheckVisitFolder(config.out, v);
     const MapProgress quiet = [](const std::string&, double) {};
     MapContext c{config,          progress ? progress : quiet, config.out,
@@ -541,8 +552,8 @@ MapRun RunMap(const MapConfig& config, const MapProgress& progress) {
         odometry.clear();
         for (const RecordingInput& r : recordings)
             odometry.push_back(OdometryStep(c, stepper, dir, r));
-        const StepStamp anchoring =
-            AnchorStep(c, stepper, dir, label, recordings, reference, odometry, earlier);
+        const StepStamp anchoring = AnchorStep(c, stepper, dir, p.project.visits[v], recordings,
+                                               reference, odometry, earlier);
         earlier.push_back({dir, label, anchoring});
         changes.push_back(ChangesStep(c, stepper, dir, p.project.visits[v],
                                       uint16_t(std::min<size_t>(v + 1, 65535)), recordings,

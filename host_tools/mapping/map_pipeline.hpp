@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -42,7 +43,9 @@ struct MapConfig {
     std::filesystem::path out;
     // The visit the new recordings go to (--visit); empty: each its UTC day's.
     std::string visit;
-    bool adding = false;          // --add: a recording already in the project is noted as not added
+    bool adding = false;  // --add: a recording already in the project is noted as not added
+    // --near: where this run's recordings start (map_project.hpp keeps it per recording).
+    std::optional<anchor::StartHint> start;
     bool force = false;           // run every step, stamps or not
     bool report = true;           // the report step
     int threads = 0;              // anchoring (0: all cores)

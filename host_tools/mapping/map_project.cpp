@@ -24,12 +24,14 @@ namespace {
 constexpr size_t kHeadBytes = size_t(1) << 20;  // what identifies a recording with its size
 
 json ToJson(const ProjectRecording& r) {
-    return {{"name", r.name},
-            {"path", r.path.string()},
-            {"start", common::FormatUtcTime(r.start_ns)},
-            {"start_ns", r.start_ns},
-            {"start_from", r.start_from},
-            {"identity", r.identity}};
+    json j = {{"name", r.name},
+              {"path", r.path.string()},
+              {"start", common::FormatUtcTime(r.start_ns)},
+              {"start_ns", r.start_ns},
+              {"start_from", r.start_from},
+              {"identity", r.identity}};
+    if (r.start) j["near"] = {r.start->xy.x(), r.start->xy.y(), r.start->radius_m};
+    return j;
 }
 
 ProjectRecording RecordingFromJson(const json& j) {
@@ -39,6 +41,12 @@ ProjectRecording RecordingFromJson(const json& j) {
     r.start_ns = j.at("start_ns").get<int64_t>();
     r.start_from = j.at("start_from").get<std::string>();
     r.identity = j.at("identity");
+    if (j.contains("near")) {
+        const json& n = j.at("near");
+        if (!n.is_array() || n.size() != 3) throw std::runtime_error("near: not [x, y, radius]");
+        r.start = anchor::StartHint{{n[0].get<double>(), n[1].get<double>()}, n[2].get<double>()};
+        r.start->Validate();
+    }
     return r;
 }
 
@@ -195,6 +203,7 @@ bool TakeKnown(Project& project, const ProjectRecording& r, bool adding, Recordi
     for (Visit& v : project.visits) {
         for (ProjectRecording& k : v.recordings) {
             if (k.identity != r.identity) continue;
+            if (r.start) k.start = r.start;
             if (k.path != r.path) {
                 notes->push_back(r.path.string() + ": the recording " + k.name + " of visit " +
                                  v.label +
@@ -228,12 +237,14 @@ Visit& VisitFor(Project& project, const std::string& label, bool named) {
 }  // namespace
 
 void AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
-                   const std::string& visit_label, bool adding, std::vector<std::string>* notes) {
+                   const std::string& visit_label, bool adding,
+                   const std::optional<anchor::StartHint>& start, std::vector<std::string>* notes) {
     std::set<std::string> names;
     for (const Visit& v : project.visits)
         for (const ProjectRecording& r : v.recordings) names.insert(r.name);
     for (RecordingInput& in : inputs) {
         ProjectRecording r = DescribeRecording(in);
+        r.start = start;
         DropReplaced(project, r, &names, notes);
         if (TakeKnown(project, r, adding, in, notes)) continue;
         // A new recording: a name no other recording of the project has, its day's visit or
@@ -298,7 +309,7 @@ void CheckVisitFolder(const fs::path& out, const Visit& visit) {
 
 ProjectInputs OpenProject(const fs::path& out, const fs::path& model_given,
                           const std::vector<fs::path>& recordings, const std::string& visit,
-                          bool adding) {
+                          bool adding, const std::optional<anchor::StartHint>& start) {
     ProjectInputs p;
     const bool exists = LoadProject(out, &p.project);
     if (model_given.empty() && !exists) {
@@ -320,7 +331,7 @@ ProjectInputs OpenProject(const fs::path& out, const fs::path& model_given,
     p.project.model_sha256 = sha256;
     if (!visit.empty()) CheckVisitLabel(visit);
     std::vector<RecordingInput> given = CheckRecordings(recordings);
-    AddRecordings(p.project, given, visit, adding, &p.notes);
+    AddRecordings(p.project, given, visit, adding, start, &p.notes);
     for (const Visit& v : p.project.visits) {
         std::vector<RecordingInput>& inputs = p.visits.emplace_back();
         for (const ProjectRecording& r : v.recordings) {

@@ -21,9 +21,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "host_tools/anchor/anchor_session.hpp"
 #include "host_tools/mapping/map_inputs.hpp"
 
 namespace bimslam::mapping {
@@ -34,6 +36,9 @@ struct ProjectRecording {
     int64_t start_ns = 0;        // UNIX epoch
     std::string start_from;      // "capture.json" or "first packet"
     nlohmann::json identity;     // {size, first_packet_ns, head_sha256}
+    // Where its walk starts, when the user said so (`--near`, anchor/anchor_session.hpp): kept
+    // in project.json, so a later run anchors it with the same hint.
+    std::optional<anchor::StartHint> start;
 };
 
 struct Visit {
@@ -61,8 +66,11 @@ ProjectRecording DescribeRecording(const RecordingInput& input);
 // now, and is noted in `notes` when it was given under another path or with `adding` (`--add`:
 // "already in visit L, not added again"); one that replaced a recording at its path (another
 // identity) drops that one, with a note.
+// `start` given: every one of `inputs` gets it, the ones already there too (the user says it
+// anew).
 void AddRecordings(Project& project, std::vector<RecordingInput>& inputs,
-                   const std::string& visit_label, bool adding, std::vector<std::string>* notes);
+                   const std::string& visit_label, bool adding,
+                   const std::optional<anchor::StartHint>& start, std::vector<std::string>* notes);
 
 // Throws common::Error (kInvalidArgument) for a --visit label that cannot be a folder name.
 void CheckVisitLabel(const std::string& label);
@@ -85,7 +93,8 @@ struct ProjectInputs {
 };
 ProjectInputs OpenProject(const std::filesystem::path& out, const std::filesystem::path& model,
                           const std::vector<std::filesystem::path>& recordings,
-                          const std::string& visit, bool adding);
+                          const std::string& visit, bool adding,
+                          const std::optional<anchor::StartHint>& start = std::nullopt);
 
 // Throws common::FileError (kDataLoss) naming the visit's folder when a step's stamp there says
 // it was made but one of its files is missing or unreadable (what is wrong, and how to make the

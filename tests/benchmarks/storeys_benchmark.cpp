@@ -271,9 +271,9 @@ Anchored RunAnchor(const Building& b, const fs::path& session,
     std::vector<anchor::AnchorSession> sessions;
     sessions.push_back(anchor::LoadAnchorSession(b.reference, {}));
     sessions.push_back(anchor::LoadAnchorSession(session, {}));
+    if (near) sessions.back().start = anchor::StartHint{*near, 3.0};
     anchor::AnchorConfig config;
     config.repair_odometry_breaks = repair;
-    config.near = near;
     const anchor::AnchorResult r = anchor::Anchor(sessions, config);
     Anchored a;
     const anchor::SessionResult& res = r.sessions[0];

@@ -10,6 +10,8 @@
 // - a damaged visit folder exits 2 naming it, and the other visits are kept;
 // - --add to a folder that is not a project exits 2 naming it;
 // - a recording re-recorded in place replaces the old one;
+// - --near is kept in the project for the recordings it was given with, and their anchoring holds
+//   to it;
 // - a visit through a room fitted out since the model anchors through the earlier visit that saw
 //   the room (issue 33, item 2), where the model alone does not anchor it.
 #include <gtest/gtest.h>
@@ -349,6 +351,63 @@ TEST(MapVisits, ARerunWithNoNewRecordingDoesNothing) {
         }
     }
     EXPECT_EQ(Written(before, MtimesOf(out)), std::vector<std::string>{}) << "no file written";
+}
+
+// The entry named `name` of a JSON array, or null (a failure).
+json Named(const json& array, const std::string& name, const std::string& where) {
+    for (size_t k = 0; k < array.size(); ++k) {
+        if (array[k].at("name") == name) return array[k];
+    }
+    ADD_FAILURE() << name << " is not in " << where;
+    return json(nullptr);
+}
+
+// Recording `name`'s entry in visit `label`'s anchor.json, and in project.json.
+json AnchoredEntry(const fs::path& out, const std::string& label, const std::string& name) {
+    const fs::path file = out / "visits" / label / "anchor" / "anchor.json";
+    return Named(ReadJson(file).at("sessions"), name, file.string());
+}
+
+json RecordingEntry(const fs::path& out, const std::string& name) {
+    const json project = ReadJson(out / "project.json");
+    json all = json::array();
+    for (size_t v = 0; v < project.at("visits").size(); ++v) {
+        for (const json& r : project.at("visits")[v].at("recordings")) all.push_back(r);
+    }
+    return Named(all, name, "project.json");
+}
+
+TEST(MapVisits, NearIsKeptForItsRecordingsAndTheirAnchoringHoldsToIt) {
+    test::TempDir tmp;
+    const fs::path out = CopyOfProject(tmp);
+    EXPECT_FALSE(RecordingEntry(out, "b").contains("near"));
+    // Told that b starts 100 m off: its visit is anchored again and b fails, naming the hint;
+    // the first day's visit is not touched.
+    const auto far =
+        Cli("map " + out.string() + " --add " + B() + " --near 100 100" + kBudget + " --json");
+    ASSERT_EQ(far.exit_code, 1) << far.err;
+    const json far_steps = Steps(json::parse(far.out));
+    EXPECT_FALSE(far_steps.at("anchor " + kDayB).get<bool>()) << far_steps.dump();
+    EXPECT_TRUE(far_steps.at("anchor " + kDayA).get<bool>()) << far_steps.dump();
+    EXPECT_EQ(RecordingEntry(out, "b").at("near"), json({100.0, 100.0, 3.0}));
+    EXPECT_FALSE(RecordingEntry(out, "c").contains("near"));
+    const json b = AnchoredEntry(out, kDayB, "b");
+    EXPECT_EQ(b.at("verdict"), "failed");
+    EXPECT_NE(b.at("reason").get<std::string>().find("within 3.0 m of (100.00, 100.00) (--near)"),
+              std::string::npos)
+        << b.at("reason");
+    EXPECT_EQ(b.at("near"), json({100.0, 100.0, 3.0}));
+    // A run that does not say it again keeps it: nothing to do.
+    const auto again = Cli("map " + out.string() + kBudget + " --json");
+    ASSERT_EQ(again.exit_code, 1) << again.err;
+    const json again_steps = Steps(json::parse(again.out));
+    for (const auto& [step, skipped] : again_steps.items())
+        EXPECT_TRUE(skipped.get<bool>()) << step;
+    // Where it does start (its truth's first position): anchored as before.
+    const io::StampedPose start = io::ReadTum(Walks() / "b" / "ground_truth.tum").front();
+    MapJson("map " + out.string() + " --add " + B() + " --near " +
+            std::to_string(start.translation.x()) + " " + std::to_string(start.translation.y()));
+    EXPECT_EQ(AnchoredEntry(out, kDayB, "b").at("verdict"), "anchored");
 }
 
 TEST(MapVisits, ADamagedVisitFolderIsReportedAndTheOtherVisitsAreKept) {

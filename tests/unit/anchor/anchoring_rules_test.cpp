@@ -155,13 +155,14 @@ Hypothesis Hyp(size_t covered, size_t loops, const Eigen::Isometry3d& anchor = k
 
 // RankHypotheses then DecideVerdict, as AnchorQuery runs them; *reason gets the reason.
 Verdict Decide(std::vector<Hypothesis> hs, size_t keyframes, std::string* reason = nullptr,
-               const AnchorConfig& config = Defaults()) {
+               const std::optional<StartHint>& start = std::nullopt) {
+    const AnchorConfig& config = Defaults();
     const auto s = Walk(keyframes);
-    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, config);
+    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, config, start);
     std::vector<Hypothesis> ranked;
     for (size_t i : order) ranked.push_back(hs[i]);
     std::string why;
-    const Verdict v = DecideVerdict(ranked, s[1].poses, config, &why);
+    const Verdict v = DecideVerdict(ranked, s[1].poses, config, &why, start);
     if (reason) *reason = why;
     return v;
 }
@@ -295,18 +296,17 @@ TEST(Verdict, AHintOfWhereTheWalkStartsSetsTheTwinPlacementAside) {
     // Told where it starts (within 3 m of its true first keyframe): the twin is off the hint.
     const auto s = Walk(40);
     const Eigen::Vector2d start = (kAnchor * s[1].poses.front()).translation().head<2>();
-    AnchorConfig config = Defaults();
-    config.near = start + Eigen::Vector2d(2.0, 1.0);
+    const StartHint near{start + Eigen::Vector2d(2.0, 1.0), 3.0};
     std::vector<Hypothesis> hs = both;
-    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, config);
+    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, Defaults(), near);
     EXPECT_TRUE(hs[0].off_hint);
     EXPECT_FALSE(hs[1].off_hint);
     EXPECT_EQ(order.front(), 1u);
-    EXPECT_EQ(Decide(both, 40, nullptr, config), Verdict::kAnchored);
+    EXPECT_EQ(Decide(both, 40, nullptr, near), Verdict::kAnchored);
     // A hint that neither fits: failed, saying so (not the best of the two).
-    config.near = start + Eigen::Vector2d(3.5, 0.0);
     std::string why;
-    EXPECT_EQ(Decide(both, 40, &why, config), Verdict::kFailed);
+    EXPECT_EQ(Decide(both, 40, &why, StartHint{start + Eigen::Vector2d(3.5, 0.0), 3.0}),
+              Verdict::kFailed);
     EXPECT_NE(why.find("no hypothesis of 2 puts the walk's start within 3.0 m"), std::string::npos)
         << why;
 }
