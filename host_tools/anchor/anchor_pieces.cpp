@@ -54,6 +54,14 @@ SplitQueries SplitAtUntrustedOdometry(const std::vector<AnchorSession>& sessions
         for (const KeyframeSpan& span : out.splits[s].pieces) {
             out.sessions.push_back(MakePiece(in, span));
             out.origin.push_back({s, span});
+            // The walk's start hint holds for every piece, widened by the way from the start to
+            // its first keyframe (the odometry's, through the failed stretches before it): a
+            // Duplex_A walk whose first scan failed had a piece of one keyframe, then one of 39
+            // left ambiguous.
+            if (in.start) {
+                out.sessions.back().start = in.start;
+                out.sessions.back().start->radius_m += in.path_m[span.first];
+            }
         }
     }
     return out;

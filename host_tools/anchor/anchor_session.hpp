@@ -65,8 +65,8 @@ struct AnchorSession {
     // The keyframes' indices in the session's folder, once KeepKeyframes chose some (empty: all,
     // in order): for their clouds' files and the loops' target_index.
     std::vector<size_t> keyframe_ids;
-    // A query's start, when given; a piece of a split session has it only when it holds the
-    // session's first keyframe (pieces.hpp).
+    // A query's start, when given; a split session's pieces have it widened by the way from the
+    // start to their first keyframe (anchor_pieces.cpp).
     std::optional<StartHint> start;
     size_t keyframes() const { return poses.size(); }
     size_t KeyframeId(size_t k) const { return keyframe_ids.empty() ? k : keyframe_ids[k]; }

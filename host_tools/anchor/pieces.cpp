@@ -123,7 +123,6 @@ AnchorSession MakePiece(const AnchorSession& s, const KeyframeSpan& span) {
     p.dir = s.dir;
     p.foreign = s.foreign;
     p.notes = s.notes;
-    if (span.first == 0) p.start = s.start;  // the walk's start is in the first piece only
     p.session.manifest = s.session.manifest;
     p.session.complete = s.session.complete;
     const auto sub = [&](const auto& v) {

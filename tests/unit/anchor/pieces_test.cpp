@@ -147,6 +147,26 @@ TEST(CombinePieces, NeverAnchoredWhole) {
     EXPECT_EQ(ToString(V::kAnchoredInParts), "anchored-in-parts");
 }
 
+// The walk's start hint (--near) goes to every piece, widened by the way from the start to the
+// piece's first keyframe (Line: a metre a keyframe), the first keyframes taken by a failed
+// stretch or not.
+TEST(SplitAtUntrustedOdometry, EveryPieceKeepsTheStartHintWidenedByTheWayToIt) {
+    std::vector<AnchorSession> sessions{Line(3), Line(10)};
+    sessions[1].start = StartHint{{0.5, 0.0}, 3.0};
+    sessions[1].odometry.verdict = "untrusted";
+    sessions[1].odometry.stretches = {Stretch(0.0, 1.5), Stretch(5.5, 6.5)};
+    const SplitQueries parts = SplitAtUntrustedOdometry(sessions);
+    ASSERT_EQ(parts.sessions.size(), 3u);  // the reference, keyframes 2-5, keyframes 7-9
+    EXPECT_EQ(parts.origin[1].span, (KeyframeSpan{2, 5}));
+    ASSERT_TRUE(parts.sessions[1].start.has_value());
+    EXPECT_DOUBLE_EQ(parts.sessions[1].start->radius_m, 5.0);  // 3 m and the 2 m to keyframe 2
+    EXPECT_EQ(parts.sessions[1].start->xy, Eigen::Vector2d(0.5, 0.0));
+    ASSERT_TRUE(parts.sessions[2].start.has_value());
+    EXPECT_DOUBLE_EQ(parts.sessions[2].start->radius_m, 10.0);  // and the 7 m to keyframe 7
+    sessions[1].start.reset();
+    EXPECT_FALSE(SplitAtUntrustedOdometry(sessions).sessions[1].start.has_value());
+}
+
 TEST(MergePieces, ASplitSessionGetsItsPiecesVerdictsPosesAndLoopsInItsOwnNumbers) {
     std::vector<AnchorSession> sessions{Line(3), Line(8)};
     sessions[0].name = "reference";
