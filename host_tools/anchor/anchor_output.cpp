@@ -97,7 +97,7 @@ std::string AnchorSummaryJson(const std::vector<AnchorSession>& sessions,
         e["dir"] = in.dir.string();
         e["notes"] = in.notes;
         e["odometry_verdict"] = in.odometry.verdict.empty() ? "not judged" : in.odometry.verdict;
-        if (in.start) e["near"] = {in.start->xy.x(), in.start->xy.y(), in.start->radius_m};
+        if (in.start) e["near"] = in.start->List();
         if (!s.untrusted.empty()) {
             json stretches = json::array();
             for (const OdometryStretch& o : s.untrusted) {

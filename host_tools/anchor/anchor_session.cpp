@@ -143,6 +143,14 @@ void StartHint::Validate() const {
     common::Require(xy.allFinite(), "StartHint", "xy", xy.x(), "must be finite");
 }
 
+StartHint StartHint::FromList(const std::vector<double>& v) {
+    common::Require(v.size() == 2 || v.size() == 3, "StartHint", "values", double(v.size()),
+                    "must be X Y or X Y R");
+    StartHint h{{v[0], v[1]}, v.size() == 3 ? v[2] : StartHint{}.radius_m};
+    h.Validate();
+    return h;
+}
+
 AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options) {
     AnchorSession s;
     s.dir = dir;

@@ -42,6 +42,11 @@ struct StartHint {
     Eigen::Vector2d xy = Eigen::Vector2d::Zero();
     double radius_m = 3.0;
     void Validate() const;  // throws common::Error naming the radius
+    // [x, y, radius_m]: its form in anchor.json, project.json and the map's stamps.
+    std::vector<double> List() const { return {xy.x(), xy.y(), radius_m}; }
+    // From `--near X Y [R]` (R 3 m when absent) or a List(), validated; throws common::Error
+    // for any other count.
+    static StartHint FromList(const std::vector<double>& x_y_radius);
 };
 
 struct AnchorSession {

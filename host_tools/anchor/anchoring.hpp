@@ -193,8 +193,8 @@ std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
 // The verdict on a query whose keyframes are at `poses` (T_local_lidar) from its hypotheses
 // ranked best first (RankHypotheses): failed when there is none, when the best is contradicted
 // or off the hint, or when it explains fewer than max(min_loops, min_coverage of the keyframes)
-// keyframes or has fewer than min_loops loops; ambiguous when the next (neither contradicted nor
-// outweighed) (nor off the hint) explains at least ambiguity_ratio as many keyframes at an anchor
+// keyframes or has fewer than min_loops loops; ambiguous when the next (neither contradicted, off
+// the hint nor outweighed) explains at least ambiguity_ratio as many keyframes at an anchor
 // that places them more than distinct_m away on average or turns them more than distinct_deg;
 // anchored otherwise. *reason says why when it is not anchored.
 Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,

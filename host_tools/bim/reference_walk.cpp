@@ -105,16 +105,17 @@ std::string Ordinal(int region) {
     return region < 8 ? kNames[region] : std::to_string(region + 1) + "th";
 }
 
-// The walks of one pass: the grid.region-th enclosed region of each of `storeys` (by elevation),
-// joined by the flights that stand in them, appended to w (pieces, segments, flights, notes) a
-// second after its last pose. Returns the storeys walked; from the second region on, a storey
-// whose region gives no walk is left out (said in a note), the largest must give one (throws).
+// The storeys one pass walked, with their grids and coverage walks.
 struct Pass {
     std::vector<int> storeys;
     std::vector<OccupancyGrid> grids;
     std::vector<CoveragePath> coverage;
 };
 
+// The walks of one pass: the grid.region-th enclosed region of each of `storeys` (by elevation),
+// joined by the flights that stand in them, appended to w (pieces, segments, flights, notes) a
+// second after its last pose. From the second region on, a storey whose region gives no walk is
+// left out (said in a note); the largest must give one (throws).
 Pass WalkRegions(const BimModel& model, const std::vector<int>& storeys, const GridConfig& grid,
                  const PathConfig& path, ReferenceWalk& w) {
     const bool first = grid.region == 0;
@@ -152,7 +153,7 @@ Pass WalkRegions(const BimModel& model, const std::vector<int>& storeys, const G
             if (joined_before) {
                 w.notes.push_back("storeys '" + model.storeys[size_t(pass.storeys[k - 1])].name +
                                   "' and '" + model.storeys[size_t(pass.storeys[k])].name +
-                                  "' are not joined in the " + "reference" +
+                                  "' are not joined in the reference" +
                                   (first ? "" : " in their " + Ordinal(grid.region) + " regions") +
                                   " (the stairs are not walked): " +
                                   (g ? why : "the graph of the building could not be built"));

@@ -54,9 +54,7 @@ int AnchorMain(const AnchorArgs& a) {
     config.threads = a.threads;
     config.seed = a.seed;
     std::optional<anchor::StartHint> start;
-    if (a.near.size() >= 2) start = anchor::StartHint{{a.near[0], a.near[1]}, 3.0};
-    if (a.near.size() == 3) start->radius_m = a.near[2];
-    if (start) start->Validate();
+    if (!a.near.empty()) start = anchor::StartHint::FromList(a.near);
     config.Validate();
     if (fs::exists(a.out) && !fs::is_empty(a.out) && !a.overwrite) {
         throw common::FileError(common::StatusCode::kAlreadyExists, a.out, 0,

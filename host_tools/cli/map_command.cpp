@@ -175,9 +175,7 @@ int MapMain(MapArgs& a) {
         c.out = a.out;
     }
     c.visit = a.visit;
-    if (a.near.size() >= 2) c.start = anchor::StartHint{{a.near[0], a.near[1]}, 3.0};
-    if (a.near.size() == 3) c.start->radius_m = a.near[2];
-    if (c.start) c.start->Validate();
+    if (!a.near.empty()) c.start = anchor::StartHint::FromList(a.near);
     c.force = a.force;
     c.report = !a.no_report;
     c.changes.refinement.enabled = !a.no_refine;

@@ -301,13 +301,12 @@ StepStamp AnchorStep(MapContext& c, Stepper& stepper, const fs::path& visit, con
     anchoring.AddParameter("anchor", AnchorParameters(c.config.anchor));
     // Where the recordings start, when said (--near): only then, so that older stamps hold.
     json near = json::array();
+    bool any_near = false;
     for (const ProjectRecording& r : info.recordings) {
-        near.push_back(r.start ? json{r.start->xy.x(), r.start->xy.y(), r.start->radius_m}
-                               : json(nullptr));
+        near.push_back(r.start ? json(r.start->List()) : json(nullptr));
+        any_near = any_near || r.start.has_value();
     }
-    if (std::any_of(info.recordings.begin(), info.recordings.end(),
-                    [](const ProjectRecording& r) { return r.start.has_value(); }))
-        anchoring.AddParameter("near", near);
+    if (any_near) anchoring.AddParameter("near", near);
     if (!earlier.empty()) {  // the visits before it: re-anchored, this one is anchored again
         json before = json::array();
         for (const EarlierVisit& e : earlier)

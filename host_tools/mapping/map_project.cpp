@@ -30,7 +30,7 @@ json ToJson(const ProjectRecording& r) {
               {"start_ns", r.start_ns},
               {"start_from", r.start_from},
               {"identity", r.identity}};
-    if (r.start) j["near"] = {r.start->xy.x(), r.start->xy.y(), r.start->radius_m};
+    if (r.start) j["near"] = r.start->List();
     return j;
 }
 
@@ -44,8 +44,7 @@ ProjectRecording RecordingFromJson(const json& j) {
     if (j.contains("near")) {
         const json& n = j.at("near");
         if (!n.is_array() || n.size() != 3) throw std::runtime_error("near: not [x, y, radius]");
-        r.start = anchor::StartHint{{n[0].get<double>(), n[1].get<double>()}, n[2].get<double>()};
-        r.start->Validate();
+        r.start = anchor::StartHint::FromList(n.get<std::vector<double>>());
     }
     return r;
 }
