@@ -8,6 +8,23 @@
 #include "algorithms/common/voxel_hash.hpp"
 
 namespace bimslam::registration {
+namespace {
+
+// Whether p lies on a surfel of the map: within `tolerance` of the plane of one of its voxel's
+// surfels, inside that surfel's patch.
+bool OnMap(const SurfelMap& map, const Eigen::Vector3f& p, float tolerance) {
+    const Surfel* found[kNormalBins];
+    const int n = map.InVoxel(p, found);
+    for (int i = 0; i < n; ++i) {
+        if (std::abs(found[i]->normal.dot(p) - found[i]->offset) < tolerance &&
+            found[i]->Covers(p)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace
 
 FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map,
                                const Eigen::Isometry3d& T, const FreeSpaceConfig& config) {
@@ -29,6 +46,7 @@ FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map
         ++out.rays;
         const Eigen::Vector3f dir = ray / length;
         bool through = false;
+        Crossing crossing;
         for (float s = step; s < length - margin && !through; s += step) {
             const Eigen::Vector3f x = o + s * dir;
             const Eigen::Vector3i v = common::VoxelOf(x * inv);
@@ -41,10 +59,17 @@ FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map
                 const float t = (f.offset - f.normal.dot(o)) / cos_in;
                 if (t < margin || t > length - margin) continue;
                 const Eigen::Vector3f c = o + t * dir;
-                if (common::VoxelOf(c * inv) == v && f.Covers(c)) through = true;
+                if (common::VoxelOf(c * inv) == v && f.Covers(c)) {
+                    through = true;
+                    crossing.at = c;
+                    crossing.normal = f.normal;
+                }
             }
         }
-        out.seen_through += through;
+        if (!through) continue;
+        ++out.seen_through;
+        crossing.lands_on_map = OnMap(map, p, 0.5f * margin);
+        out.crossings.push_back(crossing);
     }
     return out;
 }

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <vector>
 
 #include "algorithms/registration/oriented_cloud.hpp"
 #include "algorithms/registration/surfel_map.hpp"
@@ -23,9 +24,20 @@ struct FreeSpaceConfig {
     double max_range = 12.0;  // m: farther points are not tested (long rays, little evidence)
 };
 
+// Where a ray was seen through a surface: the crossing on it (map frame), the surface's normal,
+// and whether the ray's own point lies on another surface of the map (within half the margin): the
+// model seen beyond the crossed surface, as through an element that was removed
+// (removed_surfaces.hpp).
+struct Crossing {
+    Eigen::Vector3f at = Eigen::Vector3f::Zero();
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    bool lands_on_map = false;
+};
+
 struct FreeSpaceResult {
     size_t rays = 0;  // tested
     size_t seen_through = 0;
+    std::vector<Crossing> crossings;  // one per ray seen through, the first surface it crossed
     double ratio() const { return rays ? double(seen_through) / double(rays) : 0.0; }
 };
 
