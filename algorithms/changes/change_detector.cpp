@@ -704,8 +704,8 @@ void Detection::JudgeElements(std::span<const ElementEvidence> evidence) {
                                  config.elements);
     std::vector<std::vector<uint32_t>> objects_points(out.objects.size());
     for (size_t o = 0; o < out.objects.size(); ++o) objects_points[o] = out.objects[o].points;
-    const std::vector<uint32_t> explained =
-        FindMovedElements(model, xyz, objects_points, support, out.elements, config.moved);
+    const std::vector<uint32_t> explained = FindMovedElements(
+        model, xyz, objects_points, support, out.elements, config.moved, &FreeSpace());
     for (size_t o = 0; o < out.objects.size(); ++o) {
         out.objects[o].moved_element = explained[o];
         if (explained[o] == kNoElement) continue;

@@ -77,6 +77,55 @@ ExtentCoverage InlierCoverage(const Eigen::AlignedBox3d& element_box, const Moti
     return out;
 }
 
+void MovedSurfaceSamples(const ChangeModel& model, uint32_t element,
+                         const Eigen::AlignedBox3d& element_box, const MotionFit& motion,
+                         double spacing, std::vector<Eigen::Vector3f>* points,
+                         std::vector<Eigen::Vector3f>* normals) {
+    const Eigen::Vector3d c = element_box.center();
+    const Eigen::Matrix3d R = Yaw(motion.yaw_rad);
+    const auto moved = [&](const Eigen::Vector3f& x) {  // M(x) = R(yaw) (x - c) + c + t
+        return Eigen::Vector3f((R * (x.cast<double>() - c) + c + motion.translation).cast<float>());
+    };
+    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
+        if (model.triangle_element[t] != element) continue;
+        const auto& tri = model.mesh.triangles[t];
+        const Eigen::Vector3f a = moved(model.mesh.vertices[tri[0]]);
+        const Eigen::Vector3f ab = moved(model.mesh.vertices[tri[1]]) - a;
+        const Eigen::Vector3f ac = moved(model.mesh.vertices[tri[2]]) - a;
+        const Eigen::Vector3f n = ab.cross(ac);
+        if (!(n.norm() > 1e-9f)) continue;
+        const int nb = std::max(1, int(std::ceil(ab.norm() / spacing)));
+        const int nc = std::max(1, int(std::ceil(ac.norm() / spacing)));
+        for (int i = 0; i <= nb; ++i) {
+            for (int j = 0; j <= nc; ++j) {
+                const float u = float(i) / float(nb), v = float(j) / float(nc);
+                if (u + v > 1.0f) break;
+                points->push_back(a + u * ab + v * ac);
+                normals->push_back(n.normalized());
+            }
+        }
+    }
+}
+
+LookedThrough MovedSurfaceLookedThrough(const ChangeModel& model, uint32_t element,
+                                        const Eigen::AlignedBox3d& element_box,
+                                        const MotionFit& motion, const FreeSpaceIndex& free_space,
+                                        const MovedConfig& config) {
+    std::vector<Eigen::Vector3f> points, normals;
+    MovedSurfaceSamples(model, element, element_box, motion, config.sample_spacing_m, &points,
+                        &normals);
+    LookedThrough out;
+    size_t through = 0;
+    for (size_t k = 0; k < points.size(); ++k) {
+        const FreeSpaceIndex::Votes v = free_space.Vote(points[k], normals[k]);
+        if (v.free == 0 && v.seen == 0) continue;
+        ++out.judged;
+        through += v.free > v.seen;
+    }
+    out.share = out.judged ? double(through) / double(out.judged) : 0.0;
+    return out;
+}
+
 void MovedConfig::Validate() const {
     if (!(pair_radius_m >= 0)) common::ThrowInvalid("moved.pair_radius_m must be >= 0");
     if (!(max_seen_fraction >= 0 && max_seen_fraction <= 1)) {
@@ -91,6 +140,10 @@ void MovedConfig::Validate() const {
     }
     common::Require(min_extent_fraction >= 0 && min_extent_fraction <= 1, "moved",
                     "min_extent_fraction", min_extent_fraction, "must be in [0, 1]");
+    common::Require(sample_spacing_m > 0, "moved", "sample_spacing_m", sample_spacing_m,
+                    "must be positive");
+    common::Require(max_looked_through >= 0 && max_looked_through <= 1, "moved",
+                    "max_looked_through", max_looked_through, "must be in [0, 1]");
 }
 
 MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
@@ -172,7 +225,8 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
                                         const std::vector<std::vector<uint32_t>>& objects,
                                         const std::vector<std::vector<uint32_t>>& element_support,
                                         std::vector<ElementReport>& reports,
-                                        const MovedConfig& config) {
+                                        const MovedConfig& config,
+                                        const FreeSpaceIndex* free_space) {
     config.Validate();
     std::vector<uint32_t> explained(objects.size(), kNoElement);
     if (!config.enabled) return explained;
@@ -212,6 +266,14 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
             if (cover.height < config.min_extent_fraction ||
                 cover.length < config.min_extent_fraction) {
                 continue;
+            }
+            if (free_space) {
+                const LookedThrough through = MovedSurfaceLookedThrough(
+                    model, uint32_t(e), element_box[e], fit, *free_space, config);
+                if (through.judged >= config.min_judged_samples &&
+                    through.share > config.max_looked_through) {
+                    continue;
+                }
             }
             best_inliers = object_inliers;
             best_object = int(o);

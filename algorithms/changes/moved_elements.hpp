@@ -16,6 +16,12 @@
 // translation of its box centre, and the object is no longer a new object; nor are the other
 // objects within pair_radius_m of which the moved element explains min_object_fraction (a moved
 // desk may come apart into a cluster per end).
+// A move must also leave the moved element where the beams found it, not where they passed: its
+// surface at the new place, sampled every sample_spacing_m, is put to the keyframes' range images
+// (free_space.hpp), and a move whose judged samples were looked through more than
+// max_looked_through of the time is refused. Duplex_A's partition between entry and living room,
+// demolished, was "moved" 0.35 m and turned 9 degrees onto a new 1.4 m partition at one end and the
+// wall's remains at the other, through the 2 m opening every beam between the rooms passed.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -24,6 +30,7 @@
 
 #include "algorithms/changes/change_model.hpp"
 #include "algorithms/changes/element_check.hpp"
+#include "algorithms/changes/free_space.hpp"
 
 namespace bimslam::changes {
 
@@ -35,6 +42,9 @@ struct MovedConfig {
     double min_inlier_fraction = 0.7;
     double min_object_fraction = 0.6;
     double min_extent_fraction = 0.5;
+    double sample_spacing_m = 0.1;
+    double max_looked_through = 0.2;  // of the samples judged (a free or seen vote)
+    size_t min_judged_samples = 20;   // fewer: the check says nothing
     void Validate() const;
 };
 
@@ -67,14 +77,35 @@ common::TriangleMesh ElementMesh(const ChangeModel& model, uint32_t element,
 double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFit& motion,
                       std::span<const Eigen::Vector3f> points, double inlier_m);
 
+// The element's surface moved by `motion`: a point every `spacing` m on each of its triangles,
+// with the triangle's normal. Exposed for tests.
+void MovedSurfaceSamples(const ChangeModel& model, uint32_t element,
+                         const Eigen::AlignedBox3d& element_box, const MotionFit& motion,
+                         double spacing, std::vector<Eigen::Vector3f>* points,
+                         std::vector<Eigen::Vector3f>* normals);
+
+// The share of the moved surface's judged samples that the keyframes looked through (a sample
+// judged when it has a vote; more free votes than seen ones: looked through), and how many were
+// judged.
+struct LookedThrough {
+    double share = 0;
+    size_t judged = 0;
+};
+LookedThrough MovedSurfaceLookedThrough(const ChangeModel& model, uint32_t element,
+                                        const Eigen::AlignedBox3d& element_box,
+                                        const MotionFit& motion, const FreeSpaceIndex& free_space,
+                                        const MovedConfig& config);
+
 // objects: the points (indices into map_xyz) of each new object; element_support: per element, the
-// indices of its support points. Updates `reports` of moved elements and returns, per object,
-// the element it is explained by (or kNoElement).
+// indices of its support points; free_space: the keyframes' range images (nullptr: no
+// looked-through check). Updates `reports` of moved elements and returns, per object, the element
+// it is explained by (or kNoElement).
 std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
                                         std::span<const Eigen::Vector3f> map_xyz,
                                         const std::vector<std::vector<uint32_t>>& objects,
                                         const std::vector<std::vector<uint32_t>>& element_support,
                                         std::vector<ElementReport>& reports,
-                                        const MovedConfig& config);
+                                        const MovedConfig& config,
+                                        const FreeSpaceIndex* free_space = nullptr);
 
 }  // namespace bimslam::changes

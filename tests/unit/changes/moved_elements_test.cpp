@@ -138,6 +138,44 @@ TEST(MovedElements, ALowBoxBesideARemovedTallCabinetIsNotTheCabinetMoved) {
     EXPECT_NEAR(moved_report.moved_yaw_deg, 0.3 * 180 / M_PI, 1.0);
 }
 
+// The looked-through check on the shared scene's keyframes: column C, standing where the model has
+// it, is seen; column A, removed, is looked through where it stood; column C "moved" 1 m east,
+// into room A's empty middle, is looked through too. A move onto a place the beams crossed is no
+// move (Duplex_A's demolished partition was "moved" through the opening it left).
+TEST(MovedElements, AMovedSurfaceWhereTheBeamsPassedIsLookedThrough) {
+    const test::ChangeScene& scene = test::SharedChangeScene();
+    const FreeSpaceIndex free_space(scene.keyframes, FreeSpaceConfig{});
+    const MovedConfig config;
+    const auto through = [&](uint32_t element, const Eigen::Vector3d& t) {
+        Eigen::AlignedBox3d box;
+        ElementMesh(scene.model, element, &box);
+        MotionFit motion;
+        motion.translation = t;
+        return MovedSurfaceLookedThrough(scene.model, element, box, motion, free_space, config);
+    };
+    const LookedThrough standing = through(test::kColumnC, Eigen::Vector3d::Zero());
+    EXPECT_GE(standing.judged, config.min_judged_samples);
+    EXPECT_LT(standing.share, config.max_looked_through) << standing.judged << " judged";
+    const LookedThrough removed = through(test::kColumnA, Eigen::Vector3d::Zero());
+    EXPECT_GE(removed.judged, config.min_judged_samples);
+    EXPECT_GT(removed.share, 0.8) << removed.judged << " judged";
+    const LookedThrough moved = through(test::kColumnC, Eigen::Vector3d(1.0, 0, 0));
+    EXPECT_GE(moved.judged, config.min_judged_samples);
+    EXPECT_GT(moved.share, 0.8) << moved.judged << " judged";
+    // The samples: every face of the column, moved with it.
+    std::vector<Eigen::Vector3f> points, normals;
+    Eigen::AlignedBox3d box;
+    ElementMesh(scene.model, test::kColumnC, &box);
+    MotionFit motion;
+    motion.translation = Eigen::Vector3d(1.0, 0, 0);
+    MovedSurfaceSamples(scene.model, test::kColumnC, box, motion, 0.1, &points, &normals);
+    ASSERT_FALSE(points.empty());
+    Eigen::AlignedBox3d sampled;
+    for (const Eigen::Vector3f& p : points) sampled.extend(p.cast<double>());
+    EXPECT_NEAR((sampled.min() - box.min() - motion.translation).norm(), 0.0, 1e-4);
+    EXPECT_NEAR((sampled.max() - box.max() - motion.translation).norm(), 0.0, 1e-4);
+}
+
 }  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::changes
