@@ -10,6 +10,20 @@
 namespace bimslam::localization {
 using common::Require;
 
+void StartHint::Validate() const {
+    common::Require(radius_m > 0 && radius_m <= 1000, "StartHint", "radius_m", radius_m,
+                    "must be in (0, 1000] m");
+    common::Require(xy.allFinite(), "StartHint", "xy", xy.x(), "must be finite");
+}
+
+StartHint StartHint::FromList(const std::vector<double>& v) {
+    common::Require(v.size() == 2 || v.size() == 3, "StartHint", "values", double(v.size()),
+                    "must be X Y or X Y R");
+    StartHint h{{v[0], v[1]}, v.size() == 3 ? v[2] : StartHint{}.radius_m};
+    h.Validate();
+    return h;
+}
+
 LoopRules::LoopRules() { registration.information_scale = 0.006; }
 
 void LoopRules::ValidateLoopRules(const char* c) const {
@@ -37,6 +51,14 @@ void LoopRules::ValidateLoopRules(const char* c) const {
     Require(outweigh_ratio >= 1, c, "outweigh_ratio", outweigh_ratio, "must be at least 1");
     Require(outweigh_gap > 0 && outweigh_gap <= 1, c, "outweigh_gap", outweigh_gap,
             "must be in (0, 1]");
+    const registration::RemovedSurfaceConfig& r = removed_surfaces;
+    Require(r.cell > 0, c, "removed_surfaces.cell", r.cell, "must be positive");
+    Require(r.max_area_m2 > 0, c, "removed_surfaces.max_area_m2", r.max_area_m2,
+            "must be positive");
+    Require(r.min_on_map >= 0 && r.min_on_map <= 1, c, "removed_surfaces.min_on_map", r.min_on_map,
+            "must be in [0, 1]");
+    Require(r.min_share >= 0 && r.min_share <= 1, c, "removed_surfaces.min_share", r.min_share,
+            "must be in [0, 1]");
 }
 
 bool LoopRules::Agree(const Eigen::Isometry3d& E, double path_m) const {

@@ -11,12 +11,31 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <vector>
 
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/registration/oriented_cloud.hpp"
 #include "algorithms/registration/registration.hpp"
+#include "algorithms/registration/removed_surfaces.hpp"
 
 namespace bimslam::localization {
+
+// Where a walk starts, when the user knows (model x y, m; `--near X Y [R]`, the rig's
+// localization.near): a hypothesis that puts the session's first keyframe farther than radius_m
+// from it is set aside, never a rival (offline Hypothesis::off_hint; live, the relocaliser's
+// clique, the radius grown by drift_per_m over the walk to its loops). For buildings of identical
+// parts: Duplex_A's two dwellings are one turned 180 degrees, and a walk in one fits the other as
+// well (host_tools/anchor/README.md, "Identical parts"); without it, such a walk is ambiguous.
+struct StartHint {
+    Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+    double radius_m = 3.0;
+    void Validate() const;  // throws common::Error naming the radius
+    // [x, y, radius_m]: its form in anchor.json, project.json and the map's stamps.
+    std::vector<double> List() const { return {xy.x(), xy.y(), radius_m}; }
+    // From `--near X Y [R]` (R 3 m when absent) or a List(), validated; throws common::Error
+    // for any other count.
+    static StartHint FromList(const std::vector<double>& x_y_radius);
+};
 
 struct LoopRules {
     // Out of line: GCC 12 inlined the registration's levels into every configuration made and
@@ -62,6 +81,14 @@ struct LoopRules {
     registration::FreeSpaceConfig free_space;
     size_t free_space_level = 1;
     double max_seen_through = 0.05;
+    // What a removed element explains is no contradiction (registration/removed_surfaces.hpp) of
+    // a placement the walk's start hint vouches for (StartHint): max_seen_through then judges the
+    // share of rays seen through other surfaces. Duplex_A's third visit, its partition between
+    // entry and living room demolished, saw through it with 13-20 % of its rays at the right
+    // placement and was refused. Without a hint the rays count whole: the sample office's ground
+    // floor placed on its first floor saw through the first floor's one extra partition (7.6 %,
+    // 0.6 % but for it), as the right storey would with that partition demolished.
+    registration::RemovedSurfaceConfig removed_surfaces;
     // Between hypotheses that explain the loops about equally well, free space decides when one's
     // keyframes see through the model decisively less often than the other's: at most
     // 1/outweigh_ratio as often and by at least outweigh_gap less. The other is "outweighed" and

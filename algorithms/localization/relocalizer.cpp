@@ -10,6 +10,7 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/posegraph/max_clique.hpp"
+#include "algorithms/registration/removed_surfaces.hpp"
 #include "algorithms/scancontext/config.hpp"
 
 namespace bimslam::localization {
@@ -119,6 +120,7 @@ Relocalizer::Relocalizer(const RigMap& map, const RelocalizerConfig& config)
 
 void Relocalizer::Check(const RigMap& map, const RelocalizerConfig& config) {
     config.ValidateLoopRules("RelocalizerConfig");
+    if (config.start) config.start->Validate();
     map.DescriptorConfig().Validate();
     if (map.keyframes.empty()) {
         throw common::Error(common::StatusCode::kInvalidArgument, "Relocalizer: no keyframes");
@@ -142,6 +144,10 @@ const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,
     step_.fix_information = last.fix_information;
     step_.T_odom_lidar_fix = last.T_odom_lidar_fix;
     const RelocalizerState was = last.state;
+    if (keyframes_ == 0) {
+        start_odom_ = T_odom_lidar.translation();
+        start_path_m_ = path_m;
+    }
     step_.keyframe = keyframes_++;
     const registration::OrientedCloud oc = registration::MakeOrientedCloud(cloud, config_.cloud);
     height_ambiguous_ = height_ambiguous_ || height_ambiguous;
@@ -222,12 +228,11 @@ void Relocalizer::Search(const registration::OrientedCloud& cloud, const scancon
 void Relocalizer::AddLoop(const registration::OrientedCloud& cloud,
                           const registration::RegistrationResult& r,
                           const Eigen::Isometry3d& T_odom_lidar, double path_m) {
-    const double seen =
-        registration::CheckFreeSpace(cloud, pyramid_.level(config_.free_space_level),
-                                     r.T_target_source, config_.free_space)
-            .ratio();
-    loops_.push_back(
-        {step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen, r.information});
+    registration::FreeSpaceResult free_space = registration::CheckFreeSpace(
+        cloud, pyramid_.level(config_.free_space_level), r.T_target_source, config_.free_space);
+    const double seen = free_space.ratio();
+    loops_.push_back({step_.keyframe, r.T_target_source, T_odom_lidar, path_m, seen,
+                      std::move(free_space), r.information});
 }
 
 // The offline test (host_tools/anchor/place_recognition.cpp, Consistent): b's keyframe placed
@@ -270,30 +275,54 @@ std::vector<Relocalizer::Clique> Relocalizer::Cliques() const {
         k.loops = c.vertices;
         std::vector<double> seen;
         std::vector<size_t> keyframes;
+        std::vector<const registration::FreeSpaceResult*> views;
         for (size_t m : c.vertices) {
             seen.push_back(loops_[m].seen_through);
             keyframes.push_back(loops_[m].keyframe);
+            views.push_back(&loops_[m].free_space);
         }
         std::sort(keyframes.begin(), keyframes.end());
         k.keyframes = size_t(std::unique(keyframes.begin(), keyframes.end()) - keyframes.begin());
         k.seen_through = Median(seen);
-        standing += k.seen_through <= config_.max_seen_through;
+        // What a removed element explains is no contradiction (offline's rule, LoopRules).
+        // With a start hint only (RelocalizerConfig::start; offline's RankHypotheses).
+        k.unexplained =
+            config_.start
+                ? registration::MedianUnexplained(
+                      views, registration::FindRemovedSurfaces(views, config_.removed_surfaces),
+                      config_.removed_surfaces)
+                : k.seen_through;
+        standing += k.unexplained <= config_.max_seen_through;
         out.push_back(std::move(k));
     }
     return out;
+}
+
+bool Relocalizer::OnHint(const Clique& c) const {
+    if (!config_.start) return true;
+    const Loop& newest = loops_[*std::max_element(c.loops.begin(), c.loops.end())];
+    const Eigen::Vector2d at = (newest.T_bim_odom() * start_odom_).head<2>();
+    const double radius = config_.start->radius_m +
+                          config_.drift_per_m * std::max(0.0, newest.path_m - start_path_m_);
+    return (at - config_.start->xy).norm() <= radius;
 }
 
 void Relocalizer::Decide(const std::vector<Clique>& cliques) {
     step_.consistent_loops = cliques.empty() ? 0 : cliques.front().loops.size();
     std::vector<const Clique*> kept;  // not seen through the model
     for (const Clique& c : cliques) {
-        if (c.seen_through <= config_.max_seen_through) kept.push_back(&c);
+        if (c.unexplained <= config_.max_seen_through && OnHint(c)) kept.push_back(&c);
     }
     // A clique whose keyframes see through the model decisively more often than another's is
     // outweighed (offline's rule).
+    // So is one that stands only because removed elements explain what it sees through, against
+    // one that needs none (offline's FreeSpacePrefers).
     const auto outweighs = [&](const Clique* a, const Clique* b) {
-        return b->seen_through >= config_.outweigh_ratio * a->seen_through &&
-               b->seen_through >= a->seen_through + config_.outweigh_gap;
+        const bool decisive = b->seen_through >= config_.outweigh_ratio * a->seen_through &&
+                              b->seen_through >= a->seen_through + config_.outweigh_gap;
+        const bool needs_less = a->seen_through <= config_.max_seen_through &&
+                                b->seen_through > config_.max_seen_through;
+        return decisive || needs_less;
     };
     std::vector<const Clique*> rivals;
     for (const Clique* c : kept) {

@@ -14,7 +14,8 @@
 //     consistent loops (the offline test: one loop's keyframe placed through the other's
 //     T_bim_odom and the odometry lies where its registration put it, within bounds that grow
 //     with the distance walked between them), a clique whose keyframes see through the model's
-//     surfaces (median over its loops) more than `max_seen_through` dropped as contradicted
+//     surfaces (median over its loops) more than `max_seen_through`, beyond what removed
+//     elements explain (registration/removed_surfaces.hpp), dropped as contradicted
 //     (the search goes on until three cliques stand), a rival outweighed by free space as
 //     offline. Each hypothesis standing after the previous keyframe also registers this one from
 //     where it puts it (guided loops: offline's proximity rounds, live), so a hypothesis grows
@@ -37,6 +38,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string_view>
 #include <vector>
@@ -91,6 +93,12 @@ struct RelocalizerConfig : LoopRules {
     // were refused by the 0.5 m cap, and the live pose stood 1 m low for 60 s (localization
     // README, "A height the odometry flagged").
     double height_measured_sigma = 0.075;
+    // Where the rig starts, when the operator knows (the rig's localization.near, `bimslam
+    // localize --near`): a clique that puts the first keyframe farther than its radius, grown by
+    // drift_per_m over the walk from there to the clique's newest loop, is set aside, never a
+    // rival (offline's off_hint). In a building of identical parts (Duplex_A's two dwellings, a
+    // mirror-symmetric hall) the rig is otherwise ambiguous for as long as it walks.
+    std::optional<StartHint> start;
     int lost_after = 15;     // keyframes without an accepted registration (about 15 m)
     int contradictions = 3;  // verified registrations far from the prediction, uncleared
     // Tests of robustness only (issue 35: "30 % of the candidate loops injected wrong"): while
@@ -195,6 +203,7 @@ private:
         Eigen::Isometry3d T_odom_lidar;
         double path_m = 0;
         double seen_through = 0;
+        registration::FreeSpaceResult free_space;  // the rays and crossings behind seen_through
         common::Matrix6d information = common::Matrix6d::Zero();
         Eigen::Isometry3d T_bim_odom() const { return T_bim_lidar * T_odom_lidar.inverse(); }
     };
@@ -202,9 +211,12 @@ private:
         std::vector<size_t> loops;  // into loops_
         size_t keyframes = 0;       // distinct keyframes among them
         double seen_through = 0;    // median
+        double unexplained = 0;     // median, but for what removed elements explain
     };
 
     bool Verified(const registration::RegistrationResult& r, bool full_rank) const;
+    // The clique puts the first keyframe within RelocalizerConfig::start (true without one).
+    bool OnHint(const Clique& c) const;
     void AddLoop(const registration::OrientedCloud& cloud,
                  const registration::RegistrationResult& r, const Eigen::Isometry3d& T_odom_lidar,
                  double path_m);
@@ -228,6 +240,9 @@ private:
     std::vector<Eigen::Isometry3d> guides_;  // the hypotheses standing after the last keyframe
     RelocalizerStep step_;
     size_t keyframes_ = 0;
+    // The first keyframe's odometry position and walk (RelocalizerConfig::start).
+    Eigen::Vector3d start_odom_ = Eigen::Vector3d::Zero();
+    double start_path_m_ = 0;
     int misses_ = 0, contradicted_ = 0;
     // The last contradiction's translation from the prediction (unit, the model's axes), or zero
     // when it was off in rotation only (MeasuredAlong).

@@ -312,9 +312,11 @@ void Rig::MakeModules() {
                                  bim_map_ ? &q_.keyframes_localizer : nullptr},
                     can_ ? &*can_ : nullptr);
     if (bim_map_) {
+        std::optional<localization::StartHint> start;
+        if (!cfg_.bim_near.empty()) start = localization::StartHint::FromList(cfg_.bim_near);
         localizer_.emplace(*bim_map_, q_.keyframes_localizer, q_.localizer_wakeup,
                            int64_t(cfg_.localizer_deadline_ms * 1e6),
-                           cfg_.record ? &q_.bim_steps : nullptr, replay);
+                           cfg_.record ? &q_.bim_steps : nullptr, replay, start);
         localizer_done_.store(false);
     }
 

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/localization/loop_rules.hpp"
 
 namespace bimslam::rig {
 namespace {
@@ -137,6 +138,36 @@ Binding Vector(const std::string& path, std::vector<double>& field, size_t n,
             }};
 }
 
+// Where the walk starts: [x, y] or [x, y, radius] (localization::StartHint's checks), or [] for
+// none.
+Binding Near(const std::string& path, std::vector<double>& field, const std::string& doc) {
+    Binding b = Vector(path, field, 3, "m", doc);
+    b.key.range = "[] | [x, y] | [x, y, radius]";
+    b.set = [&field](const YAML::Node& node) -> std::string {
+        if (!node.IsSequence() || (node.size() != 0 && node.size() != 2 && node.size() != 3)) {
+            return "expected [], [x, y] or [x, y, radius]";
+        }
+        std::vector<double> v;
+        for (const YAML::Node& x : node) {
+            try {
+                v.push_back(x.as<double>());
+            } catch (const YAML::Exception&) {
+                return "expected numbers, got '" + x.Scalar() + "'";
+            }
+        }
+        if (!v.empty()) {
+            try {
+                localization::StartHint::FromList(v);
+            } catch (const common::Error& e) {
+                return e.what();
+            }
+        }
+        field = v;
+        return "";
+    };
+    return b;
+}
+
 void ThreadKeys(std::vector<Binding>& b, const std::string& name, ThreadConfig& t) {
     b.push_back(Int("threads." + name + ".priority", t.priority, 0, 99, "",
                     "SCHED_FIFO priority; 0: the normal scheduler"));
@@ -208,6 +239,10 @@ std::vector<Binding> Bindings(RigConfig& c) {
                      "a keyframe's relocalisation (CPU time) longer than this is a deadline miss"));
     b.push_back(Real("localization.lost_fault_s", c.bim_lost_fault_s, 1, 3600, "s",
                      "not localised this long after a localisation: FAULT_BIM_LOST"));
+    b.push_back(Near("localization.near", c.bim_near,
+                     "where the walk starts, model metres (radius 3 m when absent): hypotheses "
+                     "that put the rig's start farther away are set aside. For buildings of "
+                     "identical parts, where the rig is otherwise ambiguous"));
     b.push_back(Bool("runtime.lock_memory", c.lock_memory, "mlockall at start"));
     ThreadKeys(b, "ingest", c.ingest);
     ThreadKeys(b, "can", c.can);

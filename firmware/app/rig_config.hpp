@@ -76,6 +76,9 @@ struct RigConfig {
     std::string bim_model_sha256;         // the model the package must be of; "": any
     double localizer_deadline_ms = 1000;  // a keyframe's relocalisation, CPU time
     double bim_lost_fault_s = 30;  // unlocalised this long after a localisation: FAULT_BIM_LOST
+    // Where the walk starts, [x, y] or [x, y, radius] in model metres (radius 3 m when absent);
+    // empty: unknown (localization::StartHint, RelocalizerConfig::start).
+    std::vector<double> bim_near;
 
     // runtime.
     bool lock_memory = true;

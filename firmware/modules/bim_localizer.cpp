@@ -11,20 +11,24 @@ using localization::RelocalizerState;
 BimLocalizer::BimLocalizer(const localization::RigMap& map,
                            runtime::SpscQueue<KeyframeItem>& keyframes, runtime::Wakeup& wakeup,
                            int64_t deadline_ns, runtime::SpscQueue<BimStepItem>* steps,
-                           bool lossless)
+                           bool lossless, std::optional<localization::StartHint> start)
     : map_(map),
       keyframes_(keyframes),
       wakeup_(wakeup),
       deadline_ns_(deadline_ns),
       steps_(steps),
-      lossless_(lossless) {}
+      lossless_(lossless),
+      start_(start) {}
 
 void BimLocalizer::Process(const KeyframeItem& k) {
     const io::SessionKeyframe& kf = k.keyframe;
     // A new segment: the odometry started again in a new frame, and so does the relocaliser.
     if (!relocalizer_ || k.segment != segment_) {
         if (relocalizer_) ++c_.restarts;
-        relocalizer_.emplace(map_);
+        localization::RelocalizerConfig config;
+        if (first_segment_) config.start = start_;
+        first_segment_ = false;
+        relocalizer_.emplace(map_, config);
         segment_ = k.segment;
         path_m_ = 0;
         last_position_ = kf.T_world_lidar.translation();

@@ -67,9 +67,12 @@ public:
     // `map` must outlive it. deadline_ns: a keyframe's relocalisation longer than this is a miss.
     // `wakeup`: the one the keyframe queue notifies. `steps`: each keyframe's step for the
     // session writer (nullptr: none), waiting for room when `lossless` (a replay).
+    // `start`: where the walk starts (localization.near), for the odometry's first segment only
+    // (a later segment starts where the odometry started again, not where the walk did).
     BimLocalizer(const localization::RigMap& map, runtime::SpscQueue<KeyframeItem>& keyframes,
                  runtime::Wakeup& wakeup, int64_t deadline_ns,
-                 runtime::SpscQueue<BimStepItem>* steps = nullptr, bool lossless = false);
+                 runtime::SpscQueue<BimStepItem>* steps = nullptr, bool lossless = false,
+                 std::optional<localization::StartHint> start = std::nullopt);
 
     // Until `producers_done` and the queue is empty.
     void Run(runtime::ThreadStats& stats, const std::atomic<bool>& producers_done);
@@ -91,6 +94,8 @@ private:
     bool lossless_;
     std::atomic<bool> never_{false};  // BeginPushWaiting's stop: the writer always drains
     std::optional<localization::Relocalizer> relocalizer_;
+    std::optional<localization::StartHint> start_;
+    bool first_segment_ = true;
     uint32_t segment_ = 0;
     double path_m_ = 0;
     Eigen::Vector3d last_position_ = Eigen::Vector3d::Zero();

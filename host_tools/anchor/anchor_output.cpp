@@ -43,6 +43,15 @@ json BreaksJson(const std::vector<SessionResult::OdometryBreak>& breaks) {
 json ResultJson(const SessionResult& s) {
     json hyps = json::array();
     for (const Hypothesis& h : s.hypotheses) {
+        json removed = json::array();
+        for (const registration::RemovedSurface& r : h.removed_surfaces) {
+            removed.push_back({{"center", {r.center.x(), r.center.y(), r.center.z()}},
+                               {"normal_axis", std::string(1, "xyz"[r.axis])},
+                               {"area_m2", r.area_m2},
+                               {"crossings", r.crossings},
+                               {"keyframes", r.views},
+                               {"rays_ending_on_model", r.on_map}});
+        }
         hyps.push_back({{"T_world_local", PoseJson(h.anchor)},
                         {"clique_index", h.clique_index},
                         {"clique", h.clique},
@@ -50,6 +59,8 @@ json ResultJson(const SessionResult& s) {
                         {"covered_keyframes", h.covered},
                         {"mean_inlier_ratio", h.mean_inlier_ratio},
                         {"seen_through", h.seen_through},
+                        {"removed_surfaces", removed},
+                        {"seen_through_unexplained", h.Unexplained()},
                         {"contradicted", h.contradicted},
                         {"outweighed", h.outweighed},
                         {"off_hint", h.off_hint},

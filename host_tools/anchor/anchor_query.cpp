@@ -4,8 +4,10 @@
 // AnchorQuery): place recognition, the hypotheses, each followed, ranked, and the verdict.
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 
@@ -26,14 +28,31 @@ const LoopRecord& BestLoop(const std::vector<LoopRecord>& loops) {
 
 std::string Percent(double r) { return std::to_string(100 * r).substr(0, 4) + " %"; }
 
+// The surfaces removed elements explain, in words, when the placement needed them (seen through
+// more than max_seen_through): where a report reader would look for a demolished wall (its
+// elements are reported missing by the changes).
+std::string RemovedSurfaces(const Hypothesis& h, double max_seen_through) {
+    if (h.removed_surfaces.empty() || h.seen_through <= max_seen_through) return "";
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(1) << ", " << Percent(h.seen_through_unexplained)
+       << " but for " << h.removed_surfaces.size() << " surface(s) seen through as if removed";
+    for (const registration::RemovedSurface& r : h.removed_surfaces) {
+        os << " (at " << r.center.x() << ", " << r.center.y() << ", " << r.center.z() << ", "
+           << r.area_m2 << " m2, from " << r.views << " keyframes)";
+    }
+    return os.str();
+}
+
 // What an anchored verdict rests on: the best hypothesis's loops and free space, and why the
 // next one (ranked[1], if any) is not a rival.
-std::string AnchoredReason(const std::vector<Evaluation>& ranked, size_t keyframes) {
+std::string AnchoredReason(const std::vector<Evaluation>& ranked, size_t keyframes,
+                           double max_seen_through) {
     const Hypothesis& best = ranked[0].hypothesis;
     std::string reason = std::to_string(best.loops) + " loops on " + std::to_string(best.covered) +
                          " of " + std::to_string(keyframes) + " keyframes, mean inlier ratio " +
                          std::to_string(best.mean_inlier_ratio).substr(0, 4) + ", " +
-                         Percent(best.seen_through) + " of rays through the model; ";
+                         Percent(best.seen_through) + " of rays through the model" +
+                         RemovedSurfaces(best, max_seen_through) + "; ";
     if (ranked.size() == 1) return reason + "no rival hypothesis";
     const Hypothesis& next = ranked[1].hypothesis;
     return reason + "the next hypothesis explains " + std::to_string(next.covered) +
@@ -191,7 +210,7 @@ void AnchoringProblem::Accept(const std::vector<Evaluation>& ranked, size_t keyf
     res.world_poses = best.query.World();
     res.accepted_loops = best.accepted.size();
     res.covered = best.hypothesis.covered;
-    res.reason = AnchoredReason(ranked, keyframes);
+    res.reason = AnchoredReason(ranked, keyframes, config_.max_seen_through);
     out->state = best.query;
     out->accepted = best.accepted;
     std::set<std::pair<size_t, size_t>> accepted_pr;

@@ -137,20 +137,6 @@ void ReadClouds(AnchorSession* session, const LoadOptions& options, bool compute
 
 }  // namespace
 
-void StartHint::Validate() const {
-    common::Require(radius_m > 0 && radius_m <= 1000, "StartHint", "radius_m", radius_m,
-                    "must be in (0, 1000] m");
-    common::Require(xy.allFinite(), "StartHint", "xy", xy.x(), "must be finite");
-}
-
-StartHint StartHint::FromList(const std::vector<double>& v) {
-    common::Require(v.size() == 2 || v.size() == 3, "StartHint", "values", double(v.size()),
-                    "must be X Y or X Y R");
-    StartHint h{{v[0], v[1]}, v.size() == 3 ? v[2] : StartHint{}.radius_m};
-    h.Validate();
-    return h;
-}
-
 AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options) {
     AnchorSession s;
     s.dir = dir;

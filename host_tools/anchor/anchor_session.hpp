@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "algorithms/io/session.hpp"
+#include "algorithms/localization/loop_rules.hpp"
 #include "algorithms/registration/oriented_cloud.hpp"
 #include "algorithms/scancontext/config.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
@@ -33,21 +34,9 @@ inline constexpr double kDefaultEdgeSigmaPerMetre = 0.02;    // m per m
 inline constexpr double kDefaultEdgeSigmaDegPerMetre = 0.5;  // deg per m
 inline constexpr double kDefaultEdgeSigmaFloor = 0.01;       // m (and 0.25 deg)
 
-// Where a walk starts, when the user knows (model x y, m; `--near X Y [R]`): a hypothesis that
-// puts the session's first keyframe farther than radius_m from it is set aside (Hypothesis::
-// off_hint), never a rival. For buildings of identical parts: Duplex_A's two dwellings are one
-// turned 180 degrees, and a walk in one fits the other as well (README.md, "Identical parts");
-// without it, such a walk is ambiguous.
-struct StartHint {
-    Eigen::Vector2d xy = Eigen::Vector2d::Zero();
-    double radius_m = 3.0;
-    void Validate() const;  // throws common::Error naming the radius
-    // [x, y, radius_m]: its form in anchor.json, project.json and the map's stamps.
-    std::vector<double> List() const { return {xy.x(), xy.y(), radius_m}; }
-    // From `--near X Y [R]` (R 3 m when absent) or a List(), validated; throws common::Error
-    // for any other count.
-    static StartHint FromList(const std::vector<double>& x_y_radius);
-};
+// Where a walk starts, when the user knows (localization::StartHint, shared with the rig's
+// relocaliser).
+using localization::StartHint;
 
 struct AnchorSession {
     std::string name;  // the folder's name

@@ -41,10 +41,13 @@ std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
                                    const AnchorConfig& config,
                                    const std::optional<StartHint>& start) {
     for (Hypothesis& h : hypotheses) {
-        h.contradicted = h.seen_through > config.max_seen_through;
         h.off_hint = start && !poses.empty() &&
                      ((h.anchor * poses.front()).translation().head<2>() - start->xy).norm() >
                          start->radius_m;
+        // What removed elements explain counts for a placement the user's start hint vouches
+        // for only: without one, a storey placed on another that has one more partition looks
+        // the same as the right storey with a partition demolished.
+        h.contradicted = (start ? h.Unexplained() : h.seen_through) > config.max_seen_through;
     }
     for (Hypothesis& b : hypotheses) {
         for (const Hypothesis& a : hypotheses) {
@@ -76,12 +79,21 @@ Verdict DecideVerdict(const std::vector<Hypothesis>& ranked,
     }
     const Hypothesis& best = ranked[0];
     if (best.contradicted) {
-        *reason = "every hypothesis (" + std::to_string(ranked.size()) +
-                  ") is contradicted by free space: the best one's keyframes see through the "
-                  "model's surfaces with " +
-                  std::to_string(100 * best.seen_through).substr(0, 4) +
-                  " % of their rays (at most " +
-                  std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
+        *reason =
+            "every hypothesis (" + std::to_string(ranked.size()) +
+            ") is contradicted by free space: the best one's keyframes see through the "
+            "model's surfaces with " +
+            std::to_string(100 * (start ? best.Unexplained() : best.seen_through)).substr(0, 4) +
+            " % of their rays (at most " +
+            std::to_string(100 * config.max_seen_through).substr(0, 4) + " %)";
+        if (!start && !best.removed_surfaces.empty() &&
+            best.seen_through_unexplained <= config.max_seen_through) {
+            *reason += "; " + std::to_string(best.removed_surfaces.size()) +
+                       " surface(s) of the model, if removed, would explain all but " +
+                       std::to_string(100 * best.seen_through_unexplained).substr(0, 4) +
+                       " %: if the building changed there since the model, say where the walk "
+                       "starts (--near) to accept the placement";
+        }
         return Verdict::kFailed;
     }
     if (best.off_hint && start) {
@@ -141,8 +153,12 @@ int Severity(Verdict v) {
 }
 
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config) {
-    return a.seen_through * config.outweigh_ratio <= b.seen_through &&
-           b.seen_through - a.seen_through >= config.outweigh_gap;
+    const bool decisive = a.seen_through * config.outweigh_ratio <= b.seen_through &&
+                          b.seen_through - a.seen_through >= config.outweigh_gap;
+    // b stands only because removed elements explain what it sees through; a needs none.
+    const bool needs_less = a.seen_through <= config.max_seen_through &&
+                            b.seen_through > config.max_seen_through && !b.removed_surfaces.empty();
+    return decisive || needs_less;
 }
 
 std::string_view ToString(Verdict v) {

@@ -38,7 +38,9 @@
 #include <vector>
 
 #include "algorithms/posegraph/pose_graph.hpp"
+#include "algorithms/registration/free_space.hpp"
 #include "algorithms/registration/registration.hpp"
+#include "algorithms/registration/removed_surfaces.hpp"
 #include "host_tools/anchor/anchor_config.hpp"
 #include "host_tools/anchor/anchor_session.hpp"
 
@@ -73,7 +75,8 @@ struct LoopRecord {
     // Share of the query keyframe's rays seen through the target at the final estimate
     // (registration::CheckFreeSpace); -1 when not checked.
     double seen_through = -1;
-    std::string reason;  // why rejected, or "accepted"
+    registration::FreeSpaceResult free_space;  // the same check's rays and crossings
+    std::string reason;                        // why rejected, or "accepted"
 };
 
 struct Hypothesis {
@@ -87,7 +90,16 @@ struct Hypothesis {
     // through a target surface before reaching their point (registration::CheckFreeSpace):
     // evidence against the placement.
     double seen_through = 0;
-    bool contradicted = false;  // seen_through over AnchorConfig::max_seen_through
+    // The surfaces that removed elements explain (registration::FindRemovedSurfaces), and the
+    // median share of rays seen through the others: what contradicts the placement.
+    std::vector<registration::RemovedSurface> removed_surfaces;
+    double seen_through_unexplained = 0;
+    double Unexplained() const {
+        return removed_surfaces.empty() ? seen_through : seen_through_unexplained;
+    }
+    // Over AnchorConfig::max_seen_through: Unexplained() when the walk's start was given (a
+    // placement the user vouches for), else seen_through (RankHypotheses).
+    bool contradicted = false;
     // Another uncontradicted hypothesis explains nearly as many keyframes and free space prefers
     // it decisively (FreeSpacePrefers): not a rival.
     bool outweighed = false;
@@ -176,7 +188,11 @@ struct AnchorResult {
 using Progress = std::function<void(const std::string&, size_t, size_t)>;
 
 // Whether the free-space evidence prefers hypothesis a to b decisively: a's keyframes see
-// through the model at most 1/outweigh_ratio as often as b's, and by at least outweigh_gap less.
+// through the model at most 1/outweigh_ratio as often as b's, and by at least outweigh_gap less;
+// or a stands as the model is (seen_through within max_seen_through) where b stands only because
+// removed elements explain what it sees through. FZK-Haus's attic is the same turned 180 degrees
+// but for the stair's railings: its twin placement sees through them, two patches of 1.2 and 1.5
+// m2 that a removed element would explain, and would otherwise be a rival of the right one.
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
 
 // Marks each hypothesis contradicted (its keyframes see through the model more than

@@ -114,11 +114,12 @@ private:
 
     // Negative evidence: each keyframe of q near the target, placed by query_state, cast
     // through the target's surfels (registration::CheckFreeSpace; with earlier visits, the
-    // model's alone: model_only_); *median is the median share of rays seen through over the
-    // keyframes checked (left as it is when none is).
+    // model's alone: model_only_). Fills h's seen_through (the median share of rays seen through
+    // over the keyframes checked; left as it is when none is), removed_surfaces and
+    // seen_through_unexplained (registration::FindRemovedSurfaces).
     std::vector<registration::FreeSpaceResult> SeenThrough(size_t q, const Target& target,
                                                            const State& query_state,
-                                                           double* median) const;
+                                                           Hypothesis* h) const;
     // Where negative evidence is looked for: the model alone (model_only_) when earlier visits
     // are targets too, else `target`. Both the loops' seen_through (RegisterLoops, which the
     // cliques are passed over by) and the hypotheses' (SeenThrough) use it.

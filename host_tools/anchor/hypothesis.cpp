@@ -71,8 +71,11 @@ Evaluation AnchoringProblem::FollowHypothesis(size_t q, const Target& target,
         if (near[j] && !near[j]->verified) ev.rejected.push_back(*near[j]);
     }
     const std::vector<registration::FreeSpaceResult> fs =
-        SeenThrough(q, target, state[q], &ev.hypothesis.seen_through);
-    for (LoopRecord& l : kept) l.seen_through = fs[l.query_index].ratio();
+        SeenThrough(q, target, state[q], &ev.hypothesis);
+    for (LoopRecord& l : kept) {
+        l.seen_through = fs[l.query_index].ratio();
+        l.free_space = fs[l.query_index];
+    }
     double inliers = 0;
     for (const LoopRecord& l : kept) inliers += l.registration.fitness.inlier_ratio;
     ev.hypothesis.anchor = state[q].anchor;
@@ -161,7 +164,7 @@ std::vector<LoopRecord> AnchoringProblem::DropUnexplained(const std::vector<Loop
 std::vector<registration::FreeSpaceResult> AnchoringProblem::SeenThrough(size_t q,
                                                                          const Target& target,
                                                                          const State& query_state,
-                                                                         double* median) const {
+                                                                         Hypothesis* h) const {
     const size_t n = sessions_[q].keyframes();
     std::vector<registration::FreeSpaceResult> fs(n);
     const Target& model = FreeSpaceTarget(target);  // see Solve
@@ -174,13 +177,15 @@ std::vector<registration::FreeSpaceResult> AnchoringProblem::SeenThrough(size_t 
         }
         fs[j] = registration::CheckFreeSpace(sessions_[q].clouds[j], fs_map, T, config_.free_space);
     });
-    std::vector<double> ratios;
+    std::vector<const registration::FreeSpaceResult*> views;
     for (const auto& f : fs) {
-        if (f.rays > 0) ratios.push_back(f.ratio());
+        if (f.rays > 0) views.push_back(&f);
     }
-    if (!ratios.empty()) {
-        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-        *median = ratios[ratios.size() / 2];
+    if (!views.empty()) {
+        h->seen_through = registration::MedianUnexplained(views, {}, config_.removed_surfaces);
+        h->removed_surfaces = registration::FindRemovedSurfaces(views, config_.removed_surfaces);
+        h->seen_through_unexplained =
+            registration::MedianUnexplained(views, h->removed_surfaces, config_.removed_surfaces);
     }
     return fs;
 }

@@ -66,10 +66,10 @@ void AnchoringProblem::RegisterLoops(const Target& target,
             r.reason.clear();
         }
         if (!r.registration.failed) {
-            r.seen_through =
+            r.free_space =
                 registration::CheckFreeSpace(q.clouds[r.query_index], free_space,
-                                             r.registration.T_target_source, config_.free_space)
-                    .ratio();
+                                             r.registration.T_target_source, config_.free_space);
+            r.seen_through = r.free_space.ratio();
         }
     });
     times()->registration_s += common::SecondsSince(t0);
@@ -195,12 +195,26 @@ std::vector<std::vector<size_t>> ConsistentHypotheses(
             if (2 * agree >= c.vertices.size()) used[v] = 1;
         }
         // A clique whose loops see through the model's surfaces (the median share of their
-        // rays, as step 4 judges a hypothesis) is passed over without being followed and does
-        // not count: a smaller right clique behind larger wrong ones is still found (a Go1 walk
-        // from outside the office: 3 right loops among 39 verified, README.md "Walks from
-        // outside").
+        // rays, as step 4 judges a hypothesis, beyond what removed elements explain) is passed
+        // over without being followed and does not count: a smaller right clique behind larger
+        // wrong ones is still found (a Go1 walk from outside the office: 3 right loops among 39
+        // verified, README.md "Walks from outside").
+        // Removed elements explain seen-through rays only for a walk whose start was given
+        // (AnchorSession::start): see RankHypotheses.
+        std::vector<const registration::FreeSpaceResult*> views;
+        for (size_t m : c.vertices) views.push_back(&records[loops[m]].free_space);
+        const bool told = sessions[records[loops[c.vertices[0]]].query_session].start.has_value();
+        const std::vector<registration::RemovedSurface> removed =
+            told ? registration::FindRemovedSurfaces(views, config.removed_surfaces)
+                 : std::vector<registration::RemovedSurface>{};
         std::vector<double> seen;
-        for (size_t m : c.vertices) seen.push_back(records[loops[m]].seen_through);
+        for (size_t m : c.vertices) {
+            const LoopRecord& r = records[loops[m]];
+            seen.push_back(
+                r.free_space.rays > 0
+                    ? registration::UnexplainedRatio(r.free_space, removed, config.removed_surfaces)
+                    : r.seen_through);
+        }
         std::nth_element(seen.begin(), seen.begin() + seen.size() / 2, seen.end());
         std::vector<size_t> members;
         for (size_t m : c.vertices) members.push_back(loops[m]);

@@ -192,7 +192,9 @@ void AddAnchorCommand(CLI::App& app, int& exit_code) {
                     "default 3 m): hypotheses that put a query's first keyframe farther away are "
                     "set aside. For buildings of identical parts (two dwellings one turned 180 "
                     "degrees), where a walk in one fits the other as well and is otherwise "
-                    "ambiguous")
+                    "ambiguous. A placement the hint vouches for may also see through one or two "
+                    "walls of the model that were taken away since (anchor.json's "
+                    "removed_surfaces); without it those rays contradict the placement")
         ->expected(2, 3);
     cmd->add_option("--inject-false-loops", args->inject_false_loops,
                     "Benchmarks: replace this share of the verified loops by wrong pairs")

@@ -42,6 +42,7 @@ struct LocalizeArgs {
     std::string truth;
     double inject_false_loops = 0;
     uint64_t seed = 1;
+    std::vector<double> near;  // x y [radius]
     bool json = false;
 };
 
@@ -131,6 +132,7 @@ LocalizeRun RunRelocaliser(const LocalizeArgs& a, const localization::RigMap& ma
     localization::RelocalizerConfig config;
     config.inject_false_loops = a.inject_false_loops;
     config.seed = a.seed;
+    if (!a.near.empty()) config.start = localization::StartHint::FromList(a.near);
     localization::Relocalizer relocalizer(map, config);
     const io::SessionManifest::Descriptor& md = s.manifest.descriptor;
     const bool same = md.kind == map.descriptor.kind && md.rings == map.descriptor.rings &&
@@ -240,6 +242,7 @@ int Localize(const LocalizeArgs& a) {
     const std::vector<io::StampedPose> live = LivePoses(s, run.held);
     io::WriteTum(fs::path(a.out) / "trajectory_bim_live.tum", live);
     json summary = Summary(a, s, run, live.size());
+    if (!a.near.empty()) summary["near"] = localization::StartHint::FromList(a.near).List();
     PrintRun(s, run, summary);
     if (!a.truth.empty() && live.size() >= 3) summary["truth"] = TruthJson(live, a.truth);
     io::WriteFileAtomic(fs::path(a.out) / "localization.json",
@@ -275,6 +278,12 @@ void AddLocalizeCommand(CLI::App& app, int& exit_code) {
                     "a loop to a random reference keyframe, kept whatever its fitness")
         ->check(CLI::Range(0.0, 0.95));
     cmd->add_option("--seed", a->seed, "the injected loops' seed")->capture_default_str();
+    cmd->add_option("--near", a->near,
+                    "X Y [R]: where the walk starts, in model metres, when you know it (within "
+                    "R, default 3 m; the rig's localization.near): hypotheses that put the first "
+                    "keyframe farther away are set aside. For buildings of identical parts, "
+                    "where the rig is otherwise ambiguous")
+        ->expected(2, 3);
     cmd->add_flag("--json", a->json, "also print the summary as JSON");
     cmd->callback([a, &exit_code] { exit_code = Run([&] { return Localize(*a); }); });
 }

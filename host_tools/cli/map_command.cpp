@@ -273,7 +273,8 @@ void AddMapCommand(CLI::App& app, int& exit_code) {
                     "X Y [R]: where the recordings given now start, in model metres (within R, "
                     "default 3 m), kept in the project for them: their anchoring sets aside "
                     "placements that start elsewhere. For buildings of identical parts (two "
-                    "dwellings one turned 180 degrees), where a walk is otherwise ambiguous")
+                    "dwellings one turned 180 degrees), where a walk is otherwise ambiguous, and "
+                    "to accept a placement that a wall taken away since the model explains")
         ->expected(2, 3);
     cmd->add_option("--outliers", a->outliers, "anchoring's outlier rejection: pcm, gnc or none")
         ->capture_default_str();

@@ -214,6 +214,44 @@ TEST(ConsistentHypotheses, CliquesSeenThroughTheModelArePassedOverForASmallerRig
     EXPECT_TRUE(ConsistentHypotheses(records, all, s, config).empty());
 }
 
+TEST(ConsistentHypotheses, ACliqueSeeingThroughOneRemovedWallIsFollowed) {
+    // Duplex_A's third visit, told where it starts: the right clique's loops see through the
+    // partition that was demolished (18 % of 300 rays each, on one plane patch x = 2.5, the rays
+    // ending on the model beyond). Explained by a removed element, the clique is followed; the
+    // same share spread over surfaces far apart, or ending where the model has nothing, is passed
+    // over.
+    auto s = Walk(40);
+    s[1].start = StartHint{(kAnchor * s[1].poses.front()).translation().head<2>(), 3.0};
+    const auto loops_seeing = [&](bool one_wall, bool on_model) {
+        std::vector<LoopRecord> records;
+        AddLoops(s, kAnchor, {5, 10, 15, 20, 25}, 0.18, &records);
+        for (size_t i = 0; i < records.size(); ++i) {
+            registration::FreeSpaceResult& f = records[i].free_space;
+            f.rays = 300;
+            f.seen_through = 54;
+            for (int k = 0; k < 54; ++k) {
+                const Eigen::Vector3f at =
+                    one_wall
+                        ? Eigen::Vector3f(2.5f, -3.5f + 0.05f * float(k), 1.0f + 0.02f * float(i))
+                        : Eigen::Vector3f(3.0f * float(k), 2.0f * float(i), 1.0f);
+                f.crossings.push_back({at, Eigen::Vector3f(1, 0, 0), on_model});
+            }
+        }
+        return records;
+    };
+    const std::vector<size_t> all = {0, 1, 2, 3, 4};
+    std::vector<std::vector<size_t>> passed_over;
+    EXPECT_EQ(
+        ConsistentHypotheses(loops_seeing(true, true), all, s, Defaults(), &passed_over).size(),
+        1u);
+    EXPECT_TRUE(passed_over.empty());
+    EXPECT_TRUE(ConsistentHypotheses(loops_seeing(false, true), all, s, Defaults()).empty());
+    EXPECT_TRUE(ConsistentHypotheses(loops_seeing(true, false), all, s, Defaults()).empty());
+    // Not told where the walk starts: the rays count whole (RankHypotheses).
+    s[1].start.reset();
+    EXPECT_TRUE(ConsistentHypotheses(loops_seeing(true, true), all, s, Defaults()).empty());
+}
+
 TEST(Verdict, NoHypothesisFails) { EXPECT_EQ(Decide({}, 40), Verdict::kFailed); }
 
 TEST(Verdict, AnchoredNeedsFiveLoopsOnTenPercentOfTheKeyframesAndAtLeastFive) {
@@ -322,6 +360,36 @@ TEST(RankHypotheses, MarksAndOrdersByEvidenceThenCoverage) {
     EXPECT_FALSE(hs[2].outweighed);
     EXPECT_FALSE(hs[3].outweighed);  // 1 % against 0.5 %: not decisive
     EXPECT_EQ(order, (std::vector<size_t>{2, 3, 1, 0}));
+}
+
+TEST(RankHypotheses, WhatARemovedElementExplainsIsNoContradictionOfAPlacementTheHintVouchesFor) {
+    // Duplex_A's third visit: its partition demolished, the right placement sees through it with
+    // 16 % of its rays, 1 % through anything else.
+    Hypothesis right = Hyp(40, 40, kAnchor, 0.16);
+    right.removed_surfaces.resize(1);
+    right.seen_through_unexplained = 0.01;
+    const auto s = Walk(40);
+    const Eigen::Vector2d start = (kAnchor * s[1].poses.front()).translation().head<2>();
+    const StartHint near{start + Eigen::Vector2d(1.0, 0.5), 3.0};
+    // Told where the walk starts, and the placement agrees: explained, not contradicted.
+    std::vector<Hypothesis> alone = {right};
+    RankHypotheses(alone, s[1].poses, Defaults(), near);
+    EXPECT_FALSE(alone[0].contradicted);
+    EXPECT_EQ(Decide({right}, 40, nullptr, near), Verdict::kAnchored);
+    // Not told: the sample office's ground floor on its first floor looks the same (one extra
+    // partition seen through). Contradicted, and the reason says what would accept it.
+    std::string why;
+    EXPECT_EQ(Decide({right}, 40, &why), Verdict::kFailed);
+    EXPECT_NE(why.find("if removed, would explain"), std::string::npos) << why;
+    EXPECT_NE(why.find("--near"), std::string::npos) << why;
+    // Without the explanation the hint does not help.
+    EXPECT_EQ(Decide({Hyp(40, 40, kAnchor, 0.16)}, 40, nullptr, near), Verdict::kFailed);
+    // A rival that sees through nothing still outweighs it: the raw share is compared, so a
+    // wrong placement that one surface explains never beats a clean one.
+    std::vector<Hypothesis> hs = {right, Hyp(38, 38, Pose(0.5, 0, 0, 0) * kAnchor, 0.004)};
+    const std::vector<size_t> order = RankHypotheses(hs, s[1].poses, Defaults(), near);
+    EXPECT_TRUE(hs[0].outweighed);
+    EXPECT_EQ(order.front(), 1u);
 }
 
 // CheckFreeSpace on a hand-built map: one wall of surfels across x = 2.2 (inside its 0.5 m

@@ -42,10 +42,33 @@ TEST(RigConfig, LoadsValuesAndRejectsWithFileLineKey) {
     EXPECT_FILE_ERROR(LoadConfigFile(file, c), file.string(), 3);
 }
 
+TEST(RigConfig, WhereTheWalkStartsIsTwoOrThreeNumbersOrNothing) {
+    test::TempDir dir;
+    const auto file = dir / "rig.yaml";
+    RigConfig c;
+    EXPECT_TRUE(c.bim_near.empty());
+    std::ofstream(file) << "localization:\n  near: [4.0, -3.8]\n";
+    LoadConfigFile(file, c);
+    EXPECT_EQ(c.bim_near, (std::vector<double>{4.0, -3.8}));
+    std::ofstream(file) << "localization:\n  near: [4.0, -3.8, 5]\n";
+    LoadConfigFile(file, c);
+    EXPECT_EQ(c.bim_near.size(), 3u);
+    std::ofstream(file) << "localization:\n  near: []\n";
+    LoadConfigFile(file, c);
+    EXPECT_TRUE(c.bim_near.empty());
+    std::ofstream(file) << "localization:\n  near: [4.0]\n";
+    EXPECT_FILE_ERROR(LoadConfigFile(file, c), file.string(), 2);
+    std::ofstream(file) << "localization:\n  near: [4.0, -3.8, -1]\n";
+    EXPECT_FILE_ERROR(LoadConfigFile(file, c), file.string(), 2);
+    std::ofstream(file) << "localization:\n  near: [4.0, x]\n";
+    EXPECT_FILE_ERROR(LoadConfigFile(file, c), file.string(), 2);
+}
+
 TEST(RigConfig, PrintedConfigurationLoadsBackUnchanged) {
     RigConfig c;
     c.lidar_port = 1234;
     c.mount = {0.1, 0.2, 0.3, 1, 2, 3};
+    c.bim_near = {4.0, -3.8, 2.5};
     c.can_source = "lcm";
     const std::string printed = PrintConfig(c);
     test::TempDir dir;
