@@ -112,6 +112,20 @@ Binding Enum(const std::string& path, std::string& field, const std::vector<std:
             [&field] { return field; }};
 }
 
+// The numbers of a YAML list into *out: "" or what is wrong.
+std::string Numbers(const YAML::Node& node, std::vector<double>* out) {
+    out->clear();
+    for (const YAML::Node& x : node) {
+        try {
+            out->push_back(x.as<double>());
+        } catch (const YAML::Exception&) {
+            return "expected numbers, got '" + x.Scalar() + "'";
+        }
+        if (!std::isfinite(out->back())) return "a value is not finite";
+    }
+    return "";
+}
+
 Binding Vector(const std::string& path, std::vector<double>& field, size_t n,
                const std::string& unit, const std::string& doc) {
     return {{path, "vector", unit, std::to_string(n) + " numbers", doc},
@@ -120,16 +134,9 @@ Binding Vector(const std::string& path, std::vector<double>& field, size_t n,
                     return "expected a list of " + std::to_string(n) + " numbers";
                 }
                 std::vector<double> v;
-                for (const YAML::Node& x : node) {
-                    try {
-                        v.push_back(x.as<double>());
-                    } catch (const YAML::Exception&) {
-                        return "expected numbers, got '" + x.Scalar() + "'";
-                    }
-                    if (!std::isfinite(v.back())) return "a value is not finite";
-                }
-                field = v;
-                return "";
+                const std::string wrong = Numbers(node, &v);
+                if (wrong.empty()) field = v;
+                return wrong;
             },
             [&field] {
                 std::string s = "[";
@@ -148,13 +155,7 @@ Binding Near(const std::string& path, std::vector<double>& field, const std::str
             return "expected [], [x, y] or [x, y, radius]";
         }
         std::vector<double> v;
-        for (const YAML::Node& x : node) {
-            try {
-                v.push_back(x.as<double>());
-            } catch (const YAML::Exception&) {
-                return "expected numbers, got '" + x.Scalar() + "'";
-            }
-        }
+        if (const std::string wrong = Numbers(node, &v); !wrong.empty()) return wrong;
         if (!v.empty()) {
             try {
                 localization::StartHint::FromList(v);
