@@ -79,7 +79,7 @@ ExtentCoverage InlierCoverage(const Eigen::AlignedBox3d& element_box, const Moti
 
 void MovedSurfaceSamples(const ChangeModel& model, uint32_t element,
                          const Eigen::AlignedBox3d& element_box, const MotionFit& motion,
-                         double spacing, std::vector<Eigen::Vector3f>* points,
+                         double spacing, double inset, std::vector<Eigen::Vector3f>* points,
                          std::vector<Eigen::Vector3f>* normals) {
     const Eigen::Vector3d c = element_box.center();
     const Eigen::Matrix3d R = Yaw(motion.yaw_rad);
@@ -89,19 +89,31 @@ void MovedSurfaceSamples(const ChangeModel& model, uint32_t element,
     for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
         if (model.triangle_element[t] != element) continue;
         const auto& tri = model.mesh.triangles[t];
-        const Eigen::Vector3f a = moved(model.mesh.vertices[tri[0]]);
-        const Eigen::Vector3f ab = moved(model.mesh.vertices[tri[1]]) - a;
-        const Eigen::Vector3f ac = moved(model.mesh.vertices[tri[2]]) - a;
+        const std::array<Eigen::Vector3f, 3> v = {moved(model.mesh.vertices[tri[0]]),
+                                                  moved(model.mesh.vertices[tri[1]]),
+                                                  moved(model.mesh.vertices[tri[2]])};
+        const Eigen::Vector3f ab = v[1] - v[0], ac = v[2] - v[0];
         const Eigen::Vector3f n = ab.cross(ac);
         if (!(n.norm() > 1e-9f)) continue;
+        const Eigen::Vector3f unit = n.normalized();
+        // Distance from p to the triangle's edge (a, b), in its plane.
+        const auto to_edge = [&](const Eigen::Vector3f& p, int a, int b) {
+            const Eigen::Vector3f e = (v[b] - v[a]).normalized();
+            const Eigen::Vector3f d = p - v[a];
+            return (d - e * e.dot(d)).norm();
+        };
         const int nb = std::max(1, int(std::ceil(ab.norm() / spacing)));
         const int nc = std::max(1, int(std::ceil(ac.norm() / spacing)));
         for (int i = 0; i <= nb; ++i) {
             for (int j = 0; j <= nc; ++j) {
-                const float u = float(i) / float(nb), v = float(j) / float(nc);
-                if (u + v > 1.0f) break;
-                points->push_back(a + u * ab + v * ac);
-                normals->push_back(n.normalized());
+                const float u = float(i) / float(nb), w = float(j) / float(nc);
+                if (u + w > 1.0f) break;
+                const Eigen::Vector3f p = v[0] + u * ab + w * ac;
+                if (std::min({to_edge(p, 0, 1), to_edge(p, 1, 2), to_edge(p, 2, 0)}) < inset) {
+                    continue;
+                }
+                points->push_back(p);
+                normals->push_back(unit);
             }
         }
     }
@@ -112,8 +124,8 @@ LookedThrough MovedSurfaceLookedThrough(const ChangeModel& model, uint32_t eleme
                                         const MotionFit& motion, const FreeSpaceIndex& free_space,
                                         const MovedConfig& config) {
     std::vector<Eigen::Vector3f> points, normals;
-    MovedSurfaceSamples(model, element, element_box, motion, config.sample_spacing_m, &points,
-                        &normals);
+    MovedSurfaceSamples(model, element, element_box, motion, config.sample_spacing_m,
+                        config.sample_inset_m, &points, &normals);
     LookedThrough out;
     size_t through = 0;
     for (size_t k = 0; k < points.size(); ++k) {
@@ -142,6 +154,8 @@ void MovedConfig::Validate() const {
                     "min_extent_fraction", min_extent_fraction, "must be in [0, 1]");
     common::Require(sample_spacing_m > 0, "moved", "sample_spacing_m", sample_spacing_m,
                     "must be positive");
+    common::Require(sample_inset_m >= 0, "moved", "sample_inset_m", sample_inset_m,
+                    "must not be negative");
     common::Require(max_looked_through >= 0 && max_looked_through <= 1, "moved",
                     "max_looked_through", max_looked_through, "must be in [0, 1]");
 }

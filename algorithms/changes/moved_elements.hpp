@@ -17,11 +17,14 @@
 // objects within pair_radius_m of which the moved element explains min_object_fraction (a moved
 // desk may come apart into a cluster per end).
 // A move must also leave the moved element where the beams found it, not where they passed: its
-// surface at the new place, sampled every sample_spacing_m, is put to the keyframes' range images
-// (free_space.hpp), and a move whose judged samples were looked through more than
-// max_looked_through of the time is refused. Duplex_A's partition between entry and living room,
-// demolished, was "moved" 0.35 m and turned 9 degrees onto a new 1.4 m partition at one end and the
-// wall's remains at the other, through the 2 m opening every beam between the rooms passed.
+// surface at the new place, sampled every sample_spacing_m and at least sample_inset_m inside each
+// face (a free-space vote judges a patch of 8 cm about its point: a beam beside a desk's 5 cm leg
+// crosses that patch, and the Go1's low sensor had its moved desk refused so), is put to the
+// keyframes' range images (free_space.hpp), and a move whose judged samples were looked through
+// more than max_looked_through of the time is refused. Duplex_A's partition between entry and
+// living room, demolished, was "moved" 0.35 m and turned 9 degrees onto a new 1.4 m partition at
+// one end and the wall's remains at the other, through the 2 m opening every beam between the rooms
+// passed.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -43,6 +46,7 @@ struct MovedConfig {
     double min_object_fraction = 0.6;
     double min_extent_fraction = 0.5;
     double sample_spacing_m = 0.1;
+    double sample_inset_m = 0.1;      // over FreeSpaceConfig::patch_radius_m
     double max_looked_through = 0.2;  // of the samples judged (a free or seen vote)
     size_t min_judged_samples = 20;   // fewer: the check says nothing
     void Validate() const;
@@ -78,10 +82,10 @@ double InlierFraction(const ChangeModel& model, uint32_t element, const MotionFi
                       std::span<const Eigen::Vector3f> points, double inlier_m);
 
 // The element's surface moved by `motion`: a point every `spacing` m on each of its triangles,
-// with the triangle's normal. Exposed for tests.
+// `inset` m or more from the triangle's edges, with the triangle's normal. Exposed for tests.
 void MovedSurfaceSamples(const ChangeModel& model, uint32_t element,
                          const Eigen::AlignedBox3d& element_box, const MotionFit& motion,
-                         double spacing, std::vector<Eigen::Vector3f>* points,
+                         double spacing, double inset, std::vector<Eigen::Vector3f>* points,
                          std::vector<Eigen::Vector3f>* normals);
 
 // The share of the moved surface's judged samples that the keyframes looked through (a sample

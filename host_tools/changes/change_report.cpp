@@ -258,6 +258,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"min_object_fraction", c.moved.min_object_fraction},
                          {"min_extent_fraction", c.moved.min_extent_fraction},
                          {"sample_spacing_m", c.moved.sample_spacing_m},
+                         {"sample_inset_m", c.moved.sample_inset_m},
                          {"max_looked_through", c.moved.max_looked_through},
                          {"min_judged_samples", c.moved.min_judged_samples}}},
                        {"refinement",

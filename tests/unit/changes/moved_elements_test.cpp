@@ -168,12 +168,27 @@ TEST(MovedElements, AMovedSurfaceWhereTheBeamsPassedIsLookedThrough) {
     ElementMesh(scene.model, test::kColumnC, &box);
     MotionFit motion;
     motion.translation = Eigen::Vector3d(1.0, 0, 0);
-    MovedSurfaceSamples(scene.model, test::kColumnC, box, motion, 0.1, &points, &normals);
+    MovedSurfaceSamples(scene.model, test::kColumnC, box, motion, 0.1, 0.0, &points, &normals);
     ASSERT_FALSE(points.empty());
     Eigen::AlignedBox3d sampled;
     for (const Eigen::Vector3f& p : points) sampled.extend(p.cast<double>());
     EXPECT_NEAR((sampled.min() - box.min() - motion.translation).norm(), 0.0, 1e-4);
     EXPECT_NEAR((sampled.max() - box.max() - motion.translation).norm(), 0.0, 1e-4);
+    // Inset from every face's edges: none on a face narrower than twice the inset (a desk's leg,
+    // whose free-space patch the beams beside it cross).
+    const size_t all = points.size();
+    points.clear();
+    MovedSurfaceSamples(scene.model, test::kColumnC, box, motion, 0.1, 0.1, &points, &normals);
+    EXPECT_GT(points.size(), 0u);
+    EXPECT_LT(points.size(), all);
+    points.clear();
+    const double half_width = 0.5 * std::min(box.sizes().x(), box.sizes().y());
+    MovedSurfaceSamples(scene.model, test::kColumnC, box, motion, 0.1, half_width + 0.01, &points,
+                        &normals);
+    for (const Eigen::Vector3f& p : points) {  // only on the top and bottom, if they are larger
+        EXPECT_TRUE(std::abs(p.z() - box.min().z()) < 1e-3 ||
+                    std::abs(p.z() - box.max().z()) < 1e-3);
+    }
 }
 
 }  // namespace BIMSLAM_UNITY_ID
