@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "algorithms/changes/dbscan.hpp"
@@ -234,6 +235,95 @@ MotionFit FitElementMotion(const ChangeModel& model, uint32_t element,
     return best;
 }
 
+namespace {
+
+// One search for moved elements, its inputs held together (FindMovedElements's steps).
+class MovedSearch {
+public:
+    MovedSearch(const ChangeModel& model, std::span<const Eigen::Vector3f> map_xyz,
+                const std::vector<std::vector<uint32_t>>& objects,
+                const std::vector<std::vector<uint32_t>>& element_support,
+                const MovedConfig& config, const FreeSpaceIndex* free_space)
+        : model_(model),
+          xyz_(map_xyz),
+          objects_(objects),
+          support_(element_support),
+          config_(config),
+          free_space_(free_space),
+          element_box_(model.element_count()),
+          object_box_(objects.size()) {
+        for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
+            for (const uint32_t v : model.mesh.triangles[t]) {
+                element_box_[model.triangle_element[t]].extend(
+                    model.mesh.vertices[v].cast<double>());
+            }
+        }
+        for (size_t o = 0; o < objects.size(); ++o) object_box_[o] = ClusterBox(xyz_, objects[o]);
+    }
+
+    bool Near(size_t e, size_t o) const {
+        return object_box_[o].exteriorDistance(element_box_[e]) <= config_.pair_radius_m;
+    }
+
+    // Element e moved onto object o (with e's remaining support): the fit, when it passes every
+    // test of MovedConfig and puts more than `beat` of the object's points on e; *inliers gets
+    // that count.
+    std::optional<MotionFit> FitOnto(size_t e, size_t o, size_t beat, size_t* inliers) {
+        points_.clear();
+        for (const uint32_t i : objects_[o]) points_.push_back(xyz_[i]);
+        for (const uint32_t i : support_[e]) points_.push_back(xyz_[i]);
+        MotionFit fit = FitElementMotion(model_, uint32_t(e), points_, config_);
+        size_t object_inliers = 0;
+        for (size_t k = 0; k < objects_[o].size(); ++k) object_inliers += fit.inlier[k];
+        const double object_fraction = double(object_inliers) / double(objects_[o].size());
+        if (fit.inlier_fraction < config_.min_inlier_fraction ||
+            object_fraction < config_.min_object_fraction || object_inliers <= beat) {
+            return std::nullopt;
+        }
+        const ExtentCoverage cover = InlierCoverage(element_box_[e], fit, points_);
+        if (cover.height < config_.min_extent_fraction ||
+            cover.length < config_.min_extent_fraction) {
+            return std::nullopt;
+        }
+        if (free_space_) {
+            const LookedThrough through = MovedSurfaceLookedThrough(
+                model_, uint32_t(e), element_box_[e], fit, *free_space_, config_);
+            if (through.judged >= config_.min_judged_samples &&
+                through.share > config_.max_looked_through) {
+                return std::nullopt;
+            }
+        }
+        *inliers = object_inliers;
+        return fit;
+    }
+
+    // A moved element may have come apart into several clusters (a desk's two ends): the others
+    // nearby that the moved element explains are it too.
+    void ClaimParts(size_t e, const MotionFit& motion, std::vector<uint32_t>& explained) {
+        for (size_t o = 0; o < objects_.size(); ++o) {
+            if (explained[o] != kNoElement || !Near(e, o)) continue;
+            points_.clear();
+            for (const uint32_t i : objects_[o]) points_.push_back(xyz_[i]);
+            if (InlierFraction(model_, uint32_t(e), motion, points_, config_.inlier_m) >=
+                config_.min_object_fraction) {
+                explained[o] = uint32_t(e);
+            }
+        }
+    }
+
+private:
+    const ChangeModel& model_;
+    std::span<const Eigen::Vector3f> xyz_;
+    const std::vector<std::vector<uint32_t>>& objects_;
+    const std::vector<std::vector<uint32_t>>& support_;
+    const MovedConfig& config_;
+    const FreeSpaceIndex* free_space_;
+    std::vector<Eigen::AlignedBox3d> element_box_, object_box_;
+    std::vector<Eigen::Vector3f> points_;
+};
+
+}  // namespace
+
 std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
                                         std::span<const Eigen::Vector3f> map_xyz,
                                         const std::vector<std::vector<uint32_t>>& objects,
@@ -244,15 +334,7 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
     config.Validate();
     std::vector<uint32_t> explained(objects.size(), kNoElement);
     if (!config.enabled) return explained;
-    std::vector<Eigen::AlignedBox3d> element_box(model.element_count());
-    for (size_t t = 0; t < model.mesh.triangles.size(); ++t) {
-        for (const uint32_t v : model.mesh.triangles[t]) {
-            element_box[model.triangle_element[t]].extend(model.mesh.vertices[v].cast<double>());
-        }
-    }
-    std::vector<Eigen::AlignedBox3d> object_box(objects.size());
-    for (size_t o = 0; o < objects.size(); ++o) object_box[o] = ClusterBox(map_xyz, objects[o]);
-    std::vector<Eigen::Vector3f> points;
+    MovedSearch search(model, map_xyz, objects, element_support, config, free_space);
     for (size_t e = 0; e < reports.size(); ++e) {
         const ElementEvidence& ev = reports[e].evidence;
         const bool partly_missing =
@@ -263,52 +345,17 @@ std::vector<uint32_t> FindMovedElements(const ChangeModel& model,
         MotionFit best;
         size_t best_inliers = 0;
         for (size_t o = 0; o < objects.size(); ++o) {
-            if (explained[o] != kNoElement) continue;
-            if (object_box[o].exteriorDistance(element_box[e]) > config.pair_radius_m) continue;
-            points.clear();
-            for (const uint32_t i : objects[o]) points.push_back(map_xyz[i]);
-            for (const uint32_t i : element_support[e]) points.push_back(map_xyz[i]);
-            MotionFit fit = FitElementMotion(model, uint32_t(e), points, config);
-            size_t object_inliers = 0;
-            for (size_t k = 0; k < objects[o].size(); ++k) object_inliers += fit.inlier[k];
-            const double object_fraction = double(object_inliers) / double(objects[o].size());
-            if (fit.inlier_fraction < config.min_inlier_fraction ||
-                object_fraction < config.min_object_fraction || object_inliers <= best_inliers) {
-                continue;
-            }
-            const ExtentCoverage cover = InlierCoverage(element_box[e], fit, points);
-            if (cover.height < config.min_extent_fraction ||
-                cover.length < config.min_extent_fraction) {
-                continue;
-            }
-            if (free_space) {
-                const LookedThrough through = MovedSurfaceLookedThrough(
-                    model, uint32_t(e), element_box[e], fit, *free_space, config);
-                if (through.judged >= config.min_judged_samples &&
-                    through.share > config.max_looked_through) {
-                    continue;
-                }
-            }
-            best_inliers = object_inliers;
+            if (explained[o] != kNoElement || !search.Near(e, o)) continue;
+            size_t inliers = 0;
+            std::optional<MotionFit> fit = search.FitOnto(e, o, best_inliers, &inliers);
+            if (!fit) continue;
+            best_inliers = inliers;
             best_object = int(o);
-            best = std::move(fit);
+            best = std::move(*fit);
         }
         if (best_object < 0) continue;
         explained[size_t(best_object)] = uint32_t(e);
-        // A moved element may have come apart into several clusters (a desk's two ends): the
-        // others nearby that the moved element explains are it too.
-        for (size_t o = 0; o < objects.size(); ++o) {
-            if (explained[o] != kNoElement ||
-                object_box[o].exteriorDistance(element_box[e]) > config.pair_radius_m) {
-                continue;
-            }
-            points.clear();
-            for (const uint32_t i : objects[o]) points.push_back(map_xyz[i]);
-            if (InlierFraction(model, uint32_t(e), best, points, config.inlier_m) >=
-                config.min_object_fraction) {
-                explained[o] = uint32_t(e);
-            }
-        }
+        search.ClaimParts(e, best, explained);
         ElementReport& r = reports[e];
         r.moved = true;
         r.verdict = Verdict::kDeviating;
