@@ -61,6 +61,12 @@ void LoopRules::ValidateLoopRules(const char* c) const {
             "must be in [0, 1]");
 }
 
+bool LoopRules::FreeSpacePrefers(double a, double b, bool b_explained) const {
+    const bool decisive = a * outweigh_ratio <= b && b - a >= outweigh_gap;
+    const bool needs_less = a <= max_seen_through && b > max_seen_through && b_explained;
+    return decisive || needs_less;
+}
+
 bool LoopRules::Agree(const Eigen::Isometry3d& E, double path_m) const {
     const double max_t = consistency_m + drift_per_m * path_m;
     const double max_r = (consistency_deg + drift_deg_per_m * path_m) * M_PI / 180;

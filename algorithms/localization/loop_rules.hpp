@@ -104,6 +104,12 @@ struct LoopRules {
     // field, its value and the rule.
     void ValidateLoopRules(const char* owner) const;
 
+    // Whether free space prefers placement a to b (a hypothesis offline, a clique live), from the
+    // shares of their rays seen through the model: decisively (at most 1/outweigh_ratio as often
+    // and by at least outweigh_gap less), or because a stands as the model is (within
+    // max_seen_through) where b stands only by what removed elements explain (`b_explained`).
+    bool FreeSpacePrefers(double a_seen_through, double b_seen_through, bool b_explained) const;
+
     // Two loops agree when E, the disagreement of the poses they imply for one keyframe, is
     // within the consistency bounds grown by the drift over `path_m`, the odometry's path between
     // their keyframes.

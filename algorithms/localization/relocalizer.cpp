@@ -314,15 +314,11 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
         if (c.unexplained <= config_.max_seen_through && OnHint(c)) kept.push_back(&c);
     }
     // A clique whose keyframes see through the model decisively more often than another's is
-    // outweighed (offline's rule).
-    // So is one that stands only because removed elements explain what it sees through, against
-    // one that needs none (offline's FreeSpacePrefers).
+    // outweighed, and one that stands only because removed elements explain what it sees
+    // through by one that needs none (offline's rule, LoopRules::FreeSpacePrefers).
     const auto outweighs = [&](const Clique* a, const Clique* b) {
-        const bool decisive = b->seen_through >= config_.outweigh_ratio * a->seen_through &&
-                              b->seen_through >= a->seen_through + config_.outweigh_gap;
-        const bool needs_less = a->seen_through <= config_.max_seen_through &&
-                                b->seen_through > config_.max_seen_through;
-        return decisive || needs_less;
+        return config_.FreeSpacePrefers(a->seen_through, b->seen_through,
+                                        b->unexplained < b->seen_through);
     };
     std::vector<const Clique*> rivals;
     for (const Clique* c : kept) {

@@ -3,15 +3,16 @@
 #include "algorithms/registration/removed_surfaces.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 #include <unordered_map>
 #include <utility>
 
+#include "algorithms/common/voxel_hash.hpp"
+
 namespace bimslam::registration {
 namespace {
-
-constexpr long long kBias = 1 << 19;  // 20 bits per index: +-262 km in 0.5 m cells
 
 // The normal's nearest axis: a wall's two faces (opposite normals) share it.
 int Axis(const Eigen::Vector3f& normal) {
@@ -20,38 +21,31 @@ int Axis(const Eigen::Vector3f& normal) {
     return axis;
 }
 
-Eigen::Vector3i CellOf(const Eigen::Vector3f& x, double cell) {
-    return (x / static_cast<float>(cell)).array().floor().cast<int>();
+// A crossing's cell (common::PackVoxel of its 0.5 m voxel); cells of one axis only ever join.
+uint64_t CellKey(const Crossing& c, double cell) {
+    return common::PackVoxel(common::VoxelOf(c.at / static_cast<float>(cell)));
 }
-
-long long Key(const Eigen::Vector3i& c, int axis) {
-    return ((c.x() + kBias) << 42) | ((c.y() + kBias) << 22) | ((c.z() + kBias) << 2) | axis;
-}
-
-long long KeyOf(const Crossing& c, double cell) { return Key(CellOf(c.at, cell), Axis(c.normal)); }
 
 struct CellStats {
     std::vector<std::pair<size_t, const Crossing*>> crossings;  // (view, crossing)
     int component = -1;
 };
+using Cells = std::unordered_map<uint64_t, CellStats>;  // of one axis
 
-// Labels the cells' connected groups (26 neighbours, one axis); returns their number.
-int LabelComponents(std::unordered_map<long long, CellStats>* cells) {
-    int n = 0;
+// Labels the cells' connected groups (26 neighbours) from `first`; returns the next label.
+int LabelComponents(Cells* cells, int first) {
+    int n = first;
     for (auto& [key, stats] : *cells) {
         if (stats.component >= 0) continue;
         stats.component = n;
-        std::vector<long long> stack{key};
+        std::vector<uint64_t> stack{key};
         while (!stack.empty()) {
-            const long long k = stack.back();
+            const Eigen::Vector3i c = common::UnpackVoxel(stack.back());
             stack.pop_back();
-            const int axis = int(k & 3);
-            const Eigen::Vector3i c(int((k >> 42) - kBias), int(((k >> 22) & 0xFFFFF) - kBias),
-                                    int(((k >> 2) & 0xFFFFF) - kBias));
             for (int dx = -1; dx <= 1; ++dx) {
                 for (int dy = -1; dy <= 1; ++dy) {
                     for (int dz = -1; dz <= 1; ++dz) {
-                        auto it = cells->find(Key(c + Eigen::Vector3i(dx, dy, dz), axis));
+                        auto it = cells->find(common::PackVoxel(c + Eigen::Vector3i(dx, dy, dz)));
                         if (it == cells->end() || it->second.component >= 0) continue;
                         it->second.component = n;
                         stack.push_back(it->first);
@@ -64,21 +58,19 @@ int LabelComponents(std::unordered_map<long long, CellStats>* cells) {
     return n;
 }
 
-// One connected group of cells as a surface: its crossings, views, the share of its rays that
-// end on the map, and its area on its plane (its cells projected along its axis).
-RemovedSurface Summarise(const std::vector<std::pair<long long, const CellStats*>>& group) {
+// One connected group of cells of one axis as a surface: its crossings, views, the share of its
+// rays that end on the map, and its area on its plane (its cells projected along its axis).
+RemovedSurface Summarise(int axis,
+                         const std::vector<std::pair<uint64_t, const CellStats*>>& group) {
     RemovedSurface s;
-    std::set<size_t> views;
+    s.axis = axis;
     std::set<std::pair<int, int>> projected;
+    std::set<size_t> views;
     size_t on_map = 0;
     for (const auto& [key, stats] : group) {
-        s.axis = int(key & 3);
         s.cells.push_back(key);
-        const long long a = (key >> 42) - kBias, b = ((key >> 22) & 0xFFFFF) - kBias,
-                        c = ((key >> 2) & 0xFFFFF) - kBias;
-        projected.insert(s.axis == 0   ? std::make_pair(int(b), int(c))
-                         : s.axis == 1 ? std::make_pair(int(a), int(c))
-                                       : std::make_pair(int(a), int(b)));
+        const Eigen::Vector3i c = common::UnpackVoxel(key);
+        projected.insert({c[(axis + 1) % 3], c[(axis + 2) % 3]});
         for (const auto& [view, crossing] : stats->crossings) {
             views.insert(view);
             s.center += crossing->at;
@@ -98,25 +90,31 @@ RemovedSurface Summarise(const std::vector<std::pair<long long, const CellStats*
 
 std::vector<RemovedSurface> FindRemovedSurfaces(const std::vector<const FreeSpaceResult*>& views,
                                                 const RemovedSurfaceConfig& config) {
-    std::unordered_map<long long, CellStats> cells;
+    std::array<Cells, 3> cells;  // per normal axis
     size_t total = 0;
     for (size_t v = 0; v < views.size(); ++v) {
         for (const Crossing& c : views[v]->crossings) {
-            cells[KeyOf(c, config.cell)].crossings.emplace_back(v, &c);
+            cells[Axis(c.normal)][CellKey(c, config.cell)].crossings.emplace_back(v, &c);
             ++total;
         }
     }
-    const int n = LabelComponents(&cells);
-    std::vector<std::vector<std::pair<long long, const CellStats*>>> groups(n);
-    for (const auto& [key, stats] : cells) groups[stats.component].emplace_back(key, &stats);
     std::vector<RemovedSurface> surfaces;
-    for (const auto& group : groups) {
-        RemovedSurface s = Summarise(group);
-        s.area_m2 *= config.cell * config.cell;
-        if (s.views >= config.min_views && s.area_m2 <= config.max_area_m2 &&
-            s.on_map >= config.min_on_map &&
-            double(s.crossings) >= config.min_share * double(total)) {
-            surfaces.push_back(std::move(s));
+    int labels = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int first = labels;
+        labels = LabelComponents(&cells[axis], first);
+        std::vector<std::vector<std::pair<uint64_t, const CellStats*>>> groups(labels - first);
+        for (const auto& [key, stats] : cells[axis]) {
+            groups[stats.component - first].emplace_back(key, &stats);
+        }
+        for (const auto& group : groups) {
+            RemovedSurface s = Summarise(axis, group);
+            s.area_m2 *= config.cell * config.cell;
+            if (s.views >= config.min_views && s.area_m2 <= config.max_area_m2 &&
+                s.on_map >= config.min_on_map &&
+                double(s.crossings) >= config.min_share * double(total)) {
+                surfaces.push_back(std::move(s));
+            }
         }
     }
     std::sort(
@@ -131,9 +129,10 @@ double UnexplainedRatio(const FreeSpaceResult& view, const std::vector<RemovedSu
     if (view.rays == 0) return 0.0;
     size_t explained = 0;
     for (const Crossing& c : view.crossings) {
-        const long long key = KeyOf(c, config.cell);
+        const uint64_t key = CellKey(c, config.cell);
+        const int axis = Axis(c.normal);
         for (const RemovedSurface& s : removed) {
-            if (std::binary_search(s.cells.begin(), s.cells.end(), key)) {
+            if (s.axis == axis && std::binary_search(s.cells.begin(), s.cells.end(), key)) {
                 ++explained;
                 break;
             }

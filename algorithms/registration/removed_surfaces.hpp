@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "algorithms/registration/free_space.hpp"
@@ -39,8 +40,8 @@ struct RemovedSurface {
     double area_m2 = 0;  // of its cells projected on its plane
     size_t crossings = 0;
     size_t views = 0;
-    double on_map = 0;             // share of its crossing rays that end on the map
-    std::vector<long long> cells;  // its cells (Key), sorted
+    double on_map = 0;            // share of its crossing rays that end on the map
+    std::vector<uint64_t> cells;  // its cells (common::PackVoxel, on its axis), sorted
 };
 
 // The surfaces that removed elements explain among the crossings of `views` (each the

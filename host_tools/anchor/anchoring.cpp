@@ -153,12 +153,7 @@ int Severity(Verdict v) {
 }
 
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config) {
-    const bool decisive = a.seen_through * config.outweigh_ratio <= b.seen_through &&
-                          b.seen_through - a.seen_through >= config.outweigh_gap;
-    // b stands only because removed elements explain what it sees through; a needs none.
-    const bool needs_less = a.seen_through <= config.max_seen_through &&
-                            b.seen_through > config.max_seen_through && !b.removed_surfaces.empty();
-    return decisive || needs_less;
+    return config.FreeSpacePrefers(a.seen_through, b.seen_through, !b.removed_surfaces.empty());
 }
 
 std::string_view ToString(Verdict v) {

@@ -187,10 +187,10 @@ struct AnchorResult {
 // Progress: (stage name, done, total).
 using Progress = std::function<void(const std::string&, size_t, size_t)>;
 
-// Whether the free-space evidence prefers hypothesis a to b decisively: a's keyframes see
-// through the model at most 1/outweigh_ratio as often as b's, and by at least outweigh_gap less;
-// or a stands as the model is (seen_through within max_seen_through) where b stands only because
-// removed elements explain what it sees through. FZK-Haus's attic is the same turned 180 degrees
+// Whether the free-space evidence prefers hypothesis a to b (LoopRules::FreeSpacePrefers, the
+// relocaliser's rule too): a's keyframes see through the model decisively less often, or a
+// stands as the model is where b stands only because removed elements explain what it sees
+// through (b has removed_surfaces). FZK-Haus's attic is the same turned 180 degrees
 // but for the stair's railings: its twin placement sees through them, two patches of 1.2 and 1.5
 // m2 that a removed element would explain, and would otherwise be a rival of the right one.
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
