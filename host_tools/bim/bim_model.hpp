@@ -35,6 +35,20 @@ std::string_view ToString(ElementRole role);
 // curtain walls (glass), spaces, openings, virtual elements and annotations (not physical).
 bool PassThrough(std::string_view ifc_class);
 
+// What the model's author wrote of a stair flight (IfcStairFlight's NumberOfRisers,
+// NumberOfTreads, RiserHeight and TreadLength, attributes in IFC2X3 and IFC4 alike), kept to check
+// the flights found from the geometry against (stairs.hpp). 0 where the file leaves one unset.
+struct DeclaredFlight {
+    int risers = 0;
+    int treads = 0;
+    double riser_height_m = 0;  // in metres as the file's length unit reads them
+    double tread_length_m = 0;
+    double length_unit_m = 1.0;  // the file's length unit (what the lengths were multiplied by)
+    bool Any() const {
+        return risers > 0 || treads > 0 || riser_height_m > 0 || tread_length_m > 0;
+    }
+};
+
 struct BimElement {
     std::string global_id;
     std::string ifc_class;  // e.g. "IfcWallStandardCase"
@@ -46,6 +60,7 @@ struct BimElement {
     // A spatial element's IfcSpatialElement.LongName: a space's "Open office", whose Name is often
     // its number ("0.00"); "" for other elements and when the file has none.
     std::string long_name{};
+    DeclaredFlight declared_flight{};  // an IfcStairFlight's attributes; all 0 for other elements
 };
 
 // An element whose geometry could not be built (reported, skipped, never fatal), or was built

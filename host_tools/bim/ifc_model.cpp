@@ -21,9 +21,11 @@
 #include <ifcpp/IFC4/include/IfcElement.h>
 #include <ifcpp/IFC4/include/IfcFeatureElementSubtraction.h>
 #include <ifcpp/IFC4/include/IfcGloballyUniqueId.h>
+#include <ifcpp/IFC4/include/IfcInteger.h>
 #include <ifcpp/IFC4/include/IfcLabel.h>
 #include <ifcpp/IFC4/include/IfcLengthMeasure.h>
 #include <ifcpp/IFC4/include/IfcOpeningElement.h>
+#include <ifcpp/IFC4/include/IfcPositiveLengthMeasure.h>
 #include <ifcpp/IFC4/include/IfcProduct.h>
 #include <ifcpp/IFC4/include/IfcProject.h>
 #include <ifcpp/IFC4/include/IfcRelAggregates.h>
@@ -32,6 +34,7 @@
 #include <ifcpp/IFC4/include/IfcRelVoidsElement.h>
 #include <ifcpp/IFC4/include/IfcSpace.h>
 #include <ifcpp/IFC4/include/IfcSpatialElement.h>
+#include <ifcpp/IFC4/include/IfcStairFlight.h>
 #include <ifcpp/model/BuildingModel.h>
 #include <ifcpp/model/UnitConverter.h>
 #include <ifcpp/reader/ReaderSTEP.h>
@@ -207,6 +210,18 @@ StepText CheckStepText(const std::string& name, const std::string& raw) {
 // ----- The model's semantics
 // -----------------------------------------------------------------------
 
+// IFC++ reads an IFC2X3 IfcStairFlight's NumberOfRiser into IFC4's NumberOfRisers (the same
+// position); lengths are in the file's unit.
+DeclaredFlight DeclaredFlightOf(const IfcStairFlight& f, double unit) {
+    DeclaredFlight d;
+    d.length_unit_m = unit;
+    if (f.m_NumberOfRisers) d.risers = f.m_NumberOfRisers->m_value;
+    if (f.m_NumberOfTreads) d.treads = f.m_NumberOfTreads->m_value;
+    if (f.m_RiserHeight) d.riser_height_m = f.m_RiserHeight->m_value * unit;
+    if (f.m_TreadLength) d.tread_length_m = f.m_TreadLength->m_value * unit;
+    return d;
+}
+
 std::string NameOf(const IfcRoot& o) { return o.m_Name ? ifc::Utf8(o.m_Name->m_value) : ""; }
 std::string GlobalIdOf(const IfcRoot& o) {
     return o.m_GlobalId ? ifc::Utf8(o.m_GlobalId->m_value) : "";
@@ -337,6 +352,9 @@ void Collect(const std::string& name, const shared_ptr<BuildingModel>& model,
         if (const auto* spatial = dynamic_cast<const IfcSpatialElement*>(&p);
             spatial && spatial->m_LongName) {
             e.long_name = ifc::Utf8(spatial->m_LongName->m_value);
+        }
+        if (const auto* flight = dynamic_cast<const IfcStairFlight*>(&p)) {
+            e.declared_flight = DeclaredFlightOf(*flight, unit);
         }
         e.first_triangle = uint32_t(out.mesh.triangles.size());
         std::vector<uint32_t> remap(m.vertices.size(), kUnused);

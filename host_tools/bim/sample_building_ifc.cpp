@@ -339,11 +339,12 @@ private:
                 w_.Placement({0, st.width_m / 2, 0}, -Vector3d::UnitY(), Vector3d::UnitX());
             const int flight_placement = w_.LocalPlacement(placement, Vector3d::Zero());
             // IfcStairFlight(... Tag, NumberOfRisers, NumberOfTreads, RiserHeight, TreadLength,
-            // PredefinedType).
+            // PredefinedType): the risers climbed, the slab's edge included, as Revit counts them
+            // (Duplex_A's flights: 16 risers, 15 treads).
             const int flight =
                 Product("IfcStairFlight", key + "/flight", st.name + " flight", flight_placement,
                         w_.BodyShape(body_, {w_.Prism(profile, position, st.width_m)}),
-                        "$," + std::to_string(steps) + "," + std::to_string(steps) + "," +
+                        "$," + std::to_string(st.risers) + "," + std::to_string(steps) + "," +
                             w_.Len(r) + "," + w_.Len(t) + ",.STRAIGHT.");
             Aggregate(key + "/aggregate", stair, {flight});
         }

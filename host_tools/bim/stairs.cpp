@@ -268,9 +268,71 @@ void MeasureFlight(const BimModel& m, StairFlight& f) {
     f.exit = c1 + u1 * (0.5 * l.back().depth_m);
 }
 
+// Declared over the group's IfcStairFlight elements (DeclaredFlight).
+DeclaredFlight Declared(const BimModel& m, const std::vector<size_t>& group) {
+    DeclaredFlight d;
+    std::vector<double> rises, runs;
+    for (const size_t e : group) {
+        const DeclaredFlight& x = m.elements[e].declared_flight;
+        d.risers += x.risers;
+        d.treads += x.treads;
+        if (x.riser_height_m > 0) rises.push_back(x.riser_height_m);
+        if (x.tread_length_m > 0) runs.push_back(x.tread_length_m);
+    }
+    d.riser_height_m = Median(rises);
+    d.tread_length_m = Median(runs);
+    return d;
+}
+
 }  // namespace
 
-namespace {}  // namespace
+namespace {
+
+// The declared lengths against the measured ones, scaled by `scale` (1: as the file reads; feet);
+// what differs, or nothing.
+std::vector<std::string> LengthsDiffer(const StairFlight& f, double scale) {
+    const DeclaredFlight& d = f.declared;
+    std::vector<std::string> says;
+    const double rise = d.riser_height_m * scale, run = d.tread_length_m * scale;
+    if (rise > 0 && f.rise_m > 0 && std::abs(rise - f.rise_m) > kDeclaredRiseToleranceM) {
+        says.push_back("risers of " + Fixed(f.rise_m, 3) + " m, " + Fixed(rise, 3) + " m declared");
+    }
+    if (run > 0 && f.run_m > 0 && std::abs(run - f.run_m) > kDeclaredRunToleranceM) {
+        says.push_back("a run of " + Fixed(f.run_m, 3) + " m, treads of " + Fixed(run, 3) +
+                       " m declared");
+    }
+    return says;
+}
+
+}  // namespace
+
+DeclaredCheck CheckDeclared(const StairFlight& f) {
+    const DeclaredFlight& d = f.declared;
+    DeclaredCheck out;
+    out.declared = d.Any();
+    std::vector<std::string> says;
+    const auto treads = std::count_if(f.levels.begin(), f.levels.end(),
+                                      [](const StairLevel& l) { return !l.landing; });
+    if (d.risers > 0 && !f.levels.empty() && d.risers != f.risers) {
+        says.push_back(std::to_string(f.risers) + " risers in its geometry, " +
+                       std::to_string(d.risers) + " declared");
+    }
+    if (d.treads > 0 && !f.levels.empty() && d.treads != int(treads)) {
+        says.push_back(std::to_string(treads) + " treads in its geometry, " +
+                       std::to_string(d.treads) + " declared");
+    }
+    std::vector<std::string> lengths = LengthsDiffer(f, 1.0);
+    const bool lengths_declared = d.riser_height_m > 0 || d.tread_length_m > 0;
+    const bool feet_unit = std::abs(d.length_unit_m - kFootM) < 1e-6;
+    if (!lengths.empty() && lengths_declared && !feet_unit &&
+        LengthsDiffer(f, kFootM / d.length_unit_m).empty()) {
+        out.in_feet = true;
+        lengths.clear();
+    }
+    says.insert(says.end(), lengths.begin(), lengths.end());
+    for (const std::string& s : says) out.differs += (out.differs.empty() ? "" : "; ") + s;
+    return out;
+}
 
 bool IsStairOrRampClass(std::string_view c) {
     return c == "IfcStair" || c == "IfcStairFlight" || c == "IfcRamp" || c == "IfcRampFlight";
@@ -371,6 +433,7 @@ std::vector<StairFlight> FindStairFlights(const BimModel& m) {
             f.global_ids.push_back(m.elements[e].global_id);
             f.ramp = f.ramp || m.elements[e].ifc_class.starts_with("IfcRamp");
         }
+        f.declared = Declared(m, group);
         CellHeights cells = SampleHorizontalFaces(m, group);
         f.levels = Levels(TopSurfaces(m, cells));
         if (f.levels.empty()) {

@@ -64,6 +64,9 @@ struct StairFlight {
     Eigen::Vector2d entry = Eigen::Vector2d::Zero(), exit = Eigen::Vector2d::Zero();
     Eigen::Vector2i entry_cell{-1, -1}, exit_cell{-1, -1};
     std::string problem;  // why it cannot be walked; empty when it can
+    // What the file declares of it, over its IfcStairFlight elements: their risers and treads
+    // summed, the median of their riser heights and tread lengths (all 0: nothing declared).
+    DeclaredFlight declared;
 
     bool Walkable() const { return problem.empty(); }
     // The walked line from entry to exit, bottom to top: (x, y, floor z) with each riser as two
@@ -82,6 +85,26 @@ std::vector<StairFlight> FindStairFlights(const BimModel& model);
 // Says in f.problem when the flight is too steep or too narrow for the limits (a flight with a
 // problem already keeps it).
 void CheckStairLimits(const StairLimits& limits, StairFlight& f);
+
+// The flight found from the geometry against what its file declares (an outside yardstick: the
+// authoring tool's own numbers). Counts must agree to the one: the risers climbed (a flight's
+// NumberOfRisers counts the riser up onto the floor above, as Revit writes it: Duplex_A's 16
+// risers, 15 treads; the sample buildings too) and the treads, landings apart. Lengths: the riser
+// height within kDeclaredRiseToleranceM, the tread length within kDeclaredRunToleranceM (the run
+// is measured between treads' centres, which a nosing moves). Revit's exporters have written
+// lengths in Revit's internal feet into files whose unit is the metre (Autodesk/revit-ifc#552;
+// Duplex_A and Office_A: risers of 0.636 and 0.583 "m"): lengths that agree only read in feet
+// agree, and in_feet says so.
+inline constexpr double kDeclaredRiseToleranceM = 0.005;
+inline constexpr double kDeclaredRunToleranceM = 0.02;
+inline constexpr double kFootM = 0.3048;
+struct DeclaredCheck {
+    bool declared = false;  // the file declares anything of the flight
+    bool in_feet = false;   // its lengths agree read in feet, not in the file's unit
+    std::string differs;    // what contradicts the geometry, e.g. "23 risers in its geometry, 24
+                            // declared"; "" when nothing does
+};
+DeclaredCheck CheckDeclared(const StairFlight& f);
 
 // IfcStair, IfcStairFlight, IfcRamp or IfcRampFlight.
 bool IsStairOrRampClass(std::string_view ifc_class);

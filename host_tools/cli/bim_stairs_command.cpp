@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam bim stairs: the building's walkable 3D graph (host_tools/bim/stairs.hpp): its floors,
-// the flights that join them, and what cannot be walked.
+// the flights that join them (each against what its file declares of it), and what cannot be
+// walked.
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,34 @@ nlohmann::json Levels(const bim::StairFlight& f) {
     return out;
 }
 
+// What the file declares of the flight (null: nothing), and what of it the geometry contradicts.
+nlohmann::json DeclaredJson(const bim::StairFlight& f) {
+    const bim::DeclaredFlight& d = f.declared;
+    const bim::DeclaredCheck check = bim::CheckDeclared(f);
+    if (!check.declared) return nullptr;
+    return {{"risers", d.risers},
+            {"treads", d.treads},
+            {"riser_height_m", d.riser_height_m},
+            {"tread_length_m", d.tread_length_m},
+            {"lengths_in_feet", check.in_feet},
+            {"differs", check.differs}};
+}
+
+// "declared 24 risers of 0.178 m, treads 0.280 m: agrees" (or what differs).
+std::string DeclaredText(const bim::StairFlight& f) {
+    const bim::DeclaredFlight& d = f.declared;
+    const bim::DeclaredCheck check = bim::CheckDeclared(f);
+    if (!check.declared) return "declared nothing (no IfcStairFlight attributes)";
+    const double scale = check.in_feet ? bim::kFootM / d.length_unit_m : 1.0;
+    std::string out = "declared";
+    if (d.risers > 0) out += " " + std::to_string(d.risers) + " risers";
+    if (d.treads > 0) out += ", " + std::to_string(d.treads) + " treads";
+    if (d.riser_height_m > 0) out += ", risers of " + Fixed(d.riser_height_m * scale, 3) + " m";
+    if (d.tread_length_m > 0) out += ", treads of " + Fixed(d.tread_length_m * scale, 3) + " m";
+    if (check.in_feet) out += " (its lengths written in feet, not in the file's unit)";
+    return out + (check.differs.empty() ? ": agrees" : ": DIFFERS (" + check.differs + ")");
+}
+
 nlohmann::json FlightJson(const bim::BimModel& m, const bim::StairFlight& f) {
     auto storey = [&](int s) { return s < 0 ? std::string() : m.storeys[size_t(s)].name; };
     return {{"name", f.name},
@@ -50,7 +79,8 @@ nlohmann::json FlightJson(const bim::BimModel& m, const bim::StairFlight& f) {
             {"entry_cell", {f.entry_cell.x(), f.entry_cell.y()}},
             {"exit_cell", {f.exit_cell.x(), f.exit_cell.y()}},
             {"walkable", f.Walkable()},
-            {"problem", f.problem}};
+            {"problem", f.problem},
+            {"declared", DeclaredJson(f)}};
 }
 
 void PrintText(const bim::BimModel& m, const bim::BuildingGraph& g) {
@@ -75,6 +105,7 @@ void PrintText(const bim::BimModel& m, const bim::BuildingGraph& g) {
                       << "), exit (" << Fixed(f.exit.x(), 2) << ", " << Fixed(f.exit.y(), 2) << ")";
         }
         std::cout << (f.Walkable() ? "" : "  NOT WALKABLE") << "\n";
+        std::cout << "         " << DeclaredText(f) << "\n";
     }
     std::cout << "reached  " << g.reached.size() << " of " << g.floors.size() << " floors from '"
               << m.storeys[size_t(g.start)].name << "'\n";
@@ -115,8 +146,10 @@ void AddBimStairsCommand(CLI::App& bim, int& exit_code) {
     auto* cmd = bim.add_subcommand(
         "stairs",
         "The building's walkable 3D graph: its floors, the stair and ramp flights that join them "
-        "(rise, run, width, entry and exit), and which floors a walk reaches. Exit 2 when a floor "
-        "cannot be reached (the reason is printed, naming the storeys)");
+        "(rise, run, width, entry and exit), each against what the file declares of it "
+        "(IfcStairFlight's risers, treads, riser height and tread length), and which floors a walk "
+        "reaches. Exit 2 when a floor cannot be reached (the reason is printed, naming the "
+        "storeys)");
     cmd->add_option("MODEL", a->model, "IFC model (IFC2X3 or IFC4, any length unit)")->required();
     cmd->add_option("--platform", a->platform, "whose limits: go1 or handheld")
         ->check(CLI::IsMember({"go1", "handheld"}))

@@ -2,8 +2,9 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // The walkable 3D graph (host_tools/bim/stairs.hpp) of the real models in ../shared/data/ifc: the
 // stairs their exporters wrote (Revit's IfcStair with IfcStairFlight parts, ArchiCAD's spiral
-// IfcStair with its own geometry) join their floors. Each skips, saying so, when the file is
-// absent.
+// IfcStair with its own geometry) join their floors, and each flight found from the geometry has
+// the risers, treads, riser height and tread length its exporter declared. Each skips, saying so,
+// when the file is absent.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -22,6 +23,9 @@ struct Case {
     std::vector<std::string> floors;  // the storeys one stands in, lowest first
     // Why the Go1 does not reach the upper floors (a message part), or empty when it does.
     std::string go1_stopped_by;
+    // Whether its exporter wrote IfcStairFlight's NumberOfRisers, NumberOfTreads, RiserHeight
+    // and TreadLength (Revit does; ArchiCAD's FZK-Haus has no IfcStairFlight).
+    bool declares = false;
 };
 
 class StairsData : public ::testing::TestWithParam<Case> {};
@@ -57,6 +61,13 @@ TEST_P(StairsData, EveryFloorIsReachedByTheStairs) {
         }
         EXPECT_EQ(reached, c.floors) << Problems(g);
         for (const StairFlight& f : g.flights) {
+            // The outside yardstick: what the authoring tool declared of each flight.
+            const DeclaredCheck check = CheckDeclared(f);
+            EXPECT_EQ(check.declared, c.declares) << f.name;
+            EXPECT_EQ(check.differs, "") << f.name;
+            // Both Revit files write RiserHeight and TreadLength in feet though their unit is the
+            // metre (Autodesk/revit-ifc#552 reports the same of other lengths).
+            EXPECT_EQ(check.in_feet, c.declares) << f.name;
             if (!f.Walkable()) continue;
             // Risers of 0.14-0.22 m, 25-50 degrees (a spiral stair's walking line is steep),
             // 0.6 m or wider.
@@ -73,9 +84,10 @@ INSTANTIATE_TEST_SUITE_P(
     Models, StairsData,
     ::testing::Values(Case{"AC20-FZK-Haus.ifc",
                            {"Erdgeschoss", "Dachgeschoss"},
-                           "too steep: it climbs at 47.7 degrees"},
-                      Case{"Duplex_A_20110907.ifc", {"Level 1", "Level 2"}, ""},
-                      Case{"Office_A_20110811.ifc", {"Level 1", "Level 2"}, ""}),
+                           "too steep: it climbs at 47.7 degrees",
+                           false},
+                      Case{"Duplex_A_20110907.ifc", {"Level 1", "Level 2"}, "", true},
+                      Case{"Office_A_20110811.ifc", {"Level 1", "Level 2"}, "", true}),
     [](const auto& param_info) {
         std::string n = param_info.param.file.substr(0, 6);
         for (char& ch : n) ch = std::isalnum(uint8_t(ch)) ? ch : '_';

@@ -287,6 +287,16 @@ TEST(BimCli, AStairThatCannotBeWalkedIsNamedWithItsStoreysAndExits2) {
     EXPECT_EQ(graph["flights"][0].at("risers"), 16);
     EXPECT_EQ(graph["flights"][0].at("lower"), "Ground Floor");
     EXPECT_EQ(graph["flights"][0].at("upper"), "First Floor");
+    // What the file declares of the flight agrees with its geometry, and is said.
+    const nlohmann::json& declared = graph["flights"][0].at("declared");
+    EXPECT_EQ(declared.at("risers"), 16);
+    EXPECT_EQ(declared.at("treads"), 15);
+    EXPECT_EQ(declared.at("differs"), "");
+    const auto text_out = test::RunCommand(kCli + " bim stairs " + model.string());
+    EXPECT_NE(text_out.out.find("declared 16 risers, 15 treads, risers of 0.200 m, treads of "
+                                "0.280 m: agrees"),
+              std::string::npos)
+        << text_out.out;
 
     const std::regex flight(R"((IFCSTAIRFLIGHT\('[^']*',#\d+,'[^']*',\$,\$,#\d+,)#\d+)");
     const std::string text = io::ReadFileToString(model);

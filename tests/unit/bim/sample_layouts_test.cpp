@@ -11,8 +11,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <queue>
+#include <regex>
 #include <set>
 #include <string>
 #include <vector>
@@ -75,7 +77,15 @@ TEST(SampleOffice, TheFilesAreTheSameBytesAsBeforeTheLayouts) {
         o.length_unit_m = c.unit;
         o.furniture = c.furniture;
         o.exterior_doors = c.exterior_doors;
-        EXPECT_EQ(io::Sha256Hex(SampleBuildingIfc(o)), c.sha256)
+        // One change since: the flight declares the 16 risers climbed (Revit's count, the
+        // slab's edge included), where it declared 15 (host_tools/bim/README.md, "Against what
+        // the file declares"). Taken back, the bytes are the pinned ones.
+        const std::string text = SampleBuildingIfc(o);
+        const std::regex flight(R"((IFCSTAIRFLIGHT\([^;]*),16,15,)");
+        ASSERT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), flight),
+                                std::sregex_iterator()),
+                  1);
+        EXPECT_EQ(io::Sha256Hex(std::regex_replace(text, flight, "$1,15,15,")), c.sha256)
             << "seed " << c.seed << " unit " << c.unit << " furniture " << c.furniture
             << " exterior doors " << c.exterior_doors;
     }

@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <regex>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "algorithms/common/status.hpp"
 #include "host_tools/bim/building_graph.hpp"
@@ -181,6 +181,44 @@ TEST(Stairs, AStairWithoutGeometryIsSaid) {
                        "stair or ramp with geometry"),
               std::string::npos)
         << all;
+}
+
+// What the file declares of its flight (IfcStairFlight's attributes, read by IFC++) against what
+// the geometry gives: the sample writes Revit's counts (16 risers climbed, 15 treads) and agrees.
+TEST(Stairs, TheOfficeFlightAgreesWithWhatItsFileDeclares) {
+    const SampleStair st = SampleBuildingLayout().stairs[0];
+    const std::vector<StairFlight> flights = FindStairFlights(Office());
+    ASSERT_EQ(flights.size(), 1u);
+    const DeclaredFlight& d = flights[0].declared;
+    EXPECT_EQ(d.risers, st.risers);
+    EXPECT_EQ(d.treads, st.risers - 1);
+    EXPECT_NEAR(d.riser_height_m, st.riser_m, 1e-9);
+    EXPECT_NEAR(d.tread_length_m, st.tread_m, 1e-9);
+    const DeclaredCheck check = CheckDeclared(flights[0]);
+    EXPECT_TRUE(check.declared);
+    EXPECT_FALSE(check.in_feet);
+    EXPECT_EQ(check.differs, "");
+}
+
+// A file whose declarations contradict its geometry is said, each figure that differs.
+TEST(Stairs, AFlightWhoseFileDeclaresOtherwiseIsSaid) {
+    std::string text = SampleBuildingIfc();
+    // NumberOfRisers 16 -> 18, RiserHeight 0.2 -> 0.18 (the sample is in metres).
+    const std::regex attributes(R"((IFCSTAIRFLIGHT\([^;]*),16,15,0\.2,)");
+    ASSERT_TRUE(std::regex_search(text, attributes));
+    text = std::regex_replace(text, attributes, "$1,18,15,0.18,");
+    const std::vector<StairFlight> flights = FindStairFlights(ParseIfc("office.ifc", text));
+    ASSERT_EQ(flights.size(), 1u);
+    EXPECT_TRUE(flights[0].Walkable()) << flights[0].problem;  // the geometry is what is walked
+    EXPECT_EQ(CheckDeclared(flights[0]).differs,
+              "16 risers in its geometry, 18 declared; risers of 0.200 m, 0.180 m declared");
+    // Lengths written in feet into a file in metres (Revit's exporters: Autodesk/revit-ifc#552)
+    // agree read in feet, and that is said.
+    text = std::regex_replace(text, std::regex(R"((IFCSTAIRFLIGHT\([^;]*),18,15,0\.18,0\.28,)"),
+                              "$1,16,15,0.656168,0.918635,");
+    const DeclaredCheck feet = CheckDeclared(FindStairFlights(ParseIfc("office.ifc", text))[0]);
+    EXPECT_TRUE(feet.in_feet);
+    EXPECT_EQ(feet.differs, "");
 }
 
 TEST(Stairs, LimitsAreValidated) {
