@@ -100,12 +100,13 @@ std::array<uint8_t, 3> ObjectColor(size_t i) {
             uint8_t(std::lround(255 * b))};
 }
 
-json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const SessionChanges& found,
-                 const changes::ChangeDetectorConfig& config) {
+namespace {
+
+// changes.json's "new_objects": each object (not a moved element's, reported with its element),
+// with its place and its mesh's range in new_objects.ply.
+json NewObjectsJson(const bim::BimModel& model, const SessionChanges& found) {
     const changes::ChangeResult& r = found.result;
     const Eigen::Vector3d o = model.origin_m;
-    const io::Session& session = found.input->session;
-
     json objects = json::array();
     size_t vertex = 0, triangle = 0;
     for (size_t k = 0; k < r.objects.size(); ++k) {
@@ -144,8 +145,17 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
         triangle += obj.mesh.triangles.size();
     }
 
-    json missing = json::array(), deviating = json::array();
+    return objects;
+}
+
+// changes.json's "missing" and "deviating" elements, and how many were confirmed and not observed.
+struct ElementLists {
+    json missing, deviating;
     size_t confirmed = 0, not_observed = 0;
+};
+
+ElementLists ElementsJson(const bim::BimModel& model, const changes::ChangeResult& r) {
+    ElementLists out{json::array(), json::array()};
     for (size_t e = 0; e < r.elements.size(); ++e) {
         if (!Physical(model.elements[e])) continue;
         const changes::ElementReport& rep = r.elements[e];
@@ -156,7 +166,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
         j["rays_through"] = rep.evidence.rays_through;
         switch (rep.verdict) {
             case changes::Verdict::kMissing:
-                missing.push_back(j);
+                out.missing.push_back(j);
                 break;
             case changes::Verdict::kDeviating: {
                 j["offset_m"] = Vec(rep.offset);
@@ -174,18 +184,26 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                         {"inlier_fraction", rep.moved_inlier_fraction},
                         {"object_points", r.objects[size_t(rep.moved_object)].points.size()}};
                 }
-                deviating.push_back(j);
+                out.deviating.push_back(j);
                 break;
             }
             case changes::Verdict::kConfirmed:
-                ++confirmed;
+                ++out.confirmed;
                 break;
             case changes::Verdict::kNotObserved:
-                ++not_observed;
+                ++out.not_observed;
                 break;
         }
     }
 
+    return out;
+}
+
+// changes.json's "transients": the clusters other keyframes looked through, with when.
+json TransientsJson(const bim::BimModel& model, const SessionChanges& found) {
+    const changes::ChangeResult& r = found.result;
+    const Eigen::Vector3d o = model.origin_m;
+    const io::Session& session = found.input->session;
     json transients = json::array();
     for (size_t k = 0; k < r.transients.size(); ++k) {
         const changes::TransientCluster& t = r.transients[k];
@@ -200,9 +218,11 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                               {"last_stamp_ns", session.keyframes[t.last_keyframe].stamp_ns}});
     }
 
-    std::map<std::string, size_t> classes;
-    for (const changes::PointClass c : r.point_class) ++classes[std::string(changes::ToString(c))];
+    return transients;
+}
 
+// changes.json's "parameters": the configuration the changes were found with.
+json ParametersJson(const bim::BimModel& model, const changes::ChangeDetectorConfig& config) {
     const changes::ChangeDetectorConfig& c = config;
     json datum = json::array();
     for (const changes::SurveyedElement& d : c.refinement.datum) {
@@ -270,6 +290,19 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
                          {"datum", datum},
                          {"datum_sigma_m", c.refinement.datum_sigma_m}}}};
 
+    return parameters;
+}
+
+}  // namespace
+
+json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const SessionChanges& found,
+                 const changes::ChangeDetectorConfig& config) {
+    const changes::ChangeResult& r = found.result;
+    const io::Session& session = found.input->session;
+    const ElementLists elements = ElementsJson(model, r);
+    std::map<std::string, size_t> classes;
+    for (const changes::PointClass c : r.point_class) ++classes[std::string(changes::ToString(c))];
+
     return {{"format", "bimslam-changes"},
             {"version", 1},
             {"frame", "bim"},
@@ -284,19 +317,19 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
               {"source", session.manifest.source},
               {"keyframes", session.keyframes.size()},
               {"points", found.input->points}}},
-            {"parameters", parameters},
+            {"parameters", ParametersJson(model, config)},
             {"map",
              {{"file", "map_bim.ply"},
               {"points", r.map.size()},
               {"input_points", r.map.input_points},
               {"cropped_points", r.map.cropped_points},
               {"classes", classes}}},
-            {"new_objects", objects},
-            {"missing", missing},
-            {"deviating", deviating},
-            {"confirmed", confirmed},
-            {"not_observed", not_observed},
-            {"transients", transients},
+            {"new_objects", NewObjectsJson(model, found)},
+            {"missing", elements.missing},
+            {"deviating", elements.deviating},
+            {"confirmed", elements.confirmed},
+            {"not_observed", elements.not_observed},
+            {"transients", TransientsJson(model, found)},
             {"counts",
              {{"candidates", r.counts.candidates},
               {"outside_footprint", r.counts.outside_footprint},
@@ -307,7 +340,7 @@ json ChangesJson(const bim::BimModel& model, const ModelInfo& info, const Sessio
               {"seed_points", r.counts.seed_points},
               {"clusters", r.counts.clusters},
               {"single_view_clusters", r.counts.single_view_clusters},
-              {"refinement", RefinementJson(r.refinement, c.refinement.enabled)}}},
+              {"refinement", RefinementJson(r.refinement, config.refinement.enabled)}}},
             {"seconds",
              {{"refinement", r.seconds.refinement_s},
               {"map", r.seconds.map_s},
