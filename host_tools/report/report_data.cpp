@@ -205,22 +205,11 @@ json StoreyName(const json& e) {
 
 }  // namespace
 
-json CollectReportData(const fs::path& out, const ReportConfig& config,
-                       const ReportProgress& progress_in) {
-    config.Validate();
-    const ReportProgress progress = progress_in ? progress_in : [](const std::string&, double) {};
-    const fs::path summary_file = out / "summary.json";
-    if (!Exists(summary_file)) {
-        throw common::FileError(common::StatusCode::kNotFound, out.string(), 0,
-                                "not an output of `bimslam map`: no summary.json");
-    }
-    json data;
-    data["summary"] = ReadJson(summary_file);
-    const json& summary = data["summary"];
-    const fs::path model_file = summary.at("model").at("file").get<std::string>();
+namespace {
 
-    progress("reading the model", 0.0);
-    const bim::BimModel model = bim::LoadIfc(model_file);
+// The model's part of the page: its origin, bounds, plans, flights and 3D buffers.
+void AddModel(const bim::BimModel& model, const fs::path& model_file, const ReportConfig& config,
+              const ReportProgress& progress, json& data) {
     const Eigen::Vector3d origin = model.origin_m;
     data["origin"] = {origin.x(), origin.y(), origin.z()};
     const Eigen::AlignedBox3d box = model.Bounds();
@@ -238,107 +227,104 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
     data["flights"] = FlightOutlines(model);
     progress("model buffers", 0.3);
     data["model3d"] = ModelBuffers(model);
+}
 
-    // The reference walk (its keyframes, world frame = bim).
-    std::map<std::string, std::vector<Eigen::Isometry3d>> keyframes;  // world poses by session
-    if (Exists(out / "reference" / "optimized_poses.txt")) {
-        keyframes["reference"] = io::ReadKitti(out / "reference" / "optimized_poses.txt");
-        data["reference_runs"] =
-            StoreyRuns(Translations(keyframes["reference"]), model, config.max_trajectory_points);
+using KeyframesBySession = std::map<std::string, std::vector<Eigen::Isometry3d>>;
+
+// One recording of the visit: its trajectory, storey runs and APE when anchored (its keyframes
+// into `keyframes`), its own-frame map when not, its scan times.
+json SessionJson(const json& rec, const fs::path& visit, const bim::BimModel& model,
+                 const ReportConfig& config, KeyframesBySession& keyframes) {
+    const std::string name = rec.at("name");
+    // Anchored in parts: the anchored pieces' keyframes and scans are in OUT/anchor/NAME.
+    const bool anchored =
+        !rec.at("anchor").is_null() &&
+        (rec["anchor"]["verdict"] == "anchored" || rec["anchor"]["verdict"] == "anchored-in-parts");
+    json s = {{"name", name}, {"anchored", anchored}, {"anchor", rec.at("anchor")}};
+    const fs::path anchored_dir = visit / "anchor" / name;
+    if (anchored) {
+        keyframes[name] = io::ReadKitti(anchored_dir / "optimized_poses.txt");
+        const std::vector<Eigen::Vector3d> trajectory =
+            Positions(io::ReadTum(anchored_dir / "trajectory_bim.tum"));
+        s["trajectory"] = ThinPoints(trajectory, model.origin_m, config.max_trajectory_points);
+        s["runs"] = StoreyRuns(trajectory, model, config.max_trajectory_points);
+        if (rec.at("ground_truth").is_string()) {
+            s["ape"] = ApeOverTime(anchored_dir / "trajectory_bim.tum",
+                                   rec["ground_truth"].get<std::string>());
+        }
+    } else if (Exists(visit / "odometry" / name / "session.json")) {
+        s["own_frame"] = OwnFrameMap(visit / "odometry" / name, config.max_map_points / 4);
     }
+    const fs::path odo = visit / "odometry" / (name + ".json");
+    if (Exists(odo)) {
+        const json o = ReadJson(odo);
+        s["scan_ms"] = o.at("scan_ms");
+    }
+    return s;
+}
 
-    // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored. The
-    // recordings of the visit the summary describes (`bimslam map`'s newest: OUT/visits/<label>;
-    // a summary without visit_dir, of an older bimslam: OUT itself).
-    const fs::path visit = out / summary.value("visit_dir", std::string());
-    const json loops = Exists(visit / "anchor" / "loops.json")
-                           ? ReadJson(visit / "anchor" / "loops.json")
-                           : json::array();
-    json sessions = json::array();
+// A missing or deviating element's row of the change list (its box from the model).
+json ElementRow(const bim::BimModel& model, const json& e, const std::string& kind,
+                const std::string& session) {
+    const size_t index = e.at("index");
+    const Eigen::AlignedBox3d b = ElementBox(model, index);
+    const Eigen::Vector3d lo = b.min(), hi = b.max();
+    const Eigen::Vector3d size = hi - lo, mid = (lo + hi) / 2;
+    std::string verdict = kind;
+    if (kind == "deviating") {
+        verdict +=
+            e.at("moved").is_null()
+                ? " by " +
+                      std::to_string(int(std::round(e.at("offset_norm_m").get<double>() * 1000))) +
+                      " mm"
+                : " (moved)";
+    }
+    return {
+        {"kind", kind},
+        {"session", session},
+        {"id", index},
+        {"name", e.at("name").get<std::string>() + " (" + e.at("class").get<std::string>() + ")"},
+        {"global_id", e.at("global_id")},
+        {"min", {lo.x(), lo.y(), lo.z()}},
+        {"max", {hi.x(), hi.y(), hi.z()}},
+        {"size", {size.x(), size.y(), size.z()}},
+        {"position", {mid.x(), mid.y(), mid.z()}},
+        {"storey", StoreyName(e)},
+        {"room", ""},
+        {"verdict", verdict}};
+}
+
+// What the visit's recordings found, gathered over them: the change list's rows, the missing
+// elements, the maps coloured by distance, the new objects' meshes, the distances' histogram.
+struct VisitChanges {
+    json rows = json::array();
     std::vector<size_t> missing_elements;
-    json changes_rows = json::array();
     json map = nullptr, objects = json::array();
-    std::vector<fs::path> change_dirs;           // the elements' deviations (elements.csv)
+    std::vector<fs::path> dirs;                  // the elements' deviations (elements.csv)
     std::optional<DistanceHistogram> distances;  // of the maps' points on the model
-    const auto& recordings = summary.at("recordings");
-    for (size_t r = 0; r < recordings.size(); ++r) {
-        const json& rec = recordings[r];
-        const std::string name = rec.at("name");
-        progress("session " + name, 0.4 + 0.5 * double(r) / double(recordings.size()));
-        // Anchored in parts: the anchored pieces' keyframes and scans are in OUT/anchor/NAME.
-        const bool anchored =
-            !rec.at("anchor").is_null() && (rec["anchor"]["verdict"] == "anchored" ||
-                                            rec["anchor"]["verdict"] == "anchored-in-parts");
-        json s = {{"name", name}, {"anchored", anchored}, {"anchor", rec.at("anchor")}};
-        const fs::path anchored_dir = visit / "anchor" / name;
-        if (anchored) {
-            keyframes[name] = io::ReadKitti(anchored_dir / "optimized_poses.txt");
-            const std::vector<Eigen::Vector3d> trajectory =
-                Positions(io::ReadTum(anchored_dir / "trajectory_bim.tum"));
-            s["trajectory"] = ThinPoints(trajectory, origin, config.max_trajectory_points);
-            s["runs"] = StoreyRuns(trajectory, model, config.max_trajectory_points);
-            if (rec.at("ground_truth").is_string()) {
-                s["ape"] = ApeOverTime(anchored_dir / "trajectory_bim.tum",
-                                       rec["ground_truth"].get<std::string>());
-            }
-        } else if (Exists(visit / "odometry" / name / "session.json")) {
-            s["own_frame"] = OwnFrameMap(visit / "odometry" / name, config.max_map_points / 4);
-        }
-        const fs::path odo = visit / "odometry" / (name + ".json");
-        if (Exists(odo)) {
-            const json o = ReadJson(odo);
-            s["scan_ms"] = o.at("scan_ms");
-        }
-        sessions.push_back(s);
 
-        const fs::path cdir = visit / "changes" / name;
-        if (!Exists(cdir / "changes.json")) continue;
-        const json c = ReadJson(cdir / "changes.json");
-        change_dirs.push_back(cdir);
+    // One recording's changes folder `cdir` (its changes.json read as `c`).
+    void Add(const fs::path& cdir, const std::string& name, const json& c,
+             const bim::BimModel& model, const ReportConfig& config) {
+        dirs.push_back(cdir);
         for (const json& o : c.at("new_objects")) {
-            changes_rows.push_back({{"kind", "new object"},
-                                    {"session", name},
-                                    {"id", o.at("id")},
-                                    {"name", "new object " + std::to_string(o.at("id").get<int>())},
-                                    {"min", o.at("box_min")},
-                                    {"max", o.at("box_max")},
-                                    {"size", o.at("size_m")},
-                                    {"position", o.at("centroid")},
-                                    {"storey", StoreyName(o)},
-                                    {"room", RoomName(o)},
-                                    {"verdict", "new"},
-                                    {"color", o.at("color")}});
+            rows.push_back({{"kind", "new object"},
+                            {"session", name},
+                            {"id", o.at("id")},
+                            {"name", "new object " + std::to_string(o.at("id").get<int>())},
+                            {"min", o.at("box_min")},
+                            {"max", o.at("box_max")},
+                            {"size", o.at("size_m")},
+                            {"position", o.at("centroid")},
+                            {"storey", StoreyName(o)},
+                            {"room", RoomName(o)},
+                            {"verdict", "new"},
+                            {"color", o.at("color")}});
         }
         for (const char* kind : {"missing", "deviating"}) {
             for (const json& e : c.at(kind)) {
-                const size_t index = e.at("index");
-                const Eigen::AlignedBox3d b = ElementBox(model, index);
-                const Eigen::Vector3d lo = b.min(), hi = b.max();
-                const Eigen::Vector3d size = hi - lo, mid = (lo + hi) / 2;
-                std::string verdict = kind;
-                if (std::string(kind) == "deviating") {
-                    verdict +=
-                        e.at("moved").is_null()
-                            ? " by " +
-                                  std::to_string(
-                                      int(std::round(e.at("offset_norm_m").get<double>() * 1000))) +
-                                  " mm"
-                            : " (moved)";
-                }
-                changes_rows.push_back({{"kind", kind},
-                                        {"session", name},
-                                        {"id", index},
-                                        {"name", e.at("name").get<std::string>() + " (" +
-                                                     e.at("class").get<std::string>() + ")"},
-                                        {"global_id", e.at("global_id")},
-                                        {"min", {lo.x(), lo.y(), lo.z()}},
-                                        {"max", {hi.x(), hi.y(), hi.z()}},
-                                        {"size", {size.x(), size.y(), size.z()}},
-                                        {"position", {mid.x(), mid.y(), mid.z()}},
-                                        {"storey", StoreyName(e)},
-                                        {"room", ""},
-                                        {"verdict", verdict}});
-                if (std::string(kind) == "missing") missing_elements.push_back(index);
+                rows.push_back(ElementRow(model, e, kind, name));
+                if (std::string(kind) == "missing") missing_elements.push_back(e.at("index"));
             }
         }
         // The map coloured by distance and the new objects' meshes (the first anchored session's
@@ -356,16 +342,12 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
             objects.push_back(ObjectMeshes(cdir / "new_objects.ply", name, c, model));
         }
     }
-    data["sessions"] = sessions;
-    data["changes"] = changes_rows;
-    data["map"] = map;
-    data["objects"] = objects;
-    data["missing3d"] = ElementTriangles(model, missing_elements);
-    data["deviation"] = ElementDeviations(change_dirs);
-    data["distances"] = distances ? distances->ToJson(model) : json(nullptr);
+};
 
-    // Loops: from the target keyframe to where registration put the query keyframe
-    // (T_world_target * T_target_query), accepted or rejected.
+// Loops: from the target keyframe to where registration put the query keyframe
+// (T_world_target * T_target_query), accepted or rejected.
+json LoopRows(const json& loops, const KeyframesBySession& keyframes,
+              const Eigen::Vector3d& origin) {
     json loop_rows = json::array();
     for (const json& l : loops) {
         const auto it = keyframes.find(l.at("target").get<std::string>());
@@ -391,7 +373,64 @@ json CollectReportData(const fs::path& out, const ReportConfig& config,
                              {"a", ThinPoints({target}, origin, 1)},
                              {"b", ThinPoints({query}, origin, 1)}});
     }
-    data["loops"] = loop_rows;
+    return loop_rows;
+}
+
+}  // namespace
+
+json CollectReportData(const fs::path& out, const ReportConfig& config,
+                       const ReportProgress& progress_in) {
+    config.Validate();
+    const ReportProgress progress = progress_in ? progress_in : [](const std::string&, double) {};
+    const fs::path summary_file = out / "summary.json";
+    if (!Exists(summary_file)) {
+        throw common::FileError(common::StatusCode::kNotFound, out.string(), 0,
+                                "not an output of `bimslam map`: no summary.json");
+    }
+    json data;
+    data["summary"] = ReadJson(summary_file);
+    const json& summary = data["summary"];
+    const fs::path model_file = summary.at("model").at("file").get<std::string>();
+
+    progress("reading the model", 0.0);
+    const bim::BimModel model = bim::LoadIfc(model_file);
+    AddModel(model, model_file, config, progress, data);
+
+    // The reference walk (its keyframes, world frame = bim).
+    KeyframesBySession keyframes;  // world poses by session
+    if (Exists(out / "reference" / "optimized_poses.txt")) {
+        keyframes["reference"] = io::ReadKitti(out / "reference" / "optimized_poses.txt");
+        data["reference_runs"] =
+            StoreyRuns(Translations(keyframes["reference"]), model, config.max_trajectory_points);
+    }
+
+    // Per recording: trajectories, loops, APE, scan times, own-frame map when not anchored. The
+    // recordings of the visit the summary describes (`bimslam map`'s newest: OUT/visits/<label>;
+    // a summary without visit_dir, of an older bimslam: OUT itself).
+    const fs::path visit = out / summary.value("visit_dir", std::string());
+    const json loops = Exists(visit / "anchor" / "loops.json")
+                           ? ReadJson(visit / "anchor" / "loops.json")
+                           : json::array();
+    json sessions = json::array();
+    VisitChanges changes;
+    const auto& recordings = summary.at("recordings");
+    for (size_t r = 0; r < recordings.size(); ++r) {
+        const std::string name = recordings[r].at("name");
+        progress("session " + name, 0.4 + 0.5 * double(r) / double(recordings.size()));
+        sessions.push_back(SessionJson(recordings[r], visit, model, config, keyframes));
+        const fs::path cdir = visit / "changes" / name;
+        if (Exists(cdir / "changes.json")) {
+            changes.Add(cdir, name, ReadJson(cdir / "changes.json"), model, config);
+        }
+    }
+    data["sessions"] = sessions;
+    data["changes"] = changes.rows;
+    data["map"] = changes.map;
+    data["objects"] = changes.objects;
+    data["missing3d"] = ElementTriangles(model, changes.missing_elements);
+    data["deviation"] = ElementDeviations(changes.dirs);
+    data["distances"] = changes.distances ? changes.distances->ToJson(model) : json(nullptr);
+    data["loops"] = LoopRows(loops, keyframes, model.origin_m);
     // The project's visits and history (issue 33 item 6; none from an older bimslam).
     progress("visits and history", 0.95);
     data["visits"] = VisitWalks(out, summary, model, config.max_trajectory_points);
