@@ -250,49 +250,36 @@ void ScanRegistration::HoldAxis(const AlignInput& in, common::Vector6d* scaled,
     ++result_.degenerate_directions;
 }
 
-const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const VoxelMap& map,
-                                                  Clock::time_point deadline) {
+int ScanRegistration::Iterate(const AlignInput& in, const VoxelMap& map, Clock::time_point deadline,
+                              const Solve& solve, common::Vector6d* delta, common::Vector6d* xi) {
     const Eigen::Isometry3d& T0 = in.T0;
-    result_ = RegistrationResult{};
-    result_.T_map_lidar = T0;
-    result_.points = static_cast<int>(in.points.size());
-    const bool correcting =
-        config_.motion_correction && (in.correction_sigma.array() > 0).all() && !in.alpha.empty();
-    const double max_distance = in.max_correspondence_distance > 0
-                                    ? in.max_correspondence_distance
-                                    : config_.max_correspondence_distance;
-    common::Vector6d delta = common::Vector6d::Zero(), xi = common::Vector6d::Zero();
-    // The prior weighs like a correspondence at the final Cauchy scale per sigma of correction.
-    common::Vector6d prior_k = common::Vector6d::Zero();
-    if (correcting) prior_k = in.correction_sigma.cwiseInverse() * config_.cauchy_scale;
-
     int n = 0;
     neighbours_cached_ = 0;  // another map, or the same one changed since the last Align
     // A wide threshold (a poor prediction) starts the kernel wider too.
-    double kernel = std::max(config_.cauchy_scale_initial, max_distance / 6);
+    double kernel = std::max(config_.cauchy_scale_initial, solve.max_distance / 6);
     for (int it = 0; it < config_.max_iterations;
          ++it, kernel = std::max(config_.cauchy_scale, kernel / 2)) {
         if (BudgetNow(config_.cpu_time_budget) >= deadline) {
             result_.over_budget = true;
             break;
         }
-        const Eigen::Isometry3d T = ApplyPerturbation(T0, delta);
-        const int found = Associate(in, map, T, xi, max_distance, kernel);
+        const Eigen::Isometry3d T = ApplyPerturbation(T0, *delta);
+        const int found = Associate(in, map, T, *xi, solve.max_distance, kernel);
         if (found < config_.min_correspondences) {
             if (it == 0) {
                 result_.failed = true;
                 result_.correspondences = found;
-                return result_;
+                return -1;
             }
             break;  // keep the last solution, whose correspondences were enough
         }
         n = found;
-        const common::Vector6d xi_before = xi;
-        Step(T0, n, correcting, in.fix_rotation, prior_k, &delta, &xi);
+        const common::Vector6d xi_before = *xi;
+        Step(T0, n, solve.correcting, in.fix_rotation, solve.prior_k, delta, xi);
         ++result_.iterations;
-        const Eigen::Isometry3d step = common::Between(T, ApplyPerturbation(T0, delta));
+        const Eigen::Isometry3d step = common::Between(T, ApplyPerturbation(T0, *delta));
         // The correction's step, as the displacement it makes at the end of the sweep 10 m out.
-        const common::Vector6d dxi = xi - xi_before;
+        const common::Vector6d dxi = *xi - xi_before;
         const double xi_step = dxi.head<3>().norm() + 10.0 * dxi.tail<3>().norm();
         if (kernel <= config_.cauchy_scale &&
             step.translation().norm() < config_.converged_translation &&
@@ -302,14 +289,16 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
             break;
         }
     }
+    return n;
+}
 
-    // The normal equations at the solution, with rotation scaled to metres (header comment):
-    // H over [delta, xi], the correction's prior added to its block.
-    const RowModel m(T0, delta, xi);
-    double mean_range = 0, weight_sum = 0, weighted_sq = 0, axis_sum = 0;
-    int inliers = 0;
-    for (int i = 0; i < n; ++i) mean_range += corr_[size_t(i)].p.norm();
-    mean_range = n > 0 ? std::max(1.0, mean_range / n) : 1.0;
+ScanRegistration::Residuals ScanRegistration::Measure(const AlignInput& in,
+                                                      const common::Vector6d& delta,
+                                                      const common::Vector6d& xi, int n) const {
+    const RowModel m(in.T0, delta, xi);
+    Residuals out;
+    for (int i = 0; i < n; ++i) out.mean_range += corr_[size_t(i)].p.norm();
+    out.mean_range = n > 0 ? std::max(1.0, out.mean_range / n) : 1.0;
     const Eigen::Matrix3d R0t = m.R0.transpose();
     for (int i = 0; i < n; ++i) {
         const Correspondence& c = corr_[size_t(i)];
@@ -322,47 +311,59 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         const Eigen::Vector3d n0 = R0t * c.n;   // the normal in T0's lidar frame
         const double facing = in.axis.dot(n0);  // cos of the normal to the axis
         if (std::abs(facing) >= 0.5 && std::abs(n0.dot(c.p)) > 0.1 * c.p.norm()) {
-            axis_sum += w * facing * facing;
+            out.axis_sum += w * facing * facing;
         }
-        weight_sum += w;
-        weighted_sq += w * r * r;
-        inliers += std::abs(r) <= config_.inlier_distance ? 1 : 0;
+        out.weight_sum += w;
+        out.weighted_sq += w * r * r;
+        out.inliers += std::abs(r) <= config_.inlier_distance ? 1 : 0;
     }
+    return out;
+}
+
+ScanRegistration::Information ScanRegistration::InformationAt(const Eigen::Isometry3d& T0,
+                                                              const common::Vector6d& delta,
+                                                              const common::Vector6d& xi, int n,
+                                                              const Solve& solve,
+                                                              double mean_range) const {
     Matrix12d H;
     Vector12d g;
-    NormalEquations(T0, delta, xi, n, correcting, &H, &g);
+    NormalEquations(T0, delta, xi, n, solve.correcting, &H, &g);
     Vector12d scale12 = Vector12d::Ones();  // J' = J S: rotations per metre of mean range
     scale12.segment<3>(3).setConstant(1 / mean_range);
     scale12.segment<3>(9).setConstant(1 / mean_range);
     H = scale12.asDiagonal() * H * scale12.asDiagonal();
-    common::Vector6d scale;
-    scale << 1, 1, 1, 1 / mean_range, 1 / mean_range, 1 / mean_range;  // x = S x'
+    Information info;
+    info.scale << 1, 1, 1, 1 / mean_range, 1 / mean_range, 1 / mean_range;  // x = S x'
     // The correction's block: its prior (in scaled units), or pinned when not estimated.
     common::Matrix6d Hxx = H.block<6, 6>(6, 6);
-    const common::Matrix6d Hdx = H.block<6, 6>(0, 6);
-    if (correcting) {
-        Hxx += prior_k.cwiseProduct(scale).cwiseAbs2().asDiagonal();
+    info.Hdx = H.block<6, 6>(0, 6);
+    if (solve.correcting) {
+        Hxx += solve.prior_k.cwiseProduct(info.scale).cwiseAbs2().asDiagonal();
     } else {
         Hxx = common::Matrix6d::Identity();
     }
-    const Eigen::LDLT<common::Matrix6d> Hxx_ldlt(Hxx);
+    info.Hxx_ldlt.compute(Hxx);
     // The information about delta with the correction marginalised out (Schur complement).
-    const common::Matrix6d S =
-        correcting ? common::Matrix6d(H.block<6, 6>(0, 0) - Hdx * Hxx_ldlt.solve(Hdx.transpose()))
-                   : common::Matrix6d(H.block<6, 6>(0, 0));
-    Eigen::SelfAdjointEigenSolver<common::Matrix6d> eig(S);
+    info.S = solve.correcting
+                 ? common::Matrix6d(H.block<6, 6>(0, 0) -
+                                    info.Hdx * info.Hxx_ldlt.solve(info.Hdx.transpose()))
+                 : common::Matrix6d(H.block<6, 6>(0, 0));
+    return info;
+}
+
+common::Matrix6d ScanRegistration::KeepMeasured(const AlignInput& in, const Information& info,
+                                                const Residuals& res, common::Vector6d* scaled) {
+    Eigen::SelfAdjointEigenSolver<common::Matrix6d> eig(info.S);
     const common::Vector6d lambda = eig.eigenvalues();
     const common::Matrix6d V = eig.eigenvectors();
-    const common::Vector6d scaled_before = delta.cwiseQuotient(scale);
-    common::Vector6d scaled = scaled_before;
-    const double s2 = std::max(weighted_sq / std::max(1.0, weight_sum - 6), 0.005 * 0.005);
-    const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(scale).cwiseAbs2();
+    const double s2 = std::max(res.weighted_sq / std::max(1.0, res.weight_sum - 6), 0.005 * 0.005);
+    const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(info.scale).cwiseAbs2();
     common::Matrix6d cov = common::Matrix6d::Zero();
-    result_.min_eigen_ratio = weight_sum > 0 ? lambda(0) / weight_sum : 0;
-    result_.axis_share = weight_sum > 0 ? axis_sum / weight_sum : 0;
+    result_.min_eigen_ratio = res.weight_sum > 0 ? lambda(0) / res.weight_sum : 0;
+    result_.axis_share = res.weight_sum > 0 ? res.axis_sum / res.weight_sum : 0;
     for (int k = 0; k < 6; ++k) {
         const common::Vector6d v = V.col(k);
-        if (weight_sum > 0 && lambda(k) / weight_sum >= config_.degenerate_ratio) {
+        if (res.weight_sum > 0 && lambda(k) / res.weight_sum >= config_.degenerate_ratio) {
             cov += (s2 / lambda(k)) * v * v.transpose();
             continue;
         }
@@ -376,7 +377,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         const double prior_var_v = std::max(v.cwiseAbs2().dot(prior_var), 1e-12);
         if (v.head<3>().squaredNorm() >= 0.5) {
             ++result_.degenerate_directions;
-            scaled -= v * v.dot(scaled);  // this direction keeps the initial guess
+            *scaled -= v * v.dot(*scaled);  // this direction keeps the initial guess
             cov += prior_var_v * v * v.transpose();
             continue;
         }
@@ -384,19 +385,51 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
         const double prior_info = 1.0 / prior_var_v;
         const double keep = data_info / (data_info + prior_info);  // the scan's share
         if (keep < 0.5) ++result_.degenerate_directions;
-        scaled -= (1.0 - keep) * v * v.dot(scaled);
+        *scaled -= (1.0 - keep) * v * v.dot(*scaled);
         cov += 1.0 / (data_info + prior_info) * v * v.transpose();
     }
-    HoldAxis(in, &scaled, &cov);
-    if (correcting && result_.degenerate_directions > 0) {
+    HoldAxis(in, scaled, &cov);
+    return cov;
+}
+
+const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const VoxelMap& map,
+                                                  Clock::time_point deadline) {
+    const Eigen::Isometry3d& T0 = in.T0;
+    result_ = RegistrationResult{};
+    result_.T_map_lidar = T0;
+    result_.points = static_cast<int>(in.points.size());
+    Solve solve;
+    solve.correcting =
+        config_.motion_correction && (in.correction_sigma.array() > 0).all() && !in.alpha.empty();
+    solve.max_distance = in.max_correspondence_distance > 0 ? in.max_correspondence_distance
+                                                            : config_.max_correspondence_distance;
+    // The prior weighs like a correspondence at the final Cauchy scale per sigma of correction.
+    if (solve.correcting) solve.prior_k = in.correction_sigma.cwiseInverse() * config_.cauchy_scale;
+
+    // 1. Gauss-Newton from T0.
+    common::Vector6d delta = common::Vector6d::Zero(), xi = common::Vector6d::Zero();
+    const int n = Iterate(in, map, deadline, solve, &delta, &xi);
+    if (n < 0) return result_;
+
+    // 2. The normal equations at the solution, with rotation scaled to metres (header comment):
+    // H over [delta, xi], the correction's prior added to its block; the directions the scan did
+    // not measure keep the guess.
+    const Residuals res = Measure(in, delta, xi, n);
+    const Information info = InformationAt(T0, delta, xi, n, solve, res.mean_range);
+    const common::Vector6d scaled_before = delta.cwiseQuotient(info.scale);
+    common::Vector6d scaled = scaled_before;
+    common::Matrix6d cov = KeepMeasured(in, info, res, &scaled);
+    if (solve.correcting && result_.degenerate_directions > 0) {
         // The correction's optimum given the delta kept: xi' += -Hxx^-1 Hxd (delta' - delta).
         const common::Vector6d scaled_xi =
-            xi.cwiseQuotient(scale) - Hxx_ldlt.solve(Hdx.transpose() * (scaled - scaled_before));
-        xi = scaled_xi.cwiseProduct(scale);
+            xi.cwiseQuotient(info.scale) -
+            info.Hxx_ldlt.solve(info.Hdx.transpose() * (scaled - scaled_before));
+        xi = scaled_xi.cwiseProduct(info.scale);
     }
-    delta = scaled.cwiseProduct(scale);
+    delta = scaled.cwiseProduct(info.scale);
     if (in.fix_rotation) {
         // A weak direction mixing rotation in must not bring it back; its variance is T0's.
+        const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(info.scale).cwiseAbs2();
         delta.tail<3>().setZero();
         cov.block<3, 3>(3, 0).setZero();
         cov.block<3, 3>(0, 3).setZero();
@@ -404,10 +437,10 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     }
     result_.T_map_lidar = ApplyPerturbation(T0, delta);
     result_.correction = xi;
-    result_.covariance = scale.asDiagonal() * cov * scale.asDiagonal();
+    result_.covariance = info.scale.asDiagonal() * cov * info.scale.asDiagonal();
     result_.correspondences = n;
-    result_.inliers = inliers;
-    result_.rms = weight_sum > 0 ? std::sqrt(weighted_sq / weight_sum) : 0;
+    result_.inliers = res.inliers;
+    result_.rms = res.weight_sum > 0 ? std::sqrt(res.weighted_sq / res.weight_sum) : 0;
     return result_;
 }
 

@@ -47,6 +47,7 @@
 // delta <- (I - V_d V_d^T) delta, and the correction follows (its conditional optimum).
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <chrono>
@@ -198,6 +199,42 @@ private:
     // Where the scan's evidence along in.axis is under in.hold_axis_below, the solution `scaled`
     // (and its covariance, scaled units) kept at T0 along it.
     void HoldAxis(const AlignInput& in, common::Vector6d* scaled, common::Matrix6d* cov);
+
+    // Align's steps. What one Align solves: with the sweep's correction or not, the
+    // correspondences' reach, the correction's prior (Step's prior_k).
+    struct Solve {
+        bool correcting = false;
+        double max_distance = 0;
+        common::Vector6d prior_k = common::Vector6d::Zero();
+    };
+    // The fit at the solution: mean range (>= 1 m), weights, weighted squared residuals, the
+    // weights on surfaces facing in.axis, inliers.
+    struct Residuals {
+        double mean_range = 0, weight_sum = 0, weighted_sq = 0, axis_sum = 0;
+        int inliers = 0;
+    };
+    // The normal equations at the solution, rotations scaled to metres of mean range (x = S x'):
+    // S the information on delta with the correction marginalised out, and the correction's
+    // blocks to move it with delta.
+    struct Information {
+        common::Vector6d scale;
+        common::Matrix6d S, Hdx;
+        Eigen::LDLT<common::Matrix6d> Hxx_ldlt;
+    };
+    // Gauss-Newton iterations from in.T0 (delta, xi from zero); the correspondences of the
+    // solution, or -1 when the first association found too few (result_.failed).
+    int Iterate(const AlignInput& in, const VoxelMap& map, Clock::time_point deadline,
+                const Solve& solve, common::Vector6d* delta, common::Vector6d* xi);
+    Residuals Measure(const AlignInput& in, const common::Vector6d& delta,
+                      const common::Vector6d& xi, int n) const;
+    Information InformationAt(const Eigen::Isometry3d& T0, const common::Vector6d& delta,
+                              const common::Vector6d& xi, int n, const Solve& solve,
+                              double mean_range) const;
+    // The solution `scaled` (scaled units) kept at T0 along the directions the scan did not
+    // measure (fused with the guess along weak rotations), and its covariance (scaled units);
+    // sets min_eigen_ratio, axis_share and degenerate_directions.
+    common::Matrix6d KeepMeasured(const AlignInput& in, const Information& info,
+                                  const Residuals& res, common::Vector6d* scaled);
 
     RegistrationConfig config_;
     std::vector<Correspondence> corr_;
