@@ -106,12 +106,9 @@ void PoseRefinementConfig::Validate() const {
     }
 }
 
-PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
-                           std::span<const KeyframeEdge> edges,
-                           const PoseRefinementConfig& config) {
-    const auto start = std::chrono::steady_clock::now();
-    config.Validate();
-    const size_t n = keyframes.size();
+namespace {
+
+void CheckEdges(std::span<const KeyframeEdge> edges, size_t n) {
     for (const KeyframeEdge& e : edges) {
         if (e.from >= n || e.to >= n || e.from == e.to) {
             throw common::Error(common::StatusCode::kInvalidArgument,
@@ -120,137 +117,213 @@ PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe
                                     std::to_string(n) + " keyframes)");
         }
     }
-    // Per element: its prior's mean and 1 / sigma (the datum's where surveyed).
-    std::vector<Eigen::Vector3d> prior(model.element_count(), Eigen::Vector3d::Zero());
-    std::vector<double> prior_inv_sigma(model.element_count(), 1.0 / config.element_sigma_m);
-    for (const SurveyedElement& d : config.datum) {
-        if (d.element >= model.element_count()) {
-            throw common::Error(common::StatusCode::kInvalidArgument,
-                                "pose refinement: the surveyed element " +
-                                    std::to_string(d.element) + " does not exist (" +
-                                    std::to_string(model.element_count()) + " elements)");
-        }
-        prior[d.element] = d.offset;
-        prior_inv_sigma[d.element] = 1.0 / config.datum_sigma_m;
-    }
-    PoseRefinement out;
-    out.edges = edges.size();
-    std::vector<PoseBlock> poses(n);
-    for (size_t k = 0; k < n; ++k) poses[k].Set(keyframes[k].T_world_lidar);
-    std::vector<Eigen::Vector3d> offsets = prior;
-    std::vector<uint8_t> has_edge(n, 0);
-    for (const KeyframeEdge& e : edges) has_edge[e.from] = has_edge[e.to] = 1;
+}
 
-    const std::vector<std::vector<Eigen::Vector3d>> points = Subsample(keyframes, config);
-    const simulation::Scene scene(model.mesh);
-    std::vector<std::vector<Correspondence>> found(n);
-    std::vector<uint8_t> registered(n, 0);  // its points are factors (decided in the first round)
-    for (size_t round = 0; round < config.gates_m.size(); ++round) {
-        const double gate = config.gates_m[round];
+// The refinement held in one object (as Ceres' pose_graph_3d holds its problem): the poses and
+// the elements' offsets it moves, their priors, the correspondences of the current round.
+class Refinement {
+public:
+    Refinement(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+               std::span<const KeyframeEdge> edges, const PoseRefinementConfig& config)
+        : model_(model),
+          keyframes_(keyframes),
+          edges_(edges),
+          config_(config),
+          n_(keyframes.size()),
+          poses_(n_),
+          found_(n_),
+          registered_(n_, 0),
+          has_edge_(n_, 0) {
+        SetPriors();
+        offsets_ = prior_;
+        for (size_t k = 0; k < n_; ++k) poses_[k].Set(keyframes[k].T_world_lidar);
+        for (const KeyframeEdge& e : edges) has_edge_[e.from] = has_edge_[e.to] = 1;
+        out_.edges = edges.size();
+        points_ = Subsample(keyframes, config);
+    }
+
+    // One round per gate; false when nothing was left to solve.
+    bool Round(size_t round, const simulation::Scene& scene) {
+        const double gate = config_.gates_m[round];
         const double annealing =
-            config.edge_loss_annealing[std::min(round, config.edge_loss_annealing.size() - 1)];
-        // Correspondences at the current poses, against the model as designed (the offsets are
-        // centimetres; the nearest triangle does not change with them).
-        tbb::parallel_for(size_t(0), n, [&](size_t k) {
-            found[k].clear();
-            const Eigen::Isometry3d T = poses[k].Get();
+            config_.edge_loss_annealing[std::min(round, config_.edge_loss_annealing.size() - 1)];
+        Associate(scene, gate);
+        if (round == 0) DecideRegistered();
+        ceres::Problem problem;
+        // One loss for every point's block: the problem owns it (and deletes it once) as soon as
+        // a block uses it; until then the unique_ptr does.
+        auto point_loss = std::make_unique<ceres::CauchyLoss>(config_.point_loss_sigmas);
+        std::vector<uint8_t> in_problem(n_, 0);
+        const std::vector<uint32_t> per_element = AddPoints(problem, point_loss.get(), in_problem);
+        if (out_.correspondences > 0) (void)point_loss.release();  // now the problem's
+        AddEdges(problem, annealing, in_problem);
+        AddOffsetPriors(problem, per_element);
+        for (size_t k = 0; k < n_; ++k) {
+            if (in_problem[k]) problem.SetManifold(poses_[k].q, new ceres::EigenQuaternionManifold);
+        }
+        out_.element_points = per_element;
+        if (problem.NumResidualBlocks() == 0) return false;
+        ceres::Solver::Options options;
+        options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+        options.max_num_iterations = config_.max_iterations;
+        options.num_threads = config_.threads;
+        options.logging_type = ceres::SILENT;
+        ceres::Solver::Summary summary;
+        ceres::Solve(options, &problem, &summary);
+        out_.iterations += int(summary.iterations.size());
+        return true;
+    }
+
+    // The poses, their corrections and the offsets found.
+    PoseRefinement Result() {
+        out_.T_world_lidar.resize(n_);
+        out_.correction_m.resize(n_);
+        out_.correction_deg.resize(n_);
+        for (size_t k = 0; k < n_; ++k) {
+            const Eigen::Isometry3d& before = keyframes_[k].T_world_lidar;
+            out_.T_world_lidar[k] = poses_[k].Get();
+            out_.correction_m[k] =
+                (out_.T_world_lidar[k].translation() - before.translation()).norm();
+            out_.correction_deg[k] =
+                Eigen::AngleAxisd(before.rotation().transpose() * out_.T_world_lidar[k].rotation())
+                    .angle() *
+                180.0 / M_PI;
+            out_.moved_1cm += out_.correction_m[k] > 0.01;
+            out_.mean_correction_m += out_.correction_m[k] / double(n_);
+            out_.max_correction_m = std::max(out_.max_correction_m, out_.correction_m[k]);
+            out_.max_correction_deg = std::max(out_.max_correction_deg, out_.correction_deg[k]);
+        }
+        for (const SurveyedElement& d : config_.datum) {
+            out_.datum_seen += out_.element_points[d.element] > 0;
+        }
+        out_.element_offset = std::move(offsets_);
+        return std::move(out_);
+    }
+
+private:
+    // Per element: its prior's mean and 1 / sigma (the datum's where surveyed).
+    void SetPriors() {
+        prior_.assign(model_.element_count(), Eigen::Vector3d::Zero());
+        prior_inv_sigma_.assign(model_.element_count(), 1.0 / config_.element_sigma_m);
+        for (const SurveyedElement& d : config_.datum) {
+            if (d.element >= model_.element_count()) {
+                throw common::Error(common::StatusCode::kInvalidArgument,
+                                    "pose refinement: the surveyed element " +
+                                        std::to_string(d.element) + " does not exist (" +
+                                        std::to_string(model_.element_count()) + " elements)");
+            }
+            prior_[d.element] = d.offset;
+            prior_inv_sigma_[d.element] = 1.0 / config_.datum_sigma_m;
+        }
+    }
+
+    // Correspondences at the current poses, against the model as designed (the offsets are
+    // centimetres; the nearest triangle does not change with them).
+    void Associate(const simulation::Scene& scene, double gate) {
+        tbb::parallel_for(size_t(0), n_, [&](size_t k) {
+            found_[k].clear();
+            const Eigen::Isometry3d T = poses_[k].Get();
             const Eigen::Vector3f sensor = T.translation().cast<float>();
-            for (const Eigen::Vector3d& p : points[k]) {
+            for (const Eigen::Vector3d& p : points_[k]) {
                 // Only surfaces facing the sensor: the far face of a wall 10-15 cm thick is
                 // nearer than its near face to a point seen from a pose 8 cm off (scene.hpp).
                 const auto c = scene.ClosestFacing((T * p).cast<float>(), sensor, float(gate));
                 if (!c) continue;
-                found[k].push_back({p, c->normal.cast<double>(), c->point.cast<double>(),
-                                    uint32_t(k), model.triangle_element[c->triangle]});
+                found_[k].push_back({p, c->normal.cast<double>(), c->point.cast<double>(),
+                                     uint32_t(k), model_.triangle_element[c->triangle]});
             }
         });
+    }
 
-        ceres::Problem problem;
-        // One loss for every point's block: the problem owns it (and deletes it once) as soon as
-        // a block uses it; until then the unique_ptr does.
-        auto point_loss = std::make_unique<ceres::CauchyLoss>(config.point_loss_sigmas);
-        std::vector<uint32_t> per_element(model.element_count(), 0);
-        out.correspondences = 0;
-        if (round == 0) {
-            // Decided once, at the anchored poses: a keyframe whose points the model does not
-            // explain (a scan the odometry garbled, a view of things not in the model) would
-            // otherwise slide into whatever its few near points fit (seen: 42 cm, Go1 seed 7).
-            for (size_t k = 0; k < n; ++k) {
-                registered[k] = found[k].size() >= config.min_points &&
-                                double(found[k].size()) >=
-                                    config.min_explained_fraction * double(points[k].size());
-                out.unexplained += !registered[k];
-                out.held += !registered[k] && !has_edge[k];
-            }
+    // Decided once, at the anchored poses: a keyframe whose points the model does not explain (a
+    // scan the odometry garbled, a view of things not in the model) would otherwise slide into
+    // whatever its few near points fit (seen: 42 cm, Go1 seed 7).
+    void DecideRegistered() {
+        for (size_t k = 0; k < n_; ++k) {
+            registered_[k] = found_[k].size() >= config_.min_points &&
+                             double(found_[k].size()) >=
+                                 config_.min_explained_fraction * double(points_[k].size());
+            out_.unexplained += !registered_[k];
+            out_.held += !registered_[k] && !has_edge_[k];
         }
-        std::vector<uint8_t> in_problem(n, 0);
-        for (size_t k = 0; k < n; ++k) {
-            if (!registered[k]) continue;
-            for (const Correspondence& c : found[k]) {
+    }
+
+    // (b) for the registered keyframes' correspondences; the points per element.
+    std::vector<uint32_t> AddPoints(ceres::Problem& problem, ceres::LossFunction* loss,
+                                    std::vector<uint8_t>& in_problem) {
+        std::vector<uint32_t> per_element(model_.element_count(), 0);
+        out_.correspondences = 0;
+        for (size_t k = 0; k < n_; ++k) {
+            if (!registered_[k]) continue;
+            for (const Correspondence& c : found_[k]) {
                 auto* cost = new ceres::AutoDiffCostFunction<PointPlaneCost, 1, 4, 3, 3>(
-                    new PointPlaneCost{c.p, c.n, c.c, 1.0 / config.point_sigma_m});
-                problem.AddResidualBlock(cost, point_loss.get(), poses[k].q, poses[k].t,
-                                         offsets[c.element].data());
+                    new PointPlaneCost{c.p, c.n, c.c, 1.0 / config_.point_sigma_m});
+                problem.AddResidualBlock(cost, loss, poses_[k].q, poses_[k].t,
+                                         offsets_[c.element].data());
                 ++per_element[c.element];
             }
-            out.correspondences += found[k].size();
+            out_.correspondences += found_[k].size();
             in_problem[k] = 1;
         }
-        if (out.correspondences > 0) (void)point_loss.release();  // now the problem's
-        for (const KeyframeEdge& e : edges) {
+        return per_element;
+    }
+
+    // (a) the odometry's edges, their robust loss annealed over the rounds.
+    void AddEdges(ceres::Problem& problem, double annealing, std::vector<uint8_t>& in_problem) {
+        for (const KeyframeEdge& e : edges_) {
             auto* cost = new ceres::AutoDiffCostFunction<posegraph::BetweenCost, 6, 4, 3, 4, 3>(
                 new posegraph::BetweenCost{
                     common::Rotation(e.T_from_to), e.T_from_to.translation(),
-                    posegraph::SqrtInformation(config.edge_information_scale * e.information)});
+                    posegraph::SqrtInformation(config_.edge_information_scale * e.information)});
             ceres::LossFunction* loss =
-                config.edge_loss_sigmas > 0
-                    ? new ceres::CauchyLoss(annealing * config.edge_loss_sigmas)
+                config_.edge_loss_sigmas > 0
+                    ? new ceres::CauchyLoss(annealing * config_.edge_loss_sigmas)
                     : nullptr;
-            problem.AddResidualBlock(cost, loss, poses[e.from].q, poses[e.from].t, poses[e.to].q,
-                                     poses[e.to].t);
+            problem.AddResidualBlock(cost, loss, poses_[e.from].q, poses_[e.from].t, poses_[e.to].q,
+                                     poses_[e.to].t);
             in_problem[e.from] = in_problem[e.to] = 1;
         }
-        for (size_t e = 0; e < offsets.size(); ++e) {
+    }
+
+    // (c) for every element a point landed on.
+    void AddOffsetPriors(ceres::Problem& problem, const std::vector<uint32_t>& per_element) {
+        for (size_t e = 0; e < offsets_.size(); ++e) {
             if (per_element[e] == 0) continue;
             problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OffsetPriorCost, 3, 3>(
-                                         new OffsetPriorCost{prior[e], prior_inv_sigma[e]}),
-                                     nullptr, offsets[e].data());
+                                         new OffsetPriorCost{prior_[e], prior_inv_sigma_[e]}),
+                                     nullptr, offsets_[e].data());
         }
-        for (size_t k = 0; k < n; ++k) {
-            if (in_problem[k]) problem.SetManifold(poses[k].q, new ceres::EigenQuaternionManifold);
-        }
-        out.element_points = per_element;
-        if (problem.NumResidualBlocks() == 0) break;
-
-        ceres::Solver::Options options;
-        options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-        options.max_num_iterations = config.max_iterations;
-        options.num_threads = config.threads;
-        options.logging_type = ceres::SILENT;
-        ceres::Solver::Summary summary;
-        ceres::Solve(options, &problem, &summary);
-        out.iterations += int(summary.iterations.size());
     }
 
-    out.T_world_lidar.resize(n);
-    out.correction_m.resize(n);
-    out.correction_deg.resize(n);
-    for (size_t k = 0; k < n; ++k) {
-        const Eigen::Isometry3d& before = keyframes[k].T_world_lidar;
-        out.T_world_lidar[k] = poses[k].Get();
-        out.correction_m[k] = (out.T_world_lidar[k].translation() - before.translation()).norm();
-        out.correction_deg[k] =
-            Eigen::AngleAxisd(before.rotation().transpose() * out.T_world_lidar[k].rotation())
-                .angle() *
-            180.0 / M_PI;
-        out.moved_1cm += out.correction_m[k] > 0.01;
-        out.mean_correction_m += out.correction_m[k] / double(n);
-        out.max_correction_m = std::max(out.max_correction_m, out.correction_m[k]);
-        out.max_correction_deg = std::max(out.max_correction_deg, out.correction_deg[k]);
+    const ChangeModel& model_;
+    std::span<const MapKeyframe> keyframes_;
+    std::span<const KeyframeEdge> edges_;
+    const PoseRefinementConfig& config_;
+    size_t n_;
+    std::vector<PoseBlock> poses_;
+    std::vector<Eigen::Vector3d> prior_, offsets_;
+    std::vector<double> prior_inv_sigma_;
+    std::vector<std::vector<Eigen::Vector3d>> points_;
+    std::vector<std::vector<Correspondence>> found_;
+    std::vector<uint8_t> registered_;  // its points are factors (decided in the first round)
+    std::vector<uint8_t> has_edge_;
+    PoseRefinement out_;
+};
+
+}  // namespace
+
+PoseRefinement RefinePoses(const ChangeModel& model, std::span<const MapKeyframe> keyframes,
+                           std::span<const KeyframeEdge> edges,
+                           const PoseRefinementConfig& config) {
+    const auto start = std::chrono::steady_clock::now();
+    config.Validate();
+    CheckEdges(edges, keyframes.size());
+    Refinement refinement(model, keyframes, edges, config);
+    const simulation::Scene scene(model.mesh);
+    for (size_t round = 0; round < config.gates_m.size(); ++round) {
+        if (!refinement.Round(round, scene)) break;
     }
-    for (const SurveyedElement& d : config.datum)
-        out.datum_seen += out.element_points[d.element] > 0;
-    out.element_offset = std::move(offsets);
+    PoseRefinement out = refinement.Result();
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
 }
