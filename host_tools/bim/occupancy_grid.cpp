@@ -242,13 +242,10 @@ size_t OccupancyGrid::FreeCells() const {
     return size_t(std::count(cells.begin(), cells.end(), Cell::kFree));
 }
 
-OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config) {
-    config.Validate();
-    if (storey < 0 || storey >= int(model.storeys.size())) {
-        throw common::Error(StatusCode::kInvalidArgument,
-                            model.file + ": no storey " + std::to_string(storey) + " (it has " +
-                                std::to_string(model.storeys.size()) + ")");
-    }
+namespace {
+
+// The storey's grid over the structure's footprint and the margin, every cell unknown.
+OccupancyGrid EmptyGrid(const BimModel& model, int storey, const GridConfig& config) {
     OccupancyGrid g;
     g.storey = model.storeys[storey].name;
     g.resolution = config.resolution_m;
@@ -272,11 +269,17 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
     g.width = int(std::ceil(size.x() / g.resolution));
     g.height = int(std::ceil(size.y() / g.resolution));
     g.cells.assign(size_t(g.width) * g.height, Cell::kUnknown);
+    return g;
+}
 
-    // blocked: the structure's slice (filled) and the footprints of objects. closed: doors,
-    // windows and curtain walls of this storey, which a robot passes (or not) but which close the
-    // building: without them an exterior door or a glass facade joins the inside to the outside.
-    std::vector<uint8_t> blocked(g.cells.size(), 0), closed(g.cells.size(), 0);
+// blocked: the structure's slice (filled) and the footprints of objects. closed: doors, windows
+// and curtain walls of this storey, which a robot passes (or not) but which close the building:
+// without them an exterior door or a glass facade joins the inside to the outside. Blocked cells
+// become occupied, and are not closed.
+void Rasterize(const BimModel& model, const GridConfig& config, OccupancyGrid& g,
+               std::vector<uint8_t>& blocked, std::vector<uint8_t>& closed) {
+    blocked.assign(g.cells.size(), 0);
+    closed.assign(g.cells.size(), 0);
     std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
     std::vector<double> xs;
     for (const BimElement& e : model.elements) {
@@ -308,71 +311,95 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
         if (blocked[i]) g.cells[i] = Cell::kOccupied;
         if (blocked[i]) closed[i] = 0;
     }
+}
+
+// Per region label of `region`, whether it touches the grid's border (outdoors).
+std::vector<uint8_t> Outdoors(const OccupancyGrid& g, const std::vector<int>& region) {
+    std::vector<uint8_t> outdoors(g.cells.size() + 1, 0);  // by region
+    const auto mark = [&](int x, int y) {
+        if (region[size_t(y) * g.width + x] >= 0)
+            outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
+    };
+    for (int x = 0; x < g.width; ++x) {
+        for (const int y : {0, g.height - 1}) mark(x, y);
+    }
+    for (int y = 0; y < g.height; ++y) {
+        for (const int x : {0, g.width - 1}) mark(x, y);
+    }
+    return outdoors;
+}
+
+// The seed's cell (SIZE_MAX without a seed); throws where it is outside the grid or blocked.
+size_t SeedCell(const BimModel& model, const GridConfig& config, const OccupancyGrid& g,
+                const std::vector<uint8_t>& blocked) {
+    if (!config.seed) return SIZE_MAX;
+    int x, y;
+    if (!g.ToCell(*config.seed, &x, &y) || blocked[size_t(y) * g.width + x]) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            model.file + ": the free-space seed (" +
+                                std::to_string(config.seed->x()) + ", " +
+                                std::to_string(config.seed->y()) + ") is outside the grid or " +
+                                "inside a wall of storey '" + g.storey + "'");
+    }
+    return size_t(y) * g.width + x;
+}
+
+// Without a seed: the config.region-th enclosed region by size, counting open cells only (a run
+// of closed cells alone is a facade), ties in label order so that the choice is the same on every
+// run; every region's area into g.region_areas_m2. -1 when there is none.
+int ChooseRegion(const BimModel& model, const GridConfig& config, OccupancyGrid& g,
+                 const std::vector<int>& inside, const std::vector<uint8_t>& closed) {
+    std::vector<size_t> sizes;
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        if (inside[i] < 0 || closed[i]) continue;
+        if (size_t(inside[i]) >= sizes.size()) sizes.resize(size_t(inside[i]) + 1, 0);
+        ++sizes[size_t(inside[i])];
+    }
+    std::vector<int> order;
+    for (int id = 0; id < int(sizes.size()); ++id) {
+        if (sizes[size_t(id)] > 0) order.push_back(id);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return sizes[size_t(a)] > sizes[size_t(b)]; });
+    for (const int id : order)
+        g.region_areas_m2.push_back(double(sizes[size_t(id)]) * g.resolution * g.resolution);
+    if (!order.empty() && config.region >= int(order.size())) {
+        throw common::Error(
+            StatusCode::kInvalidArgument,
+            model.file + ": storey '" + g.storey + "' has " + std::to_string(order.size()) +
+                " enclosed free region(s), no region " + std::to_string(config.region + 1));
+    }
+    return order.empty() ? -1 : order[size_t(config.region)];
+}
+
+}  // namespace
+
+OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config) {
+    config.Validate();
+    if (storey < 0 || storey >= int(model.storeys.size())) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            model.file + ": no storey " + std::to_string(storey) + " (it has " +
+                                std::to_string(model.storeys.size()) + ")");
+    }
+    OccupancyGrid g = EmptyGrid(model, storey, config);
+    std::vector<uint8_t> blocked, closed;
+    Rasterize(model, config, g, blocked, closed);
 
     // Regions of the open cells (neither blocked nor closed, 4-neighbourhood); the ones touching
     // the grid's border are outdoors. Closed doors make each room its own region.
     const std::vector<int> region =
         LabelRegions(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
-    std::vector<uint8_t> outdoors(g.cells.size() + 1, 0);  // by region
-    for (int x = 0; x < g.width; ++x) {
-        for (const int y : {0, g.height - 1}) {
-            if (region[size_t(y) * g.width + x] >= 0)
-                outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
-        }
-    }
-    for (int y = 0; y < g.height; ++y) {
-        for (const int x : {0, g.width - 1}) {
-            if (region[size_t(y) * g.width + x] >= 0)
-                outdoors[size_t(region[size_t(y) * g.width + x])] = 1;
-        }
-    }
+    const std::vector<uint8_t> outdoors = Outdoors(g, region);
     // The inside: the indoor regions joined through the doors (and windows) between them; with a
     // seed, whatever the seed's cell reaches, outdoors included.
-    size_t seed_cell = SIZE_MAX;
-    if (config.seed) {
-        int x, y;
-        if (!g.ToCell(*config.seed, &x, &y) || blocked[size_t(y) * g.width + x]) {
-            throw common::Error(StatusCode::kInvalidArgument,
-                                model.file + ": the free-space seed (" +
-                                    std::to_string(config.seed->x()) + ", " +
-                                    std::to_string(config.seed->y()) + ") is outside the grid or " +
-                                    "inside a wall of storey '" + g.storey + "'");
-        }
-        seed_cell = size_t(y) * g.width + x;
-    }
+    const size_t seed_cell = SeedCell(model, config, g, blocked);
     const std::vector<int> inside = LabelRegions(g, [&](size_t i) {
         if (blocked[i]) return false;
         if (closed[i] || seed_cell != SIZE_MAX) return true;
         return !outdoors[size_t(region[i])];
     });
-    int chosen = -1;
-    if (seed_cell != SIZE_MAX) {
-        chosen = inside[seed_cell];
-    } else {
-        // By size, counting open cells only (a run of closed cells alone is a facade); ties in
-        // label order, so the choice is the same on every run.
-        std::vector<size_t> sizes;
-        for (size_t i = 0; i < g.cells.size(); ++i) {
-            if (inside[i] < 0 || closed[i]) continue;
-            if (size_t(inside[i]) >= sizes.size()) sizes.resize(size_t(inside[i]) + 1, 0);
-            ++sizes[size_t(inside[i])];
-        }
-        std::vector<int> order;
-        for (int id = 0; id < int(sizes.size()); ++id) {
-            if (sizes[size_t(id)] > 0) order.push_back(id);
-        }
-        std::stable_sort(order.begin(), order.end(),
-                         [&](int a, int b) { return sizes[size_t(a)] > sizes[size_t(b)]; });
-        for (const int id : order)
-            g.region_areas_m2.push_back(double(sizes[size_t(id)]) * g.resolution * g.resolution);
-        if (!order.empty() && config.region >= int(order.size())) {
-            throw common::Error(
-                StatusCode::kInvalidArgument,
-                model.file + ": storey '" + g.storey + "' has " + std::to_string(order.size()) +
-                    " enclosed free region(s), no region " + std::to_string(config.region + 1));
-        }
-        if (!order.empty()) chosen = order[size_t(config.region)];
-    }
+    const int chosen =
+        seed_cell != SIZE_MAX ? inside[seed_cell] : ChooseRegion(model, config, g, inside, closed);
     if (chosen < 0) {
         throw common::Error(
             StatusCode::kInvalidArgument,
