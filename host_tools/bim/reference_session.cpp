@@ -90,20 +90,12 @@ void WriteStoreyPlan(const std::filesystem::path& dir, const OccupancyGrid& grid
     io::WriteTum(dir / (stem + "_path.tum"), path.poses);
 }
 
-ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::string& model_sha256,
-                                             const std::filesystem::path& dir,
-                                             const ReferenceSessionOptions& options) {
-    options.Validate();
-    const std::vector<int> storeys = StoreyIndices(model, options.storeys);
-    if (storeys.empty()) {
-        throw common::Error(StatusCode::kInvalidArgument,
-                            model.file + ": the model has no storeys");
-    }
-    ReferenceSessionReport report;
+namespace {
 
-    // 1. Plan: a grid and a coverage walk per storey, joined by the flights between them.
-    const auto t_plan = Clock::now();
-    const ReferenceWalk walk = PlanReferenceWalk(model, storeys, options.grid, options.path);
+// Step 1's report: each walked storey's grid and walk (its other regions added to it), written
+// to options.plan_dir when given.
+void ReportPlan(const ReferenceWalk& walk, const ReferenceSessionOptions& options,
+                ReferenceSessionReport& report) {
     for (size_t k = 0; k < walk.storeys.size(); ++k) {
         const CoveragePath& path = walk.coverage[k];
         if (!options.plan_dir.empty()) WriteStoreyPlan(options.plan_dir, walk.grids[k], path);
@@ -139,19 +131,11 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
         report.walk_s += 1e-9 * double(piece.back().stamp_ns - piece.front().stamp_ns);
     report.flights_walked = walk.flights_walked;
     report.notes = walk.notes;
-    report.plan_s = common::SecondsSince(t_plan);
+}
 
-    // 2. The scene: the paper's semantic filter keeps the permanent structure.
-    const BimModel structure =
-        options.all_elements ? BimModel{} : SelectElements(model, [](const BimElement& e) {
-            return e.role == ElementRole::kStructure;
-        });
-    const BimModel& cast = options.all_elements ? model : structure;
-    const simulation::Scene scene(cast.mesh, cast.triangle_element);
-    const RayTable rays(options.lidar);
-    const scancontext::ScanContextConfig sc = scancontext::ScanContextConfig::Indoor();
-    scancontext::DescriptorBuilder builder(sc);
-
+io::SessionManifest Manifest(const BimModel& model, const std::string& model_sha256,
+                             const ReferenceWalk& walk, const ReferenceSessionOptions& options,
+                             const scancontext::ScanContextConfig& sc) {
     io::SessionManifest manifest;
     manifest.source = "bim";
     manifest.world_frame = "bim";
@@ -165,68 +149,130 @@ ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::s
     m.sha256 = model_sha256;
     for (const int s : walk.storeys) m.storeys.push_back(model.storeys[s].name);
     manifest.model = m;
+    return manifest;
+}
+
+// Step 3: the keyframes cast from the scene along the walk, written with their descriptors and
+// their exact edges.
+class KeyframeCaster {
+public:
+    KeyframeCaster(const simulation::Scene& scene, const ReferenceWalk& walk,
+                   const ReferenceSessionOptions& options, io::SessionWriter& writer,
+                   ReferenceSessionReport& report)
+        : scene_(scene),
+          walk_(walk),
+          options_(options),
+          writer_(writer),
+          report_(report),
+          rays_(options.lidar),
+          builder_(scancontext::ScanContextConfig::Indoor()) {
+        for (const StoreyReport& sr : report.storeys)
+            planned_ += size_t(sr.walk_m / options.keyframe_gap_m) + 1;
+        planned_ += size_t(walk.flight_m / options.keyframe_gap_m);
+    }
+
+    // Frames at the sensor's rate along each piece of the walk; a keyframe every gap metres.
+    void Run() {
+        for (const std::vector<io::StampedPose>& piece : walk_.pieces) {
+            double since_key = options_.keyframe_gap_m;  // the piece's first frame is a keyframe
+            Eigen::Vector3d last = piece.front().translation;
+            for (const io::StampedPose& frame : SampleWalk(piece, options_.lidar.frame_rate_hz)) {
+                const Eigen::Isometry3d T = frame.Pose();
+                writer_.AddScanPose(frame);
+                since_key += (T.translation() - last).norm();
+                last = T.translation();
+                if (since_key < options_.keyframe_gap_m) continue;
+                since_key = 0;
+                Keyframe(frame.stamp_ns, T);
+            }
+        }
+    }
+
+private:
+    void Keyframe(int64_t t, const Eigen::Isometry3d& T) {
+        const auto t_sim = Clock::now();
+        io::SessionKeyframe kf;
+        kf.stamp_ns = t;
+        kf.T_world_lidar = T;
+        const auto stats =
+            simulation::SimulateScan(scene_, options_.lidar, T, options_.noise,
+                                     options_.seed ^ uint64_t(report_.keyframes), &image_);
+        report_.rays += stats.rays;
+        ToCloud(image_, rays_, t, &kf.cloud);
+        builder_.Build(kf.cloud, &kf.descriptor);
+        report_.points += kf.cloud.size();
+        report_.simulate_s += common::SecondsSince(t_sim);
+
+        const auto t_write = Clock::now();
+        const size_t i = writer_.AddKeyframe(kf);
+        if (previous_key_) {
+            // Ground truth: the edge is exact; 1 mm and 1 mrad keep the graph well scaled.
+            io::SessionEdge e{uint32_t(i - 1), uint32_t(i), common::Between(*previous_key_, T),
+                              common::Matrix6d::Identity()};
+            e.information.diagonal().setConstant(1e6);
+            writer_.AddEdge(e);
+        }
+        report_.write_s += common::SecondsSince(t_write);
+        previous_key_ = T;
+        ++report_.keyframes;
+        const WalkSegment& seg = walk_.SegmentAt(t);
+        if (seg.flight) {
+            ++report_.flight_keyframes;
+        } else {
+            const size_t k =
+                size_t(std::find(walk_.storeys.begin(), walk_.storeys.end(), seg.storey) -
+                       walk_.storeys.begin());
+            ++report_.storeys[k].keyframes;
+        }
+        if (options_.progress) options_.progress(report_.keyframes, planned_);
+    }
+
+    const simulation::Scene& scene_;
+    const ReferenceWalk& walk_;
+    const ReferenceSessionOptions& options_;
+    io::SessionWriter& writer_;
+    ReferenceSessionReport& report_;
+    const RayTable rays_;
+    scancontext::DescriptorBuilder builder_;
+    simulation::ScanImage image_;
+    std::optional<Eigen::Isometry3d> previous_key_;
+    size_t planned_ = 0;
+};
+
+}  // namespace
+
+ReferenceSessionReport WriteReferenceSession(const BimModel& model, const std::string& model_sha256,
+                                             const std::filesystem::path& dir,
+                                             const ReferenceSessionOptions& options) {
+    options.Validate();
+    const std::vector<int> storeys = StoreyIndices(model, options.storeys);
+    if (storeys.empty()) {
+        throw common::Error(StatusCode::kInvalidArgument,
+                            model.file + ": the model has no storeys");
+    }
+    ReferenceSessionReport report;
+
+    // 1. Plan: a grid and a coverage walk per storey, joined by the flights between them.
+    const auto t_plan = Clock::now();
+    const ReferenceWalk walk = PlanReferenceWalk(model, storeys, options.grid, options.path);
+    ReportPlan(walk, options, report);
+    report.plan_s = common::SecondsSince(t_plan);
+
+    // 2. The scene: the paper's semantic filter keeps the permanent structure.
+    const BimModel structure =
+        options.all_elements ? BimModel{} : SelectElements(model, [](const BimElement& e) {
+            return e.role == ElementRole::kStructure;
+        });
+    const BimModel& cast = options.all_elements ? model : structure;
+    const simulation::Scene scene(cast.mesh, cast.triangle_element);
     // Offline and re-runnable: the line files are rewritten every 50 keyframes, and the files are
     // synced once before session.json rather than each on its own (milliseconds each).
     io::SessionWriter writer(
-        dir, manifest,
+        dir, Manifest(model, model_sha256, walk, options, scancontext::ScanContextConfig::Indoor()),
         {.overwrite = options.overwrite, .flush_every = 50, .sync_each_file = false});
 
     // 3. Frames at the sensor's rate along each walk; a keyframe every gap metres of it.
-    size_t planned = 0;
-    for (const StoreyReport& sr : report.storeys)
-        planned += size_t(sr.walk_m / options.keyframe_gap_m) + 1;
-    planned += size_t(walk.flight_m / options.keyframe_gap_m);
-    simulation::ScanImage image;
-    std::optional<Eigen::Isometry3d> previous_key;
-    for (const std::vector<io::StampedPose>& piece : walk.pieces) {
-        double since_key = options.keyframe_gap_m;  // the piece's first frame is a keyframe
-        Eigen::Vector3d last = piece.front().translation;
-        for (const io::StampedPose& frame : SampleWalk(piece, options.lidar.frame_rate_hz)) {
-            const int64_t t = frame.stamp_ns;
-            const Eigen::Isometry3d T = frame.Pose();
-            writer.AddScanPose(frame);
-            since_key += (T.translation() - last).norm();
-            last = T.translation();
-            if (since_key < options.keyframe_gap_m) continue;
-            since_key = 0;
-
-            const auto t_sim = Clock::now();
-            io::SessionKeyframe kf;
-            kf.stamp_ns = t;
-            kf.T_world_lidar = T;
-            const auto stats =
-                simulation::SimulateScan(scene, options.lidar, T, options.noise,
-                                         options.seed ^ uint64_t(report.keyframes), &image);
-            report.rays += stats.rays;
-            ToCloud(image, rays, t, &kf.cloud);
-            builder.Build(kf.cloud, &kf.descriptor);
-            report.points += kf.cloud.size();
-            report.simulate_s += common::SecondsSince(t_sim);
-
-            const auto t_write = Clock::now();
-            const size_t i = writer.AddKeyframe(kf);
-            if (previous_key) {
-                // Ground truth: the edge is exact; 1 mm and 1 mrad keep the graph well scaled.
-                io::SessionEdge e{uint32_t(i - 1), uint32_t(i), common::Between(*previous_key, T),
-                                  common::Matrix6d::Identity()};
-                e.information.diagonal().setConstant(1e6);
-                writer.AddEdge(e);
-            }
-            report.write_s += common::SecondsSince(t_write);
-            previous_key = T;
-            ++report.keyframes;
-            const WalkSegment& seg = walk.SegmentAt(t);
-            if (seg.flight) {
-                ++report.flight_keyframes;
-            } else {
-                const size_t k =
-                    size_t(std::find(walk.storeys.begin(), walk.storeys.end(), seg.storey) -
-                           walk.storeys.begin());
-                ++report.storeys[k].keyframes;
-            }
-            if (options.progress) options.progress(report.keyframes, planned);
-        }
-    }
+    KeyframeCaster(scene, walk, options, writer, report).Run();
     const auto t_finish = Clock::now();
     writer.Finish();
     report.write_s += common::SecondsSince(t_finish);
