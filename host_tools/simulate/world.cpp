@@ -257,16 +257,10 @@ bim::BimModel PlanningModel(const bim::BimModel& model, const EditsSpec& edits, 
     return out;
 }
 
-World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
-                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
-                 uint64_t seed) {
-    bim::BimModel model = model_in;  // vertices are moved in place
-    World w;
-    const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
-    for (size_t e = 0; e < model.elements.size(); ++e) {
-        if (removed[e]) w.changes.push_back(ChangeOf(model, e, "removed"));
-    }
+namespace {
 
+// The moved elements, moved in `model`; each said in w.changes.
+void MoveElements(bim::BimModel& model, const EditsSpec& edits, World& w) {
     for (size_t k = 0; k < edits.moved.size(); ++k) {
         const MovedElement& mv = edits.moved[k];
         const size_t e =
@@ -278,8 +272,12 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
         change.yaw_deg = mv.yaw_deg;
         w.changes.push_back(change);
     }
+}
 
-    std::mt19937_64 rng(seed);
+// The walls as built: those listed moved along their normal by their offset, the storey's others
+// by a random one when as_built.wall_offset_sigma_m asks (drawn from rng, wall by wall).
+void BuildWallsAsBuilt(bim::BimModel& model, int storey, const EditsSpec& edits,
+                       const std::vector<uint8_t>& removed, std::mt19937_64& rng, World& w) {
     std::normal_distribution<double> normal(0.0, 1.0);
     for (size_t e = 0; e < model.elements.size(); ++e) {
         const bim::BimElement& el = model.elements[e];
@@ -305,8 +303,12 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
         FindElement(model, edits.as_built.walls[k].global_id,
                     "edits.as_built.walls[" + std::to_string(k) + "].global_id");
     }
+}
 
-    // The static scene: what is physically there, glazing as glass when asked.
+// The static scene: what is physically there, glazing as glass when asked, and the ground;
+// the materials per triangle.
+std::vector<simulation::Material> StaticScene(const bim::BimModel& model, const EditsSpec& edits,
+                                              const std::vector<uint8_t>& removed, World& w) {
     std::vector<simulation::Material> materials;
     for (size_t e = 0; e < model.elements.size(); ++e) {
         const bim::BimElement& el = model.elements[e];
@@ -323,7 +325,11 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
     const double ground_z = model.storeys.empty() ? 0.0 : model.storeys.front().elevation_m;
     Append(w.mesh, w.ids, Ground(model.Bounds(), ground_z - model.origin_m.z()), kGroundId);
     materials.resize(w.ids.size(), simulation::Material::kDiffuse);
+    return materials;
+}
 
+// The scenario's boxes, cylinders, meshes and mirrors, into w.added.
+void AddObjects(const EditsSpec& edits, World& w) {
     for (size_t k = 0; k < edits.boxes.size(); ++k) {
         const AddedBox& b = edits.boxes[k];
         w.added.push_back({b.name.empty() ? "box" + std::to_string(k) : b.name, "box",
@@ -339,19 +345,20 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
         w.added.push_back(
             {am.name.empty() ? am.file.stem().string() : am.name, "mesh", PlacedMesh(am)});
     }
-
     for (size_t k = 0; k < edits.mirrors.size(); ++k) {
         const AddedMirror& m = edits.mirrors[k];
         w.added.push_back({m.name.empty() ? "mirror" + std::to_string(k) : m.name, "mirror",
                            MirrorMesh(m), simulation::Material::kMirror});
     }
+}
 
-    // Clutter: boxes on free cells with room for them, clear of the walk and of every object
-    // added before them. Room is judged on circles in plan (each box's circumscribed circle, as
-    // for the walls): two solids cannot share space, and a box placed into another made the
-    // ground truth count two objects where a scanner sees one (stop 25: 8 of the 11 touching
-    // pairs in the changed-building benchmark's ten runs interpenetrated).
-    const ClutterSpec& cl = edits.clutter;
+// Clutter: boxes on free cells with room for them, clear of the walk and of every object added
+// before them. Room is judged on circles in plan (each box's circumscribed circle, as for the
+// walls): two solids cannot share space, and a box placed into another made the ground truth
+// count two objects where a scanner sees one (stop 25: 8 of the 11 touching pairs in the
+// changed-building benchmark's ten runs interpenetrated).
+void AddClutter(const ClutterSpec& cl, const bim::OccupancyGrid& grid,
+                const std::vector<Eigen::Vector2d>& walk, std::mt19937_64& rng, World& w) {
     std::vector<std::pair<Eigen::Vector2d, double>> taken;  // centre and radius in plan
     for (const AddedObject& a : w.added) {
         Eigen::AlignedBox2d box;
@@ -361,34 +368,51 @@ World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edi
             r = std::max(r, (v.head<2>().cast<double>() - box.center()).norm());
         taken.emplace_back(box.center(), r);
     }
-    if (cl.density_per_m2 > 0) {
-        std::vector<size_t> free;
-        for (size_t i = 0; i < grid.cells.size(); ++i) {
-            if (grid.cells[i] == bim::Cell::kFree) free.push_back(i);
-        }
-        const double area = double(free.size()) * grid.resolution * grid.resolution;
-        const size_t wanted = size_t(std::lround(cl.density_per_m2 * area));
-        std::uniform_real_distribution<double> size(cl.min_size_m, cl.max_size_m), yaw(0, M_PI);
-        size_t placed = 0;
-        for (size_t attempt = 0; placed < wanted && attempt < 50 * wanted && !free.empty();
-             ++attempt) {
-            const size_t i = free[std::uniform_int_distribution<size_t>(0, free.size() - 1)(rng)];
-            const Eigen::Vector3d s(size(rng), size(rng), size(rng));
-            const double half = 0.5 * std::hypot(s.x(), s.y());
-            const Eigen::Vector2d c = grid.Center(int(i % grid.width), int(i / grid.width));
-            if (grid.clearance[i] < half + kClutterGapM) continue;  // into a wall
-            if (DistanceToPolyline(c, walk) < half + cl.keep_off_walk_m) continue;
-            if (std::any_of(taken.begin(), taken.end(), [&](const auto& o) {
-                    return (c - o.first).norm() < half + o.second + kClutterGapM;
-                })) {
-                continue;
-            }
-            taken.emplace_back(c, half);
-            w.added.push_back(
-                {"clutter" + std::to_string(placed++), "clutter",
-                 simulation::BoxMesh({c.x(), c.y(), grid.floor_z + 0.5 * s.z()}, s, yaw(rng))});
-        }
+    if (cl.density_per_m2 <= 0) return;
+    std::vector<size_t> free;
+    for (size_t i = 0; i < grid.cells.size(); ++i) {
+        if (grid.cells[i] == bim::Cell::kFree) free.push_back(i);
     }
+    const double area = double(free.size()) * grid.resolution * grid.resolution;
+    const size_t wanted = size_t(std::lround(cl.density_per_m2 * area));
+    std::uniform_real_distribution<double> size(cl.min_size_m, cl.max_size_m), yaw(0, M_PI);
+    size_t placed = 0;
+    for (size_t attempt = 0; placed < wanted && attempt < 50 * wanted && !free.empty(); ++attempt) {
+        const size_t i = free[std::uniform_int_distribution<size_t>(0, free.size() - 1)(rng)];
+        const Eigen::Vector3d s(size(rng), size(rng), size(rng));
+        const double half = 0.5 * std::hypot(s.x(), s.y());
+        const Eigen::Vector2d c = grid.Center(int(i % grid.width), int(i / grid.width));
+        if (grid.clearance[i] < half + kClutterGapM) continue;  // into a wall
+        if (DistanceToPolyline(c, walk) < half + cl.keep_off_walk_m) continue;
+        if (std::any_of(taken.begin(), taken.end(), [&](const auto& o) {
+                return (c - o.first).norm() < half + o.second + kClutterGapM;
+            })) {
+            continue;
+        }
+        taken.emplace_back(c, half);
+        w.added.push_back(
+            {"clutter" + std::to_string(placed++), "clutter",
+             simulation::BoxMesh({c.x(), c.y(), grid.floor_z + 0.5 * s.z()}, s, yaw(rng))});
+    }
+}
+
+}  // namespace
+
+World BuildWorld(const bim::BimModel& model_in, int storey, const EditsSpec& edits,
+                 const bim::OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& walk,
+                 uint64_t seed) {
+    bim::BimModel model = model_in;  // vertices are moved in place
+    World w;
+    const std::vector<uint8_t> removed = RemovedElementMask(model, edits);
+    for (size_t e = 0; e < model.elements.size(); ++e) {
+        if (removed[e]) w.changes.push_back(ChangeOf(model, e, "removed"));
+    }
+    MoveElements(model, edits, w);
+    std::mt19937_64 rng(seed);  // the walls' offsets, then the clutter
+    BuildWallsAsBuilt(model, storey, edits, removed, rng, w);
+    std::vector<simulation::Material> materials = StaticScene(model, edits, removed, w);
+    AddObjects(edits, w);
+    AddClutter(edits.clutter, grid, walk, rng, w);
     for (size_t k = 0; k < w.added.size(); ++k) {
         Append(w.mesh, w.ids, w.added[k].mesh, kAddedIdBase + uint32_t(k));
         materials.resize(w.ids.size(), w.added[k].material);
