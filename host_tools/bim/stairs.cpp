@@ -284,10 +284,6 @@ DeclaredFlight Declared(const BimModel& m, const std::vector<size_t>& group) {
     return d;
 }
 
-}  // namespace
-
-namespace {
-
 // The declared lengths against the measured ones, scaled by `scale` (1: as the file reads; feet);
 // what differs, or nothing.
 std::vector<std::string> LengthsDiffer(const StairFlight& f, double scale) {

@@ -32,7 +32,8 @@ nlohmann::json Levels(const bim::StairFlight& f) {
     return out;
 }
 
-// What the file declares of the flight (null: nothing), and what of it the geometry contradicts.
+// What the file declares of the flight (null: nothing), its lengths as the file's unit reads them
+// (lengths_in_feet: they agree only read in feet), and what of it the geometry contradicts.
 nlohmann::json DeclaredJson(const bim::StairFlight& f) {
     const bim::DeclaredFlight& d = f.declared;
     const bim::DeclaredCheck check = bim::CheckDeclared(f);
@@ -45,7 +46,8 @@ nlohmann::json DeclaredJson(const bim::StairFlight& f) {
             {"differs", check.differs}};
 }
 
-// "declared 24 risers of 0.178 m, treads 0.280 m: agrees" (or what differs).
+// "declared 16 risers, 15 treads, risers of 0.200 m, treads of 0.280 m: agrees" (or what
+// differs), the lengths read in feet where they agree only so.
 std::string DeclaredText(const bim::StairFlight& f) {
     const bim::DeclaredFlight& d = f.declared;
     const bim::DeclaredCheck check = bim::CheckDeclared(f);
