@@ -59,28 +59,20 @@ void ElementEvidenceConfig::Validate() const {
     if (point_stride < 1) common::ThrowInvalid("elements.point_stride must be >= 1");
 }
 
-std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& scene,
-                                                    const common::TriangleMesh& mesh,
-                                                    std::span<const uint32_t> triangle_element,
-                                                    size_t element_count,
-                                                    std::span<const MapKeyframe> keyframes,
-                                                    const ElementEvidenceConfig& config,
-                                                    const std::function<void(double)>& progress) {
-    config.Validate();
-    if (triangle_element.size() != mesh.triangles.size() ||
-        scene.triangle_count() != mesh.triangles.size()) {
-        common::ThrowInvalid(
-            "elements.the scene, the mesh and the triangle elements differ in size");
-    }
-    if (mesh.triangles.size() >= (size_t(1) << 24)) {
-        common::ThrowInvalid(
-            "elements.more than 2^24 opaque triangles: the area cells cannot number them");
-    }
-    std::vector<ElementEvidence> out(element_count);
-    // Planes: coplanar triangles of one element (normal within 1e-3, offset within 1 mm) share a
-    // plane id, the first 24 bits of a cell's key.
-    std::vector<uint32_t> plane_of(mesh.triangles.size());
-    std::vector<PlaneAxes> planes;
+namespace {
+
+// The mesh's planes: coplanar triangles of one element (normal within 1e-3, offset within 1 mm)
+// share a plane id, the first 24 bits of a cell's key. Adds each element's surface area to `out`.
+struct Planes {
+    std::vector<uint32_t> of_triangle;
+    std::vector<PlaneAxes> axes;
+    std::vector<uint32_t> element;  // per plane
+};
+
+Planes FindPlanes(const common::TriangleMesh& mesh, std::span<const uint32_t> triangle_element,
+                  size_t element_count, std::vector<ElementEvidence>& out) {
+    Planes p;
+    p.of_triangle.resize(mesh.triangles.size());
     common::VoxelHash plane_ids(1024);
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
         const auto& tri = mesh.triangles[t];
@@ -99,20 +91,110 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
             key = (key ^ uint64_t(q)) * 0x100000001B3ull;  // FNV-style mix
         }
         bool fresh = false;
-        plane_of[t] = plane_ids.FindOrInsert(key, uint32_t(planes.size()), &fresh);
-        if (fresh) planes.push_back(AxesOf(n));
+        p.of_triangle[t] = plane_ids.FindOrInsert(key, uint32_t(p.axes.size()), &fresh);
+        if (fresh) p.axes.push_back(AxesOf(n));
     }
-    if (planes.size() >= (size_t(1) << 24))
+    if (p.axes.size() >= (size_t(1) << 24))
         common::ThrowInvalid("elements.more than 2^24 planes: too many for the cells");
-    std::vector<uint32_t> element_of_plane(planes.size());
+    p.element.resize(p.axes.size());
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-        element_of_plane[plane_of[t]] = triangle_element[t];
+        p.element[p.of_triangle[t]] = triangle_element[t];
     }
+    return p;
+}
 
+// One keyframe's beams cast into the model: per element, agreeing, through and occluded rays;
+// per area cell of the plane hit, its agreeing and through rays.
+void CastKeyframe(const simulation::Scene& scene, const Planes& planes,
+                  std::span<const uint32_t> triangle_element, const MapKeyframe& keyframe,
+                  const ElementEvidenceConfig& config, ThreadState& state) {
     const float cell = float(config.cell_m);
     const float tolerance = float(config.agree_tolerance_m);
     const float min_cos = float(config.min_cos_incidence);
     const float max_range = float(config.max_range_m);
+    const Eigen::Isometry3f T = keyframe.T_world_lidar.cast<float>();
+    const Eigen::Vector3f origin = T.translation();
+    const auto& xyz = keyframe.cloud->xyz;
+    for (size_t i = 0; i < xyz.size(); i += size_t(config.point_stride)) {
+        const float r = xyz[i].norm();
+        if (!(r > 0) || r > max_range) continue;
+        const Eigen::Vector3f d = T.linear() * (xyz[i] / r);
+        // Model surfaces farther than the point by more than a metre are behind whatever the
+        // beam hit: no need to find them.
+        const auto hit = scene.Intersect(origin, d, 0.0f, r + 1.0f);
+        if (!hit) continue;
+        const float cosine = std::abs(hit->normal.dot(d));
+        if (cosine < min_cos) continue;
+        const float s = (r - hit->t) * cosine;
+        const uint32_t e = triangle_element[hit->triangle];
+        if (s < -tolerance) {
+            ++state.counts[3 * e + 2];
+            continue;
+        }
+        const bool agree = s <= tolerance;
+        ++state.counts[3 * e + (agree ? 0 : 1)];
+        const uint32_t plane = planes.of_triangle[hit->triangle];
+        const Eigen::Vector3f h = origin + hit->t * d;
+        const int64_t ci = int64_t(std::floor(h.dot(planes.axes[plane].u) / cell)) + kCellOffset;
+        const int64_t cj = int64_t(std::floor(h.dot(planes.axes[plane].v) / cell)) + kCellOffset;
+        if (ci < 0 || cj < 0 || ci >= 2 * kCellOffset || cj >= 2 * kCellOffset) continue;
+        const uint64_t key = uint64_t(plane) << 40 | uint64_t(ci) << 20 | uint64_t(cj);
+        uint32_t& value = state.cells.FindOrInsert(key, 0);
+        value = AddRay(value, agree);
+    }
+}
+
+// The threads' counts and cells into `out`: rays per element, expected and seen area per element.
+void Gather(tbb::enumerable_thread_specific<ThreadState>& states, const Planes& planes,
+            double cell_m, std::vector<ElementEvidence>& out) {
+    common::VoxelHash cells(1 << 16);
+    for (ThreadState& s : states) {
+        for (size_t e = 0; e < out.size(); ++e) {
+            out[e].rays_agree += s.counts[3 * e];
+            out[e].rays_through += s.counts[3 * e + 1];
+            out[e].rays_occluded += s.counts[3 * e + 2];
+        }
+        s.cells.ForEach([&](uint64_t key, uint32_t value) {
+            uint32_t& merged = cells.FindOrInsert(key, 0);
+            merged = MergeCells(merged, value);
+        });
+    }
+    const float cell = float(cell_m);
+    const double cell_area = double(cell) * double(cell);
+    cells.ForEach([&](uint64_t key, uint32_t value) {
+        ElementEvidence& ev = out[planes.element[size_t(key >> 40)]];
+        ev.expected_area_m2 += cell_area;
+        // Seen: more beams confirmed the cell than went through it (a cell at the edge where a
+        // removed cabinet met the wall gets a few agreeing beams among many through it).
+        if ((value & 0xFFFFu) >= (value >> 16)) ev.seen_area_m2 += cell_area;
+    });
+    for (ElementEvidence& ev : out) {
+        ev.expected_area_m2 = std::min(ev.expected_area_m2, ev.surface_area_m2);
+        ev.seen_area_m2 = std::min(ev.seen_area_m2, ev.surface_area_m2);
+    }
+}
+
+}  // namespace
+
+std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& scene,
+                                                    const common::TriangleMesh& mesh,
+                                                    std::span<const uint32_t> triangle_element,
+                                                    size_t element_count,
+                                                    std::span<const MapKeyframe> keyframes,
+                                                    const ElementEvidenceConfig& config,
+                                                    const std::function<void(double)>& progress) {
+    config.Validate();
+    if (triangle_element.size() != mesh.triangles.size() ||
+        scene.triangle_count() != mesh.triangles.size()) {
+        common::ThrowInvalid(
+            "elements.the scene, the mesh and the triangle elements differ in size");
+    }
+    if (mesh.triangles.size() >= (size_t(1) << 24)) {
+        common::ThrowInvalid(
+            "elements.more than 2^24 opaque triangles: the area cells cannot number them");
+    }
+    std::vector<ElementEvidence> out(element_count);
+    const Planes planes = FindPlanes(mesh, triangle_element, element_count, out);
     tbb::enumerable_thread_specific<ThreadState> states([&] {
         ThreadState s;
         s.counts.assign(3 * element_count, 0);
@@ -124,68 +206,12 @@ std::vector<ElementEvidence> CollectElementEvidence(const simulation::Scene& sce
         tbb::parallel_for(tbb::blocked_range<size_t>(first, last, 1), [&](const auto& range) {
             ThreadState& state = states.local();
             for (size_t k = range.begin(); k < range.end(); ++k) {
-                const Eigen::Isometry3f T = keyframes[k].T_world_lidar.cast<float>();
-                const Eigen::Vector3f origin = T.translation();
-                const auto& xyz = keyframes[k].cloud->xyz;
-                for (size_t i = 0; i < xyz.size(); i += size_t(config.point_stride)) {
-                    const float r = xyz[i].norm();
-                    if (!(r > 0) || r > max_range) continue;
-                    const Eigen::Vector3f d = T.linear() * (xyz[i] / r);
-                    // Model surfaces farther than the point by more than a metre are behind
-                    // whatever the beam hit: no need to find them.
-                    const auto hit = scene.Intersect(origin, d, 0.0f, r + 1.0f);
-                    if (!hit) continue;
-                    const float cosine = std::abs(hit->normal.dot(d));
-                    if (cosine < min_cos) continue;
-                    const float s = (r - hit->t) * cosine;
-                    const uint32_t e = triangle_element[hit->triangle];
-                    if (s < -tolerance) {
-                        ++state.counts[3 * e + 2];
-                        continue;
-                    }
-                    const bool agree = s <= tolerance;
-                    ++state.counts[3 * e + (agree ? 0 : 1)];
-                    const uint32_t plane = plane_of[hit->triangle];
-                    const Eigen::Vector3f h = origin + hit->t * d;
-                    const int64_t ci =
-                        int64_t(std::floor(h.dot(planes[plane].u) / cell)) + kCellOffset;
-                    const int64_t cj =
-                        int64_t(std::floor(h.dot(planes[plane].v) / cell)) + kCellOffset;
-                    if (ci < 0 || cj < 0 || ci >= 2 * kCellOffset || cj >= 2 * kCellOffset)
-                        continue;
-                    const uint64_t key = uint64_t(plane) << 40 | uint64_t(ci) << 20 | uint64_t(cj);
-                    uint32_t& value = state.cells.FindOrInsert(key, 0);
-                    value = AddRay(value, agree);
-                }
+                CastKeyframe(scene, planes, triangle_element, keyframes[k], config, state);
             }
         });
         if (progress) progress(double(last) / double(keyframes.size()));
     }
-
-    common::VoxelHash cells(1 << 16);
-    for (ThreadState& s : states) {
-        for (size_t e = 0; e < element_count; ++e) {
-            out[e].rays_agree += s.counts[3 * e];
-            out[e].rays_through += s.counts[3 * e + 1];
-            out[e].rays_occluded += s.counts[3 * e + 2];
-        }
-        s.cells.ForEach([&](uint64_t key, uint32_t value) {
-            uint32_t& merged = cells.FindOrInsert(key, 0);
-            merged = MergeCells(merged, value);
-        });
-    }
-    const double cell_area = double(cell) * double(cell);
-    cells.ForEach([&](uint64_t key, uint32_t value) {
-        ElementEvidence& ev = out[element_of_plane[size_t(key >> 40)]];
-        ev.expected_area_m2 += cell_area;
-        // Seen: more beams confirmed the cell than went through it (a cell at the edge where a
-        // removed cabinet met the wall gets a few agreeing beams among many through it).
-        if ((value & 0xFFFFu) >= (value >> 16)) ev.seen_area_m2 += cell_area;
-    });
-    for (ElementEvidence& ev : out) {
-        ev.expected_area_m2 = std::min(ev.expected_area_m2, ev.surface_area_m2);
-        ev.seen_area_m2 = std::min(ev.seen_area_m2, ev.surface_area_m2);
-    }
+    Gather(states, planes, config.cell_m, out);
     return out;
 }
 
