@@ -173,6 +173,10 @@ void ChangeModel::Validate() const {
                              std::to_string(triangle_element.size()) + " triangle elements");
     }
     if (!mesh.IndicesValid()) common::ThrowInvalid("model: a triangle index is out of range");
+    if (!element_judged.empty() && element_judged.size() != element_count()) {
+        common::ThrowInvalid("model: " + std::to_string(element_count()) + " elements but " +
+                             std::to_string(element_judged.size()) + " judged flags");
+    }
     for (size_t t = 0; t < triangle_element.size(); ++t) {
         if (triangle_element[t] >= element_count()) {
             common::ThrowInvalid("model: triangle " + std::to_string(t) + " has element " +

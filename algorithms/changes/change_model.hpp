@@ -24,8 +24,14 @@ struct ChangeModel {
     // they pass (doors taken as open, glass). Opaque elements are what the rays of the element
     // check are cast against, and the only ones it judges.
     std::vector<uint8_t> element_opaque;
+    // Per element: 0 for one that is cast against but never judged (a floor the model's reader
+    // assumed where the file has none); empty when every opaque element is judged.
+    std::vector<uint8_t> element_judged;
 
     size_t element_count() const { return element_opaque.size(); }
+    bool Judged(size_t e) const {
+        return element_opaque[e] && (element_judged.empty() || element_judged[e]);
+    }
     // Throws common::Error (kInvalidArgument) naming what is inconsistent: a triangle without an
     // element or with an element out of range, invalid indices, non-finite vertices.
     void Validate() const;

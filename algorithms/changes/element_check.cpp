@@ -182,8 +182,8 @@ std::vector<ElementReport> CheckElements(const ChangeModel& model, std::span<con
         }
         const bool supported = rep.support_points >= config.min_support_points;
         const bool off = supported && rep.offset.norm() >= config.deviation_tolerance_m;
-        if (!model.element_opaque[e]) {
-            rep.verdict = Verdict::kNotObserved;  // beams pass it: not judged
+        if (!model.Judged(e)) {
+            rep.verdict = Verdict::kNotObserved;  // beams pass it, or it is assumed: not judged
         } else if (rep.evidence.expected_area_m2 < config.min_judged_area_m2) {
             rep.verdict = Verdict::kNotObserved;
         } else if (rep.evidence.seen_area_m2 <

@@ -80,6 +80,7 @@ BimModel SelectElements(const BimModel& model, const std::function<bool(const Bi
     out.incomplete = model.incomplete;
     out.warnings = model.warnings;
     out.warning_count = model.warning_count;
+    out.assumed_floors = model.assumed_floors;
     out.origin_m = model.origin_m;
     constexpr uint32_t kUnused = std::numeric_limits<uint32_t>::max();
     std::vector<uint32_t> new_index(model.mesh.vertices.size(), kUnused);

@@ -61,6 +61,8 @@ struct BimElement {
     // its number ("0.00"); "" for other elements and when the file has none.
     std::string long_name{};
     DeclaredFlight declared_flight{};  // an IfcStairFlight's attributes; all 0 for other elements
+    // Not in the file: a floor the ingest assumed where the file models none (assumed_floors.hpp).
+    bool assumed = false;
 };
 
 // An element whose geometry could not be built (reported, skipped, never fatal), or was built
@@ -69,6 +71,13 @@ struct FailedElement {
     std::string global_id;
     std::string ifc_class;
     std::string reason;
+};
+
+// A floor the ingest assumed where the file models none (assumed_floors.hpp).
+struct AssumedFloor {
+    int storey = -1;
+    double area_m2 = 0;     // of its top
+    double opening_m2 = 0;  // left open over stairs and ramps that climb to it
 };
 
 struct BimModel {
@@ -92,6 +101,9 @@ struct BimModel {
     // <message>" when about one element), at most a few hundred; warning_count counts them all.
     std::vector<std::string> warnings;
     size_t warning_count = 0;
+    // Floors not in the file, assumed under storeys whose floor it does not model; their elements
+    // are flagged BimElement::assumed.
+    std::vector<AssumedFloor> assumed_floors;
 
     // Metres, the model's coordinate system ("bim" frame) minus origin_m. Vertices are never shared
     // between elements: each element's triangles index only its own vertices.
@@ -118,8 +130,8 @@ int DefaultWalkStorey(const BimModel& model);
 std::vector<int> StoreyIndices(const BimModel& model, const std::vector<std::string>& names);
 
 // The elements `keep` accepts, with their triangles and only the vertices those use (indices
-// renumbered, order kept); storeys, class counts, failures, face counts and warnings are copied as
-// they are.
+// renumbered, order kept); storeys, class counts, failures, face counts, warnings and the assumed
+// floors' list are copied as they are.
 BimModel SelectElements(const BimModel& model, const std::function<bool(const BimElement&)>& keep);
 
 }  // namespace bimslam::bim

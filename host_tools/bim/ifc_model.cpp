@@ -5,6 +5,7 @@
 // ../../../shared/DESIGN.md ("Known traps") and at the top of ifc_geometry.cpp.
 #include "host_tools/bim/ifc_model.hpp"
 
+#include "host_tools/bim/assumed_floors.hpp"
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -13,6 +14,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/file_util.hpp"
+#include "host_tools/bim/assumed_floors.hpp"
 #include "host_tools/bim/ifc_face_bounds.hpp"
 #include "host_tools/bim/ifc_geometry.hpp"
 
@@ -468,6 +470,7 @@ BimModel ParseIfc(const std::string& name, const std::string& step_text,
     }
     out.warnings = std::move(log.kept);
     out.warning_count = log.count;
+    if (options.assume_floors) AddAssumedFloors(out);
     report(1.0);
     return out;
 }

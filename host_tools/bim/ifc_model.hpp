@@ -25,6 +25,9 @@ struct IfcLoadOptions {
     // Opening elements (IfcOpeningElement, IfcVoidingFeature) get geometry of their own (role
     // transient). Off by default; the openings are subtracted from their walls either way.
     bool opening_geometry = false;
+    // A floor assumed under each storey people stand on whose floor the file does not model
+    // (assumed_floors.hpp: Office_A has no floor slabs). false reads the file as it is.
+    bool assume_floors = true;
     // Segments of a full circle when IFC++ tessellates arcs, circles and round profiles (IFC++'s
     // default is 14). More costs triangles and CSG time; fewer makes round columns polygonal.
     int vertices_per_circle = 16;

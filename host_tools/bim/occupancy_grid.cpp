@@ -451,10 +451,10 @@ constexpr double kAboveFloor = 0.3;  // m: what is lower is the floor, a thresho
 
 // One structure triangle (in `poly`, which it overwrites): a horizontal face at the storey's
 // elevation (the slab's top or underside) marks `floor`; its part between kAboveFloor and the
-// headroom marks `overhead`.
+// headroom marks `overhead`, when asked for.
 void MarkStanding(const OccupancyGrid& g, double headroom_m, std::vector<Eigen::Vector3d>& poly,
                   std::vector<Eigen::Vector3d>& clipped, std::vector<uint8_t>& floor,
-                  std::vector<uint8_t>& overhead) {
+                  std::vector<uint8_t>* overhead) {
     const Eigen::Vector3d n = (poly[1] - poly[0]).cross(poly[2] - poly[0]);
     const double zmin = std::min({poly[0].z(), poly[1].z(), poly[2].z()});
     const double zmax = std::max({poly[0].z(), poly[1].z(), poly[2].z()});
@@ -464,18 +464,20 @@ void MarkStanding(const OccupancyGrid& g, double headroom_m, std::vector<Eigen::
         return;
     }
     const double lo = g.floor_z + kAboveFloor, hi = g.floor_z + headroom_m;
-    if (zmax < lo || zmin > hi) return;
+    if (!overhead || zmax < lo || zmin > hi) return;
     ClipZ(poly, lo, true, &clipped);
     ClipZ(clipped, hi, false, &poly);
     for (size_t k = 1; k + 1 < poly.size(); ++k) {
-        RasterizeTriangle(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(), overhead);
+        RasterizeTriangle(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(),
+                          *overhead);
     }
 }
-}  // namespace
 
-std::vector<uint8_t> StandableCells(const BimModel& model, const OccupancyGrid& g,
-                                    double headroom_m) {
-    std::vector<uint8_t> floor(g.cells.size(), 0), overhead(g.cells.size(), 0);
+// MarkStanding over every triangle of the structure.
+void MarkStructure(const BimModel& model, const OccupancyGrid& g, double headroom_m,
+                   std::vector<uint8_t>& floor, std::vector<uint8_t>* overhead) {
+    floor.assign(g.cells.size(), 0);
+    if (overhead) overhead->assign(g.cells.size(), 0);
     std::vector<Eigen::Vector3d> poly, clipped;
     for (const BimElement& e : model.elements) {
         if (e.role != ElementRole::kStructure) continue;
@@ -487,20 +489,60 @@ std::vector<uint8_t> StandableCells(const BimModel& model, const OccupancyGrid& 
             MarkStanding(g, headroom_m, poly, clipped, floor, overhead);
         }
     }
-    // Some models have no floor slabs (Office_A's storeys have none, only ceilings): where the
-    // floor faces are under less than half of the free space, the floor is not modelled and not
-    // asked for.
+}
+}  // namespace
+
+std::vector<uint8_t> FloorFaceCells(const BimModel& model, const OccupancyGrid& g) {
+    std::vector<uint8_t> floor;
+    MarkStructure(model, g, 0.0, floor, nullptr);
+    return floor;
+}
+
+bool FloorModelled(const OccupancyGrid& g, const std::vector<uint8_t>& floor) {
     size_t free_cells = 0, floored = 0;
     for (size_t i = 0; i < g.cells.size(); ++i) {
         free_cells += g.cells[i] == Cell::kFree;
         floored += g.cells[i] == Cell::kFree && floor[i];
     }
-    const bool floor_modelled = 2 * floored >= free_cells;
+    return 2 * floored >= free_cells;
+}
+
+std::vector<uint8_t> StandableCells(const BimModel& model, const OccupancyGrid& g,
+                                    double headroom_m) {
+    std::vector<uint8_t> floor, overhead;
+    MarkStructure(model, g, headroom_m, floor, &overhead);
+    // A model read without assumed floors may have none (Office_A's storeys have only ceilings):
+    // there the floor is not asked for.
+    const bool floor_modelled = FloorModelled(g, floor);
     std::vector<uint8_t> standable(g.cells.size(), 0);
     for (size_t i = 0; i < g.cells.size(); ++i) {
         standable[i] = g.cells[i] == Cell::kFree && (floor[i] || !floor_modelled) && !overhead[i];
     }
     return standable;
+}
+
+std::vector<uint8_t> IndoorCells(const BimModel& model, const OccupancyGrid& grid) {
+    GridConfig config;
+    config.resolution_m = grid.resolution;
+    config.slice_height_m = grid.slice_z - grid.floor_z;
+    config.object_footprints = false;  // furniture outside is no building
+    OccupancyGrid g = grid;
+    g.cells.assign(g.cells.size(), Cell::kUnknown);
+    std::vector<uint8_t> blocked, closed;
+    Rasterize(model, config, g, blocked, closed);
+    const std::vector<int> open =
+        LabelRegions(g, [&](size_t i) { return !blocked[i] && !closed[i]; });
+    const std::vector<uint8_t> outdoors = Outdoors(g, open);
+    std::vector<uint8_t> indoor(g.cells.size(), 0);
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        indoor[i] = open[i] < 0 || !outdoors[size_t(open[i])];
+    }
+    return indoor;
+}
+
+void MarkTrianglePlan(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Eigen::Vector2d& c, std::vector<uint8_t>& mask) {
+    RasterizeTriangle(g, a, b, c, mask);
 }
 
 io::Image GridImage(const OccupancyGrid& g) {

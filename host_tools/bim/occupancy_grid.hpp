@@ -76,11 +76,27 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
 size_t AddObstacle(OccupancyGrid& grid, const common::TriangleMesh& mesh,
                    double object_height_m = GridConfig{}.object_height_m);
 
+// Per cell of `grid` (of `model`'s storey), 1 where the building stands at the slice: the cells no
+// path from the grid's border reaches without crossing the structure or a door, window or curtain
+// wall. Every enclosed room, not only the grid's region, with its walls, doors and windows.
+std::vector<uint8_t> IndoorCells(const BimModel& model, const OccupancyGrid& grid);
+
+// Per cell of `grid`, 1 under a horizontal face of the structure within 0.3 m of the storey's
+// elevation (a slab's top or underside, a landing at floor height).
+std::vector<uint8_t> FloorFaceCells(const BimModel& model, const OccupancyGrid& grid);
+// Whether the storey's floor is modelled: floor faces under at least half of the grid's free
+// space. Office_A's storeys are not: the file has no floor slabs, only ceilings.
+bool FloorModelled(const OccupancyGrid& grid, const std::vector<uint8_t>& floor_face_cells);
+
+// Marks in `mask` the cells whose centres lie in triangle abc's plan, and those its edges cross.
+void MarkTrianglePlan(const OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Eigen::Vector2d& c, std::vector<uint8_t>& mask);
+
 // Per cell of `grid` (of `model`'s storey), 1 where a robot or a person can stand: a free cell
 // with the storey's floor under it (a horizontal face of the structure within 0.3 m of the
 // storey's elevation) and no structure between 0.3 m and headroom_m above the floor. A storey
-// whose floor faces lie under less than half of its free space has no floor slabs modelled
-// (Office_A's): there the floor is not asked for. The grid's one slice sees neither a void in
+// whose floor is not modelled (FloorModelled: a file read without assumed floors, ifc_model.hpp)
+// is not asked for it. The grid's one slice sees neither a void in
 // the floor (an attic floor that stops short of the eaves, a stairwell) nor a roof that comes
 // down below a person's head: a hand-held walk of the storeys benchmark once started over
 // FZK-Haus' ground floor at attic height, its sensor inside the roof (issue 31).

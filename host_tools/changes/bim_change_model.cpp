@@ -19,14 +19,18 @@ bool Physical(const bim::BimElement& element) {
     return true;
 }
 
+bool Listed(const bim::BimElement& element) { return Physical(element) && !element.assumed; }
+
 changes::ChangeModel ToChangeModel(const bim::BimModel& model) {
     changes::ChangeModel out;
     out.element_opaque.assign(model.elements.size(), 0);
+    out.element_judged.assign(model.elements.size(), 0);
     out.mesh.vertices = model.mesh.vertices;
     for (size_t e = 0; e < model.elements.size(); ++e) {
         const bim::BimElement& el = model.elements[e];
         if (!Physical(el)) continue;
         out.element_opaque[e] = !bim::PassThrough(el.ifc_class);
+        out.element_judged[e] = Listed(el);
         for (uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) {
             out.mesh.triangles.push_back(model.mesh.triangles[t]);
             out.triangle_element.push_back(uint32_t(e));

@@ -13,9 +13,13 @@ namespace bimslam::change_detection {
 
 // Physical elements: all but spaces, openings, virtual elements and annotations (not built).
 bool Physical(const bim::BimElement& element);
+// The elements change detection judges and lists (changes.json, elements.csv): physical ones from
+// the file, not the floors its reader assumed (bim/assumed_floors.hpp).
+bool Listed(const bim::BimElement& element);
 
 // Elements keep their BimModel index. The mesh holds the physical elements' triangles; an element
-// is opaque unless beams pass it (bim::PassThrough: doors taken as open, windows, curtain walls).
+// is opaque unless beams pass it (bim::PassThrough: doors taken as open, windows, curtain walls),
+// and judged when it is Listed.
 // Throws common::Error (kInvalidArgument) naming the model when it has no physical element with
 // geometry: there is nothing to compare with.
 changes::ChangeModel ToChangeModel(const bim::BimModel& model);

@@ -157,7 +157,7 @@ struct ElementLists {
 ElementLists ElementsJson(const bim::BimModel& model, const changes::ChangeResult& r) {
     ElementLists out{json::array(), json::array()};
     for (size_t e = 0; e < r.elements.size(); ++e) {
-        if (!Physical(model.elements[e])) continue;
+        if (!Listed(model.elements[e])) continue;
         const changes::ElementReport& rep = r.elements[e];
         json j = ElementJson(model, e);
         j["expected_area_m2"] = rep.evidence.expected_area_m2;
@@ -413,7 +413,7 @@ void WriteChangeFiles(const std::filesystem::path& dir, const bim::BimModel& mod
            "residual_rms_m,moved,moved_yaw_deg,tolerance_verdict\n";
     for (size_t e = 0; e < r.elements.size(); ++e) {
         const bim::BimElement& el = model.elements[e];
-        if (!Physical(el)) continue;
+        if (!Listed(el)) continue;
         const changes::ElementReport& rep = r.elements[e];
         const int s = ElementStorey(model, e);
         const std::string storey = s >= 0 ? model.storeys[size_t(s)].name : std::string();

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -72,6 +73,33 @@ std::string Metres(double v) {
     return s.str();
 }
 
+nlohmann::json AssumedFloorsJson(const bim::BimModel& m) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const bim::AssumedFloor& f : m.assumed_floors) {
+        out.push_back({{"storey", m.storeys[size_t(f.storey)].name},
+                       {"area_m2", f.area_m2},
+                       {"stair_openings_m2", f.opening_m2}});
+    }
+    return out;
+}
+
+// "assumed     floors of 'Level 1' (1204 m2), 'Level 2' (1180 m2, 24 m2 left open over stairs):
+// the file models none" when the ingest assumed any.
+void PrintAssumedFloors(const bim::BimModel& m) {
+    if (m.assumed_floors.empty()) return;
+    std::cout << "assumed     floors of";
+    for (size_t i = 0; i < m.assumed_floors.size(); ++i) {
+        const bim::AssumedFloor& f = m.assumed_floors[i];
+        std::cout << (i ? ", '" : " '") << m.storeys[size_t(f.storey)].name << "' ("
+                  << std::lround(f.area_m2) << " m2";
+        if (f.opening_m2 > 0) {
+            std::cout << ", " << std::lround(f.opening_m2) << " m2 left open over stairs";
+        }
+        std::cout << ")";
+    }
+    std::cout << ": the file models none\n";
+}
+
 int Info(const BimOptions& o) {
     const Loaded loaded = Load(o.model, {});
     const bim::BimModel& m = loaded.model;
@@ -103,6 +131,7 @@ int Info(const BimOptions& o) {
             {"incomplete", list(m.incomplete)},
             {"triangles", m.mesh.triangles.size()},
             {"elements_with_geometry", m.elements.size()},
+            {"assumed_floors", AssumedFloorsJson(m)},
             {"warnings", m.warning_count},
             {"load_s", loaded.load_s},
         };
@@ -120,8 +149,9 @@ int Info(const BimOptions& o) {
     }
     std::cout << "\nelements    " << m.elements.size() << " with geometry (" << structure
               << " structure, " << m.elements.size() - structure << " transient), "
-              << m.mesh.triangles.size() << " triangles\n"
-              << "classes    ";
+              << m.mesh.triangles.size() << " triangles\n";
+    PrintAssumedFloors(m);
+    std::cout << "classes    ";
     size_t column = 11;
     for (const auto& [cls, n] : m.class_counts) {
         const std::string item = " " + cls + " " + std::to_string(n);
@@ -210,6 +240,7 @@ int Mesh(const BimOptions& o) {
                                       : nlohmann::json(nullptr)},
              {"role", std::string(bim::ToString(e.role))},
              {"triangles", e.triangle_count}});
+        if (e.assumed) elements.back()["assumed"] = true;  // not in the file (assumed_floors.hpp)
     }
     const nlohmann::json j = {{"model", o.model},
                               {"schema", kept.schema},
@@ -240,8 +271,9 @@ void AddBimCommands(CLI::App& bim, int& exit_code) {
     auto info_opt = std::make_shared<BimOptions>();
     CLI::App* info = bim.add_subcommand(
         "info",
-        "Read an IFC model; print its storeys, element classes, extent and failures, and the "
-        "faces whose outer boundary was put first (listed after a hole) or that IFC++ lost");
+        "Read an IFC model; print its storeys, element classes, extent and failures, the "
+        "faces whose outer boundary was put first (listed after a hole) or that IFC++ lost, and "
+        "the floors assumed where the file models none (host_tools/bim/README.md)");
     info->add_option("MODEL", info_opt->model, "IFC file (STEP, IFC2X3 or IFC4)")->required();
     info->add_flag("--json", info_opt->json, "machine-readable output");
     info->callback([info_opt, &exit_code] { exit_code = Run([&] { return Info(*info_opt); }); });

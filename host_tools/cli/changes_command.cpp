@@ -89,7 +89,7 @@ Tally Count(const bim::BimModel& model, const changes::ChangeResult& r) {
         if (o.moved_element == changes::kNoElement) ++t.objects, t.volume_m3 += o.volume_m3;
     }
     for (size_t e = 0; e < r.elements.size(); ++e) {
-        if (!change_detection::Physical(model.elements[e])) continue;
+        if (!change_detection::Listed(model.elements[e])) continue;
         const changes::ElementReport& rep = r.elements[e];
         t.moved += rep.moved;
         t.missing += rep.verdict == changes::Verdict::kMissing;
@@ -189,7 +189,7 @@ void ChangesRun::LoadModel() {
     original_ = io::ReadFileToString(a_.model);
     info_ = {a_.model, io::Sha256File(a_.model)};
     for (const bim::BimElement& e : model_.elements)
-        compared_ += change_detection::Physical(e) && e.triangle_count > 0;
+        compared_ += change_detection::Listed(e) && e.triangle_count > 0;
     if (!a_.json) {
         std::cout << "model     " << a_.model << ": " << model_.schema << ", "
                   << model_.storeys.size() << " storeys, " << compared_ << " elements compared, "

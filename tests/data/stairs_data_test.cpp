@@ -3,13 +3,14 @@
 // The walkable 3D graph (host_tools/bim/stairs.hpp) of the real models in ../shared/data/ifc: the
 // stairs their exporters wrote (Revit's IfcStair with IfcStairFlight parts, ArchiCAD's spiral
 // IfcStair with its own geometry) join their floors, and each flight found from the geometry has
-// the risers, treads, riser height and tread length its exporter declared. Each skips, saying so,
-// when the file is absent.
+// the risers, treads, riser height and tread length its exporter declared; a floor the file leaves
+// out is assumed, open over the stairs. Each skips, saying so, when the file is absent.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
+#include "algorithms/simulation/scene.hpp"
 #include "host_tools/bim/building_graph.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "tests/support/test_support.hpp"
@@ -26,6 +27,8 @@ struct Case {
     // Whether its exporter wrote IfcStairFlight's NumberOfRisers, NumberOfTreads, RiserHeight
     // and TreadLength (Revit does; ArchiCAD's FZK-Haus has no IfcStairFlight).
     bool declares = false;
+    // The storeys whose floor the file does not model, assumed at ingest (assumed_floors.hpp).
+    std::vector<std::string> assumed_floors{};
 };
 
 class StairsData : public ::testing::TestWithParam<Case> {};
@@ -80,6 +83,48 @@ TEST_P(StairsData, EveryFloorIsReachedByTheStairs) {
     }
 }
 
+// A floor is assumed only where the file models none (Office_A has no floor slabs: its two
+// IfcSlab are stair landings), and it is open over the stairs: a beam straight down over each tread
+// of a flight that climbs to it meets the flight, and one over where the walk steps off the flight
+// meets the assumed floor at the storey's elevation.
+TEST_P(StairsData, FloorsAreAssumedWhereTheFileHasNoneOpenOverTheStairs) {
+    const Case& c = GetParam();
+    BIMSLAM_REQUIRE_SHARED_DATA(path, "ifc/" + c.file);
+    const BimModel model = LoadIfc(path);
+    std::vector<std::string> assumed;
+    for (const AssumedFloor& f : model.assumed_floors)
+        assumed.push_back(model.storeys[size_t(f.storey)].name);
+    EXPECT_EQ(assumed, c.assumed_floors);
+    if (assumed.empty()) return;
+
+    const simulation::Scene scene(model.mesh, model.triangle_element);
+    const auto down = [&](const Eigen::Vector2d& p, double z) {
+        const Eigen::Vector3f from(float(p.x()), float(p.y()), float(z + 1.5 - model.origin_m.z()));
+        return scene.Intersect(from, -Eigen::Vector3f::UnitZ());
+    };
+    size_t treads = 0;
+    for (const StairFlight& f : FindStairFlights(model)) {
+        const BimElement* floor = nullptr;
+        for (const BimElement& e : model.elements) {
+            if (e.assumed && e.storey == f.upper) floor = &e;
+        }
+        if (!floor || !f.Walkable()) continue;
+        for (const StairLevel& l : f.levels) {
+            const auto hit = down(l.centre.head<2>(), f.upper_z);
+            ASSERT_TRUE(hit) << f.name;
+            EXPECT_FALSE(model.elements[hit->id].assumed)
+                << f.name << ": the floor covers the tread at " << l.centre.transpose();
+            ++treads;
+        }
+        const auto off = down(f.exit, f.upper_z);
+        ASSERT_TRUE(off) << f.name;
+        EXPECT_EQ(model.elements[off->id].global_id, floor->global_id)
+            << f.name << ": steps off onto " << model.elements[off->id].name;
+        EXPECT_NEAR(1.5 - off->t, 0.0, 1e-3) << f.name;
+    }
+    EXPECT_GT(treads, 0u) << "no flight climbs to a storey with an assumed floor";
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Models, StairsData,
     ::testing::Values(Case{"AC20-FZK-Haus.ifc",
@@ -87,7 +132,11 @@ INSTANTIATE_TEST_SUITE_P(
                            "too steep: it climbs at 47.7 degrees",
                            false},
                       Case{"Duplex_A_20110907.ifc", {"Level 1", "Level 2"}, "", true},
-                      Case{"Office_A_20110811.ifc", {"Level 1", "Level 2"}, "", true}),
+                      Case{"Office_A_20110811.ifc",
+                           {"Level 1", "Level 2"},
+                           "",
+                           true,
+                           {"Level 1", "Level 2", "Roof"}}),
     [](const auto& param_info) {
         std::string n = param_info.param.file.substr(0, 6);
         for (char& ch : n) ch = std::isalnum(uint8_t(ch)) ? ch : '_';
