@@ -16,6 +16,7 @@
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/occupancy_grid.hpp"
 #include "host_tools/bim/sample_building.hpp"
+#include "host_tools/changes/bim_change_model.hpp"
 
 namespace bimslam::bim {
 namespace {
@@ -122,6 +123,30 @@ TEST(AssumedFloors, EveryStoreyWithoutItsSlabGetsAClosedFloorOpenOverTheStair) {
     EXPECT_FALSE(standable[size_t(y) * upper.width + x]);
     ASSERT_TRUE(upper.ToCell(in_a_room, &x, &y));
     EXPECT_TRUE(standable[size_t(y) * upper.width + x]);
+}
+
+// Change detection casts its beams against an assumed floor (the floor is where the model says it
+// is) but never judges it: no verdict, no line in changes.json or elements.csv.
+TEST(AssumedFloors, ChangeDetectionCastsAgainstThemAndNeverJudgesThem) {
+    BimModel m = WithoutSlabs(Office());
+    AddAssumedFloors(m);
+    const changes::ChangeModel cm = change_detection::ToChangeModel(m);
+    size_t assumed = 0, judged = 0;
+    for (size_t e = 0; e < m.elements.size(); ++e) {
+        const bool listed = change_detection::Listed(m.elements[e]);
+        EXPECT_EQ(cm.Judged(e), listed && cm.element_opaque[e]) << m.elements[e].global_id;
+        judged += cm.Judged(e);
+        if (!m.elements[e].assumed) continue;
+        ++assumed;
+        EXPECT_TRUE(cm.element_opaque[e]);
+        EXPECT_FALSE(listed);
+        EXPECT_FALSE(cm.Judged(e));
+    }
+    EXPECT_EQ(assumed, 2u);
+    EXPECT_GT(judged, 20u);  // the walls and the rest still are
+    size_t floor_triangles = 0;
+    for (const uint32_t e : cm.triangle_element) floor_triangles += m.elements[e].assumed;
+    EXPECT_GT(floor_triangles, 0u);
 }
 
 // The sample's IFC text with its floor slabs written as proxies (what a model whose author did not
