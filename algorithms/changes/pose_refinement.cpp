@@ -14,6 +14,7 @@
 #include "algorithms/common/status.hpp"
 #include "algorithms/posegraph/pose_graph.hpp"
 #include "algorithms/posegraph/relative_pose_cost.hpp"
+#include "algorithms/posegraph/solver_options.hpp"
 #include "algorithms/simulation/scene.hpp"
 
 namespace bimslam::changes {
@@ -163,11 +164,8 @@ public:
         }
         out_.element_points = per_element;
         if (problem.NumResidualBlocks() == 0) return false;
-        ceres::Solver::Options options;
-        options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-        options.max_num_iterations = config_.max_iterations;
-        options.num_threads = config_.threads;
-        options.logging_type = ceres::SILENT;
+        const ceres::Solver::Options options =
+            posegraph::SparseSolverOptions(config_.max_iterations, config_.threads);
         ceres::Solver::Summary summary;
         ceres::Solve(options, &problem, &summary);
         out_.iterations += int(summary.iterations.size());

@@ -11,6 +11,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/posegraph/relative_pose_cost.hpp"
+#include "algorithms/posegraph/solver_options.hpp"
 
 namespace bimslam::posegraph {
 using common::Matrix6d;
@@ -218,11 +219,8 @@ OptimizeSummary PoseGraph::Optimize(const PoseGraphConfig& config,
         out.converged = true;
         return out;
     }
-    ceres::Solver::Options options;
-    options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    options.max_num_iterations = config.max_iterations;
-    options.num_threads = config.threads;
-    options.logging_type = ceres::SILENT;
+    const ceres::Solver::Options options =
+        posegraph::SparseSolverOptions(config.max_iterations, config.threads);
     ceres::Solver::Summary summary;
     for (size_t stage = 0; stage < config.annealing.size(); ++stage) {
         for (auto& [wrapper, scale] : losses) {
