@@ -69,9 +69,10 @@ void RasterizeSegment(const OccupancyGrid& g, const Eigen::Vector2d& a, const Ei
     }
 }
 
-// The cells whose centres lie in a triangle's xy projection, and its edges.
-void RasterizeTriangle(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                       const Eigen::Vector2d& c, std::vector<uint8_t>& mask) {
+}  // namespace
+
+void MarkTrianglePlan(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Eigen::Vector2d& c, std::vector<uint8_t>& mask) {
     RasterizeSegment(g, a, b, mask);
     RasterizeSegment(g, b, c, mask);
     RasterizeSegment(g, c, a, mask);
@@ -92,14 +93,16 @@ void RasterizeTriangle(const OccupancyGrid& g, const Eigen::Vector2d& a, const E
     }
 }
 
+namespace {
+
 // An object's triangle in plan, when it reaches between 2 cm above the floor and top_m above it:
 // what a walker must go around (a rug or a shelf above the head is not in the way).
 void RasterizeFootprint(const OccupancyGrid& g, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
                         const Eigen::Vector3f& c, double top_m, std::vector<uint8_t>& mask) {
     const double zmin = std::min({a.z(), b.z(), c.z()}), zmax = std::max({a.z(), b.z(), c.z()});
     if (zmax < g.floor_z + 0.02 || zmin > g.floor_z + top_m) return;
-    RasterizeTriangle(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
-                      c.head<2>().cast<double>(), mask);
+    MarkTrianglePlan(g, a.head<2>().cast<double>(), b.head<2>().cast<double>(),
+                     c.head<2>().cast<double>(), mask);
 }
 
 // The segment where a triangle crosses the plane z = h, if it does.
@@ -460,7 +463,7 @@ void MarkStanding(const OccupancyGrid& g, double headroom_m, std::vector<Eigen::
     const double zmax = std::max({poly[0].z(), poly[1].z(), poly[2].z()});
     if (std::abs(n.z()) > 0.7 * n.norm() && zmin > g.floor_z - kFloorBand &&
         zmax < g.floor_z + kFloorBand) {
-        RasterizeTriangle(g, poly[0].head<2>(), poly[1].head<2>(), poly[2].head<2>(), floor);
+        MarkTrianglePlan(g, poly[0].head<2>(), poly[1].head<2>(), poly[2].head<2>(), floor);
         return;
     }
     const double lo = g.floor_z + kAboveFloor, hi = g.floor_z + headroom_m;
@@ -468,8 +471,7 @@ void MarkStanding(const OccupancyGrid& g, double headroom_m, std::vector<Eigen::
     ClipZ(poly, lo, true, &clipped);
     ClipZ(clipped, hi, false, &poly);
     for (size_t k = 1; k + 1 < poly.size(); ++k) {
-        RasterizeTriangle(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(),
-                          *overhead);
+        MarkTrianglePlan(g, poly[0].head<2>(), poly[k].head<2>(), poly[k + 1].head<2>(), *overhead);
     }
 }
 
@@ -538,11 +540,6 @@ std::vector<uint8_t> IndoorCells(const BimModel& model, const OccupancyGrid& gri
         indoor[i] = open[i] < 0 || !outdoors[size_t(open[i])];
     }
     return indoor;
-}
-
-void MarkTrianglePlan(const OccupancyGrid& g, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                      const Eigen::Vector2d& c, std::vector<uint8_t>& mask) {
-    RasterizeTriangle(g, a, b, c, mask);
 }
 
 io::Image GridImage(const OccupancyGrid& g) {
