@@ -47,9 +47,12 @@ struct SessionManifest {
         int rings = 20;
         int sectors = 60;
         double max_radius_m = 10.0;
-        // The indoor cell rule: occupied with >= min_points spanning >= min_z_span_m.
+        // The indoor cell rule: occupied with >= min_points spanning >= min_z_span_m, the span
+        // measured as `cell_rule` says (algorithms/scancontext/config.hpp): "z_span" or
+        // "z_stack"; a file that names none was written before z_stack, with z_span.
         int min_points = 0;
         double min_z_span_m = 0.0;
+        std::string cell_rule = "z_stack";
     } descriptor;
     struct Counts {
         size_t keyframes = 0;

@@ -87,7 +87,8 @@ std::string SerializeManifest(const SessionManifest& m) {
                        {"max_radius_m", m.descriptor.max_radius_m}};
     if (m.descriptor.kind == "indoor") {
         j["descriptor"]["cell_rule"] = {{"min_points", m.descriptor.min_points},
-                                        {"min_z_span_m", m.descriptor.min_z_span_m}};
+                                        {"min_z_span_m", m.descriptor.min_z_span_m},
+                                        {"rule", m.descriptor.cell_rule}};
     }
     j["counts"] = {{"keyframes", m.counts.keyframes}, {"scans", m.counts.scans}};
     if (m.model) {
@@ -147,6 +148,13 @@ SessionManifest ParseManifest(const std::string& name, const std::string& text) 
     if (m.descriptor.kind == "indoor") {
         m.descriptor.min_points = static_cast<int>(f.Unsigned("descriptor.cell_rule.min_points"));
         m.descriptor.min_z_span_m = f.Number("descriptor.cell_rule.min_z_span_m");
+        const json& rule = j["descriptor"]["cell_rule"];
+        m.descriptor.cell_rule =
+            rule.contains("rule") ? f.String("descriptor.cell_rule.rule") : std::string("z_span");
+        if (m.descriptor.cell_rule != "z_span" && m.descriptor.cell_rule != "z_stack") {
+            f.Fail("descriptor.cell_rule.rule",
+                   "is '" + m.descriptor.cell_rule + "', not z_span or z_stack");
+        }
     }
     m.counts.keyframes = static_cast<size_t>(f.Unsigned("counts.keyframes"));
     m.counts.scans = static_cast<size_t>(f.Unsigned("counts.scans"));

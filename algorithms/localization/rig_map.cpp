@@ -92,7 +92,8 @@ json MetaJson(const RigMap& m) {
               {"sectors", d.sectors},
               {"max_radius_m", d.max_radius_m},
               {"min_points", d.min_points},
-              {"min_z_span_m", d.min_z_span_m}}},
+              {"min_z_span_m", d.min_z_span_m},
+              {"cell_rule", d.cell_rule}}},
             {"storeys", storeys},
             {"keyframes", m.keyframes.size()},
             {"levels", levels}};
@@ -302,6 +303,8 @@ void Parser::ReadMeta(RigMap& m) const {
         m.descriptor.max_radius_m = d.at("max_radius_m").get<double>();
         m.descriptor.min_points = d.at("min_points").get<int>();
         m.descriptor.min_z_span_m = d.at("min_z_span_m").get<double>();
+        // Packages made before the z_stack rule name none: theirs is z_span.
+        m.descriptor.cell_rule = d.value("cell_rule", std::string("z_span"));
         for (const json& st : j.at("storeys")) {
             m.storeys.push_back({st.at("name").get<std::string>(),
                                  st.at("global_id").get<std::string>(),
@@ -329,6 +332,9 @@ void Parser::ReadMeta(RigMap& m) const {
     }
     if (m.descriptor.kind != "indoor" && m.descriptor.kind != "outdoor") {
         Fail(at, "META: descriptor kind '" + m.descriptor.kind + "'");
+    }
+    if (!scancontext::ParseIndoorCellRule(m.descriptor.cell_rule)) {
+        Fail(at, "META: descriptor cell rule '" + m.descriptor.cell_rule + "'");
     }
     try {
         m.DescriptorConfig().Validate();
@@ -480,6 +486,7 @@ scancontext::ScanContextConfig RigMap::DescriptorConfig() const {
     if (indoor) {
         c.indoor_min_points = descriptor.min_points;
         c.indoor_min_z_span = descriptor.min_z_span_m;
+        c.indoor_rule = *scancontext::ParseIndoorCellRule(descriptor.cell_rule);
     }
     return c;
 }

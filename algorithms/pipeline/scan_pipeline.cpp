@@ -186,8 +186,13 @@ io::SessionManifest MakeSessionManifest(const ouster::SensorInfo& info,
                        info.format.pixels_per_column, info.format.columns_per_frame, metadata_file};
     manifest.keyframe = {keyframes.distance_m, keyframes.angle_deg};
     const auto& sc = keyframes.descriptor;
-    manifest.descriptor = {"indoor",      sc.num_rings,         sc.num_sectors,
-                           sc.max_radius, sc.indoor_min_points, sc.indoor_min_z_span};
+    manifest.descriptor = {"indoor",
+                           sc.num_rings,
+                           sc.num_sectors,
+                           sc.max_radius,
+                           sc.indoor_min_points,
+                           sc.indoor_min_z_span,
+                           std::string(scancontext::ToString(sc.indoor_rule))};
     return manifest;
 }
 

@@ -39,6 +39,16 @@ std::optional<DescriptorKind> ParseDescriptorKind(std::string_view name) {
 
 ScanContextConfig ScanContextConfig::Outdoor() { return ScanContextConfig{}; }
 
+std::string_view ToString(IndoorCellRule rule) {
+    return rule == IndoorCellRule::kZSpan ? "z_span" : "z_stack";
+}
+
+std::optional<IndoorCellRule> ParseIndoorCellRule(std::string_view name) {
+    if (name == "z_span") return IndoorCellRule::kZSpan;
+    if (name == "z_stack") return IndoorCellRule::kZStack;
+    return std::nullopt;
+}
+
 ScanContextConfig ScanContextConfig::Indoor() {
     ScanContextConfig c;
     c.kind = DescriptorKind::kIndoor;

@@ -13,6 +13,20 @@
 //            a ceiling is the ceiling, so max height says little about the place; the vertical
 //            extent tells walls, pillars and furniture (tall spans) from floor and ceiling (flat,
 //            near-zero spans), which is what makes one room look different from another.
+//            Two rules measure the extent (IndoorCellRule): z_span, max z - min z of all the
+//            cell's points (stops 1-71), and z_stack (since stop 72, the default): the tallest
+//            stack of them whose heights leave no gap over indoor_min_z_span, and a cell seen
+//            (indoor_min_points points) with no such stack holds indoor_min_z_span, the least an
+//            occupied cell holds. In an open room with a floor and a ceiling every cell from about
+//            4 m out holds both: z_span fills such cells with the room's height, so open space
+//            weighs as much as a wall and what fills the descriptor depends on the sensor's
+//            height; z_stack keeps walls, pillars and furniture (which stand on the floor) at
+//            their height and open floor or ceiling at the floor value, which still marks where
+//            the scan saw space (without that mark a corridor looks alike walked either way: the
+//            mirror-symmetric building's walk turned 180 degrees about its start verified as a
+//            rival). On Office_A, whose floors the ingest assumes, z_span found one right place
+//            among 93 candidates of a hand-held walk in its open office
+//            (algorithms/localization/README.md "Office_A with floors").
 #pragma once
 
 #include <cstdint>
@@ -29,6 +43,16 @@ enum class DescriptorKind : uint8_t {
 // "outdoor" / "indoor", the names session.json uses (shared/specs/session-data.md).
 std::string_view ToString(DescriptorKind kind);
 std::optional<DescriptorKind> ParseDescriptorKind(std::string_view name);
+
+// How an indoor cell's vertical extent is measured (above).
+enum class IndoorCellRule : uint8_t {
+    kZSpan,   // max z - min z of the cell's points
+    kZStack,  // the tallest stack with no gap over indoor_min_z_span; a seen cell at least that
+};
+// "z_span" / "z_stack", the names session.json and the rig's map package use; a file that names
+// none was made with z_span.
+std::string_view ToString(IndoorCellRule rule);
+std::optional<IndoorCellRule> ParseIndoorCellRule(std::string_view name);
 
 // Upper bounds on the descriptor's shape: the distance keeps its per-column scratch on the stack
 // (no allocation on the hot path), and nothing sensible needs more than 0.5 degree sectors.
@@ -51,14 +75,17 @@ struct ScanContextConfig {
     double lidar_height = 2.0;
 
     // Indoor only: a cell counts as occupied when it holds at least indoor_min_points points whose
-    // z values span at least indoor_min_z_span metres. Three points: one or two returns in a cell
-    // are often a mixed pixel on an edge or a single beam grazing a surface; three need at least
-    // two beams (or one beam crossing a vertical surface). 0.3 m: well above the noise of an
-    // OS1-32 (~3 cm) and the slope of floors and ceilings across a 0.5 m ring, so flat floor and
-    // ceiling cells stay empty, while door frames, table tops over their legs, cabinets and
-    // pillars register; it also ignores low clutter such as cables and door sills.
+    // z values span at least indoor_min_z_span metres (z_stack: a stack of them; a cell of
+    // indoor_min_points flat points holds indoor_min_z_span, the mark of space seen). Three points:
+    // one or two returns in a cell are often a mixed pixel on an edge or a single beam grazing a
+    // surface; three need at least two beams (or one beam crossing a vertical surface). 0.3 m: well
+    // above the noise of an OS1-32 (~3 cm) and the slope of floors and ceilings across a 0.5 m
+    // ring, so flat floor and ceiling cells hold no more than the mark, while door frames, table
+    // tops over their legs, cabinets and pillars register; it also ignores low clutter such as
+    // cables and door sills.
     int indoor_min_points = 3;
     double indoor_min_z_span = 0.3;
+    IndoorCellRule indoor_rule = IndoorCellRule::kZStack;
 
     // Number of ring-key nearest neighbours whose full distance is computed ([SC] Sec. IV-A uses
     // 10; the reference implementation's NUM_CANDIDATES_FROM_TREE).

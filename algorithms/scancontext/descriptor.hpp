@@ -45,8 +45,9 @@ public:
     // Validates the configuration (throws common::Error) and allocates the scratch.
     explicit DescriptorBuilder(const ScanContextConfig& config);
 
-    // Resizes *out to rings x sectors when its shape differs (the only allocation), then fills
-    // it. Empty input gives an all-zero descriptor.
+    // Resizes *out to rings x sectors when its shape differs, then fills it; with the z_stack rule
+    // its list of the scan's points grows to the largest scan seen (no other allocation). Empty
+    // input gives an all-zero descriptor.
     DescriptorStats Build(std::span<const Eigen::Vector3f> points, Descriptor* out);
     DescriptorStats Build(const common::PointCloud& cloud, Descriptor* out) {
         return Build(std::span<const Eigen::Vector3f>(cloud.xyz), out);
@@ -55,11 +56,19 @@ public:
     const ScanContextConfig& config() const { return config_; }
 
 private:
+    void TallestStacks(float* d);  // the z_stack rule into d (cells in descriptor order)
+
     ScanContextConfig config_;
     // Per cell (row-major like the descriptor): maximum and minimum z and the point count.
     std::vector<float> z_max_;
     std::vector<float> z_min_;
     std::vector<uint32_t> count_;
+    // z_stack only: (cell, z) of every binned point; the heights grouped by cell (cell c's from
+    // start_[c]), and each cell's next free slot while grouping.
+    std::vector<std::pair<uint32_t, float>> cell_z_;
+    std::vector<float> z_by_cell_;
+    std::vector<uint32_t> start_;
+    std::vector<uint32_t> fill_;
 };
 
 // Convenience for set-up code and tests: validates config, allocates.

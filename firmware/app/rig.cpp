@@ -12,6 +12,7 @@
 #include "algorithms/common/se3.hpp"
 #include "algorithms/common/status.hpp"
 #include "algorithms/io/capture_files.hpp"
+#include "algorithms/keyframes/keyframe_selector.hpp"
 #include "algorithms/localization/relocalizer.hpp"
 #include "algorithms/localization/rig_map.hpp"
 #include "drivers/net/ros_packet_bag.hpp"
@@ -249,6 +250,19 @@ void Rig::LoadBimMap() {
                                     "a package of " + map.model_file + " (SHA-256 " +
                                         map.model_sha256 + "), not of the model " +
                                         cfg_.bim_model_sha256 + " (localization.model_sha256)");
+        }
+        // The localiser compares the rig's keyframe descriptors with the package's: a package
+        // made with another indoor cell rule (one from before z_stack) would compare unlike
+        // things (algorithms/scancontext/config.hpp).
+        const scancontext::ScanContextConfig mine = keyframes::KeyframeConfig{}.descriptor;
+        if (map.descriptor.kind == "indoor" &&
+            map.descriptor.cell_rule != scancontext::ToString(mine.indoor_rule)) {
+            throw common::FileError(StatusCode::kInvalidArgument, cfg_.bim_map, 0,
+                                    "its descriptors are made with the '" +
+                                        map.descriptor.cell_rule +
+                                        "' indoor cell rule, the rig's keyframes with '" +
+                                        std::string(scancontext::ToString(mine.indoor_rule)) +
+                                        "': make it again with bimslam rig-map");
         }
         // A package the localiser thread could not take is refused here, before any thread.
         localization::Relocalizer::Check(map);

@@ -322,6 +322,7 @@ std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
         m.descriptor.max_radius_m = config.descriptor.max_radius;
         m.descriptor.min_points = config.descriptor.indoor_min_points;
         m.descriptor.min_z_span_m = config.descriptor.indoor_min_z_span;
+        m.descriptor.cell_rule = std::string(scancontext::ToString(config.descriptor.indoor_rule));
         io::SessionWriter w(
             dir, m, {.overwrite = overwrite, .flush_every = 1000000, .sync_each_file = false});
         for (size_t k = 0; k < in.keyframes(); ++k) {

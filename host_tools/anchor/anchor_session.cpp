@@ -103,7 +103,11 @@ void ReadForeign(const fs::path& dir, AnchorSession* s) {
 bool SameDescriptor(const io::SessionManifest::Descriptor& d,
                     const scancontext::ScanContextConfig& c) {
     return d.kind == scancontext::ToString(c.kind) && d.rings == c.num_rings &&
-           d.sectors == c.num_sectors && std::abs(d.max_radius_m - c.max_radius) < 1e-9;
+           d.sectors == c.num_sectors && std::abs(d.max_radius_m - c.max_radius) < 1e-9 &&
+           (c.kind != scancontext::DescriptorKind::kIndoor ||
+            (d.cell_rule == scancontext::ToString(c.indoor_rule) &&
+             d.min_points == c.indoor_min_points &&
+             std::abs(d.min_z_span_m - c.indoor_min_z_span) < 1e-9));
 }
 
 // The oriented clouds (options.load_clouds) and, when `compute`, the descriptors of the session's
@@ -165,10 +169,15 @@ AnchorSession LoadAnchorSession(const fs::path& dir, const LoadOptions& options)
         options.compute_descriptors &&
         (s.foreign || !SameDescriptor(s.session.manifest.descriptor, options.descriptor));
     if (compute && !s.foreign) {
-        s.notes.push_back("descriptors recomputed: the session's (" +
-                          s.session.manifest.descriptor.kind + ") are not the " +
-                          std::string(scancontext::ToString(options.descriptor.kind)) +
-                          " Scan Context this run compares with");
+        const io::SessionManifest::Descriptor& d = s.session.manifest.descriptor;
+        const bool indoor = options.descriptor.kind == scancontext::DescriptorKind::kIndoor;
+        s.notes.push_back(
+            "descriptors recomputed: the session's (" + d.kind +
+            (d.kind == "indoor" ? ", " + d.cell_rule : std::string()) + ") are not the " +
+            std::string(scancontext::ToString(options.descriptor.kind)) +
+            (indoor ? ", " + std::string(scancontext::ToString(options.descriptor.indoor_rule))
+                    : std::string()) +
+            " Scan Context this run compares with");
     } else if (compute) {
         s.notes.push_back("Scan Context descriptors computed from the clouds (" +
                           std::string(scancontext::ToString(options.descriptor.kind)) + ")");

@@ -46,6 +46,7 @@ localization::RigMap MakeRigMap(const std::filesystem::path& reference,
     m.descriptor.max_radius_m = sc.max_radius;
     m.descriptor.min_points = sc.indoor_min_points;
     m.descriptor.min_z_span_m = sc.indoor_min_z_span;
+    m.descriptor.cell_rule = std::string(scancontext::ToString(sc.indoor_rule));
     m.storeys = storeys;
     for (size_t k = 0; k < ref.keyframes(); ++k) {
         m.keyframes.push_back(ref.poses[k]);

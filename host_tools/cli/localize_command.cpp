@@ -135,11 +135,11 @@ LocalizeRun RunRelocaliser(const LocalizeArgs& a, const localization::RigMap& ma
     if (!a.near.empty()) config.start = localization::StartHint::FromList(a.near);
     localization::Relocalizer relocalizer(map, config);
     const io::SessionManifest::Descriptor& md = s.manifest.descriptor;
-    const bool same = md.kind == map.descriptor.kind && md.rings == map.descriptor.rings &&
-                      md.sectors == map.descriptor.sectors &&
-                      md.max_radius_m == map.descriptor.max_radius_m &&
-                      md.min_points == map.descriptor.min_points &&
-                      md.min_z_span_m == map.descriptor.min_z_span_m;
+    const bool same =
+        md.kind == map.descriptor.kind && md.rings == map.descriptor.rings &&
+        md.sectors == map.descriptor.sectors && md.max_radius_m == map.descriptor.max_radius_m &&
+        md.min_points == map.descriptor.min_points &&
+        md.min_z_span_m == map.descriptor.min_z_span_m && md.cell_rule == map.descriptor.cell_rule;
     const scancontext::ScanContextConfig sc = map.DescriptorConfig();
     const std::vector<bool> ambiguous = HeightAmbiguousKeyframes(s, a.session);
     LocalizeRun run;

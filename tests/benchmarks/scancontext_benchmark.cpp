@@ -30,9 +30,13 @@ void BM_DescriptorOutdoor(benchmark::State& state) {
 }
 BENCHMARK(BM_DescriptorOutdoor)->Unit(benchmark::kMicrosecond);
 
+// arg: the indoor cell rule (0 z_span, 1 z_stack, the default: it sorts the scan's points by cell
+// and height).
 void BM_DescriptorIndoor(benchmark::State& state) {
     const common::PointCloud cloud = test::MakeRoomScan(32, 1024, 1);
-    DescriptorBuilder builder(ScanContextConfig::Indoor());
+    ScanContextConfig config = ScanContextConfig::Indoor();
+    config.indoor_rule = state.range(0) == 0 ? IndoorCellRule::kZSpan : IndoorCellRule::kZStack;
+    DescriptorBuilder builder(config);
     Descriptor d;
     for (auto _ : state) {
         builder.Build(cloud, &d);
@@ -41,7 +45,7 @@ void BM_DescriptorIndoor(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(cloud.size()));
     state.counters["points"] = static_cast<double>(cloud.size());
 }
-BENCHMARK(BM_DescriptorIndoor)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DescriptorIndoor)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // Two scans of the same room, the second turned by 40 degrees; arg = search ratio in percent.
 void BM_Distance(benchmark::State& state) {

@@ -247,6 +247,31 @@ TEST(Session, ManifestKeepsTheClockOffset) {
     EXPECT_THROW(ParseManifest("session.json", text), FileError);
 }
 
+// The indoor cell rule: written, read back; a session written before it (no "rule") was made
+// with z_span; an unknown rule is refused naming the field.
+TEST(Session, ManifestSaysItsIndoorCellRule) {
+    SessionManifest m = Manifest();
+    EXPECT_EQ(m.descriptor.cell_rule, "z_stack");
+    std::string text = SerializeManifest(m);
+    EXPECT_NE(text.find("\"rule\": \"z_stack\""), std::string::npos) << text;
+    EXPECT_EQ(ParseManifest("session.json", text).descriptor.cell_rule, "z_stack");
+    const size_t at = text.find(",\n      \"rule\"");
+    ASSERT_NE(at, std::string::npos) << text;
+    std::string older = text;
+    older.erase(at, older.find('\n', at + 2) - at);
+    EXPECT_EQ(older.find("rule\""), std::string::npos) << older;
+    EXPECT_EQ(ParseManifest("session.json", older).descriptor.cell_rule, "z_span");
+    std::string bad = text;
+    bad.replace(bad.find("z_stack"), 7, "z_max");
+    try {
+        ParseManifest("session.json", bad);
+        ADD_FAILURE() << "accepted: " << bad;
+    } catch (const FileError& e) {
+        EXPECT_NE(std::string(e.what()).find("descriptor.cell_rule.rule"), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(Session, ManifestErrorsNameTheField) {
     const std::string good = SerializeManifest(Manifest());
     auto expect_field = [](const std::string& text, const std::string& field) {

@@ -81,9 +81,9 @@ TEST(DescriptorTest, NonFinitePointsAreSkippedAndCounted) {
     }
 }
 
-TEST(DescriptorTest, IndoorCellIsZSpanOfOccupiedCells) {
-    const ScanContextConfig config =
-        ScanContextConfig::Indoor();  // 0.5 m rings, >= 3 pts, >= 0.3 m
+TEST(DescriptorTest, IndoorCellIsZSpanOfOccupiedCellsByTheZSpanRule) {
+    ScanContextConfig config = ScanContextConfig::Indoor();  // 0.5 m rings, >= 3 pts, >= 0.3 m
+    config.indoor_rule = IndoorCellRule::kZSpan;
     common::PointCloud cloud;
     // Cell (4, 5): two points spanning 1 m -> too few points.
     cloud.PushBack(Polar(2.2, 33.0, 0.0));
@@ -109,6 +109,47 @@ TEST(DescriptorTest, IndoorCellIsZSpanOfOccupiedCells) {
     EXPECT_EQ((d.array() != 0.0f).count(), 2);
     EXPECT_EQ(stats.used, 12u);
     EXPECT_EQ(stats.beyond_range, 1u);
+}
+
+// z_stack (the default): a cell's tallest stack of points with no gap over 0.3 m. A cell that
+// holds a floor and a ceiling and nothing between, as every cell of an open room does from a few
+// metres out, holds 0.3 m, the mark of space seen, as a cell of floor alone does; a wall standing
+// on the floor is its height either way; two returns are too few to mark a cell.
+TEST(DescriptorTest, IndoorCellIsItsTallestStackSoThatFloorAndCeilingAloneOnlyMarkIt) {
+    const ScanContextConfig config = ScanContextConfig::Indoor();
+    EXPECT_EQ(config.indoor_rule, IndoorCellRule::kZStack);
+    common::PointCloud cloud;
+    // Cell (10, 40): floor (-1.4 m) and ceiling (+1.3 m), three returns each.
+    for (const double z : {-1.42, -1.40, -1.38, 1.28, 1.30, 1.32}) {
+        cloud.PushBack(Polar(5.2, 242.0, z));
+    }
+    // Cell (12, 10): a wall from the floor to the ceiling, a return every 0.2 m.
+    for (double z = -1.4; z <= 1.31; z += 0.2) cloud.PushBack(Polar(6.2, 62.0, z));
+    // Cell (14, 30): a desk (floor to 0.75 m above it) under the ceiling.
+    for (const double z : {-1.4, -1.2, -1.0, -0.8, -0.65, 1.3, 1.31}) {
+        cloud.PushBack(Polar(7.2, 182.0, z));
+    }
+    // Cell (4, 5): floor alone, three returns; cell (6, 20): two returns, a metre apart.
+    for (const double z : {-1.41, -1.40, -1.39}) cloud.PushBack(Polar(2.2, 33.0, z));
+    cloud.PushBack(Polar(3.1, 121.0, -1.4));
+    cloud.PushBack(Polar(3.2, 122.0, -0.4));
+    const Descriptor stacked = MakeDescriptor(cloud, config);
+    EXPECT_FLOAT_EQ(stacked(10, 40), 0.3f);
+    EXPECT_NEAR(stacked(12, 10), 2.6f, 1e-5);
+    EXPECT_NEAR(stacked(14, 30), 0.75f, 1e-5);
+    EXPECT_FLOAT_EQ(stacked(4, 5), 0.3f);
+    EXPECT_EQ(stacked(6, 20), 0.0f);
+    EXPECT_EQ((stacked.array() != 0.0f).count(), 4);
+
+    // The older rule gives all three the room's height, or nearly.
+    ScanContextConfig span = config;
+    span.indoor_rule = IndoorCellRule::kZSpan;
+    const Descriptor spanned = MakeDescriptor(cloud, span);
+    EXPECT_NEAR(spanned(10, 40), 2.74f, 1e-5);
+    EXPECT_NEAR(spanned(14, 30), 2.71f, 1e-5);
+    EXPECT_EQ(ToString(IndoorCellRule::kZStack), "z_stack");
+    EXPECT_EQ(ParseIndoorCellRule("z_span"), IndoorCellRule::kZSpan);
+    EXPECT_FALSE(ParseIndoorCellRule("span"));
 }
 
 TEST(DescriptorTest, BuilderReusesItsOutputWithoutReallocating) {
