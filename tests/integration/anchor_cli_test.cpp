@@ -1015,6 +1015,44 @@ TEST_F(AnchorCli, LiveAHintOfWhereTheWalkStartsLocalisesInAMirrorSymmetricBuildi
     EXPECT_NE(Cli("localize x --map y -o z --near 1").exit_code, 0);
 }
 
+// A session made before the z_stack cell rule names none in session.json: its descriptors are
+// z_span's, which the reference's are not. Its stored descriptors zeroed here (on them neither
+// could place anything), the anchoring and the relocaliser compute them again from the clouds:
+// anchored within centimetres, saying so, and localised.
+TEST_F(AnchorCli, ASessionOfTheOlderCellRuleHasItsDescriptorsComputedAgain) {
+    const fs::path office = Office();
+    const fs::path walk = Walk("handheld", office, "--platform handheld --seed 12");
+    const fs::path older = Out("older");
+    fs::create_directories(older / "capture");
+    fs::copy(walk / "session", older / "session", fs::copy_options::recursive);
+    fs::copy(walk / "capture" / "ground_truth.tum", older / "capture" / "ground_truth.tum");
+    json manifest = ReadJson(older / "session" / "session.json");
+    ASSERT_EQ(manifest["descriptor"]["cell_rule"]["rule"], "z_stack");
+    manifest["descriptor"]["cell_rule"].erase("rule");
+    io::WriteFileAtomic(older / "session" / "session.json", manifest.dump(2));
+    size_t zeroed = 0;
+    for (const auto& e : fs::directory_iterator(older / "session" / "SCDs")) {
+        const io::DescriptorMatrix d = io::ReadScd(e.path());
+        io::WriteScd(e.path(), io::DescriptorMatrix::Zero(d.rows(), d.cols()));
+        ++zeroed;
+    }
+    ASSERT_GT(zeroed, 10u);
+
+    const fs::path out = Out("anchor_older");
+    ASSERT_EQ(Anchor(office / "reference", {older / "session"}, out), 0);
+    const json session = ReadJson(out / "anchor.json")["sessions"][0];
+    EXPECT_EQ(session["verdict"], "anchored");
+    const std::string notes = session["notes"].dump();
+    EXPECT_NE(notes.find("descriptors recomputed: the session's (indoor, z_span)"),
+              std::string::npos)
+        << notes;
+    ExpectTargets(out / "session", walk);
+
+    const json live = Localize(office, older, Out("live_older"))["summary"];
+    EXPECT_EQ(live["final_state"], "localised") << live.dump(1);
+    EXPECT_LT(live["truth"]["ape_rmse_m"].get<double>(), 0.05);
+}
+
 TEST_F(AnchorCli, HelpNamesTheOutputs) {
     const auto r = Cli("anchor --help");
     EXPECT_EQ(r.exit_code, 0);
