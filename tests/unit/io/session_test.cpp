@@ -259,7 +259,7 @@ TEST(Session, ManifestSaysItsIndoorCellRule) {
     ASSERT_NE(at, std::string::npos) << text;
     std::string older = text;
     older.erase(at, older.find('\n', at + 2) - at);
-    EXPECT_EQ(older.find("rule\""), std::string::npos) << older;
+    EXPECT_EQ(older.find("\"rule\""), std::string::npos) << older;
     EXPECT_EQ(ParseManifest("session.json", older).descriptor.cell_rule, "z_span");
     std::string bad = text;
     bad.replace(bad.find("z_stack"), 7, "z_max");
