@@ -46,8 +46,8 @@ public:
     explicit DescriptorBuilder(const ScanContextConfig& config);
 
     // Resizes *out to rings x sectors when its shape differs, then fills it; with the z_stack rule
-    // its list of the scan's points grows to the largest scan seen (no other allocation). Empty
-    // input gives an all-zero descriptor.
+    // its scratch (the scan's heights by cell) grows to the largest scan seen, and nothing else
+    // allocates. Empty input gives an all-zero descriptor.
     DescriptorStats Build(std::span<const Eigen::Vector3f> points, Descriptor* out);
     DescriptorStats Build(const common::PointCloud& cloud, Descriptor* out) {
         return Build(std::span<const Eigen::Vector3f>(cloud.xyz), out);
