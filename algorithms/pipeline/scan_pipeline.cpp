@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "algorithms/common/status.hpp"
+#include "algorithms/scancontext/session_descriptor.hpp"
 
 namespace bimslam::pipeline {
 
@@ -185,14 +186,7 @@ io::SessionManifest MakeSessionManifest(const ouster::SensorInfo& info,
     manifest.sensor = {info.prod_line.empty() ? "OS-1-32" : info.prod_line,
                        info.format.pixels_per_column, info.format.columns_per_frame, metadata_file};
     manifest.keyframe = {keyframes.distance_m, keyframes.angle_deg};
-    const auto& sc = keyframes.descriptor;
-    manifest.descriptor = {"indoor",
-                           sc.num_rings,
-                           sc.num_sectors,
-                           sc.max_radius,
-                           sc.indoor_min_points,
-                           sc.indoor_min_z_span,
-                           std::string(scancontext::ToString(sc.indoor_rule))};
+    manifest.descriptor = scancontext::SessionDescriptor(keyframes.descriptor);
     return manifest;
 }
 

@@ -13,6 +13,7 @@
 #include "algorithms/io/session.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/posegraph/pose_graph.hpp"
+#include "algorithms/scancontext/session_descriptor.hpp"
 
 namespace bimslam::anchor {
 namespace fs = std::filesystem;
@@ -316,13 +317,7 @@ std::vector<fs::path> WriteAnchorOutput(const fs::path& out,
         m.world_frame = "bim";
         m.created.clear();
         m.counts = {};
-        m.descriptor.kind = std::string(scancontext::ToString(config.descriptor.kind));
-        m.descriptor.rings = config.descriptor.num_rings;
-        m.descriptor.sectors = config.descriptor.num_sectors;
-        m.descriptor.max_radius_m = config.descriptor.max_radius;
-        m.descriptor.min_points = config.descriptor.indoor_min_points;
-        m.descriptor.min_z_span_m = config.descriptor.indoor_min_z_span;
-        m.descriptor.cell_rule = std::string(scancontext::ToString(config.descriptor.indoor_rule));
+        m.descriptor = scancontext::SessionDescriptor(config.descriptor);
         io::SessionWriter w(
             dir, m, {.overwrite = overwrite, .flush_every = 1000000, .sync_each_file = false});
         for (size_t k = 0; k < in.keyframes(); ++k) {

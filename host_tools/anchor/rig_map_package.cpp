@@ -6,6 +6,7 @@
 
 #include "algorithms/common/status.hpp"
 #include "algorithms/scancontext/config.hpp"
+#include "algorithms/scancontext/session_descriptor.hpp"
 #include "host_tools/anchor/anchor_session.hpp"
 #include "host_tools/anchor/target.hpp"
 
@@ -39,14 +40,7 @@ localization::RigMap MakeRigMap(const std::filesystem::path& reference,
     m.sensor = manifest.sensor;
     // The descriptors are the session's when made as the anchoring makes them, else computed
     // again that way (LoadAnchorSession): either way, by config.descriptor.
-    const scancontext::ScanContextConfig& sc = config.descriptor;
-    m.descriptor.kind = std::string(scancontext::ToString(sc.kind));
-    m.descriptor.rings = sc.num_rings;
-    m.descriptor.sectors = sc.num_sectors;
-    m.descriptor.max_radius_m = sc.max_radius;
-    m.descriptor.min_points = sc.indoor_min_points;
-    m.descriptor.min_z_span_m = sc.indoor_min_z_span;
-    m.descriptor.cell_rule = std::string(scancontext::ToString(sc.indoor_rule));
+    m.descriptor = scancontext::SessionDescriptor(config.descriptor);
     m.storeys = storeys;
     for (size_t k = 0; k < ref.keyframes(); ++k) {
         m.keyframes.push_back(ref.poses[k]);

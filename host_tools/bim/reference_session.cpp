@@ -12,6 +12,7 @@
 #include "algorithms/common/stopwatch.hpp"
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/scancontext/descriptor.hpp"
+#include "algorithms/scancontext/session_descriptor.hpp"
 #include "algorithms/simulation/scene.hpp"
 #include "host_tools/bim/reference_walk.hpp"
 
@@ -142,13 +143,7 @@ io::SessionManifest Manifest(const BimModel& model, const std::string& model_sha
     manifest.sensor = {options.sensor_model, options.lidar.beams(), options.lidar.columns,
                        options.metadata_file};
     manifest.keyframe = {options.keyframe_gap_m, 360.0};  // by distance along the walk only
-    manifest.descriptor = {"indoor",
-                           sc.num_rings,
-                           sc.num_sectors,
-                           sc.max_radius,
-                           sc.indoor_min_points,
-                           sc.indoor_min_z_span,
-                           std::string(scancontext::ToString(sc.indoor_rule))};
+    manifest.descriptor = scancontext::SessionDescriptor(sc);
     io::SessionManifest::Model m;
     m.file = std::filesystem::path(model.file).filename().string();
     m.sha256 = model_sha256;
