@@ -28,8 +28,11 @@ void RegistrationCheckConfig::Validate() const {
                     retry_yaw_step_deg, "must be in (0, 90]");
 }
 
+// The evidence leaves out the points matched to line-like planes (VoxelPlane::line_like): their
+// distances neither confirm nor contradict the pose.
 double RegistrationScore(const RegistrationResult& reg) {
-    return reg.points > 0 ? double(reg.inliers) / double(reg.points) : 0.0;
+    const int judged = reg.points - reg.unjudged;
+    return judged > 0 ? double(reg.inliers) / double(judged) : 0.0;
 }
 
 uint32_t JudgeRegistration(const RegistrationResult& reg, const Eigen::Isometry3d& T_pred,
@@ -38,11 +41,13 @@ uint32_t JudgeRegistration(const RegistrationResult& reg, const Eigen::Isometry3
     if (!config.enabled || reg.failed || reg.points <= 0) return 0;
     uint32_t reasons = 0;
     const double points = double(reg.points);
+    // A point matched to a line-like plane found the map there: it counts for the overlap.
     if (double(reg.correspondences) < config.min_overlap * points) reasons |= kLowOverlap;
-    // Few inliers among all the points and among those matched: a right scan with much of its
-    // view new or moving (a door leaf) has the first low, not the second.
+    // Few inliers among all the points and among those matched (both without the points matched
+    // to line-like planes): a right scan with much of its view new or moving (a door leaf) has
+    // the first low, not the second.
     if (RegistrationScore(reg) < config.min_inlier_ratio &&
-        double(reg.inliers) < config.min_inlier_fit * double(reg.correspondences)) {
+        double(reg.inliers) < config.min_inlier_fit * double(reg.correspondences - reg.unjudged)) {
         reasons |= kFewInliers;
     }
     if (reg.rms > config.max_rms) reasons |= kHighResidual;

@@ -156,6 +156,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
         c.d = plane->offset;
         c.alpha = alpha;
         c.sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));  // Cauchy IRLS weight
+        c.judged = !plane->line_like;
     }
     neighbours_cached_ = std::max(neighbours_cached_, std::min(k, neighbour_key_.size()));
     if (!in.edge_map) return n;
@@ -176,6 +177,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
             c.d = e.dot(line->point.cast<double>());
             c.sqrt_w = sqrt_w;
             c.alpha = 0;
+            c.judged = true;
         }
     }
     return n;
@@ -315,6 +317,10 @@ ScanRegistration::Residuals ScanRegistration::Measure(const AlignInput& in,
         }
         out.weight_sum += w;
         out.weighted_sq += w * r * r;
+        if (!c.judged) {
+            ++out.unjudged;
+            continue;
+        }
         out.inliers += std::abs(r) <= config_.inlier_distance ? 1 : 0;
     }
     return out;
@@ -440,6 +446,7 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     result_.covariance = info.scale.asDiagonal() * cov * info.scale.asDiagonal();
     result_.correspondences = n;
     result_.inliers = res.inliers;
+    result_.unjudged = res.unjudged;
     result_.rms = res.weight_sum > 0 ? std::sqrt(res.weighted_sq / res.weight_sum) : 0;
     return result_;
 }

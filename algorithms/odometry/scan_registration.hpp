@@ -125,9 +125,13 @@ struct RegistrationResult {
     common::Matrix6d covariance = common::Matrix6d::Identity();
     int iterations = 0;
     int correspondences = 0;
-    int points = 0;   // scan points registered (in.points), the denominator of the ratios
-    int inliers = 0;  // correspondences within inlier_distance of their plane at the solution
-    double rms = 0;   // m, of the weighted residuals at the end
+    int points = 0;  // scan points registered (in.points), the denominator of the ratios
+    int inliers =
+        0;  // judged correspondences within inlier_distance of their plane at the solution
+    // Correspondences on line-like planes (VoxelPlane::line_like): registered, but left out of
+    // the evidence's counts (registration_check.hpp). Included in `correspondences`.
+    int unjudged = 0;
+    double rms = 0;  // m, of the weighted residuals at the end
     int degenerate_directions = 0;
     // AlignInput::axis's evidence: the weights' share of the correspondences on surfaces that
     // face it, each weighted by its normal's cos^2 to it (0 when no axis was given).
@@ -184,6 +188,7 @@ private:
         double d = 0;
         double sqrt_w = 1;
         double alpha = 0;
+        bool judged = true;  // false on a line-like plane (VoxelPlane::line_like)
     };
     using Matrix12d = Eigen::Matrix<double, 12, 12>;
     using Vector12d = Eigen::Matrix<double, 12, 1>;
@@ -211,7 +216,7 @@ private:
     // weights on surfaces facing in.axis, inliers.
     struct Residuals {
         double mean_range = 0, weight_sum = 0, weighted_sq = 0, axis_sum = 0;
-        int inliers = 0;
+        int inliers = 0, unjudged = 0;
     };
     // The normal equations at the solution, rotations scaled to metres of mean range (x = S x'):
     // S the information on delta with the correction marginalised out, and the correction's

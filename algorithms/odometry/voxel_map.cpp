@@ -39,6 +39,8 @@ void VoxelMapConfig::Validate() const {
             "min_plane_points", min_plane_points, "must be in [3, max_points_per_voxel]");
     Require(max_plane_thickness > 0 && max_plane_thickness < voxel_size, c, "max_plane_thickness",
             max_plane_thickness, "must be in (0, voxel_size)");
+    Require(min_judged_spread >= 0 && min_judged_spread < voxel_size, c, "min_judged_spread",
+            min_judged_spread, "must be in [0, voxel_size)");
 }
 
 VoxelMap::VoxelMap(const VoxelMapConfig& config) : config_(config) {
@@ -175,6 +177,7 @@ void VoxelMap::Fit(Voxel& v) const {
     const double facing = v.viewed > 0 ? n.dot(v.view_sum.cast<double>()) / v.viewed : 0.0;
     if (facing < 0) n = -n;
     v.plane.one_sided = std::abs(facing) >= kMinFacing;
+    v.plane.line_like = spread < config_.min_judged_spread;
     v.plane.normal = n.cast<float>();
     v.plane.offset = static_cast<float>(n.dot(mean));
     v.plane.valid = true;

@@ -49,6 +49,14 @@ struct VoxelMapConfig {
     // max_plane_thickness while the spread within it is at least three times that.
     int min_plane_points = 5;
     double max_plane_thickness = 0.04;  // m
+    // A plane whose spread within it is under this in its second direction was fitted through
+    // points on a line (one ring crossing the voxel, as the ground 10-23 m out): any plane
+    // through the line fits them, and the fit turns about it with the noise. It registers (its
+    // constraint across the line is real: dropping such planes made four of eight stair walks
+    // worse by 0.06-1.25 cm, README.md, "Planes through a line are no evidence") but is no
+    // evidence of fit for the registration check (VoxelPlane::line_like).
+    // A tenth of the voxel, as the anchoring's normals require (registration/oriented_cloud.hpp).
+    double min_judged_spread = 0.06;  // m
     // LOAM's edge map (edge_features.hpp): each voxel fits a line instead, valid when the spread
     // across it is at most max_plane_thickness in both directions and the spread along it at
     // least three times that.
@@ -64,6 +72,9 @@ struct VoxelPlane {
     // Seen from one side: the points' mean view direction leaves the plane by at least
     // kMinFacing (sine of the angle). Points inserted without a viewpoint leave it two-sided.
     bool one_sided = false;
+    // Fitted through points on a line (VoxelMapConfig::min_judged_spread): it registers, but a
+    // point's distance to it says little about whether the point fits.
+    bool line_like = false;
 };
 
 inline constexpr float kMinFacing = 0.05f;  // about 3 degrees

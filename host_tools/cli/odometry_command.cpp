@@ -71,7 +71,7 @@ int Odometry(const OdometryArgs& a) {
         }
         csv << "scan,stamp_ns,flags,check_reasons,points,correspondences,inliers,rms_m,"
                "correspondence_distance_m,motion_m,motion_deg,total_ms,deskew_rounds,budget_cut,"
-               "height_share,height_sigma_m\n";
+               "height_share,height_sigma_m,unjudged\n";
     }
     o.on_scan = [tty, n = 0, &csv](const odometry::OdometryResult& r) mutable {
         if (csv.is_open()) {
@@ -81,7 +81,7 @@ int Odometry(const OdometryArgs& a) {
                 << r.correspondence_distance << "," << r.T_prev_lidar.translation().norm() << ","
                 << common::RotationAngle(r.T_prev_lidar) * 180 / M_PI << "," << r.total_ms << ","
                 << r.deskew_rounds << ",\"" << odometry::BudgetCutText(r.budget_cut) << "\","
-                << g.axis_share << "," << r.height_sigma << "\n";
+                << g.axis_share << "," << r.height_sigma << "," << g.unjudged << "\n";
         }
         ++n;
         if (tty && n % 50 == 0) {
@@ -201,7 +201,8 @@ void AddOdometryCommand(CLI::App& app, int& exit_code) {
         "budget cut: registration, gyro gate, other headings, start refinement, "
         "deskew round; with the IMU, the share of the registration's weights on surfaces "
         "facing up or down: under 0.01 the scan did not see the height; and the height's 1-sigma "
-        "from the accelerometers' filter after the scan, m)");
+        "from the accelerometers' filter after the scan, m; unjudged: the correspondences on "
+        "planes fitted through a line, which the checks leave out)");
     cmd->callback([args, &exit_code] { exit_code = Run([&] { return Odometry(*args); }); });
 }
 

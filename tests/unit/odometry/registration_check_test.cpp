@@ -53,6 +53,34 @@ TEST(RegistrationCheck, EachKindOfEvidenceFailsOnItsOwn) {
               "low overlap with the map, high residual");
 }
 
+// Duplex_A's walk down from Level 2, its scan 1 against a map of one scan (`bimslam odometry
+// --scans-csv`): 2364 points, 1200 matched, 943 within 0.1 m: "few inliers" (0.40 of the points,
+// 0.79 of the matches). 699 of the matches were to planes through one ring (VoxelPlane::
+// line_like), 239 of the 257 matches off their plane among them. Left out, 483 of the other 501
+// fit (0.96); the overlap still counts them all (0.51).
+TEST(RegistrationCheck, MatchesToLineLikePlanesAreNoEvidenceOfFit) {
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d sigma = Eigen::Vector3d::Constant(0.05);
+    RegistrationResult r;
+    r.points = 2364;
+    r.correspondences = 1200;
+    r.inliers = 943;
+    r.rms = 0.019;
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, {}), uint32_t(kFewInliers)) << "all counted";
+    r.unjudged = 699;
+    r.inliers = 483;
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, {}), 0u);
+    EXPECT_NEAR(RegistrationScore(r), 483.0 / 1665.0, 1e-12);
+    // The other matches must still fit: 300 of 501 is a wrong minimum's share.
+    r.inliers = 300;
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, {}), uint32_t(kFewInliers));
+    // A scan matched mostly to such planes still overlaps the map.
+    r.correspondences = 800;
+    r.unjudged = 750;
+    r.inliers = 50;
+    EXPECT_EQ(JudgeRegistration(r, I, I, sigma, {}), 0u);
+}
+
 TEST(RegistrationCheck, AFailedRegistrationIsNotJudgedAgain) {
     RegistrationResult r;
     r.failed = true;  // kRegistrationFailed already says so
