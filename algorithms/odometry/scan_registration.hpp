@@ -126,10 +126,10 @@ struct RegistrationResult {
     int iterations = 0;
     int correspondences = 0;
     int points = 0;  // scan points registered (in.points), the denominator of the ratios
-    int inliers =
-        0;  // judged correspondences within inlier_distance of their plane at the solution
+    // Judged correspondences within inlier_distance of their plane at the solution.
+    int inliers = 0;
     // Correspondences on line-like planes (VoxelPlane::line_like): registered, but left out of
-    // the evidence's counts (registration_check.hpp). Included in `correspondences`.
+    // the inliers' counts (registration_check.hpp). Included in `correspondences`.
     int unjudged = 0;
     double rms = 0;  // m, of the weighted residuals at the end
     int degenerate_directions = 0;
