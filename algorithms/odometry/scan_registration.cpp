@@ -68,6 +68,13 @@ struct RowModel {
         return v + av + 0.5 * a.cross(av);
     }
 };
+
+// The guess's variance per direction in the scaled coordinates (rotations in metres of mean
+// range, x = S x'): where the scan does not measure, this is what the pose keeps.
+common::Vector6d ScaledPriorVariance(const common::Vector6d& prior_sigma,
+                                     const common::Vector6d& scale) {
+    return prior_sigma.cwiseQuotient(scale).cwiseAbs2();
+}
 }  // namespace
 
 // The normal equations of the weighted residuals at (delta, xi) over [delta; xi] (the header's
@@ -363,7 +370,7 @@ common::Matrix6d ScanRegistration::KeepMeasured(const AlignInput& in, const Info
     const common::Vector6d lambda = eig.eigenvalues();
     const common::Matrix6d V = eig.eigenvectors();
     const double s2 = std::max(res.weighted_sq / std::max(1.0, res.weight_sum - 6), 0.005 * 0.005);
-    const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(info.scale).cwiseAbs2();
+    const common::Vector6d prior_var = ScaledPriorVariance(in.prior_sigma, info.scale);
     common::Matrix6d cov = common::Matrix6d::Zero();
     result_.min_eigen_ratio = res.weight_sum > 0 ? lambda(0) / res.weight_sum : 0;
     result_.axis_share = res.weight_sum > 0 ? res.axis_sum / res.weight_sum : 0;
@@ -435,11 +442,11 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
     delta = scaled.cwiseProduct(info.scale);
     if (in.fix_rotation) {
         // A weak direction mixing rotation in must not bring it back; its variance is T0's.
-        const common::Vector6d prior_var = in.prior_sigma.cwiseQuotient(info.scale).cwiseAbs2();
         delta.tail<3>().setZero();
         cov.block<3, 3>(3, 0).setZero();
         cov.block<3, 3>(0, 3).setZero();
-        cov.block<3, 3>(3, 3) = prior_var.tail<3>().asDiagonal();
+        cov.block<3, 3>(3, 3) =
+            ScaledPriorVariance(in.prior_sigma, info.scale).tail<3>().asDiagonal();
     }
     result_.T_map_lidar = ApplyPerturbation(T0, delta);
     result_.correction = xi;
