@@ -14,8 +14,8 @@
 // - residual: the weighted RMS of the point-to-plane distances;
 // - points matched to planes fitted through a line (VoxelPlane::line_like: one ring far out in a
 //   map of one scan) are left out of the inliers' counts: any tilt of such a plane fits its
-//   ring, so a point's distance to it is no evidence (README.md, "Limits"); they count for the
-//   overlap, since the map holds a surface where they are;
+//   ring, so a point's distance to it is no evidence (README.md, "Planes through a line are no
+//   evidence"); they count for the overlap, since the map holds a surface where they are;
 // - agreement with a strong prediction: with the IMU's rotation the registration is already held
 //   to the gyro (LidarOdometryConfig::imu_rotation_gate), so what is checked here is the
 //   translation against the Go1's legs or the constant velocity, in sigmas of that prediction,
