@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "algorithms/registration/oriented_cloud.hpp"
@@ -22,6 +23,14 @@ struct FreeSpaceConfig {
     size_t max_rays = 300;    // query points tested, evenly thinned
     double margin = 0.3;      // m: a crossing this close before the point does not count
     double max_range = 12.0;  // m: farther points are not tested (long rays, little evidence)
+    // Porosity (MarkPorous): the rays of each of the map's own clouds followed, evenly thinned;
+    // a surfel is porous when at least porous_crossings of them cross it (one can be a ray
+    // grazing a patch's rounded corner) and they are at least porous_share of those that cross it
+    // or end on it. A railing's bars stop few of the rays that reach them; a wall's patch drawn
+    // past its end into a doorway stops most (the wall), and stays solid.
+    size_t porous_rays = 1000;
+    size_t porous_crossings = 2;
+    double porous_share = 0.5;
 };
 
 // Where a ray was seen through a surface: the crossing on it (map frame), the surface's normal,
@@ -43,9 +52,25 @@ struct FreeSpaceResult {
 
 // Marches each ray through `map` in half-voxel steps and looks for a surfel of the voxel it is
 // in whose patch (Surfel::Covers: a voxel's plane does not fill the voxel at a door or a wall's
-// end) it crosses inside that voxel, from the side the surfel faces.
+// end) it crosses inside that voxel, from the side the surfel faces. Porous surfels are passed.
 FreeSpaceResult CheckFreeSpace(const OrientedCloud& source, const SurfelMap& map,
                                const Eigen::Isometry3d& T_map_source,
                                const FreeSpaceConfig& config);
+
+// The surfels that the rays of one of the map's own clouds (placed as when the map was built)
+// cross as CheckFreeSpace would (every crossing along each ray), and those they end on (the ray's
+// point within half the margin of the plane, inside the patch): indices into map.surfels(), once
+// per ray, config.porous_rays rays at most. Where the map is right, its own rays cross only what
+// is not solid: between a railing's bars, or a patch drawn past its wall's end.
+struct SurfelRays {
+    std::vector<uint32_t> crossed, ended;
+};
+SurfelRays RaysAtSurfels(const OrientedCloud& cloud, const SurfelMap& map,
+                         const Eigen::Isometry3d& T_map_cloud, const FreeSpaceConfig& config);
+
+// Marks porous the surfels that the rays gathered by RaysAtSurfels (over every cloud of the map)
+// pass as FreeSpaceConfig says. Returns how many surfels it marked.
+size_t MarkPorous(SurfelMap* map, const std::vector<SurfelRays>& rays,
+                  const FreeSpaceConfig& config);
 
 }  // namespace bimslam::registration

@@ -114,6 +114,17 @@ SurfelMap SurfelMap::Restore(const SurfelMapConfig& config, std::vector<Surfel> 
     return m;
 }
 
+void SurfelMap::MarkPorous(const std::vector<uint32_t>& indices) {
+    for (const uint32_t i : indices) {
+        if (i >= surfels_.size()) {
+            throw common::Error(common::StatusCode::kInvalidArgument,
+                                "SurfelMap::MarkPorous: surfel " + std::to_string(i) + " of " +
+                                    std::to_string(surfels_.size()));
+        }
+        surfels_[i].porous = true;
+    }
+}
+
 using common::kVoxelAndFaceNeighbours;
 
 const Surfel* SurfelMap::Find(const Eigen::Vector3f& p, const Eigen::Vector3f& n,

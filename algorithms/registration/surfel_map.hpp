@@ -44,6 +44,12 @@ struct Surfel {
     Eigen::Vector3f axis = Eigen::Vector3f::Zero();
     float spread[2] = {0, 0};
     uint32_t points = 0;
+    // Rays of the map's own clouds pass through it (free_space.hpp, MarkPorous): a railing's bars
+    // with air between them, which a 0.5 m voxel's plane makes a surface. The free-space check
+    // does not count a ray crossing it as seen through.
+    bool porous = false;
+    // Every field equal (a saved and restored map; the struct's padding is not compared).
+    bool operator==(const Surfel&) const = default;
     // Whether a point of the plane lies within two standard deviations of the patch.
     bool Covers(const Eigen::Vector3f& x) const {
         const Eigen::Vector3f d = x - centroid;
@@ -87,6 +93,9 @@ public:
         uint8_t bin = 0;
     };
     const std::vector<Place>& places() const { return places_; }
+    // Marks surfels()[i] porous (Surfel::porous) for each i given; an index out of range throws
+    // common::Error (kInvalidArgument).
+    void MarkPorous(const std::vector<uint32_t>& indices);
     // A built map from saved surfels and their places. Throws common::Error (kInvalidArgument)
     // on counts that differ, a bin out of range or two surfels in one voxel and bin.
     static SurfelMap Restore(const SurfelMapConfig& config, std::vector<Surfel> surfels,

@@ -2,13 +2,17 @@
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // FindRemovedSurfaces on hand-made crossings and on CheckFreeSpace over a hand-built map: a
 // partition that several keyframes see through onto the walls behind it is explained; crossings
-// spread over many surfaces, or rays that end where the map has nothing, are not.
+// spread over many surfaces, or rays that end where the map has nothing, are not. And porosity:
+// a railing that the map's own rays pass between its bars is no surface to see through, a solid
+// wall stays one.
 #include "algorithms/registration/removed_surfaces.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
+#include "algorithms/common/status.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/registration/surfel_map.hpp"
 
@@ -146,6 +150,75 @@ TEST(RemovedSurfaces, CheckFreeSpaceSaysWhereTheRaysEnd) {
     const FreeSpaceResult short_of = CheckFreeSpace(PointsAt(4.0f), map, I, FreeSpaceConfig{});
     ASSERT_GT(short_of.seen_through, 100u);
     for (const Crossing& c : short_of.crossings) EXPECT_FALSE(c.lands_on_map);
+}
+
+// A scan from the origin of a railing at x = 2.2 (bars 5 cm wide every 25 cm, 1 m high) in front
+// of a solid wall at x = 5: each ray ends on the first of the two it meets.
+OrientedCloud RailingScan() {
+    OrientedCloud scan;
+    for (float b = -0.6f; b <= 0.6f; b += 0.01f) {        // azimuth, rad
+        for (float e = -0.3f; e <= 0.15f; e += 0.015f) {  // elevation: up to 0.66 m at the rail
+            const Eigen::Vector3f dir(std::cos(e) * std::cos(b), std::cos(e) * std::sin(b),
+                                      std::sin(e));
+            const Eigen::Vector3f at_rail = dir * (2.2f / dir.x());
+            const float phase = std::fmod(at_rail.y() + 10.0f, 0.25f);
+            const bool bar = at_rail.z() > -1.0f && at_rail.z() < 1.0f && phase < 0.05f;
+            scan.points.push_back(bar ? at_rail : Eigen::Vector3f(dir * (5.0f / dir.x())));
+            scan.normals.emplace_back(-1.0f, 0.0f, 0.0f);
+        }
+    }
+    return scan;
+}
+
+TEST(FreeSpace, ARailingTheMapsOwnRaysPassThroughIsPorousAndTheWallBehindItStaysSolid) {
+    const OrientedCloud scan = RailingScan();
+    const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+    SurfelMap map({.voxel_size = 0.5});
+    map.Add(scan, I);
+    map.Build();
+    const FreeSpaceConfig config;
+    // Before: the scan that made the map sees through its railing wherever it saw the wall.
+    const FreeSpaceResult before = CheckFreeSpace(scan, map, I, config);
+    ASSERT_GT(before.ratio(), 0.3) << before.seen_through << " of " << before.rays;
+    for (const Crossing& c : before.crossings) EXPECT_NEAR(c.at.x(), 2.2f, 0.05f);
+
+    const size_t marked = MarkPorous(&map, {RaysAtSurfels(scan, map, I, config)}, config);
+    size_t rail = 0, porous_rail = 0, porous_wall = 0;
+    for (const Surfel& s : map.surfels()) {
+        const bool on_rail = std::abs(s.centroid.x() - 2.2f) < 0.1f;
+        rail += on_rail;
+        porous_rail += on_rail && s.porous;
+        porous_wall += !on_rail && s.porous;
+    }
+    EXPECT_GT(rail, 3u);
+    EXPECT_EQ(porous_rail, rail);
+    EXPECT_EQ(porous_wall, 0u);
+    EXPECT_EQ(marked, rail);
+    EXPECT_EQ(CheckFreeSpace(scan, map, I, config).seen_through, 0u);
+    // A query that sees 2 m beyond the wall (a wrong placement, or the wall gone) still sees
+    // through the wall, and only the wall.
+    OrientedCloud beyond;
+    for (const Eigen::Vector3f& p : scan.points) beyond.points.push_back(p * (7.0f / p.x()));
+    beyond.normals = scan.normals;
+    const FreeSpaceResult through_wall = CheckFreeSpace(beyond, map, I, config);
+    EXPECT_GT(through_wall.ratio(), 0.5);
+    for (const Crossing& c : through_wall.crossings) EXPECT_NEAR(c.at.x(), 5.0f, 0.05f);
+}
+
+// MarkPorous's two bounds: two rays at least, and at least half of those that reach the surfel.
+TEST(FreeSpace, ASurfelIsPorousWhenTwoRaysAndHalfOfThoseReachingItPassIt) {
+    SurfelMap map = TwoWalls();
+    ASSERT_GT(map.size(), 3u);
+    const FreeSpaceConfig config;  // porous_crossings 2, porous_share 0.5
+    // Surfel 0 crossed once, 1 twice by the rays of two clouds, 2 twice but stopping three.
+    EXPECT_EQ(MarkPorous(&map, {{{0, 1}, {}}, {{1, 2, 2}, {2, 2, 2}}}, config), 1u);
+    EXPECT_FALSE(map.surfels()[0].porous);
+    EXPECT_TRUE(map.surfels()[1].porous);
+    EXPECT_FALSE(map.surfels()[2].porous);
+    // Surfel 0 crossed twice and stopping one: two thirds pass.
+    EXPECT_EQ(MarkPorous(&map, {{{0}, {0}}, {{0}, {}}}, config), 1u);
+    EXPECT_TRUE(map.surfels()[0].porous);
+    EXPECT_THROW(map.MarkPorous({uint32_t(map.size())}), common::Error);
 }
 
 }  // namespace
