@@ -179,7 +179,8 @@ std::string SurfelsPayload(const registration::SurfelMap& l) {
         Append(p, at.key);
         Append(p, s.points);
         Append(p, at.bin);
-        p.append(3, '\0');
+        Append(p, uint8_t(s.porous ? 1 : 0));  // a padding byte before stop 74: 0, not porous
+        p.append(2, '\0');
         for (const float v : {s.normal.x(), s.normal.y(), s.normal.z(), s.offset, s.centroid.x(),
                               s.centroid.y(), s.centroid.z(), s.thickness, s.axis.x(), s.axis.y(),
                               s.axis.z(), s.spread[0], s.spread[1]}) {
@@ -406,6 +407,12 @@ void Parser::ReadLevels(RigMap& m) const {
             registration::Surfel& s = surfels[i];
             s.points = Load<uint32_t>(r + 8);
             places[i].bin = Load<uint8_t>(r + 12);
+            const uint8_t porous = Load<uint8_t>(r + 13);
+            if (porous > 1) {
+                Fail(r + 13, "surfel " + std::to_string(i) + " of level " + std::to_string(level) +
+                                 ": porous flag " + std::to_string(porous) + ", not 0 or 1");
+            }
+            s.porous = porous == 1;
             float v[13];
             std::memcpy(v, bytes_.data() + r + 16, sizeof v);
             if (!std::all_of(v, v + 13, [](float x) { return std::isfinite(x); })) {

@@ -48,6 +48,23 @@ Target::Target(const std::vector<AnchorSession>& sessions,
             });
         },
         [&] { index_.Build(); });
+    MarkPorous(sessions, config);
+}
+
+// The free-space level's surfels that the members' own rays pass through are porous
+// (registration::MarkPorous): a railing's bars, which the 0.5 m surfels make a wall, otherwise
+// count as seen through wherever a query looks across a stairwell (issue 35: Office_A's Go1 climb,
+// whose right loops by the stair saw through 26 % of their rays). The model's own rays are no
+// label: whatever they pass through is not solid where the target's sessions saw it.
+void Target::MarkPorous(const std::vector<AnchorSession>& sessions, const AnchorConfig& config) {
+    registration::SurfelMap& level = map_->mutable_level(config.free_space_level);
+    std::vector<registration::SurfelRays> rays(keyframes_.size());
+    tbb::parallel_for(size_t(0), keyframes_.size(), [&](size_t i) {
+        const TargetKeyframe& k = keyframes_[i];
+        rays[i] = registration::RaysAtSurfels(sessions[k.session].clouds[k.index], level,
+                                              k.T_world_lidar, config.free_space);
+    });
+    porous_ = registration::MarkPorous(&level, rays, config.free_space);
 }
 
 bool Target::Contains(size_t session) const {

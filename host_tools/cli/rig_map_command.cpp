@@ -135,13 +135,20 @@ int MakePackage(const RigMapArgs& a) {
                                             .count());
     localization::WriteRigMap(a.out, map);
     const double bytes = double(fs::file_size(a.out));
-    std::vector<size_t> surfels;
-    for (const auto& l : map.levels) surfels.push_back(l.size());
+    // Per level: surfels, and those the reference's own rays pass through (porous: a railing's
+    // bars, registration/free_space.hpp), which the free-space check does not count.
+    std::vector<size_t> surfels, porous;
+    for (const auto& l : map.levels) {
+        surfels.push_back(l.size());
+        porous.push_back(size_t(std::count_if(l.surfels().begin(), l.surfels().end(),
+                                              [](const auto& s) { return s.porous; })));
+    }
     std::cout << "rig map  " << a.out << ": " << map.keyframes.size() << " keyframes on "
               << map.storeys.size() << " storeys, " << map.spaces.size() << " spaces, surfels";
     for (size_t l = 0; l < surfels.size(); ++l) {
         std::cout << (l ? " / " : " ") << surfels[l] << " at "
                   << Fixed(map.levels[l].config().voxel_size, 2) << " m";
+        if (porous[l]) std::cout << " (" << porous[l] << " porous)";
     }
     std::cout << ", " << Fixed(bytes / 1e6, 1) << " MB in " << Fixed(common::SecondsSince(t0), 1)
               << " s\nmodel    " << map.model_file << " (SHA-256 " << map.model_sha256 << ")\n";
@@ -152,6 +159,7 @@ int MakePackage(const RigMapArgs& a) {
                             {"storeys", map.storeys.size()},
                             {"spaces", map.spaces.size()},
                             {"surfels", surfels},
+                            {"porous_surfels", porous},
                             {"model_file", map.model_file},
                             {"model_sha256", map.model_sha256},
                             {"reference", map.reference}};
@@ -167,7 +175,9 @@ void AddRigMapCommand(CLI::App& app, int& exit_code) {
     auto* cmd = app.add_subcommand(
         "rig-map",
         "The rig's map package of a model: the BIM reference's keyframes (poses, storeys, Scan "
-        "Context descriptors) and the surfel pyramid the anchoring registers to, the storeys, and "
+        "Context descriptors) and the surfel pyramid the anchoring registers to (its surfels that "
+        "the reference's own rays pass through, a railing's bars, marked porous: no evidence "
+        "against a placement), the storeys, and "
         "the model's name and SHA-256, in one versioned, checksummed file for relocalising in the "
         "model on board (algorithms/localization/README.md)");
     cmd->add_option("MODEL", a->model, "IFC model (IFC2X3 or IFC4)")->required();

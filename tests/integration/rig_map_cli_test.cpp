@@ -5,8 +5,10 @@
 // from the model alone; refused for a reference of another model or over an existing file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "algorithms/io/sha256.hpp"
 #include "algorithms/localization/rig_map.hpp"
@@ -60,6 +62,21 @@ TEST(RigMapCli, ThePackageOfAMapsReferenceHoldsItsKeyframesDescriptorsAndStoreys
     }
     EXPECT_GT(in_space, map.keyframes.size() * 8 / 10);
     EXPECT_TRUE(names.count("Corridor")) << names.size();
+
+    // The free-space level carries the surfels the reference's own rays pass through (porous:
+    // the stair's railings, algorithms/registration/README.md), a few; --json counts them.
+    std::vector<size_t> porous;
+    for (const auto& level : map.levels) {
+        porous.push_back(size_t(std::count_if(level.surfels().begin(), level.surfels().end(),
+                                              [](const auto& s) { return s.porous; })));
+    }
+    EXPECT_EQ(porous[0], 0u);
+    EXPECT_GT(porous[1], 0u);
+    EXPECT_LT(porous[1], map.levels[1].size() / 50);
+    EXPECT_EQ(porous[2], 0u);
+    const size_t brace = r.out.find('{');
+    ASSERT_NE(brace, std::string::npos) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(r.out.substr(brace)).at("porous_surfels"), porous) << r.out;
 
     // Over an existing package: refused, the package untouched.
     const auto again = Cli("rig-map " + model.string() + " --reference " + reference.string() +

@@ -65,6 +65,7 @@ Made MakeMap() {
         m.pyramid.Add(registration::MakeOrientedCloud(scan, oc), T);
     }
     m.pyramid.Build();
+    m.pyramid.mutable_level(1).MarkPorous({0, 2});  // registration/free_space.hpp
     for (size_t l = 0; l < m.pyramid.levels(); ++l) m.map.levels.push_back(m.pyramid.level(l));
     // One space: a 2 x 1 m room as two triangles, 0 to 3 m high, on the ground storey.
     RigMapSpace room;
@@ -106,14 +107,14 @@ TEST(RigMap, ARoundTripKeepsEveryFieldAndRegistersAsThePyramidItCameFrom) {
     EXPECT_EQ(b.spaces[0].name, "Room 1");
     EXPECT_EQ(b.spaces[0].global_id, a.spaces[0].global_id);
     EXPECT_EQ(b.spaces[0].triangles, a.spaces[0].triangles);
+    EXPECT_TRUE(b.levels.at(1).surfels().at(2).porous);
+    EXPECT_FALSE(b.levels.at(1).surfels().at(1).porous);
     ASSERT_EQ(b.levels.size(), a.levels.size());
     for (size_t l = 0; l < a.levels.size(); ++l) {
         ASSERT_GT(a.levels[l].size(), 10u);
         ASSERT_EQ(b.levels[l].size(), a.levels[l].size());
         EXPECT_EQ(b.levels[l].config().voxel_size, a.levels[l].config().voxel_size);
-        EXPECT_EQ(std::memcmp(b.levels[l].surfels().data(), a.levels[l].surfels().data(),
-                              a.levels[l].size() * sizeof(registration::Surfel)),
-                  0);
+        EXPECT_TRUE(b.levels[l].surfels() == a.levels[l].surfels());
     }
     // A query registered to the restored pyramid lands exactly where it lands on the original.
     const simulation::Scene scene(odometry::test::FurnishedRoom());
@@ -180,6 +181,44 @@ TEST(RigMap, ADamagedCutForeignNewerOrOversizedFileIsRefusedNamingIt) {
     EXPECT_EQ(ReadRigMap(path).keyframes.size(), 2u);
 }
 
+// `bytes` with its two CRC-32s made good again (rig_map.cpp: of the body at 24, of the header at
+// 28), so that the parser itself meets what was changed.
+std::string WithGoodChecksums(std::string bytes) {
+    const auto crc = [](std::string_view b) {
+        return uint32_t(
+            crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(b.data()), uInt(b.size())));
+    };
+    const uint32_t body = crc(std::string_view(bytes).substr(32));
+    std::memcpy(bytes.data() + 24, &body, 4);
+    const uint32_t header = crc(std::string_view(bytes).substr(0, 28));
+    std::memcpy(bytes.data() + 28, &header, 4);
+    return bytes;
+}
+
+// A surfel's porous flag (byte 13 of its record, reserved before, so 0 in older packages) other
+// than 0 or 1 is refused, naming the surfel; 1 is read as porous.
+TEST(RigMap, APorousFlagOtherThanZeroOrOneIsRefused) {
+    const std::string good = SerializeRigMap(MakeMap().map);
+    const size_t surf = good.find("SURF");
+    ASSERT_NE(surf, std::string::npos);
+    const size_t flag = surf + 16 + 8 + 13;  // section header, count, the first surfel's byte 13
+    ASSERT_EQ(good[flag], 0);
+    const auto with_flag = [&](char value) {
+        std::string bytes = good;
+        bytes[flag] = value;
+        return WithGoodChecksums(bytes);
+    };
+    EXPECT_TRUE(ParseRigMap("flag.rigmap", with_flag(1)).levels.at(0).surfels().at(0).porous);
+    try {
+        ParseRigMap("flag.rigmap", with_flag(2));
+        ADD_FAILURE() << "a porous flag of 2 was read";
+    } catch (const common::FileError& e) {
+        EXPECT_NE(std::string(e.what()).find("surfel 0 of level 0: porous flag 2"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 // Mutants whose CRC-32s are made good again, so that the parser itself meets the damage (a
 // mutant of the bytes alone stops at the checksum): each is read or refused with a FileError
 // naming the file, never a crash or another exception (and under no sanitizer here: the
@@ -190,15 +229,8 @@ TEST(RigMap, MutantsWithGoodChecksumsAreReadOrRefusedNamingTheFile) {
     std::mt19937 rng(35);
     size_t accepted = 0, refused = 0;
     for (int i = 0; i < 3000; ++i) {
-        std::string bytes = good.substr(0, kHeader) + test::Mutate(good.substr(kHeader), rng, 512);
-        const auto crc = [](std::string_view b) {
-            return uint32_t(crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(b.data()),
-                                  uInt(b.size())));
-        };
-        const uint32_t body = crc(std::string_view(bytes).substr(kHeader));
-        std::memcpy(bytes.data() + 24, &body, 4);
-        const uint32_t header = crc(std::string_view(bytes).substr(0, 28));
-        std::memcpy(bytes.data() + 28, &header, 4);
+        const std::string bytes = WithGoodChecksums(good.substr(0, kHeader) +
+                                                    test::Mutate(good.substr(kHeader), rng, 512));
         try {
             ParseRigMap("mutant.rigmap", bytes);
             ++accepted;
