@@ -64,7 +64,7 @@ void Target::MarkPorous(const std::vector<AnchorSession>& sessions, const Anchor
         rays[i] = registration::RaysAtSurfels(sessions[k.session].clouds[k.index], level,
                                               k.T_world_lidar, config.free_space);
     });
-    porous_ = registration::MarkPorous(&level, rays, config.free_space);
+    registration::MarkPorous(&level, rays, config.free_space);
 }
 
 bool Target::Contains(size_t session) const {

@@ -40,8 +40,6 @@ public:
     bool Contains(size_t session) const;
     // The keyframe nearest to p within radius (horizontal) and height (vertical), or kNone.
     size_t Nearest(const Eigen::Vector3d& p, double radius, double height) const;
-    // Surfels of the free-space level that the members' own rays pass through (target.cpp).
-    size_t porous() const { return porous_; }
 
 private:
     void MarkPorous(const std::vector<AnchorSession>& sessions, const AnchorConfig& config);
@@ -50,7 +48,6 @@ private:
     std::vector<TargetKeyframe> keyframes_;
     scancontext::CandidateIndex index_;
     std::vector<size_t> sessions_;
-    size_t porous_ = 0;
 };
 
 }  // namespace bimslam::anchor
