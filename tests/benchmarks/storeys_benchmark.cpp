@@ -31,7 +31,8 @@
 //              the constant velocity's (or the legs'), same capture
 // BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it (a building none of whose walks
 // is picked is not read). BIMSLAM_STOREYS_KEEP=DIR: each walk's capture is copied to DIR/<name>
-// (and, by the buildings suite, its odometry session with the IMU to DIR/<name>_session).
+// (and, by the buildings and starts suites, its odometry session with the IMU to
+// DIR/<name>_session).
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -384,6 +385,7 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
     }
     const bool whole = a.verdict.ends_with("anchored");
     const bool in_parts = a.verdict.ends_with("anchored-in-parts");
+    // A maximum that could not be measured (NaN) counts as wrong too: placed, and not shown right.
     const bool wrong = (whole || in_parts) && !(a.keyframes.max_cm <= 100 * kWrongM);
     if (wrong) a.verdict += " WRONG";
     Keep(dir / "session", name + " session");
