@@ -535,8 +535,12 @@ TEST_F(AnchorCli, AWalkThatStartsUpstairsAndTakesTheStairsDownAnchorsOnBothStore
 // (the reference has no first floor), and is anchored through a walk over both storeys that the
 // ground floor anchors (README step 7, AnchoringProblem::RetryWithAnchored): its loops to the
 // two-storey walk's first-floor keyframes place it. Both handheld walks are short (about 68 s and
-// 20 s); the two-storey one goes up the stairs from the ground floor's corridor and back along
-// the first floor's, which the first-floor walk walks.
+// 25 s); the two-storey one goes up the stairs from the ground floor's corridor and back along
+// the first floor's, and the first-floor walk walks that way too, from the head of the flight.
+// (Until stop 76 it walked the corridor only, 8 m of it shared: a corridor that Scan Context
+// cannot tell from its storey twin nor from itself a few metres on, the right target ranked 2nd
+// to 9th of ten candidates, so 3 right loops of 27 held the test, and 2 with a better odometry:
+// host_tools/anchor/README.md, "Limits".)
 fs::path ScenarioWalk(const std::string& name, const fs::path& building, const std::string& yaml) {
     return Fixture(name, [&](const fs::path& d) {
         fs::create_directories(d);
@@ -560,11 +564,11 @@ TEST_F(AnchorCli, AFirstFloorWalkThatFailsAloneIsAnchoredThroughATwoStoreyWalk) 
                                        "  mode: waypoints\n"
                                        "  waypoints: [[12.0, 7.2], [12.0, 7.2]]\n"
                                        "  waypoint_storeys: [Ground Floor, First Floor]\n");
-    const fs::path upstairs = ScenarioWalk("first_floor", office,
-                                           "storey: First Floor\nplatform: handheld\nseed: 32\n"
-                                           "path:\n  mode: waypoints\n"
-                                           "  waypoints: [[20.0, 7.2], [4.0, 7.2]]\n"
-                                           "duration_s: 20\n");
+    const fs::path upstairs =
+        ScenarioWalk("first_floor_from_stairs", office,
+                     "storey: First Floor\nplatform: handheld\nseed: 32\n"
+                     "path:\n  mode: waypoints\n"
+                     "  waypoints: [[28.3, 1.5], [28.5, 6.5], [14.0, 7.2]]\n");
     // Alone: not anchored.
     const fs::path alone = Out("alone");
     EXPECT_EQ(Anchor(ground / "reference", {upstairs / "session"}, alone), 1);
@@ -599,11 +603,11 @@ TEST_F(AnchorCli, AFirstFloorWalkThatFailsAloneIsAnchoredThroughATwoStoreyWalk) 
         to_both += l["accepted"].get<bool>() && l["query"] == "upstairs" && l["target"] == "both";
     }
     EXPECT_GT(to_both, 3u);
-    // In BIM coordinates within centimetres. Measured: keyframes 2.06 cm RMSE (max 3.02 cm),
-    // 0.11 deg (max 0.19 deg); every scan 2.05 cm (max 3.26 cm), 0.12 deg (max 0.24 deg): three
-    // times the walks anchored to the reference directly (ExpectTargets); the first floor is tied
-    // to the reference only by the two-storey walk's odometry up the stairs (not examined
-    // further). The bounds: the 3 cm RMSE, and twice the rest.
+    // In BIM coordinates within centimetres. Measured (stop 76): keyframes 0.74 cm RMSE (max
+    // 1.23 cm), 0.08 deg (max 0.15 deg); every scan 1.00 cm (max 2.21 cm), 0.08 deg (max 0.23
+    // deg). The first floor is tied to the reference only by the two-storey walk's odometry up
+    // the stairs; the corridor walk of before stop 76 was 2.06 cm. The bounds: the 3 cm
+    // RMSE, and twice the rest as it was measured then.
     const Accuracy k = Evaluate(KeyframeTum(out / "upstairs"), upstairs);
     EXPECT_LT(k.rmse_cm, 3.0);
     EXPECT_LT(k.max_cm, 6.0);
@@ -613,7 +617,7 @@ TEST_F(AnchorCli, AFirstFloorWalkThatFailsAloneIsAnchoredThroughATwoStoreyWalk) 
     EXPECT_LT(t.rmse_cm, 3.0);
     EXPECT_LT(t.max_cm, 6.5);
     EXPECT_EQ(t.matched, io::ReadTum(upstairs / "session" / "trajectory.tum").size());
-    Evaluate(KeyframeTum(out / "both"), both);  // printed for comparison (0.86 cm, max 2.0)
+    Evaluate(KeyframeTum(out / "both"), both);  // printed for comparison (0.78 cm, max 1.6)
 }
 
 TEST_F(AnchorCli, TwoSessionsAnchorTogetherWithLoopsBetweenThem) {
