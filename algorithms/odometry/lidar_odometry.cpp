@@ -63,6 +63,8 @@ void LidarOdometryConfig::Validate() const {
             height_seen_share, "must be in (0, 1]");
     Require(height_ambiguous_sigma > 0, c, "height_ambiguous_sigma", height_ambiguous_sigma,
             "must be > 0");
+    Require(vertical_deskew_share >= 0 && vertical_deskew_share <= 1, c, "vertical_deskew_share",
+            vertical_deskew_share, "must be in [0, 1]");
 
     Require(constant_velocity_sigma.allFinite() && (constant_velocity_sigma.array() > 0).all(), c,
             "constant_velocity_sigma", constant_velocity_sigma.minCoeff(), "must all be > 0");
@@ -300,6 +302,35 @@ ScanMotion LidarOdometry::MotionFor(const common::Vector6d& twist, double durati
     return motion;
 }
 
+void LidarOdometry::VerticalFromImu(const Eigen::Matrix3d& R_start, int64_t stamp,
+                                    ScanMotion* motion) const {
+    if (!config_.use_imu || !config_.imu_height || !config_.imu_vertical_deskew ||
+        config_.use_body_motion || !imu_height_.initialized() || !imu_height_.ready() ||
+        last_height_share_ < config_.vertical_deskew_share) {
+        return;
+    }
+    // The filter stands at the scan's start (PredictHeight carried it there); a copy goes on
+    // through the sweep, knot by knot, each sample at the lidar's rotation halfway through it.
+    ImuHeight f = imu_height_;
+    const double h0 = f.height();
+    std::array<double, ScanMotion::kKnots> d{};
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    int64_t t0 = stamp;
+    for (int k = 1; k < ScanMotion::kKnots; ++k) {
+        const int64_t t1 = stamp + static_cast<int64_t>(motion->KnotTime(k) * 1e9);
+        const bool covered = ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
+            const Eigen::Quaterniond half =
+                q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (dt / 2)));
+            f.Propagate(R_start * half.toRotationMatrix(), m.accel, dt);
+            q = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
+        });
+        if (!covered) return;
+        d[size_t(k)] = f.height() - h0;
+        t0 = t1;
+    }
+    motion->SetTranslationAlong(R_start.transpose() * f.up(), d);
+}
+
 const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const Clock::time_point start = Clock::now();
     if (initialized_ && scan.stamp.ns <= last_stamp_ns_) {
@@ -315,6 +346,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     const common::Vector6d twist =
         w.dt > 0 ? common::Vector6d(common::LogSE3(w.delta) / w.dt) : common::Vector6d::Zero();
     w.motion = MotionFor(twist, w.duration, w.stamp, &w.gyro);
+    if (w.gyro) VerticalFromImu((w.T_prev * w.delta).linear(), w.stamp, &w.motion);
     const Clock::time_point preprocess_start = BudgetClockNow();
     PreprocessScan(scan, w.motion);
     w.preprocess_time = BudgetClockNow() - preprocess_start;
@@ -623,7 +655,9 @@ ScanMotion LidarOdometry::EstimatedMotion() const {
         const common::Vector6d used = common::LogSE3(w.motion.End()) / w.duration;
         twist = used + config_.deskew_step * (twist - used);
     }
-    return MotionFor(twist, w.duration, w.stamp);
+    ScanMotion motion = MotionFor(twist, w.duration, w.stamp);
+    if (w.gyro) VerticalFromImu(w.T.linear(), w.stamp, &motion);
+    return motion;
 }
 
 void LidarOdometry::UpdateMap() {
@@ -693,6 +727,7 @@ void LidarOdometry::UpdateImuHeight() {
     const bool failed = (r.flags & (kRegistrationFailed | kCheckFailed | kTooFewPoints)) != 0;
     const bool seen_before = last_height_seen_;
     last_height_seen_ = !failed && r.registration.axis_share >= config_.height_seen_share;
+    last_height_share_ = failed ? 0.0 : r.registration.axis_share;
     if (!last_height_seen_) {
         result_.flags |= kHeightUnseen;
         imu_height_.Hold(h);

@@ -108,6 +108,20 @@ struct LidarOdometryConfig {
     // (kImuHeight). Scans after one that saw the height are predicted and registered as before.
     bool imu_height = true;
     ImuHeightConfig imu_height_filter;
+    // With the IMU, once the accelerometers' filter knows its vertical velocity: the motion
+    // during a sweep along gravity is the filter's, carried through the sweep by the
+    // accelerometers, not the constant velocity's (README.md, "The bob within a sweep"). A
+    // person's steps move the sensor 2-4 cm up and down twice a second, about 0.25 m/s at most:
+    // half a sweep of it is a centimetre, which the constant velocity over 0.4 s averages away.
+    // Not with the legs' prior (use_body_motion): the Go1 holds its body's height, and its feet's
+    // impacts in the accelerometers made two of its stair walks worse (measured, README.md).
+    bool imu_vertical_deskew = true;
+    // Nor after a scan whose surfaces facing up or down carried under this share of its
+    // registration's weights (RegistrationResult::axis_share): the filter's velocity has no floor
+    // or ceiling behind it then. The hand-held walks' scans carry 0.07-0.20 at their 5th
+    // percentile (median 0.28-0.31); a bare shaft's edge voxels 0.014, and deskewed there from
+    // the filter a climb at 1.6 m/s ended 52 cm off (LidarOdometry.AStopInAShaft...).
+    double vertical_deskew_share = 0.05;
     // A scan saw the height when the surfaces facing up or down it hit carry at least this share
     // of its registration's weights (RegistrationResult::axis_share).
     double height_seen_share = 0.01;
@@ -331,6 +345,11 @@ private:
     // *used_gyro (optional): whether the gyro covered it.
     ScanMotion MotionFor(const common::Vector6d& twist, double duration, int64_t stamp,
                          bool* used_gyro = nullptr) const;
+    // The motion's part along gravity from the accelerometers' filter (imu_vertical_deskew):
+    // a copy of it carried from the scan's start through the sweep, the lidar at R_start then
+    // turning with the gyro. Leaves the motion as it is when the filter is not ready or the IMU
+    // does not cover the sweep.
+    void VerticalFromImu(const Eigen::Matrix3d& R_start, int64_t stamp, ScanMotion* motion) const;
     // The sweep's correction prior for this scan (gyro or not).
     common::Vector6d CorrectionSigma(bool gyro) const;
     // The scan's duration: its largest time offset (1 ms at least).
@@ -397,6 +416,7 @@ private:
     ScanRegistration registration_;
     MotionPrior body_prior_;
     ImuHeight imu_height_;
+    double last_height_share_ = 0;       // the last scan's axis_share (0: failed), for the deskew
     bool last_height_seen_ = true;       // whether the last scan saw the height (imu_height)
     bool last_height_from_imu_ = false;  // whether its predicted height was the filter's
     std::optional<EdgeExtractor> edge_extractor_;  // with edge_features

@@ -36,6 +36,11 @@ void ScanMotion::SetRotations(const std::array<Eigen::Quaterniond, kKnots>& q_st
     q_ = q_start_tau;
 }
 
+void ScanMotion::SetTranslationAlong(const Eigen::Vector3d& axis,
+                                     const std::array<double, kKnots>& d) {
+    for (size_t k = 0; k < size_t(kKnots); ++k) t_[k] += (d[k] - axis.dot(t_[k])) * axis;
+}
+
 Eigen::Isometry3d ScanMotion::At(double tau_s) const {
     const double x =
         duration_s_ > 0 ? std::clamp(tau_s / duration_s_, 0.0, 1.0) * (kKnots - 1) : 0.0;

@@ -39,6 +39,9 @@ public:
     // Replaces the rotation at each knot (the translation stays): q_start_tau[k] for tau_k =
     // k * duration / (kKnots - 1).
     void SetRotations(const std::array<Eigen::Quaterniond, kKnots>& q_start_tau);
+    // Replaces the translation's component along the unit vector `axis` (the start frame) at
+    // each knot by d[k]; the rest of the translation stays.
+    void SetTranslationAlong(const Eigen::Vector3d& axis, const std::array<double, kKnots>& d);
 
     double duration_s() const { return duration_s_; }
     double KnotTime(int k) const { return duration_s_ * k / (kKnots - 1); }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "algorithms/common/se3.hpp"
@@ -137,6 +138,25 @@ TEST(ScanMotion, InterpolatesBetweenKnotsAndClamps) {
     }
     EXPECT_TRUE(m.At(0.5).isApprox(m.End()));
     EXPECT_TRUE(m.At(-1).isApprox(Eigen::Isometry3d::Identity()));
+}
+
+TEST(ScanMotion, TheTranslationAlongAnAxisIsReplacedAndTheRestKept) {
+    common::Vector6d xi;
+    xi << 1, 0.5, 0.2, 0, 0, 0.8;
+    ScanMotion m;
+    m.SetConstantVelocity(xi, 0.1);
+    const ScanMotion before = m;
+    const Eigen::Vector3d up = Eigen::Vector3d(0.1, 0, 1).normalized();
+    std::array<double, ScanMotion::kKnots> d{};
+    for (int k = 0; k < ScanMotion::kKnots; ++k) d[size_t(k)] = 0.03 * std::sin(k);
+    m.SetTranslationAlong(up, d);
+    for (int k = 0; k < ScanMotion::kKnots; ++k) {
+        const double tau = m.KnotTime(k);
+        const Eigen::Vector3d t = m.At(tau).translation(), t0 = before.At(tau).translation();
+        EXPECT_NEAR(up.dot(t), d[size_t(k)], 1e-12) << k;
+        EXPECT_LT(((t - up * up.dot(t)) - (t0 - up * up.dot(t0))).norm(), 1e-12) << k;
+        EXPECT_TRUE(m.At(tau).linear().isApprox(before.At(tau).linear())) << "rotation kept";
+    }
 }
 
 TEST(Preprocessor, VoxelFiltersKeepOnePointPerVoxelAndTheCap) {
