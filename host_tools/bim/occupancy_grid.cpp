@@ -232,6 +232,8 @@ void GridConfig::Validate() const {
                     object_height_m, "must be in (0, 10) m");
     common::Require(region >= 0 && region < 1000, "GridConfig", "region", double(region),
                     "must be in [0, 1000)");
+    common::Require(headroom_m == 0 || (headroom_m > 0.3 && headroom_m < 10), "GridConfig",
+                    "headroom_m", headroom_m, "must be 0 (none) or in (0.3, 10) m");
 }
 
 bool OccupancyGrid::ToCell(const Eigen::Vector2d& p, int* x, int* y) const {
@@ -377,6 +379,11 @@ int ChooseRegion(const BimModel& model, const GridConfig& config, OccupancyGrid&
 
 }  // namespace
 
+namespace {
+void BlockOverhead(const BimModel& model, const OccupancyGrid& g, double headroom_m,
+                   std::vector<uint8_t>& blocked, std::vector<uint8_t>& closed);
+}  // namespace
+
 OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridConfig& config) {
     config.Validate();
     if (storey < 0 || storey >= int(model.storeys.size())) {
@@ -387,6 +394,7 @@ OccupancyGrid BuildOccupancyGrid(const BimModel& model, int storey, const GridCo
     OccupancyGrid g = EmptyGrid(model, storey, config);
     std::vector<uint8_t> blocked, closed;
     Rasterize(model, config, g, blocked, closed);
+    if (config.headroom_m > 0) BlockOverhead(model, g, config.headroom_m, blocked, closed);
 
     // Regions of the open cells (neither blocked nor closed, 4-neighbourhood); the ones touching
     // the grid's border are outdoors. Closed doors make each room its own region.
@@ -490,6 +498,19 @@ void MarkStructure(const BimModel& model, const OccupancyGrid& g, double headroo
             }
             MarkStanding(g, headroom_m, poly, clipped, floor, overhead);
         }
+    }
+}
+
+// Cells under structure between kAboveFloor and the headroom are blocked (and not closed), as
+// Rasterize's slice blocks them.
+void BlockOverhead(const BimModel& model, const OccupancyGrid& g, double headroom_m,
+                   std::vector<uint8_t>& blocked, std::vector<uint8_t>& closed) {
+    std::vector<uint8_t> floor, overhead;
+    MarkStructure(model, g, headroom_m, floor, &overhead);
+    for (size_t i = 0; i < g.cells.size(); ++i) {
+        if (!overhead[i]) continue;
+        blocked[i] = 1;
+        closed[i] = 0;
     }
 }
 }  // namespace

@@ -29,6 +29,12 @@ struct GridConfig {
     // the floor: their footprints are occupied. Doors, windows and spaces never are.
     bool object_footprints = true;
     double object_height_m = 1.0;
+    // The platform's top above the floor (its sensor and what carries it), or 0: structure
+    // between 0.3 m and this height blocks the cells under it too (StandableCells' overhead
+    // rule), so a walk keeps its sensor out of a roof that comes down and from under the low end
+    // of a flight. The slice alone does not see either: a hand-held walk through FZK-Haus' attic
+    // carried its sensor 8 s inside the roof, every scan empty (host_tools/simulate/README.md).
+    double headroom_m = 0;
     // Free space is what is reachable from this point (metres, model x y); without it, the
     // largest enclosed free region (one not touching the grid's border, i.e. not outdoors).
     std::optional<Eigen::Vector2d> seed;

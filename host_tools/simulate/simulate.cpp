@@ -45,18 +45,6 @@ Eigen::Isometry3d MountTransform(const SensorSpec& s) {
     return common::PoseFromXyzRpyDeg(s.mount_xyz, s.mount_rpy_deg);
 }
 
-simulation::GaitConfig GaitFor(Platform p) {
-    switch (p) {
-        case Platform::kGo1:
-            return simulation::GaitConfig::Go1Trot();
-        case Platform::kHandheld:
-            return simulation::GaitConfig::Handheld();
-        case Platform::kVehicle:
-            return simulation::GaitConfig::Vehicle();
-    }
-    return simulation::GaitConfig::Go1Trot();
-}
-
 simulation::PathTiming TimingFor(const Scenario& s) {
     simulation::PathTiming timing;
     timing.speed_mps = s.speed.speed_mps;

@@ -109,8 +109,27 @@ int RegionOfStart(const bim::BimModel& model, int storey, const bim::GridConfig&
 
 }  // namespace
 
+simulation::GaitConfig GaitFor(Platform p) {
+    switch (p) {
+        case Platform::kGo1:
+            return simulation::GaitConfig::Go1Trot();
+        case Platform::kHandheld:
+            return simulation::GaitConfig::Handheld();
+        case Platform::kVehicle:
+            return simulation::GaitConfig::Vehicle();
+    }
+    return simulation::GaitConfig::Go1Trot();
+}
+
+double HeadroomFor(const Scenario& s) {
+    if (s.platform == Platform::kVehicle) return 0;
+    const simulation::GaitConfig g = GaitFor(s.platform);
+    return g.base_height_m + std::max(0.0, s.sensor.mount_xyz.z()) + g.bounce_m + 0.15;
+}
+
 bim::GridConfig GridConfigFor(const bim::BimModel& plan, const Scenario& s) {
     bim::GridConfig gc;
+    gc.headroom_m = HeadroomFor(s);
     if (!s.edits.removed.walk_through) return gc;
     // The grid spans the structure's footprint and the margin: widen the margin so that it
     // reaches every element of the planning model (an annex added outside) with the usual margin

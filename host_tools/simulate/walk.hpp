@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "algorithms/simulation/body_trajectory.hpp"
 #include "host_tools/bim/bim_model.hpp"
 #include "host_tools/bim/coverage_path.hpp"
 #include "host_tools/bim/occupancy_grid.hpp"
@@ -38,7 +39,14 @@ struct Walk {
 // for a person, 1.2 m for a vehicle), speed and yaw rate.
 bim::PathConfig PathConfigFor(const Scenario& scenario);
 
-// The grid of the walk on `plan` (PlanningModel): the default, and with
+// The platform's body motion (its gait: the base's height, bob and sway).
+simulation::GaitConfig GaitFor(Platform p);
+
+// How high the platform's top stands above the floor: its sensor (the gait's base, the mount's
+// height, the bob) and 0.15 m of rig and hand above it; 0 for a vehicle (it stays outdoors).
+double HeadroomFor(const Scenario& scenario);
+
+// The grid of the walk on `plan` (PlanningModel): the platform's headroom (HeadroomFor), and with
 // edits.removed.walk_through a margin that reaches every element of the plan (an annex added
 // outside the model) with the default margin to spare.
 bim::GridConfig GridConfigFor(const bim::BimModel& plan, const Scenario& scenario);

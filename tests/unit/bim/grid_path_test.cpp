@@ -14,6 +14,7 @@
 namespace bimslam::bim {
 namespace {
 namespace BIMSLAM_UNITY_ID {
+using test_floor::AddRoofFace;
 using test_floor::Floor;
 
 TEST(OccupancyGrid, SliceFootprintsAndReachableFreeSpace) {
@@ -25,14 +26,14 @@ TEST(OccupancyGrid, SliceFootprintsAndReachableFreeSpace) {
         EXPECT_TRUE(g.ToCell({x, y}, &cx, &cy));
         return g.At(cx, cy);
     };
-    EXPECT_EQ(cell(3, 1.5), Cell::kFree);     // south-west room
-    EXPECT_EQ(cell(10, 2), Cell::kFree);      // south-east room
-    EXPECT_EQ(cell(3, 7), Cell::kFree);       // north room
-    EXPECT_EQ(cell(2.5, 3.5), Cell::kFree);   // a doorway
-    EXPECT_EQ(cell(6.0, 1.0), Cell::kOccupied);  // a wall
-    EXPECT_EQ(cell(9.7, 6.9), Cell::kOccupied);  // the desk's footprint
+    EXPECT_EQ(cell(3, 1.5), Cell::kFree);         // south-west room
+    EXPECT_EQ(cell(10, 2), Cell::kFree);          // south-east room
+    EXPECT_EQ(cell(3, 7), Cell::kFree);           // north room
+    EXPECT_EQ(cell(2.5, 3.5), Cell::kFree);       // a doorway
+    EXPECT_EQ(cell(6.0, 1.0), Cell::kOccupied);   // a wall
+    EXPECT_EQ(cell(9.7, 6.9), Cell::kOccupied);   // the desk's footprint
     EXPECT_EQ(cell(-0.5, -0.5), Cell::kUnknown);  // outdoors
-    EXPECT_EQ(cell(2.02, 4.0), Cell::kFree);  // a door leaf does not block
+    EXPECT_EQ(cell(2.02, 4.0), Cell::kFree);      // a door leaf does not block
     // Free area: the inside minus walls and desk, about 12 x 8 - walls.
     const double area = double(g.FreeCells()) * g.resolution * g.resolution;
     EXPECT_GT(area, 80.0);
@@ -53,25 +54,6 @@ TEST(OccupancyGrid, SliceFootprintsAndReachableFreeSpace) {
     config = {};
     config.resolution_m = 0;
     EXPECT_THROW(BuildOccupancyGrid(m, 0, config), common::Error);
-}
-
-// A sloped roof face over the north room: z 3 at y 5 down to 1 at y 8 (two triangles).
-void AddRoofFace(BimModel& m) {
-    BimElement e;
-    e.global_id = "roof";
-    e.ifc_class = "IfcSlab";
-    e.role = ElementRole::kStructure;
-    e.first_triangle = uint32_t(m.mesh.triangles.size());
-    e.triangle_count = 2;
-    const uint32_t base = uint32_t(m.mesh.vertices.size());
-    for (const Eigen::Vector3f& v : {Eigen::Vector3f(0, 5, 3), Eigen::Vector3f(12, 5, 3),
-                                     Eigen::Vector3f(12, 8, 1), Eigen::Vector3f(0, 8, 1)}) {
-        m.mesh.vertices.push_back(v);
-    }
-    m.mesh.triangles.push_back({base, base + 1, base + 2});
-    m.mesh.triangles.push_back({base, base + 2, base + 3});
-    m.triangle_element.insert(m.triangle_element.end(), 2, uint32_t(m.elements.size()));
-    m.elements.push_back(e);
 }
 
 // The floor slab (the IfcSlab at and below z 0) cut back to end at x = x_end.
@@ -131,6 +113,34 @@ TEST(OccupancyGrid, StandableCellsHaveAFloorUnderThemAndHeadroomAboveThem) {
     EXPECT_TRUE(at(unmodelled, 3, 1.5));
 }
 
+// The same overhead rule on the grid itself (GridConfig::headroom_m): the cells under the roof
+// lower than the platform's top are not free, so no walk is planned through them.
+TEST(OccupancyGrid, AHeadroomKeepsTheWalkOutFromUnderALowRoof) {
+    BimModel m = Floor();
+    AddRoofFace(m);
+    const auto free_at = [](const OccupancyGrid& g, double x, double y) {
+        int cx, cy;
+        EXPECT_TRUE(g.ToCell({x, y}, &cx, &cy));
+        return g.At(cx, cy) == Cell::kFree;
+    };
+    const OccupancyGrid slice_only = BuildOccupancyGrid(m, 0, {});
+    EXPECT_TRUE(free_at(slice_only, 3, 7.5));  // the slice at 0.6 m passes under the roof
+    GridConfig person;
+    person.headroom_m = 1.9;
+    const OccupancyGrid g = BuildOccupancyGrid(m, 0, person);
+    EXPECT_TRUE(free_at(g, 3, 6.4));
+    EXPECT_FALSE(free_at(g, 3, 6.9));
+    EXPECT_FALSE(free_at(g, 3, 7.5));
+    EXPECT_TRUE(free_at(g, 3, 1.5));
+    EXPECT_TRUE(free_at(g, 10, 2));
+    GridConfig go1;
+    go1.headroom_m = 0.8;
+    EXPECT_TRUE(free_at(BuildOccupancyGrid(m, 0, go1), 3, 7.5));
+    GridConfig bad;
+    bad.headroom_m = 0.2;  // below what counts as the floor's own
+    EXPECT_THROW(BuildOccupancyGrid(m, 0, bad), common::Error);
+}
+
 TEST(OccupancyGrid, WritesMapServerFiles) {
     test::TempDir tmp;
     const OccupancyGrid g = BuildOccupancyGrid(Floor(), 0, {});
@@ -173,8 +183,8 @@ TEST(CoveragePath, EntersEveryRoomKeepsClearAndIsSmooth) {
         const double dt = 1e-9 * double(p.poses[i].stamp_ns - p.poses[i - 1].stamp_ns);
         ASSERT_GT(dt, 0);
         EXPECT_LT((p.points[i] - p.points[i - 1]).norm(), 1.5 * config.spacing_m);
-        const double dyaw = common::RotationAngle(
-            common::Between(p.poses[i - 1].Pose(), p.poses[i].Pose()));
+        const double dyaw =
+            common::RotationAngle(common::Between(p.poses[i - 1].Pose(), p.poses[i].Pose()));
         max_rate = std::max(max_rate, dyaw / dt);
     }
     EXPECT_LT(max_rate, config.max_yaw_rate_radps + 1e-6);

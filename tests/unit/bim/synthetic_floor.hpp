@@ -14,7 +14,7 @@ namespace bimslam::bim::test_floor {
 
 // Appends an axis-aligned box as an element.
 inline void AddBox(BimModel& m, const std::string& cls, ElementRole role, Eigen::Vector3d lo,
-            Eigen::Vector3d hi) {
+                   Eigen::Vector3d hi) {
     BimElement e;
     e.global_id = "box" + std::to_string(m.elements.size());
     e.ifc_class = cls;
@@ -26,8 +26,9 @@ inline void AddBox(BimModel& m, const std::string& cls, ElementRole role, Eigen:
         m.mesh.vertices.emplace_back(float(i & 1 ? hi.x() : lo.x()), float(i & 2 ? hi.y() : lo.y()),
                                      float(i & 4 ? hi.z() : lo.z()));
     }
-    const uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                   {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    const uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                   {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                   {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
     for (const auto& f : faces) {
         m.mesh.triangles.push_back({base + f[0], base + f[1], base + f[2]});
         m.triangle_element.push_back(uint32_t(m.elements.size()));
@@ -62,6 +63,25 @@ inline BimModel Floor() {
     AddBox(m, "IfcFurniture", ElementRole::kTransient, {9, 6.5, 0}, {10.5, 7.3, 0.75});
     AddBox(m, "IfcDoor", ElementRole::kTransient, {2, 3.45, 0}, {2.05, 4.4, 2.0});  // open leaf
     return m;
+}
+
+// A sloped roof face over the north room: z 3 at y 5 down to 1 at y 8 (two triangles).
+inline void AddRoofFace(BimModel& m) {
+    BimElement e;
+    e.global_id = "roof";
+    e.ifc_class = "IfcSlab";
+    e.role = ElementRole::kStructure;
+    e.first_triangle = uint32_t(m.mesh.triangles.size());
+    e.triangle_count = 2;
+    const uint32_t base = uint32_t(m.mesh.vertices.size());
+    for (const Eigen::Vector3f& v : {Eigen::Vector3f(0, 5, 3), Eigen::Vector3f(12, 5, 3),
+                                     Eigen::Vector3f(12, 8, 1), Eigen::Vector3f(0, 8, 1)}) {
+        m.mesh.vertices.push_back(v);
+    }
+    m.mesh.triangles.push_back({base, base + 1, base + 2});
+    m.mesh.triangles.push_back({base, base + 2, base + 3});
+    m.triangle_element.insert(m.triangle_element.end(), 2, uint32_t(m.elements.size()));
+    m.elements.push_back(e);
 }
 
 }  // namespace bimslam::bim::test_floor

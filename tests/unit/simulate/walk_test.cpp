@@ -282,4 +282,27 @@ TEST(Go1Walk, ACoverageWalkCoversTheEnclosedRegionItStartsIn) {
     EXPECT_GE(in_room.points.size(), 2u);  // from the start to the room's one viewpoint
 }
 
+// A roof that comes down over the north room (z 3 m at y 5 to 1 m at y 8): a person's walk keeps
+// the top of the rig (HeadroomFor: the 1.2 m base, the hand-held mount's 0.1 m, its bob, 0.15 m)
+// under it, where the roof is 1.47 m high at y 7.3, the cells beyond are not free and the walk
+// stays south of that line by its clearance; under a Go1's top (0.76 m) all of it is free. Before
+// the headroom, FZK-Haus' attic walk carried the sensor 8 s inside its roof, every scan empty.
+TEST(HandheldWalk, KeepsTheRigUnderALowRoof) {
+    bim::BimModel model = bim::test_floor::Floor();
+    bim::test_floor::AddRoofFace(model);
+    const auto free_at = [](const Walk& w, double x, double y) {
+        int cx, cy;
+        EXPECT_TRUE(w.grid.ToCell({x, y}, &cx, &cy));
+        return w.grid.At(cx, cy) == bim::Cell::kFree;
+    };
+    const Scenario person = DefaultScenario(Platform::kHandheld);
+    EXPECT_NEAR(HeadroomFor(person), 1.47, 1e-9);
+    const Walk walk = PlanWalk(model, 0, person);
+    EXPECT_FALSE(free_at(walk, 3, 7.5));
+    EXPECT_TRUE(free_at(walk, 3, 6.5));
+    for (const Eigen::Vector2d& p : walk.points) EXPECT_LT(p.y(), 7.3 - 0.35 + 0.05) << p.x();
+    EXPECT_TRUE(free_at(PlanWalk(model, 0, DefaultScenario(Platform::kGo1)), 3, 7.5));
+    EXPECT_EQ(HeadroomFor(DefaultScenario(Platform::kVehicle)), 0.0);
+}
+
 }  // namespace bimslam::simulate
