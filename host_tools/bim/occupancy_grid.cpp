@@ -380,6 +380,7 @@ int ChooseRegion(const BimModel& model, const GridConfig& config, OccupancyGrid&
 }  // namespace
 
 namespace {
+// Defined below, beside the overhead rule it shares with StandableCells.
 void BlockOverhead(const BimModel& model, const OccupancyGrid& g, double headroom_m,
                    std::vector<uint8_t>& blocked, std::vector<uint8_t>& closed);
 }  // namespace
