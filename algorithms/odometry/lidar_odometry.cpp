@@ -248,14 +248,19 @@ void LidarOdometry::StartImuHeight() {
     imu_height_.Reset(up.dot(work_.T.translation()), up, at_rest, mean.norm() - kStandardGravity);
 }
 
-bool LidarOdometry::PropagateImuHeight(int64_t t0, int64_t t1, const Eigen::Matrix3d& R0) {
+bool LidarOdometry::PropagateHeight(ImuHeight* f, int64_t t0, int64_t t1, const Eigen::Matrix3d& R0,
+                                    Eigen::Quaterniond* q) const {
     // Each sample's specific force at the lidar's rotation halfway through its piece.
-    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-    const bool covered = ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
-        const Eigen::Quaterniond half = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (dt / 2)));
-        imu_height_.Propagate(R0 * half.toRotationMatrix(), m.accel, dt);
-        q = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
+    return ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
+        const Eigen::Quaterniond half = *q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (dt / 2)));
+        f->Propagate(R0 * half.toRotationMatrix(), m.accel, dt);
+        *q = *q * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
     });
+}
+
+bool LidarOdometry::PropagateImuHeight(int64_t t0, int64_t t1, const Eigen::Matrix3d& R0) {
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    const bool covered = PropagateHeight(&imu_height_, t0, t1, R0, &q);
     if (!covered) imu_height_ = ImuHeight(config_.imu_height_filter);
     return covered;
 }
@@ -310,7 +315,7 @@ void LidarOdometry::VerticalFromImu(const Eigen::Matrix3d& R_start, int64_t stam
         return;
     }
     // The filter stands at the scan's start (PredictHeight carried it there); a copy goes on
-    // through the sweep, knot by knot, each sample at the lidar's rotation halfway through it.
+    // through the sweep, knot by knot, as PropagateImuHeight moves it between scans.
     ImuHeight f = imu_height_;
     const double h0 = f.height();
     std::array<double, ScanMotion::kKnots> d{};
@@ -318,13 +323,7 @@ void LidarOdometry::VerticalFromImu(const Eigen::Matrix3d& R_start, int64_t stam
     int64_t t0 = stamp;
     for (int k = 1; k < ScanMotion::kKnots; ++k) {
         const int64_t t1 = stamp + static_cast<int64_t>(motion->KnotTime(k) * 1e9);
-        const bool covered = ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
-            const Eigen::Quaterniond half =
-                q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (dt / 2)));
-            f.Propagate(R_start * half.toRotationMatrix(), m.accel, dt);
-            q = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
-        });
-        if (!covered) return;
+        if (!PropagateHeight(&f, t0, t1, R_start, &q)) return;
         d[size_t(k)] = f.height() - h0;
         t0 = t1;
     }

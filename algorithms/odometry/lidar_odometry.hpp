@@ -340,6 +340,10 @@ private:
     // does not cover the interval), and told what each scan saw of the height.
     void StartImuHeight();
     bool PropagateImuHeight(int64_t t0_ns, int64_t t1_ns, const Eigen::Matrix3d& R0);
+    // Moves the filter *f over [t0_ns, t1_ns] by the accelerometers, the lidar at R0 * *q at t0_ns
+    // and *q carried to t1_ns by the gyro; false when the IMU does not cover the span.
+    bool PropagateHeight(ImuHeight* f, int64_t t0_ns, int64_t t1_ns, const Eigen::Matrix3d& R0,
+                         Eigen::Quaterniond* q) const;
     void PredictHeight();
     // The motion during a scan: constant velocity `twist`, the gyro's rotation when it covers it.
     // *used_gyro (optional): whether the gyro covered it.
