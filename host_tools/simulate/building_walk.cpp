@@ -310,7 +310,8 @@ BuildingWalk PlanBuildingWalk(const bim::BimModel& model_in, const Scenario& s) 
         const Eigen::Vector2d in = s.path.mode == PathMode::kCoverage || s.path.waypoints.empty()
                                        ? walker.Coverage(start).front()
                                        : s.path.waypoints.front();
-        walker.Floor(start, outside ? WayIn(model, start, bim::GridConfig{}, PathConfigFor(s),
+        // The walk's own grid rules (its headroom: not under a porch roof lower than the rig).
+        walker.Floor(start, outside ? WayIn(model, start, GridConfigFor(model, s), PathConfigFor(s),
                                             s.path.start->xy, in)
                                     : std::vector<Eigen::Vector2d>{s.path.start->xy});
     }

@@ -253,6 +253,53 @@ TEST(BuildingWalk, AStartOutsideWalksInThenUpTheStairs) {
         common::Error);
 }
 
+// A canopy 1.0 m above the ground in front of the entrance, 3 m deep and 2 m wide: a Go1 (0.76 m
+// of headroom) walks in under it, a person carrying the rig (1.47 m) goes round it. The way in
+// from outside plans on the walk's own grid rules, as the walk inside does (walk.cpp).
+TEST(BuildingWalk, AWayInFromOutsideKeepsTheRigUnderTheHeadroom) {
+    bim::SampleBuildingOptions doors;
+    doors.exterior_doors = true;
+    bim::BimModel model = bim::ParseIfc("office.ifc", bim::SampleBuildingIfc(doors));
+    const Eigen::AlignedBox2d canopy(Eigen::Vector2d(-4.0, 6.5), Eigen::Vector2d(-1.0, 8.5));
+    bim::BimElement e;
+    e.global_id = "canopy";
+    e.ifc_class = "IfcSlab";
+    e.role = bim::ElementRole::kStructure;
+    e.first_triangle = uint32_t(model.mesh.triangles.size());
+    e.triangle_count = 2;
+    const uint32_t base = uint32_t(model.mesh.vertices.size());
+    for (const Eigen::Vector2d& c : {canopy.corner(Eigen::AlignedBox2d::BottomLeft),
+                                     canopy.corner(Eigen::AlignedBox2d::BottomRight),
+                                     canopy.corner(Eigen::AlignedBox2d::TopRight),
+                                     canopy.corner(Eigen::AlignedBox2d::TopLeft)}) {
+        model.mesh.vertices.push_back(Eigen::Vector3f(float(c.x()), float(c.y()), 1.0f));
+    }
+    model.mesh.triangles.push_back({base, base + 1, base + 2});
+    model.mesh.triangles.push_back({base, base + 2, base + 3});
+    model.triangle_element.insert(model.triangle_element.end(), 2, uint32_t(model.elements.size()));
+    model.elements.push_back(e);
+
+    const auto under_canopy = [&](Platform platform) {
+        Scenario s = DefaultScenario(platform);
+        s.storey = kAllStoreys;
+        s.path.mode = PathMode::kWaypoints;
+        s.path.start = Pose2d{{-5.0, 7.5}, 0.0};
+        s.path.waypoints = {{2.0, 7.2}};
+        s.path.waypoint_storeys = {"Ground Floor"};
+        const BuildingWalk w = PlanBuildingWalk(model, s);
+        EXPECT_TRUE(w.starts_outside);
+        size_t n = 0;  // 5 cm steps along the walk's polyline under the canopy
+        for (size_t k = 1; k < w.points.size(); ++k) {
+            const Eigen::Vector2d a = w.points[k - 1].p.head<2>(), b = w.points[k].p.head<2>();
+            const int steps = int(std::ceil((b - a).norm() / 0.05));
+            for (int i = 0; i < steps; ++i) n += canopy.contains(a + (b - a) * (i / double(steps)));
+        }
+        return n;
+    };
+    EXPECT_EQ(under_canopy(Platform::kHandheld), 0u);
+    EXPECT_GT(under_canopy(Platform::kGo1), 0u);  // the canopy is in the straight way in
+}
+
 }  // namespace BIMSLAM_UNITY_ID
 }  // namespace
 }  // namespace bimslam::simulate
