@@ -165,7 +165,8 @@ PlanRectangle SmallestPlanRectangle(std::span<const Eigen::Vector3f> points) {
         best_perimeter = du + dv;
         // The long side's direction: u, or v a quarter turn on.
         const double yaw = (du >= dv ? a : a + 0.5 * M_PI) * 180 / M_PI;
-        best = {std::max(du, dv), std::min(du, dv), std::fmod(yaw, 180.0)};
+        best = {std::max(du, dv), std::min(du, dv), std::fmod(yaw, 180.0),
+                0.5 * (u0 + u1) * u + 0.5 * (v0 + v1) * v};
     }
     return best;
 }

@@ -180,6 +180,14 @@ FoundChanges ReadFoundChanges(const std::filesystem::path& dir) {
                 object.plan_long_m = plan[0].get<double>();
                 object.plan_short_m = plan[1].get<double>();
             }
+            if (o.contains("plan_center_m")) {
+                const json& c = o.at("plan_center_m");
+                if (!c.is_array() || c.size() != 2 || !c[0].is_number() || !c[1].is_number() ||
+                    !std::isfinite(c[0].get<double>()) || !std::isfinite(c[1].get<double>())) {
+                    Bad(file, "plan_center_m must be [x, y] in metres");
+                }
+                object.plan_center = Eigen::Vector2d(c[0].get<double>(), c[1].get<double>());
+            }
             f.objects.push_back(std::move(object));
         }
         for (const json& t : j.at("transients")) {

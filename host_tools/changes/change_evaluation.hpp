@@ -48,6 +48,7 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -92,6 +93,8 @@ struct FoundChanges {
         double volume_m3 = 0;            // of its voxel solid (0 in older files)
         // Its smallest rectangle in plan, whatever its turn (long >= short; 0 in older files).
         double plan_long_m = 0, plan_short_m = 0;
+        // That rectangle's centre (x, y; nullopt in older files).
+        std::optional<Eigen::Vector2d> plan_center = std::nullopt;
     };
     struct Element {
         std::string verdict;

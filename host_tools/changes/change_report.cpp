@@ -119,6 +119,7 @@ json NewObjectsJson(const bim::BimModel& model, const SessionChanges& found) {
             const bim::BimElement& s = model.elements[size_t(place.space)];
             space = {{"global_id", s.global_id}, {"name", s.name}, {"long_name", s.long_name}};
         }
+        const Eigen::Vector2d plan = obj.plan.center + o.head<2>();
         objects.push_back({{"id", k},
                            {"ifc_global_id", found.object_global_ids[k]},
                            {"points", obj.points.size()},
@@ -129,6 +130,7 @@ json NewObjectsJson(const bim::BimModel& model, const SessionChanges& found) {
                            {"volume_m3", obj.volume_m3},
                            {"plan_size_m", {obj.plan.long_m, obj.plan.short_m}},
                            {"plan_yaw_deg", obj.plan.yaw_deg},
+                           {"plan_center_m", {plan.x(), plan.y()}},
                            {"voxels", obj.solid.voxels.size()},
                            {"on_floor", obj.on_floor},
                            {"outside_footprint", obj.outside_footprint},

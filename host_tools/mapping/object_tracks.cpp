@@ -138,6 +138,14 @@ bool Close(double x, double y, double relative, const HistoryConfig& config) {
     return std::abs(x - y) <= std::max(config.shape_tolerance_m, relative * std::max(x, y));
 }
 
+// Where an object stands: its plan rectangle's centre (changes.json's plan_center_m), which a
+// turned object seen without a corner keeps, its box's in older files; its box's height.
+Eigen::Vector3d Centre(const FoundChanges::Object& o) {
+    Eigen::Vector3d c = o.box.center();
+    if (o.plan_center) c.head<2>() = *o.plan_center;
+    return c;
+}
+
 // The height and the plan's sides agree: the smallest rectangles', which a turn leaves as they
 // are (files without them: the boxes' sorted sides).
 bool SameSides(const FoundChanges::Object& a, const FoundChanges::Object& b,
@@ -293,7 +301,7 @@ json ObjectTracks::Update(size_t v, const VisitFindings& visit) {
         if (!object_done[o]) open_objects.push_back(o);
     }
     for (const auto& [t, o] : Moved(open_tracks, open_objects, visit, seen_empty)) {
-        const Eigen::Vector3d offset = objects[o].box.center() - tracks_[t].last.box.center();
+        const Eigen::Vector3d offset = Centre(objects[o]) - Centre(tracks_[t].last);
         json s = Placed(visit, o, "moved");
         s["offset_m"] = Vec(offset);
         tracks_[t].sightings.push_back(s);

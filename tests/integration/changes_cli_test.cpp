@@ -28,6 +28,7 @@
 #include "algorithms/io/trajectory.hpp"
 #include "host_tools/bim/ifc_model.hpp"
 #include "host_tools/bim/sample_building.hpp"
+#include "host_tools/changes/change_evaluation.hpp"
 #include "host_tools/changes/ifc_update.hpp"
 #include "tests/integration/changes_walk.hpp"
 #include "tests/integration/las_reader_support.hpp"
@@ -80,7 +81,8 @@ using namespace BIMSLAM_UNITY_ID;  // the helpers above
 // build of `bimslam` and shared by the tests below, each a process of its own under ctest, so
 // that each reader of the files is a test of its own that skips, saying why, on its own.
 fs::path Walk() {
-    static const fs::path root = test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/changes_fixtures", kCli);
+    static const fs::path root =
+        test::FixtureRootFor(BIMSLAM_TEST_BINARY_DIR "/changes_fixtures", kCli);
     return test::CachedFixture(root, "walk", [](const fs::path& d) {
         MustRun("bim sample -o " + Quote(d / "building.ifc"));
         io::WriteFileAtomic(d / "scenario.yaml", kScenario);
@@ -154,6 +156,26 @@ TEST(ChangesCli, FindsTheChangesOfASimulatedWalk) {
             EXPECT_EQ(e["storey"]["from"], "ifc") << e.dump();
             EXPECT_FALSE(e["storey"]["name"].get<std::string>().empty());
         }
+    }
+    // Each object's plan rectangle's centre (where the history puts a moved one) is within its
+    // box, read back; a damaged one is refused, naming the file.
+    const change_detection::FoundChanges read = change_detection::ReadFoundChanges(out);
+    ASSERT_EQ(read.objects.size(), changes["new_objects"].size());
+    for (const auto& o : read.objects) {
+        ASSERT_TRUE(o.plan_center.has_value()) << o.id;
+        EXPECT_TRUE(Eigen::AlignedBox2d(o.box.min().head<2>(), o.box.max().head<2>())
+                        .contains(*o.plan_center))
+            << o.id;
+    }
+    if (!changes["new_objects"].empty()) {
+        const test::TempDir tmp;
+        const fs::path damaged = tmp / "out";
+        fs::copy(out, damaged, fs::copy_options::recursive);
+        json bad = changes;
+        bad["new_objects"][0]["plan_center_m"] = {1.0};
+        io::WriteFileAtomic(damaged / "changes.json", bad.dump());
+        EXPECT_FILE_ERROR(change_detection::ReadFoundChanges(damaged),
+                          (damaged / "changes.json").string(), 0);
     }
     const io::PlyData objects = io::ReadPly(out / "new_objects.ply");
     EXPECT_GT(objects.triangles.size(), 0u);

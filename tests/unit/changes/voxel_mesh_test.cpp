@@ -92,6 +92,7 @@ TEST(VoxelMesh, TheSmallestPlanRectangleKeepsAnObjectsSidesWhateverItsTurn) {
         EXPECT_NEAR(r.short_m, 0.5, 0.005) << yaw_deg;
         const double turn = std::fmod(r.yaw_deg - yaw_deg + 360.0, 180.0);
         EXPECT_LE(std::min(turn, 180.0 - turn), 0.5) << yaw_deg << " measured " << r.yaw_deg;
+        EXPECT_LT((r.center - Eigen::Vector2d(3, -2)).norm(), 0.005) << yaw_deg;
         Eigen::AlignedBox2d box;
         for (const auto& v : p) box.extend(v.head<2>().cast<double>());
         if (yaw_deg == 15.0) {
@@ -112,6 +113,12 @@ TEST(VoxelMesh, TheSmallestPlanRectangleKeepsAnObjectsSidesWhateverItsTurn) {
     const PlanRectangle c = SmallestPlanRectangle(corner);
     EXPECT_NEAR(c.long_m, 0.6, 0.005);
     EXPECT_NEAR(c.short_m, 0.6, 0.005);
+    // Its centre is the crate's, where the L's axis-aligned box puts it 5 cm off.
+    const Eigen::Vector2d crate = R * Eigen::Vector2d(0.3, 0.3);
+    EXPECT_LT((c.center - crate).norm(), 0.01);
+    Eigen::AlignedBox2d l;
+    for (const auto& v : corner) l.extend(v.head<2>().cast<double>());
+    EXPECT_GT((l.center() - crate).norm(), 0.04);
 }
 
 TEST(AlignedMap, MergesKeyframesCountingTheKeyframesThatSawEachVoxel) {
