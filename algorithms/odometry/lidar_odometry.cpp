@@ -57,6 +57,7 @@ void LidarOdometryConfig::Validate() const {
     Require(gravity_window_s > 0 && gravity_window_s <= 10, c, "gravity_window_s", gravity_window_s,
             "must be in (0, 10]");
     imu_height_filter.Validate();
+    imu_tilt_filter.Validate();
     Require(rest_accel_sigma > 0, c, "rest_accel_sigma", rest_accel_sigma, "must be > 0");
     Require(rest_gyro > 0, c, "rest_gyro", rest_gyro, "must be > 0");
     Require(height_seen_share > 0 && height_seen_share <= 1, c, "height_seen_share",
@@ -133,7 +134,8 @@ LidarOdometry::LidarOdometry(const LidarOdometryConfig& config)
                     config.preprocess.max_registration_points +
                         (config.edge_features ? 2 * config.edges.max_edges : 0)),
       body_prior_(config.body_prior),
-      imu_height_(config.imu_height_filter) {
+      imu_height_(config.imu_height_filter),
+      gravity_tilt_(config.imu_tilt_filter) {
     config_.Validate();
     if (config_.edge_features) {
         edge_extractor_.emplace(config_.edges, config_.preprocess.max_points);
@@ -246,6 +248,7 @@ void LidarOdometry::StartImuHeight() {
     const bool at_rest = spread < config_.rest_accel_sigma && max_rate < config_.rest_gyro;
     const Eigen::Vector3d up = (work_.T.linear() * mean).normalized();
     imu_height_.Reset(up.dot(work_.T.translation()), up, at_rest, mean.norm() - kStandardGravity);
+    if (config_.imu_tilt) gravity_tilt_.Reset(up, work_.T.linear(), at_rest);
 }
 
 bool LidarOdometry::PropagateHeight(ImuHeight* f, int64_t t0, int64_t t1, const Eigen::Matrix3d& R0,
@@ -373,6 +376,7 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
         return r;
     }
     if (initialized_) Register();
+    if (initialized_) LevelWithGravity();
     if (r.budget_cut != 0) r.flags |= kOverBudget;
     const Clock::time_point registered = Clock::now();
     r.register_ms = Ms(registered - preprocessed);
@@ -705,6 +709,33 @@ void LidarOdometry::UpdateVelocity() {
     initialized_ = true;
     last_degenerate_ = (r.flags & (kDegenerate | kRegistrationFailed)) != 0;
     last_stamp_ns_ = w.stamp;
+}
+
+void LidarOdometry::LevelWithGravity() {
+    // The accelerometers since the last scan, turned into the frame by its pose's rotation and
+    // the gyro (each sample at the rotation halfway through its piece); at the end of a window
+    // the pose levelled by what the filter learnt (gravity_tilt.hpp).
+    if (!config_.use_imu || !config_.imu_tilt || !gravity_tilt_.initialized()) return;
+    ScanWork& w = work_;
+    Eigen::Vector3d Rf_dt = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d R_dt = Eigen::Matrix3d::Zero();
+    double dt = 0;
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    const Eigen::Matrix3d R0 = w.T_prev.linear();
+    const bool covered =
+        ForImuPieces(last_stamp_ns_, w.stamp, [&](const ImuMeasurement& m, double d) {
+            const Eigen::Quaterniond half =
+                q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (d / 2)));
+            const Eigen::Matrix3d R = R0 * half.toRotationMatrix();
+            Rf_dt += R * m.accel * d;
+            R_dt += R * d;
+            dt += d;
+            q = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * d));
+        });
+    const bool failed = (result_.flags & (kRegistrationFailed | kCheckFailed | kTooFewPoints)) != 0;
+    const Eigen::Matrix3d C =
+        gravity_tilt_.AddScan(w.stamp, w.T.translation(), Rf_dt, R_dt, dt, covered && !failed);
+    w.T.linear() = C * w.T.linear();
 }
 
 void LidarOdometry::UpdateImuHeight() {

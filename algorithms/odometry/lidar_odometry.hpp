@@ -49,6 +49,7 @@
 #include "algorithms/common/point_cloud.hpp"
 #include "algorithms/common/se3.hpp"
 #include "algorithms/odometry/edge_features.hpp"
+#include "algorithms/odometry/gravity_tilt.hpp"
 #include "algorithms/odometry/imu_height.hpp"
 #include "algorithms/odometry/motion_prior.hpp"
 #include "algorithms/odometry/preprocess.hpp"
@@ -122,6 +123,11 @@ struct LidarOdometryConfig {
     // percentile (median 0.28-0.31); a bare shaft's edge voxels 0.014, and deskewed there from
     // the filter a climb at 1.6 m/s ended 52 cm off (LidarOdometry.AStopInAShaft...).
     double vertical_deskew_share = 0.05;
+    // With the IMU and imu_height: each registered pose levelled by gravity, the accelerometers'
+    // filter of the frame's tilt and their bias (gravity_tilt.hpp; README.md, "Gravity holds the
+    // tilt"), before the map takes the scan.
+    bool imu_tilt = true;
+    GravityTiltConfig imu_tilt_filter;
     // A scan saw the height when the surfaces facing up or down it hit carry at least this share
     // of its registration's weights (RegistrationResult::axis_share).
     double height_seen_share = 0.01;
@@ -390,6 +396,8 @@ private:
     void UpdateMap();        // 4
     void UpdateVelocity();   // the pose kept, the constant velocity over the window
     void UpdateImuHeight();  // the accelerometers' filter learns what the scan saw of the height
+    // The pose levelled by the gravity filter (imu_tilt) at the end of each of its windows.
+    void LevelWithGravity();
 
     // One scan's values through the steps.
     struct ScanWork {
@@ -420,6 +428,7 @@ private:
     ScanRegistration registration_;
     MotionPrior body_prior_;
     ImuHeight imu_height_;
+    GravityTilt gravity_tilt_;
     double last_height_share_ = 0;       // the last scan's axis_share (0: failed), for the deskew
     bool last_height_seen_ = true;       // whether the last scan saw the height (imu_height)
     bool last_height_from_imu_ = false;  // whether its predicted height was the filter's
