@@ -34,7 +34,6 @@
 // (and, by the buildings and starts suites, its odometry session with the IMU to
 // DIR/<name>_session).
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -144,11 +143,7 @@ struct Odometry {
 std::optional<fs::path> Keep(const fs::path& folder, const std::string& what) {
     const char* keep = std::getenv("BIMSLAM_STOREYS_KEEP");
     if (!keep || !*keep) return std::nullopt;
-    std::string name = what;
-    for (char& c : name) {
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    }
-    const fs::path to = fs::path(keep) / name;
+    const fs::path to = fs::path(keep) / test::Identifier(what);
     fs::remove_all(to);
     fs::create_directories(to);
     fs::copy(folder, to, fs::copy_options::recursive);

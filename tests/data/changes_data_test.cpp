@@ -7,7 +7,6 @@
 // web-ifc where it is installed.
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
@@ -91,9 +90,7 @@ INSTANTIATE_TEST_SUITE_P(Models, ChangesOnRealModels,
                          ::testing::Values("AC20-FZK-Haus.ifc", "Duplex_A_20110907.ifc",
                                            "Office_A_20110811.ifc"),
                          [](const auto& param_info) {
-                             std::string name = param_info.param;
-                             for (char& c : name) c = std::isalnum(uint8_t(c)) ? c : '_';
-                             return name;
+                             return ::bimslam::test::Identifier(param_info.param);
                          });
 
 }  // namespace BIMSLAM_UNITY_ID

@@ -328,11 +328,7 @@ TEST_P(RealCapture, FileCutMidPacketEndsCleanlyWithTheRightCounts) {
 
 INSTANTIATE_TEST_SUITE_P(Ouster, RealCapture, ::testing::ValuesIn(kCaptures),
                          [](const auto& param) {
-                             std::string name = param.param;
-                             for (char& c : name) {
-                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                             }
-                             return name;
+                             return ::bimslam::test::Identifier(param.param);
                          });
 
 TEST(RealCaptureFaults, VelodyneIsRejectedAndTheEmptyCaptureHasNoFrames) {

@@ -29,11 +29,7 @@ const char* kWithSdkXyz[] = {"OS-1-32-G_v2.1.1_1024x10", "OS-0-32-U1_v2.2.0_1024
                              "OS-2-128-U1_v2.3.0_1024x10", "OS-0-128-U1_v2.3.0_1024x10"};
 
 std::string TestName(const ::testing::TestParamInfo<const char*>& param) {
-    std::string name = param.param;
-    for (char& c : name) {
-        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-    }
-    return name;
+    return ::bimslam::test::Identifier(param.param);
 }
 
 class SdkXyz : public ::testing::TestWithParam<const char*> {};

@@ -138,9 +138,7 @@ INSTANTIATE_TEST_SUITE_P(
                            true,
                            {"Level 1", "Level 2", "Roof"}}),
     [](const auto& param_info) {
-        std::string n = param_info.param.file.substr(0, 6);
-        for (char& ch : n) ch = std::isalnum(uint8_t(ch)) ? ch : '_';
-        return n;
+        return ::bimslam::test::Identifier(param_info.param.file.substr(0, 6));
     });
 
 }  // namespace BIMSLAM_UNITY_ID

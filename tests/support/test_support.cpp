@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -54,6 +55,13 @@ std::string RandomBytes(size_t n, std::mt19937& rng) {
     std::string s(n, '\0');
     for (char& c : s) c = static_cast<char>(rng());
     return s;
+}
+
+std::string Identifier(std::string name) {
+    for (char& c : name) {
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    }
+    return name;
 }
 
 CommandResult RunCommand(const std::string& command) {

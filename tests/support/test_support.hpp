@@ -73,6 +73,10 @@ inline std::span<const uint8_t> AsBytes(const std::string& s) {
 // n random bytes.
 std::string RandomBytes(size_t n, std::mt19937& rng);
 
+// `name` with every character but ASCII letters and digits made '_': a gtest parameter's name,
+// or a folder's.
+std::string Identifier(std::string name);
+
 // Runs a shell command; returns its exit code (128 + signal when killed) and what it printed.
 struct CommandResult {
     int exit_code = -1;
