@@ -13,15 +13,17 @@
 // odometry frame, and as the walk turns they separate (as LIO filters do, e.g. FAST-LIO's
 // gravity in the state; here only roll, pitch and the bias, the rest is the registration's).
 //
-// Model. A Kalman filter of x = [t1 t2 b] with t = t1 e1 + t2 e2 (e1, e2 across `up`) the true
-// up's offset from `up` in the registered poses' frame, and b the accelerometers' bias (lidar
-// frame). Over a window between scans a and b, the accelerometers turned into the frame by the
-// registered rotations and the gyro give, less the change of the mean velocity the registered
+// Model. A Kalman filter of x = [t t0 b]: t = t1 e1 + t2 e2 (e1, e2 across `up`) the true up's
+// offset from `up` in the poses' frame now, t0 the same at the start, and b the accelerometers'
+// bias (lidar frame). Over a window between scans a and b, the accelerometers turned into the
+// frame by the poses' rotations and the gyro, less the change of the mean velocity the registered
 // positions give (each end's mean over velocity_scans, the accelerometers weighted by the same
 // trapezoid so that both sides are the same integral):
 //   sum w R f dt - (v_b - v_a) = g T (up + t) + (sum w R dt) b + noise,   T = sum w dt.
-// The tilt walks (the map it is registered to changes), the bias too, slowly. At the start the
-// accelerometers' mean gave `up`, so up + t and the mean differ by the bias alone (a prior).
+// The tilt walks (the map the poses are registered to drifts), the bias too, slowly; t0 stays. At
+// the start the accelerometers' mean gave `up`, so up + t0 and the mean differ by the bias and the
+// walk's own acceleration (a prior). The frame is levelled back to t0, not to gravity: a start
+// that was not level (in motion) would otherwise bend the walk where the levelling began.
 #pragma once
 
 #include <Eigen/Core>
