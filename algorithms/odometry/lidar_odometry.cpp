@@ -251,14 +251,23 @@ void LidarOdometry::StartImuHeight() {
     if (config_.imu_tilt) gravity_tilt_.Reset(up, work_.T.linear(), at_rest);
 }
 
-bool LidarOdometry::PropagateHeight(ImuHeight* f, int64_t t0, int64_t t1, const Eigen::Matrix3d& R0,
-                                    Eigen::Quaterniond* q) const {
-    // Each sample's specific force at the lidar's rotation halfway through its piece.
+template <typename Sample>
+bool LidarOdometry::ForImuRotations(int64_t t0, int64_t t1, const Eigen::Matrix3d& R0,
+                                    Eigen::Quaterniond* q, Sample&& sample) const {
+    // Each sample at the lidar's rotation halfway through its piece.
     return ForImuPieces(t0, t1, [&](const ImuMeasurement& m, double dt) {
         const Eigen::Quaterniond half = *q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (dt / 2)));
-        f->Propagate(R0 * half.toRotationMatrix(), m.accel, dt);
+        sample(R0 * half.toRotationMatrix(), m, dt);
         *q = *q * Eigen::Quaterniond(common::ExpSO3(m.gyro * dt));
     });
+}
+
+bool LidarOdometry::PropagateHeight(ImuHeight* f, int64_t t0, int64_t t1, const Eigen::Matrix3d& R0,
+                                    Eigen::Quaterniond* q) const {
+    return ForImuRotations(t0, t1, R0, q,
+                           [&](const Eigen::Matrix3d& R, const ImuMeasurement& m, double dt) {
+                               f->Propagate(R, m.accel, dt);
+                           });
 }
 
 bool LidarOdometry::PropagateImuHeight(int64_t t0, int64_t t1, const Eigen::Matrix3d& R0) {
@@ -713,25 +722,21 @@ void LidarOdometry::UpdateVelocity() {
 
 void LidarOdometry::LevelWithGravity() {
     // The accelerometers since the last scan, turned into the frame by its pose's rotation and
-    // the gyro (each sample at the rotation halfway through its piece); at the end of a window
-    // the pose levelled by what the filter learnt (gravity_tilt.hpp).
+    // the gyro, as the height filter's are (ForImuRotations); at the end of a window the pose
+    // levelled by what the filter learnt (gravity_tilt.hpp).
     if (!config_.use_imu || !config_.imu_tilt || !gravity_tilt_.initialized()) return;
     ScanWork& w = work_;
     Eigen::Vector3d Rf_dt = Eigen::Vector3d::Zero();
     Eigen::Matrix3d R_dt = Eigen::Matrix3d::Zero();
     double dt = 0;
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-    const Eigen::Matrix3d R0 = w.T_prev.linear();
     const bool covered =
-        ForImuPieces(last_stamp_ns_, w.stamp, [&](const ImuMeasurement& m, double d) {
-            const Eigen::Quaterniond half =
-                q * Eigen::Quaterniond(common::ExpSO3(m.gyro * (d / 2)));
-            const Eigen::Matrix3d R = R0 * half.toRotationMatrix();
-            Rf_dt += R * m.accel * d;
-            R_dt += R * d;
-            dt += d;
-            q = q * Eigen::Quaterniond(common::ExpSO3(m.gyro * d));
-        });
+        ForImuRotations(last_stamp_ns_, w.stamp, w.T_prev.linear(), &q,
+                        [&](const Eigen::Matrix3d& R, const ImuMeasurement& m, double d) {
+                            Rf_dt += R * m.accel * d;
+                            R_dt += R * d;
+                            dt += d;
+                        });
     const bool failed = (result_.flags & (kRegistrationFailed | kCheckFailed | kTooFewPoints)) != 0;
     const Eigen::Matrix3d C =
         gravity_tilt_.AddScan(w.stamp, w.T.translation(), Rf_dt, R_dt, dt, covered && !failed);

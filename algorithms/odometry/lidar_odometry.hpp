@@ -346,8 +346,14 @@ private:
     // does not cover the interval), and told what each scan saw of the height.
     void StartImuHeight();
     bool PropagateImuHeight(int64_t t0_ns, int64_t t1_ns, const Eigen::Matrix3d& R0);
-    // Moves the filter *f over [t0_ns, t1_ns] by the accelerometers, the lidar at R0 * *q at t0_ns
-    // and *q carried to t1_ns by the gyro; false when the IMU does not cover the span.
+    // Calls sample(R, imu, dt_s) for each IMU sample's share of [t0_ns, t1_ns] (ForImuPieces), R
+    // the lidar's rotation halfway through it: R0 * *q at t0_ns, *q carried to t1_ns by the gyro.
+    // False when the IMU does not cover the span.
+    template <typename Sample>
+    bool ForImuRotations(int64_t t0_ns, int64_t t1_ns, const Eigen::Matrix3d& R0,
+                         Eigen::Quaterniond* q, Sample&& sample) const;
+    // Moves the filter *f over [t0_ns, t1_ns] by the accelerometers (ForImuRotations); false when
+    // the IMU does not cover the span.
     bool PropagateHeight(ImuHeight* f, int64_t t0_ns, int64_t t1_ns, const Eigen::Matrix3d& R0,
                          Eigen::Quaterniond* q) const;
     void PredictHeight();
