@@ -65,23 +65,27 @@ inline BimModel Floor() {
     return m;
 }
 
-// A sloped roof face over the north room: z 3 at y 5 down to 1 at y 8 (two triangles).
-inline void AddRoofFace(BimModel& m) {
+// A slab of structure, the quadrilateral a b c d (two triangles), as element `id`.
+inline void AddSlabFace(BimModel& m, const std::string& id, const Eigen::Vector3f& a,
+                        const Eigen::Vector3f& b, const Eigen::Vector3f& c,
+                        const Eigen::Vector3f& d) {
     BimElement e;
-    e.global_id = "roof";
+    e.global_id = id;
     e.ifc_class = "IfcSlab";
     e.role = ElementRole::kStructure;
     e.first_triangle = uint32_t(m.mesh.triangles.size());
     e.triangle_count = 2;
     const uint32_t base = uint32_t(m.mesh.vertices.size());
-    for (const Eigen::Vector3f& v : {Eigen::Vector3f(0, 5, 3), Eigen::Vector3f(12, 5, 3),
-                                     Eigen::Vector3f(12, 8, 1), Eigen::Vector3f(0, 8, 1)}) {
-        m.mesh.vertices.push_back(v);
-    }
+    for (const Eigen::Vector3f& v : {a, b, c, d}) m.mesh.vertices.push_back(v);
     m.mesh.triangles.push_back({base, base + 1, base + 2});
     m.mesh.triangles.push_back({base, base + 2, base + 3});
     m.triangle_element.insert(m.triangle_element.end(), 2, uint32_t(m.elements.size()));
     m.elements.push_back(e);
+}
+
+// A sloped roof face over the north room: z 3 at y 5 down to 1 at y 8 (two triangles).
+inline void AddRoofFace(BimModel& m) {
+    AddSlabFace(m, "roof", {0, 5, 3}, {12, 5, 3}, {12, 8, 1}, {0, 8, 1});
 }
 
 }  // namespace bimslam::bim::test_floor

@@ -25,6 +25,7 @@
 #include "host_tools/capture/ouster_capture.hpp"
 #include "host_tools/simulate/simulate.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/unit/bim/synthetic_floor.hpp"
 
 namespace bimslam::simulate {
 namespace {
@@ -261,23 +262,8 @@ TEST(BuildingWalk, AWayInFromOutsideKeepsTheRigUnderTheHeadroom) {
     doors.exterior_doors = true;
     bim::BimModel model = bim::ParseIfc("office.ifc", bim::SampleBuildingIfc(doors));
     const Eigen::AlignedBox2d canopy(Eigen::Vector2d(-4.0, 6.5), Eigen::Vector2d(-1.0, 8.5));
-    bim::BimElement e;
-    e.global_id = "canopy";
-    e.ifc_class = "IfcSlab";
-    e.role = bim::ElementRole::kStructure;
-    e.first_triangle = uint32_t(model.mesh.triangles.size());
-    e.triangle_count = 2;
-    const uint32_t base = uint32_t(model.mesh.vertices.size());
-    for (const Eigen::Vector2d& c : {canopy.corner(Eigen::AlignedBox2d::BottomLeft),
-                                     canopy.corner(Eigen::AlignedBox2d::BottomRight),
-                                     canopy.corner(Eigen::AlignedBox2d::TopRight),
-                                     canopy.corner(Eigen::AlignedBox2d::TopLeft)}) {
-        model.mesh.vertices.push_back(Eigen::Vector3f(float(c.x()), float(c.y()), 1.0f));
-    }
-    model.mesh.triangles.push_back({base, base + 1, base + 2});
-    model.mesh.triangles.push_back({base, base + 2, base + 3});
-    model.triangle_element.insert(model.triangle_element.end(), 2, uint32_t(model.elements.size()));
-    model.elements.push_back(e);
+    bim::test_floor::AddSlabFace(model, "canopy", {-4, 6.5, 1}, {-1, 6.5, 1}, {-1, 8.5, 1},
+                                 {-4, 8.5, 1});
 
     const auto under_canopy = [&](Platform platform) {
         Scenario s = DefaultScenario(platform);
