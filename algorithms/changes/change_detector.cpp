@@ -91,11 +91,13 @@ PointNormals EstimateNormals(std::span<const Eigen::Vector3f> points, float radi
 
 // The surface an object seen from above only stands on: the highest surface facing up that a ray
 // straight down from one of its points meets within `max_drop`, when the map holds no point on
-// it under the object's footprint (its box in plan, a voxel in from each side): the object hid
-// that surface from every keyframe, as a box does; a table's or a shelf's is seen between its
-// legs or from the side. Nothing (no surface, or the surface was seen): NaN.
+// it under the object's footprint (its smallest plan rectangle, a voxel in from each side): the
+// object hid that surface from every keyframe, as a box does; a table's or a shelf's is seen
+// between its legs or from the side. The rectangle, not the box: the box of an object turned
+// about z holds floor beside it, in view (Duplex_A's armchair turned 15 deg). Nothing (no
+// surface, or the surface was seen): NaN.
 float UnseenSupport(const simulation::Scene& scene, std::span<const Eigen::Vector3f> map,
-                    std::span<const Eigen::Vector3f> object, const Eigen::AlignedBox3d& box,
+                    std::span<const Eigen::Vector3f> object, const PlanRectangle& plan,
                     float max_drop, float voxel, float tolerance) {
     float support = -std::numeric_limits<float>::infinity();
     for (const Eigen::Vector3f& p : object) {
@@ -103,11 +105,13 @@ float UnseenSupport(const simulation::Scene& scene, std::span<const Eigen::Vecto
         if (hit && hit->normal.z() > 0.7f) support = std::max(support, p.z() - hit->t);
     }
     if (!std::isfinite(support)) return std::numeric_limits<float>::quiet_NaN();
-    const Eigen::Vector2f lo = box.min().head<2>().cast<float>() + Eigen::Vector2f::Constant(voxel);
-    const Eigen::Vector2f hi = box.max().head<2>().cast<float>() - Eigen::Vector2f::Constant(voxel);
+    const double yaw = plan.yaw_deg * M_PI / 180;
+    const Eigen::Vector2d u(std::cos(yaw), std::sin(yaw)), v(-u.y(), u.x());
+    const double half_long = 0.5 * plan.long_m - voxel, half_short = 0.5 * plan.short_m - voxel;
     for (const Eigen::Vector3f& q : map) {
-        if (q.x() > lo.x() && q.x() < hi.x() && q.y() > lo.y() && q.y() < hi.y() &&
-            std::abs(q.z() - support) <= tolerance) {
+        if (std::abs(q.z() - support) > tolerance) continue;
+        const Eigen::Vector2d d = q.head<2>().cast<double>() - plan.center;
+        if (std::abs(u.dot(d)) < half_long && std::abs(v.dot(d)) < half_short) {
             return std::numeric_limits<float>::quiet_NaN();  // seen under it
         }
     }
@@ -614,6 +618,7 @@ NewObject Detection::MakeObject(std::vector<uint32_t> points) const {
         pts[k] = xyz[obj.points[k]];
         box.extend(pts[k].cast<double>());
     }
+    obj.plan = SmallestPlanRectangle(pts);
     // The floor under the object: a surface facing up within reach below its points.
     const float bottom = float(box.min().z());
     for (size_t k = 0; k < pts.size(); ++k) {
@@ -628,7 +633,7 @@ NewObject Detection::MakeObject(std::vector<uint32_t> points) const {
         }
     }
     if (!obj.on_floor && config.max_unseen_support_drop_m > 0) {
-        const float z = UnseenSupport(*scene, xyz, pts, box,
+        const float z = UnseenSupport(*scene, xyz, pts, obj.plan,
                                       float(config.max_unseen_support_drop_m), voxel, low);
         if (std::isfinite(z) && z < box.min().z()) {
             box.min().z() = z;
@@ -641,7 +646,6 @@ NewObject Detection::MakeObject(std::vector<uint32_t> points) const {
     obj.box_max = box.max();
     obj.centroid = obj.solid.centroid();
     obj.volume_m3 = obj.solid.volume_m3();
-    obj.plan = SmallestPlanRectangle(pts);
     return obj;
 }
 

@@ -456,16 +456,19 @@ TEST(ChangeDetector, WhatOneKeyframeAloneSawIsNotANewObject) {
 // 0.32 m from the true box's: a miss and a false alarm. The floor under it is what the box hid
 // from every keyframe, so the object stands on it; a table's top, with the floor seen under it,
 // still floats. Two keyframes 1.5 m up in room A see a 0.4 m square top at 0.55 m and the floor
-// around it (and, for the table, under it).
+// around it (and, for the table, under it). Issue 33 (Duplex_A, seed 1, v3): the same top
+// turned 30 deg about z stands on the floor too, though its axis-aligned box holds floor in view.
 TEST(ChangeDetector, AnObjectSeenFromAboveOnlyStandsOnTheFloorItHidesAndATableTopDoesNot) {
     const test::ChangeScene& s = SharedChangeScene();
-    const auto walk = [&](bool floor_under, double max_drop_m) {
+    const auto walk = [&](bool floor_under, double max_drop_m, float yaw_deg = 0) {
         const std::vector<Eigen::Vector3f> sensors = {{5.5f, 1.0f, 1.5f}, {7.0f, 1.8f, 1.5f}};
+        const Eigen::Rotation2Df turn(-yaw_deg * float(M_PI) / 180);  // world to the top's axes
         std::vector<common::PointCloud> clouds(sensors.size());
         for (size_t k = 0; k < sensors.size(); ++k) {
             for (float x = 5.8f; x <= 7.2f; x += 0.025f) {
                 for (float y = 0.8f; y <= 2.2f; y += 0.025f) {
-                    const bool under = x >= 6.3f && x <= 6.7f && y >= 1.3f && y <= 1.7f;
+                    const Eigen::Vector2f d = turn * Eigen::Vector2f(x - 6.5f, y - 1.5f);
+                    const bool under = std::abs(d.x()) <= 0.2f && std::abs(d.y()) <= 0.2f;
                     if (under) clouds[k].xyz.push_back(Eigen::Vector3f(x, y, 0.55f) - sensors[k]);
                     if (!under || floor_under) {
                         clouds[k].xyz.push_back(Eigen::Vector3f(x, y, 0.0f) - sensors[k]);
@@ -494,6 +497,13 @@ TEST(ChangeDetector, AnObjectSeenFromAboveOnlyStandsOnTheFloorItHidesAndATableTo
     EXPECT_TRUE(box.objects[0].on_floor);
     EXPECT_NEAR(box.objects[0].box_min.z(), 0.0, 0.01) << Describe(box);
     EXPECT_NEAR(box.objects[0].box_max.z(), 0.55, 0.03) << Describe(box);
+
+    const ChangeResult turned = walk(false, 3.0, 30);
+    ASSERT_EQ(turned.objects.size(), 1u) << Describe(turned);
+    EXPECT_TRUE(turned.objects[0].on_floor);
+    EXPECT_NEAR(turned.objects[0].box_min.z(), 0.0, 0.01) << Describe(turned);
+    EXPECT_NEAR(std::fmod(turned.objects[0].plan.yaw_deg, 90.0), 30, 2)
+        << Describe(turned);  // a square
 
     const ChangeResult table = walk(true, 3.0);
     ASSERT_EQ(table.objects.size(), 1u) << Describe(table);
