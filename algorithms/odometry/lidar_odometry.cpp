@@ -74,8 +74,8 @@ void LidarOdometryConfig::Validate() const {
     Require(body_translation_gate >= 0, c, "body_translation_gate", body_translation_gate,
             "must be >= 0");
     Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
-    Require(degenerate_redeskew_threshold > 0, c, "degenerate_redeskew_threshold",
-            degenerate_redeskew_threshold, "must be > 0");
+    Require(gyro_redeskew_threshold > 0, c, "gyro_redeskew_threshold", gyro_redeskew_threshold,
+            "must be > 0");
     Require(max_redeskew_move >= 0, c, "max_redeskew_move", max_redeskew_move, "must be >= 0");
     Require(max_deskew_rounds >= 0 && max_deskew_rounds <= 5, c, "max_deskew_rounds",
             max_deskew_rounds, "must be in [0, 5]");
@@ -633,8 +633,9 @@ void LidarOdometry::DeskewAgain() {
         const ScanMotion estimated = EstimatedMotion();
         const Eigen::Isometry3d diff = common::Between(w.motion.End(), estimated.End());
         const double move = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
-        const double threshold = (r.flags & kDegenerate) ? config_.degenerate_redeskew_threshold
-                                                         : config_.redeskew_threshold;
+        const double threshold = w.gyro && !(r.flags & kDegenerate)
+                                     ? config_.gyro_redeskew_threshold
+                                     : config_.redeskew_threshold;
         if (move <= threshold) {
             r.deskew_stop = DeskewStop::kHolds;
             break;

@@ -149,16 +149,18 @@ struct LidarOdometryConfig {
     // A scan is deskewed again with its estimated motion when that differs from the predicted
     // one by more than this over the sweep (metres of translation + 10 m x radians of rotation:
     // the displacement of a point 10 m away). Not with the sweep's motion correction, which
-    // estimates that motion itself. 1 cm, not 2: with the gyro most scans' predictions were
-    // within 2 cm, left as they were, and a sweep deskewed with a translation off by e fits best
-    // about its middle (README.md, "Deskew rounds from 1 cm"): the office's flat minutes 0.53-0.58
-    // -> 0.37-0.42 cm, the stair walks of seeds 3-4 (not those it was chosen on) better or the
-    // same.
-    double redeskew_threshold = 0.01;
-    // The same after a degenerate registration: along its weak direction the estimate is the
-    // prediction's, and a round there follows what little the map holds (the map's edge voxels
-    // in a bare shaft: LidarOdometry.AStopInAShaft... 27.7 cm off at 1 cm, under 5 cm at 2 cm).
-    double degenerate_redeskew_threshold = 0.02;
+    // estimates that motion itself.
+    double redeskew_threshold = 0.02;
+    // The same for a scan deskewed with the gyro whose registration was not degenerate. With the
+    // gyro most scans' predictions were within 2 cm and left as they were, and a sweep deskewed
+    // with a translation off by e fits best about its middle (README.md, "Deskew rounds from 1
+    // cm"): the office's flat minutes 0.53-0.58 -> 0.37-0.42 cm, the stair walks of seeds 3-4
+    // (not those it was chosen on) better or the same. Not without the gyro: there the rounds
+    // are under-relaxed steps (deskew_step) and ending them at 1 cm took the office's LiDAR-only
+    // Go1 descent 2.30 -> 12.66 cm. Not after a degenerate registration: along its weak direction
+    // the estimate is the prediction's, and a round there follows what little the map holds (the
+    // map's edge voxels in a bare shaft: LidarOdometry.AStopInAShaft... 27.7 cm off at 1 cm).
+    double gyro_redeskew_threshold = 0.01;
     // With the gyro, a round whose motion moves the points by at most this much over the sweep
     // (the same measure) moves the points the voxel filters chose (Preprocessor::Redeskew, about
     // a fifth of the cost); a larger move, or any round without the gyro, preprocesses the scan
