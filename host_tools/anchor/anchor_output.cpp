@@ -63,7 +63,9 @@ json ResultJson(const SessionResult& s) {
                         {"removed_surfaces", removed},
                         {"seen_through_unexplained", h.Unexplained()},
                         {"contradicted", h.contradicted},
+                        {"floating_keyframes", h.floating},
                         {"outweighed", h.outweighed},
+                        {"outweighed_by_heights", h.outweighed_by_heights},
                         {"off_hint", h.off_hint},
                         {"rounds", h.rounds}});
     }

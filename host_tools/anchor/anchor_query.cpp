@@ -58,6 +58,9 @@ std::string AnchoredReason(const std::vector<Evaluation>& ranked, size_t keyfram
     return reason + "the next hypothesis explains " + std::to_string(next.covered) +
            (next.contradicted ? " and is contradicted (" + Percent(next.seen_through) + ")"
             : next.off_hint   ? " and puts the walk's start off the hint (--near)"
+            : next.outweighed_by_heights
+                ? " and is outweighed by the walk's heights (it puts " +
+                      std::to_string(next.floating) + " keyframes a storey off every walk)"
             : next.outweighed ? " and is outweighed by free space (" + Percent(next.seen_through) +
                                     " of rays through the model)"
                               : std::string());

@@ -52,9 +52,11 @@ std::vector<size_t> RankHypotheses(std::vector<Hypothesis>& hypotheses,
     for (Hypothesis& b : hypotheses) {
         for (const Hypothesis& a : hypotheses) {
             if (&a == &b || a.contradicted || b.contradicted || a.off_hint) continue;
-            if (double(a.covered) >= config.ambiguity_ratio * double(b.covered) &&
-                FreeSpacePrefers(a, b, config)) {
+            if (double(a.covered) < config.ambiguity_ratio * double(b.covered)) continue;
+            if (FreeSpacePrefers(a, b, config)) {
                 b.outweighed = true;
+            } else if (HeightsPrefer(a, b, poses.size(), config)) {
+                b.outweighed = b.outweighed_by_heights = true;
             }
         }
     }
@@ -154,6 +156,14 @@ int Severity(Verdict v) {
 
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config) {
     return config.FreeSpacePrefers(a.seen_through, b.seen_through, !b.removed_surfaces.empty());
+}
+
+bool HeightsPrefer(const Hypothesis& a, const Hypothesis& b, size_t keyframes,
+                   const AnchorConfig& config) {
+    const double floats = double(b.floating);
+    return floats >=
+               std::max(double(config.min_loops), config.floating_share * double(keyframes)) &&
+           config.outweigh_ratio * double(a.floating) <= floats;
 }
 
 std::string_view ToString(Verdict v) {

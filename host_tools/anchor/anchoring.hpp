@@ -100,9 +100,15 @@ struct Hypothesis {
     // Over AnchorConfig::max_seen_through: Unexplained() when the walk's start was given (a
     // placement the user vouches for), else seen_through (RankHypotheses).
     bool contradicted = false;
+    // Query keyframes it puts over or under every walk of the target: target keyframes within
+    // the proximity radius, none within proximity_height_m of its height (a storey off). The
+    // target's walks cover every storey they reached, so a placement that floats a flight's worth
+    // of the walk above the top storey (or sinks it below the lowest) is not the building's.
+    size_t floating = 0;
     // Another uncontradicted hypothesis explains nearly as many keyframes and free space prefers
-    // it decisively (FreeSpacePrefers): not a rival.
+    // it decisively (FreeSpacePrefers), or the walk's heights do (HeightsPrefer): not a rival.
     bool outweighed = false;
+    bool outweighed_by_heights = false;  // by HeightsPrefer (the reason says which)
     // It puts the query's first keyframe farther than its StartHint allows: set aside, not a
     // rival.
     bool off_hint = false;
@@ -194,6 +200,15 @@ using Progress = std::function<void(const std::string&, size_t, size_t)>;
 // but for the stair's railings: its twin placement sees through them, two patches of 1.2 and 1.5
 // m2 that a removed element would explain, and would otherwise be a rival of the right one.
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
+
+// Whether the walk's heights prefer hypothesis a to b over a walk of `keyframes`: b floats at
+// least AnchorConfig::floating_share of them (and min_loops) and a at most 1/outweigh_ratio as
+// many. The session's own continuity through the stairs: the sample office's two-storey walk
+// placed a storey up explained 99 of its 121 keyframes (the ambiguity ratio) and floated the
+// rest above the roof; free space, blind above the model, preferred the right placement by 1.9
+// points, under outweigh_gap.
+bool HeightsPrefer(const Hypothesis& a, const Hypothesis& b, size_t keyframes,
+                   const AnchorConfig& config);
 
 // Marks each hypothesis contradicted (its keyframes see through the model more than
 // max_seen_through), off the hint (`start` given, and it puts the first of the query's keyframes

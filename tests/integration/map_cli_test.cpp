@@ -440,6 +440,21 @@ TEST(MapCli, ATwoStoreyWalksChangesArePlacedOnTheirStoreysAndItsTrajectorySplitB
     const json summary = ReadJson(f / "out" / "summary.json");
     ASSERT_EQ(summary.at("recordings").at(0).at("anchor").at("verdict"), "anchored")
         << summary.dump(1);
+    // A placement a storey up or down (the walk's first floor above the roof, or its ground
+    // floor under the model) floats a tenth of the walk or more off every walk of the model, and
+    // so is no rival (anchor::HeightsPrefer); the best floats none.
+    const json anchor = ReadJson(VisitOf(f / "out") / "anchor" / "anchor.json").at("sessions")[0];
+    const json& hyps = anchor.at("hypotheses");
+    ASSERT_FALSE(hyps.empty());
+    EXPECT_EQ(hyps[0].at("floating_keyframes"), 0) << hyps[0].dump();
+    const double z0 = hyps[0].at("T_world_local").at("translation")[2];
+    for (const json& h : hyps) {
+        const double dz = h.at("T_world_local").at("translation")[2].get<double>() - z0;
+        if (std::abs(dz) < 2.0) continue;
+        EXPECT_GE(h.at("floating_keyframes").get<double>(),
+                  0.1 * anchor.at("keyframes").get<double>())
+            << h.dump();
+    }
     const json truth = ReadJson(f / "capture" / "changes.json");
     const json found = ReadJson(VisitOf(f / "out") / "changes" / "capture" / "changes.json");
     ASSERT_EQ(truth.at("added").size(), 2u);
