@@ -51,6 +51,10 @@ void LoopRules::ValidateLoopRules(const char* c) const {
     Require(outweigh_ratio >= 1, c, "outweigh_ratio", outweigh_ratio, "must be at least 1");
     Require(outweigh_gap > 0 && outweigh_gap <= 1, c, "outweigh_gap", outweigh_gap,
             "must be in (0, 1]");
+    Require(floating_share > 0 && floating_share <= 1, c, "floating_share", floating_share,
+            "must be in (0, 1]");
+    Require(floating_radius_m > 0, c, "floating_radius_m", floating_radius_m, "must be positive");
+    Require(floating_height_m > 0, c, "floating_height_m", floating_height_m, "must be positive");
     const registration::RemovedSurfaceConfig& r = removed_surfaces;
     Require(r.cell > 0, c, "removed_surfaces.cell", r.cell, "must be positive");
     Require(r.max_area_m2 > 0, c, "removed_surfaces.max_area_m2", r.max_area_m2,
@@ -65,6 +69,13 @@ bool LoopRules::FreeSpacePrefers(double a, double b, bool b_explained) const {
     const bool decisive = a * outweigh_ratio <= b && b - a >= outweigh_gap;
     const bool needs_less = a <= max_seen_through && b > max_seen_through && b_explained;
     return decisive || needs_less;
+}
+
+bool LoopRules::HeightsPrefer(size_t a_floating, size_t b_floating, size_t keyframes,
+                              size_t min_count) const {
+    const double b = double(b_floating);
+    return b >= std::max(double(min_count), floating_share * double(keyframes)) &&
+           outweigh_ratio * double(a_floating) <= b;
 }
 
 bool LoopRules::Agree(const Eigen::Isometry3d& E, double path_m) const {

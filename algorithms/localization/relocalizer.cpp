@@ -116,6 +116,9 @@ Relocalizer::Relocalizer(const RigMap& map, const RelocalizerConfig& config)
         if (!s.ok()) throw common::Error(common::StatusCode::kInvalidArgument, s.message());
     }
     index_.Build();
+    std::vector<Eigen::Vector3d> walked;
+    for (const Eigen::Isometry3d& k : map.keyframes) walked.push_back(k.translation());
+    walked_ = WalkedSpace(walked, config_.floating_radius_m, config_.floating_height_m);
 }
 
 void Relocalizer::Check(const RigMap& map, const RelocalizerConfig& config) {
@@ -149,6 +152,8 @@ const RelocalizerStep& Relocalizer::AddKeyframe(const common::PointCloud& cloud,
         start_path_m_ = path_m;
     }
     step_.keyframe = keyframes_++;
+    window_odom_.push_back(T_odom_lidar.translation());
+    if (window_odom_.size() > config_.window_keyframes) window_odom_.pop_front();
     const registration::OrientedCloud oc = registration::MakeOrientedCloud(cloud, config_.cloud);
     height_ambiguous_ = height_ambiguous_ || height_ambiguous;
     if (was == RelocalizerState::kLocalised) {
@@ -298,6 +303,10 @@ std::vector<Relocalizer::Clique> Relocalizer::Cliques() const {
     return out;
 }
 
+Eigen::Isometry3d Relocalizer::NewestFix(const Clique& c) const {
+    return loops_[*std::max_element(c.loops.begin(), c.loops.end())].T_bim_odom();
+}
+
 bool Relocalizer::OnHint(const Clique& c) const {
     if (!config_.start) return true;
     const Loop& newest = loops_[*std::max_element(c.loops.begin(), c.loops.end())];
@@ -310,15 +319,25 @@ bool Relocalizer::OnHint(const Clique& c) const {
 void Relocalizer::Decide(const std::vector<Clique>& cliques) {
     step_.consistent_loops = cliques.empty() ? 0 : cliques.front().loops.size();
     std::vector<const Clique*> kept;  // not seen through the model
-    for (const Clique& c : cliques) {
-        if (c.unexplained <= config_.max_seen_through && OnHint(c)) kept.push_back(&c);
+    std::vector<size_t> floating(cliques.size());
+    const std::vector<Eigen::Vector3d> window(window_odom_.begin(), window_odom_.end());
+    for (size_t i = 0; i < cliques.size(); ++i) {
+        const Clique& c = cliques[i];
+        if (c.unexplained > config_.max_seen_through || !OnHint(c)) continue;
+        kept.push_back(&c);
+        floating[i] = walked_.Floating(window, NewestFix(c));
     }
+    const auto floats = [&](const Clique* c) { return floating[size_t(c - cliques.data())]; };
     // A clique whose keyframes see through the model decisively more often than another's is
     // outweighed, and one that stands only because removed elements explain what it sees
-    // through by one that needs none (offline's rule, LoopRules::FreeSpacePrefers).
+    // through by one that needs none (offline's rule, LoopRules::FreeSpacePrefers); and one that
+    // puts a tenth of the window's keyframes a storey off the model's walks by one that does not
+    // (LoopRules::HeightsPrefer, walked_space.hpp): a walk up the stairs placed a storey up.
     const auto outweighs = [&](const Clique* a, const Clique* b) {
         return config_.FreeSpacePrefers(a->seen_through, b->seen_through,
-                                        b->unexplained < b->seen_through);
+                                        b->unexplained < b->seen_through) ||
+               config_.HeightsPrefer(floats(a), floats(b), window.size(),
+                                     size_t(config_.min_clique));
     };
     std::vector<const Clique*> rivals;
     for (const Clique* c : kept) {
@@ -328,10 +347,7 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
     }
     std::sort(rivals.begin(), rivals.end(),
               [](const Clique* a, const Clique* b) { return a->keyframes > b->keyframes; });
-    for (const Clique* c : rivals) {
-        step_.hypotheses.push_back(
-            loops_[*std::max_element(c->loops.begin(), c->loops.end())].T_bim_odom());
-    }
+    for (const Clique* c : rivals) step_.hypotheses.push_back(NewestFix(*c));
     guides_ = step_.hypotheses;
     const auto big = [&](const Clique* c) { return int(c->keyframes) >= config_.min_clique; };
     if (rivals.empty() || !big(rivals[0])) {

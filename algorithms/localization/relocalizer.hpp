@@ -38,6 +38,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <random>
 #include <string_view>
@@ -47,6 +48,7 @@
 #include "algorithms/io/trajectory.hpp"
 #include "algorithms/localization/loop_rules.hpp"
 #include "algorithms/localization/rig_map.hpp"
+#include "algorithms/localization/walked_space.hpp"
 #include "algorithms/registration/free_space.hpp"
 #include "algorithms/registration/oriented_cloud.hpp"
 #include "algorithms/registration/registration.hpp"
@@ -217,6 +219,8 @@ private:
     bool Verified(const registration::RegistrationResult& r, bool full_rank) const;
     // The clique puts the first keyframe within RelocalizerConfig::start (true without one).
     bool OnHint(const Clique& c) const;
+    // T_bim_odom of the clique's newest loop (the odometry has drifted least since).
+    Eigen::Isometry3d NewestFix(const Clique& c) const;
     void AddLoop(const registration::OrientedCloud& cloud,
                  const registration::RegistrationResult& r, const Eigen::Isometry3d& T_odom_lidar,
                  double path_m);
@@ -238,6 +242,10 @@ private:
     scancontext::CandidateIndex index_;
     std::vector<Loop> loops_;
     std::vector<Eigen::Isometry3d> guides_;  // the hypotheses standing after the last keyframe
+    // The package's keyframes (LoopRules::HeightsPrefer), and the odometry positions of the
+    // last window_keyframes keyframes, which each clique places.
+    WalkedSpace walked_;
+    std::deque<Eigen::Vector3d> window_odom_;
     RelocalizerStep step_;
     size_t keyframes_ = 0;
     // The first keyframe's odometry position and walk (RelocalizerConfig::start).

@@ -64,8 +64,6 @@ void AnchorConfig::Validate() const {
             "must be in [0, 1]");
     Require(ambiguity_ratio > 0 && ambiguity_ratio <= 1, c, "ambiguity_ratio", ambiguity_ratio,
             "must be in (0, 1]");
-    Require(floating_share > 0 && floating_share <= 1, c, "floating_share", floating_share,
-            "must be in (0, 1]");
     Require(inject_false_loops >= 0 && inject_false_loops < 1, c, "inject_false_loops",
             inject_false_loops, "must be in [0, 1)");
     Require(threads >= 0, c, "threads", threads, "must not be negative");

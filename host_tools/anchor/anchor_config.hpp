@@ -101,10 +101,6 @@ struct AnchorConfig : localization::LoopRules {
     double ambiguity_ratio = 0.8;  // a rival explaining this share of the best's loops ...
     double distinct_m = 1.0;       // ... at an anchor at least this far off ...
     double distinct_deg = 5.0;     // ... or turned this much: "ambiguous"
-    // ... unless it floats this share of the walk over or under every target walk and the best
-    // does not (HeightsPrefer). A tenth: a flight and a landing of a short walk; a one-storey
-    // walk floats none on either of two similar storeys, and stays for free space to decide.
-    double floating_share = 0.1;
 
     // For the robustness benchmark: this share of the verified place-recognition loops is
     // replaced by wrong pairs (a query keyframe registered at a random other reference keyframe)

@@ -160,10 +160,7 @@ bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConf
 
 bool HeightsPrefer(const Hypothesis& a, const Hypothesis& b, size_t keyframes,
                    const AnchorConfig& config) {
-    const double floats = double(b.floating);
-    return floats >=
-               std::max(double(config.min_loops), config.floating_share * double(keyframes)) &&
-           config.outweigh_ratio * double(a.floating) <= floats;
+    return config.HeightsPrefer(a.floating, b.floating, keyframes, size_t(config.min_loops));
 }
 
 std::string_view ToString(Verdict v) {

@@ -100,10 +100,10 @@ struct Hypothesis {
     // Over AnchorConfig::max_seen_through: Unexplained() when the walk's start was given (a
     // placement the user vouches for), else seen_through (RankHypotheses).
     bool contradicted = false;
-    // Query keyframes it puts over or under every walk of the target: target keyframes within
-    // the proximity radius, none within proximity_height_m of its height (a storey off). The
-    // target's walks cover every storey they reached, so a placement that floats a flight's worth
-    // of the walk above the top storey (or sinks it below the lowest) is not the building's.
+    // Query keyframes it puts over or under every walk of the target (localization::WalkedSpace):
+    // target keyframes near, none at its height. The target's walks cover every storey they
+    // reached, so a placement that floats a flight's worth of the walk above the top storey (or
+    // sinks it below the lowest) is not the building's.
     size_t floating = 0;
     // Another uncontradicted hypothesis explains nearly as many keyframes and free space prefers
     // it decisively (FreeSpacePrefers), or the walk's heights do (HeightsPrefer): not a rival.
@@ -201,12 +201,9 @@ using Progress = std::function<void(const std::string&, size_t, size_t)>;
 // m2 that a removed element would explain, and would otherwise be a rival of the right one.
 bool FreeSpacePrefers(const Hypothesis& a, const Hypothesis& b, const AnchorConfig& config);
 
-// Whether the walk's heights prefer hypothesis a to b over a walk of `keyframes`: b floats at
-// least AnchorConfig::floating_share of them (and min_loops) and a at most 1/outweigh_ratio as
-// many. The session's own continuity through the stairs: the sample office's two-storey walk
-// placed a storey up explained 99 of its 121 keyframes (the ambiguity ratio) and floated the
-// rest above the roof; free space, blind above the model, preferred the right placement by 1.9
-// points, under outweigh_gap.
+// Whether the walk's heights prefer hypothesis a to b over a walk of `keyframes`
+// (LoopRules::HeightsPrefer, with at least min_loops floating): the session's own continuity
+// through the stairs tells similar storeys apart.
 bool HeightsPrefer(const Hypothesis& a, const Hypothesis& b, size_t keyframes,
                    const AnchorConfig& config);
 

@@ -5,7 +5,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <limits>
 #include <optional>
 #include <set>
 #include <string>
@@ -21,24 +20,6 @@ bool Apart(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double m, dou
     const Eigen::Isometry3d d = a.inverse() * b;
     return d.translation().norm() > m || common::RotationAngle(d) > deg * M_PI / 180;
 }
-
-namespace {
-
-// Hypothesis::floating: the keyframes at `world` with target keyframes within the proximity
-// radius but none within its height.
-size_t Floating(const Target& target, const std::vector<Eigen::Isometry3d>& world,
-                const AnchorConfig& config) {
-    size_t n = 0;
-    for (const Eigen::Isometry3d& T : world) {
-        const Eigen::Vector3d p = T.translation();
-        const double r = config.proximity_radius_m;
-        n += target.Nearest(p, r, std::numeric_limits<double>::infinity()) != Target::kNone &&
-             target.Nearest(p, r, config.proximity_height_m) == Target::kNone;
-    }
-    return n;
-}
-
-}  // namespace
 
 std::vector<LoopRecord> AnchoringProblem::ProximityLoops(
     const Target& target, const std::vector<Eigen::Isometry3d>& world, size_t q,
@@ -104,7 +85,9 @@ Evaluation AnchoringProblem::FollowHypothesis(size_t q, const Target& target,
     for (const LoopRecord& l : kept) covered.insert(l.query_index);
     ev.hypothesis.covered = covered.size();
     ev.hypothesis.mean_inlier_ratio = kept.empty() ? 0 : inliers / double(kept.size());
-    ev.hypothesis.floating = Floating(target, state[q].World(), config_);
+    std::vector<Eigen::Vector3d> placed;
+    for (const Eigen::Isometry3d& T : state[q].World()) placed.push_back(T.translation());
+    ev.hypothesis.floating = target.walked().Floating(placed, Eigen::Isometry3d::Identity());
     ev.query = state[q];
     ev.accepted = std::move(kept);
     return ev;

@@ -33,6 +33,9 @@ Target::Target(const std::vector<AnchorSession>& sessions,
             }
         }
     }
+    std::vector<Eigen::Vector3d> walked;
+    for (const TargetKeyframe& k : keyframes_) walked.push_back(k.T_world_lidar.translation());
+    walked_ = localization::WalkedSpace(walked, config.floating_radius_m, config.floating_height_m);
     // The map's levels on their own threads (each the same sums in the same order as one after
     // another: the same maps), while the descriptor index builds.
     tbb::parallel_invoke(

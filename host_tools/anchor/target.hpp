@@ -13,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "algorithms/localization/walked_space.hpp"
 #include "algorithms/registration/registration.hpp"
 #include "algorithms/scancontext/candidate_index.hpp"
 #include "host_tools/anchor/anchor_config.hpp"
@@ -40,6 +41,9 @@ public:
     bool Contains(size_t session) const;
     // The keyframe nearest to p within radius (horizontal) and height (vertical), or kNone.
     size_t Nearest(const Eigen::Vector3d& p, double radius, double height) const;
+    // Where its keyframes stand (LoopRules::floating_radius_m and _height_m): what a placement
+    // of a query floats over or under (Hypothesis::floating).
+    const localization::WalkedSpace& walked() const { return walked_; }
 
 private:
     void MarkPorous(const std::vector<AnchorSession>& sessions, const AnchorConfig& config);
@@ -47,6 +51,7 @@ private:
     std::unique_ptr<registration::SurfelPyramid> map_;
     std::vector<TargetKeyframe> keyframes_;
     scancontext::CandidateIndex index_;
+    localization::WalkedSpace walked_;
     std::vector<size_t> sessions_;
 };
 
