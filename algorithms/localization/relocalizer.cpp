@@ -303,13 +303,13 @@ std::vector<Relocalizer::Clique> Relocalizer::Cliques() const {
     return out;
 }
 
-Eigen::Isometry3d Relocalizer::NewestFix(const Clique& c) const {
-    return loops_[*std::max_element(c.loops.begin(), c.loops.end())].T_bim_odom();
+const Relocalizer::Loop& Relocalizer::Newest(const Clique& c) const {
+    return loops_[*std::max_element(c.loops.begin(), c.loops.end())];
 }
 
 bool Relocalizer::OnHint(const Clique& c) const {
     if (!config_.start) return true;
-    const Loop& newest = loops_[*std::max_element(c.loops.begin(), c.loops.end())];
+    const Loop& newest = Newest(c);
     const Eigen::Vector2d at = (newest.T_bim_odom() * start_odom_).head<2>();
     const double radius = config_.start->radius_m +
                           config_.drift_per_m * std::max(0.0, newest.path_m - start_path_m_);
@@ -325,7 +325,7 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
         const Clique& c = cliques[i];
         if (c.unexplained > config_.max_seen_through || !OnHint(c)) continue;
         kept.push_back(&c);
-        floating[i] = walked_.Floating(window, NewestFix(c));
+        floating[i] = walked_.Floating(window, Newest(c).T_bim_odom());
     }
     const auto floats = [&](const Clique* c) { return floating[size_t(c - cliques.data())]; };
     // A clique whose keyframes see through the model decisively more often than another's is
@@ -347,7 +347,7 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
     }
     std::sort(rivals.begin(), rivals.end(),
               [](const Clique* a, const Clique* b) { return a->keyframes > b->keyframes; });
-    for (const Clique* c : rivals) step_.hypotheses.push_back(NewestFix(*c));
+    for (const Clique* c : rivals) step_.hypotheses.push_back(Newest(*c).T_bim_odom());
     guides_ = step_.hypotheses;
     const auto big = [&](const Clique* c) { return int(c->keyframes) >= config_.min_clique; };
     if (rivals.empty() || !big(rivals[0])) {
@@ -367,8 +367,7 @@ void Relocalizer::Decide(const std::vector<Clique>& cliques) {
         return;
     }
     // Localised: T_bim_odom of the clique's newest loop (the odometry has drifted least since).
-    const Loop& newest =
-        loops_[*std::max_element(rivals[0]->loops.begin(), rivals[0]->loops.end())];
+    const Loop& newest = Newest(*rivals[0]);
     step_.state = RelocalizerState::kLocalised;
     step_.T_bim_odom = step_.hypotheses.front();
     step_.fix_information = newest.information;

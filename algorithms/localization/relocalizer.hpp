@@ -219,8 +219,9 @@ private:
     bool Verified(const registration::RegistrationResult& r, bool full_rank) const;
     // The clique puts the first keyframe within RelocalizerConfig::start (true without one).
     bool OnHint(const Clique& c) const;
-    // T_bim_odom of the clique's newest loop (the odometry has drifted least since).
-    Eigen::Isometry3d NewestFix(const Clique& c) const;
+    // The clique's newest loop: its T_bim_odom is the clique's (the odometry has drifted least
+    // since).
+    const Loop& Newest(const Clique& c) const;
     void AddLoop(const registration::OrientedCloud& cloud,
                  const registration::RegistrationResult& r, const Eigen::Isometry3d& T_odom_lidar,
                  double path_m);
