@@ -79,6 +79,27 @@ void ExpectScoresInView(const json& t, const fs::path& fixture) {
         << t.at("scores_all");
 }
 
+// The bound each chromium run has (headless_chromium.hpp): a command that sits idle is stopped
+// with timeout(1)'s 124 and says why; one that keeps a core busy past the idle time runs to its
+// end; the command's own status comes through.
+TEST(ReportBrowser, AChromiumRunThatSitsIdleIsStoppedAndABusyOneIsNot) {
+    const std::string tool =
+        "/usr/bin/python3 " BIMSLAM_SOURCE_ROOT "/tests/tools/idle_timeout.py ";
+    const auto idle = test::RunCommand(tool + "1 60 sleep 60");
+    EXPECT_EQ(idle.exit_code, 124);
+    EXPECT_NE(idle.err.find("idle_timeout: stopped sleep (idle: "), std::string::npos) << idle.err;
+    const auto busy =
+        test::RunCommand(tool +
+                         "1 60 /usr/bin/python3 -c 'import time\nt = time.monotonic()\n"
+                         "while time.monotonic() - t < 3: pass\nprint(\"done\")'");
+    EXPECT_EQ(busy.exit_code, 0) << busy.err;
+    EXPECT_EQ(busy.out, "done\n");
+    EXPECT_EQ(test::RunCommand(tool + "1 60 sh -c 'exit 3'").exit_code, 3);
+    const auto limit = test::RunCommand(tool + "60 1 /usr/bin/python3 -c 'while True: pass'");
+    EXPECT_EQ(limit.exit_code, 124);
+    EXPECT_NE(limit.err.find("still running after 1 s"), std::string::npos) << limit.err;
+}
+
 TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClickSelects) {
     if (test::Chromium().empty()) {
         GTEST_SKIP() << "chromium is not installed (apt-get install chromium; `make test` "
