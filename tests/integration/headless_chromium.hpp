@@ -59,9 +59,10 @@ inline PageRun OpenHeadless(const std::string& url, const std::string& shot_name
     // clean-clone run at stop 59: one of its seven runs hung; at stop 80 one of eight). So each
     // run is bounded and a hung one is run again, anew; the page's self-test is judged as before.
     // The bound is about three times the longest run seen, 13-31 s a page with two pages at a
-    // time on the 2-core machine (stop 60); a run whose processes used no CPU for 15 s has hung
-    // too, since a running page keeps chromium busy (tests/tools/idle_timeout.py: exit 124 for
-    // either), so a hang costs about 15 s of CI, not the bound's 100 s.
+    // time on the 2-core machine (stop 60); and a run whose processes used under a tenth of a
+    // core over 15 s has hung too: a page at work keeps chromium at 0.6-1.5 s of CPU a second, a
+    // hung one at 0.03 (tests/tools/idle_timeout.py, exit 124 for either). A hang costs about
+    // 15 s of CI, not the bound's 100 s.
     CommandResult r;
     for (int attempt = 1; attempt <= 3; ++attempt) {
         TempDir profile;

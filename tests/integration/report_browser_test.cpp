@@ -79,15 +79,19 @@ void ExpectScoresInView(const json& t, const fs::path& fixture) {
         << t.at("scores_all");
 }
 
-// The bound each chromium run has (headless_chromium.hpp): a command that sits idle is stopped
-// with timeout(1)'s 124 and says why; one that keeps a core busy past the idle time runs to its
-// end; the command's own status comes through.
+// The bound each chromium run has (headless_chromium.hpp): a command that sits idle, or nearly
+// (a hung chromium wakes up now and then), is stopped with timeout(1)'s 124 and says why; one
+// that keeps a core busy past the idle time runs to its end; the command's own status comes
+// through.
 TEST(ReportBrowser, AChromiumRunThatSitsIdleIsStoppedAndABusyOneIsNot) {
     const std::string tool =
         "/usr/bin/python3 " BIMSLAM_SOURCE_ROOT "/tests/tools/idle_timeout.py ";
     const auto idle = test::RunCommand(tool + "1 60 sleep 60");
     EXPECT_EQ(idle.exit_code, 124);
     EXPECT_NE(idle.err.find("idle_timeout: stopped sleep (idle: "), std::string::npos) << idle.err;
+    const auto nearly = test::RunCommand(tool + "2 60 sh -c 'while true; do sleep 0.2; done'");
+    EXPECT_EQ(nearly.exit_code, 124);
+    EXPECT_NE(nearly.err.find("idle_timeout: stopped sh (idle: "), std::string::npos) << nearly.err;
     const auto busy =
         test::RunCommand(tool +
                          "1 60 /usr/bin/python3 -c 'import time\nt = time.monotonic()\n"
