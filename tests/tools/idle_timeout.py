@@ -91,5 +91,6 @@ def main() -> int:
             stop(proc)
             return 124
 
+
 if __name__ == "__main__":
     sys.exit(main())
