@@ -73,7 +73,8 @@ function(bimslam_test name)
     # `sanitized` ones to the sanitizer run (target sanitizer_tests); the others but fuzz to
     # Release (target release_tests); fuzz (readers_fuzz_test) to target fuzz_tests, run under
     # the sanitizers only. `unit_tests` is the code that runs on the rig, sanitized or not: the
-    # aarch64 cross-build builds and runs those.
+    # aarch64 cross-build builds and runs those. `scene_tests`: the `scene` ones, so that
+    # `ctest -L "unit|scene"` after building both targets runs no stale program.
     if(ARG_LABEL STREQUAL "sanitized")
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_SANITIZER_TESTS ${name})
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
@@ -81,6 +82,8 @@ function(bimslam_test name)
         set_property(GLOBAL APPEND PROPERTY BIMSLAM_RELEASE_TESTS ${name})
         if(ARG_LABEL STREQUAL "unit")
             set_property(GLOBAL APPEND PROPERTY BIMSLAM_UNIT_TESTS ${name})
+        elseif(ARG_LABEL STREQUAL "scene")
+            set_property(GLOBAL APPEND PROPERTY BIMSLAM_SCENE_TESTS ${name})
         endif()
     endif()
 endfunction()
