@@ -174,8 +174,7 @@ bool SameShape(const FoundChanges::Object& a, const FoundChanges::Object& b,
 
 bool Displaced(const FoundChanges::Object& a, const FoundChanges::Object& b,
                const HistoryConfig& config) {
-    return SameSides(a, b, config) &&
-           (a.box.center() - b.box.center()).norm() > config.same_max_centroid_m;
+    return SameSides(a, b, config) && (Centre(a) - Centre(b)).norm() > config.same_max_centroid_m;
 }
 
 std::vector<size_t> ObjectTracks::Alive() const {

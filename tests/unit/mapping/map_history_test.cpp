@@ -212,6 +212,32 @@ TEST(MapHistory, AMovedObjectsOffsetIsItsPlanRectanglesNotItsBoxes) {
     }
 }
 
+// A bed turned 20 deg where it stood, seen without its west part: its axis-aligned box's centre
+// came 0.35 m east, farther than same_max_centroid_m, while its plan rectangle's centre stayed.
+// It is the bed in its place, not a bed moved by nothing: Displaced measures the centres that
+// the offset is measured by (Centre: the plan rectangle's, the box's in older files).
+TEST(MapHistory, AnObjectTurnedInPlaceAndSeenInPartIsInPlaceNotMoved) {
+    const double c = std::cos(M_PI / 9), s = std::sin(M_PI / 9);
+    Box seen = Standing(2.0, 2.0, 2.0 * c + 1.6 * s, 2.0 * s + 1.6 * c, 0.5);
+    seen.min().x() += 0.7;  // its west part not seen
+    std::vector<VisitFindings> v = {Findings("v1", 1, {Standing(2.0, 2.0, 2.0, 1.6, 0.5)}),
+                                    Findings("v2", 40, {seen})};
+    for (VisitFindings& f : v) {
+        FoundChanges::Object& bed = f.found.objects[0];
+        bed.plan_long_m = 2.0, bed.plan_short_m = 1.6;
+        bed.plan_center = Eigen::Vector2d(2.0, 2.0);
+    }
+    ASSERT_GT((v[0].found.objects[0].box.center() - seen.center()).norm(),
+              HistoryConfig{}.same_max_centroid_m);
+    const json h = BuildHistory(v);
+    const json& since = Since(h, 1, "since_previous");
+    EXPECT_TRUE(since.at("moved").empty()) << since.dump(1);
+    EXPECT_TRUE(since.at("new").empty()) << since.dump(1);
+    EXPECT_TRUE(since.at("gone").empty()) << since.dump(1);
+    ASSERT_EQ(h.at("objects").size(), 1u) << h.dump(1);
+    EXPECT_EQ(h["objects"][0]["sightings"][1].at("status"), "seen");
+}
+
 // The held-out house's sofa (fzk_visits.yaml, stop 67): moved 0.8 m along its length, its box
 // still overlapping its old place (3D IoU 0.44), was "in place" and the move went unsaid. An
 // object of the same sides whose centre moved more than 0.3 m is moved, and its old place needs
