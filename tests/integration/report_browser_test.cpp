@@ -15,10 +15,13 @@
 // Skips, saying so, when chromium is not installed (make test installs it:
 // toolchain/install-deps.sh --test).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -102,6 +105,25 @@ TEST(ReportBrowser, AChromiumRunThatSitsIdleIsStoppedAndABusyOneIsNot) {
     const auto limit = test::RunCommand(tool + "60 1 /usr/bin/python3 -c 'while True: pass'");
     EXPECT_EQ(limit.exit_code, 124);
     EXPECT_NE(limit.err.find("still running after 1 s"), std::string::npos) << limit.err;
+    // A process of the session in a process group of its own is counted, and stopped too.
+    const fs::path pid_file =
+        fs::temp_directory_path() / ("idle_timeout_" + std::to_string(::getpid()) + ".pid");
+    const auto grouped =
+        test::RunCommand(tool +
+                         "1 60 /usr/bin/python3 -c 'import subprocess, time\n"
+                         "p = subprocess.Popen([\"sleep\", \"60\"], process_group=0)\n"
+                         "open(\"" +
+                         pid_file.string() + "\", \"w\").write(str(p.pid))\ntime.sleep(60)'");
+    EXPECT_EQ(grouped.exit_code, 124) << grouped.err;
+    std::ifstream in(pid_file);
+    int child = 0;
+    ASSERT_TRUE(in >> child) << pid_file;
+    fs::remove(pid_file);
+    std::ifstream stat("/proc/" + std::to_string(child) + "/stat");
+    std::string line;
+    const bool alive = std::getline(stat, line) && line.substr(line.rfind(')') + 2, 1) != "Z";
+    EXPECT_FALSE(alive) << "the sleep in its own process group outlived the stop: " << line;
+    if (alive) ::kill(child, SIGKILL);
 }
 
 TEST(ReportBrowser, ThePageRendersItsPlansPlotsAnd3DViewWithoutErrorsAndARowClickSelects) {

@@ -18,7 +18,8 @@ worked 23 s, then used 0.03-0.04 s a second until stopped at 100 s, without writ
 
 How. The command runs in a session of its own; every process of that session (chromium's
 renderer and GPU processes too) counts, with the CPU of the children they reaped (/proc/PID/stat:
-utime, stime, cutime, cstime). Stopping sends SIGTERM to its process group, then SIGKILL.
+utime, stime, cutime, cstime). Stopping sends SIGTERM to every process of that session, then
+SIGKILL.
 """
 import collections
 import os
@@ -31,9 +32,8 @@ IDLE_SHARE = 0.1  # of one core
 POLL_S = 0.5
 
 
-def session_cpu_s(sid: int) -> float:
-    """CPU seconds of every live process in session `sid`, with their reaped children's."""
-    ticks = 0
+def session_stats(sid: int):
+    """(pid, the /proc/PID/stat fields after "pid (comm) ") of every process in session `sid`."""
     for pid in os.listdir("/proc"):
         if not pid.isdigit():
             continue
@@ -42,24 +42,36 @@ def session_cpu_s(sid: int) -> float:
                 stat = f.read()
         except OSError:  # gone meanwhile
             continue
-        fields = stat[stat.rfind(")") + 2:].split()  # after "pid (comm) "
-        if int(fields[3]) != sid:  # field 6, session
-            continue
+        fields = stat[stat.rfind(")") + 2:].split()
+        if int(fields[3]) == sid:  # field 6, session
+            yield int(pid), fields
+
+
+def session_cpu_s(sid: int) -> float:
+    """CPU seconds of every live process in session `sid`, with their reaped children's."""
+    ticks = 0
+    for _, fields in session_stats(sid):
         ticks += sum(int(x) for x in fields[11:15])  # fields 14-17: utime stime cutime cstime
     return ticks / os.sysconf("SC_CLK_TCK")
 
 
 def stop(proc: subprocess.Popen) -> None:
-    for sig, wait in ((signal.SIGTERM, 5), (signal.SIGKILL, 5)):
-        try:
-            os.killpg(proc.pid, sig)
-        except ProcessLookupError:
-            return
-        try:
-            proc.wait(timeout=wait)
-            return
-        except subprocess.TimeoutExpired:
-            pass
+    """SIGTERM, then SIGKILL, to every process of the command's session: the ones counted, also
+    those in a process group of their own, which killpg would miss."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            live = [pid for pid, fields in session_stats(proc.pid) if fields[0] != "Z"]
+            if not live:
+                break
+            for pid in live:
+                try:
+                    os.kill(pid, sig)
+                except ProcessLookupError:
+                    pass
+            proc.poll()  # reaps the command itself once it ends
+            time.sleep(0.1)
+    proc.wait()
 
 
 def main() -> int:
