@@ -28,7 +28,11 @@
 //   odometry   the buildings' walks, Go1 and hand-held, odometry only (no reference, no
 //              anchoring), with the IMU: the height predicted from the accelerometers where the
 //              scans do not see it (the default, algorithms/odometry/imu_height.hpp) against
-//              the constant velocity's (or the legs'), same capture
+//              the constant velocity's (or the legs'), same capture. BIMSLAM_STOREYS_JITTER_MS=J:
+//              the default run again with the IMU's and legs' stamps moved by -J and +J ms
+//              (nothing physical at 0.2), and the spread of the three: one run of a stair walk
+//              is not its figure (algorithms/odometry/README.md, "How much a stair walk's APE
+//              moves")
 // BIMSLAM_STOREYS_ONLY: run only the walks whose name contains it (a building none of whose walks
 // is picked is not read). BIMSLAM_STOREYS_KEEP=DIR: each walk's capture is copied to DIR/<name>
 // (and, by the buildings and starts suites, its odometry session with the IMU to
@@ -171,13 +175,14 @@ bool SimulateWalk(const simulate::Scenario& s, const Building& b, const fs::path
 Odometry RunOdometry(const fs::path& capture, bool lidar_only,
                      const std::map<int64_t, StoreyRow>& storeys,
                      const std::vector<io::StampedPose>& truth, const fs::path& session,
-                     bool imu_height = true) {
+                     bool imu_height = true, int64_t time_offset_ns = 0) {
     replay::CaptureOdometryOptions o;
     o.capture_dir = capture;
     o.session_dir = session;
     o.overwrite = true;
     o.use_imu = o.use_can = !lidar_only;
     o.odometry.imu_height = imu_height;
+    o.time_offset_ns = time_offset_ns;
     // The 50 ms budget in the thread's CPU time: on this shared machine a wall-clock budget cuts
     // scans short by the load (383 of 880 scans of a hand-held LiDAR-only run at load 6), and the
     // figures would measure the load, not the odometry.
@@ -422,8 +427,30 @@ void RunOne(const fs::path& tmp, const Building& b, Platform platform, uint64_t 
 // the legs (imu_height off), on the same capture. No reference, no anchoring.
 struct OdometryTotals {
     std::vector<double> accel, accel_max, accel_dz, cv, cv_max, cv_dz;
+    // With BIMSLAM_STOREYS_JITTER_MS: the three runs of every walk, and each walk's range.
+    std::vector<double> jittered, jitter_range;
     int untrusted_accel = 0, untrusted_cv = 0;
 };
+
+// The default run with the IMU's stamps moved by -J and +J ms (BIMSLAM_STOREYS_JITTER_MS), and
+// the spread of the three with `a`, the run at 0: printed, and added to t.
+void Jitter(const fs::path& capture, const std::map<int64_t, StoreyRow>& storeys,
+            const std::vector<io::StampedPose>& truth, const Odometry& a, OdometryTotals* t) {
+    const char* env = std::getenv("BIMSLAM_STOREYS_JITTER_MS");
+    const double j = env ? std::atof(env) : 0.0;
+    if (!(j > 0)) return;
+    std::vector<double> r = {a.ape.rmse_cm};
+    for (const double ms : {-j, j}) {
+        r.push_back(RunOdometry(capture, false, storeys, truth, {}, true, std::llround(ms * 1e6))
+                        .ape.rmse_cm);
+    }
+    std::printf("%-34s   IMU stamps -%g / 0 / +%g ms: %5.2f / %5.2f / %5.2f cm\n", "", j, j, r[1],
+                r[0], r[2]);
+    std::fflush(stdout);
+    t->jittered.insert(t->jittered.end(), r.begin(), r.end());
+    t->jitter_range.push_back(*std::max_element(r.begin(), r.end()) -
+                              *std::min_element(r.begin(), r.end()));
+}
 
 void RunOdometryOnly(const fs::path& tmp, const Building& b, Platform p, uint64_t seed,
                      OdometryTotals* t) {
@@ -454,6 +481,7 @@ void RunOdometryOnly(const fs::path& tmp, const Building& b, Platform p, uint64_
     t->cv.push_back(c.ape.rmse_cm);
     t->cv_max.push_back(c.ape.max_cm);
     t->cv_dz.push_back(c.flight_dz_cm);
+    Jitter(dir / "capture", storeys, truth, a, t);
     t->untrusted_accel += a.verdict.rfind("trusted", 0) != 0;  // "trusted (degenerate ...)" too
     t->untrusted_cv += c.verdict.rfind("trusted", 0) != 0;
 }
@@ -552,6 +580,10 @@ int main(int argc, char** argv) {
             bench::Spread("constant velocity, rmse (cm)", t.cv);
             bench::Spread("constant velocity, max (cm)", t.cv_max);
             bench::Spread("constant velocity, worst flight dz (cm)", t.cv_dz);
+            if (!t.jittered.empty()) {
+                bench::Spread("accelerometers, 3 stamps each, rmse (cm)", t.jittered);
+                bench::Spread("accelerometers, a walk's range over them (cm)", t.jitter_range);
+            }
             std::printf("  untrusted: accelerometers %d, constant velocity %d of %zu\n",
                         t.untrusted_accel, t.untrusted_cv, t.accel.size());
         }
