@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -188,6 +189,20 @@ TEST(MapHistory, AnObjectTurnedAsItMovedIsMovedByItsPlanRectangle) {
     }
 }
 
+// Two visits of a 2.0 x 1.6 m bed: standing at (2, 2), then found as `seen`; each with its plan
+// rectangle's sides (changes.json's plan_size_m) and, when given, its centre (plan_center_m).
+std::vector<VisitFindings> BedVisits(const Box& seen, const std::optional<Eigen::Vector2d>& before,
+                                     const std::optional<Eigen::Vector2d>& after) {
+    std::vector<VisitFindings> v = {Findings("v1", 1, {Standing(2.0, 2.0, 2.0, 1.6, 0.5)}),
+                                    Findings("v2", 40, {seen})};
+    for (size_t i = 0; i < v.size(); ++i) {
+        FoundChanges::Object& bed = v[i].found.objects[0];
+        bed.plan_long_m = 2.0, bed.plan_short_m = 1.6;
+        bed.plan_center = i == 0 ? before : after;
+    }
+    return v;
+}
+
 // FZK-Haus' attic bed (fzk_attic_visits.yaml, v3): moved 0.6 m and turned 5 deg, seen without its
 // west corner, so its axis-aligned box's centre came out 7 cm east of the bed's. The offset is
 // the plan rectangles' centres' (changes.json's plan_center_m); from older files, the boxes'.
@@ -195,16 +210,9 @@ TEST(MapHistory, AMovedObjectsOffsetIsItsPlanRectanglesNotItsBoxes) {
     for (const bool centres : {true, false}) {
         Box seen = Standing(2.6, 2.0, 2.13, 1.77, 0.5);  // the 2.0 x 1.6 bed turned 5 deg
         seen.min().x() += 0.13;                          // its west corner not seen
-        std::vector<VisitFindings> v = {Findings("v1", 1, {Standing(2.0, 2.0, 2.0, 1.6, 0.5)}),
-                                        Findings("v2", 40, {seen})};
-        for (VisitFindings& f : v) {
-            FoundChanges::Object& bed = f.found.objects[0];
-            bed.plan_long_m = 2.0, bed.plan_short_m = 1.6;
-            if (centres)
-                bed.plan_center =
-                    f.label == "v1" ? Eigen::Vector2d(2.0, 2.0) : Eigen::Vector2d(2.6, 2.0);
-        }
-        const json h = BuildHistory(v);
+        const json h = BuildHistory(
+            centres ? BedVisits(seen, Eigen::Vector2d(2.0, 2.0), Eigen::Vector2d(2.6, 2.0))
+                    : BedVisits(seen, std::nullopt, std::nullopt));
         const json& since = Since(h, 1, "since_previous");
         ASSERT_EQ(since.at("moved").size(), 1u) << since.dump(1);
         EXPECT_NEAR(since["moved"][0]["offset_m"][0].get<double>(), centres ? 0.6 : 0.665, 1e-9);
@@ -220,13 +228,8 @@ TEST(MapHistory, AnObjectTurnedInPlaceAndSeenInPartIsInPlaceNotMoved) {
     const double c = std::cos(M_PI / 9), s = std::sin(M_PI / 9);
     Box seen = Standing(2.0, 2.0, 2.0 * c + 1.6 * s, 2.0 * s + 1.6 * c, 0.5);
     seen.min().x() += 0.7;  // its west part not seen
-    std::vector<VisitFindings> v = {Findings("v1", 1, {Standing(2.0, 2.0, 2.0, 1.6, 0.5)}),
-                                    Findings("v2", 40, {seen})};
-    for (VisitFindings& f : v) {
-        FoundChanges::Object& bed = f.found.objects[0];
-        bed.plan_long_m = 2.0, bed.plan_short_m = 1.6;
-        bed.plan_center = Eigen::Vector2d(2.0, 2.0);
-    }
+    const std::vector<VisitFindings> v =
+        BedVisits(seen, Eigen::Vector2d(2.0, 2.0), Eigen::Vector2d(2.0, 2.0));
     ASSERT_GT((v[0].found.objects[0].box.center() - seen.center()).norm(),
               HistoryConfig{}.same_max_centroid_m);
     const json h = BuildHistory(v);
