@@ -34,9 +34,9 @@ bool SameShape(const change_detection::FoundChanges::Object& a,
 // The same object moved, though its boxes may overlap: its height and plan's sides agree (not the
 // volume alone) and its centre is more than same_max_centroid_m away (the centre the offset is
 // measured by: the plan rectangle's where the file has it, which a turned object seen in part
-// keeps while its box's moves). A whole object seen at two
-// visits keeps its centre to a few centimetres; the held-out house's sofa, moved 0.8 m, kept 0.44
-// of its box's IoU and was "in place".
+// keeps while its box's moves). A whole object seen at two visits keeps its centre to a few
+// centimetres; the held-out house's sofa, moved 0.8 m, kept 0.44 of its box's IoU and was "in
+// place".
 bool Displaced(const change_detection::FoundChanges::Object& a,
                const change_detection::FoundChanges::Object& b, const HistoryConfig& config);
 
