@@ -6,7 +6,7 @@
     /usr/bin/python3 tests/tools/rotation_lag.py EST.tum REF.tum [--tilt SECONDS]
 
 For each pose of EST (TUM: stamp x y z qx qy qz qw, both in the same body frame), the rotation
-error in the body frame, E = log(R_ref^T R0 R_est) with R0 aligning the first poses, against the
+error in the body frame, E = log(R_ref^T R0 R_est) with R0 aligning the first second, against the
 body's rotation rate from REF (central differences over the neighbouring poses). Both are
 high-passed (less their mean over 11 poses), so that the slow drift leaves the fit. Prints per
 axis (x, y, z of the body) the slope of E on the rate in ms (a pure delay d gives -d), their
@@ -14,8 +14,7 @@ correlation, and E's spread. A delay shared by every axis is a clock's; one axis
 scene's or the motion's (algorithms/odometry/README.md, "How much a stair walk's APE moves").
 
 --tilt SECONDS: instead, the world-frame rotation error (x, y: the tilt; z: the yaw) averaged
-over windows of SECONDS, the frames aligned over the first second (one pose's own error would
-offset every later one), with the truth's heading and height: where the frame's tilt drifts.
+over windows of SECONDS, with the truth's heading and height: where the frame's tilt drifts.
 """
 import sys
 
@@ -44,11 +43,17 @@ def high_pass(x, k=11):
     return x - np.array([x[max(0, i - k // 2):i + k // 2 + 1].mean(0) for i in range(len(x))])
 
 
-def print_tilt(te, Rr, Re, heights, window_s):
+def aligned(te, Rr, Re):
+    """EST's rotations in REF's world: R0 Re, R0 the rotation nearest to the mean of Rr Re^T over
+    the first second (one pose's own error would offset every later one)."""
     first = sum(Rr[i] @ Re[i].T for i in range(len(te)) if te[i] - te[0] < 1.0)
-    U, _, Vt = np.linalg.svd(first)  # the rotation nearest to the first second's mean
+    U, _, Vt = np.linalg.svd(first)
     R0 = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
-    world = np.array([log_so3(Rr[i] @ (R0 @ Re[i]).T) for i in range(len(te))])
+    return [R0 @ R for R in Re]
+
+
+def print_tilt(te, Rr, Re, heights, window_s):
+    world = np.array([log_so3(Rr[i] @ Re[i].T) for i in range(len(te))])
     start = 0
     while start < len(te):
         end = start
@@ -75,11 +80,10 @@ def main() -> int:
               file=sys.stderr)
         return 1
     Rr = [matrix(q) for q in qr[nearest]]
+    Re = aligned(te, Rr, [matrix(q) for q in qe])
     if tilt:
-        print_tilt(te, Rr, [matrix(q) for q in qe], zr[nearest], float(sys.argv[4]))
+        print_tilt(te, Rr, Re, zr[nearest], float(sys.argv[4]))
         return 0
-    R0 = Rr[0] @ matrix(qe[0]).T
-    Re = [R0 @ matrix(q) for q in qe]
     error = np.array([log_so3(Rr[i].T @ Re[i]) for i in range(1, len(te) - 1)])
     rate = np.array([log_so3(Rr[i - 1].T @ Rr[i + 1]) / (te[i + 1] - te[i - 1])
                      for i in range(1, len(te) - 1)])
