@@ -498,6 +498,7 @@ bool LidarOdometry::Align(const Eigen::Isometry3d& from, BudgetStep step) {
     in.correction_sigma = config_.preprocess.deskew && w.scan->HasTime() ? CorrectionSigma(w.gyro)
                                                                          : common::Vector6d::Zero();
     in.max_correspondence_distance = r.correspondence_distance;
+    in.prediction_error = w.start_error;
     in.fix_rotation = w.pin_rotation;
     in.edges = edges_;
     in.edge_map = edge_map_ ? &*edge_map_ : nullptr;
@@ -543,6 +544,7 @@ void LidarOdometry::Register() {
     // From the prediction; then the gyro's gate, other headings, a start in motion, deskew rounds.
     OdometryResult& r = result_;
     ScanWork& w = work_;
+    w.start_error = model_error_count_ >= 3 ? std::sqrt(model_error_sq_) : 0;
     bool registered_ok = Align(w.T_pred, kCutRegistration);
     if (registered_ok && (r.flags & kImuUsed) && config_.imu_rotation_gate > 0 &&
         common::RotationAngle(common::Between(w.T_pred, w.T)) >
@@ -653,6 +655,9 @@ void LidarOdometry::DeskewAgain() {
         } else {
             PreprocessScan(*w.scan, w.motion);
         }
+        // From the registered pose, off by what the new deskew moves the points.
+        w.start_error =
+            diff.translation().norm() + std::max(extent_, 1.0) * common::RotationAngle(diff);
         if (!Align(w.T, kCutDeskewRound)) {
             r.deskew_stop = w.cut ? DeskewStop::kDeadline : DeskewStop::kFailed;
             break;

@@ -130,8 +130,12 @@ struct LidarOdometryConfig {
     bool imu_tilt = true;
     GravityTiltConfig imu_tilt_filter;
     // A scan saw the height when the surfaces facing up or down it hit carry at least this share
-    // of its registration's weights (RegistrationResult::axis_share).
-    double height_seen_share = 0.01;
+    // of its registration's weights (RegistrationResult::axis_share), as vertical_deskew_share
+    // (above: a hand-held walk's scans 0.07-0.20 at their 5th percentile, a bare shaft's edge
+    // voxels 0.014). 0.01 until the registration's finer kernel (scan_registration.hpp): with
+    // it a shaft's edge voxels reached 0.015-0.024 on some scans and their height, counted as
+    // seen, took the climb 1.1 m off (LidarOdometry.AStopInAShaft...).
+    double height_seen_share = 0.05;
     // A height seen again while the accelerometers' filter is more uncertain than this (1-sigma,
     // m) is ambiguous (kHeightAmbiguous): half of the lowest riser of a stair (15 cm; most rise
     // 15-20 cm), beyond which the registration can settle on the step next to the true one. Said,
@@ -427,11 +431,13 @@ private:
         Eigen::Isometry3d T_pred = Eigen::Isometry3d::Identity();  // T_prev * delta
         Eigen::Isometry3d T = Eigen::Isometry3d::Identity();       // the estimate so far
         common::Vector6d sigma = common::Vector6d::Zero();         // the prediction's
-        ScanMotion motion;           // the one the scan is deskewed with
-        bool gyro = false;           // the gyro covered the sweep
-        bool pin_rotation = false;   // the gyro's rotation held (imu_rotation_gate)
-        bool registered = false;     // a registration of this scan holds (result_.registration)
-        bool cut = false;            // the last Align: stopped before its first iteration
+        ScanMotion motion;          // the one the scan is deskewed with
+        bool gyro = false;          // the gyro covered the sweep
+        bool pin_rotation = false;  // the gyro's rotation held (imu_rotation_gate)
+        bool registered = false;    // a registration of this scan holds (result_.registration)
+        bool cut = false;           // the last Align: stopped before its first iteration
+        // m: how far the next Align's start may be off (AlignInput::prediction_error; 0: unknown)
+        double start_error = 0;
         Clock::time_point deadline;  // on the budget's clock (BudgetClockNow)
         // On the budget's clock: the preprocessing's and the last registration's time, the cost
         // of a round of deskewing again before one was made.

@@ -52,6 +52,7 @@ bool LidarOdometry::TryOtherHeadings() {
             Eigen::AngleAxisd(step * c.retry_yaw_step_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
                 .toRotationMatrix();
         r.flags = flags_before;
+        work_.start_error = 0;  // how far off another heading is, nothing measured says
         if (!Align(from, kCutHeadings)) continue;
         const double score = RegistrationScore(r.registration);
         const bool passes = JudgeRegistration(r.registration, T_pred, *T, sigma.head<3>(), c) == 0;

@@ -24,6 +24,10 @@ void RegistrationConfig::Validate() const {
             "must be in (0, 10] m");
     Require(cauchy_scale_initial >= cauchy_scale && cauchy_scale_initial <= 10, c,
             "cauchy_scale_initial", cauchy_scale_initial, "must be in [cauchy_scale, 10] m");
+    Require(cauchy_anneal > 1 && cauchy_anneal <= 10, c, "cauchy_anneal", cauchy_anneal,
+            "must be in (1, 10]");
+    Require(evidence_scale > 0 && evidence_scale <= 10, c, "evidence_scale", evidence_scale,
+            "must be in (0, 10] m");
     Require(min_correspondences >= 6, c, "min_correspondences", min_correspondences,
             "must be >= 6");
     Require(converged_translation > 0 && converged_rotation > 0, c, "converged_translation",
@@ -162,6 +166,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
         c.n = plane->normal.cast<double>();
         c.d = plane->offset;
         c.alpha = alpha;
+        c.distance = r;
         c.sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));  // Cauchy IRLS weight
         c.judged = !plane->line_like;
     }
@@ -183,11 +188,20 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
             c.n = e;
             c.d = e.dot(line->point.cast<double>());
             c.sqrt_w = sqrt_w;
+            c.distance = r;
             c.alpha = 0;
             c.judged = true;
         }
     }
     return n;
+}
+
+void ScanRegistration::Reweigh(int n, double cauchy_scale) {
+    const double inv_c2 = 1.0 / (cauchy_scale * cauchy_scale);
+    for (int i = 0; i < n; ++i) {
+        Correspondence& c = corr_[size_t(i)];
+        c.sqrt_w = std::sqrt(1.0 / (1.0 + c.distance * c.distance * inv_c2));
+    }
 }
 
 // One Gauss-Newton step on the weighted problem (the weights fixed at this association, then
@@ -264,16 +278,21 @@ int ScanRegistration::Iterate(const AlignInput& in, const VoxelMap& map, Clock::
     const Eigen::Isometry3d& T0 = in.T0;
     int n = 0;
     neighbours_cached_ = 0;  // another map, or the same one changed since the last Align
-    // A wide threshold (a poor prediction) starts the kernel wider too.
+    // A wide threshold (a poor prediction) starts the kernel wider too; predictions that have
+    // been good (the IMU's) start it narrower, which saves outer iterations.
     double kernel = std::max(config_.cauchy_scale_initial, solve.max_distance / 6);
+    if (in.prediction_error > 0) {
+        kernel = std::max(config_.cauchy_scale, std::min(kernel, in.prediction_error));
+    }
     for (int it = 0; it < config_.max_iterations;
-         ++it, kernel = std::max(config_.cauchy_scale, kernel / 2)) {
+         ++it, kernel = std::max(config_.cauchy_scale, kernel / config_.cauchy_anneal)) {
         if (BudgetNow(config_.cpu_time_budget) >= deadline) {
             result_.over_budget = true;
             break;
         }
         const Eigen::Isometry3d T = ApplyPerturbation(T0, *delta);
         const int found = Associate(in, map, T, *xi, solve.max_distance, kernel);
+        last_kernel_ = kernel;
         if (found < config_.min_correspondences) {
             if (it == 0) {
                 result_.failed = true;
@@ -426,7 +445,8 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
 
     // 2. The normal equations at the solution, with rotation scaled to metres (header comment):
     // H over [delta, xi], the correction's prior added to its block; the directions the scan did
-    // not measure keep the guess.
+    // not measure keep the guess. Weighed at the evidence's scale (RegistrationConfig).
+    Reweigh(n, std::max(config_.evidence_scale, last_kernel_));
     const Residuals res = Measure(in, delta, xi, n);
     const Information info = InformationAt(T0, delta, xi, n, solve, res.mean_range);
     const common::Vector6d scaled_before = delta.cwiseQuotient(info.scale);
