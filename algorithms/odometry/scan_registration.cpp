@@ -46,6 +46,9 @@ Eigen::Isometry3d ApplyPerturbation(const Eigen::Isometry3d& T0, const common::V
 }
 
 namespace {
+// The square root of the Cauchy IRLS weight 1 / (1 + r^2 / c^2), given 1 / c^2.
+double CauchySqrtWeight(double r, double inv_c2) { return std::sqrt(1.0 / (1.0 + r * r * inv_c2)); }
+
 // The pose and correction of one evaluation (header comment).
 struct RowModel {
     Eigen::Matrix3d R0, R, Jr;
@@ -167,7 +170,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
         c.d = plane->offset;
         c.alpha = alpha;
         c.distance = r;
-        c.sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));  // Cauchy IRLS weight
+        c.sqrt_w = CauchySqrtWeight(r, inv_c2);
         c.judged = !plane->line_like;
     }
     neighbours_cached_ = std::max(neighbours_cached_, std::min(k, neighbour_key_.size()));
@@ -181,7 +184,7 @@ int ScanRegistration::Associate(const AlignInput& in, const VoxelMap& map,
         // with normals e1, e2 orthogonal to u and to each other.
         const Eigen::Vector3d u = line->direction.cast<double>();
         const Eigen::Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
-        const double sqrt_w = std::sqrt(1.0 / (1.0 + double(r) * r * inv_c2));
+        const double sqrt_w = CauchySqrtWeight(r, inv_c2);
         for (const Eigen::Vector3d& e : {e1, e2}) {
             Correspondence& c = corr_[size_t(n++)];
             c.p = p.cast<double>();
@@ -200,7 +203,7 @@ void ScanRegistration::Reweigh(int n, double cauchy_scale) {
     const double inv_c2 = 1.0 / (cauchy_scale * cauchy_scale);
     for (int i = 0; i < n; ++i) {
         Correspondence& c = corr_[size_t(i)];
-        c.sqrt_w = std::sqrt(1.0 / (1.0 + c.distance * c.distance * inv_c2));
+        c.sqrt_w = CauchySqrtWeight(c.distance, inv_c2);
     }
 }
 
