@@ -571,11 +571,14 @@ void LidarOdometry::Register() {
     }
     preprocessor_.ApplyCorrection(xi);
     // How far the prediction was off, for the adaptive threshold.
-    const Eigen::Isometry3d e = common::Between(w.T_pred, w.T);
-    const double err = e.translation().norm() + std::max(extent_, 1.0) * common::RotationAngle(e);
+    const double err = AtExtent(common::Between(w.T_pred, w.T));
     const double a = 1.0 / std::min(double(model_error_count_ + 1), config_.model_error_scans);
     model_error_sq_ = (1 - a) * model_error_sq_ + a * err * err;
     ++model_error_count_;
+}
+
+double LidarOdometry::AtExtent(const Eigen::Isometry3d& e) const {
+    return e.translation().norm() + std::max(extent_, 1.0) * common::RotationAngle(e);
 }
 
 void LidarOdometry::RefineStart() {
@@ -656,8 +659,7 @@ void LidarOdometry::DeskewAgain() {
             PreprocessScan(*w.scan, w.motion);
         }
         // From the registered pose, off by what the new deskew moves the points.
-        w.start_error =
-            diff.translation().norm() + std::max(extent_, 1.0) * common::RotationAngle(diff);
+        w.start_error = AtExtent(diff);
         if (!Align(w.T, kCutDeskewRound)) {
             r.deskew_stop = w.cut ? DeskewStop::kDeadline : DeskewStop::kFailed;
             break;

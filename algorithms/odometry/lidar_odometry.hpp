@@ -414,6 +414,9 @@ private:
     void DeskewAgain();  // rounds of deskewing with the estimated motion (max_deskew_rounds)
     // The next round's motion: the estimated one, a deskew_step of the way from the last.
     ScanMotion EstimatedMotion() const;
+    // How far a motion e moves a point at the scene's extent (m): how far a prediction was off,
+    // or a registration's start may be.
+    double AtExtent(const Eigen::Isometry3d& e) const;
     void UpdateMap();        // 4
     void UpdateVelocity();   // the pose kept, the constant velocity over the window
     void UpdateImuHeight();  // the accelerometers' filter learns what the scan saw of the height

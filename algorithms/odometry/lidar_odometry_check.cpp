@@ -39,6 +39,7 @@ bool LidarOdometry::TryOtherHeadings() {
     uint32_t best_flags = r.flags;
     double best_score = RegistrationScore(best);
     const uint32_t flags_before = r.flags;
+    work_.start_error = 0;  // how far off another heading is, nothing measured says
     for (int k = 0; k < c.retry_headings; ++k) {
         if (BudgetClockNow() >= deadline) {
             r.budget_cut |= kCutHeadings;  // headings left untried
@@ -52,7 +53,6 @@ bool LidarOdometry::TryOtherHeadings() {
             Eigen::AngleAxisd(step * c.retry_yaw_step_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
                 .toRotationMatrix();
         r.flags = flags_before;
-        work_.start_error = 0;  // how far off another heading is, nothing measured says
         if (!Align(from, kCutHeadings)) continue;
         const double score = RegistrationScore(r.registration);
         const bool passes = JudgeRegistration(r.registration, T_pred, *T, sigma.head<3>(), c) == 0;

@@ -277,7 +277,8 @@ void ScanRegistration::HoldAxis(const AlignInput& in, common::Vector6d* scaled,
 }
 
 int ScanRegistration::Iterate(const AlignInput& in, const VoxelMap& map, Clock::time_point deadline,
-                              const Solve& solve, common::Vector6d* delta, common::Vector6d* xi) {
+                              const Solve& solve, common::Vector6d* delta, common::Vector6d* xi,
+                              double* last_kernel) {
     const Eigen::Isometry3d& T0 = in.T0;
     int n = 0;
     neighbours_cached_ = 0;  // another map, or the same one changed since the last Align
@@ -295,7 +296,7 @@ int ScanRegistration::Iterate(const AlignInput& in, const VoxelMap& map, Clock::
         }
         const Eigen::Isometry3d T = ApplyPerturbation(T0, *delta);
         const int found = Associate(in, map, T, *xi, solve.max_distance, kernel);
-        last_kernel_ = kernel;
+        *last_kernel = kernel;
         if (found < config_.min_correspondences) {
             if (it == 0) {
                 result_.failed = true;
@@ -443,13 +444,14 @@ const RegistrationResult& ScanRegistration::Align(const AlignInput& in, const Vo
 
     // 1. Gauss-Newton from T0.
     common::Vector6d delta = common::Vector6d::Zero(), xi = common::Vector6d::Zero();
-    const int n = Iterate(in, map, deadline, solve, &delta, &xi);
+    double last_kernel = 0;
+    const int n = Iterate(in, map, deadline, solve, &delta, &xi, &last_kernel);
     if (n < 0) return result_;
 
     // 2. The normal equations at the solution, with rotation scaled to metres (header comment):
     // H over [delta, xi], the correction's prior added to its block; the directions the scan did
     // not measure keep the guess. Weighed at the evidence's scale (RegistrationConfig).
-    Reweigh(n, std::max(config_.evidence_scale, last_kernel_));
+    Reweigh(n, std::max(config_.evidence_scale, last_kernel));
     const Residuals res = Measure(in, delta, xi, n);
     const Information info = InformationAt(T0, delta, xi, n, solve, res.mean_range);
     const common::Vector6d scaled_before = delta.cwiseQuotient(info.scale);

@@ -249,9 +249,11 @@ private:
         Eigen::LDLT<common::Matrix6d> Hxx_ldlt;
     };
     // Gauss-Newton iterations from in.T0 (delta, xi from zero); the correspondences of the
-    // solution, or -1 when the first association found too few (result_.failed).
+    // solution, or -1 when the first association found too few (result_.failed); last_kernel:
+    // the Cauchy scale their weights were found at.
     int Iterate(const AlignInput& in, const VoxelMap& map, Clock::time_point deadline,
-                const Solve& solve, common::Vector6d* delta, common::Vector6d* xi);
+                const Solve& solve, common::Vector6d* delta, common::Vector6d* xi,
+                double* last_kernel);
     Residuals Measure(const AlignInput& in, const common::Vector6d& delta,
                       const common::Vector6d& xi, int n) const;
     Information InformationAt(const Eigen::Isometry3d& T0, const common::Vector6d& delta,
@@ -265,7 +267,6 @@ private:
 
     RegistrationConfig config_;
     std::vector<Correspondence> corr_;
-    double last_kernel_ = 0;  // the Cauchy scale of Iterate's last association
     // Per scan point, the voxel it fell in at the last outer iteration and that voxel's
     // neighbourhood of planes (VoxelMap::ForNeighbourPlanes, copied: kMaxNeighbourPlanes a point,
     // at neighbour_planes_[k * kMaxNeighbourPlanes]). The map does not change during an Align, and
