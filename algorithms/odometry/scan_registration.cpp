@@ -82,6 +82,36 @@ common::Vector6d ScaledPriorVariance(const common::Vector6d& prior_sigma,
                                      const common::Vector6d& scale) {
     return prior_sigma.cwiseQuotient(scale).cwiseAbs2();
 }
+
+// The weighted normal equations H += J^T W J, g += J^T W r of correspondences `corr` at the
+// model m, over N parameters: 6 (delta alone) or 12 ([delta; xi], the header's Jacobians). The
+// pose alone is what every default path solves; its 6 x 6 outer product is a quarter of the
+// 12 x 12 one, whose other three blocks would be zero. (Corr: ScanRegistration's private
+// Correspondence, deduced.)
+template <int N, class Corr>
+void AccumulateNormal(const RowModel& m, std::span<const Corr> corr, Eigen::Matrix<double, N, N>* H,
+                      Eigen::Matrix<double, N, 1>* g) {
+    static_assert(N == 6 || N == 12);
+    const Eigen::Matrix3d R0t = m.R0.transpose(), Jrt = m.Jr.transpose(), Rt = m.R.transpose();
+    Eigen::Matrix<double, N, 1> J;
+    for (const Corr& c : corr) {
+        const Eigen::Vector3d L = m.Local(c.p, c.alpha);
+        const Eigen::Vector3d Rn = Rt * c.n;
+        J.template segment<3>(0) = R0t * c.n;
+        J.template segment<3>(3) = Jrt * L.cross(Rn);
+        if constexpr (N == 12) {
+            J.template segment<3>(6) = c.alpha * Rn;
+            J.template segment<3>(9) = c.alpha * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha));
+        }
+        const double w = c.sqrt_w * c.sqrt_w;
+        const double r = c.n.dot(m.R * L + m.t) - c.d;
+        // The whole outer product, fixed-size and vectorised: Eigen's rankUpdate on the lower
+        // triangle goes through a general routine (7 % of a scan's profile with the IMU).
+        const Eigen::Matrix<double, N, 1> wJ = w * J;
+        H->noalias() += wJ * J.transpose();
+        *g += r * wJ;
+    }
+}
 }  // namespace
 
 // The normal equations of the weighted residuals at (delta, xi) over [delta; xi] (the header's
@@ -91,28 +121,18 @@ void ScanRegistration::NormalEquations(const Eigen::Isometry3d& T0, const common
                                        const common::Vector6d& xi, int n, bool correcting,
                                        Matrix12d* H, Vector12d* g) const {
     const RowModel m(T0, delta, xi);
-    const Eigen::Matrix3d R0t = m.R0.transpose(), Jrt = m.Jr.transpose(), Rt = m.R.transpose();
+    const std::span<const Correspondence> corr(corr_.data(), size_t(n));
     H->setZero();
     g->setZero();
-    Vector12d J = Vector12d::Zero();
-    for (int i = 0; i < n; ++i) {
-        const Correspondence& c = corr_[size_t(i)];
-        const Eigen::Vector3d L = m.Local(c.p, c.alpha);
-        const Eigen::Vector3d Rn = Rt * c.n;
-        J.segment<3>(0) = R0t * c.n;
-        J.segment<3>(3) = Jrt * L.cross(Rn);
-        if (correcting) {
-            J.segment<3>(6) = c.alpha * Rn;
-            J.segment<3>(9) = c.alpha * c.p.cross(m.LocalRotationTransposed(Rn, c.alpha));
-        }
-        const double w = c.sqrt_w * c.sqrt_w;
-        const double r = c.n.dot(m.R * L + m.t) - c.d;
-        // The whole outer product, fixed-size and vectorised: Eigen's rankUpdate on the lower
-        // triangle goes through a general routine (7 % of a scan's profile with the IMU).
-        const Vector12d wJ = w * J;
-        H->noalias() += wJ * J.transpose();
-        *g += r * wJ;
+    if (correcting) {
+        AccumulateNormal<12>(m, corr, H, g);
+        return;
     }
+    common::Matrix6d H6 = common::Matrix6d::Zero();
+    common::Vector6d g6 = common::Vector6d::Zero();
+    AccumulateNormal<6>(m, corr, &H6, &g6);
+    H->topLeftCorner<6, 6>() = H6;
+    g->head<6>() = g6;
 }
 
 ScanRegistration::ScanRegistration(const RegistrationConfig& config, size_t max_points)
