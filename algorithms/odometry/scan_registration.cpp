@@ -301,7 +301,10 @@ int ScanRegistration::Iterate(const AlignInput& in, const VoxelMap& map, Clock::
                               double* last_kernel) {
     const Eigen::Isometry3d& T0 = in.T0;
     int n = 0;
-    neighbours_cached_ = 0;  // another map, or the same one changed since the last Align
+    if (map.version() != neighbours_version_) {  // another map, or this one changed
+        neighbours_cached_ = 0;
+        neighbours_version_ = map.version();
+    }
     // A wide threshold (a poor prediction) starts the kernel wider too; predictions that have
     // been good (the IMU's) start it narrower, which saves outer iterations.
     double kernel = std::max(config_.cauchy_scale_initial, solve.max_distance / 6);

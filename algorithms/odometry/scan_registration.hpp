@@ -277,7 +277,11 @@ private:
     std::vector<Eigen::Vector3i> neighbour_key_;
     std::vector<uint8_t> neighbour_count_;
     std::vector<VoxelPlane> neighbour_planes_;
-    size_t neighbours_cached_ = 0;  // points whose entries hold this Align's map
+    // Points whose entries hold the map of version neighbours_version_ (VoxelMap::version): kept
+    // from one Align to the next while the map is unchanged (a scan's deskew rounds and other
+    // headings register against the map its predecessor left).
+    size_t neighbours_cached_ = 0;
+    uint64_t neighbours_version_ = 0;
     RegistrationResult result_;
 };
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "algorithms/common/status.hpp"
@@ -43,7 +44,15 @@ void VoxelMapConfig::Validate() const {
             min_judged_spread, "must be in [0, voxel_size)");
 }
 
-VoxelMap::VoxelMap(const VoxelMapConfig& config) : config_(config) {
+namespace {
+// Versions are drawn from one counter, so that no two maps (nor one map at two times) share one.
+uint64_t NextVersion() {
+    static std::atomic<uint64_t> next{1};
+    return next.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+VoxelMap::VoxelMap(const VoxelMapConfig& config) : config_(config), version_(NextVersion()) {
     config_.Validate();
     inv_size_ = static_cast<float>(1.0 / config_.voxel_size);
     voxels_.reserve(config_.max_voxels);
@@ -89,6 +98,7 @@ void VoxelMap::Insert(std::span<const Eigen::Vector3f> points, const Eigen::Vect
 
 void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
                             const Eigen::Vector3f* viewpoint) {
+    version_ = NextVersion();
     touched_.clear();
     const float spacing2 =
         static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
@@ -244,13 +254,16 @@ void VoxelMap::Prune(const Eigen::Vector3d& sensor, double max_radius) {
         radius *= 0.8;
         if (radius < config_.voxel_size) break;
     }
-    if (voxels_.size() != before) RebuildSlots();
+    if (voxels_.size() == before) return;
+    RebuildSlots();
+    version_ = NextVersion();
 }
 
 void VoxelMap::Clear() {
     voxels_.clear();
     std::fill(slots_.begin(), slots_.end(), -1);
     points_ = 0;
+    version_ = NextVersion();
 }
 
 }  // namespace bimslam::odometry

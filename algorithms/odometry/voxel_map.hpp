@@ -117,6 +117,10 @@ public:
     size_t points() const { return points_; }
     size_t dropped_points() const { return dropped_; }  // no room: map full
     const VoxelMapConfig& config() const { return config_; }
+    // Changes whenever the map's planes may have (Insert, a Prune that dropped voxels, Clear), and
+    // is never the same for two maps: what a copy of its planes (the registration's per-point
+    // neighbourhoods) checks to know it still holds.
+    uint64_t version() const { return version_; }
 
 private:
     struct Voxel {
@@ -146,6 +150,7 @@ private:
     std::vector<int32_t> touched_;
     size_t points_ = 0;
     size_t dropped_ = 0;
+    uint64_t version_;
 };
 
 // FindPlane's choice among the planes offered in order: the nearest to p, passing over a
