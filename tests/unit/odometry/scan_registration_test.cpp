@@ -235,6 +235,44 @@ TEST(ScanRegistration, AnExpiredDeadlineReturnsTheGuessFlagged) {
     EXPECT_TRUE(r.T_map_lidar.translation().allFinite());
 }
 
+// A registration keeps each point's neighbourhood of planes from one Align to the next while the
+// map is unchanged (VoxelMap::version): aligning again gives the first result to the bit, and
+// after the map changed (the room seen from 0.3 m further along x) the new planes are used, as by
+// a registration that never saw the old map. Stale planes would keep part of the old answer.
+TEST(ScanRegistration, AnotherAlignUsesTheMapAsItIsNow) {
+    const simulation::Scene scene(test::FurnishedRoom());
+    Preprocessor pre;
+    VoxelMap map;
+    map.Insert(WorldMapPoints(scene, Pose(0, 0, 0.5, 0), pre));
+    pre.Run(test::Scan(
+                scene, [](double) { return Pose(0.2, -0.1, 0.5, 0.05); }, 100'000'000, 2),
+            ScanMotion());
+    const std::vector<Eigen::Vector3f> points(pre.registration_points().begin(),
+                                              pre.registration_points().end());
+    const Eigen::Isometry3d guess = Pose(0.15, -0.05, 0.5, 0.03);
+    const auto align = [&](ScanRegistration& reg) {
+        return reg
+            .Align(points, map, guess, common::Vector6d::Constant(0.05),
+                   ScanRegistration::Clock::now() + std::chrono::seconds(10))
+            .T_map_lidar.matrix();
+    };
+    ScanRegistration reg;
+    const Eigen::Matrix4d first = align(reg);
+    EXPECT_EQ(align(reg), first) << "the same map: the same result";
+
+    // The map now says the room is 0.3 m further along x (its points moved by -0.3 m).
+    std::vector<Eigen::Vector3f> moved = WorldMapPoints(scene, Pose(0, 0, 0.5, 0), pre);
+    for (Eigen::Vector3f& p : moved) p.x() -= 0.3f;
+    const uint64_t before = map.version();
+    map.Clear();
+    map.Insert(moved);
+    EXPECT_NE(map.version(), before);
+    ScanRegistration fresh;
+    const Eigen::Matrix4d expected = align(fresh);
+    EXPECT_EQ(align(reg), expected) << "the changed map's planes, not the copies of the old";
+    EXPECT_NEAR(expected(0, 3) - first(0, 3), -0.3, 0.01);
+}
+
 TEST(RegistrationConfig, ValidateNamesTheField) {
     RegistrationConfig c;
     c.cauchy_scale_initial = 0.001;

@@ -42,6 +42,28 @@ TEST(VoxelMap, APlaneThroughOneRingIsLineLikeAndASecondRingMakesItTheGround) {
     EXPECT_NEAR(d, 0.0f, 0.005f);
 }
 
+// The version tells a copy of the map's planes whether it still holds (the registration's
+// per-point neighbourhoods): new whenever planes may have changed, never shared by two maps.
+TEST(VoxelMap, ItsVersionChangesWithItsPlanesAndNeverRepeats) {
+    VoxelMap a, b;
+    EXPECT_NE(a.version(), b.version());
+    const uint64_t v0 = a.version();
+    a.Insert(Ring(0.30f));
+    const uint64_t v1 = a.version();
+    EXPECT_NE(v1, v0);
+    float d = 0;
+    a.FindPlane(Eigen::Vector3f(0.3f, 0.3f, 0.3f), &d);
+    a.Prune(Eigen::Vector3d(0.3, 0.3, 0.3), 10.0);  // the voxel is within 10 m: nothing dropped
+    EXPECT_EQ(a.version(), v1) << "queries and a Prune that drops nothing keep it";
+    a.Prune(Eigen::Vector3d(100, 0, 0), 10.0);  // drops the voxel
+    EXPECT_EQ(a.voxels(), 0u);
+    const uint64_t v2 = a.version();
+    EXPECT_NE(v2, v1);
+    a.Clear();
+    EXPECT_NE(a.version(), v2);
+    EXPECT_NE(a.version(), b.version());
+}
+
 TEST(VoxelMapConfig, ValidateNamesTheJudgedSpread) {
     VoxelMapConfig c;
     c.min_judged_spread = c.voxel_size;
