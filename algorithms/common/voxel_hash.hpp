@@ -28,11 +28,21 @@ inline constexpr int kVoxelIndexLimit = (1 << 20) - 1;
 // by p * inv_size (the odometry and registration: a multiply on their hot paths) or by p / size
 // (the change detection): the two differ by an ulp, which near a voxel face moves a point into the
 // neighbouring voxel, so each keeps the one its results were made with.
+// Inside the range (every point of a cropped scan) floor is one conversion, truncation corrected
+// below zero, as VoxelKey below; std::floor and the clamp only outside it. The odometry's
+// registration keys every point every outer iteration (VoxelMap::KeyOf).
 inline Eigen::Vector3i VoxelOf(const Eigen::Vector3f& p_in_voxels) {
     Eigen::Vector3i v;
     for (int k = 0; k < 3; ++k) {
-        const float f = std::floor(p_in_voxels[k]);
-        v[k] = static_cast<int>(std::clamp(f, float(-kVoxelIndexLimit), float(kVoxelIndexLimit)));
+        const float f = p_in_voxels[k];
+        if (std::abs(f) < float(kVoxelIndexLimit)) {
+            v[k] = static_cast<int>(f);            // towards zero ...
+            v[k] -= static_cast<float>(v[k]) > f;  // ... then down (|v| < 2^24 is exact in float)
+            continue;
+        }
+        const float c =
+            std::clamp(std::floor(f), float(-kVoxelIndexLimit), float(kVoxelIndexLimit));
+        v[k] = static_cast<int>(c);  // NaN: as before, the conversion's own result
     }
     return v;
 }
@@ -51,21 +61,11 @@ inline Eigen::Vector3i UnpackVoxel(uint64_t key) {
     return {axis(key >> 42), axis(key >> 21), axis(key)};
 }
 
-// The key of p's voxel for voxels of size 1 / inv_voxel: PackVoxel(VoxelOf(p * inv_voxel)),
-// computed with one conversion per axis (floor as truncation corrected below zero) where the
-// index is inside the packable range, which is every point of a cropped scan; the clamp only
-// outside it. The voxel filters key every point of every scan: 15-20 % of the odometry's
-// preprocessing went to the general floor and clamp (algorithms/odometry/README.md).
+// The key of p's voxel for voxels of size 1 / inv_voxel. The voxel filters key every point of
+// every scan: 15-20 % of the odometry's preprocessing went to the general floor and clamp
+// (algorithms/odometry/README.md) that VoxelOf now takes only outside the packable range.
 inline uint64_t VoxelKey(const Eigen::Vector3f& p, float inv_voxel) {
-    uint64_t key = 0;
-    for (int k = 0; k < 3; ++k) {
-        const float f = p[k] * inv_voxel;
-        if (!(std::abs(f) < float(kVoxelIndexLimit))) return PackVoxel(VoxelOf(p * inv_voxel));
-        int v = static_cast<int>(f);        // towards zero ...
-        v -= static_cast<float>(v) > f;     // ... then down: floor (|v| < 2^24 is exact in float)
-        key = (key << 21) | (static_cast<uint64_t>(int64_t(v) + (1 << 20)) & 0x1FFFFFu);
-    }
-    return key;
+    return PackVoxel(VoxelOf(p * inv_voxel));
 }
 
 // A voxel and its 6 face neighbours: where voxel maps look for the plane nearest a point.
