@@ -90,6 +90,21 @@ int32_t VoxelMap::FindOrAdd(const Eigen::Vector3i& key, bool back) {
     return i;
 }
 
+int32_t VoxelMap::Resolve(const Eigen::Vector3i& key, const Eigen::Vector3f* viewpoint) {
+    const int32_t i = FindOrAdd(key, false);
+    if (i < 0) return -1;
+    // Seen from behind the cell's one-sided plane: the other face of a thin wall (header), kept
+    // in the cell's back twin.
+    const VoxelPlane& front = voxels_[size_t(i)].plane;
+    if (!viewpoint || !front.valid || !front.one_sided ||
+        front.normal.dot(*viewpoint) >= front.offset) {
+        return i;
+    }
+    const int32_t twin = FindOrAdd(key, true);
+    if (twin >= 0) voxels_[size_t(i)].has_back = true;
+    return twin;
+}
+
 void VoxelMap::Insert(std::span<const Eigen::Vector3f> points) { InsertPoints(points, nullptr); }
 
 void VoxelMap::Insert(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f& viewpoint) {
@@ -102,26 +117,22 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
     touched_.clear();
     const float spacing2 =
         static_cast<float>(config_.min_point_spacing * config_.min_point_spacing);
+    // Points come column by column, so consecutive ones often share a cell: the last cell's voxel
+    // is kept. The planes are fitted after the loop, so a cell resolves to the same voxel (front
+    // or back twin, or none when the map is full) for every point of this call.
+    Eigen::Vector3i last_key(INT32_MIN, INT32_MIN, INT32_MIN);
+    int32_t last = -1;
     for (const Eigen::Vector3f& p : points) {
         if (!p.allFinite()) continue;
         const Eigen::Vector3i key = KeyOf(p);
-        int32_t i = FindOrAdd(key, false);
+        if (key != last_key) {
+            last_key = key;
+            last = Resolve(key, viewpoint);
+        }
+        const int32_t i = last;
         if (i < 0) {
             ++dropped_;
             continue;
-        }
-        // Seen from behind the cell's one-sided plane: the other face of a thin wall (header),
-        // kept in the cell's back twin.
-        const VoxelPlane& front = voxels_[size_t(i)].plane;
-        if (viewpoint && front.valid && front.one_sided &&
-            front.normal.dot(*viewpoint) < front.offset) {
-            const int32_t twin = FindOrAdd(key, true);
-            if (twin < 0) {
-                ++dropped_;
-                continue;
-            }
-            voxels_[size_t(i)].has_back = true;
-            i = twin;
         }
         Voxel& v = voxels_[size_t(i)];
         if (v.count >= config_.max_points_per_voxel) continue;

@@ -139,6 +139,9 @@ private:
     size_t Slot(const Eigen::Vector3i& key, bool back) const;
     int32_t Find(const Eigen::Vector3i& key, bool back) const;  // index into voxels_ or -1
     int32_t FindOrAdd(const Eigen::Vector3i& key, bool back);   // -1: the map is full
+    // The voxel a point seen from `viewpoint` goes in: the cell's, or its back twin's when seen
+    // from behind the cell's one-sided plane; -1 when the map is full.
+    int32_t Resolve(const Eigen::Vector3i& key, const Eigen::Vector3f* viewpoint);
     void RebuildSlots();
     void InsertPoints(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f* viewpoint);
     void Fit(Voxel& v) const;
