@@ -238,6 +238,18 @@ void Preprocessor::VoxelFilter(std::span<const Eigen::Vector3f> in, std::span<co
 
 const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const ScanMotion& motion) {
     stats_ = PreprocessStats{};
+    KeepAndDeskew(scan, motion);
+    FilterMapPoints();
+    const size_t found = FilterRegistrationPoints();
+    // The next scan's sizes.
+    map_voxel_ = Adapt(map_voxel_, map_points_.size(), config_.target_map_points, config_.map_voxel,
+                       config_.max_map_voxel);
+    registration_voxel_ = Adapt(registration_voxel_, found, config_.target_registration_points,
+                                config_.registration_voxel, config_.max_registration_voxel);
+    return stats_;
+}
+
+void Preprocessor::KeepAndDeskew(const common::PointCloud& scan, const ScanMotion& motion) {
     const size_t n = std::min(scan.size(), config_.max_points);
     stats_.input = scan.size();
     deskewed_.Clear();
@@ -318,7 +330,9 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
                          range_sample_.end());
         stats_.range_p90 = range_sample_[k];
     }
+}
 
+void Preprocessor::FilterMapPoints() {
     VoxelFilter(deskewed_.xyz, alpha_, pose_, deskewed_.ring, map_voxel_, &map_points_, &map_alpha_,
                 &map_pose_, &expected_map_);
     const size_t map_target = config_.target_map_points;
@@ -336,6 +350,10 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
         }
     }
     stats_.map_voxel = map_voxel_;
+    stats_.map_points = map_points_.size();
+}
+
+size_t Preprocessor::FilterRegistrationPoints() {
     stats_.registration_voxel = registration_voxel_;
     VoxelFilter(map_points_, map_alpha_, map_pose_, {}, std::max(registration_voxel_, map_voxel_),
                 &registration_points_, &registration_alpha_, &registration_pose_,
@@ -355,14 +373,8 @@ const PreprocessStats& Preprocessor::Run(const common::PointCloud& scan, const S
         registration_alpha_.resize(cap);
         if (with_pose) registration_pose_.resize(cap);
     }
-    stats_.map_points = map_points_.size();
     stats_.registration_points = registration_points_.size();
-    // The next scan's sizes.
-    map_voxel_ = Adapt(map_voxel_, map_points_.size(), config_.target_map_points, config_.map_voxel,
-                       config_.max_map_voxel);
-    registration_voxel_ = Adapt(registration_voxel_, found, config_.target_registration_points,
-                                config_.registration_voxel, config_.max_registration_voxel);
-    return stats_;
+    return found;
 }
 
 }  // namespace bimslam::odometry

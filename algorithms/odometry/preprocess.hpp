@@ -139,6 +139,16 @@ public:
     void Redeskew(const ScanMotion& motion);
 
 private:
+    // Run's steps. The scan's points kept (finite, in range, not the rig's own body), deskewed
+    // with `motion`, each with its fraction of the sweep and its pose's entry; the range's 90th
+    // percentile.
+    void KeepAndDeskew(const common::PointCloud& scan, const ScanMotion& motion);
+    // The map points: one a voxel of the kept points, filtered again at once at a coarser voxel
+    // when over twice the target (PreprocessConfig::target_map_points).
+    void FilterMapPoints();
+    // The registration points: one a voxel of the map points, capped; returns how many the
+    // filter found before the cap (what the next scan's voxel adapts to).
+    size_t FilterRegistrationPoints();
     // First point per voxel of `in` into `out` (with its alpha and pose entry), using the
     // preallocated table; `ring`: each point's ring, or empty; *expected: the last output count
     // of this filter, in and out.
