@@ -29,8 +29,9 @@ inline constexpr int kVoxelIndexLimit = (1 << 20) - 1;
 // (the change detection): the two differ by an ulp, which near a voxel face moves a point into the
 // neighbouring voxel, so each keeps the one its results were made with.
 // Inside the range (every point of a cropped scan) floor is one conversion, truncation corrected
-// below zero, as VoxelKey below; std::floor and the clamp only outside it. The odometry's
-// registration keys every point every outer iteration (VoxelMap::KeyOf).
+// below zero; std::floor and the clamp only outside it. The odometry keys every point of every
+// scan through it (VoxelKey in its voxel filters) and every registration point at every outer
+// iteration (VoxelMap::KeyOf).
 inline Eigen::Vector3i VoxelOf(const Eigen::Vector3f& p_in_voxels) {
     Eigen::Vector3i v;
     for (int k = 0; k < 3; ++k) {
@@ -61,9 +62,7 @@ inline Eigen::Vector3i UnpackVoxel(uint64_t key) {
     return {axis(key >> 42), axis(key >> 21), axis(key)};
 }
 
-// The key of p's voxel for voxels of size 1 / inv_voxel. The voxel filters key every point of
-// every scan: 15-20 % of the odometry's preprocessing went to the general floor and clamp
-// (algorithms/odometry/README.md) that VoxelOf now takes only outside the packable range.
+// The key of p's voxel for voxels of size 1 / inv_voxel.
 inline uint64_t VoxelKey(const Eigen::Vector3f& p, float inv_voxel) {
     return PackVoxel(VoxelOf(p * inv_voxel));
 }

@@ -45,7 +45,8 @@ void VoxelMapConfig::Validate() const {
 }
 
 namespace {
-// Versions are drawn from one counter, so that no two maps (nor one map at two times) share one.
+// Versions are drawn from one counter, so that two maps (or one map at two times) share one only
+// when one is a copy of the other.
 uint64_t NextVersion() {
     static std::atomic<uint64_t> next{1};
     return next.fetch_add(1, std::memory_order_relaxed);

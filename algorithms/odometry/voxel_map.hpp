@@ -117,9 +117,9 @@ public:
     size_t points() const { return points_; }
     size_t dropped_points() const { return dropped_; }  // no room: map full
     const VoxelMapConfig& config() const { return config_; }
-    // Changes whenever the map's planes may have (Insert, a Prune that dropped voxels, Clear), and
-    // is never the same for two maps: what a copy of its planes (the registration's per-point
-    // neighbourhoods) checks to know it still holds.
+    // Changes whenever the map's planes may have (Insert, a Prune that dropped voxels, Clear); two
+    // maps share one only as copies, unchanged since. What a copy of its planes (the
+    // registration's per-point neighbourhoods) checks to know it still holds.
     uint64_t version() const { return version_; }
 
 private:
