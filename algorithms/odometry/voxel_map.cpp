@@ -233,11 +233,31 @@ const VoxelPlane* VoxelMap::FindPlane(const Eigen::Vector3f& p, float* distance,
     return nearest.best();
 }
 
-void VoxelMap::RebuildSlots() {
-    std::fill(slots_.begin(), slots_.end(), -1);
-    for (size_t i = 0; i < voxels_.size(); ++i) {
-        slots_[Slot(voxels_[i].key, voxels_[i].back)] = static_cast<int32_t>(i);  // keys are unique
+// Linear probing's deletion: the slot emptied, and the entries probed past it moved back into
+// the hole unless their home slot lies after it (cyclically in (hole, j]).
+void VoxelMap::EraseSlot(size_t hole) {
+    const size_t mask = slots_.size() - 1;
+    slots_[hole] = -1;
+    for (size_t j = (hole + 1) & mask; slots_[j] >= 0; j = (j + 1) & mask) {
+        const Voxel& v = voxels_[size_t(slots_[j])];
+        const size_t home = Hash(v.key, v.back) & mask;
+        const bool stays = hole < j ? (hole < home && home <= j) : (hole < home || home <= j);
+        if (stays) continue;
+        slots_[hole] = slots_[j];
+        slots_[j] = -1;
+        hole = j;
     }
+}
+
+void VoxelMap::Remove(size_t i) {
+    points_ -= size_t(voxels_[i].count);
+    EraseSlot(Slot(voxels_[i].key, voxels_[i].back));
+    const size_t last = voxels_.size() - 1;
+    if (i != last) {
+        voxels_[i] = voxels_[last];  // its slot still names `last`, which still holds it
+        slots_[Slot(voxels_[i].key, voxels_[i].back)] = static_cast<int32_t>(i);
+    }
+    voxels_.pop_back();
 }
 
 void VoxelMap::Prune(const Eigen::Vector3d& sensor, double max_radius) {
@@ -249,16 +269,15 @@ void VoxelMap::Prune(const Eigen::Vector3d& sensor, double max_radius) {
     for (;;) {
         // Voxel centres are key + 0.5 in voxel units: compare squared distances in those units.
         const float r2 = static_cast<float>(radius * radius) * inv_size_ * inv_size_;
-        size_t kept = 0;
-        for (size_t i = 0; i < voxels_.size(); ++i) {
+        // A few voxels leave each scan: each is taken out of the table and the last voxel moved
+        // into its place (compacting all and rehashing them cost a scan a copy of half the map).
+        for (size_t i = 0; i < voxels_.size();) {
             if ((voxels_[i].key.cast<float>() - c).squaredNorm() <= r2) {
-                if (kept != i) voxels_[kept] = voxels_[i];
-                ++kept;
+                ++i;
             } else {
-                points_ -= size_t(voxels_[i].count);
+                Remove(i);  // the last voxel is at i now: look at it next
             }
         }
-        voxels_.resize(kept);
         // More than 90 % full: shrink the radius until at most three-quarters full.
         const size_t n = voxels_.size(), cap = config_.max_voxels;
         if (shrinking ? 4 * n <= 3 * cap : 10 * n <= 9 * cap) break;
@@ -266,9 +285,7 @@ void VoxelMap::Prune(const Eigen::Vector3d& sensor, double max_radius) {
         radius *= 0.8;
         if (radius < config_.voxel_size) break;
     }
-    if (voxels_.size() == before) return;
-    RebuildSlots();
-    version_ = NextVersion();
+    if (voxels_.size() != before) version_ = NextVersion();
 }
 
 void VoxelMap::Clear() {

@@ -142,7 +142,9 @@ private:
     // The voxel a point seen from `viewpoint` goes in: the cell's, or its back twin's when seen
     // from behind the cell's one-sided plane; -1 when the map is full.
     int32_t Resolve(const Eigen::Vector3i& key, const Eigen::Vector3f* viewpoint);
-    void RebuildSlots();
+    // Takes voxel i out of the map (and its slot out of the table); the last voxel moves to i.
+    void Remove(size_t i);
+    void EraseSlot(size_t hole);
     void InsertPoints(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f* viewpoint);
     void Fit(Voxel& v) const;
 

@@ -64,6 +64,69 @@ TEST(VoxelMap, ItsVersionChangesWithItsPlanesAndNeverRepeats) {
     EXPECT_NE(a.version(), b.version());
 }
 
+// A pruned map answers as one built from the voxels it kept: Prune takes each voxel out of the
+// hash table (linear probing's deletion: the entries probed past it moved back) and moves the
+// last voxel into its place. A floor of 40 x 40 cells, each patch at its own height so that each
+// cell's plane is told from its neighbours', in a table of 4096 slots, pruned round a sensor
+// that walks across it; after each round every cell's centre is asked of both maps.
+TEST(VoxelMap, APrunedMapAnswersAsOneBuiltFromWhatItKept) {
+    VoxelMapConfig config;
+    config.max_voxels = 2000;
+    const float size = float(config.voxel_size), inv = float(1.0 / config.voxel_size);
+    const auto patch = [&](int x, int y) {  // 3 x 3 points, 0.18 m apart
+        const float z = (0.2f + 0.05f * float((7 * x + 3 * y) % 11)) * size;
+        std::vector<Eigen::Vector3f> p;
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                p.emplace_back((float(x) + 0.2f + 0.3f * float(i)) * size,
+                               (float(y) + 0.2f + 0.3f * float(j)) * size, z);
+            }
+        }
+        return p;
+    };
+    VoxelMap pruned(config);
+    std::vector<bool> alive(40 * 40, true);
+    for (int x = 0; x < 40; ++x) {
+        for (int y = 0; y < 40; ++y) pruned.Insert(patch(x, y));
+    }
+    ASSERT_EQ(pruned.voxels(), 1600u);
+    for (int round = 0; round < 6; ++round) {
+        const Eigen::Vector3d sensor(double(2 * round + 10) * size, 20.0 * size, 0.0);
+        const double radius = 14.0 * size;
+        pruned.Prune(sensor, radius);
+        // Prune's own test, in its arithmetic: the voxel's centre (key + 0.5) within the radius.
+        const Eigen::Vector3f c = ((sensor.cast<float>() * inv).array() - 0.5f).matrix();
+        const float r2 = float(radius * radius) * inv * inv;
+        VoxelMap kept(config);
+        for (int x = 0; x < 40; ++x) {
+            for (int y = 0; y < 40; ++y) {
+                const Eigen::Vector3f key(float(x), float(y), 0.0f);
+                alive[size_t(40 * x + y)] =
+                    alive[size_t(40 * x + y)] && (key - c).squaredNorm() <= r2;
+                if (alive[size_t(40 * x + y)]) kept.Insert(patch(x, y));
+            }
+        }
+        ASSERT_EQ(pruned.voxels(), kept.voxels()) << "round " << round;
+        ASSERT_EQ(pruned.points(), kept.points());
+        ASSERT_GT(kept.voxels(), 100u);
+        ASSERT_LT(kept.voxels(), 1600u);
+        for (int x = 0; x < 40; ++x) {
+            for (int y = 0; y < 40; ++y) {
+                const Eigen::Vector3f at = patch(x, y)[4];
+                float da = 0, db = 0;
+                const VoxelPlane* a = pruned.FindPlane(at, &da);
+                const VoxelPlane* b = kept.FindPlane(at, &db);
+                ASSERT_EQ(a == nullptr, b == nullptr)
+                    << "round " << round << " cell " << x << " " << y;
+                if (!a) continue;
+                EXPECT_EQ(a->normal, b->normal);
+                EXPECT_EQ(a->offset, b->offset);
+                EXPECT_EQ(da, db);
+            }
+        }
+    }
+}
+
 TEST(VoxelMapConfig, ValidateNamesTheJudgedSpread) {
     VoxelMapConfig c;
     c.min_judged_spread = c.voxel_size;
