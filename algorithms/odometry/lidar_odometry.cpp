@@ -375,11 +375,11 @@ const OdometryResult& LidarOdometry::Process(const common::PointCloud& scan) {
     r.registration = RegistrationResult{};
     r.covariance = w.sigma.cwiseAbs2().asDiagonal();
     // The adaptive threshold (header of the configuration).
-    r.correspondence_distance =
-        model_error_count_ < 3
-            ? config_.initial_correspondence_distance
-            : std::clamp(3.0 * std::sqrt(model_error_sq_), config_.min_correspondence_distance,
-                         config_.max_correspondence_distance);
+    const std::optional<double> sigma = PredictionSigma();
+    r.correspondence_distance = sigma
+                                    ? std::clamp(3.0 * *sigma, config_.min_correspondence_distance,
+                                                 config_.max_correspondence_distance)
+                                    : config_.initial_correspondence_distance;
     if (!initialized_ && TooFewPoints()) {
         // Nothing to start the map with: the odometry starts at the next scan that has points.
         r.flags |= kTooFewPoints;
@@ -544,7 +544,7 @@ void LidarOdometry::Register() {
     // From the prediction; then the gyro's gate, other headings, a start in motion, deskew rounds.
     OdometryResult& r = result_;
     ScanWork& w = work_;
-    w.start_error = model_error_count_ >= 3 ? std::sqrt(model_error_sq_) : 0;
+    w.start_error = PredictionSigma().value_or(0.0);
     bool registered_ok = Align(w.T_pred, kCutRegistration);
     if (registered_ok && (r.flags & kImuUsed) && config_.imu_rotation_gate > 0 &&
         common::RotationAngle(common::Between(w.T_pred, w.T)) >
@@ -575,6 +575,11 @@ void LidarOdometry::Register() {
     const double a = 1.0 / std::min(double(model_error_count_ + 1), config_.model_error_scans);
     model_error_sq_ = (1 - a) * model_error_sq_ + a * err * err;
     ++model_error_count_;
+}
+
+std::optional<double> LidarOdometry::PredictionSigma() const {
+    if (model_error_count_ < 3) return std::nullopt;
+    return std::sqrt(model_error_sq_);
 }
 
 double LidarOdometry::AtExtent(const Eigen::Isometry3d& e) const {

@@ -417,6 +417,9 @@ private:
     // How far a motion e moves a point at the scene's extent (m): how far a prediction was off,
     // or a registration's start may be.
     double AtExtent(const Eigen::Isometry3d& e) const;
+    // How far the predictions have been off (m, at the extent: the running mean of AtExtent's
+    // squares, the adaptive threshold's sigma); none before 3 scans have measured it.
+    std::optional<double> PredictionSigma() const;
     void UpdateMap();        // 4
     void UpdateVelocity();   // the pose kept, the constant velocity over the window
     void UpdateImuHeight();  // the accelerometers' filter learns what the scan saw of the height
