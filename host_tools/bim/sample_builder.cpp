@@ -157,6 +157,15 @@ void SampleBuilder::Column(int room, Vector2d centre, double size, bool round) {
                            room, centre, size, round, out.storeys[storey].height_m - out.slab_m});
 }
 
+int StairRoom(const SampleLayout& layout, int storey) {
+    for (size_t r = 0; r < layout.rooms.size(); ++r) {
+        if (layout.rooms[r].storey == storey && layout.rooms[r].kind == RoomKind::kStair) {
+            return int(r);
+        }
+    }
+    return -1;
+}
+
 AlignedBox2d SampleBuilder::Stair(const StairSpec& spec) {
     SampleStair stair;
     stair.name = spec.name;

@@ -74,6 +74,9 @@ public:
     void Slabs(const std::vector<std::vector<Eigen::AlignedBox2d>>& openings_per_storey);
 };
 
+// The storey's first stair room (RoomKind::kStair), -1 when it has none.
+int StairRoom(const SampleLayout& layout, int storey);
+
 // Furnishes the rooms `furnish` accepts (all when empty) by their kind, from the seed
 // (sample_building_furniture.cpp). Pieces keep clear of the doors, the columns and the stairs.
 void PlaceFurniture(SampleLayout& layout, uint64_t seed,
@@ -85,5 +88,6 @@ void AddFurniture(SampleLayout& layout, SampleFurniture piece);
 SampleLayout OfficeLayout(const SampleBuildingOptions& options);
 SampleLayout HallLayout(const SampleBuildingOptions& options);
 SampleLayout SymmetricLayout(const SampleBuildingOptions& options);
+SampleLayout WingLayout(const SampleBuildingOptions& options);
 
 }  // namespace bimslam::bim

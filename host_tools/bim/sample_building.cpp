@@ -26,13 +26,15 @@ std::string_view ToString(BuildingLayout layout) {
             return "hall";
         case BuildingLayout::kSymmetric:
             return "symmetric";
+        case BuildingLayout::kWing:
+            return "wing";
     }
     return "unknown";
 }
 
 std::optional<BuildingLayout> ParseBuildingLayout(std::string_view name) {
-    for (const BuildingLayout l :
-         {BuildingLayout::kOffice, BuildingLayout::kHall, BuildingLayout::kSymmetric}) {
+    for (const BuildingLayout l : {BuildingLayout::kOffice, BuildingLayout::kHall,
+                                   BuildingLayout::kSymmetric, BuildingLayout::kWing}) {
         if (ToString(l) == name) return l;
     }
     return std::nullopt;
@@ -84,7 +86,7 @@ void SampleBuildingOptions::Validate() const {
     if (!ParseBuildingLayout(ToString(layout))) {
         throw common::Error(common::StatusCode::kInvalidArgument,
                             "sample building: layout " + std::to_string(int(layout)) +
-                                " is none of office, hall, symmetric");
+                                " is none of office, hall, symmetric, wing");
     }
     if (length_unit_m != 1.0 && length_unit_m != 0.001) {
         throw common::Error(common::StatusCode::kInvalidArgument,
@@ -184,6 +186,8 @@ SampleLayout SampleBuildingLayout(const SampleBuildingOptions& options) {
             return HallLayout(options);
         case BuildingLayout::kSymmetric:
             return SymmetricLayout(options);
+        case BuildingLayout::kWing:
+            return WingLayout(options);
         case BuildingLayout::kOffice:
             break;
     }

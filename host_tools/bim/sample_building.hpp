@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // The project's own sample buildings, written as IFC4 STEP files, so that the demo and the default
-// tests need no third-party model. Three layouts (SampleBuildingOptions::layout):
+// tests need no third-party model. Four layouts (SampleBuildingOptions::layout):
 //  - "office" (the default): a small two-storey office, 30 m x 15 m, 3.2 m floor to floor. Every
 //    storey has a corridor along x (clear y 6.15..8.15) with rooms of different sizes on both
 //    sides, a door from the corridor into every room, windows in the exterior walls, and a stair
@@ -18,6 +18,10 @@
 //    no slanted wall, no stair, furniture placed in one quarter and mirrored into the others, and
 //    (--exterior-doors) the same entrance at both ends. A rig in it cannot tell where it is up to
 //    the symmetry: the case anchoring must report as ambiguous.
+//  - "wing": a long two-storey office wing, 90 m x 15 m, 3.2 m floor to floor: the office's
+//    corridor plan with rooms of 3.5-10 m on both sides and one straight stair at the east end. A
+//    walk along it keeps entering space it has not seen, as in a large real office: what the
+//    odometry's drift is tuned on without the held-out Office_A (sample_wing.cpp).
 // SampleBuildingLayout() is the building in plain numbers (metres), the generator's own truth that
 // tests compare a reader's output with; SampleBuildingIfc() writes the same building as IFC4 text
 // (plain text generation through ifc_writer.hpp: no IFC library is involved). The office's file is
@@ -39,8 +43,8 @@
 namespace bimslam::bim {
 
 // Which building (see the comment at the top).
-enum class BuildingLayout : uint8_t { kOffice, kHall, kSymmetric };
-std::string_view ToString(BuildingLayout layout);  // "office", "hall", "symmetric"
+enum class BuildingLayout : uint8_t { kOffice, kHall, kSymmetric, kWing };
+std::string_view ToString(BuildingLayout layout);  // "office", "hall", "symmetric", "wing"
 std::optional<BuildingLayout> ParseBuildingLayout(std::string_view name);
 
 struct SampleBuildingOptions {

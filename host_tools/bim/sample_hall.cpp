@@ -176,13 +176,6 @@ void AddStorey(SampleBuilder& b, int s, const HallStorey& plan, const SampleBuil
     }
 }
 
-int StairHall(const SampleLayout& L, int storey) {
-    for (size_t r = 0; r < L.rooms.size(); ++r) {
-        if (L.rooms[r].storey == storey && L.rooms[r].kind == K::kStair) return int(r);
-    }
-    return -1;
-}
-
 }  // namespace
 
 SampleLayout HallLayout(const SampleBuildingOptions& options) {
@@ -212,8 +205,8 @@ SampleLayout HallLayout(const SampleBuildingOptions& options) {
         StairSpec f;
         f.name = std::string("Stair to ") + plans[size_t(s + 1)].name;
         f.storey = s;
-        f.room_bottom = StairHall(L, s);
-        f.room_top = StairHall(L, s + 1);
+        f.room_bottom = StairRoom(L, s);
+        f.room_top = StairRoom(L, s + 1);
         f.riser_m = 0.175;
         if (s % 2 == 0) {
             f.foot = {9.0, kYMax - f.width_m / 2};

@@ -57,13 +57,6 @@ CorridorPlan OfficePlan() {
     return p;
 }
 
-int StairRoom(const SampleLayout& L, int storey) {
-    for (size_t r = 0; r < L.rooms.size(); ++r) {
-        if (L.rooms[r].storey == storey && L.rooms[r].kind == RoomKind::kStair) return int(r);
-    }
-    return -1;
-}
-
 }  // namespace
 
 SampleLayout OfficeLayout(const SampleBuildingOptions& options) {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // SPDX-FileCopyrightText: 2026 The bimslam authors
 // bimslam bim sample: writes one of the project's own sample buildings (the two-storey office, the
-// three-storey hall, the mirror-symmetric building; host_tools/bim/sample_building.hpp) as an IFC4
-// file, and says what it holds.
+// three-storey hall, the mirror-symmetric building, the long wing;
+// host_tools/bim/sample_building.hpp) as an IFC4 file, and says what it holds.
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -80,7 +80,8 @@ int Sample(const SampleOptions& o) {
 
 void AddBimSampleCommand(CLI::App& bim, int& exit_code) {
     CLI::App* cmd = bim.add_subcommand(
-        "sample", "Write a built-in sample building (office, hall or symmetric) as an IFC4 file");
+        "sample",
+        "Write a built-in sample building (office, hall, symmetric or wing) as an IFC4 file");
     cmd->footer(
         "Layouts (host_tools/bim/README.md):\n"
         "  office     two storeys, 30 x 15 m, 3.2 m floor to floor: a corridor along x, offices,\n"
@@ -92,11 +93,14 @@ void AddBimSampleCommand(CLI::App& bim, int& exit_code) {
         "             flights take turns)\n"
         "  symmetric  one storey, 20 x 12 m, the same under the mirror about both centre lines\n"
         "             (and a half turn): a rig in it cannot tell where it is up to the symmetry;\n"
-        "             --exterior-doors adds the same entrance at both ends");
+        "             --exterior-doors adds the same entrance at both ends\n"
+        "  wing       two storeys, 90 x 15 m, 3.2 m floor to floor: the office's plan along a\n"
+        "             long corridor, 3.5-10 m rooms on both sides, a straight stair at its east\n"
+        "             end; a walk along it keeps entering space it has not seen");
     auto o = std::make_shared<SampleOptions>();
     cmd->add_option("-o,--out", o->out, "the IFC file to write")->required();
-    cmd->add_option("--layout", o->layout, "which building: office, hall or symmetric")
-        ->check(CLI::IsMember({"office", "hall", "symmetric"}))
+    cmd->add_option("--layout", o->layout, "which building: office, hall, symmetric or wing")
+        ->check(CLI::IsMember({"office", "hall", "symmetric", "wing"}))
         ->capture_default_str();
     cmd->add_option("--unit", o->unit, "length unit of the file: m or mm")
         ->check(CLI::IsMember({"m", "mm"}))

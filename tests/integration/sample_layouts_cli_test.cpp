@@ -51,7 +51,8 @@ TEST(SampleLayoutsCli, TheLayoutOptionWritesEachBuilding) {
     test::TempDir tmp;
     const auto help = test::RunCommand(kCli + " bim sample --help");
     EXPECT_EQ(help.exit_code, 0);
-    for (const char* word : {"--layout", "office", "hall", "symmetric", "--exterior-doors"}) {
+    for (const char* word :
+         {"--layout", "office", "hall", "symmetric", "wing", "--exterior-doors"}) {
         EXPECT_NE(help.out.find(word), std::string::npos) << word << "\n" << help.out;
     }
     // The default is the office, byte for byte the same as --layout office.
@@ -60,7 +61,8 @@ TEST(SampleLayoutsCli, TheLayoutOptionWritesEachBuilding) {
     EXPECT_EQ(io::ReadFileToString(tmp / "default.ifc"),
               io::ReadFileToString(Sample(tmp, "office")));
 
-    const std::map<std::string, size_t> storeys = {{"office", 2}, {"hall", 3}, {"symmetric", 1}};
+    const std::map<std::string, size_t> storeys = {
+        {"office", 2}, {"hall", 3}, {"symmetric", 1}, {"wing", 2}};
     for (const auto& [layout, n] : storeys) {
         SCOPED_TRACE(layout);
         const fs::path file = tmp / (layout + "_mm.ifc");

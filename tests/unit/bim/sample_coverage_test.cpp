@@ -118,7 +118,8 @@ INSTANTIATE_TEST_SUITE_P(Layouts, EveryLayoutCoverage,
                                            std::make_tuple(BuildingLayout::kHall, false),
                                            std::make_tuple(BuildingLayout::kHall, true),
                                            std::make_tuple(BuildingLayout::kSymmetric, false),
-                                           std::make_tuple(BuildingLayout::kSymmetric, true)),
+                                           std::make_tuple(BuildingLayout::kSymmetric, true),
+                                           std::make_tuple(BuildingLayout::kWing, true)),
                          [](const auto& param_info) {
                              return std::string(ToString(std::get<0>(param_info.param))) +
                                     (std::get<1>(param_info.param) ? "_exterior_doors" : "");

@@ -93,8 +93,8 @@ TEST(SampleOffice, TheFilesAreTheSameBytesAsBeforeTheLayouts) {
 }
 
 TEST(BuildingLayoutName, RoundTripsAndRejectsOthers) {
-    for (const BuildingLayout l :
-         {BuildingLayout::kOffice, BuildingLayout::kHall, BuildingLayout::kSymmetric}) {
+    for (const BuildingLayout l : {BuildingLayout::kOffice, BuildingLayout::kHall,
+                                   BuildingLayout::kSymmetric, BuildingLayout::kWing}) {
         EXPECT_EQ(ParseBuildingLayout(ToString(l)), l);
     }
     EXPECT_EQ(ToString(BuildingLayout::kHall), "hall");
@@ -385,7 +385,7 @@ TEST_P(EveryLayout, ReadsBackTheSameBuildingInMetresAndMillimetres) {
 
 INSTANTIATE_TEST_SUITE_P(Layouts, EveryLayout,
                          ::testing::Values(BuildingLayout::kOffice, BuildingLayout::kHall,
-                                           BuildingLayout::kSymmetric),
+                                           BuildingLayout::kSymmetric, BuildingLayout::kWing),
                          [](const auto& param_info) {
                              return std::string(ToString(param_info.param));
                          });
