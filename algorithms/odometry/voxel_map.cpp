@@ -45,6 +45,10 @@ void VoxelMapConfig::Validate() const {
 }
 
 namespace {
+// A voxel seen from beyond kRefreshBeyond and then from under 1/kRefreshRatio of that range
+// starts again from the nearer view (voxel_map.hpp).
+constexpr float kRefreshRatio = 2.0f;
+constexpr float kRefreshBeyond = 10.0f;  // m
 // Versions are drawn from one counter, so that two maps (or one map at two times) share one only
 // when one is a copy of the other.
 uint64_t NextVersion() {
@@ -136,6 +140,17 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
             continue;
         }
         Voxel& v = voxels_[size_t(i)];
+        float range = 0;
+        if (viewpoint) {
+            range = (*viewpoint - p).norm();
+            if (v.count > 0 && v.seen_from > kRefreshBeyond &&
+                range * kRefreshRatio < v.seen_from) {
+                points_ -= size_t(v.count);
+                v.count = v.viewed = 0;
+                v.view_sum.setZero();
+                v.seen_from = 0;
+            }
+        }
         if (v.count >= config_.max_points_per_voxel) continue;
         bool near = false;
         for (int k = 0; k < v.count && !near; ++k) {
@@ -144,13 +159,10 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
         if (near) continue;
         v.points[size_t(v.count++)] = p;
         ++points_;
-        if (viewpoint) {
-            const Eigen::Vector3f to_sensor = *viewpoint - p;
-            const float range = to_sensor.norm();
-            if (range > 0) {
-                v.view_sum += to_sensor / range;
-                ++v.viewed;
-            }
+        if (viewpoint && range > 0) {
+            v.view_sum += (*viewpoint - p) / range;
+            ++v.viewed;
+            v.seen_from = v.seen_from > 0 ? std::min(v.seen_from, range) : range;
         }
         if (!v.dirty) {
             v.dirty = true;

@@ -42,6 +42,45 @@ TEST(VoxelMap, APlaneThroughOneRingIsLineLikeAndASecondRingMakesItTheGround) {
     EXPECT_NEAR(d, 0.0f, 0.005f);
 }
 
+// Two rings' points across the voxel at (0, 0, 0), at y0 and y0 + 0.17, on a floor at height z.
+std::vector<Eigen::Vector3f> Patch(float y0, float z) {
+    std::vector<Eigen::Vector3f> p = Ring(y0), second = Ring(y0 + 0.17f);
+    p.insert(p.end(), second.begin(), second.end());
+    for (Eigen::Vector3f& q : p) q.z() += z - 0.3f;
+    return p;
+}
+
+// A point's error from the pose's rotation grows with its range, so a voxel first seen from beyond
+// 10 m and seen again from under half that range starts again from the nearer view
+// (voxel_map.hpp): a floor seen 3 cm too high from 40 m, then where it is from 25 m (not near
+// enough: the two views mix) and from 10 m (the far view goes).
+TEST(VoxelMap, AVoxelSeenFromUnderHalfItsRangeStartsAgainFromTheNearerView) {
+    VoxelMap map;
+    const Eigen::Vector3f at(0.3f, 0.3f, 0.3f);
+    float d = 0;
+    map.Insert(Patch(0.05f, 0.33f), Eigen::Vector3f(0.3f, -40.0f, 1.5f));
+    ASSERT_NE(map.FindPlane(at, &d), nullptr);
+    EXPECT_NEAR(d, -0.03f, 0.002f);
+    map.Insert(Patch(0.38f, 0.30f), Eigen::Vector3f(0.3f, -25.0f, 1.5f));
+    EXPECT_EQ(map.points(), 24u) << "both views";
+    ASSERT_NE(map.FindPlane(at, &d), nullptr);
+    EXPECT_GT(std::abs(d), 0.005f) << "a plane through both";
+    map.Insert(Patch(0.38f, 0.30f), Eigen::Vector3f(0.3f, -10.0f, 1.5f));
+    EXPECT_EQ(map.points(), 12u) << "the near view's alone";
+    ASSERT_NE(map.FindPlane(at, &d), nullptr);
+    EXPECT_NEAR(d, 0.0f, 0.002f);
+
+    VoxelMap unseen;  // points without a viewpoint have no range: never started again
+    unseen.Insert(Patch(0.05f, 0.33f));
+    unseen.Insert(Patch(0.38f, 0.30f), Eigen::Vector3f(0.3f, -1.0f, 1.5f));
+    EXPECT_EQ(unseen.points(), 24u);
+
+    VoxelMap close;  // first seen from within 10 m: the range noise is its error, it stays
+    close.Insert(Patch(0.05f, 0.33f), Eigen::Vector3f(0.3f, -8.0f, 1.5f));
+    close.Insert(Patch(0.38f, 0.30f), Eigen::Vector3f(0.3f, -1.0f, 1.5f));
+    EXPECT_EQ(close.points(), 24u);
+}
+
 // The version tells a copy of the map's planes whether it still holds (the registration's
 // per-point neighbourhoods): new whenever planes may have changed, never shared by two maps.
 TEST(VoxelMap, ItsVersionChangesWithItsPlanesAndNeverRepeats) {
