@@ -172,4 +172,18 @@ void BuildCorridorStoreys(SampleBuilder& b, const CorridorPlan& plan,
     }
 }
 
+void AddSouthWallStair(SampleBuilder& b, const CorridorPlan& plan, double foot_x) {
+    StairSpec stair;
+    stair.name = "Stair";
+    stair.storey = 0;
+    stair.room_bottom = StairRoom(b.out, 0);
+    stair.room_top = StairRoom(b.out, 1);
+    stair.width_m = 1.2;
+    stair.foot = {foot_x, plan.exterior_wall + stair.width_m / 2};
+    stair.direction = Eigen::Vector2d::UnitX();
+    stair.wall_right = true;
+    const Eigen::AlignedBox2d well = b.Stair(stair);
+    b.Slabs({{}, {well}});
+}
+
 }  // namespace bimslam::bim

@@ -57,4 +57,9 @@ struct CorridorPlan {
 void BuildCorridorStoreys(SampleBuilder& b, const CorridorPlan& plan,
                           const SampleBuildingOptions& options);
 
+// The office's stair in a two-storey plan, then the slabs: "Stair", a straight flight 1.2 m wide
+// from the ground floor's stair room to the first floor's, along the south exterior wall (on its
+// right) up towards the east from x = foot_x; the first floor's slab has its opening.
+void AddSouthWallStair(SampleBuilder& b, const CorridorPlan& plan, double foot_x);
+
 }  // namespace bimslam::bim

@@ -71,17 +71,7 @@ SampleLayout OfficeLayout(const SampleBuildingOptions& options) {
     // The stair: a straight flight along the stair room's south wall, up towards the east; 16
     // risers of 0.2 m (the last one the upper slab's edge), treads of 0.28 m. The first floor's
     // opening above it has a railing on its north and west sides.
-    StairSpec stair;
-    stair.name = "Stair";
-    stair.storey = 0;
-    stair.room_bottom = StairRoom(L, 0);
-    stair.room_top = StairRoom(L, 1);
-    stair.width_m = 1.2;
-    stair.foot = {23.5, plan.exterior_wall + stair.width_m / 2};
-    stair.direction = Eigen::Vector2d::UnitX();
-    stair.wall_right = true;
-    const Eigen::AlignedBox2d well = b.Stair(stair);
-    b.Slabs({{}, {well}});
+    AddSouthWallStair(b, plan, 23.5);
 
     if (options.furniture) PlaceFurniture(L, options.seed);
     return L;
