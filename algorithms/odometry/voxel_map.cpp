@@ -140,17 +140,11 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
             continue;
         }
         Voxel& v = voxels_[size_t(i)];
-        float range = 0;
-        if (viewpoint) {
-            range = (*viewpoint - p).norm();
-            if (v.count > 0 && v.seen_from > kRefreshBeyond &&
-                range * kRefreshRatio < v.seen_from) {
-                points_ -= size_t(v.count);
-                v.count = v.viewed = 0;
-                v.view_sum.setZero();
-                v.seen_from = 0;
-            }
-        }
+        const Eigen::Vector3f to_sensor =
+            viewpoint ? Eigen::Vector3f(*viewpoint - p) : Eigen::Vector3f::Zero();
+        const float range = to_sensor.norm();
+        // seen_from is only ever set with a point in the voxel: no count to check.
+        if (v.seen_from > kRefreshBeyond && range * kRefreshRatio < v.seen_from) StartAgain(v);
         if (v.count >= config_.max_points_per_voxel) continue;
         bool near = false;
         for (int k = 0; k < v.count && !near; ++k) {
@@ -159,8 +153,8 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
         if (near) continue;
         v.points[size_t(v.count++)] = p;
         ++points_;
-        if (viewpoint && range > 0) {
-            v.view_sum += (*viewpoint - p) / range;
+        if (range > 0) {  // seen from a viewpoint
+            v.view_sum += to_sensor / range;
             ++v.viewed;
             v.seen_from = v.seen_from > 0 ? std::min(v.seen_from, range) : range;
         }
@@ -174,6 +168,13 @@ void VoxelMap::InsertPoints(std::span<const Eigen::Vector3f> points,
         Fit(v);
         v.dirty = false;
     }
+}
+
+void VoxelMap::StartAgain(Voxel& v) {
+    points_ -= size_t(v.count);
+    v.count = v.viewed = 0;
+    v.view_sum.setZero();
+    v.seen_from = 0;
 }
 
 void VoxelMap::Fit(Voxel& v) const {

@@ -154,6 +154,8 @@ private:
     void Remove(size_t i);
     void EraseSlot(size_t hole);
     void InsertPoints(std::span<const Eigen::Vector3f> points, const Eigen::Vector3f* viewpoint);
+    // Empties v for a nearer view (header); its plane is fitted again when points come.
+    void StartAgain(Voxel& v);
     void Fit(Voxel& v) const;
 
     VoxelMapConfig config_;
